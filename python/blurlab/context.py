@@ -1,0 +1,315 @@
+"""The GL context and what lives in it: textures, compute programs, timers.
+
+Every array that crosses to the GPU has shape (H, W) or (H, W, C), C in 1..4, row 0 at the top
+of the image, dtype uint8, float16 or float32 (DESIGN.md "Arrays").
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from contextlib import contextmanager
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from . import _core
+from ._paths import shader_dir as _default_shader_dir
+
+TEXTURE_DTYPES = ("uint8", "float16", "float32")
+DEVICE_MODES = ("auto", "gpu", "software")
+
+
+def _check_array(array, what: str = "array") -> np.ndarray:
+    """Validates an image array and returns it C-contiguous; raises naming what is allowed."""
+    if not isinstance(array, np.ndarray):
+        raise TypeError(
+            f"blurlab: {what} must be a numpy.ndarray of shape (H, W) or (H, W, C), "
+            f"not {type(array).__name__}"
+        )
+    if array.dtype.name not in TEXTURE_DTYPES:
+        raise TypeError(
+            f"blurlab: {what} has dtype {array.dtype}; allowed dtypes are "
+            + ", ".join(TEXTURE_DTYPES)
+        )
+    if array.ndim not in (2, 3) or (array.ndim == 3 and not 1 <= array.shape[2] <= 4):
+        raise ValueError(
+            f"blurlab: {what} has shape {array.shape}; allowed shapes are (H, W) and "
+            "(H, W, C) with C in 1..4"
+        )
+    if array.size == 0:
+        raise ValueError(f"blurlab: {what} of shape {array.shape} is empty")
+    return np.ascontiguousarray(array)
+
+
+@dataclass
+class Timing:
+    """One measured interval: milliseconds and the clock that measured them."""
+
+    ms: float = math.nan
+    clock: str = ""
+
+
+class Texture:
+    """A 2D texture on the GPU. ``download()`` returns the array it was made from, bit for bit."""
+
+    def __init__(self, context: Context, core: _core.Texture, shape: tuple[int, ...]):
+        self.context = context
+        self._core = core
+        self.shape = shape
+        self.dtype = np.dtype(core.dtype)
+
+    @property
+    def glo(self) -> int:
+        """The GL texture name, for moderngl's ``external_texture`` and other GL code."""
+        return self._core.glo
+
+    @property
+    def width(self) -> int:
+        return self._core.width
+
+    @property
+    def height(self) -> int:
+        return self._core.height
+
+    @property
+    def channels(self) -> int:
+        return self._core.channels
+
+    def upload(self, array: np.ndarray) -> None:
+        """Replaces the contents with ``array``, which must have this texture's shape and dtype."""
+        array = _check_array(array)
+        if array.shape != self.shape or array.dtype != self.dtype:
+            raise ValueError(
+                f"blurlab: upload of {array.dtype}{array.shape} into a texture of "
+                f"{self.dtype}{self.shape}; shapes and dtypes must match"
+            )
+        self._core.upload(array.reshape(self.height, self.width, self.channels))
+
+    def download(self) -> np.ndarray:
+        """The texture as a new array of shape ``self.shape``."""
+        return self._core.download().reshape(self.shape)
+
+    def download_async(self) -> PendingDownload:
+        """Queues the download and returns at once; ``.result()`` waits for it."""
+        return PendingDownload(self._core.download_async(), self.shape, self.dtype)
+
+    def clear(self) -> None:
+        self._core.clear()
+
+    def __repr__(self) -> str:
+        return f"<blurlab.Texture {self.dtype}{self.shape} glo={self.glo}>"
+
+
+class PendingDownload:
+    """A download in flight (a pixel-pack buffer and a fence)."""
+
+    def __init__(self, core: _core.PendingDownload, shape: tuple[int, ...], dtype: np.dtype):
+        self._core = core
+        self._shape = shape
+        self._dtype = dtype
+
+    def done(self) -> bool:
+        """True once the GPU has finished the copy; never blocks."""
+        return self._core.done()
+
+    def result(self, copy: bool = True) -> np.ndarray:
+        """Waits for the copy and returns the array.
+
+        ``copy=False`` returns a read-only view of the mapped buffer itself (no copy on the CPU);
+        the buffer goes back to the context's pool when the array is freed.
+        """
+        raw = self._core.result_bytes(copy=copy)
+        array = raw.view(self._dtype).reshape(self._shape)
+        if not copy:
+            array.flags.writeable = False
+        return array
+
+
+class ComputeProgram:
+    """A compute shader loaded from the shader folder (or an absolute path)."""
+
+    def __init__(self, core: _core.Program):
+        self._core = core
+
+    @property
+    def local_size(self) -> tuple[int, int, int]:
+        return tuple(self._core.local_size)
+
+    @property
+    def uniforms(self) -> dict[str, int]:
+        return dict(self._core.uniforms)
+
+    def run(
+        self,
+        size: tuple[int, int],
+        images: Sequence[Texture | tuple[Texture, str]] = (),
+        textures: Sequence[Texture] = (),
+        uniforms: Mapping[str, float | Sequence[float]] | None = None,
+    ) -> None:
+        """Dispatches enough work groups to cover ``size`` = (W, H) invocations.
+
+        ``images`` are bound to image units 0, 1, ... (access ``read_write`` unless given as
+        ``(texture, "read" | "write")``); ``textures`` to texture units 0, 1, ...
+        """
+        width, height = size
+        for unit, item in enumerate(images):
+            texture, access = item if isinstance(item, tuple) else (item, "read_write")
+            self._core.bind_image(unit, texture._core, access)
+        for unit, texture in enumerate(textures):
+            self._core.bind_texture(unit, texture._core)
+        for name, value in (uniforms or {}).items():
+            values = [float(v) for v in np.atleast_1d(np.asarray(value, dtype=np.float64))]
+            self._core.set_uniform(name, values)
+        lx, ly, _ = self.local_size
+        self._core.dispatch(-(-width // lx), -(-height // ly), 1)
+
+
+class Context:
+    """An OpenGL 4.5 core context with no display.
+
+    ``device``: ``"auto"`` (a GPU if EGL finds one, else Mesa's llvmpipe), ``"gpu"`` (fails
+    without one), ``"software"`` (llvmpipe), or an int that picks an EGL device by index
+    (see ``Context.devices()``).
+    """
+
+    def __init__(self, device: str | int = "auto", shader_dir: str | Path | None = None):
+        if isinstance(device, bool) or not isinstance(device, (str, int)):
+            raise TypeError(
+                f"blurlab: device must be one of {DEVICE_MODES} or an int, not {device!r}"
+            )
+        if isinstance(device, str) and device not in DEVICE_MODES:
+            raise ValueError(
+                f"blurlab: device must be one of {DEVICE_MODES} or an int, not {device!r}"
+            )
+        folder = Path(shader_dir) if shader_dir is not None else _default_shader_dir()
+        mode, index = ("index", device) if isinstance(device, int) else (device, -1)
+        self._core = _core.Context(mode, index, str(folder.resolve()))
+        self._moderngl = None
+
+    @staticmethod
+    def devices() -> list[dict]:
+        """The EGL devices of this machine: index, kind ("gpu" or "software") and name."""
+        return [
+            {"index": d.index, "kind": d.kind, "name": d.name} for d in _core.Context.devices()
+        ]
+
+    def info(self) -> dict:
+        """vendor, renderer, version, device ("gpu" or "software"), timer clock, and more."""
+        info = dict(self._core.info())
+        for key in ("device_index", "max_texture_size"):
+            info[key] = int(info[key])
+        return info
+
+    @property
+    def software(self) -> bool:
+        return self._core.software
+
+    @property
+    def max_texture_size(self) -> int:
+        return self._core.max_texture_size
+
+    def upload(self, array: np.ndarray) -> Texture:
+        """A new texture holding ``array`` ((H, W) or (H, W, C), uint8/float16/float32)."""
+        array = _check_array(array)
+        self._check_size(array.shape[1], array.shape[0])
+        channels = array.shape[2] if array.ndim == 3 else 1
+        core = self._core.texture(array.shape[1], array.shape[0], channels, array.dtype.name)
+        texture = Texture(self, core, array.shape)
+        core.upload(array.reshape(array.shape[0], array.shape[1], channels))
+        return texture
+
+    def empty(self, shape: tuple[int, ...], dtype: str = "float32") -> Texture:
+        """A new zero-filled texture of ``shape`` (H, W) or (H, W, C) and ``dtype``."""
+        shape = tuple(int(s) for s in shape)
+        if len(shape) not in (2, 3) or (len(shape) == 3 and not 1 <= shape[2] <= 4):
+            raise ValueError(
+                f"blurlab: texture shape {shape} is not (H, W) or (H, W, C) with C in 1..4"
+            )
+        if np.dtype(dtype).name not in TEXTURE_DTYPES:
+            raise TypeError(
+                f"blurlab: texture dtype {dtype} is not one of " + ", ".join(TEXTURE_DTYPES)
+            )
+        self._check_size(shape[1], shape[0])
+        channels = shape[2] if len(shape) == 3 else 1
+        core = self._core.texture(shape[1], shape[0], channels, np.dtype(dtype).name)
+        core.clear()
+        return Texture(self, core, shape)
+
+    def _check_size(self, width: int, height: int) -> None:
+        limit = self.max_texture_size
+        if not (1 <= width <= limit and 1 <= height <= limit):
+            raise ValueError(
+                f"blurlab: image size {width}x{height} is outside 1..{limit} per side "
+                "(GL_MAX_TEXTURE_SIZE of this device)"
+            )
+
+    def program(self, path: str | Path, defines: Mapping[str, object] | None = None) -> ComputeProgram:
+        """Loads a compute shader: ``path`` relative to the shader folder, or absolute.
+
+        ``defines`` are injected after ``#version`` as ``#define NAME value``. A compile error
+        raises ``blurlab.ShaderError`` with file:line and the driver's log.
+        """
+        path = Path(path)
+        resolved = str(path.resolve()) if path.is_absolute() or path.exists() else str(path)
+        pairs = [(str(k), _glsl_literal(v)) for k, v in (defines or {}).items()]
+        return ComputeProgram(_core.Program.compute(self._core, resolved, pairs))
+
+    @contextmanager
+    def timer(self):
+        """Times the GPU work issued inside the ``with`` block: yields a Timing filled on exit.
+
+        GL timer queries where valid; on llvmpipe glFinish and a wall clock (``timing.clock``
+        says which).
+        """
+        core = _core.Timer(self._core)
+        timing = Timing(clock=core.clock)
+        core.start()
+        try:
+            yield timing
+        finally:
+            timing.ms = core.stop()
+
+    def finish(self) -> None:
+        """Waits until the GPU has finished all work issued so far."""
+        self._core.finish()
+
+    def live_objects(self) -> dict[str, int]:
+        """Counts of live GL objects blurlab made, by kind (texture, buffer, program, query)."""
+        return dict(self._core.live_objects())
+
+    def moderngl(self):
+        """A moderngl context on this very GL context, for users' own passes.
+
+        Share textures without a copy: ``mgl.external_texture(tex.glo, (W, H), C, 0, "f4")``.
+        """
+        import moderngl
+
+        self._core.make_current()
+        if self._moderngl is None:
+            # moderngl's default loader attaches to the EGL context current on this thread.
+            moderngl.init_context()
+            self._moderngl = moderngl.get_context()
+            self._moderngl.clear_errors()
+        return self._moderngl
+
+    def make_current(self) -> None:
+        self._core.make_current()
+
+    def __repr__(self) -> str:
+        info = self._core.info()
+        return f"<blurlab.Context {info['device']}: {info['renderer']}>"
+
+
+def _glsl_literal(value: object) -> str:
+    if isinstance(value, bool):
+        return "1" if value else "0"
+    if isinstance(value, float):
+        return repr(value) if math.isfinite(value) else _reject_define(value)
+    return str(value)
+
+
+def _reject_define(value: object) -> str:
+    raise ValueError(f"blurlab: shader define value {value!r} is not finite")
+

@@ -1,0 +1,130 @@
+"""Image files through OpenImageIO: EXR for float buffers, PNG for 8-bit sRGB pictures.
+
+``write`` goes through a temporary file in the destination folder and an atomic rename, so a
+failed write never leaves a partial file behind.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+FLOAT_FORMATS = (".exr",)
+EIGHT_BIT_FORMATS = (".png",)
+
+
+def linear_to_srgb(linear: np.ndarray) -> np.ndarray:
+    """The sRGB transfer function (IEC 61966-2-1) on linear values clipped to [0, 1]."""
+    c = np.clip(np.asarray(linear, dtype=np.float64), 0.0, 1.0)
+    return np.where(c <= 0.0031308, 12.92 * c, 1.055 * np.power(c, 1 / 2.4) - 0.055)
+
+
+def srgb_to_linear(srgb: np.ndarray) -> np.ndarray:
+    """Inverse of :func:`linear_to_srgb`."""
+    c = np.asarray(srgb, dtype=np.float64)
+    return np.where(c <= 0.04045, c / 12.92, np.power((c + 0.055) / 1.055, 2.4))
+
+
+def _oiio():
+    import OpenImageIO as oiio
+
+    return oiio
+
+
+def write(path: str | os.PathLike, array: np.ndarray) -> Path:
+    """Writes ``array`` ((H, W) or (H, W, C)) to ``path``; returns the path.
+
+    - ``.exr``: float32 stays float32, float16 stays half; uint8 is written as float32 / 255.
+    - ``.png``: float arrays are linear color, clipped to [0, 1] and sRGB-encoded to 8 bits;
+      uint8 arrays are taken as already encoded and written as they are.
+    """
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix not in FLOAT_FORMATS + EIGHT_BIT_FORMATS:
+        raise ValueError(
+            f"blurlab.io.write: cannot write {path.name!r}; allowed extensions are "
+            + ", ".join(FLOAT_FORMATS + EIGHT_BIT_FORMATS)
+        )
+    if not isinstance(array, np.ndarray):
+        raise TypeError(f"blurlab.io.write: array must be a numpy.ndarray, not {type(array).__name__}")
+    if array.ndim not in (2, 3) or array.size == 0:
+        raise ValueError(
+            f"blurlab.io.write: array of shape {array.shape} is not a non-empty (H, W) or (H, W, C)"
+        )
+    if array.dtype.name not in ("uint8", "float16", "float32", "float64"):
+        raise TypeError(
+            f"blurlab.io.write: dtype {array.dtype} not supported; use uint8, float16, float32 "
+            "or float64"
+        )
+    if suffix == ".png" and array.ndim == 3 and array.shape[2] > 4:
+        raise ValueError(f"blurlab.io.write: PNG takes 1 to 4 channels, not {array.shape[2]}")
+    if array.dtype.kind == "f" and not np.isfinite(array).all() and suffix == ".png":
+        raise ValueError("blurlab.io.write: array has NaN or inf values, which PNG cannot hold")
+    data = _encode(array, suffix)
+    folder = path.parent if str(path.parent) else Path(".")
+    if not folder.is_dir():
+        raise FileNotFoundError(f"blurlab.io.write: folder {str(folder)!r} does not exist")
+
+    oiio = _oiio()
+    channels = 1 if data.ndim == 2 else data.shape[2]
+    spec = oiio.ImageSpec(data.shape[1], data.shape[0], channels, _oiio_type(oiio, data.dtype))
+    if suffix == ".png":
+        spec.attribute("oiio:ColorSpace", "sRGB")
+    fd, tmp_name = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=suffix, dir=folder)
+    os.close(fd)
+    try:
+        out = oiio.ImageOutput.create(tmp_name)
+        if out is None:
+            raise OSError(f"blurlab.io.write: OpenImageIO has no writer for {suffix}: {oiio.geterror()}")
+        if not out.open(tmp_name, spec):
+            raise OSError(f"blurlab.io.write: cannot open {path}: {out.geterror()}")
+        ok = out.write_image(data)
+        closed = out.close()
+        if not (ok and closed):
+            raise OSError(f"blurlab.io.write: writing {path} failed: {out.geterror()}")
+        os.replace(tmp_name, path)
+    except BaseException:
+        Path(tmp_name).unlink(missing_ok=True)
+        raise
+    return path
+
+
+def read(path: str | os.PathLike) -> np.ndarray:
+    """Reads an image: (H, W, C) float32 for float files (EXR), uint8 for 8-bit files (PNG)."""
+    path = Path(path)
+    if not path.is_file():
+        raise FileNotFoundError(f"blurlab.io.read: no such file: {path}")
+    oiio = _oiio()
+    image = oiio.ImageInput.open(str(path))
+    if image is None:
+        raise OSError(f"blurlab.io.read: cannot read {path}: {oiio.geterror()}")
+    try:
+        spec = image.spec()
+        base = spec.format.basetype
+        want = oiio.UINT8 if base == oiio.UINT8 else oiio.FLOAT
+        pixels = image.read_image(want)
+        if pixels is None:
+            raise OSError(f"blurlab.io.read: {path} is corrupt or truncated: {image.geterror()}")
+    finally:
+        image.close()
+    pixels = np.asarray(pixels)
+    return pixels.reshape(spec.height, spec.width, spec.nchannels)
+
+
+def _encode(array: np.ndarray, suffix: str) -> np.ndarray:
+    if suffix == ".png":
+        if array.dtype == np.uint8:
+            return np.ascontiguousarray(array)
+        return np.ascontiguousarray(np.round(linear_to_srgb(array) * 255.0).astype(np.uint8))
+    if array.dtype == np.uint8:
+        return np.ascontiguousarray(array.astype(np.float32) / np.float32(255.0))
+    if array.dtype == np.float64:
+        return np.ascontiguousarray(array.astype(np.float32))
+    return np.ascontiguousarray(array)
+
+
+def _oiio_type(oiio, dtype: np.dtype):
+    return {"uint8": oiio.UINT8, "float16": oiio.HALF, "float32": oiio.FLOAT}[dtype.name]

@@ -1,0 +1,9 @@
+#pragma once
+
+#include <pybind11/pybind11.h>
+
+namespace blurlab {
+
+void bind_gl(pybind11::module_& m);
+
+}  // namespace blurlab

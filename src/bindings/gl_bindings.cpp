@@ -1,0 +1,176 @@
+// Bindings of src/gl: Context, Texture, Program, Timer, PendingDownload. Argument checking that
+// needs Python types lives in python/blurlab/context.py; these functions only convert.
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <cstring>
+
+#include "bindings/bindings.h"
+#include "gl/buffer.h"
+#include "gl/context.h"
+#include "gl/program.h"
+#include "gl/readback.h"
+#include "gl/texture.h"
+#include "gl/timer.h"
+
+namespace py = pybind11;
+
+namespace blurlab {
+namespace {
+
+PixelType pixel_type(const std::string& dtype) {
+  if (dtype == "uint8") return PixelType::u8;
+  if (dtype == "float16") return PixelType::f16;
+  if (dtype == "float32") return PixelType::f32;
+  throw std::invalid_argument("blurlab: texture dtype must be uint8, float16 or float32, not " +
+                              dtype);
+}
+
+std::string dtype_name(PixelType type) {
+  switch (type) {
+    case PixelType::u8: return "uint8";
+    case PixelType::f16: return "float16";
+    case PixelType::f32: return "float32";
+  }
+  return "";
+}
+
+GLenum image_access(const std::string& access) {
+  if (access == "read") return GL_READ_ONLY;
+  if (access == "write") return GL_WRITE_ONLY;
+  if (access == "read_write") return GL_READ_WRITE;
+  throw std::invalid_argument("blurlab: image access must be 'read', 'write' or 'read_write', not '" +
+                              access + "'");
+}
+
+void upload(Texture& texture, const py::array& array) {
+  if (!(array.flags() & py::array::c_style))
+    throw std::invalid_argument("blurlab: upload needs a C-contiguous array");
+  if (py::str(array.dtype()).cast<std::string>() != dtype_name(texture.format().type))
+    throw std::invalid_argument("blurlab: upload dtype does not match the texture's " +
+                                dtype_name(texture.format().type));
+  const size_t bytes = static_cast<size_t>(array.nbytes());
+  const void* data = array.data();
+  py::gil_scoped_release release;
+  texture.upload(data, bytes);
+}
+
+py::array download(const Texture& texture) {
+  py::array out(py::dtype(dtype_name(texture.format().type)),
+                {texture.height(), texture.width(), texture.format().channels});
+  void* data = out.mutable_data();
+  const size_t bytes = static_cast<size_t>(out.nbytes());
+  {
+    py::gil_scoped_release release;
+    texture.download(data, bytes);
+  }
+  return out;
+}
+
+// The bytes of a finished download: a copy, or a read-only view of the mapped pixel-pack buffer
+// that hands the buffer back to the context's pool when the array is freed.
+py::array download_result(PendingDownload& pending, bool copy) {
+  {
+    py::gil_scoped_release release;
+    pending.wait();
+  }
+  const size_t bytes = pending.size();
+  if (bytes == 0) throw std::runtime_error("blurlab: this download's result was already taken");
+  if (copy) {
+    py::array_t<uint8_t> out(static_cast<py::ssize_t>(bytes));
+    void* dst = out.mutable_data();
+    const void* src = pending.mapped();
+    {
+      py::gil_scoped_release release;
+      std::memcpy(dst, src, bytes);
+    }
+    return std::move(out);
+  }
+  struct Lease {
+    std::shared_ptr<Context> context;
+    std::shared_ptr<Buffer> buffer;
+  };
+  auto* lease = new Lease{pending.context(), pending.take_buffer()};
+  py::capsule owner(lease, [](void* p) {
+    auto* l = static_cast<Lease*>(p);
+    l->context->return_pack_buffer(std::move(l->buffer));
+    delete l;
+  });
+  return py::array_t<uint8_t>({static_cast<py::ssize_t>(bytes)}, {1},
+                              static_cast<const uint8_t*>(lease->buffer->mapped()), owner);
+}
+
+}  // namespace
+
+void bind_gl(py::module_& m) {
+  py::class_<EglDevice>(m, "EglDevice")
+      .def_readonly("index", &EglDevice::index)
+      .def_readonly("kind", &EglDevice::kind)
+      .def_readonly("name", &EglDevice::name)
+      .def_readonly("extensions", &EglDevice::extensions);
+
+  py::class_<Context, std::shared_ptr<Context>>(m, "Context")
+      .def(py::init([](const std::string& mode, int index, std::string shader_dir) {
+             return Context::create(DeviceRequest{mode, index}, std::move(shader_dir));
+           }),
+           py::arg("mode"), py::arg("index"), py::arg("shader_dir"))
+      .def_static("devices", &Context::devices)
+      .def("info", &Context::info)
+      .def("live_objects", &Context::live_objects)
+      .def("finish", &Context::finish, py::call_guard<py::gil_scoped_release>())
+      .def("make_current", &Context::make_current)
+      .def_property_readonly("software", &Context::is_software)
+      .def_property_readonly("max_texture_size", &Context::max_texture_size)
+      .def_property_readonly("shader_dir", &Context::shader_dir)
+      .def("texture",
+           [](const std::shared_ptr<Context>& ctx, int width, int height, int channels,
+              const std::string& dtype) {
+             return std::make_shared<Texture>(ctx, width, height,
+                                              texture_format(pixel_type(dtype), channels));
+           },
+           py::arg("width"), py::arg("height"), py::arg("channels"), py::arg("dtype"));
+
+  py::class_<Texture, std::shared_ptr<Texture>>(m, "Texture")
+      .def_property_readonly("glo", &Texture::id)
+      .def_property_readonly("width", &Texture::width)
+      .def_property_readonly("height", &Texture::height)
+      .def_property_readonly("channels", [](const Texture& t) { return t.format().channels; })
+      .def_property_readonly("dtype", [](const Texture& t) { return dtype_name(t.format().type); })
+      .def_property_readonly("internal_format", [](const Texture& t) { return t.format().internal; })
+      .def("upload", &upload, py::arg("array"))
+      .def("download", &download)
+      .def("download_async", [](const Texture& t) { return std::make_shared<PendingDownload>(t); })
+      .def("clear", &Texture::clear);
+
+  py::class_<PendingDownload, std::shared_ptr<PendingDownload>>(m, "PendingDownload")
+      .def("done", &PendingDownload::done)
+      .def("result_bytes", &download_result, py::arg("copy") = true);
+
+  py::class_<Program, std::shared_ptr<Program>>(m, "Program")
+      .def_static("compute", &Program::compute, py::arg("context"), py::arg("path"),
+                  py::arg("defines"))
+      .def_static("graphics", &Program::graphics, py::arg("context"), py::arg("vertex_path"),
+                  py::arg("fragment_path"), py::arg("defines"))
+      .def_property_readonly("glo", &Program::id)
+      .def_property_readonly("name", &Program::name)
+      .def_property_readonly("local_size", &Program::local_size)
+      .def_property_readonly("uniforms", &Program::uniforms)
+      .def("set_uniform", &Program::set_uniform, py::arg("name"), py::arg("values"))
+      .def("bind_image",
+           [](Program& p, int unit, const Texture& t, const std::string& access) {
+             p.bind_image(unit, t, image_access(access));
+           },
+           py::arg("unit"), py::arg("texture"), py::arg("access"))
+      .def("bind_texture", &Program::bind_texture, py::arg("unit"), py::arg("texture"))
+      .def("dispatch", &Program::dispatch, py::arg("x"), py::arg("y"), py::arg("z"));
+
+  py::class_<Timer, std::shared_ptr<Timer>>(m, "Timer")
+      .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))
+      .def("start", &Timer::start)
+      .def("stop", &Timer::stop, py::call_guard<py::gil_scoped_release>())
+      .def_property_readonly("clock", &Timer::clock);
+
+  m.def("translate_shader_log", &translate_shader_log, py::arg("log"), py::arg("files"));
+}
+
+}  // namespace blurlab

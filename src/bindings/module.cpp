@@ -1,0 +1,14 @@
+// blurlab._core: the C++ core as Python sees it. One bind_* function per area; no logic here.
+#include <pybind11/pybind11.h>
+
+#include "bindings/bindings.h"
+#include "gl/gl.h"
+
+namespace py = pybind11;
+
+PYBIND11_MODULE(_core, m) {
+  m.doc() = "blurlab's C++ core: headless OpenGL through EGL, textures, programs and timers.";
+  py::register_exception<blurlab::ShaderError>(m, "ShaderError", PyExc_RuntimeError);
+  py::register_exception<blurlab::GLError>(m, "GLError", PyExc_RuntimeError);
+  blurlab::bind_gl(m);
+}

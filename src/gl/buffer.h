@@ -1,0 +1,35 @@
+// A GL buffer object with immutable storage. `readback` buffers are persistently mapped for
+// reading (pixel-pack targets of asynchronous downloads); `storage` buffers are plain device
+// memory for shader storage and atomics.
+#pragma once
+
+#include <cstddef>
+
+#include "gl/gl.h"
+
+namespace blurlab {
+
+class Context;
+
+class Buffer {
+ public:
+  enum class Usage { storage, readback };
+  // The buffer must not outlive `context`; its owner keeps the context alive.
+  Buffer(Context* context, size_t bytes, Usage usage);
+  ~Buffer();
+  Buffer(const Buffer&) = delete;
+  Buffer& operator=(const Buffer&) = delete;
+
+  GLuint id() const { return id_; }
+  size_t size() const { return bytes_; }
+  // The persistent mapping of a readback buffer (nullptr for storage buffers).
+  const void* mapped() const { return mapped_; }
+
+ private:
+  Context* context_;
+  GLuint id_ = 0;
+  size_t bytes_;
+  void* mapped_ = nullptr;
+};
+
+}  // namespace blurlab

@@ -1,0 +1,299 @@
+#include "gl/context.h"
+
+#include <dlfcn.h>
+
+#include <algorithm>
+#include <sstream>
+
+#include "gl/buffer.h"
+
+#ifndef EGL_PLATFORM_SURFACELESS_MESA
+#define EGL_PLATFORM_SURFACELESS_MESA 0x31DD
+#endif
+#ifndef EGL_DRM_DEVICE_FILE_EXT
+#define EGL_DRM_DEVICE_FILE_EXT 0x3233
+#endif
+#ifndef EGL_CUDA_DEVICE_NV
+#define EGL_CUDA_DEVICE_NV 0x323A
+#endif
+
+namespace blurlab {
+namespace {
+
+const char* kInstallHint =
+    "Install an EGL driver: Mesa's software rasterizer on Debian/Ubuntu with "
+    "`apt-get install libegl1 libegl-mesa0 libgl1-mesa-dri`, or the NVIDIA driver (with its "
+    "EGL library) for a GPU.";
+
+bool has_token(const char* list, const std::string& token) {
+  if (!list) return false;
+  std::istringstream words(list);
+  std::string word;
+  while (words >> word)
+    if (word == token) return true;
+  return false;
+}
+
+std::string egl_error_text() {
+  std::ostringstream s;
+  s << "EGL error 0x" << std::hex << eglGetError();
+  return s.str();
+}
+
+// libepoxy aborts the process if libEGL cannot be loaded; check first so Python gets an error.
+void require_egl_library() {
+  static bool loaded = false;
+  if (loaded) return;
+  if (!dlopen("libEGL.so.1", RTLD_LAZY | RTLD_GLOBAL)) {
+    const char* why = dlerror();
+    throw std::runtime_error(std::string("blurlab: libEGL.so.1 could not be loaded (") +
+                             (why ? why : "unknown reason") + "). " + kInstallHint);
+  }
+  loaded = true;
+}
+
+// eglInitialize/eglTerminate are not reference counted, and every context on one device shares
+// one EGLDisplay: count users so the last one to go terminates it.
+std::mutex display_mutex;
+std::map<EGLDisplay, int> display_users;
+
+void release_display(EGLDisplay display) {
+  std::lock_guard<std::mutex> lock(display_mutex);
+  if (--display_users[display] == 0) {
+    display_users.erase(display);
+    eglTerminate(display);
+  }
+}
+
+}  // namespace
+
+std::vector<EglDevice> Context::devices() {
+  require_egl_library();
+  std::vector<EglDevice> result;
+  const char* client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
+  if (!has_token(client, "EGL_EXT_device_enumeration") &&
+      !has_token(client, "EGL_EXT_device_base"))
+    return result;
+  EGLint count = 0;
+  if (!eglQueryDevicesEXT(0, nullptr, &count) || count <= 0) return result;
+  std::vector<EGLDeviceEXT> handles(count);
+  eglQueryDevicesEXT(count, handles.data(), &count);
+  for (EGLint i = 0; i < count; ++i) {
+    EglDevice d;
+    d.index = i;
+    const char* ext = eglQueryDeviceStringEXT(handles[i], EGL_EXTENSIONS);
+    d.extensions = ext ? ext : "";
+    d.kind = has_token(ext, "EGL_MESA_device_software") ? "software" : "gpu";
+    if (d.kind == "software") {
+      d.name = "software";
+    } else if (has_token(ext, "EGL_EXT_device_drm")) {
+      const char* file = eglQueryDeviceStringEXT(handles[i], EGL_DRM_DEVICE_FILE_EXT);
+      d.name = file ? file : "drm";
+    } else if (has_token(ext, "EGL_NV_device_cuda")) {
+      EGLAttrib cuda = -1;
+      eglQueryDeviceAttribEXT(handles[i], EGL_CUDA_DEVICE_NV, &cuda);
+      d.name = "cuda:" + std::to_string(cuda);
+    } else {
+      d.name = "device " + std::to_string(i);
+    }
+    result.push_back(d);
+  }
+  return result;
+}
+
+std::shared_ptr<Context> Context::create(const DeviceRequest& request, std::string shader_dir) {
+  require_egl_library();
+  const std::vector<EglDevice> devices = Context::devices();
+  std::vector<EGLDeviceEXT> handles(devices.size());
+  if (!devices.empty()) {
+    EGLint count = static_cast<EGLint>(handles.size());
+    eglQueryDevicesEXT(count, handles.data(), &count);
+  }
+
+  // Candidates in order of preference; each is tried until one gives a 4.5 core context.
+  struct Candidate {
+    const EglDevice* device;  // nullptr: the surfaceless platform
+  };
+  std::vector<Candidate> candidates;
+  const std::string& mode = request.mode;
+  if (mode == "index") {
+    if (request.index < 0 || request.index >= static_cast<int>(devices.size())) {
+      std::ostringstream s;
+      s << "blurlab: EGL device " << request.index << " does not exist; this machine has "
+        << devices.size() << " EGL device(s)";
+      for (const auto& d : devices) s << "\n  " << d.index << ": " << d.kind << " (" << d.name << ")";
+      throw std::invalid_argument(s.str());
+    }
+    candidates.push_back({&devices[request.index]});
+  } else {
+    if (mode == "auto" || mode == "gpu")
+      for (const auto& d : devices)
+        if (d.kind == "gpu") candidates.push_back({&d});
+    if (mode == "auto" || mode == "software") {
+      for (const auto& d : devices)
+        if (d.kind == "software") candidates.push_back({&d});
+      const char* client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
+      if (has_token(client, "EGL_MESA_platform_surfaceless")) candidates.push_back({nullptr});
+    }
+  }
+  if (candidates.empty()) {
+    if (mode == "gpu")
+      throw std::runtime_error(
+          "blurlab: device='gpu' was asked for, but EGL lists no hardware GPU. Install the "
+          "NVIDIA driver with its EGL library (libnvidia-egl), or use device='auto' or "
+          "'software' for Mesa's llvmpipe.");
+    throw std::runtime_error(std::string("blurlab: EGL found no device to render on. ") +
+                             kInstallHint);
+  }
+
+  std::string failures;
+  for (const Candidate& c : candidates) {
+    EGLDisplay display;
+    std::string platform;
+    if (c.device) {
+      display = eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, handles[c.device->index], nullptr);
+      platform = "device";
+    } else {
+      display = eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+      platform = "surfaceless";
+    }
+    std::shared_ptr<Context> ctx(new Context());
+    ctx->shader_dir_ = shader_dir;
+    try {
+      if (display == EGL_NO_DISPLAY) throw std::runtime_error("no EGL display (" + egl_error_text() + ")");
+      ctx->create_on(display, platform, c.device);
+      return ctx;
+    } catch (const std::exception& e) {
+      failures += std::string("\n  ") + (c.device ? c.device->kind + " device " + std::to_string(c.device->index) : "surfaceless platform") + ": " + e.what();
+    }
+  }
+  throw std::runtime_error(
+      "blurlab: could not create an OpenGL 4.5 core context on any EGL device:" + failures +
+      "\nblurlab needs OpenGL 4.5 core: Mesa 20 or newer (llvmpipe), or a current NVIDIA "
+      "driver. " + kInstallHint);
+}
+
+void Context::create_on(EGLDisplay display, const std::string& platform, const EglDevice* device) {
+  EGLint major = 0, minor = 0;
+  if (!eglInitialize(display, &major, &minor))
+    throw std::runtime_error("eglInitialize failed (" + egl_error_text() + ")");
+  {
+    std::lock_guard<std::mutex> lock(display_mutex);
+    display_users[display]++;
+  }
+  display_ = display;
+  if (!eglBindAPI(EGL_OPENGL_API))
+    throw std::runtime_error("the display has no desktop OpenGL (" + egl_error_text() + ")");
+
+  const char* display_ext = eglQueryString(display, EGL_EXTENSIONS);
+  EGLConfig config = EGL_NO_CONFIG_KHR;
+  if (!has_token(display_ext, "EGL_KHR_no_config_context")) {
+    const EGLint wanted[] = {EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE,
+                             EGL_OPENGL_BIT, EGL_NONE};
+    EGLint n = 0;
+    if (!eglChooseConfig(display, wanted, &config, 1, &n) || n < 1)
+      throw std::runtime_error("no EGL config for desktop OpenGL (" + egl_error_text() + ")");
+  }
+  const EGLint attributes[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 5,
+                               EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                               EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+  context_ = eglCreateContext(display, config, EGL_NO_CONTEXT, attributes);
+  if (context_ == EGL_NO_CONTEXT)
+    throw std::runtime_error("eglCreateContext for OpenGL 4.5 core failed (" + egl_error_text() + ")");
+  owner_ = std::this_thread::get_id();
+  if (!eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, context_))
+    throw std::runtime_error("eglMakeCurrent without a surface failed (" + egl_error_text() + ")");
+  if (epoxy_gl_version() < 45)
+    throw std::runtime_error("the context offers OpenGL " + std::to_string(epoxy_gl_version()) +
+                             " (10 x major + minor), blurlab needs 45");
+
+  auto str = [](GLenum name) {
+    const GLubyte* s = glGetString(name);
+    return std::string(s ? reinterpret_cast<const char*>(s) : "");
+  };
+  info_["vendor"] = str(GL_VENDOR);
+  info_["renderer"] = str(GL_RENDERER);
+  info_["version"] = str(GL_VERSION);
+  info_["glsl_version"] = str(GL_SHADING_LANGUAGE_VERSION);
+  info_["egl_version"] = std::to_string(major) + "." + std::to_string(minor);
+  info_["egl_platform"] = platform;
+  const std::string& renderer = info_["renderer"];
+  bool software_renderer = renderer.find("llvmpipe") != std::string::npos ||
+                           renderer.find("softpipe") != std::string::npos;
+  software_ = device ? device->kind == "software" : software_renderer;
+  info_["device"] = software_ ? "software" : "gpu";
+  info_["device_index"] = device ? std::to_string(device->index) : "-1";
+  info_["device_name"] = device ? device->name : "surfaceless";
+  info_["timer"] = timer_queries_valid() ? "gl_time_elapsed" : "wall_glfinish";
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_texture_size_);
+  info_["max_texture_size"] = std::to_string(max_texture_size_);
+  // Transfers move tightly packed rows of any width.
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  check_gl("context setup");
+}
+
+Context::~Context() {
+  if (context_ != EGL_NO_CONTEXT) {
+    if (try_make_current()) {
+      spare_pack_buffers_.clear();
+      glFinish();
+    }
+    if (eglGetCurrentContext() == context_)
+      eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+    eglDestroyContext(display_, context_);
+  }
+  if (display_ != EGL_NO_DISPLAY) release_display(display_);
+}
+
+void Context::make_current() {
+  if (std::this_thread::get_id() != owner_)
+    throw std::runtime_error(
+        "blurlab: this Context belongs to the thread that created it; an OpenGL context is "
+        "current on one thread at a time. Create a Context in each thread that renders.");
+  if (eglGetCurrentContext() != context_ &&
+      !eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_))
+    throw std::runtime_error("blurlab: eglMakeCurrent failed (" + egl_error_text() + ")");
+}
+
+bool Context::try_make_current() noexcept {
+  if (eglGetCurrentContext() == context_) return true;
+  return eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_) == EGL_TRUE;
+}
+
+void Context::finish() {
+  make_current();
+  glFinish();
+}
+
+void Context::track(const char* kind, int delta) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  live_[kind] += delta;
+}
+
+std::map<std::string, int> Context::live_objects() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return live_;
+}
+
+std::shared_ptr<Buffer> Context::take_pack_buffer(size_t bytes) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (auto it = spare_pack_buffers_.begin(); it != spare_pack_buffers_.end(); ++it) {
+      if ((*it)->size() == bytes) {
+        auto buffer = *it;
+        spare_pack_buffers_.erase(it);
+        return buffer;
+      }
+    }
+  }
+  return std::make_shared<Buffer>(this, bytes, Buffer::Usage::readback);
+}
+
+void Context::return_pack_buffer(std::shared_ptr<Buffer> buffer) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  // A few spares cover a pipelined readback; more would only hold pinned memory.
+  if (spare_pack_buffers_.size() < 8) spare_pack_buffers_.push_back(std::move(buffer));
+}
+
+}  // namespace blurlab

@@ -1,0 +1,81 @@
+// An OpenGL 4.5 core context created through EGL with no display (no window, no X server).
+// Device choice: a hardware GPU where EGL enumerates one, else Mesa's software device
+// (llvmpipe), else Mesa's surfaceless platform. DESIGN.md "What Python sees".
+#pragma once
+
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "gl/gl.h"
+
+namespace blurlab {
+
+class Buffer;
+
+// One EGL device as eglQueryDevicesEXT lists it.
+struct EglDevice {
+  int index = 0;
+  std::string kind;        // "gpu" or "software"
+  std::string name;        // DRM node, CUDA ordinal or "software"
+  std::string extensions;  // the device's EGL extension string
+};
+
+// What the caller asks for: mode "auto", "gpu" or "software", or mode "index" with `index`.
+struct DeviceRequest {
+  std::string mode = "auto";
+  int index = -1;
+};
+
+class Context : public std::enable_shared_from_this<Context> {
+ public:
+  static std::shared_ptr<Context> create(const DeviceRequest& request, std::string shader_dir);
+  static std::vector<EglDevice> devices();
+  ~Context();
+  Context(const Context&) = delete;
+  Context& operator=(const Context&) = delete;
+
+  // Makes this context current on the calling thread. Throws if the thread is not the one that
+  // created the context: a GL context is current on one thread at a time.
+  void make_current();
+  // For destructors, which may run on any thread and must not throw: true if current now.
+  bool try_make_current() noexcept;
+
+  const std::map<std::string, std::string>& info() const { return info_; }
+  bool is_software() const { return software_; }
+  // llvmpipe's timer queries report nonsense (GPU.md), so software contexts time by wall clock.
+  bool timer_queries_valid() const { return !software_; }
+  const std::string& shader_dir() const { return shader_dir_; }
+  int max_texture_size() const { return max_texture_size_; }
+  void finish();
+
+  // Live GL objects by kind ("texture", "buffer", "program", "query"), so tests can show that
+  // freeing objects returns the count to where it was.
+  void track(const char* kind, int delta);
+  std::map<std::string, int> live_objects() const;
+
+  // Pool of persistently mapped pixel-pack buffers for asynchronous readback: allocating
+  // pinned memory for every download would cost more than the copy itself.
+  std::shared_ptr<Buffer> take_pack_buffer(size_t bytes);
+  void return_pack_buffer(std::shared_ptr<Buffer> buffer);
+
+ private:
+  Context() = default;
+  void create_on(EGLDisplay display, const std::string& platform, const EglDevice* device);
+
+  EGLDisplay display_ = EGL_NO_DISPLAY;
+  EGLContext context_ = EGL_NO_CONTEXT;
+  std::thread::id owner_;
+  bool software_ = false;
+  int max_texture_size_ = 0;
+  std::string shader_dir_;
+  std::map<std::string, std::string> info_;
+  mutable std::mutex mutex_;  // guards live_ and spare_pack_buffers_ (destructors may run anywhere)
+  std::map<std::string, int> live_;
+  std::vector<std::shared_ptr<Buffer>> spare_pack_buffers_;
+};
+
+}  // namespace blurlab

@@ -1,0 +1,29 @@
+// Common include for every GL-facing file: libepoxy's GL and EGL entry points, and the error
+// types that the bindings translate into Python exceptions.
+#pragma once
+
+#include <epoxy/egl.h>
+#include <epoxy/gl.h>
+
+#include <stdexcept>
+#include <string>
+
+namespace blurlab {
+
+// A GL call failed or left an error set; raised as blurlab.GLError (a RuntimeError).
+struct GLError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// A shader failed to load, compile or link; raised as blurlab.ShaderError (a RuntimeError).
+struct ShaderError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// Reads and clears every pending GL error; throws GLError naming `what` if there was one.
+// Called after each operation so that no error is left set for the next caller.
+void check_gl(const char* what);
+
+std::string gl_error_name(GLenum error);
+
+}  // namespace blurlab

@@ -1,0 +1,74 @@
+// GLSL programs loaded from files. `#include "file"` is resolved first beside the including file,
+// then in the shader folder; `#define`s are injected after `#version`. Every file gets a source
+// string number through `#line`, so a compile error is reported as file:line with the driver's
+// log.
+#pragma once
+
+#include <array>
+#include <map>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "gl/gl.h"
+
+namespace blurlab {
+
+class Context;
+class Texture;
+
+using Defines = std::vector<std::pair<std::string, std::string>>;
+
+struct ShaderSource {
+  std::string text;                // what is handed to glShaderSource
+  std::vector<std::string> files;  // source string number -> file path
+};
+
+// Throws ShaderError if a file is missing or includes itself.
+ShaderSource load_shader_source(const std::string& path, const std::string& shader_dir,
+                                const Defines& defines);
+
+// Rewrites "N:L(C)" (Mesa) and "N(L)" (NVIDIA) prefixes of a driver log into "file:L".
+std::string translate_shader_log(const std::string& log, const std::vector<std::string>& files);
+
+class Program {
+ public:
+  // A compute program from one file.
+  static std::shared_ptr<Program> compute(std::shared_ptr<Context> context,
+                                          const std::string& path, const Defines& defines);
+  // A raster program from a vertex and a fragment file.
+  static std::shared_ptr<Program> graphics(std::shared_ptr<Context> context,
+                                           const std::string& vertex_path,
+                                           const std::string& fragment_path,
+                                           const Defines& defines);
+  ~Program();
+  Program(const Program&) = delete;
+  Program& operator=(const Program&) = delete;
+
+  GLuint id() const { return id_; }
+  const std::string& name() const { return name_; }
+  // The compute work-group size declared by the shader (0s for raster programs).
+  std::array<int, 3> local_size() const { return local_size_; }
+  // Active uniforms: name -> GL type.
+  const std::map<std::string, GLenum>& uniforms() const { return uniforms_; }
+
+  // Sets a scalar or vector uniform of float, int, uint or bool type from `values`; throws
+  // std::invalid_argument naming the uniform if it does not exist or the count does not match.
+  void set_uniform(const std::string& name, const std::vector<double>& values);
+  void bind_image(int unit, const Texture& texture, GLenum access);
+  void bind_texture(int unit, const Texture& texture);
+  // Runs the compute program over groups.x × groups.y × groups.z work groups.
+  void dispatch(int groups_x, int groups_y, int groups_z);
+
+ private:
+  Program(std::shared_ptr<Context> context, std::string name);
+  void link(const std::vector<GLuint>& shaders);
+  std::shared_ptr<Context> context_;
+  std::string name_;
+  GLuint id_ = 0;
+  std::array<int, 3> local_size_{0, 0, 0};
+  std::map<std::string, GLenum> uniforms_;
+};
+
+}  // namespace blurlab

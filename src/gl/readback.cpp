@@ -1,0 +1,55 @@
+#include "gl/readback.h"
+
+#include "gl/buffer.h"
+#include "gl/context.h"
+#include "gl/texture.h"
+
+namespace blurlab {
+
+PendingDownload::PendingDownload(const Texture& texture) : context_(texture.context()) {
+  buffer_ = context_->take_pack_buffer(texture.byte_size());
+  context_->make_current();
+  const auto& f = texture.format();
+  glBindBuffer(GL_PIXEL_PACK_BUFFER, buffer_->id());
+  glGetTextureImage(texture.id(), 0, f.pixel_format, f.pixel_type,
+                    static_cast<GLsizei>(texture.byte_size()), nullptr);
+  glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+  fence_ = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+  // Without a flush the copy may sit in the command queue until someone waits on it.
+  glFlush();
+  check_gl("queueing an asynchronous download");
+}
+
+PendingDownload::~PendingDownload() {
+  if (context_->try_make_current()) {
+    if (fence_) {
+      glClientWaitSync(fence_, GL_SYNC_FLUSH_COMMANDS_BIT, GL_TIMEOUT_IGNORED);
+      glDeleteSync(fence_);
+    }
+    if (buffer_) context_->return_pack_buffer(std::move(buffer_));
+  }
+}
+
+bool PendingDownload::done() {
+  if (!fence_) return true;
+  context_->make_current();
+  GLint status = GL_UNSIGNALED;
+  glGetSynciv(fence_, GL_SYNC_STATUS, 1, nullptr, &status);
+  return status == GL_SIGNALED;
+}
+
+void PendingDownload::wait() {
+  if (!fence_) return;
+  context_->make_current();
+  GLenum r = glClientWaitSync(fence_, GL_SYNC_FLUSH_COMMANDS_BIT, GL_TIMEOUT_IGNORED);
+  glDeleteSync(fence_);
+  fence_ = nullptr;
+  if (r == GL_WAIT_FAILED) throw GLError("blurlab: waiting for an asynchronous download failed");
+}
+
+const void* PendingDownload::mapped() const { return buffer_ ? buffer_->mapped() : nullptr; }
+size_t PendingDownload::size() const { return buffer_ ? buffer_->size() : 0; }
+
+std::shared_ptr<Buffer> PendingDownload::take_buffer() { return std::move(buffer_); }
+
+}  // namespace blurlab

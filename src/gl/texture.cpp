@@ -1,0 +1,92 @@
+#include "gl/texture.h"
+
+#include <cstdint>
+
+#include "gl/context.h"
+
+namespace blurlab {
+
+TextureFormat texture_format(PixelType type, int channels) {
+  if (channels < 1 || channels > 4)
+    throw std::invalid_argument("blurlab: a texture has 1 to 4 channels, not " +
+                                std::to_string(channels));
+  static const GLenum layouts[] = {GL_RED, GL_RG, GL_RGB, GL_RGBA};
+  static const GLenum u8[] = {GL_R8, GL_RG8, GL_RGB8, GL_RGBA8};
+  static const GLenum f16[] = {GL_R16F, GL_RG16F, GL_RGB16F, GL_RGBA16F};
+  static const GLenum f32[] = {GL_R32F, GL_RG32F, GL_RGB32F, GL_RGBA32F};
+  // Image load/store has no three-channel formats.
+  static const char* u8_image[] = {"r8", "rg8", "", "rgba8"};
+  static const char* f16_image[] = {"r16f", "rg16f", "", "rgba16f"};
+  static const char* f32_image[] = {"r32f", "rg32f", "", "rgba32f"};
+  const int i = channels - 1;
+  switch (type) {
+    case PixelType::u8:
+      return {type, channels, u8[i], layouts[i], GL_UNSIGNED_BYTE, size_t(channels), u8_image[i]};
+    case PixelType::f16:
+      return {type, channels, f16[i], layouts[i], GL_HALF_FLOAT, size_t(2 * channels), f16_image[i]};
+    case PixelType::f32:
+      return {type, channels, f32[i], layouts[i], GL_FLOAT, size_t(4 * channels), f32_image[i]};
+  }
+  throw std::invalid_argument("blurlab: unknown pixel type");
+}
+
+Texture::Texture(std::shared_ptr<Context> context, int width, int height,
+                 const TextureFormat& format)
+    : context_(std::move(context)), width_(width), height_(height), format_(format) {
+  const int limit = context_->max_texture_size();
+  if (width < 1 || height < 1 || width > limit || height > limit)
+    throw std::invalid_argument("blurlab: texture size " + std::to_string(width) + "x" +
+                                std::to_string(height) + " is outside 1.." +
+                                std::to_string(limit) + " (GL_MAX_TEXTURE_SIZE) per side");
+  context_->make_current();
+  glCreateTextures(GL_TEXTURE_2D, 1, &id_);
+  glTextureStorage2D(id_, 1, format_.internal, width, height);
+  glTextureParameteri(id_, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTextureParameteri(id_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glTextureParameteri(id_, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(id_, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  try {
+    check_gl("creating a texture");
+  } catch (...) {
+    glDeleteTextures(1, &id_);
+    glGetError();
+    throw;
+  }
+  context_->track("texture", +1);
+}
+
+Texture::~Texture() {
+  if (context_->try_make_current()) {
+    glDeleteTextures(1, &id_);
+    context_->track("texture", -1);
+  }
+}
+
+void Texture::upload(const void* data, size_t bytes) {
+  if (bytes != byte_size())
+    throw std::invalid_argument("blurlab: upload of " + std::to_string(bytes) +
+                                " bytes into a texture of " + std::to_string(byte_size()));
+  context_->make_current();
+  glTextureSubImage2D(id_, 0, 0, 0, width_, height_, format_.pixel_format, format_.pixel_type,
+                      data);
+  check_gl("texture upload");
+}
+
+void Texture::download(void* data, size_t bytes) const {
+  if (bytes != byte_size())
+    throw std::invalid_argument("blurlab: download of a texture of " +
+                                std::to_string(byte_size()) + " bytes into " +
+                                std::to_string(bytes));
+  context_->make_current();
+  glGetTextureImage(id_, 0, format_.pixel_format, format_.pixel_type,
+                    static_cast<GLsizei>(bytes), data);
+  check_gl("texture download");
+}
+
+void Texture::clear() {
+  context_->make_current();
+  glClearTexImage(id_, 0, format_.pixel_format, format_.pixel_type, nullptr);
+  check_gl("texture clear");
+}
+
+}  // namespace blurlab

@@ -1,0 +1,60 @@
+// A 2D texture with immutable storage, one mip level, nearest filtering and clamp-to-edge.
+//
+// Orientation (DESIGN.md "Arrays"): texel row 0 holds image row 0, the top of the image. Arrays
+// move to and from textures with no flip; the one place that reconciles this with GL's
+// bottom-left window origin is the projection used by raster passes.
+#pragma once
+
+#include <cstddef>
+#include <memory>
+#include <string>
+
+#include "gl/gl.h"
+
+namespace blurlab {
+
+class Context;
+
+enum class PixelType { u8, f16, f32 };
+
+struct TextureFormat {
+  PixelType type;
+  int channels;           // 1..4
+  GLenum internal;        // e.g. GL_RGBA32F
+  GLenum pixel_format;    // GL_RED, GL_RG, GL_RGB, GL_RGBA
+  GLenum pixel_type;      // GL_UNSIGNED_BYTE, GL_HALF_FLOAT, GL_FLOAT
+  size_t bytes_per_texel;
+  std::string image_layout;  // GLSL image format qualifier, "" where images cannot bind it
+};
+
+// Throws std::invalid_argument for channels outside 1..4.
+TextureFormat texture_format(PixelType type, int channels);
+
+class Texture {
+ public:
+  Texture(std::shared_ptr<Context> context, int width, int height, const TextureFormat& format);
+  ~Texture();
+  Texture(const Texture&) = delete;
+  Texture& operator=(const Texture&) = delete;
+
+  // Whole-image transfers of tightly packed rows, row 0 first.
+  void upload(const void* data, size_t bytes);
+  void download(void* data, size_t bytes) const;
+  // Clears every texel to zero.
+  void clear();
+
+  GLuint id() const { return id_; }
+  int width() const { return width_; }
+  int height() const { return height_; }
+  const TextureFormat& format() const { return format_; }
+  size_t byte_size() const { return static_cast<size_t>(width_) * height_ * format_.bytes_per_texel; }
+  const std::shared_ptr<Context>& context() const { return context_; }
+
+ private:
+  std::shared_ptr<Context> context_;
+  GLuint id_ = 0;
+  int width_, height_;
+  TextureFormat format_;
+};
+
+}  // namespace blurlab

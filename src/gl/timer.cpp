@@ -1,0 +1,56 @@
+#include "gl/timer.h"
+
+#include "gl/context.h"
+
+namespace blurlab {
+
+Timer::Timer(std::shared_ptr<Context> context)
+    : context_(std::move(context)), gpu_clock_(context_->timer_queries_valid()) {
+  if (gpu_clock_) {
+    context_->make_current();
+    glCreateQueries(GL_TIME_ELAPSED, 1, &query_);
+    check_gl("creating a timer query");
+    context_->track("query", +1);
+  }
+}
+
+Timer::~Timer() {
+  if (query_ && context_->try_make_current()) {
+    if (running_) glEndQuery(GL_TIME_ELAPSED);
+    glDeleteQueries(1, &query_);
+    context_->track("query", -1);
+  }
+}
+
+const char* Timer::clock() const { return gpu_clock_ ? "gl_time_elapsed" : "wall_glfinish"; }
+
+void Timer::start() {
+  if (running_) throw std::logic_error("blurlab: Timer.start() called twice without stop()");
+  context_->make_current();
+  if (gpu_clock_) {
+    glBeginQuery(GL_TIME_ELAPSED, query_);
+  } else {
+    glFinish();  // earlier work must not be counted
+    start_ = std::chrono::steady_clock::now();
+  }
+  running_ = true;
+  check_gl("starting a timer");
+}
+
+double Timer::stop() {
+  if (!running_) throw std::logic_error("blurlab: Timer.stop() called before start()");
+  context_->make_current();
+  running_ = false;
+  if (gpu_clock_) {
+    glEndQuery(GL_TIME_ELAPSED);
+    GLuint64 ns = 0;
+    glGetQueryObjectui64v(query_, GL_QUERY_RESULT, &ns);
+    check_gl("reading a timer query");
+    return static_cast<double>(ns) * 1e-6;
+  }
+  glFinish();
+  const auto end = std::chrono::steady_clock::now();
+  return std::chrono::duration<double, std::milli>(end - start_).count();
+}
+
+}  // namespace blurlab

@@ -1,0 +1,37 @@
+// Times GPU work. Where timer queries are valid it uses GL_TIME_ELAPSED; on llvmpipe, whose
+// timer queries report nonsense (GPU.md), it brackets the work with glFinish and a wall clock.
+// Every result says which clock measured it.
+#pragma once
+
+#include <chrono>
+#include <memory>
+#include <string>
+
+#include "gl/gl.h"
+
+namespace blurlab {
+
+class Context;
+
+class Timer {
+ public:
+  explicit Timer(std::shared_ptr<Context> context);
+  ~Timer();
+  Timer(const Timer&) = delete;
+  Timer& operator=(const Timer&) = delete;
+
+  void start();
+  // Ends the interval and returns its length in milliseconds (waits for the GPU).
+  double stop();
+  // "gl_time_elapsed" or "wall_glfinish".
+  const char* clock() const;
+
+ private:
+  std::shared_ptr<Context> context_;
+  bool gpu_clock_;
+  bool running_ = false;
+  GLuint query_ = 0;
+  std::chrono::steady_clock::time_point start_;
+};
+
+}  // namespace blurlab
