@@ -58,8 +58,12 @@ def _demo(args) -> int:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="blurlab", description=__doc__)
-    parser.add_argument("--device", type=parse_device, default="auto",
-                        help="auto, gpu, software, or an EGL device index (default: auto)")
+    parser.add_argument(
+        "--device",
+        type=parse_device,
+        default="auto",
+        help="auto, gpu, software, or an EGL device index (default: auto)",
+    )
     sub = parser.add_subparsers(dest="command", required=True)
     sub.add_parser("info", help="print the EGL devices and the context's info as JSON")
     demo = sub.add_parser("demo", help="render a test pattern on the GPU and write EXR + PNG")

@@ -191,9 +191,7 @@ class Context:
     @staticmethod
     def devices() -> list[dict]:
         """The EGL devices of this machine: index, kind ("gpu" or "software") and name."""
-        return [
-            {"index": d.index, "kind": d.kind, "name": d.name} for d in _core.Context.devices()
-        ]
+        return [{"index": d.index, "kind": d.kind, "name": d.name} for d in _core.Context.devices()]
 
     def info(self) -> dict:
         """vendor, renderer, version, device ("gpu" or "software"), timer clock, and more."""
@@ -245,7 +243,9 @@ class Context:
                 "(GL_MAX_TEXTURE_SIZE of this device)"
             )
 
-    def program(self, path: str | Path, defines: Mapping[str, object] | None = None) -> ComputeProgram:
+    def program(
+        self, path: str | Path, defines: Mapping[str, object] | None = None
+    ) -> ComputeProgram:
         """Loads a compute shader: ``path`` relative to the shader folder, or absolute.
 
         ``defines`` are injected after ``#version`` as ``#define NAME value``. A compile error
@@ -312,4 +312,3 @@ def _glsl_literal(value: object) -> str:
 
 def _reject_define(value: object) -> str:
     raise ValueError(f"blurlab: shader define value {value!r} is not finite")
-

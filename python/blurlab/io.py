@@ -49,7 +49,9 @@ def write(path: str | os.PathLike, array: np.ndarray) -> Path:
             + ", ".join(FLOAT_FORMATS + EIGHT_BIT_FORMATS)
         )
     if not isinstance(array, np.ndarray):
-        raise TypeError(f"blurlab.io.write: array must be a numpy.ndarray, not {type(array).__name__}")
+        raise TypeError(
+            f"blurlab.io.write: array must be a numpy.ndarray, not {type(array).__name__}"
+        )
     if array.ndim not in (2, 3) or array.size == 0:
         raise ValueError(
             f"blurlab.io.write: array of shape {array.shape} is not a non-empty (H, W) or (H, W, C)"
@@ -71,6 +73,8 @@ def write(path: str | os.PathLike, array: np.ndarray) -> Path:
     oiio = _oiio()
     channels = 1 if data.ndim == 2 else data.shape[2]
     spec = oiio.ImageSpec(data.shape[1], data.shape[0], channels, _oiio_type(oiio, data.dtype))
+    # Channels are data: OpenImageIO must not (un)premultiply by alpha on the way.
+    spec.attribute("oiio:UnassociatedAlpha", 1)
     if suffix == ".png":
         spec.attribute("oiio:ColorSpace", "sRGB")
     fd, tmp_name = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=suffix, dir=folder)
@@ -78,7 +82,9 @@ def write(path: str | os.PathLike, array: np.ndarray) -> Path:
     try:
         out = oiio.ImageOutput.create(tmp_name)
         if out is None:
-            raise OSError(f"blurlab.io.write: OpenImageIO has no writer for {suffix}: {oiio.geterror()}")
+            raise OSError(
+                f"blurlab.io.write: OpenImageIO has no writer for {suffix}: {oiio.geterror()}"
+            )
         if not out.open(tmp_name, spec):
             raise OSError(f"blurlab.io.write: cannot open {path}: {out.geterror()}")
         ok = out.write_image(data)
@@ -98,7 +104,9 @@ def read(path: str | os.PathLike) -> np.ndarray:
     if not path.is_file():
         raise FileNotFoundError(f"blurlab.io.read: no such file: {path}")
     oiio = _oiio()
-    image = oiio.ImageInput.open(str(path))
+    config = oiio.ImageSpec()
+    config.attribute("oiio:UnassociatedAlpha", 1)
+    image = oiio.ImageInput.open(str(path), config)
     if image is None:
         raise OSError(f"blurlab.io.read: cannot read {path}: {oiio.geterror()}")
     try:

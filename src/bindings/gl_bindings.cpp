@@ -39,8 +39,8 @@ GLenum image_access(const std::string& access) {
   if (access == "read") return GL_READ_ONLY;
   if (access == "write") return GL_WRITE_ONLY;
   if (access == "read_write") return GL_READ_WRITE;
-  throw std::invalid_argument("blurlab: image access must be 'read', 'write' or 'read_write', not '" +
-                              access + "'");
+  throw std::invalid_argument(
+      "blurlab: image access must be 'read', 'write' or 'read_write', not '" + access + "'");
 }
 
 void upload(Texture& texture, const py::array& array) {
@@ -122,13 +122,14 @@ void bind_gl(py::module_& m) {
       .def_property_readonly("software", &Context::is_software)
       .def_property_readonly("max_texture_size", &Context::max_texture_size)
       .def_property_readonly("shader_dir", &Context::shader_dir)
-      .def("texture",
-           [](const std::shared_ptr<Context>& ctx, int width, int height, int channels,
-              const std::string& dtype) {
-             return std::make_shared<Texture>(ctx, width, height,
-                                              texture_format(pixel_type(dtype), channels));
-           },
-           py::arg("width"), py::arg("height"), py::arg("channels"), py::arg("dtype"));
+      .def(
+          "texture",
+          [](const std::shared_ptr<Context>& ctx, int width, int height, int channels,
+             const std::string& dtype) {
+            return std::make_shared<Texture>(ctx, width, height,
+                                             texture_format(pixel_type(dtype), channels));
+          },
+          py::arg("width"), py::arg("height"), py::arg("channels"), py::arg("dtype"));
 
   py::class_<Texture, std::shared_ptr<Texture>>(m, "Texture")
       .def_property_readonly("glo", &Texture::id)
@@ -136,7 +137,8 @@ void bind_gl(py::module_& m) {
       .def_property_readonly("height", &Texture::height)
       .def_property_readonly("channels", [](const Texture& t) { return t.format().channels; })
       .def_property_readonly("dtype", [](const Texture& t) { return dtype_name(t.format().type); })
-      .def_property_readonly("internal_format", [](const Texture& t) { return t.format().internal; })
+      .def_property_readonly("internal_format",
+                             [](const Texture& t) { return t.format().internal; })
       .def("upload", &upload, py::arg("array"))
       .def("download", &download)
       .def("download_async", [](const Texture& t) { return std::make_shared<PendingDownload>(t); })
@@ -156,11 +158,12 @@ void bind_gl(py::module_& m) {
       .def_property_readonly("local_size", &Program::local_size)
       .def_property_readonly("uniforms", &Program::uniforms)
       .def("set_uniform", &Program::set_uniform, py::arg("name"), py::arg("values"))
-      .def("bind_image",
-           [](Program& p, int unit, const Texture& t, const std::string& access) {
-             p.bind_image(unit, t, image_access(access));
-           },
-           py::arg("unit"), py::arg("texture"), py::arg("access"))
+      .def(
+          "bind_image",
+          [](Program& p, int unit, const Texture& t, const std::string& access) {
+            p.bind_image(unit, t, image_access(access));
+          },
+          py::arg("unit"), py::arg("texture"), py::arg("access"))
       .def("bind_texture", &Program::bind_texture, py::arg("unit"), py::arg("texture"))
       .def("dispatch", &Program::dispatch, py::arg("x"), py::arg("y"), py::arg("z"));
 

@@ -3,6 +3,7 @@
 #include <dlfcn.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <sstream>
 
 #include "gl/buffer.h"
@@ -35,9 +36,9 @@ bool has_token(const char* list, const std::string& token) {
 }
 
 std::string egl_error_text() {
-  std::ostringstream s;
-  s << "EGL error 0x" << std::hex << eglGetError();
-  return s.str();
+  char text[32];
+  std::snprintf(text, sizeof text, "EGL error 0x%04x", static_cast<unsigned>(eglGetError()));
+  return text;
 }
 
 // libepoxy aborts the process if libEGL cannot be loaded; check first so Python gets an error.
@@ -71,8 +72,7 @@ std::vector<EglDevice> Context::devices() {
   require_egl_library();
   std::vector<EglDevice> result;
   const char* client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
-  if (!has_token(client, "EGL_EXT_device_enumeration") &&
-      !has_token(client, "EGL_EXT_device_base"))
+  if (!has_token(client, "EGL_EXT_device_enumeration") && !has_token(client, "EGL_EXT_device_base"))
     return result;
   EGLint count = 0;
   if (!eglQueryDevicesEXT(0, nullptr, &count) || count <= 0) return result;
@@ -121,7 +121,8 @@ std::shared_ptr<Context> Context::create(const DeviceRequest& request, std::stri
       std::ostringstream s;
       s << "blurlab: EGL device " << request.index << " does not exist; this machine has "
         << devices.size() << " EGL device(s)";
-      for (const auto& d : devices) s << "\n  " << d.index << ": " << d.kind << " (" << d.name << ")";
+      for (const auto& d : devices)
+        s << "\n  " << d.index << ": " << d.kind << " (" << d.name << ")";
       throw std::invalid_argument(s.str());
     }
     candidates.push_back({&devices[request.index]});
@@ -137,6 +138,11 @@ std::shared_ptr<Context> Context::create(const DeviceRequest& request, std::stri
     }
   }
   if (candidates.empty()) {
+    if (mode == "software")
+      throw std::runtime_error(
+          "blurlab: device='software' was asked for, but EGL offers neither Mesa's software "
+          "device nor its surfaceless platform. On Debian/Ubuntu: `apt-get install libegl-mesa0 "
+          "libgl1-mesa-dri`.");
     if (mode == "gpu")
       throw std::runtime_error(
           "blurlab: device='gpu' was asked for, but EGL lists no hardware GPU. Install the "
@@ -151,26 +157,38 @@ std::shared_ptr<Context> Context::create(const DeviceRequest& request, std::stri
     EGLDisplay display;
     std::string platform;
     if (c.device) {
-      display = eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, handles[c.device->index], nullptr);
+      display =
+          eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, handles[c.device->index], nullptr);
       platform = "device";
     } else {
-      display = eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+      display =
+          eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
       platform = "surfaceless";
     }
     std::shared_ptr<Context> ctx(new Context());
     ctx->shader_dir_ = shader_dir;
     try {
-      if (display == EGL_NO_DISPLAY) throw std::runtime_error("no EGL display (" + egl_error_text() + ")");
+      if (display == EGL_NO_DISPLAY)
+        throw std::runtime_error("no EGL display (" + egl_error_text() + ")");
       ctx->create_on(display, platform, c.device);
+      // The surfaceless platform renders on whatever Mesa or the vendor picks; "software"
+      // promises llvmpipe, so a hardware renderer there is not an answer.
+      if (mode == "software" && !ctx->is_software())
+        throw std::runtime_error("the renderer is " + ctx->info_.at("renderer") +
+                                 ", not a software rasterizer");
       return ctx;
     } catch (const std::exception& e) {
-      failures += std::string("\n  ") + (c.device ? c.device->kind + " device " + std::to_string(c.device->index) : "surfaceless platform") + ": " + e.what();
+      failures += std::string("\n  ") +
+                  (c.device ? c.device->kind + " device " + std::to_string(c.device->index)
+                            : "surfaceless platform") +
+                  ": " + e.what();
     }
   }
   throw std::runtime_error(
       "blurlab: could not create an OpenGL 4.5 core context on any EGL device:" + failures +
       "\nblurlab needs OpenGL 4.5 core: Mesa 20 or newer (llvmpipe), or a current NVIDIA "
-      "driver. " + kInstallHint);
+      "driver. " +
+      kInstallHint);
 }
 
 void Context::create_on(EGLDisplay display, const std::string& platform, const EglDevice* device) {
@@ -188,18 +206,23 @@ void Context::create_on(EGLDisplay display, const std::string& platform, const E
   const char* display_ext = eglQueryString(display, EGL_EXTENSIONS);
   EGLConfig config = EGL_NO_CONFIG_KHR;
   if (!has_token(display_ext, "EGL_KHR_no_config_context")) {
-    const EGLint wanted[] = {EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE,
-                             EGL_OPENGL_BIT, EGL_NONE};
+    const EGLint wanted[] = {EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT,
+                             EGL_NONE};
     EGLint n = 0;
     if (!eglChooseConfig(display, wanted, &config, 1, &n) || n < 1)
       throw std::runtime_error("no EGL config for desktop OpenGL (" + egl_error_text() + ")");
   }
-  const EGLint attributes[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 5,
+  const EGLint attributes[] = {EGL_CONTEXT_MAJOR_VERSION,
+                               4,
+                               EGL_CONTEXT_MINOR_VERSION,
+                               5,
                                EGL_CONTEXT_OPENGL_PROFILE_MASK,
-                               EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+                               EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                               EGL_NONE};
   context_ = eglCreateContext(display, config, EGL_NO_CONTEXT, attributes);
   if (context_ == EGL_NO_CONTEXT)
-    throw std::runtime_error("eglCreateContext for OpenGL 4.5 core failed (" + egl_error_text() + ")");
+    throw std::runtime_error("eglCreateContext for OpenGL 4.5 core failed (" + egl_error_text() +
+                             ")");
   owner_ = std::this_thread::get_id();
   if (!eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, context_))
     throw std::runtime_error("eglMakeCurrent without a surface failed (" + egl_error_text() + ")");

@@ -11,14 +11,18 @@
 namespace blurlab {
 namespace {
 
-bool is_absolute(const std::string& path) { return !path.empty() && path[0] == '/'; }
+bool is_absolute(const std::string& path) {
+  return !path.empty() && path[0] == '/';
+}
 
 std::string parent_dir(const std::string& path) {
   const auto slash = path.rfind('/');
   return slash == std::string::npos ? std::string(".") : path.substr(0, slash);
 }
 
-bool readable(const std::string& path) { return std::ifstream(path).good(); }
+bool readable(const std::string& path) {
+  return std::ifstream(path).good();
+}
 
 std::string read_text(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -40,8 +44,8 @@ class SourceBuilder {
   ShaderSource build(const std::string& path, const Defines& defines) {
     const std::string main_path = is_absolute(path) ? path : shader_dir_ + "/" + path;
     if (!readable(main_path))
-      throw ShaderError("blurlab: shader file not found: " + path + " (looked in " +
-                        shader_dir_ + ")");
+      throw ShaderError("blurlab: shader file not found: " + path + " (looked in " + shader_dir_ +
+                        ")");
     std::istringstream lines(read_text(main_path));
     files_.push_back(main_path);
     included_.insert(main_path);
@@ -86,12 +90,12 @@ class SourceBuilder {
     std::string target = parent_dir(including) + "/" + m[1].str();
     if (!readable(target)) target = shader_dir_ + "/" + m[1].str();
     if (!readable(target))
-      throw ShaderError("blurlab: " + including + ":" + std::to_string(number) +
-                        ": #include \"" + m[1].str() + "\" not found beside the file or in " +
-                        shader_dir_);
+      throw ShaderError("blurlab: " + including + ":" + std::to_string(number) + ": #include \"" +
+                        m[1].str() + "\" not found beside the file or in " + shader_dir_);
     // Include-once: the common files define functions, which may not be defined twice.
     if (included_.insert(target).second) {
-      if (++depth_ > 32) throw ShaderError("blurlab: #include nested more than 32 deep at " + target);
+      if (++depth_ > 32)
+        throw ShaderError("blurlab: #include nested more than 32 deep at " + target);
       const int index = static_cast<int>(files_.size());
       files_.push_back(target);
       out_ += "#line 1 " + std::to_string(index) + "\n";
@@ -160,8 +164,8 @@ std::string translate_shader_log(const std::string& log, const std::vector<std::
 Program::Program(std::shared_ptr<Context> context, std::string name)
     : context_(std::move(context)), name_(std::move(name)) {}
 
-std::shared_ptr<Program> Program::compute(std::shared_ptr<Context> context,
-                                          const std::string& path, const Defines& defines) {
+std::shared_ptr<Program> Program::compute(std::shared_ptr<Context> context, const std::string& path,
+                                          const Defines& defines) {
   context->make_current();
   const ShaderSource source = load_shader_source(path, context->shader_dir(), defines);
   std::shared_ptr<Program> program(new Program(context, path));
@@ -250,17 +254,47 @@ void Program::set_uniform(const std::string& name, const std::vector<double>& v)
   auto i32 = [&](size_t i) { return static_cast<GLint>(v[i]); };
   auto u32 = [&](size_t i) { return static_cast<GLuint>(v[i]); };
   switch (it->second) {
-    case GL_FLOAT: need(1); glProgramUniform1f(id_, loc, f(0)); break;
-    case GL_FLOAT_VEC2: need(2); glProgramUniform2f(id_, loc, f(0), f(1)); break;
-    case GL_FLOAT_VEC3: need(3); glProgramUniform3f(id_, loc, f(0), f(1), f(2)); break;
-    case GL_FLOAT_VEC4: need(4); glProgramUniform4f(id_, loc, f(0), f(1), f(2), f(3)); break;
+    case GL_FLOAT:
+      need(1);
+      glProgramUniform1f(id_, loc, f(0));
+      break;
+    case GL_FLOAT_VEC2:
+      need(2);
+      glProgramUniform2f(id_, loc, f(0), f(1));
+      break;
+    case GL_FLOAT_VEC3:
+      need(3);
+      glProgramUniform3f(id_, loc, f(0), f(1), f(2));
+      break;
+    case GL_FLOAT_VEC4:
+      need(4);
+      glProgramUniform4f(id_, loc, f(0), f(1), f(2), f(3));
+      break;
     case GL_INT:
-    case GL_BOOL: need(1); glProgramUniform1i(id_, loc, i32(0)); break;
-    case GL_INT_VEC2: need(2); glProgramUniform2i(id_, loc, i32(0), i32(1)); break;
-    case GL_INT_VEC3: need(3); glProgramUniform3i(id_, loc, i32(0), i32(1), i32(2)); break;
-    case GL_INT_VEC4: need(4); glProgramUniform4i(id_, loc, i32(0), i32(1), i32(2), i32(3)); break;
-    case GL_UNSIGNED_INT: need(1); glProgramUniform1ui(id_, loc, u32(0)); break;
-    case GL_UNSIGNED_INT_VEC2: need(2); glProgramUniform2ui(id_, loc, u32(0), u32(1)); break;
+    case GL_BOOL:
+      need(1);
+      glProgramUniform1i(id_, loc, i32(0));
+      break;
+    case GL_INT_VEC2:
+      need(2);
+      glProgramUniform2i(id_, loc, i32(0), i32(1));
+      break;
+    case GL_INT_VEC3:
+      need(3);
+      glProgramUniform3i(id_, loc, i32(0), i32(1), i32(2));
+      break;
+    case GL_INT_VEC4:
+      need(4);
+      glProgramUniform4i(id_, loc, i32(0), i32(1), i32(2), i32(3));
+      break;
+    case GL_UNSIGNED_INT:
+      need(1);
+      glProgramUniform1ui(id_, loc, u32(0));
+      break;
+    case GL_UNSIGNED_INT_VEC2:
+      need(2);
+      glProgramUniform2ui(id_, loc, u32(0), u32(1));
+      break;
     default:
       throw std::invalid_argument("blurlab: uniform '" + name +
                                   "' is of a type that set_uniform does not set (a sampler, "
@@ -271,8 +305,9 @@ void Program::set_uniform(const std::string& name, const std::vector<double>& v)
 
 void Program::bind_image(int unit, const Texture& texture, GLenum access) {
   if (texture.format().image_layout.empty())
-    throw std::invalid_argument("blurlab: a 3-channel texture cannot be bound as an image "
-                                "(image load/store has formats of 1, 2 and 4 channels)");
+    throw std::invalid_argument(
+        "blurlab: a 3-channel texture cannot be bound as an image "
+        "(image load/store has formats of 1, 2 and 4 channels)");
   context_->make_current();
   glBindImageTexture(unit, texture.id(), 0, GL_FALSE, 0, access, texture.format().internal);
   check_gl("binding an image");
@@ -285,7 +320,8 @@ void Program::bind_texture(int unit, const Texture& texture) {
 }
 
 void Program::dispatch(int groups_x, int groups_y, int groups_z) {
-  if (local_size_[0] == 0) throw std::invalid_argument("blurlab: " + name_ + " is not a compute program");
+  if (local_size_[0] == 0)
+    throw std::invalid_argument("blurlab: " + name_ + " is not a compute program");
   context_->make_current();
   GLint limits[3];
   for (int i = 0; i < 3; ++i) glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, i, &limits[i]);

@@ -35,8 +35,8 @@ std::string translate_shader_log(const std::string& log, const std::vector<std::
 class Program {
  public:
   // A compute program from one file.
-  static std::shared_ptr<Program> compute(std::shared_ptr<Context> context,
-                                          const std::string& path, const Defines& defines);
+  static std::shared_ptr<Program> compute(std::shared_ptr<Context> context, const std::string& path,
+                                          const Defines& defines);
   // A raster program from a vertex and a fragment file.
   static std::shared_ptr<Program> graphics(std::shared_ptr<Context> context,
                                            const std::string& vertex_path,

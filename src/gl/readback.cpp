@@ -47,9 +47,15 @@ void PendingDownload::wait() {
   if (r == GL_WAIT_FAILED) throw GLError("blurlab: waiting for an asynchronous download failed");
 }
 
-const void* PendingDownload::mapped() const { return buffer_ ? buffer_->mapped() : nullptr; }
-size_t PendingDownload::size() const { return buffer_ ? buffer_->size() : 0; }
+const void* PendingDownload::mapped() const {
+  return buffer_ ? buffer_->mapped() : nullptr;
+}
+size_t PendingDownload::size() const {
+  return buffer_ ? buffer_->size() : 0;
+}
 
-std::shared_ptr<Buffer> PendingDownload::take_buffer() { return std::move(buffer_); }
+std::shared_ptr<Buffer> PendingDownload::take_buffer() {
+  return std::move(buffer_);
+}
 
 }  // namespace blurlab

@@ -23,7 +23,8 @@ TextureFormat texture_format(PixelType type, int channels) {
     case PixelType::u8:
       return {type, channels, u8[i], layouts[i], GL_UNSIGNED_BYTE, size_t(channels), u8_image[i]};
     case PixelType::f16:
-      return {type, channels, f16[i], layouts[i], GL_HALF_FLOAT, size_t(2 * channels), f16_image[i]};
+      return {type,        channels, f16[i], layouts[i], GL_HALF_FLOAT, size_t(2 * channels),
+              f16_image[i]};
     case PixelType::f32:
       return {type, channels, f32[i], layouts[i], GL_FLOAT, size_t(4 * channels), f32_image[i]};
   }
@@ -36,8 +37,8 @@ Texture::Texture(std::shared_ptr<Context> context, int width, int height,
   const int limit = context_->max_texture_size();
   if (width < 1 || height < 1 || width > limit || height > limit)
     throw std::invalid_argument("blurlab: texture size " + std::to_string(width) + "x" +
-                                std::to_string(height) + " is outside 1.." +
-                                std::to_string(limit) + " (GL_MAX_TEXTURE_SIZE) per side");
+                                std::to_string(height) + " is outside 1.." + std::to_string(limit) +
+                                " (GL_MAX_TEXTURE_SIZE) per side");
   context_->make_current();
   glCreateTextures(GL_TEXTURE_2D, 1, &id_);
   glTextureStorage2D(id_, 1, format_.internal, width, height);
@@ -74,12 +75,11 @@ void Texture::upload(const void* data, size_t bytes) {
 
 void Texture::download(void* data, size_t bytes) const {
   if (bytes != byte_size())
-    throw std::invalid_argument("blurlab: download of a texture of " +
-                                std::to_string(byte_size()) + " bytes into " +
-                                std::to_string(bytes));
+    throw std::invalid_argument("blurlab: download of a texture of " + std::to_string(byte_size()) +
+                                " bytes into " + std::to_string(bytes));
   context_->make_current();
-  glGetTextureImage(id_, 0, format_.pixel_format, format_.pixel_type,
-                    static_cast<GLsizei>(bytes), data);
+  glGetTextureImage(id_, 0, format_.pixel_format, format_.pixel_type, static_cast<GLsizei>(bytes),
+                    data);
   check_gl("texture download");
 }
 

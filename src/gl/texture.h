@@ -19,10 +19,10 @@ enum class PixelType { u8, f16, f32 };
 
 struct TextureFormat {
   PixelType type;
-  int channels;           // 1..4
-  GLenum internal;        // e.g. GL_RGBA32F
-  GLenum pixel_format;    // GL_RED, GL_RG, GL_RGB, GL_RGBA
-  GLenum pixel_type;      // GL_UNSIGNED_BYTE, GL_HALF_FLOAT, GL_FLOAT
+  int channels;         // 1..4
+  GLenum internal;      // e.g. GL_RGBA32F
+  GLenum pixel_format;  // GL_RED, GL_RG, GL_RGB, GL_RGBA
+  GLenum pixel_type;    // GL_UNSIGNED_BYTE, GL_HALF_FLOAT, GL_FLOAT
   size_t bytes_per_texel;
   std::string image_layout;  // GLSL image format qualifier, "" where images cannot bind it
 };
@@ -47,7 +47,9 @@ class Texture {
   int width() const { return width_; }
   int height() const { return height_; }
   const TextureFormat& format() const { return format_; }
-  size_t byte_size() const { return static_cast<size_t>(width_) * height_ * format_.bytes_per_texel; }
+  size_t byte_size() const {
+    return static_cast<size_t>(width_) * height_ * format_.bytes_per_texel;
+  }
   const std::shared_ptr<Context>& context() const { return context_; }
 
  private:

@@ -22,7 +22,9 @@ Timer::~Timer() {
   }
 }
 
-const char* Timer::clock() const { return gpu_clock_ ? "gl_time_elapsed" : "wall_glfinish"; }
+const char* Timer::clock() const {
+  return gpu_clock_ ? "gl_time_elapsed" : "wall_glfinish";
+}
 
 void Timer::start() {
   if (running_) throw std::logic_error("blurlab: Timer.start() called twice without stop()");

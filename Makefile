@@ -1,0 +1,33 @@
+# The two commands of the README: `make demo` (the main job) and `make test`.
+# Each installs what it needs first: system packages (apt), then blurlab and its Python deps.
+PYTHON ?= python3
+PIP := $(PYTHON) -m pip
+OUT ?= out/demo
+
+.PHONY: deps install demo test lint format benchmark-transfer
+
+deps:
+	bash .ci/install-deps
+
+install: deps
+	$(PIP) install -q ".[test]"
+
+demo: install
+	$(PYTHON) -m blurlab demo --out $(OUT)
+
+test: install
+	$(PYTHON) -m pytest
+
+lint: deps
+	$(PIP) install -q "ruff>=0.4"
+	$(PYTHON) -m ruff check python tests benchmarks
+	$(PYTHON) -m ruff format --check python tests benchmarks
+	clang-format --dry-run --Werror src/*/*.cpp src/*/*.h
+
+format:
+	$(PYTHON) -m ruff format python tests benchmarks
+	$(PYTHON) -m ruff check --fix python tests benchmarks
+	clang-format -i src/*/*.cpp src/*/*.h
+
+benchmark-transfer: install
+	$(PYTHON) benchmarks/transfer.py

@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# One call on the lent NVIDIA machine (the device tool): unpack the GL runtime and headers that
+# .gl/ carries (recipe in ../shared/GPU.md), build blurlab, run the GL tests there, then the
+# benchmarks named as arguments (default: transfer). Results land in $OUT (or out/gpu).
+#
+#   device run, carry [".gl", ".whl"]:  bash benchmarks/gpu.sh transfer
+set -euo pipefail
+cd "$(dirname "$0")/.."
+out="${OUT:-out/gpu}"
+mkdir -p "$out"
+
+for f in .gl/*.deb; do dpkg -x "$f" /; done
+ldconfig
+mkdir -p /tmp/dev
+for f in .gl/dev/*.deb; do dpkg -x "$f" /tmp/dev; done
+nvidia_vendor=/usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json
+[ -f "$nvidia_vendor" ] && export __EGL_VENDOR_LIBRARY_FILENAMES="$nvidia_vendor"
+
+site=/tmp/site
+mkdir -p "$site"
+if compgen -G ".whl/*.whl" >/dev/null; then
+  python3 -m pip install -q --no-index --no-deps --no-compile --upgrade --target "$site" .whl/*.whl
+fi
+export CMAKE_BUILD_PARALLEL_LEVEL="$(nproc)"
+# The image's default CXX (/opt/gcc) links libstdc++ statically, and a module built that way
+# crashed there in std::ostringstream; the system compiler links it as a shared library.
+export CC=/usr/bin/gcc CXX=/usr/bin/g++
+python3 -m pip wheel -q --no-build-isolation --no-deps -w /tmp/wheel -C build-dir=/tmp/blurlab-build \
+  -C cmake.define.BLURLAB_EXTRA_INCLUDE=/tmp/dev/usr/include \
+  -C cmake.define.EPOXY_LIBRARY=/usr/lib/x86_64-linux-gnu/libepoxy.so.0 .
+python3 -m pip install -q --no-deps --upgrade --target "$site" /tmp/wheel/blurlab-*.whl
+export PYTHONPATH="$site"
+export PYTHONUNBUFFERED=1
+
+python3 -m blurlab --device gpu info | tee "$out/info_gpu.json"
+# The GL tests (io needs OpenImageIO, which the device lacks; CI runs those).
+python3 -m pytest -q -p no:cacheprovider tests/test_context.py tests/test_textures.py \
+  tests/test_programs.py tests/test_moderngl.py 2>&1 | tail -n 15 || echo "gpu.sh: tests FAILED"
+
+for bench in "${@:-transfer}"; do
+  python3 "benchmarks/$bench.py" --device gpu --json "$out/${bench}_gpu.json"
+done

@@ -1,0 +1,102 @@
+"""The headless context: device choice, info, errors that say what to install."""
+
+from __future__ import annotations
+
+import threading
+
+import blurlab as bl
+import pytest
+
+
+def test_info_names_vendor_renderer_version_and_device(ctx):
+    info = ctx.info()
+    for key in ("vendor", "renderer", "version", "device", "timer", "max_texture_size"):
+        assert key in info
+    assert info["device"] in ("gpu", "software")
+    major, minor = (int(v) for v in info["version"].split()[0].split(".")[:2])
+    assert (major, minor) >= (4, 5)
+    assert info["timer"] == ("wall_glfinish" if info["device"] == "software" else "gl_time_elapsed")
+
+
+def has_software_device() -> bool:
+    return any(d["kind"] == "software" for d in bl.Context.devices())
+
+
+def test_software_device_is_llvmpipe():
+    try:
+        info = bl.Context("software").info()
+    except RuntimeError as error:
+        if has_software_device():
+            raise
+        pytest.skip(f"no software rasterizer here: {error}")
+    assert info["device"] == "software"
+    assert "llvmpipe" in info["renderer"]
+    assert info["timer"] == "wall_glfinish"
+
+
+def test_devices_lists_kinds():
+    devices = bl.Context.devices()
+    assert all(d["kind"] in ("gpu", "software") for d in devices)
+    assert [d["index"] for d in devices] == list(range(len(devices)))
+
+
+def test_device_index_picks_that_device():
+    devices = bl.Context.devices()
+    if not devices:
+        pytest.skip("EGL lists no devices here (surfaceless platform only)")
+    info = bl.Context(devices[-1]["index"]).info()
+    assert info["device_index"] == devices[-1]["index"]
+    assert info["device"] == devices[-1]["kind"]
+
+
+def test_gpu_without_one_says_what_to_install():
+    if any(d["kind"] == "gpu" for d in bl.Context.devices()):
+        pytest.skip("this machine has a GPU")
+    with pytest.raises(RuntimeError, match="NVIDIA driver"):
+        bl.Context("gpu")
+
+
+@pytest.mark.parametrize(
+    ("device", "error", "message"),
+    [
+        ("cuda", ValueError, "must be one of"),
+        (1.5, TypeError, "must be one of"),
+        (True, TypeError, "must be one of"),
+        (999, ValueError, "EGL device 999 does not exist"),
+        (-1, ValueError, "EGL device -1 does not exist"),
+    ],
+)
+def test_bad_device_is_rejected(device, error, message):
+    with pytest.raises(error, match=message):
+        bl.Context(device)
+
+
+def test_missing_shader_folder_is_reported(tmp_path):
+    ctx = bl.Context(shader_dir=tmp_path)
+    with pytest.raises(bl.ShaderError, match="not found"):
+        ctx.program("util/test_pattern.comp")
+
+
+def test_context_refuses_other_threads(ctx):
+    errors = []
+
+    def use():
+        try:
+            ctx.empty((4, 4, 4))
+        except RuntimeError as e:
+            errors.append(str(e))
+
+    worker = threading.Thread(target=use)
+    worker.start()
+    worker.join()
+    assert errors and "thread" in errors[0]
+    # The owning thread still works afterwards.
+    assert ctx.empty((2, 2)).download().shape == (2, 2)
+
+
+def test_contexts_can_be_created_and_freed_repeatedly():
+    for _ in range(20):
+        context = bl.Context()
+        texture = context.upload(__import__("numpy").ones((3, 3), "float32"))
+        assert texture.download().sum() == 9
+        del texture, context
