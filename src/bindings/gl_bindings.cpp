@@ -3,7 +3,10 @@
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <cstring>
+#include <thread>
+#include <vector>
 
 #include "bindings/bindings.h"
 #include "gl/buffer.h"
@@ -67,6 +70,28 @@ py::array download(const Texture& texture) {
   return out;
 }
 
+// One thread reads mapped pinned memory at about 7 GB/s on the H100 host (benchmarks/transfer.py);
+// large images are copied by several threads so the copy does not halve download throughput.
+void parallel_copy(void* dst, const void* src, size_t bytes) {
+  constexpr size_t kChunk = size_t(4) << 20;
+  const size_t workers =
+      std::min<size_t>({bytes / kChunk, std::thread::hardware_concurrency(), size_t(8)});
+  if (workers < 2) {
+    std::memcpy(dst, src, bytes);
+    return;
+  }
+  const size_t part = (bytes + workers - 1) / workers;
+  std::vector<std::thread> threads;
+  for (size_t i = 1; i < workers; ++i) {
+    const size_t begin = i * part, count = std::min(part, bytes - std::min(bytes, begin));
+    threads.emplace_back([=] {
+      std::memcpy(static_cast<char*>(dst) + begin, static_cast<const char*>(src) + begin, count);
+    });
+  }
+  std::memcpy(dst, src, std::min(part, bytes));
+  for (auto& t : threads) t.join();
+}
+
 // The bytes of a finished download: a copy, or a read-only view of the mapped pixel-pack buffer
 // that hands the buffer back to the context's pool when the array is freed.
 py::array download_result(PendingDownload& pending, bool copy) {
@@ -82,7 +107,7 @@ py::array download_result(PendingDownload& pending, bool copy) {
     const void* src = pending.mapped();
     {
       py::gil_scoped_release release;
-      std::memcpy(dst, src, bytes);
+      parallel_copy(dst, src, bytes);
     }
     return std::move(out);
   }

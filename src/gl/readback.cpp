@@ -14,6 +14,7 @@ PendingDownload::PendingDownload(const Texture& texture) : context_(texture.cont
   glGetTextureImage(texture.id(), 0, f.pixel_format, f.pixel_type,
                     static_cast<GLsizei>(texture.byte_size()), nullptr);
   glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+  glMemoryBarrier(GL_CLIENT_MAPPED_BUFFER_BARRIER_BIT);
   fence_ = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
   // Without a flush the copy may sit in the command queue until someone waits on it.
   glFlush();
