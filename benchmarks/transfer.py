@@ -19,9 +19,10 @@ import argparse
 import time
 
 import numpy as np
-from common import describe, save, summarize
 
 import blurlab as bl
+
+from common import describe, save, summarize
 
 
 def timed(fn, runs: int) -> list[float]:

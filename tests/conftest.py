@@ -4,9 +4,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import blurlab as bl
 import numpy as np
 import pytest
+
+import blurlab as bl
 
 TEST_SHADERS = Path(__file__).parent / "shaders"
 

@@ -4,9 +4,10 @@ from __future__ import annotations
 
 import json
 
-import blurlab as bl
 import numpy as np
 import pytest
+
+import blurlab as bl
 from blurlab import cli
 
 

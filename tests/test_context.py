@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import threading
 
-import blurlab as bl
 import pytest
+
+import blurlab as bl
 
 
 def test_info_names_vendor_renderer_version_and_device(ctx):

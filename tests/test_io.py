@@ -4,9 +4,10 @@ from __future__ import annotations
 
 import os
 
-import blurlab as bl
 import numpy as np
 import pytest
+
+import blurlab as bl
 
 
 @pytest.mark.parametrize("channels", [1, 3, 4])

@@ -18,6 +18,9 @@ def test_notebook_runs(path, tmp_path):
         f"{path.name} is committed with outputs; clear them"
     )
     client = nbclient.NotebookClient(
-        notebook, timeout=600, kernel_name="python3", resources={"metadata": {"path": str(tmp_path)}}
+        notebook,
+        timeout=600,
+        kernel_name="python3",
+        resources={"metadata": {"path": str(tmp_path)}},
     )
     client.execute()

@@ -2,9 +2,10 @@
 
 from __future__ import annotations
 
-import blurlab as bl
 import numpy as np
 import pytest
+
+import blurlab as bl
 from blurlab import reference
 
 
