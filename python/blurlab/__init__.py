@@ -1,19 +1,37 @@
 """blurlab: real-time motion-blur methods run headless on the GPU, measured from Python."""
 
-from . import io, reference
+from . import io, mesh, reference, scenes
 from ._core import GLError, ShaderError
 from .context import ComputeProgram, Context, PendingDownload, Texture, Timing
+from .frame import MOTION_FORMATS, Frame
+from .mesh import Mesh
+from .motion import Bone, Keyframe, Motion, Skeleton, quaternion
+from .scene import Camera, DirectionalLight, Material, Scene
 
 __version__ = "0.1.0"
 
 __all__ = [
+    "MOTION_FORMATS",
+    "Bone",
+    "Camera",
     "ComputeProgram",
     "Context",
+    "DirectionalLight",
+    "Frame",
     "GLError",
+    "Keyframe",
+    "Material",
+    "Mesh",
+    "Motion",
     "PendingDownload",
+    "Scene",
     "ShaderError",
+    "Skeleton",
     "Texture",
     "Timing",
     "io",
+    "mesh",
+    "quaternion",
     "reference",
+    "scenes",
 ]

@@ -7,6 +7,7 @@ of the image, dtype uint8, float16 or float32 (DESIGN.md "Arrays").
 from __future__ import annotations
 
 import math
+import weakref
 from collections.abc import Mapping, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass
@@ -187,6 +188,10 @@ class Context:
         mode, index = ("index", device) if isinstance(device, int) else (device, -1)
         self._core = _core.Context(mode, index, str(folder.resolve()))
         self._moderngl = None
+        self._passes: dict = {}
+        # GPU copies of scene data, dropped with the mesh or material they belong to.
+        self._meshes: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+        self._material_textures: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
     @staticmethod
     def devices() -> list[dict]:
@@ -296,6 +301,58 @@ class Context:
 
     def make_current(self) -> None:
         self._core.make_current()
+
+    def render(
+        self,
+        scene,
+        size=(640, 360),
+        shutter=None,
+        instant="center",
+        motion_format="rg32f",
+        maxlen=None,
+    ):
+        """Renders the G-buffer of `scene` at `size` = (W, H) and returns a ``bl.Frame``.
+
+        ``shutter`` = (t0, t1) seconds (default: the scene's); ``instant`` is "center" (the
+        reconstruction filters' choice), "close", "open" or a time in [t0, t1]. Motion is always
+        t0 -> t1. ``motion_format`` stores motion as rg32f, rg16f, rgba8_offset or rgba8_polar
+        (SPEC.md §2, ``maxlen`` pixels, default the image diagonal) and returns what a method
+        reading that format would decode.
+        """
+        from .render import render
+
+        return render(self, scene, size, shutter, instant, motion_format, maxlen)
+
+    def _pass(self, name: str, factory):
+        """One instance of a C++ pass per context (its programs compile once)."""
+        if name not in self._passes:
+            self._passes[name] = factory(self._core)
+        return self._passes[name]
+
+    def _gpu_mesh(self, mesh):
+        if mesh not in self._meshes:
+            self._meshes[mesh] = _core.Mesh(
+                self._core,
+                mesh.positions,
+                mesh.normals,
+                mesh.uvs,
+                mesh.indices,
+                mesh.bone_indices,
+                mesh.bone_weights,
+            )
+        return self._meshes[mesh]
+
+    def _gpu_material_texture(self, material):
+        if material.texture is None:
+            return None
+        if material not in self._material_textures:
+            rgba = material.texture_rgba()
+            levels = int(np.log2(max(rgba.shape[:2]))) + 1
+            core = self._core.texture(rgba.shape[1], rgba.shape[0], 4, "float16", levels)
+            core.upload(rgba)
+            core.generate_mipmaps()
+            self._material_textures[material] = core
+        return self._material_textures[material]
 
     def __repr__(self) -> str:
         info = self._core.info()

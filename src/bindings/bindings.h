@@ -5,5 +5,6 @@
 namespace blurlab {
 
 void bind_gl(pybind11::module_& m);
+void bind_passes(pybind11::module_& m);
 
 }  // namespace blurlab

@@ -150,11 +150,12 @@ void bind_gl(py::module_& m) {
       .def(
           "texture",
           [](const std::shared_ptr<Context>& ctx, int width, int height, int channels,
-             const std::string& dtype) {
+             const std::string& dtype, int levels) {
             return std::make_shared<Texture>(ctx, width, height,
-                                             texture_format(pixel_type(dtype), channels));
+                                             texture_format(pixel_type(dtype), channels), levels);
           },
-          py::arg("width"), py::arg("height"), py::arg("channels"), py::arg("dtype"));
+          py::arg("width"), py::arg("height"), py::arg("channels"), py::arg("dtype"),
+          py::arg("levels") = 1);
 
   py::class_<Texture, std::shared_ptr<Texture>>(m, "Texture")
       .def_property_readonly("glo", &Texture::id)
@@ -167,7 +168,15 @@ void bind_gl(py::module_& m) {
       .def("upload", &upload, py::arg("array"))
       .def("download", &download)
       .def("download_async", [](const Texture& t) { return std::make_shared<PendingDownload>(t); })
-      .def("clear", &Texture::clear);
+      .def("clear", py::overload_cast<>(&Texture::clear))
+      .def("clear_to",
+           [](Texture& t, const std::vector<float>& value) {
+             if (static_cast<int>(value.size()) != t.format().channels)
+               throw std::invalid_argument("blurlab: clear value needs one float per channel");
+             t.clear(value.data());
+           })
+      .def("generate_mipmaps", &Texture::generate_mipmaps)
+      .def_property_readonly("levels", &Texture::levels);
 
   py::class_<PendingDownload, std::shared_ptr<PendingDownload>>(m, "PendingDownload")
       .def("done", &PendingDownload::done)

@@ -11,4 +11,5 @@ PYBIND11_MODULE(_core, m) {
   py::register_exception<blurlab::ShaderError>(m, "ShaderError", PyExc_RuntimeError);
   py::register_exception<blurlab::GLError>(m, "GLError", PyExc_RuntimeError);
   blurlab::bind_gl(m);
+  blurlab::bind_passes(m);
 }

@@ -32,8 +32,12 @@ TextureFormat texture_format(PixelType type, int channels) {
 }
 
 Texture::Texture(std::shared_ptr<Context> context, int width, int height,
-                 const TextureFormat& format)
-    : context_(std::move(context)), width_(width), height_(height), format_(format) {
+                 const TextureFormat& format, int levels)
+    : context_(std::move(context)),
+      width_(width),
+      height_(height),
+      format_(format),
+      levels_(levels) {
   const int limit = context_->max_texture_size();
   if (width < 1 || height < 1 || width > limit || height > limit)
     throw std::invalid_argument("blurlab: texture size " + std::to_string(width) + "x" +
@@ -41,7 +45,8 @@ Texture::Texture(std::shared_ptr<Context> context, int width, int height,
                                 " (GL_MAX_TEXTURE_SIZE) per side");
   context_->make_current();
   glCreateTextures(GL_TEXTURE_2D, 1, &id_);
-  glTextureStorage2D(id_, 1, format_.internal, width, height);
+  if (levels < 1) throw std::invalid_argument("blurlab: a texture has at least one level");
+  glTextureStorage2D(id_, levels, format_.internal, width, height);
   glTextureParameteri(id_, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
   glTextureParameteri(id_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
   glTextureParameteri(id_, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
@@ -87,6 +92,23 @@ void Texture::clear() {
   context_->make_current();
   glClearTexImage(id_, 0, format_.pixel_format, format_.pixel_type, nullptr);
   check_gl("texture clear");
+}
+
+void Texture::clear(const float* value) {
+  context_->make_current();
+  glClearTexImage(id_, 0, format_.pixel_format, GL_FLOAT, value);
+  check_gl("texture clear");
+}
+
+void Texture::generate_mipmaps() {
+  context_->make_current();
+  glGenerateTextureMipmap(id_);
+  glTextureParameteri(id_, GL_TEXTURE_MIN_FILTER,
+                      levels_ > 1 ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
+  glTextureParameteri(id_, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTextureParameteri(id_, GL_TEXTURE_WRAP_S, GL_REPEAT);
+  glTextureParameteri(id_, GL_TEXTURE_WRAP_T, GL_REPEAT);
+  check_gl("generating mipmaps");
 }
 
 }  // namespace blurlab

@@ -32,7 +32,9 @@ TextureFormat texture_format(PixelType type, int channels);
 
 class Texture {
  public:
-  Texture(std::shared_ptr<Context> context, int width, int height, const TextureFormat& format);
+  // `levels` > 1 allocates a mipmap chain (material textures); passes use one level.
+  Texture(std::shared_ptr<Context> context, int width, int height, const TextureFormat& format,
+          int levels = 1);
   ~Texture();
   Texture(const Texture&) = delete;
   Texture& operator=(const Texture&) = delete;
@@ -40,8 +42,13 @@ class Texture {
   // Whole-image transfers of tightly packed rows, row 0 first.
   void upload(const void* data, size_t bytes);
   void download(void* data, size_t bytes) const;
-  // Clears every texel to zero.
+  // Clears every texel to zero, or to `value` (as many floats as the texture has channels).
   void clear();
+  void clear(const float* value);
+  // Fills levels 1.. from level 0 and samples with trilinear filtering and repeat wrapping,
+  // as a material texture should be.
+  void generate_mipmaps();
+  int levels() const { return levels_; }
 
   GLuint id() const { return id_; }
   int width() const { return width_; }
@@ -57,6 +64,7 @@ class Texture {
   GLuint id_ = 0;
   int width_, height_;
   TextureFormat format_;
+  int levels_;
 };
 
 }  // namespace blurlab

@@ -1,9 +1,10 @@
-"""NumPy references: the specification (SPEC.md) in code, float64 where it computes color.
+"""NumPy references: the specification (SPEC.md) in code, float64 where it computes.
 
 Each GPU pass has its twin here, and the tests hold the GPU to it.
 """
 
+from . import motion_encoding, projection
 from .hashing import pcg, rand
 from .patterns import test_pattern
 
-__all__ = ["pcg", "rand", "test_pattern"]
+__all__ = ["motion_encoding", "pcg", "projection", "rand", "test_pattern"]

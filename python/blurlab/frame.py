@@ -1,0 +1,73 @@
+"""A rendered (or user-supplied) G-buffer: color, depth, motion, object ids, as NumPy arrays."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+MOTION_FORMATS = ("rg32f", "rg16f", "rgba8_offset", "rgba8_polar")
+
+
+@dataclass
+class Frame:
+    """SPEC.md §1 conventions: arrays (H, W, ...), row 0 at the top.
+
+    color      (H, W, 4) linear float32
+    depth      (H, W) positive linear view distance, +inf where nothing was drawn
+    motion     (H, W, 2) pixels from shutter open to close, +x right, +y down
+    object_id  (H, W) int32, -1 for the background
+    """
+
+    color: np.ndarray
+    depth: np.ndarray
+    motion: np.ndarray
+    object_id: np.ndarray | None = None
+    shutter: tuple[float, float] = (0.0, 1.0)
+    time: float | None = None  # the G-buffer's instant
+    motion_format: str = "rg32f"
+    camera: dict | None = None  # matrices at open, close and the instant (rendered frames)
+    timings: dict = field(default_factory=dict)
+    textures: dict = field(default_factory=dict, repr=False)  # GPU copies, where rendered
+
+    def __post_init__(self):
+        self.color = _float_image(self.color, "color", (3, 4))
+        h, w = self.color.shape[:2]
+        if self.color.shape[2] == 3:
+            self.color = np.concatenate([self.color, np.ones((h, w, 1), np.float32)], axis=2)
+        self.depth = np.ascontiguousarray(np.asarray(self.depth, dtype=np.float32))
+        if self.depth.ndim == 3 and self.depth.shape[2] == 1:
+            self.depth = self.depth[..., 0]
+        if self.depth.shape != (h, w):
+            raise ValueError(f"blurlab: depth has shape {self.depth.shape}, color is {(h, w)}")
+        self.motion = _float_image(self.motion, "motion", (2,))
+        if self.motion.shape[:2] != (h, w):
+            raise ValueError(f"blurlab: motion has shape {self.motion.shape}, color is {(h, w)}")
+        if self.object_id is None:
+            self.object_id = np.where(np.isinf(self.depth), -1, 0).astype(np.int32)
+        self.object_id = np.asarray(self.object_id).astype(np.int32)
+        if self.object_id.shape != (h, w):
+            raise ValueError(
+                f"blurlab: object_id has shape {self.object_id.shape}, expected {(h, w)}"
+            )
+        if self.motion_format not in MOTION_FORMATS:
+            raise ValueError(f"blurlab: motion_format must be one of {MOTION_FORMATS}")
+
+    @property
+    def size(self) -> tuple[int, int]:
+        """(W, H)."""
+        return self.color.shape[1], self.color.shape[0]
+
+
+def _float_image(array, what: str, channels: tuple[int, ...]) -> np.ndarray:
+    if not isinstance(array, np.ndarray):
+        raise TypeError(
+            f"blurlab: frame {what} must be a numpy.ndarray, not {type(array).__name__}"
+        )
+    if array.ndim != 3 or array.shape[2] not in channels or array.size == 0:
+        raise ValueError(
+            f"blurlab: frame {what} has shape {array.shape}; expected (H, W, C), C in {channels}"
+        )
+    if array.dtype.kind not in "fiu":
+        raise TypeError(f"blurlab: frame {what} has dtype {array.dtype}; expected a float type")
+    return np.ascontiguousarray(array, dtype=np.float32)

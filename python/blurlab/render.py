@@ -1,0 +1,166 @@
+"""The G-buffer pass from Python: evaluates a scene's motion at shutter open, close and the
+instant, builds the matrices, and runs src/passes/gbuffer on the context."""
+
+from __future__ import annotations
+
+import math
+from numbers import Real
+
+import numpy as np
+
+from . import _core
+from .frame import MOTION_FORMATS, Frame
+from .scene import Scene
+
+INSTANTS = ("center", "close", "open")
+
+
+def instant_time(instant: str | float, shutter: tuple[float, float]) -> float:
+    """The time at which the G-buffer is rendered (SPEC.md §1 "Instant")."""
+    t0, t1 = shutter
+    if isinstance(instant, str):
+        if instant not in INSTANTS:
+            raise ValueError(
+                f"blurlab: instant must be one of {INSTANTS} or a time, not {instant!r}"
+            )
+        return {"center": (t0 + t1) / 2, "close": t1, "open": t0}[instant]
+    if isinstance(instant, bool) or not isinstance(instant, Real) or not t0 <= instant <= t1:
+        raise ValueError(f"blurlab: instant time {instant!r} is outside the shutter [{t0}, {t1}]")
+    return float(instant)
+
+
+def check_size(size, limit: int) -> tuple[int, int]:
+    try:
+        width, height = (int(v) for v in size)
+    except (TypeError, ValueError):
+        raise ValueError(f"blurlab: size must be (W, H), not {size!r}") from None
+    if (width, height) != tuple(size) or not (1 <= width <= limit and 1 <= height <= limit):
+        raise ValueError(f"blurlab: size {size!r} must be two integers in 1..{limit} (W, H)")
+    return width, height
+
+
+def check_shutter(shutter) -> tuple[float, float]:
+    try:
+        t0, t1 = (float(v) for v in shutter)
+    except (TypeError, ValueError):
+        raise ValueError(f"blurlab: shutter must be (t0, t1), not {shutter!r}") from None
+    if not (math.isfinite(t0) and math.isfinite(t1)) or t1 < t0:
+        raise ValueError(f"blurlab: shutter (t0, t1) must be finite with t1 >= t0, not {shutter!r}")
+    return t0, t1
+
+
+def camera_matrices(scene: Scene, size: tuple[int, int], times: tuple[float, float, float]) -> dict:
+    """View and (y-flipped) projection matrices at open, close and the instant, float64."""
+    width, height = size
+    projection = scene.camera.projection(width / height)
+    views = [scene.camera.view(t) for t in times]
+
+    def rotation_only(view):
+        r = view.copy()
+        r[:3, 3] = 0.0
+        return projection @ r
+
+    return {
+        "projection": projection,
+        "view": np.stack(views),
+        "view_projection": np.stack([projection @ v for v in views]),
+        "eye": scene.camera.world(times[2])[:3, 3],
+        "sky_from_clip": np.linalg.inv(rotation_only(views[2])),
+        "sky_projection": np.stack([rotation_only(views[0]), rotation_only(views[1])]),
+        "times": np.array(times),
+    }
+
+
+def render(
+    ctx,
+    scene: Scene,
+    size=(640, 360),
+    shutter=None,
+    instant: str | float = "center",
+    motion_format: str = "rg32f",
+    maxlen: float | None = None,
+) -> Frame:
+    """Renders the G-buffer of `scene`; see Context.render."""
+    if not isinstance(scene, Scene):
+        raise TypeError(f"blurlab: render needs a blurlab Scene, not {type(scene).__name__}")
+    size = check_size(size, ctx.max_texture_size)
+    shutter = check_shutter(scene.shutter if shutter is None else shutter)
+    time = instant_time(instant, shutter)
+    if motion_format not in MOTION_FORMATS:
+        raise ValueError(
+            f"blurlab: motion_format must be one of {MOTION_FORMATS}, not {motion_format!r}"
+        )
+    width, height = size
+    if maxlen is None:
+        maxlen = math.hypot(width, height)  # SPEC.md §2: the image diagonal
+    if not (isinstance(maxlen, Real) and math.isfinite(maxlen) and maxlen > 0):
+        raise ValueError(f"blurlab: maxlen must be a finite number of pixels > 0, not {maxlen!r}")
+
+    times = (shutter[0], shutter[1], time)
+    camera = camera_matrices(scene, size, times)
+    f32 = lambda a: np.ascontiguousarray(a, dtype=np.float32)  # noqa: E731
+    camera_uniforms = {
+        k: f32(camera[k]) for k in ("view_projection", "eye", "sky_from_clip", "sky_projection")
+    }
+    camera_uniforms["view"] = f32(camera["view"][2])
+    light = {
+        "direction": f32(scene.light.direction / np.linalg.norm(scene.light.direction)),
+        "color": f32(scene.light.color),
+        "ambient": f32(scene.light.ambient),
+        "background": f32(scene.background),
+    }
+    draws = []
+    for object_id, obj in enumerate(scene.objects):
+        models = f32([obj.model(t) for t in times])
+        bones = None if obj.skeleton is None else f32([obj.skeleton.matrices(t) for t in times])
+        m = obj.material
+        draws.append(
+            (
+                ctx._gpu_mesh(obj.mesh),
+                models,
+                bones,
+                f32(m.color),
+                float(m.specular),
+                float(m.shininess),
+                ctx._gpu_material_texture(m),
+                object_id,
+            )
+        )
+
+    targets = {
+        "color": ctx.empty((height, width, 4)),
+        "depth": ctx.empty((height, width)),
+        "motion": ctx.empty((height, width, 2)),
+        "object_id": ctx.empty((height, width)),
+    }
+    gbuffer = ctx._pass("gbuffer", _core.GBufferPass)
+    with ctx.timer() as timing:
+        gbuffer.render(*(t._core for t in targets.values()), camera_uniforms, light, draws)
+    timings = {"gbuffer": timing}
+    if motion_format != "rg32f":
+        stored = (
+            ctx.empty((height, width, 2), "float16")
+            if motion_format == "rg16f"
+            else ctx.empty((height, width, 4), "uint8")
+        )
+        decoded = ctx.empty((height, width, 2))
+        encoding = ctx._pass("motion_encoding", _core.MotionEncodingPass)
+        with ctx.timer() as timing:
+            encoding.run(
+                targets["motion"]._core, stored._core, decoded._core, motion_format, float(maxlen)
+            )
+        timings["motion_encoding"] = timing
+        targets["motion"] = decoded
+    frame = Frame(
+        color=targets["color"].download(),
+        depth=targets["depth"].download(),
+        motion=targets["motion"].download(),
+        object_id=targets["object_id"].download(),
+        shutter=shutter,
+        time=time,
+        motion_format=motion_format,
+        camera=camera,
+        timings=timings,
+        textures=targets,  # the GPU copies, so methods need not upload them again
+    )
+    return frame

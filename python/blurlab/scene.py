@@ -1,0 +1,205 @@
+"""Scenes: a camera, a directional light, and meshes with materials and motion.
+
+World space is right-handed, y up; the camera looks down its own -z. Everything that moves is
+a function of time (``blurlab.motion``); the renderer evaluates it at shutter open, close and
+the G-buffer's instant.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from .mesh import Mesh
+from .motion import Motion, Skeleton
+
+
+def _finite(value, what: str, size: int) -> np.ndarray:
+    v = np.asarray(value, dtype=np.float64)
+    if v.shape != (size,) or not np.isfinite(v).all():
+        raise ValueError(f"blurlab: {what} must be {size} finite numbers, not {value!r}")
+    return v
+
+
+@dataclass
+class Camera:
+    """A pinhole camera. ``fov_y`` in degrees, in (0, 180); 0 < near < far."""
+
+    position: tuple = (0.0, 0.0, 5.0)
+    look_at: tuple = (0.0, 0.0, 0.0)
+    up: tuple = (0.0, 1.0, 0.0)
+    fov_y: float = 60.0
+    near: float = 0.1
+    far: float = 100.0
+    motion: Motion | None = None  # moves the whole camera rig: world(t) = motion(t) · base
+
+    def __post_init__(self):
+        self.position = _finite(self.position, "camera position", 3)
+        self.look_at = _finite(self.look_at, "camera look_at", 3)
+        self.up = _finite(self.up, "camera up", 3)
+        if not (math.isfinite(self.fov_y) and 0.0 < self.fov_y < 180.0):
+            raise ValueError(f"blurlab: fov_y must be in (0, 180) degrees, not {self.fov_y}")
+        if not (math.isfinite(self.near) and math.isfinite(self.far) and 0 < self.near < self.far):
+            raise ValueError(
+                f"blurlab: camera needs 0 < near < far, got near={self.near}, far={self.far}"
+            )
+        forward = self.look_at - self.position
+        if np.linalg.norm(forward) == 0:
+            raise ValueError("blurlab: camera position and look_at are the same point")
+        if np.linalg.norm(np.cross(forward, self.up)) < 1e-9 * np.linalg.norm(forward):
+            raise ValueError("blurlab: camera up is parallel to the viewing direction")
+
+    def base(self) -> np.ndarray:
+        """Camera-to-world transform without motion: columns right, up, back, position."""
+        f = self.look_at - self.position
+        f /= np.linalg.norm(f)
+        r = np.cross(f, self.up)
+        r /= np.linalg.norm(r)
+        u = np.cross(r, f)
+        m = np.eye(4)
+        m[:3, 0], m[:3, 1], m[:3, 2], m[:3, 3] = r, u, -f, self.position
+        return m
+
+    def world(self, t: float) -> np.ndarray:
+        """Camera-to-world transform at time t."""
+        base = self.base()
+        return base if self.motion is None else _checked(self.motion.transform(t), "camera") @ base
+
+    def view(self, t: float) -> np.ndarray:
+        return np.linalg.inv(self.world(t))
+
+    def projection(self, aspect: float) -> np.ndarray:
+        """OpenGL perspective projection with y flipped, so that framebuffer row 0 is the top
+        of the image (the one place blurlab meets GL's bottom-left origin)."""
+        f = 1.0 / math.tan(math.radians(self.fov_y) / 2)
+        n, far = self.near, self.far
+        return np.array(
+            [
+                [f / aspect, 0, 0, 0],
+                [0, -f, 0, 0],
+                [0, 0, (far + n) / (n - far), 2 * far * n / (n - far)],
+                [0, 0, -1, 0],
+            ]
+        )
+
+
+@dataclass
+class DirectionalLight:
+    """Light from `direction` (pointing toward the light) plus an ambient term."""
+
+    direction: tuple = (0.4, 1.0, 0.6)
+    color: tuple = (1.0, 1.0, 1.0)
+    ambient: tuple = (0.15, 0.15, 0.17)
+
+    def __post_init__(self):
+        self.direction = _finite(self.direction, "light direction", 3)
+        if np.linalg.norm(self.direction) == 0:
+            raise ValueError("blurlab: light direction must not be zero")
+        self.color = _finite(self.color, "light color", 3)
+        self.ambient = _finite(self.ambient, "ambient", 3)
+
+
+@dataclass(eq=False)
+class Material:
+    """Lambert (specular = 0) or Blinn–Phong; `texture` (a path read through OpenImageIO, or an
+    array) multiplies `color`. 8-bit textures are taken as sRGB, float ones as linear."""
+
+    color: tuple = (0.8, 0.8, 0.8)
+    texture: str | Path | np.ndarray | None = None
+    specular: float = 0.0
+    shininess: float = 32.0
+
+    def __post_init__(self):
+        c = np.asarray(self.color, dtype=np.float64)
+        if c.shape == (3,):
+            c = np.append(c, 1.0)
+        self.color = _finite(c, "material color", 4)
+        if not (math.isfinite(self.specular) and self.specular >= 0):
+            raise ValueError(f"blurlab: specular must be >= 0, not {self.specular}")
+        if not (math.isfinite(self.shininess) and self.shininess > 0):
+            raise ValueError(f"blurlab: shininess must be > 0, not {self.shininess}")
+        if isinstance(self.texture, (str, Path)) and not Path(self.texture).is_file():
+            raise FileNotFoundError(f"blurlab: material texture not found: {self.texture}")
+
+    def texture_rgba(self) -> np.ndarray | None:
+        """The texture as (H, W, 4) linear float16, or None."""
+        if self.texture is None:
+            return None
+        from . import io
+
+        image = io.read(self.texture) if isinstance(self.texture, (str, Path)) else self.texture
+        image = np.asarray(image)
+        if image.ndim == 2:
+            image = image[..., None]
+        if image.ndim != 3 or image.shape[2] not in (1, 3, 4) or image.size == 0:
+            raise ValueError(f"blurlab: texture of shape {image.shape} is not (H, W, 1|3|4)")
+        linear = io.srgb_to_linear(image / 255.0) if image.dtype == np.uint8 else image
+        if image.dtype == np.uint8 and image.shape[2] == 4:
+            linear[..., 3] = image[..., 3] / 255.0  # alpha is not sRGB-encoded
+        rgba = np.ones(image.shape[:2] + (4,))
+        rgba[..., :3] = linear[..., :3] if image.shape[2] >= 3 else linear[..., :1]
+        if image.shape[2] == 4:
+            rgba[..., 3] = linear[..., 3]
+        if not np.isfinite(rgba).all():
+            raise ValueError("blurlab: texture has NaN or inf values")
+        return rgba.astype(np.float16)
+
+
+@dataclass(eq=False)
+class SceneObject:
+    mesh: Mesh
+    material: Material
+    motion: Motion | None
+    skeleton: Skeleton | None
+    name: str
+
+    def model(self, t: float) -> np.ndarray:
+        return np.eye(4) if self.motion is None else _checked(self.motion.transform(t), self.name)
+
+
+@dataclass
+class Scene:
+    """What the renderer draws. `shutter` is the default shutter interval in seconds."""
+
+    camera: Camera = field(default_factory=Camera)
+    light: DirectionalLight = field(default_factory=DirectionalLight)
+    background: tuple = (0.05, 0.05, 0.07, 1.0)
+    shutter: tuple = (0.0, 1.0 / 60.0)
+    name: str = "scene"
+    objects: list[SceneObject] = field(default_factory=list)
+
+    def __post_init__(self):
+        b = np.asarray(self.background, dtype=np.float64)
+        self.background = _finite(np.append(b, 1.0) if b.shape == (3,) else b, "background", 4)
+
+    def add(
+        self,
+        mesh: Mesh,
+        material: Material | None = None,
+        motion: Motion | None = None,
+        skeleton: Skeleton | None = None,
+        name: str | None = None,
+    ) -> SceneObject:
+        """Adds an object; its object id in the G-buffer is its index in `objects`."""
+        if not isinstance(mesh, Mesh):
+            raise TypeError(f"blurlab: scene.add needs a blurlab Mesh, not {type(mesh).__name__}")
+        if mesh.skinned != (skeleton is not None):
+            raise ValueError("blurlab: a skinned mesh needs a skeleton, and only a skinned one")
+        if skeleton is not None and int(mesh.bone_indices.max()) >= len(skeleton.bones):
+            raise ValueError(
+                f"blurlab: mesh uses bone {int(mesh.bone_indices.max())}, "
+                f"the skeleton has {len(skeleton.bones)}"
+            )
+        obj = SceneObject(mesh, material or Material(), motion, skeleton, name or mesh.name)
+        self.objects.append(obj)
+        return obj
+
+
+def _checked(matrix: np.ndarray, what: str) -> np.ndarray:
+    m = np.asarray(matrix, dtype=np.float64)
+    if m.shape != (4, 4) or not np.isfinite(m).all():
+        raise ValueError(f"blurlab: the motion of {what} gave a non-finite transform")
+    return m

@@ -1,0 +1,72 @@
+#version 450
+// G-buffer pass, fragment stage (SPEC.md §1): linear color, linear depth, motion t0→t1 in
+// pixels (+y down), object id. Motion is divided by w here, per fragment.
+
+in Surface {
+    vec4 clip_open;
+    vec4 clip_close;
+    vec3 world;
+    vec3 normal;
+    vec2 uv;
+    float view_depth;
+} surface;
+
+layout(location = 0) out vec4 out_color;
+layout(location = 1) out float out_depth;
+layout(location = 2) out vec2 out_motion;
+layout(location = 3) out float out_object_id;
+
+uniform vec2 size;
+uniform vec3 eye;
+uniform bool background;
+uniform vec4 background_color;
+uniform mat4 sky_from_clip;
+uniform mat4 sky_projection[2];
+
+uniform vec3 light_direction;  // toward the light
+uniform vec3 light_color;
+uniform vec3 ambient;
+uniform vec4 material_color;
+uniform float material_specular;
+uniform float material_shininess;
+uniform bool has_texture;
+uniform int object_id;
+layout(binding = 0) uniform sampler2D albedo_map;
+
+// Clip position -> pixel position, x right, y down (the projection has y flipped). A point
+// behind the eye has no image position; w is kept positive so the result stays finite.
+vec2 to_pixels(vec4 clip) {
+    float w = max(clip.w, 1e-6);
+    return (clip.xy / w * 0.5 + 0.5) * size;
+}
+
+void main() {
+    if (background) {
+        // Points at infinity move only with the camera's rotation.
+        vec2 ndc = gl_FragCoord.xy / size * 2.0 - 1.0;
+        vec4 far_point = sky_from_clip * vec4(ndc, 1.0, 1.0);
+        vec3 direction = far_point.xyz / far_point.w;
+        vec2 open = to_pixels(sky_projection[0] * vec4(direction, 0.0));
+        vec2 close = to_pixels(sky_projection[1] * vec4(direction, 0.0));
+        out_color = background_color;
+        out_depth = uintBitsToFloat(0x7F800000u);  // +inf
+        out_motion = close - open;
+        out_object_id = -1.0;
+        return;
+    }
+    vec4 albedo = material_color;
+    if (has_texture) albedo *= texture(albedo_map, surface.uv);
+    vec3 n = normalize(surface.normal);
+    vec3 v = normalize(eye - surface.world);
+    if (dot(n, v) < 0.0) n = -n;  // two-sided: the inside of the teapot is lit too
+    vec3 l = normalize(light_direction);
+    float diffuse = max(dot(n, l), 0.0);
+    float specular = 0.0;
+    if (diffuse > 0.0 && material_specular > 0.0)
+        specular = material_specular * pow(max(dot(n, normalize(l + v)), 0.0), material_shininess);
+    out_color = vec4(albedo.rgb * (ambient + light_color * diffuse) + light_color * specular,
+                     albedo.a);
+    out_depth = surface.view_depth;
+    out_motion = to_pixels(surface.clip_close) - to_pixels(surface.clip_open);
+    out_object_id = float(object_id);
+}

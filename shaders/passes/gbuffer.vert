@@ -1,0 +1,53 @@
+#version 450
+// G-buffer pass, vertex stage (SPEC.md §1). Index 0 = shutter open t0, 1 = close t1, 2 = the
+// G-buffer's instant. Positions at t0 and t1 go to the rasterizer undivided (see gbuffer.frag).
+
+layout(location = 0) in vec3 position;
+layout(location = 1) in vec3 normal;
+layout(location = 2) in vec2 texcoord;
+layout(location = 3) in uvec4 bone_index;
+layout(location = 4) in vec4 bone_weight;
+
+uniform mat4 model[3];
+uniform mat4 view_projection[3];  // y flipped: see src/passes/gbuffer.h
+uniform mat4 view;
+uniform int bone_count;
+uniform bool background;
+
+// Bone matrices: bone_count at t0, then bone_count at t1, then bone_count at the instant.
+layout(std430, binding = 0, row_major) readonly buffer Bones { mat4 bones[]; };
+
+out Surface {
+    vec4 clip_open;
+    vec4 clip_close;
+    vec3 world;
+    vec3 normal;
+    vec2 uv;
+    float view_depth;
+} surface;
+
+mat4 skinning(int time) {
+    if (bone_count == 0) return mat4(1.0);
+    mat4 m = mat4(0.0);
+    for (int i = 0; i < 4; ++i) m += bone_weight[i] * bones[time * bone_count + int(bone_index[i])];
+    return m;
+}
+
+void main() {
+    if (background) {
+        // One triangle that covers the image, at the far plane.
+        vec2 p = vec2((gl_VertexID << 1) & 2, gl_VertexID & 2) * 2.0 - 1.0;
+        gl_Position = vec4(p, 1.0, 1.0);
+        return;
+    }
+    vec4 p = vec4(position, 1.0);
+    mat4 at_instant = model[2] * skinning(2);
+    vec4 world = at_instant * p;
+    surface.clip_open = view_projection[0] * (model[0] * skinning(0) * p);
+    surface.clip_close = view_projection[1] * (model[1] * skinning(1) * p);
+    surface.world = world.xyz;
+    surface.normal = transpose(inverse(mat3(at_instant))) * normal;
+    surface.uv = texcoord;
+    surface.view_depth = -(view * world).z;
+    gl_Position = view_projection[2] * world;
+}

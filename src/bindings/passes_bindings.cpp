@@ -1,0 +1,125 @@
+// Bindings of src/passes and src/gl/mesh: array conversion only. The Python side
+// (python/blurlab/render.py) validates arguments and builds the matrices.
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <cstring>
+#include <optional>
+
+#include "bindings/bindings.h"
+#include "gl/context.h"
+#include "gl/mesh.h"
+#include "gl/texture.h"
+#include "passes/gbuffer.h"
+#include "passes/motion_encoding.h"
+
+namespace py = pybind11;
+
+namespace blurlab {
+namespace {
+
+using Floats = py::array_t<float, py::array::c_style | py::array::forcecast>;
+using Uints = py::array_t<uint32_t, py::array::c_style | py::array::forcecast>;
+
+void require_size(const py::array& a, size_t count, const char* what) {
+  if (static_cast<size_t>(a.size()) != count)
+    throw std::invalid_argument(std::string("blurlab: ") + what + " has " +
+                                std::to_string(a.size()) + " values, expected " +
+                                std::to_string(count));
+}
+
+void copy_floats(float* dst, const Floats& src, size_t count, const char* what) {
+  require_size(src, count, what);
+  std::memcpy(dst, src.data(), count * sizeof(float));
+}
+
+std::shared_ptr<Mesh> make_mesh(const std::shared_ptr<Context>& ctx, const Floats& positions,
+                                const Floats& normals, const Floats& texcoords,
+                                const Uints& indices, std::optional<Uints> bone_indices,
+                                std::optional<Floats> bone_weights) {
+  MeshData d;
+  d.vertex_count = static_cast<size_t>(positions.size()) / 3;
+  d.triangle_count = static_cast<size_t>(indices.size()) / 3;
+  require_size(positions, d.vertex_count * 3, "positions");
+  require_size(normals, d.vertex_count * 3, "normals");
+  require_size(texcoords, d.vertex_count * 2, "texcoords");
+  require_size(indices, d.triangle_count * 3, "indices");
+  d.positions = positions.data();
+  d.normals = normals.data();
+  d.texcoords = texcoords.data();
+  d.indices = indices.data();
+  if (bone_indices && bone_weights) {
+    require_size(*bone_indices, d.vertex_count * 4, "bone_indices");
+    require_size(*bone_weights, d.vertex_count * 4, "bone_weights");
+    d.bone_indices = bone_indices->data();
+    d.bone_weights = bone_weights->data();
+  }
+  return std::make_shared<Mesh>(ctx, d);
+}
+
+// One draw as Python hands it over: (mesh, model (3,4,4), bones (3,B,4,4) or None,
+// color (4,), specular, shininess, texture or None, object_id).
+GBufferDraw make_draw(const py::tuple& t) {
+  if (t.size() != 8) throw std::invalid_argument("blurlab: a G-buffer draw is an 8-tuple");
+  GBufferDraw d;
+  d.mesh = t[0].cast<std::shared_ptr<Mesh>>();
+  copy_floats(&d.model[0][0], t[1].cast<Floats>(), 48, "model matrices");
+  if (!t[2].is_none()) {
+    Floats bones = t[2].cast<Floats>();
+    d.bone_count = static_cast<int>(bones.size() / 48);
+    require_size(bones, size_t(d.bone_count) * 48, "bone matrices");
+    d.bones.assign(bones.data(), bones.data() + bones.size());
+  }
+  copy_floats(d.material.color, t[3].cast<Floats>(), 4, "material color");
+  d.material.specular = t[4].cast<float>();
+  d.material.shininess = t[5].cast<float>();
+  if (!t[6].is_none()) d.material.texture = t[6].cast<std::shared_ptr<Texture>>();
+  d.object_id = t[7].cast<int>();
+  return d;
+}
+
+}  // namespace
+
+void bind_passes(py::module_& m) {
+  py::class_<Mesh, std::shared_ptr<Mesh>>(m, "Mesh")
+      .def(py::init(&make_mesh), py::arg("context"), py::arg("positions"), py::arg("normals"),
+           py::arg("texcoords"), py::arg("indices"), py::arg("bone_indices") = py::none(),
+           py::arg("bone_weights") = py::none())
+      .def_property_readonly("skinned", &Mesh::skinned)
+      .def_property_readonly("triangle_count", &Mesh::triangle_count);
+
+  py::class_<GBufferPass, std::shared_ptr<GBufferPass>>(m, "GBufferPass")
+      .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))
+      .def(
+          "render",
+          [](GBufferPass& pass, std::shared_ptr<Texture> color, std::shared_ptr<Texture> depth,
+             std::shared_ptr<Texture> motion, std::shared_ptr<Texture> object_id,
+             const py::dict& camera, const py::dict& light, const py::list& draws) {
+            GBufferCamera c;
+            copy_floats(&c.view_projection[0][0], camera["view_projection"].cast<Floats>(), 48,
+                        "view_projection");
+            copy_floats(c.view, camera["view"].cast<Floats>(), 16, "view");
+            copy_floats(c.eye, camera["eye"].cast<Floats>(), 3, "eye");
+            copy_floats(c.sky_from_clip, camera["sky_from_clip"].cast<Floats>(), 16,
+                        "sky_from_clip");
+            copy_floats(&c.sky_projection[0][0], camera["sky_projection"].cast<Floats>(), 32,
+                        "sky_projection");
+            GBufferLight l;
+            copy_floats(l.direction, light["direction"].cast<Floats>(), 3, "light direction");
+            copy_floats(l.color, light["color"].cast<Floats>(), 3, "light color");
+            copy_floats(l.ambient, light["ambient"].cast<Floats>(), 3, "ambient");
+            copy_floats(l.background, light["background"].cast<Floats>(), 4, "background");
+            std::vector<GBufferDraw> list;
+            for (const auto& item : draws) list.push_back(make_draw(item.cast<py::tuple>()));
+            pass.render({color, depth, motion, object_id}, c, l, list);
+          },
+          py::arg("color"), py::arg("depth"), py::arg("motion"), py::arg("object_id"),
+          py::arg("camera"), py::arg("light"), py::arg("draws"));
+
+  py::class_<MotionEncodingPass, std::shared_ptr<MotionEncodingPass>>(m, "MotionEncodingPass")
+      .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))
+      .def("run", &MotionEncodingPass::run, py::arg("motion"), py::arg("stored"),
+           py::arg("decoded"), py::arg("format"), py::arg("maxlen"));
+}
+
+}  // namespace blurlab

@@ -1,0 +1,140 @@
+#include "passes/gbuffer.h"
+
+#include <cstring>
+#include <string>
+
+#include "gl/buffer.h"
+#include "gl/context.h"
+#include "gl/mesh.h"
+#include "gl/program.h"
+#include "gl/texture.h"
+
+namespace blurlab {
+
+GBufferPass::GBufferPass(std::shared_ptr<Context> context) : context_(std::move(context)) {
+  program_ = Program::graphics(context_, "passes/gbuffer.vert", "passes/gbuffer.frag", {});
+  context_->make_current();
+  glCreateFramebuffers(1, &framebuffer_);
+  glCreateVertexArrays(1, &empty_vao_);
+  check_gl("creating the G-buffer pass");
+}
+
+GBufferPass::~GBufferPass() {
+  if (context_->try_make_current()) {
+    bones_.reset();
+    glDeleteFramebuffers(1, &framebuffer_);
+    glDeleteRenderbuffers(1, &depth_buffer_);
+    glDeleteVertexArrays(1, &empty_vao_);
+  }
+}
+
+GLint GBufferPass::location(const char* name) const {
+  return glGetUniformLocation(program_->id(), name);
+}
+
+void GBufferPass::resize_depth(int width, int height) {
+  if (width == depth_width_ && height == depth_height_) return;
+  glDeleteRenderbuffers(1, &depth_buffer_);
+  glCreateRenderbuffers(1, &depth_buffer_);
+  glNamedRenderbufferStorage(depth_buffer_, GL_DEPTH_COMPONENT32F, width, height);
+  glNamedFramebufferRenderbuffer(framebuffer_, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_buffer_);
+  depth_width_ = width;
+  depth_height_ = height;
+}
+
+void GBufferPass::render(const GBufferTargets& targets, const GBufferCamera& camera,
+                         const GBufferLight& light, const std::vector<GBufferDraw>& draws) {
+  const Texture* outputs[4] = {targets.color.get(), targets.depth.get(), targets.motion.get(),
+                               targets.object_id.get()};
+  for (const Texture* t : outputs)
+    if (!t) throw std::invalid_argument("blurlab: the G-buffer pass needs all four targets");
+  const int width = targets.color->width(), height = targets.color->height();
+  for (const Texture* t : outputs)
+    if (t->width() != width || t->height() != height)
+      throw std::invalid_argument("blurlab: G-buffer targets differ in size");
+
+  context_->make_current();
+  resize_depth(width, height);
+  for (int i = 0; i < 4; ++i)
+    glNamedFramebufferTexture(framebuffer_, GL_COLOR_ATTACHMENT0 + i, outputs[i]->id(), 0);
+  const GLenum attachments[4] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2,
+                                 GL_COLOR_ATTACHMENT3};
+  glNamedFramebufferDrawBuffers(framebuffer_, 4, attachments);
+  if (glCheckNamedFramebufferStatus(framebuffer_, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+    throw GLError("blurlab: the G-buffer framebuffer is incomplete");
+
+  // Every piece of state the pass relies on is set here: users' moderngl passes share the
+  // context and may have changed any of it.
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
+  glViewport(0, 0, width, height);
+  glDisable(GL_BLEND);
+  glDisable(GL_CULL_FACE);  // open meshes (the teapot) show both sides
+  glDisable(GL_SCISSOR_TEST);
+  glDisable(GL_STENCIL_TEST);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glDepthMask(GL_TRUE);
+  glClearDepth(1.0);
+  glClear(GL_DEPTH_BUFFER_BIT);
+
+  const GLuint id = program_->id();
+  glUseProgram(id);
+  glProgramUniformMatrix4fv(id, location("view_projection"), 3, GL_TRUE,
+                            &camera.view_projection[0][0]);
+  glProgramUniformMatrix4fv(id, location("view"), 1, GL_TRUE, camera.view);
+  glProgramUniformMatrix4fv(id, location("sky_from_clip"), 1, GL_TRUE, camera.sky_from_clip);
+  glProgramUniformMatrix4fv(id, location("sky_projection"), 2, GL_TRUE,
+                            &camera.sky_projection[0][0]);
+  glProgramUniform3fv(id, location("eye"), 1, camera.eye);
+  glProgramUniform2f(id, location("size"), float(width), float(height));
+  glProgramUniform3fv(id, location("light_direction"), 1, light.direction);
+  glProgramUniform3fv(id, location("light_color"), 1, light.color);
+  glProgramUniform3fv(id, location("ambient"), 1, light.ambient);
+  glProgramUniform4fv(id, location("background_color"), 1, light.background);
+
+  // The background: one triangle over the whole image, no depth test, so every pixel starts as
+  // a point at infinity; geometry then overwrites it where it is drawn.
+  glDisable(GL_DEPTH_TEST);
+  glProgramUniform1i(id, location("background"), 1);
+  glBindVertexArray(empty_vao_);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glProgramUniform1i(id, location("background"), 0);
+  for (const GBufferDraw& draw : draws) {
+    if (!draw.mesh) throw std::invalid_argument("blurlab: a draw has no mesh");
+    const size_t bone_floats = size_t(draw.bone_count) * 3 * 16;
+    if (draw.bones.size() != bone_floats)
+      throw std::invalid_argument("blurlab: a draw has " + std::to_string(draw.bones.size()) +
+                                  " bone floats, expected 3 x " + std::to_string(draw.bone_count) +
+                                  " x 16");
+    if (draw.mesh->skinned() != (draw.bone_count > 0))
+      throw std::invalid_argument("blurlab: skinned meshes need bones, others none");
+    if (draw.bone_count > 0) {
+      const size_t bytes = bone_floats * sizeof(float);
+      if (bytes > bones_capacity_) {
+        bones_ = std::make_unique<Buffer>(context_.get(), bytes, Buffer::Usage::storage);
+        bones_capacity_ = bytes;
+      }
+      // Orphaning is not needed: each draw's matrices are written before the draw is issued
+      // and GL orders the update after the previous draw's reads.
+      glNamedBufferSubData(bones_->id(), 0, static_cast<GLsizeiptr>(bytes), draw.bones.data());
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, bones_->id());
+    }
+    glProgramUniformMatrix4fv(id, location("model"), 3, GL_TRUE, &draw.model[0][0]);
+    glProgramUniform1i(id, location("bone_count"), draw.bone_count);
+    glProgramUniform4fv(id, location("material_color"), 1, draw.material.color);
+    glProgramUniform1f(id, location("material_specular"), draw.material.specular);
+    glProgramUniform1f(id, location("material_shininess"), draw.material.shininess);
+    glProgramUniform1i(id, location("has_texture"), draw.material.texture ? 1 : 0);
+    glProgramUniform1i(id, location("object_id"), draw.object_id);
+    if (draw.material.texture) glBindTextureUnit(0, draw.material.texture->id());
+    draw.mesh->draw();
+  }
+  glBindVertexArray(0);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glMemoryBarrier(GL_ALL_BARRIER_BITS);
+  check_gl("rendering the G-buffer");
+}
+
+}  // namespace blurlab

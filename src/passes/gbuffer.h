@@ -1,0 +1,86 @@
+// G-buffer pass, SPEC.md §1: one raster pass writes linear color (RGBA32F), positive linear view
+// depth (R32F), motion t0→t1 in pixels with +y down (RG32F) and the object id (R32F, −1 for the
+// background) at the G-buffer's instant.
+//
+// Motion is divided per fragment: the vertex shader hands the clip positions at t0 and t1 to
+// the rasterizer, which interpolates them perspective-correctly, and the fragment shader divides
+// by w. Dividing per vertex breaks on triangles clipped at the near plane ("Blurry things").
+// Skinned vertices use the bone matrices at t0, t1 and the instant.
+//
+// All matrices are row-major float[16] (NumPy's order). Every projection here has y flipped, so
+// that framebuffer row 0 (GL's bottom) holds image row 0 (the top): the one place where GL's
+// bottom-left origin is reconciled with blurlab's top-left arrays.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "gl/gl.h"
+
+namespace blurlab {
+
+class Buffer;
+class Context;
+class Mesh;
+class Program;
+class Texture;
+
+struct GBufferCamera {
+  float view_projection[3][16];  // t0, t1, instant
+  float view[16];                // instant: world → view (for depth)
+  float eye[3];                  // camera position at the instant, world space
+  // Points at infinity, for background motion: instant clip → world direction, and world
+  // direction → clip at t0 and t1 (rotation only; translation does not move them).
+  float sky_from_clip[16];
+  float sky_projection[2][16];
+};
+
+struct GBufferLight {
+  float direction[3];  // toward the light, world space
+  float color[3];
+  float ambient[3];
+  float background[4];
+};
+
+struct GBufferMaterial {
+  float color[4] = {1, 1, 1, 1};
+  float specular = 0.0f;
+  float shininess = 32.0f;
+  std::shared_ptr<Texture> texture;  // optional albedo map, multiplied with color
+};
+
+struct GBufferDraw {
+  std::shared_ptr<Mesh> mesh;
+  float model[3][16];        // t0, t1, instant
+  std::vector<float> bones;  // bone_count matrices at t0, then at t1, then at the instant
+  int bone_count = 0;
+  GBufferMaterial material;
+  int object_id = 0;
+};
+
+struct GBufferTargets {
+  std::shared_ptr<Texture> color, depth, motion, object_id;
+};
+
+class GBufferPass {
+ public:
+  explicit GBufferPass(std::shared_ptr<Context> context);
+  ~GBufferPass();
+  GBufferPass(const GBufferPass&) = delete;
+  GBufferPass& operator=(const GBufferPass&) = delete;
+
+  void render(const GBufferTargets& targets, const GBufferCamera& camera, const GBufferLight& light,
+              const std::vector<GBufferDraw>& draws);
+
+ private:
+  GLint location(const char* name) const;
+  void resize_depth(int width, int height);
+  std::shared_ptr<Context> context_;
+  std::shared_ptr<Program> program_;
+  std::unique_ptr<Buffer> bones_;
+  size_t bones_capacity_ = 0;
+  GLuint framebuffer_ = 0, depth_buffer_ = 0, empty_vao_ = 0;
+  int depth_width_ = 0, depth_height_ = 0;
+};
+
+}  // namespace blurlab
