@@ -35,8 +35,11 @@ export PYTHONUNBUFFERED=1
 python3 -m blurlab --device gpu info | tee "$out/info_gpu.json"
 # The GL tests (io needs OpenImageIO, which the device lacks; CI runs those).
 python3 -m pytest -q -p no:cacheprovider tests/test_context.py tests/test_textures.py \
-  tests/test_programs.py tests/test_moderngl.py 2>&1 | tail -n 15 || echo "gpu.sh: tests FAILED"
+  tests/test_programs.py tests/test_moderngl.py tests/test_gbuffer.py tests/test_mesh.py 2>&1 | tail -n 15 || echo "gpu.sh: tests FAILED"
 
+# Each argument is a benchmark script and its arguments, e.g. "gbuffer --size 1920x1080".
 for bench in "${@:-transfer}"; do
-  python3 "benchmarks/$bench.py" --device gpu --json "$out/${bench}_gpu.json"
+  read -r name rest <<<"$bench"
+  [ "$name" = none ] && continue
+  python3 "benchmarks/$name.py" --device gpu $rest --json "$out/${name}_gpu.json"
 done

@@ -103,6 +103,7 @@ def render(
         k: f32(camera[k]) for k in ("view_projection", "eye", "sky_from_clip", "sky_projection")
     }
     camera_uniforms["view"] = f32(camera["view"][2])
+    camera_uniforms["near"] = float(scene.camera.near)
     light = {
         "direction": f32(scene.light.direction / np.linalg.norm(scene.light.direction)),
         "color": f32(scene.light.color),
@@ -138,19 +139,9 @@ def render(
         gbuffer.render(*(t._core for t in targets.values()), camera_uniforms, light, draws)
     timings = {"gbuffer": timing}
     if motion_format != "rg32f":
-        stored = (
-            ctx.empty((height, width, 2), "float16")
-            if motion_format == "rg16f"
-            else ctx.empty((height, width, 4), "uint8")
+        targets["motion"], timings["motion_encoding"] = encode_motion(
+            ctx, targets["motion"], motion_format, maxlen
         )
-        decoded = ctx.empty((height, width, 2))
-        encoding = ctx._pass("motion_encoding", _core.MotionEncodingPass)
-        with ctx.timer() as timing:
-            encoding.run(
-                targets["motion"]._core, stored._core, decoded._core, motion_format, float(maxlen)
-            )
-        timings["motion_encoding"] = timing
-        targets["motion"] = decoded
     frame = Frame(
         color=targets["color"].download(),
         depth=targets["depth"].download(),
@@ -164,3 +155,32 @@ def render(
         textures=targets,  # the GPU copies, so methods need not upload them again
     )
     return frame
+
+
+def encode_motion(ctx, motion, motion_format: str, maxlen: float):
+    """Runs the motion-encoding pass on an rg32f motion texture: returns the decoded texture
+    (what a method reading `motion_format` sees) and the pass's Timing."""
+    width, height = motion.width, motion.height
+    if motion_format == "rg16f":
+        stored = ctx.empty((height, width, 2), "float16")
+    else:
+        stored = ctx.empty((height, width, 4), "uint8")
+    decoded = ctx.empty((height, width, 2))
+    encoding = ctx._pass("motion_encoding", _core.MotionEncodingPass)
+    with ctx.timer() as timing:
+        encoding.run(motion._core, stored._core, decoded._core, motion_format, float(maxlen))
+    return decoded, timing
+
+
+def stored_motion(ctx, motion: np.ndarray, motion_format: str, maxlen: float) -> np.ndarray:
+    """(H, W, 2) motion as a method reading `motion_format` would see it, computed on the GPU
+    (the precision study of SPEC.md §2)."""
+    if motion_format not in MOTION_FORMATS:
+        raise ValueError(f"blurlab: motion_format must be one of {MOTION_FORMATS}")
+    motion = np.asarray(motion, dtype=np.float32)
+    if motion.ndim != 3 or motion.shape[2] != 2:
+        raise ValueError(f"blurlab: motion must be (H, W, 2), not {motion.shape}")
+    if motion_format == "rg32f":
+        return motion.copy()
+    decoded, _ = encode_motion(ctx, ctx.upload(motion), motion_format, maxlen)
+    return decoded.download()

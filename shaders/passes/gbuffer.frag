@@ -17,6 +17,7 @@ layout(location = 2) out vec2 out_motion;
 layout(location = 3) out float out_object_id;
 
 uniform vec2 size;
+uniform float near;
 uniform vec3 eye;
 uniform bool background;
 uniform vec4 background_color;
@@ -33,10 +34,12 @@ uniform bool has_texture;
 uniform int object_id;
 layout(binding = 0) uniform sampler2D albedo_map;
 
-// Clip position -> pixel position, x right, y down (the projection has y flipped). A point
-// behind the eye has no image position; w is kept positive so the result stays finite.
+// Clip position -> pixel position, x right, y down (the projection has y flipped). w is the
+// point's view depth. A point closer than the near plane at t0 or t1 (or behind the eye) has no
+// image position there; it is placed as if on the near plane, so its motion stays finite and
+// points the way the point moved.
 vec2 to_pixels(vec4 clip) {
-    float w = max(clip.w, 1e-6);
+    float w = max(clip.w, near);
     return (clip.xy / w * 0.5 + 0.5) * size;
 }
 
@@ -46,11 +49,15 @@ void main() {
         vec2 ndc = gl_FragCoord.xy / size * 2.0 - 1.0;
         vec4 far_point = sky_from_clip * vec4(ndc, 1.0, 1.0);
         vec3 direction = far_point.xyz / far_point.w;
-        vec2 open = to_pixels(sky_projection[0] * vec4(direction, 0.0));
-        vec2 close = to_pixels(sky_projection[1] * vec4(direction, 0.0));
+        vec4 sky_open = sky_projection[0] * vec4(direction, 0.0);
+        vec4 sky_close = sky_projection[1] * vec4(direction, 0.0);
+        // Directions behind the camera at t0 or t1 have no image position: no motion then.
+        vec2 open = sky_open.xy / max(sky_open.w, 1e-20);
+        vec2 close = sky_close.xy / max(sky_close.w, 1e-20);
+        bool seen = sky_open.w > 0.0 && sky_close.w > 0.0;
         out_color = background_color;
         out_depth = uintBitsToFloat(0x7F800000u);  // +inf
-        out_motion = close - open;
+        out_motion = seen ? (close - open) * 0.5 * size : vec2(0.0);
         out_object_id = -1.0;
         return;
     }

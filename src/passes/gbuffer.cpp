@@ -85,6 +85,7 @@ void GBufferPass::render(const GBufferTargets& targets, const GBufferCamera& cam
   glProgramUniformMatrix4fv(id, location("sky_projection"), 2, GL_TRUE,
                             &camera.sky_projection[0][0]);
   glProgramUniform3fv(id, location("eye"), 1, camera.eye);
+  glProgramUniform1f(id, location("near"), camera.near);
   glProgramUniform2f(id, location("size"), float(width), float(height));
   glProgramUniform3fv(id, location("light_direction"), 1, light.direction);
   glProgramUniform3fv(id, location("light_color"), 1, light.color);

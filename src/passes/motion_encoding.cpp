@@ -45,11 +45,12 @@ void MotionEncodingPass::run(const Texture& motion, const Texture& stored, const
       throw std::invalid_argument("blurlab: motion textures must be (H, W, 2) float32");
   auto encode = program(format, true), decode = program(format, false);
   const int gx = (motion.width() + 15) / 16, gy = (motion.height() + 15) / 16;
-  encode->set_uniform("maxlen", {maxlen});
+  // rg16f ignores maxlen, and the compiler drops the unused uniform.
+  if (!half) encode->set_uniform("maxlen", {maxlen});
   encode->bind_image(0, motion, GL_READ_ONLY);
   encode->bind_image(1, stored, GL_WRITE_ONLY);
   encode->dispatch(gx, gy, 1);
-  decode->set_uniform("maxlen", {maxlen});
+  if (!half) decode->set_uniform("maxlen", {maxlen});
   decode->bind_image(0, stored, GL_READ_ONLY);
   decode->bind_image(1, decoded, GL_WRITE_ONLY);
   decode->dispatch(gx, gy, 1);
