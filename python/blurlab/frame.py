@@ -28,7 +28,8 @@ class Frame:
     motion_format: str = "rg32f"
     camera: dict | None = None  # matrices at open, close and the instant (rendered frames)
     timings: dict = field(default_factory=dict)
-    textures: dict = field(default_factory=dict, repr=False)  # GPU copies, where rendered
+    # GPU copies where rendered; they return to the context's pool when the frame is freed.
+    textures: dict = field(default_factory=dict, repr=False)
 
     def __post_init__(self):
         self.color = _float_image(self.color, "color", (3, 4))

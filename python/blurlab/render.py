@@ -4,6 +4,7 @@ instant, builds the matrices, and runs src/passes/gbuffer on the context."""
 from __future__ import annotations
 
 import math
+import weakref
 from numbers import Real
 
 import numpy as np
@@ -102,7 +103,6 @@ def render(
     camera_uniforms = {
         k: f32(camera[k]) for k in ("view_projection", "eye", "sky_from_clip", "sky_projection")
     }
-    camera_uniforms["view"] = f32(camera["view"][2])
     camera_uniforms["near"] = float(scene.camera.near)
     light = {
         "direction": f32(scene.light.direction / np.linalg.norm(scene.light.direction)),
@@ -128,20 +128,24 @@ def render(
             )
         )
 
+    # Every target is fully overwritten (the background pass covers every pixel), so pooled
+    # textures need no clearing.
     targets = {
-        "color": ctx.empty((height, width, 4)),
-        "depth": ctx.empty((height, width)),
-        "motion": ctx.empty((height, width, 2)),
-        "object_id": ctx.empty((height, width)),
+        "color": ctx._pooled((height, width, 4)),
+        "depth": ctx._pooled((height, width)),
+        "motion": ctx._pooled((height, width, 2)),
+        "object_id": ctx._pooled((height, width)),
     }
     gbuffer = ctx._pass("gbuffer", _core.GBufferPass)
     with ctx.timer() as timing:
         gbuffer.render(*(t._core for t in targets.values()), camera_uniforms, light, draws)
     timings = {"gbuffer": timing}
     if motion_format != "rg32f":
+        exact = targets["motion"]
         targets["motion"], timings["motion_encoding"] = encode_motion(
-            ctx, targets["motion"], motion_format, maxlen
+            ctx, exact, motion_format, maxlen
         )
+        ctx._recycle(exact)
     frame = Frame(
         color=targets["color"].download(),
         depth=targets["depth"].download(),
@@ -154,6 +158,9 @@ def render(
         timings=timings,
         textures=targets,  # the GPU copies, so methods need not upload them again
     )
+    # The targets go back to the pool when the frame is freed: frame.textures live as long as
+    # the frame does.
+    weakref.finalize(frame, ctx._recycle, *targets.values())
     return frame
 
 
@@ -162,13 +169,14 @@ def encode_motion(ctx, motion, motion_format: str, maxlen: float):
     (what a method reading `motion_format` sees) and the pass's Timing."""
     width, height = motion.width, motion.height
     if motion_format == "rg16f":
-        stored = ctx.empty((height, width, 2), "float16")
+        stored = ctx._pooled((height, width, 2), "float16")
     else:
-        stored = ctx.empty((height, width, 4), "uint8")
-    decoded = ctx.empty((height, width, 2))
+        stored = ctx._pooled((height, width, 4), "uint8")
+    decoded = ctx._pooled((height, width, 2))
     encoding = ctx._pass("motion_encoding", _core.MotionEncodingPass)
     with ctx.timer() as timing:
         encoding.run(motion._core, stored._core, decoded._core, motion_format, float(maxlen))
+    ctx._recycle(stored)
     return decoded, timing
 
 
@@ -183,4 +191,6 @@ def stored_motion(ctx, motion: np.ndarray, motion_format: str, maxlen: float) ->
     if motion_format == "rg32f":
         return motion.copy()
     decoded, _ = encode_motion(ctx, ctx.upload(motion), motion_format, maxlen)
-    return decoded.download()
+    result = decoded.download()
+    ctx._recycle(decoded)
+    return result

@@ -8,7 +8,6 @@ in Surface {
     vec3 world;
     vec3 normal;
     vec2 uv;
-    float view_depth;
 } surface;
 
 layout(location = 0) out vec4 out_color;
@@ -73,7 +72,9 @@ void main() {
         specular = material_specular * pow(max(dot(n, normalize(l + v)), 0.0), material_shininess);
     out_color = vec4(albedo.rgb * (ambient + light_color * diffuse) + light_color * specular,
                      albedo.a);
-    out_depth = surface.view_depth;
+    // clip.w is the view depth, and the rasterizer interpolates 1/w for perspective correction
+    // anyway: no separate varying is needed.
+    out_depth = 1.0 / gl_FragCoord.w;
     out_motion = to_pixels(surface.clip_close) - to_pixels(surface.clip_open);
     out_object_id = float(object_id);
 }

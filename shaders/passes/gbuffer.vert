@@ -10,7 +10,6 @@ layout(location = 4) in vec4 bone_weight;
 
 uniform mat4 model[3];
 uniform mat4 view_projection[3];  // y flipped: see src/passes/gbuffer.h
-uniform mat4 view;
 uniform int bone_count;
 uniform bool background;
 
@@ -23,7 +22,6 @@ out Surface {
     vec3 world;
     vec3 normal;
     vec2 uv;
-    float view_depth;
 } surface;
 
 mat4 skinning(int time) {
@@ -48,6 +46,5 @@ void main() {
     surface.world = world.xyz;
     surface.normal = transpose(inverse(mat3(at_instant))) * normal;
     surface.uv = texcoord;
-    surface.view_depth = -(view * world).z;
     gl_Position = view_projection[2] * world;
 }

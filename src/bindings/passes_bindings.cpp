@@ -98,7 +98,6 @@ void bind_passes(py::module_& m) {
             GBufferCamera c;
             copy_floats(&c.view_projection[0][0], camera["view_projection"].cast<Floats>(), 48,
                         "view_projection");
-            copy_floats(c.view, camera["view"].cast<Floats>(), 16, "view");
             copy_floats(c.eye, camera["eye"].cast<Floats>(), 3, "eye");
             c.near = camera["near"].cast<float>();
             copy_floats(c.sky_from_clip, camera["sky_from_clip"].cast<Floats>(), 16,

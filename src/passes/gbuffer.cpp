@@ -80,7 +80,6 @@ void GBufferPass::render(const GBufferTargets& targets, const GBufferCamera& cam
   glUseProgram(id);
   glProgramUniformMatrix4fv(id, location("view_projection"), 3, GL_TRUE,
                             &camera.view_projection[0][0]);
-  glProgramUniformMatrix4fv(id, location("view"), 1, GL_TRUE, camera.view);
   glProgramUniformMatrix4fv(id, location("sky_from_clip"), 1, GL_TRUE, camera.sky_from_clip);
   glProgramUniformMatrix4fv(id, location("sky_projection"), 2, GL_TRUE,
                             &camera.sky_projection[0][0]);

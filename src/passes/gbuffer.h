@@ -27,7 +27,6 @@ class Texture;
 
 struct GBufferCamera {
   float view_projection[3][16];  // t0, t1, instant
-  float view[16];                // instant: world → view (for depth)
   float eye[3];                  // camera position at the instant, world space
   float near;                    // near-plane distance
   // Points at infinity, for background motion: instant clip → world direction, and world
