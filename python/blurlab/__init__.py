@@ -5,6 +5,7 @@ from ._core import GLError, ShaderError
 from .context import ComputeProgram, Context, PendingDownload, Texture, Timing
 from .frame import MOTION_FORMATS, Frame
 from .mesh import Mesh
+from .methods import BlurResult, blur, methods
 from .motion import Bone, Keyframe, Motion, Skeleton, quaternion
 from .scene import Camera, DirectionalLight, Material, Scene
 
@@ -12,6 +13,7 @@ __version__ = "0.1.0"
 
 __all__ = [
     "MOTION_FORMATS",
+    "BlurResult",
     "Bone",
     "Camera",
     "ComputeProgram",
@@ -29,8 +31,10 @@ __all__ = [
     "Skeleton",
     "Texture",
     "Timing",
+    "blur",
     "io",
     "mesh",
+    "methods",
     "quaternion",
     "reference",
     "scenes",

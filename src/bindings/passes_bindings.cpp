@@ -11,7 +11,11 @@
 #include "gl/mesh.h"
 #include "gl/texture.h"
 #include "passes/gbuffer.h"
+#include "passes/mcguire2012_params.h"
 #include "passes/motion_encoding.h"
+#include "passes/neighbor_max.h"
+#include "passes/reconstruct_mcguire2012.h"
+#include "passes/tile_max.h"
 
 namespace py = pybind11;
 
@@ -115,6 +119,48 @@ void bind_passes(py::module_& m) {
           },
           py::arg("color"), py::arg("depth"), py::arg("motion"), py::arg("object_id"),
           py::arg("camera"), py::arg("light"), py::arg("draws"));
+
+  py::class_<McGuire2012Params>(m, "McGuire2012Params")
+      .def(py::init<>())
+      .def_readwrite("k", &McGuire2012Params::k)
+      .def_readwrite("samples", &McGuire2012Params::samples)
+      .def_readwrite("soft_z", &McGuire2012Params::soft_z)
+      .def_readwrite("exposure", &McGuire2012Params::exposure)
+      .def_readwrite("seed", &McGuire2012Params::seed)
+      .def("validate", &McGuire2012Params::validate);
+
+  py::class_<TileMaxPass, std::shared_ptr<TileMaxPass>>(m, "TileMaxPass")
+      .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))
+      .def(
+          "run",
+          [](TileMaxPass& pass, const Texture& motion, const Texture& tile_max,
+             const McGuire2012Params& params, const std::string& backend) {
+            pass.run(motion, tile_max, params, parse_backend(backend));
+          },
+          py::arg("motion"), py::arg("tile_max"), py::arg("params"), py::arg("backend"));
+
+  py::class_<NeighborMaxPass, std::shared_ptr<NeighborMaxPass>>(m, "NeighborMaxPass")
+      .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))
+      .def(
+          "run",
+          [](NeighborMaxPass& pass, const Texture& tile_max, const Texture& neighbor_max,
+             const std::string& backend) {
+            pass.run(tile_max, neighbor_max, parse_backend(backend));
+          },
+          py::arg("tile_max"), py::arg("neighbor_max"), py::arg("backend"));
+
+  py::class_<ReconstructMcGuire2012Pass, std::shared_ptr<ReconstructMcGuire2012Pass>>(
+      m, "ReconstructMcGuire2012Pass")
+      .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))
+      .def(
+          "run",
+          [](ReconstructMcGuire2012Pass& pass, const Texture& color, const Texture& depth,
+             const Texture& motion, const Texture& neighbor_max, const Texture& result,
+             const McGuire2012Params& params, const std::string& backend) {
+            pass.run(color, depth, motion, neighbor_max, result, params, parse_backend(backend));
+          },
+          py::arg("color"), py::arg("depth"), py::arg("motion"), py::arg("neighbor_max"),
+          py::arg("result"), py::arg("params"), py::arg("backend"));
 
   py::class_<MotionEncodingPass, std::shared_ptr<MotionEncodingPass>>(m, "MotionEncodingPass")
       .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))

@@ -1,0 +1,113 @@
+"""The reconstruction filter of McGuire, Hennessy, Bukowski and Osman (I3D 2012), SPEC.md §3,
+in NumPy float64: one function per pass, vectorized over pixels. The GPU passes
+(shaders/passes/tile_max.glsl, neighbor_max.glsl, reconstruct_mcguire2012.glsl) must match it.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .hashing import rand
+
+
+def half_velocity(motion: np.ndarray, exposure: float, k: float) -> np.ndarray:
+    """§3.1: q = M·E/2; V = q · clamp(|q|, 0.5, k) / max(|q|, 1e-6); V = 0 where q = 0."""
+    q = np.asarray(motion, np.float64) * exposure / 2
+    n = np.linalg.norm(q, axis=-1, keepdims=True)
+    scale = np.clip(n, 0.5, k) / np.maximum(n, 1e-6)
+    return np.where(n > 0, q * scale, 0.0)
+
+
+def len_half(v: np.ndarray) -> np.ndarray:
+    """§3: max(|v|, 0.5), wherever a length divides."""
+    return np.maximum(np.linalg.norm(v, axis=-1), 0.5)
+
+
+def cone(dist: np.ndarray, v: np.ndarray) -> np.ndarray:
+    return np.clip(1 - dist / len_half(v), 0, 1)
+
+
+def cylinder(dist: np.ndarray, v: np.ndarray) -> np.ndarray:
+    length = len_half(v)
+    return 1 - smoothstep(0.95 * length, 1.05 * length, dist)
+
+
+def smoothstep(edge0, edge1, x):
+    t = np.clip((x - edge0) / (edge1 - edge0), 0, 1)
+    return t * t * (3 - 2 * t)
+
+
+def soft_depth_compare(za: np.ndarray, zb: np.ndarray, soft_z: float) -> np.ndarray:
+    """sdc(za, zb) = clamp(1 - (zb - za) / soft_z, 0, 1); equal depths (both +inf on the
+    background) compare as equal."""
+    with np.errstate(invalid="ignore"):
+        d = np.where(za == zb, 0.0, zb - za)
+    return np.clip(1 - d / soft_z, 0, 1)
+
+
+def tile_max(v: np.ndarray, k: int) -> np.ndarray:
+    """§3.2: (ceil(H/k), ceil(W/k), 2): the half-vector of largest length in each k x k tile."""
+    h, w = v.shape[:2]
+    th, tw = -(-h // k), -(-w // k)
+    padded = np.zeros((th * k, tw * k, 2))
+    padded[:h, :w] = v
+    tiles = padded.reshape(th, k, tw, k, 2).transpose(0, 2, 1, 3, 4).reshape(th, tw, k * k, 2)
+    best = np.argmax(np.linalg.norm(tiles, axis=-1), axis=-1)
+    return np.take_along_axis(tiles, best[..., None, None], axis=2)[:, :, 0]
+
+
+def neighbor_max(tiles: np.ndarray) -> np.ndarray:
+    """§3.3: the TileMax of largest length among the 3 x 3 tiles around each tile."""
+    th, tw = tiles.shape[:2]
+    lengths = np.full((th + 2, tw + 2), -1.0)  # outside the grid: never chosen
+    lengths[1:-1, 1:-1] = np.linalg.norm(tiles, axis=-1)
+    padded = np.zeros((th + 2, tw + 2, 2))
+    padded[1:-1, 1:-1] = tiles
+    best_length = np.full((th, tw), -np.inf)
+    best = np.zeros((th, tw, 2))
+    for dy in (-1, 0, 1):
+        for dx in (-1, 0, 1):
+            candidate = lengths[1 + dy : th + 1 + dy, 1 + dx : tw + 1 + dx]
+            better = candidate > best_length
+            best_length = np.where(better, candidate, best_length)
+            best = np.where(
+                better[..., None], padded[1 + dy : th + 1 + dy, 1 + dx : tw + 1 + dx], best
+            )
+    return best
+
+
+def reconstruct_mcguire2012(color, depth, motion, k: int = 20, samples: int = 15,
+                            soft_z: float = 0.01, exposure: float = 1.0, seed: int = 0,
+                            neighbor: np.ndarray | None = None) -> np.ndarray:  # fmt: skip
+    """§3.4: (H, W, C) float64 blurred color. `neighbor` is NeighborMax if already computed."""
+    color = np.asarray(color, np.float64)
+    depth = np.asarray(depth, np.float64)
+    h, w = depth.shape
+    v = half_velocity(motion, exposure, k)
+    if neighbor is None:
+        neighbor = neighbor_max(tile_max(v, k))
+    y, x = np.mgrid[0:h, 0:w]
+    vn = neighbor[y // k, x // k]
+    moving = np.linalg.norm(vn, axis=-1) > 0.5 + 0.01
+
+    vx = v
+    weight = 1 / len_half(vx)
+    total = color * weight[..., None]
+    j = rand(x, y, seed) - 0.5
+    center = np.stack([x, y], -1) + 0.5
+    skip = (samples - 1) // 2 if samples % 2 == 1 else -1
+    for i in range(samples):
+        if i == skip:
+            continue
+        t = -1 + 2 * (i + j + 1) / (samples + 1)
+        p = np.floor(center + vn * t[..., None]).astype(np.int64)
+        py, px = np.clip(p[..., 1], 0, h - 1), np.clip(p[..., 0], 0, w - 1)
+        dist = np.hypot(px - x, py - y)
+        vy = v[py, px]
+        zx, zy = depth, depth[py, px]
+        f = soft_depth_compare(zx, zy, soft_z)
+        b = soft_depth_compare(zy, zx, soft_z)
+        a = f * cone(dist, vy) + b * cone(dist, vx) + cylinder(dist, vy) * cylinder(dist, vx) * 2
+        weight = weight + a
+        total = total + a[..., None] * color[py, px]
+    return np.where(moving[..., None], total / weight[..., None], color)

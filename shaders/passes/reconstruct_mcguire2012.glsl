@@ -1,0 +1,67 @@
+#version 450
+// Reconstruct, SPEC.md §3.4: S samples along the neighborhood's dominant half-vector vN, each
+// weighted by depth order and by whether the sample's or the center's blur covers the other.
+// Compute (16 x 16 threads per group, one per pixel) or fragment (one fragment per pixel).
+// NumPy twin: blurlab.reference.mcguire2012.reconstruct_mcguire2012.
+#include "common/mcguire2012.glsl"
+#include "common/random.glsl"
+
+layout(binding = 0) uniform sampler2D color;
+layout(binding = 1) uniform sampler2D depth;
+layout(binding = 2) uniform sampler2D motion;
+layout(binding = 3) uniform sampler2D neighbor_max;
+uniform int k;
+uniform int samples;
+uniform float soft_z;
+uniform float exposure;
+uniform uint seed;
+
+vec4 reconstruct_at(ivec2 x) {
+    ivec2 size = textureSize(color, 0);
+    vec4 cx = texelFetch(color, x, 0);
+    vec2 vn = texelFetch(neighbor_max, x / k, 0).xy;
+    if (length(vn) <= 0.5 + 0.01) return cx;  // nothing moves near here
+
+    float kf = float(k);
+    float zx = texelFetch(depth, x, 0).x;
+    vec2 vx = half_velocity(texelFetch(motion, x, 0).xy, exposure, kf);
+    float weight = 1.0 / len_half(vx);
+    vec4 sum = cx * weight;
+    float j = rand(uint(x.x), uint(x.y), seed) - 0.5;
+    vec2 center = vec2(x) + 0.5;
+    int skip = (samples % 2 == 1) ? (samples - 1) / 2 : -1;  // the center itself is X
+    for (int i = 0; i < samples; ++i) {
+        if (i == skip) continue;
+        float t = -1.0 + 2.0 * (float(i) + j + 1.0) / float(samples + 1);
+        ivec2 y = clamp(ivec2(floor(center + vn * t)), ivec2(0), size - 1);
+        float zy = texelFetch(depth, y, 0).x;
+        vec2 vy = half_velocity(texelFetch(motion, y, 0).xy, exposure, kf);
+        float dist = length(vec2(y - x));
+        float f = soft_depth_compare(zx, zy, soft_z);
+        float b = soft_depth_compare(zy, zx, soft_z);
+        float a = f * cone(dist, vy) + b * cone(dist, vx)
+                + cylinder(dist, vy) * cylinder(dist, vx) * 2.0;
+        weight += a;
+        sum += a * texelFetch(color, y, 0);
+    }
+    return sum / weight;
+}
+
+#ifdef STAGE_COMPUTE
+layout(local_size_x = 16, local_size_y = 16) in;
+layout(binding = 0, rgba32f) uniform writeonly image2D result;
+
+void main() {
+    ivec2 x = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(x, textureSize(color, 0)))) return;
+    imageStore(result, x, reconstruct_at(x));
+}
+#endif
+
+#ifdef STAGE_FRAGMENT
+layout(location = 0) out vec4 result;
+
+void main() {
+    result = reconstruct_at(ivec2(gl_FragCoord.xy));
+}
+#endif

@@ -1,0 +1,44 @@
+// Parameters of the reconstruction filter, SPEC.md §3 (McGuire et al., I3D 2012). The same
+// names in C++, Python (bl.blur(..., k=20, samples=15, ...)) and the docs.
+//
+// | name     | default                          | allowed             |
+// |----------|----------------------------------|---------------------|
+// | k        | 20 (tile size = largest blur, px) | 1 .. 256           |
+// | samples  | 15                               | 1 .. 256            |
+// | soft_z   | 0.01 x the frame's depth range   | > 0, finite         |
+// | exposure | 1                                | finite, >= 0        |
+// | seed     | 0                                | 0 .. 2^32 - 1       |
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+
+namespace blurlab {
+
+struct McGuire2012Params {
+  int k = 20;
+  int samples = 15;
+  float soft_z = 0.01f;
+  float exposure = 1.0f;
+  uint32_t seed = 0;
+
+  // Throws std::invalid_argument naming the parameter, its value and the allowed range.
+  void validate() const {
+    if (k < 1 || k > 256)
+      throw std::invalid_argument("blurlab: k = " + std::to_string(k) +
+                                  " is outside 1..256 (tile size in pixels)");
+    if (samples < 1 || samples > 256)
+      throw std::invalid_argument("blurlab: samples = " + std::to_string(samples) +
+                                  " is outside 1..256");
+    if (!(soft_z > 0.0f) || !std::isfinite(soft_z))
+      throw std::invalid_argument("blurlab: soft_z = " + std::to_string(soft_z) +
+                                  " must be finite and > 0 (depth units)");
+    if (!std::isfinite(exposure) || exposure < 0.0f)
+      throw std::invalid_argument("blurlab: exposure = " + std::to_string(exposure) +
+                                  " must be finite and >= 0");
+  }
+};
+
+}  // namespace blurlab
