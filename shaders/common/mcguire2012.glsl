@@ -6,7 +6,13 @@
 vec2 half_velocity(vec2 motion, float exposure, float k) {
     vec2 q = motion * exposure * 0.5;
     float n = length(q);
-    return n > 0.0 ? q * (clamp(n, 0.5, k) / max(n, 1e-6)) : vec2(0.0);
+    if (n == 0.0) return vec2(0.0);
+    if (isinf(n)) {
+        // |q|^2 overflowed float32 (|q| > 1.8e19): take the direction from q scaled down.
+        vec2 d = q / max(abs(q.x), abs(q.y));
+        return d / length(d) * k;
+    }
+    return q * (clamp(n, 0.5, k) / max(n, 1e-6));
 }
 
 // §3: wherever a length divides, it is at least half a pixel.

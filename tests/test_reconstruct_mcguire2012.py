@@ -1,0 +1,117 @@
+"""Reconstruct (SPEC.md §3.4) on the GPU against bl.reference.mcguire2012, and the filter's
+promises: still images unchanged, output inside the input range, no NaN."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from conftest import random_frame
+
+import blurlab as bl
+from blurlab.reference import mcguire2012 as ref
+
+
+def assert_matches_reference(result, frame, **params):
+    expected = ref.reconstruct_mcguire2012(frame.color, frame.depth, frame.motion, **params)
+    error = np.abs(result.color - expected)
+    within = (error.max(axis=-1) <= 1e-3).mean()
+    assert within >= 0.999, f"{within:.5f} of pixels within 1e-3"
+    assert error.mean() <= 1e-4, f"mean absolute error {error.mean():.2e}"
+
+
+@pytest.mark.parametrize("backend", ["compute", "fragment"])
+@pytest.mark.parametrize(
+    ("k", "samples", "size"),
+    [
+        (20, 15, (160, 90)),
+        (8, 8, (97, 61)),
+        (1, 5, (40, 30)),
+        (33, 16, (150, 77)),
+        (64, 1, (130, 70)),
+    ],
+)
+def test_random_frames_match_reference(ctx, rng, backend, k, samples, size):
+    frame = random_frame(rng, *size, k=k)
+    params = {"k": k, "samples": samples, "soft_z": 0.5, "exposure": 1.0, "seed": 7}
+    result = bl.blur(ctx, frame, "reconstruct_mcguire2012", backend=backend, **params)
+    assert result.params == params
+    assert_matches_reference(result, frame, **params)
+
+
+@pytest.mark.parametrize("scene", ["teapot_pass", "fan", "skinned_arm"])
+def test_rendered_frames_match_reference(ctx, scene):
+    frame = ctx.render(bl.scenes.get(scene), (160, 90))
+    result = bl.blur(ctx, frame, "reconstruct_mcguire2012", k=12, samples=11)
+    assert_matches_reference(result, frame, **result.params)
+    assert np.abs(result.color - frame.color).max() > 0.05  # it really blurred
+
+
+def test_still_image_comes_back_unchanged(ctx, rng):
+    frame = random_frame(rng, 64, 48)
+    frame.motion[:] = 0
+    result = bl.blur(ctx, frame, "reconstruct_mcguire2012")
+    assert result.color.tobytes() == frame.color.tobytes()
+
+
+def test_output_stays_inside_the_input_range(ctx, rng):
+    frame = random_frame(rng, 120, 80)
+    frame.color[..., :3] = frame.color[..., :3] * 0.5 + 0.25  # inputs in [0.25, 0.75]
+    out = bl.blur(ctx, frame, "reconstruct_mcguire2012", k=10).color
+    for c in range(4):
+        lo, hi = frame.color[..., c].min(), frame.color[..., c].max()
+        assert lo - 1e-6 <= out[..., c].min() and out[..., c].max() <= hi + 1e-6
+
+
+@pytest.mark.parametrize("scale", [0.0, 1e30])
+def test_zero_and_huge_motion_give_no_nan(ctx, rng, scale):
+    frame = random_frame(rng, 80, 60)
+    frame.motion[:] = np.float32(scale) * np.sign(frame.motion)
+    result = bl.blur(ctx, frame, "reconstruct_mcguire2012", k=8)
+    assert np.isfinite(result.color).all()
+    assert np.isfinite(result.buffers["tile_max"]).all()
+    if scale:
+        assert np.linalg.norm(result.buffers["tile_max"], axis=-1).max() == pytest.approx(8.0)
+
+
+def test_same_seed_same_bits_other_seed_other_noise(ctx, rng):
+    frame = random_frame(rng, 80, 60)
+    a = bl.blur(ctx, frame, "reconstruct_mcguire2012", seed=3).color
+    b = bl.blur(ctx, frame, "reconstruct_mcguire2012", seed=3).color
+    c = bl.blur(ctx, frame, "reconstruct_mcguire2012", seed=4).color
+    assert a.tobytes() == b.tobytes()
+    assert a.tobytes() != c.tobytes()
+
+
+def test_timings_name_every_pass_and_the_clock(ctx, rng):
+    result = bl.blur(ctx, random_frame(rng, 64, 36), "reconstruct_mcguire2012")
+    assert list(result.timings) == ["tile_max", "neighbor_max", "reconstruct"]
+    assert result.clock == ctx.info()["timer"]
+    assert result.total_ms > 0
+
+
+@pytest.mark.parametrize(
+    ("params", "error", "message"),
+    [
+        ({"k": 0}, ValueError, r"k = 0 is outside 1\.\.256"),
+        ({"k": 2.5}, TypeError, "k must be an integer"),
+        ({"samples": 0}, ValueError, r"samples = 0 is outside 1\.\.256"),
+        ({"soft_z": 0.0}, ValueError, "soft_z .* must be finite and > 0"),
+        ({"soft_z": -1.0}, ValueError, "soft_z"),
+        ({"exposure": float("nan")}, ValueError, "exposure must be finite"),
+        ({"exposure": float("inf")}, ValueError, "exposure must be finite"),
+        ({"seed": -1}, ValueError, "seed"),
+        ({"taps": 3}, TypeError, "no parameter.*taps.*samples"),
+    ],
+)
+def test_bad_parameters_name_the_range(ctx, rng, params, error, message):
+    with pytest.raises(error, match=message):
+        bl.blur(ctx, random_frame(rng, 16, 16), "reconstruct_mcguire2012", **params)
+
+
+def test_unknown_method_and_backend(ctx, rng):
+    frame = random_frame(rng, 16, 16)
+    with pytest.raises(ValueError, match="registered methods"):
+        bl.blur(ctx, frame, "reconstruct_mcguire2021")
+    with pytest.raises(ValueError, match="backends"):
+        bl.blur(ctx, frame, "reconstruct_mcguire2012", backend="cuda")
+    assert "reconstruct_mcguire2012" in bl.methods()

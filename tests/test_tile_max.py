@@ -1,0 +1,41 @@
+"""TileMax (SPEC.md §3.2) on the GPU against bl.reference.mcguire2012.tile_max."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from conftest import random_frame
+
+import blurlab as bl
+from blurlab.reference import mcguire2012 as ref
+
+
+@pytest.mark.parametrize("backend", ["compute", "fragment"])
+@pytest.mark.parametrize(
+    ("k", "size"), [(1, (23, 17)), (7, (61, 45)), (20, (160, 90)), (64, (97, 61))]
+)
+def test_tile_max_equals_reference(ctx, rng, backend, k, size):
+    frame = random_frame(rng, *size, k=k)
+    result = bl.blur(ctx, frame, "reconstruct_mcguire2012", backend=backend, k=k, exposure=0.8)
+    expected = ref.tile_max(ref.half_velocity(frame.motion, 0.8, k), k)
+    assert result.buffers["tile_max"].shape == (-(-size[1] // k), -(-size[0] // k), 2)
+    # The same pixel wins in every tile; its half-vector, scaled by the exposure in float32 on
+    # the GPU and in float64 here, agrees to an ulp.
+    np.testing.assert_allclose(result.buffers["tile_max"], expected, rtol=1e-6, atol=0)
+
+
+def test_partial_tiles_only_see_their_own_pixels(ctx):
+    # 25 x 25 with k = 10: the last row and column of tiles hold 5 pixels across.
+    motion = np.zeros((25, 25, 2), np.float32)
+    motion[24, 24] = (8.0, 0.0)  # the only mover, in the corner tile
+    frame = bl.Frame(color=np.zeros((25, 25, 4)), depth=np.ones((25, 25)), motion=motion)
+    # With exposure 1 the half-vector of a motion longer than a pixel is exact: equal bits.
+    tiles = bl.blur(ctx, frame, "reconstruct_mcguire2012", k=10).buffers["tile_max"]
+    assert tiles.shape == (3, 3, 2)
+    np.testing.assert_array_equal(tiles[2, 2], [4.0, 0.0])  # half of the motion
+    assert not tiles[:2].any() and not tiles[:, :2].any()
+
+
+def test_half_velocity_clamps_to_half_a_pixel_and_k():
+    v = ref.half_velocity(np.array([[0.0, 0.0], [0.2, 0.0], [100.0, 0.0], [0.0, -3.0]]), 1.0, 20)
+    np.testing.assert_allclose(v, [[0, 0], [0.5, 0], [20, 0], [0, -1.5]])
