@@ -54,8 +54,10 @@ def main() -> None:
     print("| what | median ms | min ms | clock |")
     print("|---|---|---|---|")
     print(f"| G-buffer pass | {summarize(passes)['median_ms']:.3f} | {min(passes):.3f} | {clock} |")
-    print(f"| ctx.render (pass + 4 downloads) | {summarize(calls)['median_ms']:.2f} | "
-          f"{min(calls):.2f} | wall |")  # fmt: skip
+    print(
+        f"| ctx.render (pass + 4 downloads) | {summarize(calls)['median_ms']:.2f} | "
+        f"{min(calls):.2f} | wall |"
+    )
 
 
 if __name__ == "__main__":

@@ -48,8 +48,14 @@ def main() -> None:
         for fmt in bl.MOTION_FORMATS[1:]:
             error = np.linalg.norm(results[fmt][row] - motion[row], axis=-1)
             cells.append(f"{error.mean():.3g} / {error.max():.3g}")
-            table.append({"length": length, "format": fmt, "mean": float(error.mean()),
-                          "max": float(error.max())})  # fmt: skip
+            table.append(
+                {
+                    "length": length,
+                    "format": fmt,
+                    "mean": float(error.mean()),
+                    "max": float(error.max()),
+                }
+            )
         print(f"| {length} | " + " | ".join(cells) + " |")
     save(args.json, {**describe(ctx), "maxlen": args.maxlen, "errors": table})
     still = stored_motion(ctx, np.zeros((1, 1, 2), np.float32), "rgba8_offset", args.maxlen)

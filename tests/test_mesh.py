@@ -90,8 +90,14 @@ def test_mesh_validation():
     with pytest.raises(ValueError, match="NaN or inf"):
         bl.Mesh([[0, 0, np.nan]] * 3, [[0, 0, 1]] * 3, [[0, 0]] * 3, [[0, 1, 2]])
     with pytest.raises(ValueError, match="sum to 1"):
-        bl.Mesh([[0, 0, 0]] * 3, [[0, 0, 1]] * 3, [[0, 0]] * 3, [[0, 1, 2]],
-                np.zeros((3, 4), np.uint32), np.full((3, 4), 0.5))  # fmt: skip
+        bl.Mesh(
+            [[0, 0, 0]] * 3,
+            [[0, 0, 1]] * 3,
+            [[0, 0]] * 3,
+            [[0, 1, 2]],
+            np.zeros((3, 4), np.uint32),
+            np.full((3, 4), 0.5),
+        )
 
 
 def test_skinned_mesh_needs_a_skeleton():

@@ -55,10 +55,13 @@ def test_skeleton_rest_pose_is_identity_and_children_follow_parents():
     skeleton = bl.Skeleton(
         [
             bl.Bone(-1, np.eye(4), bl.Motion.linear(velocity=(1, 0, 0))),
-            bl.Bone(0, bl.motion.compose((1, 0, 0)), bl.Motion.linear(spin_axis=(0, 0, 1),
-                                                                      spin_rate=1.0)),
+            bl.Bone(
+                0,
+                bl.motion.compose((1, 0, 0)),
+                bl.Motion.linear(spin_axis=(0, 0, 1), spin_rate=1.0),
+            ),
         ]
-    )  # fmt: skip
+    )
     at_rest = skeleton.matrices(0.0)
     np.testing.assert_allclose(at_rest, np.broadcast_to(np.eye(4), (2, 4, 4)), atol=1e-12)
     later = skeleton.matrices(2.0)

@@ -206,9 +206,20 @@ def _run_mcguire2012(ctx: Context, inputs: dict, values: dict, backend: str):
         "neighbor_max",
         lambda: neighbor_pass.run(tiles._core, neighbors._core, backend),
     )
-    timed(ctx, timings, "reconstruct", lambda: reconstruct.run(
-        inputs["color"]._core, inputs["depth"]._core, inputs["motion"]._core, neighbors._core,
-        result._core, params, backend))  # fmt: skip
+    timed(
+        ctx,
+        timings,
+        "reconstruct",
+        lambda: reconstruct.run(
+            inputs["color"]._core,
+            inputs["depth"]._core,
+            inputs["motion"]._core,
+            neighbors._core,
+            result._core,
+            params,
+            backend,
+        ),
+    )
     return {"color": result, "tile_max": tiles, "neighbor_max": neighbors}, timings
 
 
@@ -227,5 +238,86 @@ register(
         run=_run_mcguire2012,
         doc="McGuire, Hennessy, Bukowski, Osman: A Reconstruction Filter for Plausible Motion "
         "Blur (I3D 2012). SPEC.md §3.",
+    )
+)
+
+
+# --- reconstruct_urho3d (SPEC.md §3 variant, the seed's baseline) -------------------------
+
+
+def default_far(frame: Frame) -> float:
+    """The depth the Urho3D pass reads for +inf: the camera's far plane for rendered frames,
+    else twice the largest finite depth."""
+    if frame.camera is not None and "far" in frame.camera:
+        return float(frame.camera["far"])
+    finite = frame.depth[np.isfinite(frame.depth)]
+    return 2.0 * float(finite.max()) if finite.size and finite.max() > 0 else 1.0
+
+
+def _run_urho3d(ctx: Context, inputs: dict, values: dict, backend: str):
+    from .reference.urho3d import jitter_texture
+
+    params = _mcguire_params(values)
+    if not values["far"] > 0:
+        raise ValueError(f"blurlab: far = {values['far']} must be > 0 (depth units)")
+    height, width = inputs["color"].shape[:2]
+    k = params.k
+    grid = (-(-height // k), -(-width // k), 2)
+    tiles, neighbors = ctx._pooled(grid), ctx._pooled(grid)
+    result = ctx._pooled((height, width, 4))
+    key = ("urho3d_jitter", values["seed"])
+    if key not in ctx._passes:
+        ctx._passes[key] = ctx.upload(jitter_texture(values["seed"]))
+    jitter = ctx._passes[key]
+    timings: dict[str, Timing] = {}
+    tile_pass = ctx._pass("tile_max", _core.TileMaxPass)
+    neighbor_pass = ctx._pass("neighbor_max", _core.NeighborMaxPass)
+    reconstruct = ctx._pass("reconstruct_urho3d", _core.ReconstructUrho3dPass)
+    timed(
+        ctx,
+        timings,
+        "tile_max",
+        lambda: tile_pass.run(inputs["motion"]._core, tiles._core, params, backend),
+    )
+    timed(
+        ctx,
+        timings,
+        "neighbor_max",
+        lambda: neighbor_pass.run(tiles._core, neighbors._core, backend),
+    )
+    timed(
+        ctx,
+        timings,
+        "reconstruct",
+        lambda: reconstruct.run(
+            inputs["color"]._core,
+            inputs["depth"]._core,
+            inputs["motion"]._core,
+            neighbors._core,
+            jitter._core,
+            result._core,
+            params,
+            values["far"],
+        ),
+    )
+    return {"color": result, "tile_max": tiles, "neighbor_max": neighbors}, timings
+
+
+register(
+    Method(
+        name="reconstruct_urho3d",
+        instant="center",
+        params={
+            "k": Param(20, int, "tile size = largest blur radius, pixels (1..256)"),
+            "samples": Param(15, int, "samples S per pixel (1..256)"),
+            "soft_z": Param(depth_range_soft_z, float, "soft depth extent, depth units (> 0)"),
+            "exposure": Param(1.0, float, "exposure E, fraction of the shutter (>= 0)"),
+            "seed": Param(0, int, "seed of the 64 x 64 jitter texture (0..2^32-1)"),
+            "far": Param(default_far, float, "depth that +inf is read as (> 0)"),
+        },
+        backends=("fragment",),
+        run=_run_urho3d,
+        doc="The reconstruct pass of the Urho3D thesis as printed there: a fragment pass, the "
+        "seed's baseline. SPEC.md §3 variant; the shader's header lists the differences.",
     )
 )

@@ -69,6 +69,8 @@ def camera_matrices(scene: Scene, size: tuple[int, int], times: tuple[float, flo
         "sky_from_clip": np.linalg.inv(rotation_only(views[2])),
         "sky_projection": np.stack([rotation_only(views[0]), rotation_only(views[1])]),
         "times": np.array(times),
+        "near": scene.camera.near,
+        "far": scene.camera.far,
     }
 
 

@@ -15,6 +15,7 @@
 #include "passes/motion_encoding.h"
 #include "passes/neighbor_max.h"
 #include "passes/reconstruct_mcguire2012.h"
+#include "passes/reconstruct_urho3d.h"
 #include "passes/tile_max.h"
 
 namespace py = pybind11;
@@ -161,6 +162,13 @@ void bind_passes(py::module_& m) {
           },
           py::arg("color"), py::arg("depth"), py::arg("motion"), py::arg("neighbor_max"),
           py::arg("result"), py::arg("params"), py::arg("backend"));
+
+  py::class_<ReconstructUrho3dPass, std::shared_ptr<ReconstructUrho3dPass>>(m,
+                                                                            "ReconstructUrho3dPass")
+      .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))
+      .def("run", &ReconstructUrho3dPass::run, py::arg("color"), py::arg("depth"),
+           py::arg("motion"), py::arg("neighbor_max"), py::arg("jitter"), py::arg("result"),
+           py::arg("params"), py::arg("far"));
 
   py::class_<MotionEncodingPass, std::shared_ptr<MotionEncodingPass>>(m, "MotionEncodingPass")
       .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))

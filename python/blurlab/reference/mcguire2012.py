@@ -76,9 +76,17 @@ def neighbor_max(tiles: np.ndarray) -> np.ndarray:
     return best
 
 
-def reconstruct_mcguire2012(color, depth, motion, k: int = 20, samples: int = 15,
-                            soft_z: float = 0.01, exposure: float = 1.0, seed: int = 0,
-                            neighbor: np.ndarray | None = None) -> np.ndarray:  # fmt: skip
+def reconstruct_mcguire2012(
+    color,
+    depth,
+    motion,
+    k: int = 20,
+    samples: int = 15,
+    soft_z: float = 0.01,
+    exposure: float = 1.0,
+    seed: int = 0,
+    neighbor: np.ndarray | None = None,
+) -> np.ndarray:
     """§3.4: (H, W, C) float64 blurred color. `neighbor` is NeighborMax if already computed."""
     color = np.asarray(color, np.float64)
     depth = np.asarray(depth, np.float64)
