@@ -223,13 +223,14 @@ def test_motion_formats_match_their_reference(ctx, fmt):
         assert (error <= np.abs(reference) * 2.0**-10 + 1e-7).all()
         assert np.abs(stored.motion - exact.motion).max() > 0  # the format really rounds
     else:
-        # GL lets each 8-bit channel take either neighbouring level: the GPU must give one of
-        # the permitted results at every pixel, and the nearest one almost everywhere.
+        # GL lets each 8-bit channel take either neighbouring level (llvmpipe rounds to
+        # nearest; the H100 driver took the nearest level at only 5 % of these pixels): the GPU
+        # must give one of the permitted results at every pixel.
         allowed = bl.reference.motion_encoding.decoded_allowed(exact.motion, fmt, 64.0)
         error = np.abs(stored.motion[None] - allowed).max(axis=-1).min(axis=0)
         assert error.max() <= 1e-4
-        nearest = np.abs(stored.motion - reference).max(axis=-1) <= 1e-4
-        assert nearest.mean() >= 0.7
+        assert np.abs(stored.motion - exact.motion).max() > 0.1  # the format really quantizes
+        assert np.abs(reference - exact.motion).max() <= 2 * 64.0 / 255
 
 
 def test_frame_from_arrays(rng):

@@ -1,8 +1,11 @@
 #version 450
 // TileMax, SPEC.md §3.2: for each k x k tile (the last row and column may be partial), the
-// half-vector of largest length among its pixels. Built as a compute shader (STAGE_COMPUTE: one
-// 8 x 8 work group per tile, each thread scanning a strided part of the tile, then a reduction
-// in shared memory) or a fragment shader (STAGE_FRAGMENT: one fragment per tile scans it all).
+// half-vector of largest length among its pixels. Built as a compute shader (STAGE_COMPUTE) or a
+// fragment shader (STAGE_FRAGMENT: one fragment per tile scans it all). The compute shader has
+// two modes: for large tiles one 8 x 8 work group per tile, each thread scanning a strided part
+// of it, then a reduction in shared memory; for small tiles (group_per_tile = false) one thread
+// per tile, since a group per 4 x 4 tile leaves most threads idle and barriers cost llvmpipe
+// dearly.
 // NumPy twin: blurlab.reference.mcguire2012.tile_max.
 #include "common/mcguire2012.glsl"
 
@@ -33,9 +36,17 @@ vec2 scan(ivec2 tile, ivec2 first, int step) {
 #ifdef STAGE_COMPUTE
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(binding = 0, rg32f) uniform writeonly image2D tile_max;
-shared vec3 candidates[64];  // xy: half-vector, z: its length (-1: none)
+uniform bool group_per_tile;
+shared vec3 candidates[64];  // xy: half-vector, z: its length
 
 void main() {
+    if (!group_per_tile) {
+        ivec2 tile = ivec2(gl_GlobalInvocationID.xy);
+        if (any(greaterThanEqual(tile, imageSize(tile_max)))) return;
+        imageStore(tile_max, tile, vec4(scan(tile, ivec2(0), 1), 0.0, 0.0));
+        return;
+    }
+    // group_per_tile is a uniform: the barriers below stay in uniform control flow.
     ivec2 tile = ivec2(gl_WorkGroupID.xy);
     uint i = gl_LocalInvocationIndex;
     vec2 v = scan(tile, ivec2(gl_LocalInvocationID.xy), 8);

@@ -1,8 +1,16 @@
 #include "passes/tile_max.h"
 
+#include "gl/context.h"
 #include "gl/texture.h"
 
 namespace blurlab {
+
+// Largest tile side scanned by one thread. On a GPU a work group per tile pays off above 8 x 8
+// pixels; llvmpipe runs a group's threads as SIMD lanes and its barriers are costly, so there
+// one thread per tile is faster up to 32 x 32 (benchmarks/reconstruct.py, docs/benchmarks.md).
+int largest_tile_for_one_thread(const Context& context) {
+  return context.is_software() ? 32 : 8;
+}
 
 TileMaxPass::TileMaxPass(std::shared_ptr<Context> context)
     : PostProcessPass(std::move(context), "passes/tile_max.glsl") {}
@@ -17,7 +25,9 @@ void TileMaxPass::run(const Texture& motion, const Texture& tile_max,
   Program& p = program(backend);
   p.set_uniform("k", {double(k)});
   p.set_uniform("exposure", {params.exposure});
-  PostProcessPass::run(backend, {&motion}, tile_max, /*group_per_texel=*/true);
+  const bool group_per_tile = k > largest_tile_for_one_thread(*context_);
+  if (backend == Backend::compute) p.set_uniform("group_per_tile", {group_per_tile ? 1.0 : 0.0});
+  PostProcessPass::run(backend, {&motion}, tile_max, group_per_tile);
 }
 
 }  // namespace blurlab
