@@ -17,13 +17,17 @@ def test_info_prints_json(capsys):
     assert report["context"]["device"] == "software"
 
 
-def test_demo_writes_pattern_files(tmp_path, capsys):
+def test_demo_renders_blurs_and_writes(tmp_path, capsys):
     assert cli.main(["demo", "--size", "160x90", "--out", str(tmp_path)]) == 0
-    exr = bl.io.read(tmp_path / "test_pattern.exr")
-    png = bl.io.read(tmp_path / "test_pattern.png")
-    assert exr.shape == (90, 160, 4) and png.shape == (90, 160, 3)
-    np.testing.assert_allclose(exr[..., :3], bl.reference.test_pattern(160, 90)[..., :3], atol=1e-7)
-    assert "ms (" in capsys.readouterr().out
+    assert bl.io.read(tmp_path / "test_pattern.png").shape == (90, 160, 3)
+    for name in bl.scenes.names():
+        sharp = bl.io.read(tmp_path / f"{name}_sharp.png")
+        blurred = bl.io.read(tmp_path / f"{name}_blurred.png")
+        assert sharp.shape == blurred.shape == (90, 160, 4)
+        gbuffer = bl.io.read(tmp_path / f"{name}_gbuffer.exr")
+        assert gbuffer.shape == (90, 160, 7) and gbuffer.dtype == np.float32
+    printed = capsys.readouterr().out
+    assert "largest difference from NumPy" in printed and "teapot_pass" in printed
 
 
 def test_bad_size_is_rejected():

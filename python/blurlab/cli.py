@@ -7,6 +7,8 @@ import json
 import sys
 from pathlib import Path
 
+from .context import Context
+
 
 def parse_size(text: str) -> tuple[int, int]:
     """'640x360' -> (640, 360)."""
@@ -24,8 +26,6 @@ def parse_device(text: str) -> str | int:
 
 
 def _info(args) -> int:
-    from .context import Context
-
     ctx = Context(args.device)
     print(json.dumps({"devices": Context.devices(), "context": ctx.info()}, indent=2))
     return 0
@@ -34,26 +34,61 @@ def _info(args) -> int:
 def _demo(args) -> int:
     import numpy as np
 
-    from . import io
-    from .context import Context
+    from . import io, scenes
+    from .methods import blur
+    from .reference.patterns import test_pattern
 
     ctx = Context(args.device)
     info = ctx.info()
     print(f"device: {info['device']} ({info['renderer']}, {info['version']})")
     width, height = args.size
-    pattern = ctx.empty((height, width, 4), "float32")
-    program = ctx.program("util/test_pattern.comp")
-    with ctx.timer() as timing:
-        program.run((width, height), images=[(pattern, "write")], uniforms={"seed": args.seed})
-    image = pattern.download()
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    io.write(out / "test_pattern.exr", image)
+
+    pattern = ctx.empty((height, width, 4), "float32")
+    ctx.program("util/test_pattern.comp").run(
+        (width, height), images=[pattern], uniforms={"seed": args.seed}
+    )
+    image = pattern.download()
+    error = float(np.abs(image - test_pattern(width, height, args.seed)).max())
     io.write(out / "test_pattern.png", image[..., :3])
-    print(f"test pattern {width}x{height}: {timing.ms:.3f} ms ({timing.clock})")
-    print(f"wrote {out / 'test_pattern.exr'} and {out / 'test_pattern.png'}")
-    print(f"mean rand (expect about 0.5): {float(np.mean(image[..., 3])):.4f}")
+    print(f"test pattern {width}x{height}: largest difference from NumPy {error:.1e}")
+
+    print(f"\n{'scene':<14} {'G-buffer ms':>12} {'blur ms':>9} {'max |M| px':>11}")
+    for name in scenes.names():
+        frame = ctx.render(scenes.get(name), (width, height))
+        result = blur(ctx, frame, "reconstruct_mcguire2012", seed=args.seed)
+        speed = np.linalg.norm(frame.motion, axis=-1)
+        io.write(out / f"{name}_sharp.png", frame.color)
+        io.write(out / f"{name}_blurred.png", result.color)
+        io.write(out / f"{name}_motion.png", _motion_picture(frame.motion))
+        io.write(
+            out / f"{name}_gbuffer.exr",
+            np.concatenate([frame.color, frame.depth[..., None], frame.motion], axis=-1),
+        )
+        print(
+            f"{name:<14} {frame.timings['gbuffer'].ms:>12.3f} {result.total_ms:>9.3f} "
+            f"{speed.max():>11.1f}"
+        )
+    print(f"(times by {info['timer']})")
+    print(
+        f"\nwrote sharp, blurred (reconstruct_mcguire2012, k = 20, S = 15) and motion pictures, "
+        f"and G-buffer EXRs (R, G, B, A, Z, Mx, My) to {out}/"
+    )
     return 0
+
+
+def _motion_picture(motion):
+    """Motion as color: hue = direction, brightness = length (up to the longest)."""
+    import colorsys
+
+    import numpy as np
+
+    length = np.linalg.norm(motion, axis=-1)
+    hue = (np.arctan2(motion[..., 1], motion[..., 0]) / (2 * np.pi)) % 1.0
+    value = length / max(float(length.max()), 1e-6)
+    rgb = np.vectorize(colorsys.hsv_to_rgb)(hue, np.where(length > 0, 1.0, 0.0), value)
+    return np.stack(rgb, axis=-1).astype(np.float32)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -66,7 +101,9 @@ def main(argv: list[str] | None = None) -> int:
     )
     sub = parser.add_subparsers(dest="command", required=True)
     sub.add_parser("info", help="print the EGL devices and the context's info as JSON")
-    demo = sub.add_parser("demo", help="render a test pattern on the GPU and write EXR + PNG")
+    demo = sub.add_parser(
+        "demo", help="render the built-in scenes, blur them, write pictures and G-buffers"
+    )
     demo.add_argument("--out", default="out/demo", help="output folder (default: out/demo)")
     demo.add_argument("--size", type=parse_size, default=(640, 360), help="WxH (default 640x360)")
     demo.add_argument("--seed", type=int, default=0)
