@@ -84,12 +84,15 @@ std::vector<EglDevice> Context::devices() {
     const char* ext = eglQueryDeviceStringEXT(handles[i], EGL_EXTENSIONS);
     d.extensions = ext ? ext : "";
     d.kind = has_token(ext, "EGL_MESA_device_software") ? "software" : "gpu";
+    const char* drm_file = has_token(ext, "EGL_EXT_device_drm")
+                               ? eglQueryDeviceStringEXT(handles[i], EGL_DRM_DEVICE_FILE_EXT)
+                               : nullptr;
     if (d.kind == "software") {
       d.name = "software";
-    } else if (has_token(ext, "EGL_EXT_device_drm")) {
-      const char* file = eglQueryDeviceStringEXT(handles[i], EGL_DRM_DEVICE_FILE_EXT);
-      d.name = file ? file : "drm";
+    } else if (drm_file) {
+      d.name = drm_file;
     } else if (has_token(ext, "EGL_NV_device_cuda")) {
+      // NVIDIA lists EGL_EXT_device_drm but may have no DRM node inside a container.
       EGLAttrib cuda = -1;
       eglQueryDeviceAttribEXT(handles[i], EGL_CUDA_DEVICE_NV, &cuda);
       d.name = "cuda:" + std::to_string(cuda);
