@@ -2,6 +2,7 @@
 
 from . import io, mesh, reference, scenes
 from ._core import GLError, ShaderError
+from .accumulation import Reference, reference_samples_needed
 from .context import ComputeProgram, Context, PendingDownload, Texture, Timing
 from .frame import MOTION_FORMATS, Frame
 from .mesh import Mesh
@@ -26,6 +27,7 @@ __all__ = [
     "Mesh",
     "Motion",
     "PendingDownload",
+    "Reference",
     "Scene",
     "ShaderError",
     "Skeleton",
@@ -37,5 +39,6 @@ __all__ = [
     "methods",
     "quaternion",
     "reference",
+    "reference_samples_needed",
     "scenes",
 ]

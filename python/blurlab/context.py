@@ -324,6 +324,26 @@ class Context:
 
         return render(self, scene, size, shutter, instant, motion_format, maxlen)
 
+    def reference(
+        self,
+        scene,
+        size=(640, 360),
+        shutter=None,
+        samples: int = 256,
+        stratified: bool = True,
+        seed: int = 0,
+        progress: bool | None = None,
+        guard: int = 0,
+    ):
+        """The converged reference of `scene` over `shutter`: the mean of `samples` full renders
+        at t_i = t0 + (i + u_i)/N·(t1 - t0), u_i = 0.5 or hashed when `stratified` (SPEC.md §1),
+        accumulated in float32 on the GPU; a progress bar for N >= 64. Returns a Reference."""
+        from .accumulation import reference_render
+
+        return reference_render(
+            self, scene, size, shutter, samples, stratified, seed, progress, guard
+        )
+
     def _pass(self, name: str, factory):
         """One instance of a C++ pass per context (its programs compile once)."""
         if name not in self._passes:

@@ -30,6 +30,7 @@ class Frame:
     timings: dict = field(default_factory=dict)
     # GPU copies where rendered; they return to the context's pool when the frame is freed.
     textures: dict = field(default_factory=dict, repr=False)
+    scene: object = field(default=None, repr=False)  # the Scene a rendered frame came from
 
     def __post_init__(self):
         self.color = _float_image(self.color, "color", (3, 4))

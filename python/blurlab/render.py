@@ -50,10 +50,15 @@ def check_shutter(shutter) -> tuple[float, float]:
     return t0, t1
 
 
-def camera_matrices(scene: Scene, size: tuple[int, int], times: tuple[float, float, float]) -> dict:
-    """View and (y-flipped) projection matrices at open, close and the instant, float64."""
+def camera_matrices(scene: Scene, size, times, guard: int = 0) -> dict:
+    """View and (y-flipped) projection matrices at open, close and the instant, float64.
+
+    With a guard band the projection covers `guard` more pixels on every side of `size`.
+    """
     width, height = size
     projection = scene.camera.projection(width / height)
+    projection[0] *= width / (width + 2 * guard)
+    projection[1] *= height / (height + 2 * guard)
     views = [scene.camera.view(t) for t in times]
 
     def rotation_only(view):
@@ -82,6 +87,7 @@ def render(
     instant: str | float = "center",
     motion_format: str = "rg32f",
     maxlen: float | None = None,
+    guard: int = 0,
 ) -> Frame:
     """Renders the G-buffer of `scene`; see Context.render."""
     if not isinstance(scene, Scene):
@@ -93,14 +99,49 @@ def render(
         raise ValueError(
             f"blurlab: motion_format must be one of {MOTION_FORMATS}, not {motion_format!r}"
         )
-    width, height = size
     if maxlen is None:
-        maxlen = math.hypot(width, height)  # SPEC.md §2: the image diagonal
+        maxlen = math.hypot(*size)  # SPEC.md §2: the image diagonal
     if not (isinstance(maxlen, Real) and math.isfinite(maxlen) and maxlen > 0):
         raise ValueError(f"blurlab: maxlen must be a finite number of pixels > 0, not {maxlen!r}")
+    targets, camera, timing = render_targets(ctx, scene, size, shutter, time, guard)
+    timings = {"gbuffer": timing}
+    if motion_format != "rg32f":
+        exact = targets["motion"]
+        targets["motion"], timings["motion_encoding"] = encode_motion(
+            ctx, exact, motion_format, maxlen
+        )
+        ctx._recycle(exact)
+    frame = Frame(
+        color=targets["color"].download(),
+        depth=targets["depth"].download(),
+        motion=targets["motion"].download(),
+        object_id=targets["object_id"].download(),
+        shutter=shutter,
+        time=time,
+        motion_format=motion_format,
+        camera=camera,
+        timings=timings,
+        textures=targets,  # the GPU copies, so methods need not upload them again
+        scene=scene,
+    )
+    # The targets go back to the pool when the frame is freed: frame.textures live as long as
+    # the frame does.
+    weakref.finalize(frame, ctx._recycle, *targets.values())
+    return frame
 
+
+def render_targets(ctx, scene: Scene, size, shutter, time: float, guard: int = 0):
+    """Runs the G-buffer pass into pooled textures: (targets, camera matrices, Timing).
+
+    `guard` > 0 renders a margin of that many pixels around the image (the frustum widened to
+    match), for methods whose taps leave the image ("Blurry things": guard band).
+    """
+    if isinstance(guard, bool) or not isinstance(guard, int) or guard < 0:
+        raise ValueError(f"blurlab: guard must be an integer >= 0 pixels, not {guard!r}")
+    width, height = size[0] + 2 * guard, size[1] + 2 * guard
+    check_size((width, height), ctx.max_texture_size)
     times = (shutter[0], shutter[1], time)
-    camera = camera_matrices(scene, size, times)
+    camera = camera_matrices(scene, size, times, guard)
     f32 = lambda a: np.ascontiguousarray(a, dtype=np.float32)  # noqa: E731
     camera_uniforms = {
         k: f32(camera[k]) for k in ("view_projection", "eye", "sky_from_clip", "sky_projection")
@@ -129,7 +170,6 @@ def render(
                 object_id,
             )
         )
-
     # Every target is fully overwritten (the background pass covers every pixel), so pooled
     # textures need no clearing.
     targets = {
@@ -141,29 +181,7 @@ def render(
     gbuffer = ctx._pass("gbuffer", _core.GBufferPass)
     with ctx.timer() as timing:
         gbuffer.render(*(t._core for t in targets.values()), camera_uniforms, light, draws)
-    timings = {"gbuffer": timing}
-    if motion_format != "rg32f":
-        exact = targets["motion"]
-        targets["motion"], timings["motion_encoding"] = encode_motion(
-            ctx, exact, motion_format, maxlen
-        )
-        ctx._recycle(exact)
-    frame = Frame(
-        color=targets["color"].download(),
-        depth=targets["depth"].download(),
-        motion=targets["motion"].download(),
-        object_id=targets["object_id"].download(),
-        shutter=shutter,
-        time=time,
-        motion_format=motion_format,
-        camera=camera,
-        timings=timings,
-        textures=targets,  # the GPU copies, so methods need not upload them again
-    )
-    # The targets go back to the pool when the frame is freed: frame.textures live as long as
-    # the frame does.
-    weakref.finalize(frame, ctx._recycle, *targets.values())
-    return frame
+    return targets, camera, timing
 
 
 def encode_motion(ctx, motion, motion_format: str, maxlen: float):

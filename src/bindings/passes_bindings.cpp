@@ -10,6 +10,7 @@
 #include "gl/context.h"
 #include "gl/mesh.h"
 #include "gl/texture.h"
+#include "passes/accumulate.h"
 #include "passes/gbuffer.h"
 #include "passes/mcguire2012_params.h"
 #include "passes/motion_encoding.h"
@@ -169,6 +170,10 @@ void bind_passes(py::module_& m) {
       .def("run", &ReconstructUrho3dPass::run, py::arg("color"), py::arg("depth"),
            py::arg("motion"), py::arg("neighbor_max"), py::arg("jitter"), py::arg("result"),
            py::arg("params"), py::arg("far"));
+
+  py::class_<AccumulatePass, std::shared_ptr<AccumulatePass>>(m, "AccumulatePass")
+      .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))
+      .def("run", &AccumulatePass::run, py::arg("color"), py::arg("sum"), py::arg("weight"));
 
   py::class_<MotionEncodingPass, std::shared_ptr<MotionEncodingPass>>(m, "MotionEncodingPass")
       .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))

@@ -3,8 +3,17 @@
 Each GPU pass has its twin here, and the tests hold the GPU to it.
 """
 
-from . import mcguire2012, motion_encoding, projection, urho3d
+from . import accumulation, mcguire2012, motion_encoding, projection, urho3d
 from .hashing import pcg, rand
 from .patterns import test_pattern
 
-__all__ = ["mcguire2012", "motion_encoding", "pcg", "projection", "rand", "test_pattern", "urho3d"]
+__all__ = [
+    "accumulation",
+    "mcguire2012",
+    "motion_encoding",
+    "pcg",
+    "projection",
+    "rand",
+    "test_pattern",
+    "urho3d",
+]

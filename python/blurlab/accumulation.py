@@ -1,0 +1,89 @@
+"""The converged reference (SPEC.md §1 "Reference"): N full renders across the shutter,
+averaged in float32 on the GPU. ``ctx.reference(...)`` and ``bl.reference_samples_needed``."""
+
+from __future__ import annotations
+
+import math
+import weakref
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import _core
+from .frame import Frame
+from .reference.accumulation import sample_times
+from .render import check_shutter, check_size, render_targets
+from .scene import Scene
+
+
+@dataclass
+class Reference:
+    """A converged (or, with small N, banded) image of a shutter interval."""
+
+    samples: int
+    times: np.ndarray
+    stratified: bool
+    seed: int
+    ms_per_subframe: float  # G-buffer pass + accumulation, by the context's clock
+    clock: str
+    texture: object = field(repr=False)  # the (H, W, 4) float32 sum on the GPU
+    _color: np.ndarray | None = field(default=None, repr=False)
+
+    @property
+    def color(self) -> np.ndarray:
+        if self._color is None:
+            self._color = self.texture.download()
+        return self._color
+
+
+def reference_render(
+    ctx,
+    scene: Scene,
+    size,
+    shutter=None,
+    samples: int = 256,
+    stratified: bool = True,
+    seed: int = 0,
+    progress: bool | None = None,
+    guard: int = 0,
+) -> Reference:  # noqa: E501
+    """The mean of `samples` renders at t_i = t0 + (i + u_i)/N·(t1 - t0) (SPEC.md §1)."""
+    if not isinstance(scene, Scene):
+        raise TypeError(f"blurlab: reference needs a blurlab Scene, not {type(scene).__name__}")
+    if isinstance(samples, bool) or not isinstance(samples, int) or samples < 1:
+        raise ValueError(f"blurlab: reference samples N must be an integer >= 1, not {samples!r}")
+    if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed < 2**32:
+        raise ValueError(f"blurlab: seed must be an integer in 0..2^32-1, not {seed!r}")
+    size = check_size(size, ctx.max_texture_size)
+    shutter = check_shutter(scene.shutter if shutter is None else shutter)
+    times = sample_times(shutter, samples, bool(stratified), seed)
+    width, height = size[0] + 2 * guard, size[1] + 2 * guard
+    total = ctx._pooled((height, width, 4))
+    total.clear()
+    accumulate = ctx._pass("accumulate", _core.AccumulatePass)
+    show = samples >= 64 if progress is None else bool(progress)
+    iterator = times
+    if show:
+        from tqdm.auto import tqdm
+
+        iterator = tqdm(times, desc=f"reference N={samples}", unit="sub-frame", leave=False)
+    elapsed = 0.0
+    clock = ""
+    for t in iterator:
+        targets, _, timing = render_targets(ctx, scene, size, shutter, float(t), guard)
+        with ctx.timer() as add:
+            accumulate.run(targets["color"]._core, total._core, 1.0 / samples)
+        ctx._recycle(*targets.values())
+        elapsed += timing.ms + add.ms
+        clock = add.clock
+    result = Reference(samples, times, bool(stratified), seed, elapsed / samples, clock, total)
+    weakref.finalize(result, ctx._recycle, total)
+    return result
+
+
+def reference_samples_needed(frame: Frame) -> int:
+    """N for the reference of `frame`'s shutter: at least the longest motion in pixels
+    (SPEC.md §1), so that consecutive sub-frames move by at most one pixel."""
+    speed = np.linalg.norm(frame.motion, axis=-1)
+    finite = speed[np.isfinite(speed)]
+    return max(1, math.ceil(float(finite.max()))) if finite.size else 1
