@@ -7,6 +7,7 @@ from .context import ComputeProgram, Context, PendingDownload, Texture, Timing
 from .frame import MOTION_FORMATS, Frame
 from .mesh import Mesh
 from .methods import BlurResult, blur, methods
+from .methods import method_instant as methods_instant
 from .motion import Bone, Keyframe, Motion, Skeleton, quaternion
 from .scene import Camera, DirectionalLight, Material, Scene
 
@@ -37,6 +38,7 @@ __all__ = [
     "io",
     "mesh",
     "methods",
+    "methods_instant",
     "quaternion",
     "reference",
     "reference_samples_needed",

@@ -55,17 +55,19 @@ class BlurResult:
 @dataclass(frozen=True)
 class Param:
     default: object  # a value, or a callable(frame) -> value
-    kind: type  # int or float
+    kind: object  # int, float, or a tuple of allowed strings
     doc: str
 
 
 @dataclass(frozen=True)
 class Method:
     name: str
-    instant: str  # "center" or "close": the G-buffer time the method expects
+    # "center" or "close": the G-buffer time the method expects, or a function of the params
+    instant: str | Callable[[dict], str]
     params: dict[str, Param]
     backends: tuple[str, ...]
-    run: Callable  # (ctx, inputs: dict[str, Texture], params: dict, backend) -> (outputs, timings)
+    # (ctx, frame, inputs: dict[str, Texture], params, backend) -> (outputs, timings)
+    run: Callable
     doc: str = ""
 
 
@@ -80,6 +82,14 @@ def register(method: Method) -> Method:
 def methods() -> list[str]:
     """Names of the registered methods."""
     return list(_REGISTRY)
+
+
+def method_instant(name: str, params: dict | None = None) -> str:
+    """The G-buffer instant method `name` expects with `params` ("center" or "close")."""
+    m = method(name)
+    if callable(m.instant):
+        return m.instant(resolve_params(m, None, params or {}, frame_free=True))
+    return m.instant
 
 
 def method(name: str) -> Method:
@@ -100,13 +110,13 @@ def blur(ctx: Context, frame: Frame, name: str, backend: str | None = None, **pa
     if backend not in m.backends:
         raise ValueError(f"blurlab: {name} runs on backends {m.backends}, not {backend!r}")
     values = resolve_params(m, frame, params)
-    outputs, timings = m.run(ctx, frame_textures(ctx, frame), values, backend)
+    outputs, timings = m.run(ctx, frame, frame_textures(ctx, frame), values, backend)
     result = BlurResult(name, values, backend, timings, outputs)
     weakref.finalize(result, ctx._recycle, *outputs.values())
     return result
 
 
-def resolve_params(m: Method, frame: Frame, given: dict) -> dict:
+def resolve_params(m: Method, frame: Frame | None, given: dict, frame_free: bool = False) -> dict:
     unknown = set(given) - set(m.params)
     if unknown:
         raise TypeError(
@@ -116,8 +126,13 @@ def resolve_params(m: Method, frame: Frame, given: dict) -> dict:
     values = {}
     for key, p in m.params.items():
         value = given.get(key, None)
+        if value is None and callable(p.default) and frame_free:
+            continue  # defaults read from a frame are not needed to know the instant
         if value is None:
             value = p.default(frame) if callable(p.default) else p.default
+        if value is None:  # an optional parameter, such as trail's history
+            values[key] = None
+            continue
         values[key] = _typed(m.name, key, value, p.kind)
     return values
 
@@ -126,7 +141,15 @@ def _describe(default) -> str:
     return "from the frame" if callable(default) else repr(default)
 
 
-def _typed(method_name: str, key: str, value, kind: type):
+def _typed(method_name: str, key: str, value, kind):
+    if isinstance(kind, tuple):
+        if value not in kind:
+            raise ValueError(
+                f"blurlab: {method_name} parameter {key} must be one of {kind}, not {value!r}"
+            )
+        return value
+    if kind is object:
+        return value
     if kind is int:
         if isinstance(value, bool) or not isinstance(value, Integral):
             raise TypeError(
@@ -183,7 +206,7 @@ def _mcguire_params(values: dict) -> _core.McGuire2012Params:
     return p
 
 
-def _run_mcguire2012(ctx: Context, inputs: dict, values: dict, backend: str):
+def _run_mcguire2012(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
     params = _mcguire_params(values)
     height, width = inputs["color"].shape[:2]
     k = params.k
@@ -254,7 +277,7 @@ def default_far(frame: Frame) -> float:
     return 2.0 * float(finite.max()) if finite.size and finite.max() > 0 else 1.0
 
 
-def _run_urho3d(ctx: Context, inputs: dict, values: dict, backend: str):
+def _run_urho3d(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
     from .reference.urho3d import jitter_texture
 
     params = _mcguire_params(values)
@@ -319,5 +342,261 @@ register(
         run=_run_urho3d,
         doc="The reconstruct pass of the Urho3D thesis as printed there: a fragment pass, the "
         "seed's baseline. SPEC.md §3 variant; the shader's header lists the differences.",
+    )
+)
+
+
+# --- the engines' gathers (SPEC.md §4) -----------------------------------------------------
+
+EDGES = ("clamp", "ignore", "guard")
+
+
+def _gather_params(values: dict) -> _core.GatherParams:
+    p = _core.GatherParams()
+    p.taps = values.get("taps", 10)
+    p.intensity = values.get("intensity", 1.0)
+    p.centered = values.get("direction", "backward") == "centered"
+    p.edge = "clamp" if values["edge"] == "guard" else values["edge"]
+    p.validate()
+    return p
+
+
+def _longest_motion(frame: Frame) -> float:
+    speed = np.linalg.norm(frame.motion, axis=-1)
+    speed = speed[np.isfinite(speed)]
+    return float(speed.max()) if speed.size else 0.0
+
+
+def _with_edge(ctx: Context, frame: Frame, inputs: dict, edge: str, reach: float, run):
+    """Runs `run(inputs) -> (color texture, timings)` on the frame, or, for edge "guard", on
+    the frame re-rendered with a margin wide enough for every tap, then crops the margin."""
+    if edge != "guard":
+        return run(inputs)
+    if frame.scene is None or frame.time is None:
+        raise ValueError(
+            "blurlab: edge='guard' re-renders the frame with a margin, so it needs a frame "
+            "made by ctx.render; use edge='clamp' or 'ignore' for frames built from arrays"
+        )
+    from .render import render_targets
+
+    guard = math.ceil(reach * _longest_motion(frame)) + 2
+    big, _, timing = render_targets(ctx, frame.scene, frame.size, frame.shutter, frame.time, guard)
+    color, timings = run(big)
+    height, width = frame.color.shape[:2]
+    result = ctx._pooled((height, width, 4))
+    result._core.copy_from(color._core, guard, guard)
+    ctx._recycle(color, *big.values())
+    return result, {"guard_gbuffer": timing, **timings}
+
+
+def _run_gather(name: str, pass_type, reach: Callable[[dict], float]):
+    def run(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
+        params = _gather_params(values)
+        gather = ctx._pass(name, pass_type)
+
+        def on(textures):
+            height, width = textures["color"].shape[:2]
+            result = ctx._pooled((height, width, 4))
+            timings: dict[str, Timing] = {}
+            timed(
+                ctx,
+                timings,
+                name,
+                lambda: gather.run(
+                    textures["color"]._core, textures["motion"]._core, result._core, params, backend
+                ),
+            )
+            return result, timings
+
+        color, timings = _with_edge(ctx, frame, inputs, values["edge"], reach(values), on)
+        return {"color": color}, timings
+
+    return run
+
+
+_EDGE = Param(
+    "clamp", EDGES, "taps outside the image: clamp, ignore, or guard (re-render a margin)"
+)
+
+register(
+    Method(
+        name="gather_weighted",
+        instant="close",
+        params={"edge": _EDGE},
+        backends=("compute", "fragment"),
+        run=_run_gather("gather_weighted", _core.GatherWeightedPass, lambda v: 1.5),
+        doc="ogldev tutorial 41: taps along M/2 with weights 0.4/0.3/0.2/0.1. SPEC.md §4.",
+    )
+)
+
+_BOX_PARAMS = {
+    "taps": Param(10, int, "n equal taps (2..256)"),
+    "intensity": Param(1.0, float, "length of the blur, fraction of the motion (>= 0)"),
+    "direction": Param("backward", ("backward", "centered"), "taps behind X, or around it"),
+    "edge": _EDGE,
+}
+
+
+def _box_reach(values: dict) -> float:
+    return values["intensity"] * (0.5 if values["direction"] == "centered" else 1.0)
+
+
+register(
+    Method(
+        name="gather_box",
+        instant=lambda v: "center" if v.get("direction") == "centered" else "close",
+        params=_BOX_PARAMS,
+        backends=("compute", "fragment"),
+        run=_run_gather("gather_box", _core.GatherBoxPass, _box_reach),
+        doc='"Blurry things": n equal taps along the motion, backward or centered. SPEC.md §4.',
+    )
+)
+
+
+def _camera_matrices(camera: dict) -> dict:
+    """The uniforms of the camera-motion pass from a rendered frame's camera matrices."""
+    return {
+        "view_from_clip": np.linalg.inv(camera["projection"]).astype(np.float32),
+        "world_from_view": np.linalg.inv(camera["view"][2]).astype(np.float32),
+        "clip_from_world": camera["view_projection"][:2].astype(np.float32),
+        "sky_from_clip": camera["sky_from_clip"].astype(np.float32),
+        "sky_projection": camera["sky_projection"].astype(np.float32),
+        "near": float(camera["near"]),
+    }
+
+
+def _run_camera_only(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
+    if frame.camera is None:
+        raise ValueError(
+            "blurlab: camera_only needs the camera's transforms: use a frame made by ctx.render"
+        )
+    params = _gather_params(values)
+    camera_pass = ctx._pass("camera_motion", _core.CameraMotionPass)
+    gather = ctx._pass("gather_box", _core.GatherBoxPass)
+
+    def on(textures):
+        height, width = textures["color"].shape[:2]
+        guard = (width - frame.size[0]) // 2
+        camera = frame.camera
+        if guard:  # the margin's frustum, as render_targets widened it
+            from .render import camera_matrices
+
+            camera = camera_matrices(frame.scene, frame.size, tuple(camera["times"]), guard)
+        matrices = _camera_matrices(camera)
+        motion, result = ctx._pooled((height, width, 2)), ctx._pooled((height, width, 4))
+        timings: dict[str, Timing] = {}
+        timed(
+            ctx,
+            timings,
+            "camera_motion",
+            lambda: camera_pass.run(textures["depth"]._core, motion._core, matrices),
+        )
+        timed(
+            ctx,
+            timings,
+            "gather_box",
+            lambda: gather.run(
+                textures["color"]._core, motion._core, result._core, params, backend
+            ),
+        )
+        ctx._recycle(motion)
+        return result, timings
+
+    color, timings = _with_edge(ctx, frame, inputs, values["edge"], _box_reach(values), on)
+    return {"color": color}, timings
+
+
+register(
+    Method(
+        name="camera_only",
+        instant=lambda v: "center" if v.get("direction") == "centered" else "close",
+        params=_BOX_PARAMS,
+        backends=("compute", "fragment"),
+        run=_run_camera_only,
+        doc="Urho3D thesis §2.3.2: motion from depth and the camera's transforms alone, then "
+        "gather_box; moving objects get no blur of their own. SPEC.md §4.",
+    )
+)
+
+
+# --- trail and accumulation (SPEC.md §4) ---------------------------------------------------
+
+
+def _run_trail(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
+    alpha = values["alpha"]
+    if not 0.0 <= alpha <= 1.0:
+        raise ValueError(f"blurlab: trail alpha = {alpha} is outside [0, 1]")
+    history = values["history"]
+    if history is not None and not isinstance(history, BlurResult):
+        raise TypeError("blurlab: trail history must be the previous frame's BlurResult or None")
+    height, width = inputs["color"].shape[:2]
+    result = ctx._pooled((height, width, 4))
+    result.clear()
+    accumulate = ctx._pass("accumulate", _core.AccumulatePass)
+
+    def blend():
+        if history is None:  # out_0 = C_0
+            accumulate.run(inputs["color"]._core, result._core, 1.0)
+            return
+        if history.textures["color"].shape != (height, width, 4):
+            raise ValueError("blurlab: trail history has another size than the frame")
+        accumulate.run(inputs["color"]._core, result._core, alpha)
+        accumulate.run(history.textures["color"]._core, result._core, 1.0 - alpha)
+
+    timings: dict[str, Timing] = {}
+    timed(ctx, timings, "trail", blend)
+    return {"color": result}, timings
+
+
+register(
+    Method(
+        name="trail",
+        instant="close",
+        params={
+            "alpha": Param(0.5, float, "weight of the current frame, in [0, 1]"),
+            "history": Param(None, object, "the previous frame's BlurResult (None: first frame)"),
+        },
+        backends=("compute",),
+        run=_run_trail,
+        doc="Urho3D thesis §2.3.1: out_n = α·C_n + (1 - α)·out_{n-1}, feedback over a "
+        "sequence. SPEC.md §4.",
+    )
+)
+
+
+def _run_accumulation(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
+    if frame.scene is None:
+        raise ValueError(
+            "blurlab: accumulation renders the scene again: use a frame made by ctx.render"
+        )
+    reference = ctx.reference(
+        frame.scene,
+        frame.size,
+        frame.shutter,
+        samples=values["samples"],
+        stratified=values["stratified"] == "stratified",
+        seed=values["seed"],
+        progress=False,
+    )
+    height, width = frame.color.shape[:2]
+    result = ctx._pooled((height, width, 4))
+    result._core.copy_from(reference.texture._core, 0, 0)
+    timing = Timing(reference.ms_per_subframe * reference.samples, reference.clock)
+    return {"color": result}, {"accumulation": timing}
+
+
+register(
+    Method(
+        name="accumulation",
+        instant="center",
+        params={
+            "samples": Param(8, int, "sub-frames N (>= 1; 4-32 shows the banding)"),
+            "stratified": Param("uniform", ("uniform", "stratified"), "sub-frame times"),
+            "seed": Param(0, int, "seed of stratified times"),
+        },
+        backends=("compute",),
+        run=_run_accumulation,
+        doc="Haeberli-Akeley accumulation (the OGRE paper): the reference with small N. "
+        "SPEC.md §4.",
     )
 )

@@ -176,6 +176,7 @@ void bind_gl(py::module_& m) {
              t.clear(value.data());
            })
       .def("generate_mipmaps", &Texture::generate_mipmaps)
+      .def("copy_from", &Texture::copy_from, py::arg("source"), py::arg("x"), py::arg("y"))
       .def_property_readonly("levels", &Texture::levels);
 
   py::class_<PendingDownload, std::shared_ptr<PendingDownload>>(m, "PendingDownload")

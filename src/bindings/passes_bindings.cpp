@@ -11,6 +11,10 @@
 #include "gl/mesh.h"
 #include "gl/texture.h"
 #include "passes/accumulate.h"
+#include "passes/camera_motion.h"
+#include "passes/gather_box.h"
+#include "passes/gather_params.h"
+#include "passes/gather_weighted.h"
 #include "passes/gbuffer.h"
 #include "passes/mcguire2012_params.h"
 #include "passes/motion_encoding.h"
@@ -174,6 +178,56 @@ void bind_passes(py::module_& m) {
   py::class_<AccumulatePass, std::shared_ptr<AccumulatePass>>(m, "AccumulatePass")
       .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))
       .def("run", &AccumulatePass::run, py::arg("color"), py::arg("sum"), py::arg("weight"));
+
+  py::class_<GatherParams>(m, "GatherParams")
+      .def(py::init<>())
+      .def_readwrite("taps", &GatherParams::taps)
+      .def_readwrite("intensity", &GatherParams::intensity)
+      .def_readwrite("centered", &GatherParams::centered)
+      .def_readwrite("edge", &GatherParams::edge)
+      .def("validate", &GatherParams::validate);
+
+  py::class_<GatherWeightedPass, std::shared_ptr<GatherWeightedPass>>(m, "GatherWeightedPass")
+      .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))
+      .def(
+          "run",
+          [](GatherWeightedPass& pass, const Texture& color, const Texture& motion,
+             const Texture& result, const GatherParams& params, const std::string& backend) {
+            pass.run(color, motion, result, params, parse_backend(backend));
+          },
+          py::arg("color"), py::arg("motion"), py::arg("result"), py::arg("params"),
+          py::arg("backend"));
+
+  py::class_<GatherBoxPass, std::shared_ptr<GatherBoxPass>>(m, "GatherBoxPass")
+      .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))
+      .def(
+          "run",
+          [](GatherBoxPass& pass, const Texture& color, const Texture& motion,
+             const Texture& result, const GatherParams& params, const std::string& backend) {
+            pass.run(color, motion, result, params, parse_backend(backend));
+          },
+          py::arg("color"), py::arg("motion"), py::arg("result"), py::arg("params"),
+          py::arg("backend"));
+
+  py::class_<CameraMotionPass, std::shared_ptr<CameraMotionPass>>(m, "CameraMotionPass")
+      .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))
+      .def(
+          "run",
+          [](CameraMotionPass& pass, const Texture& depth, const Texture& motion,
+             const py::dict& d) {
+            CameraMotionMatrices m;
+            copy_floats(m.view_from_clip, d["view_from_clip"].cast<Floats>(), 16, "view_from_clip");
+            copy_floats(m.world_from_view, d["world_from_view"].cast<Floats>(), 16,
+                        "world_from_view");
+            copy_floats(&m.clip_from_world[0][0], d["clip_from_world"].cast<Floats>(), 32,
+                        "clip_from_world");
+            copy_floats(m.sky_from_clip, d["sky_from_clip"].cast<Floats>(), 16, "sky_from_clip");
+            copy_floats(&m.sky_projection[0][0], d["sky_projection"].cast<Floats>(), 32,
+                        "sky_projection");
+            m.near = d["near"].cast<float>();
+            pass.run(depth, motion, m);
+          },
+          py::arg("depth"), py::arg("motion"), py::arg("matrices"));
 
   py::class_<MotionEncodingPass, std::shared_ptr<MotionEncodingPass>>(m, "MotionEncodingPass")
       .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))

@@ -100,6 +100,17 @@ void Texture::clear(const float* value) {
   check_gl("texture clear");
 }
 
+void Texture::copy_from(const Texture& source, int x, int y) {
+  if (source.format().internal != format_.internal)
+    throw std::invalid_argument("blurlab: copy between textures of different formats");
+  if (x < 0 || y < 0 || x + width_ > source.width() || y + height_ > source.height())
+    throw std::invalid_argument("blurlab: the copied region lies outside the source texture");
+  context_->make_current();
+  glCopyImageSubData(source.id(), GL_TEXTURE_2D, 0, x, y, 0, id_, GL_TEXTURE_2D, 0, 0, 0, 0, width_,
+                     height_, 1);
+  check_gl("texture copy");
+}
+
 void Texture::generate_mipmaps() {
   context_->make_current();
   glGenerateTextureMipmap(id_);

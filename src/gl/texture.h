@@ -48,6 +48,8 @@ class Texture {
   // Fills levels 1.. from level 0 and samples with trilinear filtering and repeat wrapping,
   // as a material texture should be.
   void generate_mipmaps();
+  // Copies this texture's size worth of texels from `source` starting at (x, y) there (a crop).
+  void copy_from(const Texture& source, int x, int y);
   int levels() const { return levels_; }
 
   GLuint id() const { return id_; }

@@ -1,0 +1,90 @@
+"""The engines' gathers, SPEC.md §4, in NumPy float64 (GPU twins: shaders/passes/
+gather_weighted.glsl, gather_box.glsl, camera_motion.glsl). A tap at continuous position p
+reads the pixel containing it; edge "clamp" reads the nearest edge pixel for taps outside the
+image, "ignore" drops them and renormalizes the remaining weights."""
+
+from __future__ import annotations
+
+import numpy as np
+
+EDGES = ("clamp", "ignore")
+
+
+def _gather(color, positions, weights, edge: str) -> np.ndarray:
+    """Sum of weights[i] * color at positions[i] (each (H, W, 2)), normalized."""
+    color = np.asarray(color, np.float64)
+    h, w = color.shape[:2]
+    total = np.zeros((h, w))
+    acc = np.zeros_like(color)
+    for p, weight in zip(positions, weights, strict=True):
+        pixel = np.floor(p).astype(np.int64)
+        inside = (
+            (pixel[..., 0] >= 0) & (pixel[..., 0] < w) & (pixel[..., 1] >= 0) & (pixel[..., 1] < h)
+        )
+        px, py = np.clip(pixel[..., 0], 0, w - 1), np.clip(pixel[..., 1], 0, h - 1)
+        use = np.full((h, w), weight) if edge == "clamp" else np.where(inside, weight, 0.0)
+        acc += use[..., None] * color[py, px]
+        total += use
+    safe = np.where(total > 0, total, 1.0)
+    return np.where(total[..., None] > 0, acc / safe[..., None], color)
+
+
+def _centers(h: int, w: int) -> np.ndarray:
+    y, x = np.mgrid[0:h, 0:w]
+    return np.stack([x, y], -1) + 0.5
+
+
+def gather_weighted(color, motion, edge: str = "clamp") -> np.ndarray:
+    """ogldev tutorial 41: m = M/2; taps X, X - m, X - 2m, X - 3m, weights 0.4, 0.3, 0.2, 0.1."""
+    m = np.asarray(motion, np.float64) / 2
+    center = _centers(*m.shape[:2])
+    return _gather(color, [center - i * m for i in range(4)], [0.4, 0.3, 0.2, 0.1], edge)
+
+
+def gather_box(
+    color,
+    motion,
+    taps: int = 10,
+    intensity: float = 1.0,
+    centered: bool = False,
+    edge: str = "clamp",
+) -> np.ndarray:
+    """ "Blurry things": n equal taps at X - s·M·intensity, s = i/(n-1) (- 1/2 if centered)."""
+    m = np.asarray(motion, np.float64) * intensity
+    center = _centers(*m.shape[:2])
+    s = np.arange(taps) / (taps - 1) - (0.5 if centered else 0.0)
+    return _gather(color, [center - si * m for si in s], [1.0] * taps, edge)
+
+
+def camera_motion(depth, camera: dict, size) -> np.ndarray:
+    """Motion from depth and the camera alone (Urho3D thesis §2.3.2): reproject each pixel's
+    point to t0 and t1 with the matrices of a rendered frame's `camera` dict. Points at
+    infinity move with the camera's rotation only."""
+    width, height = size
+    depth = np.asarray(depth, np.float64)
+    center = _centers(height, width)
+    ndc = center / np.array([width, height]) * 2 - 1
+    ones = np.ones(depth.shape)
+    clip = np.stack([ndc[..., 0], ndc[..., 1], ones, ones], -1)
+    ray = clip @ np.linalg.inv(camera["projection"]).T
+    view = ray[..., :3] / ray[..., 3:]
+    finite = np.isfinite(depth)
+    scale = np.where(finite, depth, 1.0) / -view[..., 2]
+    view_point = np.concatenate([view * scale[..., None], ones[..., None]], -1)
+    world = view_point @ np.linalg.inv(camera["view"][2]).T
+
+    def pixels(c):
+        return (c[..., :2] / np.maximum(c[..., 3:], camera["near"]) * 0.5 + 0.5) * [width, height]
+
+    a = pixels(world @ camera["view_projection"][0].T)
+    b = pixels(world @ camera["view_projection"][1].T)
+    motion = b - a
+    far = clip @ camera["sky_from_clip"].T
+    direction = np.concatenate([far[..., :3] / far[..., 3:], 0 * ones[..., None]], -1)
+    s0 = direction @ camera["sky_projection"][0].T
+    s1 = direction @ camera["sky_projection"][1].T
+    seen = (s0[..., 3] > 0) & (s1[..., 3] > 0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        sky = (s1[..., :2] / s1[..., 3:] - s0[..., :2] / s0[..., 3:]) * 0.5 * [width, height]
+    sky = np.where(seen[..., None], sky, 0.0)
+    return np.where(finite[..., None], motion, sky)

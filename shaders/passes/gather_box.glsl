@@ -1,0 +1,40 @@
+#version 450
+// gather_box, SPEC.md §4 ("Blurry things"): n equal taps at X - s·M·intensity, s = i/(n - 1)
+// (backward, instant t1) or s = i/(n - 1) - 1/2 (centered, instant at the shutter's center).
+// Compute (default) or fragment. NumPy twin: blurlab.reference.gathers.gather_box.
+#include "common/gather.glsl"
+
+uniform int taps;
+uniform float intensity;
+uniform bool centered;
+
+vec4 gather_box_at(ivec2 x) {
+    vec2 m = texelFetch(motion, x, 0).xy * intensity;
+    vec2 center = vec2(x) + 0.5;
+    vec4 sum = vec4(0.0);
+    float total = 0.0;
+    for (int i = 0; i < taps; ++i) {
+        float s = float(i) / float(taps - 1) - (centered ? 0.5 : 0.0);
+        add_tap(center - s * m, 1.0, sum, total);
+    }
+    // Backward: the first tap is X itself. Centered with an even n has no tap at X; if every
+    // tap fell outside under "ignore", keep the pixel.
+    return total > 0.0 ? sum / total : texelFetch(color, x, 0);
+}
+
+#ifdef STAGE_COMPUTE
+layout(local_size_x = 16, local_size_y = 16) in;
+layout(binding = 0, rgba32f) uniform writeonly image2D result;
+void main() {
+    ivec2 x = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(x, textureSize(color, 0)))) return;
+    imageStore(result, x, gather_box_at(x));
+}
+#endif
+
+#ifdef STAGE_FRAGMENT
+layout(location = 0) out vec4 result;
+void main() {
+    result = gather_box_at(ivec2(gl_FragCoord.xy));
+}
+#endif
