@@ -600,3 +600,59 @@ register(
         "SPEC.md §4.",
     )
 )
+
+
+# --- stochastic (SPEC.md §4, the OGRE paper) -----------------------------------------------
+
+
+def _run_stochastic(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
+    from .reference.stochastic import ROTATED_GRID, slice_times
+    from .render import render_targets
+
+    slices, seed = values["slices"], values["seed"]
+    if not 1 <= slices <= 64:
+        raise ValueError(f"blurlab: slices K = {slices} is outside 1..64")
+    if not 0 <= seed < 2**32:
+        raise ValueError(f"blurlab: seed = {seed} is outside 0..2^32-1")
+    if frame.scene is None:
+        raise ValueError("blurlab: stochastic renders time slices: use a frame made by ctx.render")
+    height, width = frame.color.shape[:2]
+    result = ctx._pooled((height, width, 4))
+    result.clear()
+    combine = ctx._pass("stochastic", _core.StochasticPass)
+    renders = combines = 0.0
+    clock = ""
+    for slice_index, t in enumerate(slice_times(frame.shutter, slices, seed)):
+        for position, p in enumerate(ROTATED_GRID):
+            jitter = (0.5 - p[0], 0.5 - p[1])
+            targets, _, timing = render_targets(
+                ctx, frame.scene, frame.size, frame.shutter, float(t), 0, jitter
+            )
+            with ctx.timer() as add:
+                combine.run(
+                    targets["color"]._core, result._core, slice_index, position, slices, seed
+                )
+            ctx._recycle(*targets.values())
+            renders += timing.ms
+            combines += add.ms
+            clock = add.clock
+    return {"color": result}, {
+        "slice_renders": Timing(renders, clock),
+        "stochastic": Timing(combines, clock),
+    }
+
+
+register(
+    Method(
+        name="stochastic",
+        instant="center",
+        params={
+            "slices": Param(4, int, "time slices K (1..64); 4 K jittered renders"),
+            "seed": Param(0, int, "seed of slice times and per-pixel permutations"),
+        },
+        backends=("compute",),
+        run=_run_stochastic,
+        doc="The OGRE paper's stochastic blur: K time slices, rotated-grid samples in and "
+        "around each pixel, weights 5/32 and 3/32. SPEC.md §4.",
+    )
+)

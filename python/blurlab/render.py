@@ -50,7 +50,7 @@ def check_shutter(shutter) -> tuple[float, float]:
     return t0, t1
 
 
-def camera_matrices(scene: Scene, size, times, guard: int = 0) -> dict:
+def camera_matrices(scene: Scene, size, times, guard: int = 0, jitter=(0.0, 0.0)) -> dict:
     """View and (y-flipped) projection matrices at open, close and the instant, float64.
 
     With a guard band the projection covers `guard` more pixels on every side of `size`.
@@ -59,6 +59,11 @@ def camera_matrices(scene: Scene, size, times, guard: int = 0) -> dict:
     projection = scene.camera.projection(width / height)
     projection[0] *= width / (width + 2 * guard)
     projection[1] *= height / (height + 2 * guard)
+    if jitter[0] or jitter[1]:  # a shift in normalized device coordinates, after projection
+        shift = np.eye(4)
+        shift[0, 3] = 2 * jitter[0] / (width + 2 * guard)
+        shift[1, 3] = 2 * jitter[1] / (height + 2 * guard)
+        projection = shift @ projection
     views = [scene.camera.view(t) for t in times]
 
     def rotation_only(view):
@@ -130,18 +135,22 @@ def render(
     return frame
 
 
-def render_targets(ctx, scene: Scene, size, shutter, time: float, guard: int = 0):
+def render_targets(
+    ctx, scene: Scene, size, shutter, time: float, guard: int = 0, jitter=(0.0, 0.0)
+):
     """Runs the G-buffer pass into pooled textures: (targets, camera matrices, Timing).
 
     `guard` > 0 renders a margin of that many pixels around the image (the frustum widened to
-    match), for methods whose taps leave the image ("Blurry things": guard band).
+    match), for methods whose taps leave the image ("Blurry things": guard band). `jitter`
+    = (dx, dy) pixels moves the image content, so that the pixel centers show the points at
+    (x + 0.5 - dx, y + 0.5 - dy) of the unjittered image (sub-pixel sample positions).
     """
     if isinstance(guard, bool) or not isinstance(guard, int) or guard < 0:
         raise ValueError(f"blurlab: guard must be an integer >= 0 pixels, not {guard!r}")
     width, height = size[0] + 2 * guard, size[1] + 2 * guard
     check_size((width, height), ctx.max_texture_size)
     times = (shutter[0], shutter[1], time)
-    camera = camera_matrices(scene, size, times, guard)
+    camera = camera_matrices(scene, size, times, guard, jitter)
     f32 = lambda a: np.ascontiguousarray(a, dtype=np.float32)  # noqa: E731
     camera_uniforms = {
         k: f32(camera[k]) for k in ("view_projection", "eye", "sky_from_clip", "sky_projection")

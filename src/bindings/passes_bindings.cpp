@@ -21,6 +21,7 @@
 #include "passes/neighbor_max.h"
 #include "passes/reconstruct_mcguire2012.h"
 #include "passes/reconstruct_urho3d.h"
+#include "passes/stochastic.h"
 #include "passes/tile_max.h"
 
 namespace py = pybind11;
@@ -228,6 +229,11 @@ void bind_passes(py::module_& m) {
             pass.run(depth, motion, m);
           },
           py::arg("depth"), py::arg("motion"), py::arg("matrices"));
+
+  py::class_<StochasticPass, std::shared_ptr<StochasticPass>>(m, "StochasticPass")
+      .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))
+      .def("run", &StochasticPass::run, py::arg("color"), py::arg("sum"), py::arg("slice"),
+           py::arg("position"), py::arg("slices"), py::arg("seed"));
 
   py::class_<MotionEncodingPass, std::shared_ptr<MotionEncodingPass>>(m, "MotionEncodingPass")
       .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))

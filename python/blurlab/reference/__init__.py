@@ -3,17 +3,19 @@
 Each GPU pass has its twin here, and the tests hold the GPU to it.
 """
 
-from . import accumulation, mcguire2012, motion_encoding, projection, urho3d
+from . import accumulation, gathers, mcguire2012, motion_encoding, projection, stochastic, urho3d
 from .hashing import pcg, rand
 from .patterns import test_pattern
 
 __all__ = [
     "accumulation",
+    "gathers",
     "mcguire2012",
     "motion_encoding",
     "pcg",
     "projection",
     "rand",
+    "stochastic",
     "test_pattern",
     "urho3d",
 ]
