@@ -37,7 +37,9 @@ python3 -m blurlab --device gpu info | tee "$out/info_gpu.json"
 python3 -m pytest -q -p no:cacheprovider tests/test_context.py tests/test_textures.py \
   tests/test_programs.py tests/test_moderngl.py tests/test_gbuffer.py tests/test_mesh.py \
   tests/test_tile_max.py tests/test_neighbor_max.py tests/test_reconstruct_mcguire2012.py \
-  tests/test_reconstruct_urho3d.py 2>&1 | tail -n 15 || echo "gpu.sh: tests FAILED"
+  tests/test_reconstruct_urho3d.py tests/test_reference.py tests/test_gather_weighted.py \
+  tests/test_gather_box.py tests/test_camera_only.py tests/test_trail.py tests/test_stochastic.py \
+  2>&1 | tail -n 15 || echo "gpu.sh: tests FAILED"
 
 # Each argument is a benchmark script and its arguments, e.g. "gbuffer --size 1920x1080".
 for bench in "${@:-transfer}"; do

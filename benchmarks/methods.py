@@ -1,0 +1,77 @@
+"""Time of every registered method on teapot_pass, and of the reference per sub-frame.
+
+Each method gets the G-buffer at the instant it declares. Medians over --runs after one
+warm-up run; each pass by the context's clock (GL timer queries on a GPU, glFinish + wall
+clock on llvmpipe). Methods that render (accumulation, stochastic) include their renders.
+
+    python benchmarks/methods.py [--device gpu] [--size 1920x1080] [--runs 10]
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+
+import blurlab as bl
+
+from common import describe, save
+
+SETTINGS = {
+    "reconstruct_mcguire2012": {"k": 20, "samples": 15},
+    "reconstruct_urho3d": {"k": 20, "samples": 15},
+    "gather_weighted": {},
+    "gather_box": {"taps": 10},
+    "camera_only": {"taps": 10},
+    "trail": {"alpha": 0.5},
+    "accumulation": {"samples": 8},
+    "stochastic": {"slices": 4},
+}
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--device", default="auto")
+    parser.add_argument("--size", default="640x360")
+    parser.add_argument("--runs", type=int, default=10)
+    parser.add_argument("--reference-samples", type=int, default=64)
+    parser.add_argument("--json", default=None)
+    args = parser.parse_args()
+    ctx = bl.Context(int(args.device) if args.device.isdigit() else args.device)
+    width, height = (int(v) for v in args.size.split("x"))
+    scene = bl.scenes.teapot_pass()
+    record = {**describe(ctx), "size": args.size, "scene": "teapot_pass", "methods": {}}
+    print(
+        f"\n{record['date']}  {record['renderer']}  teapot_pass {args.size}, medians of {args.runs}"
+    )
+    print("\n| method | parameters | instant | total ms | passes (ms) | clock |")
+    print("|---|---|---|---|---|---|")
+    for name in bl.methods():
+        params = SETTINGS.get(name, {})
+        instant = bl.methods_instant(name, params)
+        frame = ctx.render(scene, (width, height), instant=instant)
+        bl.blur(ctx, frame, name, **params)
+        runs = [bl.blur(ctx, frame, name, **params) for _ in range(args.runs)]
+        per_pass = {p: statistics.median(r.timings[p].ms for r in runs) for p in runs[0].timings}
+        total = statistics.median(r.total_ms for r in runs)
+        record["methods"][name] = {
+            "params": params,
+            "instant": instant,
+            "total_ms": total,
+            "passes_ms": per_pass,
+            "clock": runs[0].clock,
+        }
+        passes = ", ".join(f"{p} {v:.3f}" for p, v in per_pass.items())
+        print(f"| {name} | {params} | {instant} | {total:.3f} | {passes} | {runs[0].clock} |")
+    reference = ctx.reference(
+        scene, (width, height), samples=args.reference_samples, progress=False
+    )
+    record["reference_ms_per_subframe"] = reference.ms_per_subframe
+    print(
+        f"\nreference: {reference.ms_per_subframe:.3f} ms per sub-frame (G-buffer pass + "
+        f"accumulation, {reference.clock}), N = {args.reference_samples}"
+    )
+    save(args.json, record)
+
+
+if __name__ == "__main__":
+    main()
