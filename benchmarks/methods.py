@@ -50,18 +50,25 @@ def main() -> None:
         instant = bl.methods_instant(name, params)
         frame = ctx.render(scene, (width, height), instant=instant)
         bl.blur(ctx, frame, name, **params)
-        runs = [bl.blur(ctx, frame, name, **params) for _ in range(args.runs)]
-        per_pass = {p: statistics.median(r.timings[p].ms for r in runs) for p in runs[0].timings}
-        total = statistics.median(r.total_ms for r in runs)
+        # Keep timings, not results: a live result holds its textures out of the pool, and
+        # fresh allocations cost GPU time on first use (docs/benchmarks.md).
+        runs = []
+        for _ in range(args.runs):
+            result = bl.blur(ctx, frame, name, **params)
+            runs.append(({p: t.ms for p, t in result.timings.items()}, result.clock))
+            del result
+        per_pass = {p: statistics.median(r[0][p] for r in runs) for p in runs[0][0]}
+        total = statistics.median(sum(r[0].values()) for r in runs)
+        clock = runs[0][1]
         record["methods"][name] = {
             "params": params,
             "instant": instant,
             "total_ms": total,
             "passes_ms": per_pass,
-            "clock": runs[0].clock,
+            "clock": clock,
         }
         passes = ", ".join(f"{p} {v:.3f}" for p, v in per_pass.items())
-        print(f"| {name} | {params} | {instant} | {total:.3f} | {passes} | {runs[0].clock} |")
+        print(f"| {name} | {params} | {instant} | {total:.3f} | {passes} | {clock} |")
     reference = ctx.reference(
         scene, (width, height), samples=args.reference_samples, progress=False
     )
