@@ -84,3 +84,13 @@ def test_guard_needs_a_rendered_frame_and_removes_edge_error(ctx, rng):
     clamp_error = np.abs(clamp - reference)[border].mean()
     guard_error = np.abs(guard - reference)[border].mean()
     assert guard_error < 0.5 * clamp_error
+
+
+def test_render_and_blur_uses_the_declared_instant_and_blur_warns_otherwise(ctx):
+    scene = bl.scenes.fan()
+    frame, result = bl.render_and_blur(ctx, scene, "gather_box", (32, 32), direction="centered")
+    assert frame.time == pytest.approx(scene.shutter[1] / 2)
+    assert result.color.shape == (32, 32, 4)
+    wrong = ctx.render(scene, (32, 32), instant="center")
+    with pytest.warns(UserWarning, match="expects the G-buffer at the shutter's close"):
+        bl.blur(ctx, wrong, "gather_box")

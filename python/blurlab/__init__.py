@@ -6,7 +6,7 @@ from .accumulation import Reference, reference_samples_needed
 from .context import ComputeProgram, Context, PendingDownload, Texture, Timing
 from .frame import MOTION_FORMATS, Frame
 from .mesh import Mesh
-from .methods import BlurResult, blur, methods
+from .methods import BlurResult, blur, methods, render_and_blur
 from .methods import method_instant as methods_instant
 from .motion import Bone, Keyframe, Motion, Skeleton, quaternion
 from .scene import Camera, DirectionalLight, Material, Scene
@@ -42,5 +42,6 @@ __all__ = [
     "quaternion",
     "reference",
     "reference_samples_needed",
+    "render_and_blur",
     "scenes",
 ]

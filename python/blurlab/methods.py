@@ -6,6 +6,7 @@ defaults, and its backends; its passes are C++ classes with a NumPy twin in bl.r
 from __future__ import annotations
 
 import math
+import warnings
 import weakref
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -110,10 +111,41 @@ def blur(ctx: Context, frame: Frame, name: str, backend: str | None = None, **pa
     if backend not in m.backends:
         raise ValueError(f"blurlab: {name} runs on backends {m.backends}, not {backend!r}")
     values = resolve_params(m, frame, params)
+    _check_instant(m, frame, values)
     outputs, timings = m.run(ctx, frame, frame_textures(ctx, frame), values, backend)
     result = BlurResult(name, values, backend, timings, outputs)
     weakref.finalize(result, ctx._recycle, *outputs.values())
     return result
+
+
+def _check_instant(m: Method, frame: Frame, values: dict) -> None:
+    """Warns when a rendered frame was not rendered at the instant the method expects."""
+    if frame.time is None or frame.camera is None:
+        return
+    from .render import instant_time
+
+    expected = m.instant(values) if callable(m.instant) else m.instant
+    if abs(instant_time(expected, frame.shutter) - frame.time) > 1e-12:
+        warnings.warn(
+            f"blurlab: {m.name} expects the G-buffer at the shutter's {expected} "
+            f"(t = {instant_time(expected, frame.shutter)}), this frame is at t = {frame.time}; "
+            f"render with instant=bl.methods_instant({m.name!r}, params) or use bl.render_and_blur",
+            stacklevel=3,
+        )
+
+
+def render_and_blur(
+    ctx: Context,
+    scene,
+    name: str,
+    size=(640, 360),
+    shutter=None,
+    backend: str | None = None,
+    **params,
+) -> tuple[Frame, BlurResult]:
+    """Renders `scene` at the instant method `name` expects and runs it: (frame, result)."""
+    frame = ctx.render(scene, size, shutter, instant=method_instant(name, params))
+    return frame, blur(ctx, frame, name, backend, **params)
 
 
 def resolve_params(m: Method, frame: Frame | None, given: dict, frame_free: bool = False) -> dict:
