@@ -2,7 +2,7 @@
 # Each installs what it needs first: system packages (apt), then blurlab and its Python deps.
 PYTHON ?= python3
 PIP := $(PYTHON) -m pip
-OUT ?= out/demo
+OUT ?= out/study
 
 .PHONY: deps install demo test lint format benchmark-transfer
 
@@ -13,7 +13,7 @@ install: deps
 	$(PIP) install -q ".[test]"
 
 demo: install
-	$(PYTHON) -m blurlab demo --out $(OUT)
+	$(PYTHON) -m blurlab study --out $(OUT)
 
 test: install
 	$(PYTHON) -m pytest

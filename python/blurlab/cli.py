@@ -91,6 +91,32 @@ def _motion_picture(motion):
     return np.stack(rgb, axis=-1).astype(np.float32)
 
 
+def _study(args) -> int:
+    from .study import run_study
+
+    ctx = Context(args.device)
+    info = ctx.info()
+    print(f"device: {info['device']} ({info['renderer']}); {args.size[0]}x{args.size[1]}")
+    report = run_study(
+        ctx,
+        args.scenes,
+        args.size,
+        args.out,
+        args.reference_samples,
+        tuple(args.metrics.split(",")),
+    )
+    print(f"wrote {report} and {Path(args.out) / 'results.csv'}")
+    return 0
+
+
+def _sweep(args) -> int:
+    from .study import run_sweep_config
+
+    table = run_sweep_config(Context(args.device), args.config)
+    print(f"{len(table)} rows")
+    return 0
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="blurlab", description=__doc__)
     parser.add_argument(
@@ -107,8 +133,23 @@ def main(argv: list[str] | None = None) -> int:
     demo.add_argument("--out", default="out/demo", help="output folder (default: out/demo)")
     demo.add_argument("--size", type=parse_size, default=(640, 360), help="WxH (default 640x360)")
     demo.add_argument("--seed", type=int, default=0)
+    study = sub.add_parser(
+        "study", help="the main job: every scene x method x grid, report.html + results.csv"
+    )
+    study.add_argument("--scenes", nargs="+", default=None, help="built-in scenes (default: all)")
+    study.add_argument("--size", type=parse_size, default=(640, 360), help="WxH (default 640x360)")
+    study.add_argument("--out", default="out/study", help="output folder (default: out/study)")
+    study.add_argument(
+        "--reference-samples",
+        type=int,
+        default=None,
+        help="N of each reference (default: max(64, 2 x longest motion))",
+    )
+    study.add_argument("--metrics", default="psnr,ssim,flip", help="comma-separated")
+    sweep = sub.add_parser("sweep", help="run the sweep a TOML configuration describes")
+    sweep.add_argument("config", help="TOML file: scenes, methods, size, shutter, ...")
     args = parser.parse_args(argv)
-    return {"info": _info, "demo": _demo}[args.command](args)
+    return {"info": _info, "demo": _demo, "study": _study, "sweep": _sweep}[args.command](args)
 
 
 if __name__ == "__main__":

@@ -12,6 +12,7 @@
 #include "gl/texture.h"
 #include "passes/accumulate.h"
 #include "passes/camera_motion.h"
+#include "passes/error_reduction.h"
 #include "passes/gather_box.h"
 #include "passes/gather_params.h"
 #include "passes/gather_weighted.h"
@@ -234,6 +235,11 @@ void bind_passes(py::module_& m) {
       .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))
       .def("run", &StochasticPass::run, py::arg("color"), py::arg("sum"), py::arg("slice"),
            py::arg("position"), py::arg("slices"), py::arg("seed"));
+
+  py::class_<ErrorReductionPass, std::shared_ptr<ErrorReductionPass>>(m, "ErrorReductionPass")
+      .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))
+      .def("squared_error", &ErrorReductionPass::squared_error, py::arg("a"), py::arg("b"),
+           py::call_guard<py::gil_scoped_release>());
 
   py::class_<MotionEncodingPass, std::shared_ptr<MotionEncodingPass>>(m, "MotionEncodingPass")
       .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))

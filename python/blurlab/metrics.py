@@ -1,0 +1,107 @@
+"""Error against a reference, SPEC.md §6: PSNR (linear color clipped to [0, 1]), SSIM on
+luminance, FLIP (the flip-evaluator package, on sRGB), per-pixel error maps, and flicker for
+sequences. `gpu_mse` reduces the squared error on the GPU and reads back a scalar, for sweeps.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from . import _core
+from .io import linear_to_srgb
+
+# Rec. 709 / sRGB luminance weights, for SSIM on luminance.
+LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
+
+
+def _rgb(image) -> np.ndarray:
+    image = np.asarray(image, np.float64)
+    if image.ndim != 3 or image.shape[2] < 3:
+        raise ValueError(f"blurlab.metrics: expected an (H, W, 3 or 4) image, not {image.shape}")
+    return np.clip(image[..., :3], 0.0, 1.0)
+
+
+def _pair(a, b) -> tuple[np.ndarray, np.ndarray]:
+    a, b = _rgb(a), _rgb(b)
+    if a.shape != b.shape:
+        raise ValueError(f"blurlab.metrics: images differ in shape: {a.shape} and {b.shape}")
+    return a, b
+
+
+def mse(a, b) -> float:
+    """Mean squared error over pixels and RGB, colors clipped to [0, 1]."""
+    a, b = _pair(a, b)
+    return float(np.mean((a - b) ** 2))
+
+
+def psnr_from_mse(value: float) -> float:
+    """PSNR in dB for a peak of 1; identical images give +inf."""
+    return math.inf if value <= 0 else 10.0 * math.log10(1.0 / value)
+
+
+def psnr(a, b) -> float:
+    """PSNR in dB of linear color clipped to [0, 1] (SPEC.md §6)."""
+    return psnr_from_mse(mse(a, b))
+
+
+def _gaussian_blur(image: np.ndarray, sigma: float = 1.5, radius: int = 5) -> np.ndarray:
+    x = np.arange(-radius, radius + 1)
+    kernel = np.exp(-(x**2) / (2 * sigma**2))
+    kernel /= kernel.sum()
+    padded = np.pad(image, radius, mode="reflect")
+    rows = sum(w * padded[:, i : i + image.shape[1]] for i, w in enumerate(kernel))
+    return sum(w * rows[i : i + image.shape[0], :] for i, w in enumerate(kernel))
+
+
+def ssim(a, b) -> float:
+    """Mean SSIM (Wang et al. 2004) of the luminance, Gaussian window σ = 1.5, 11 taps,
+    C1 = (0.01)², C2 = (0.03)² for a data range of 1."""
+    a, b = _pair(a, b)
+    x, y = a @ LUMINANCE, b @ LUMINANCE
+    c1, c2 = 0.01**2, 0.03**2
+    mx, my = _gaussian_blur(x), _gaussian_blur(y)
+    sxx = _gaussian_blur(x * x) - mx * mx
+    syy = _gaussian_blur(y * y) - my * my
+    sxy = _gaussian_blur(x * y) - mx * my
+    s = ((2 * mx * my + c1) * (2 * sxy + c2)) / ((mx * mx + my * my + c1) * (sxx + syy + c2))
+    return float(np.mean(s))
+
+
+def flip(reference, test) -> float:
+    """Mean FLIP error (Andersson et al. 2020) of the sRGB-encoded images, 0 = identical."""
+    import flip_evaluator
+
+    ref, out = _pair(reference, test)
+    srgb = lambda c: np.ascontiguousarray(linear_to_srgb(c), dtype=np.float32)  # noqa: E731
+    _, mean, _ = flip_evaluator.evaluate(
+        srgb(ref), srgb(out), "LDR", inputsRGB=True, applyMagma=False
+    )
+    return float(mean)
+
+
+def error_map(a, b) -> np.ndarray:
+    """(H, W) per-pixel mean absolute RGB error, colors clipped to [0, 1]."""
+    a, b = _pair(a, b)
+    return np.mean(np.abs(a - b), axis=-1)
+
+
+def flicker(frames, still) -> float:
+    """Mean |out_n - out_{n-1}| over RGB on the pixels where `still` is true (SPEC.md §6)."""
+    frames = np.asarray(frames, np.float64)
+    if frames.ndim != 4 or len(frames) < 2:
+        raise ValueError("blurlab.metrics.flicker: needs a (N >= 2, H, W, C) sequence")
+    still = np.asarray(still, bool)
+    if still.shape != frames.shape[1:3] or not still.any():
+        raise ValueError("blurlab.metrics.flicker: `still` must be an (H, W) mask with pixels")
+    steps = np.abs(np.diff(frames[..., :3], axis=0)).mean(axis=-1)
+    return float(steps[:, still].mean())
+
+
+def gpu_mse(ctx, a, b) -> float:
+    """`mse` of two (H, W, 4) float32 textures, reduced on the GPU: only partial sums (one
+    float per 16 x 16 pixels) are read back."""
+    reduction = ctx._pass("squared_error", _core.ErrorReductionPass)
+    height, width = a.shape[:2]
+    return reduction.squared_error(a._core, b._core) / (height * width * 3)

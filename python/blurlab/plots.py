@@ -1,0 +1,166 @@
+"""Charts of speed against accuracy (matplotlib): Pareto fronts, parameter curves, image grids.
+
+Every function returns a matplotlib Figure; `save(fig, path)` writes PNG or SVG.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from .io import linear_to_srgb
+from .metrics import error_map
+
+HIGHER_IS_BETTER = {"psnr": True, "ssim": True, "flip": False}
+
+
+def _pyplot():
+    import matplotlib
+
+    matplotlib.use("Agg", force=False)  # headless: no display is needed
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def pareto_front(table: pd.DataFrame, metric: str = "psnr") -> pd.DataFrame:
+    """Rows no other row beats in both time (lower) and `metric` (better), sorted by time."""
+    better = HIGHER_IS_BETTER[metric]
+    rows = table.sort_values(["total_ms", metric], ascending=[True, not better])
+    front, best = [], -np.inf
+    for _, row in rows.iterrows():
+        value = row[metric] if better else -row[metric]
+        if value > best:
+            front.append(row)
+            best = value
+    return pd.DataFrame(front)
+
+
+def pareto(table: pd.DataFrame, scene: str, metric: str = "psnr", budget_ms: float | None = None):
+    """Time per frame against error for one scene, one color per method, front marked."""
+    plt = _pyplot()
+    rows = table[table["scene"] == scene]
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    for name, group in rows.groupby("method"):
+        ax.scatter(group["total_ms"], group[metric], label=name, s=28, alpha=0.85)
+    front = pareto_front(rows, metric)
+    ax.step(
+        front["total_ms"], front[metric], where="post", color="black", lw=1, label="Pareto front"
+    )
+    for _, row in front.iterrows():
+        ax.annotate(
+            _short(row),
+            (row["total_ms"], row[metric]),
+            fontsize=6,
+            alpha=0.7,
+            xytext=(3, 3),
+            textcoords="offset points",
+        )
+    if budget_ms:
+        ax.axvline(budget_ms, color="gray", ls="--", lw=1, label=f"budget {budget_ms} ms")
+    ax.set_xscale("log")
+    ax.set_xlabel(f"time per frame, ms ({rows['clock'].iloc[0]}, {rows['renderer'].iloc[0]})")
+    ax.set_ylabel(
+        metric.upper()
+        + (
+            " (dB, higher is better)"
+            if metric == "psnr"
+            else " (higher is better)"
+            if HIGHER_IS_BETTER[metric]
+            else " (lower is better)"
+        )
+    )
+    ax.set_title(
+        f"{scene}: speed against accuracy, {rows['width'].iloc[0]}x{rows['height'].iloc[0]}"
+    )
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7, loc="best")
+    fig.tight_layout()
+    return fig
+
+
+def _short(row) -> str:
+    params = {k[6:]: v for k, v in row.items() if k.startswith("param_") and pd.notna(v)}
+    text = ", ".join(
+        f"{k}={int(v) if float(v).is_integer() else v}"
+        for k, v in params.items()
+        if isinstance(v, (int, float))
+    )
+    return f"{row['method'].replace('reconstruct_', '')} {text}".strip()
+
+
+def parameter_curves(
+    table: pd.DataFrame, method: str, param: str, fixed: dict | None = None, metric: str = "psnr"
+):
+    """Time and error against one parameter (the thesis's Tables 5.2 and 5.3, with accuracy),
+    one line per scene."""
+    plt = _pyplot()
+    rows = table[table["method"] == method]
+    for key, value in (fixed or {}).items():
+        rows = rows[rows[f"param_{key}"] == value]
+    fig, (left, right) = plt.subplots(1, 2, figsize=(9, 3.5))
+    for scene, group in rows.groupby("scene"):
+        group = group.sort_values(f"param_{param}")
+        left.plot(group[f"param_{param}"], group["total_ms"], marker="o", label=scene)
+        right.plot(group[f"param_{param}"], group[metric], marker="o", label=scene)
+    fixed_text = ", ".join(f"{k} = {v}" for k, v in (fixed or {}).items())
+    left.set(xlabel=param, ylabel="ms per frame", title=f"{method}: time ({fixed_text})")
+    right.set(xlabel=param, ylabel=metric.upper(), title=f"{method}: {metric} ({fixed_text})")
+    for ax in (left, right):
+        ax.grid(True, alpha=0.3)
+    right.legend(fontsize=7)
+    fig.tight_layout()
+    return fig
+
+
+def image_grid(
+    reference: np.ndarray,
+    images: dict[str, np.ndarray],
+    errors: bool = True,
+    error_scale: float = 0.25,
+):
+    """The reference, each method's image and (below) its error map, |error| scaled so that
+    `error_scale` is white."""
+    plt = _pyplot()
+    columns = 1 + len(images)
+    rows = 2 if errors else 1
+    fig, axes = plt.subplots(
+        rows, columns, figsize=(2.6 * columns, 1.7 * rows * 1.1), squeeze=False
+    )
+    show = lambda a: np.clip(linear_to_srgb(a[..., :3]), 0, 1)  # noqa: E731
+    axes[0, 0].imshow(show(reference))
+    axes[0, 0].set_title("reference", fontsize=7)
+    for i, (name, image) in enumerate(images.items(), start=1):
+        axes[0, i].imshow(show(image))
+        axes[0, i].set_title(name, fontsize=7)
+        if errors:
+            axes[1, i].imshow(
+                np.clip(error_map(reference, image) / error_scale, 0, 1), cmap="magma"
+            )
+    for ax in axes.ravel():
+        ax.axis("off")
+    if errors:
+        axes[1, 0].text(
+            0.5,
+            0.5,
+            f"|error|\n(white = {error_scale})",
+            ha="center",
+            va="center",
+            fontsize=7,
+            transform=axes[1, 0].transAxes,
+        )
+    fig.tight_layout()
+    return fig
+
+
+def save(fig, path: str | Path) -> Path:
+    """Writes PNG or SVG (by extension) and closes the figure."""
+    path = Path(path)
+    if path.suffix.lower() not in (".png", ".svg"):
+        raise ValueError(f"blurlab.plots.save: write .png or .svg, not {path.name}")
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=130)
+    _pyplot().close(fig)
+    return path

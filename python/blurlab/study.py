@@ -1,0 +1,196 @@
+"""`blurlab study`: every built-in scene, every single-frame method at its default grid; writes
+results.csv, charts, image grids and report.html into one folder."""
+
+from __future__ import annotations
+
+import datetime
+import html
+import os
+import tempfile
+from pathlib import Path
+
+import pandas as pd
+
+from . import io, plots, scenes
+from .context import Context
+from .methods import blur, method_instant
+from .sweep import DEFAULT_GRIDS, sweep
+
+BUDGETS_MS = (0.1, 1.0, 10.0, 100.0)
+
+
+def run_study(
+    ctx: Context,
+    scene_names=None,
+    size=(640, 360),
+    out="out/study",
+    reference_samples: int | None = None,
+    metrics=("psnr", "ssim", "flip"),
+    grids=None,
+    progress: bool = True,
+) -> Path:
+    """Runs the study and returns the path of report.html."""
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    names = list(scene_names or scenes.names())
+    grids = grids or DEFAULT_GRIDS
+    table = sweep(
+        ctx,
+        names,
+        grids,
+        size,
+        reference_samples=reference_samples,
+        metrics=metrics,
+        out=out / "results.csv",
+        progress=progress,
+    )
+    info = ctx.info()
+    sections = []
+    for name in names:
+        sections.append(_scene_section(ctx, name, table, size, out, grids))
+    curves = []
+    mcguire = table[table["method"] == "reconstruct_mcguire2012"]
+    if len(mcguire) and mcguire["param_k"].nunique() > 1 and mcguire["param_samples"].nunique() > 1:
+        k = 20 if 20 in set(mcguire["param_k"]) else int(mcguire["param_k"].iloc[0])
+        s = 15 if 15 in set(mcguire["param_samples"]) else int(mcguire["param_samples"].iloc[0])
+        plots.save(
+            plots.parameter_curves(table, "reconstruct_mcguire2012", "samples", {"k": k}),
+            out / "curve_samples.png",
+        )
+        plots.save(
+            plots.parameter_curves(table, "reconstruct_mcguire2012", "k", {"samples": s}),
+            out / "curve_k.png",
+        )
+        curves = [
+            ("S sweep (the thesis's Table 5.2, with accuracy)", "curve_samples.png"),
+            ("k sweep (the thesis's Table 5.3, with accuracy)", "curve_k.png"),
+        ]
+    report = _html(info, size, table, sections, curves)
+    return _write_atomically(out / "report.html", report)
+
+
+def _scene_section(ctx, name, table, size, out: Path, grids) -> dict:
+    rows = table[table["scene"] == name]
+    plots.save(plots.pareto(rows, name), out / f"{name}_pareto.png")
+    # Images: each method at the middle of its grid, against the reference.
+    scene = scenes.get(name)
+    reference = ctx.reference(
+        scene, size, samples=int(rows["reference_samples"].iloc[0]), progress=False
+    )
+    images = {}
+    for method_name, grid in grids.items():
+        point = {k: v[len(v) // 2] for k, v in grid.items()}
+        frame = ctx.render(scene, size, instant=method_instant(method_name, point))
+        images[method_name] = blur(ctx, frame, method_name, **point).color
+    plots.save(plots.image_grid(reference.color, images), out / f"{name}_images.png")
+    io.write(out / f"{name}_reference.png", reference.color)
+    best = []
+    for budget in BUDGETS_MS:
+        within = rows[rows["total_ms"] <= budget]
+        if len(within):
+            top = within.sort_values("psnr", ascending=False).iloc[0]
+            best.append((budget, top["method"], top["params"], top["total_ms"], top["psnr"]))
+        else:
+            best.append((budget, "—", "", float("nan"), float("nan")))
+    return {
+        "name": name,
+        "rows": rows,
+        "best": best,
+        "reference_samples": int(rows["reference_samples"].iloc[0]),
+    }
+
+
+def _html(info, size, table, sections, curves) -> str:
+    e = html.escape
+    when = datetime.datetime.now().strftime("%Y-%m-%d %H:%M")
+    parts = [
+        "<!doctype html><meta charset='utf-8'><title>blurlab study</title>",
+        "<style>body{font:14px sans-serif;max-width:1100px;margin:2em auto;padding:0 1em}"
+        "table{border-collapse:collapse;font-size:12px}td,th{border:1px solid #ccc;padding:2px 6px;"
+        "text-align:right}th{background:#eee}img{max-width:100%}</style>",
+        "<h1>blurlab study: speed against accuracy</h1>",
+        f"<p>{e(when)} · device <b>{e(info['renderer'])}</b> ({e(info['version'])}) · "
+        f"{size[0]}×{size[1]} · times by <code>{e(info['timer'])}</code> · "
+        f"{len(table)} evaluations · data: <a href='results.csv'>results.csv</a></p>",
+        "<p>Each method runs on the G-buffer rendered at the instant it expects; its error is "
+        "measured against the converged reference of the same shutter (the mean of N renders). "
+        "PSNR of linear color clipped to [0, 1] (higher is better), SSIM of luminance (higher "
+        "is better), FLIP (lower is better). Time is the sum of the method's passes; methods "
+        "that render (accumulation, stochastic) include their renders.</p>",
+    ]
+    for s in sections:
+        parts.append(
+            f"<h2>{e(s['name'])}</h2><p>reference: N = {s['reference_samples']} sub-frames</p>"
+        )
+        parts.append(
+            "<table><tr><th>budget</th><th>best method within it</th><th>parameters"
+            "</th><th>ms</th><th>PSNR</th></tr>"
+        )
+        for budget, name, params, ms, value in s["best"]:
+            parts.append(
+                f"<tr><td>{budget} ms</td><td>{e(name)}</td><td>{e(params)}</td>"
+                f"<td>{ms:.3f}</td><td>{value:.2f}</td></tr>"
+            )
+        parts.append("</table>")
+        parts.append(f"<p><img src='{e(s['name'])}_pareto.png'></p>")
+        parts.append(f"<p><img src='{e(s['name'])}_images.png'></p>")
+        columns = ["method", "params", "total_ms", "psnr"] + [
+            c for c in ("ssim", "flip") if c in s["rows"]
+        ]
+        shown = s["rows"][columns].sort_values("total_ms")
+        parts.append(shown.to_html(index=False, float_format=lambda v: f"{v:.4g}", border=0))
+    for title, image in curves:
+        parts.append(f"<h2>{e(title)}</h2><p><img src='{e(image)}'></p>")
+    parts.append(
+        "<p>Made by <code>blurlab study</code>; see docs/ for the methods and what each "
+        "number means.</p>"
+    )
+    return "\n".join(parts)
+
+
+def _write_atomically(path: Path, text: str) -> Path:
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=".report.", suffix=".html")
+    with os.fdopen(fd, "w") as f:
+        f.write(text)
+    os.replace(tmp, path)
+    return path
+
+
+def load_config(path: str | Path) -> dict:
+    """A sweep configuration (TOML): scenes, methods = {name = {param = [values]}}, size, shutter,
+    reference_samples, metrics, out."""
+    import tomllib
+
+    path = Path(path)
+    if not path.is_file():
+        raise FileNotFoundError(f"blurlab sweep: no such configuration file: {path}")
+    try:
+        config = tomllib.loads(path.read_text())
+    except tomllib.TOMLDecodeError as error:
+        raise ValueError(f"blurlab sweep: {path} is not valid TOML: {error}") from None
+    allowed = {"scenes", "methods", "size", "shutter", "reference_samples", "metrics", "out"}
+    unknown = set(config) - allowed
+    if unknown:
+        raise ValueError(
+            f"blurlab sweep: unknown keys {sorted(unknown)}; allowed: {sorted(allowed)}"
+        )
+    return config
+
+
+def run_sweep_config(ctx: Context, path: str | Path, progress: bool = True) -> pd.DataFrame:
+    config = load_config(path)
+    out = config.get("out", str(Path(path).with_suffix(".csv")))
+    return sweep(
+        ctx,
+        config.get("scenes", scenes.names()),
+        config.get("methods"),
+        tuple(config.get("size", (640, 360))),
+        config.get("shutter"),
+        config.get("reference_samples"),
+        tuple(config.get("metrics", ("psnr",))),
+        out=out,
+        progress=progress,
+    )
+
+
+__all__ = ["load_config", "run_study", "run_sweep_config"]

@@ -1,0 +1,142 @@
+"""Sweeps: the table's columns and rows, resuming without duplicates, keeping rows when
+interrupted, TOML configurations, and the study's report."""
+
+from __future__ import annotations
+
+import pandas as pd
+import pytest
+
+import blurlab as bl
+from blurlab import cli
+from blurlab import sweep as sw
+
+GRID = {"reconstruct_mcguire2012": {"k": [8, 16], "samples": [5, 9]}, "gather_box": {"taps": [4]}}
+SIZE = (64, 36)
+
+
+def test_table_has_one_row_per_evaluation_and_every_column(ctx, tmp_path):
+    table = sw.sweep(
+        ctx,
+        ["fan", "teapot_pass"],
+        GRID,
+        SIZE,
+        reference_samples=16,
+        out=tmp_path / "r.csv",
+        progress=False,
+    )
+    assert len(table) == 2 * (4 + 1)
+    for column in (
+        "scene",
+        "method",
+        "backend",
+        "param_k",
+        "param_samples",
+        "param_taps",
+        "ms_tile_max",
+        "ms_neighbor_max",
+        "ms_reconstruct",
+        "ms_gather_box",
+        "total_ms",
+        "clock",
+        "psnr",
+        "ssim",
+        "flip",
+        "device",
+        "width",
+        "height",
+        "reference_samples",
+    ):
+        assert column in table.columns, column
+    assert (table["reference_samples"] == 16).all()
+    assert table["psnr"].between(10, 80).all() and table["flip"].between(0, 1).all()
+    assert len(pd.read_csv(tmp_path / "r.csv")) == len(table)
+
+
+def test_resume_adds_no_duplicates(ctx, tmp_path):
+    out = tmp_path / "r.csv"
+    sw.sweep(
+        ctx,
+        ["fan"],
+        {"gather_box": {"taps": [4, 8]}},
+        SIZE,
+        reference_samples=8,
+        metrics=("psnr",),
+        out=out,
+        progress=False,
+    )
+    table = sw.sweep(
+        ctx, ["fan"], GRID, SIZE, reference_samples=8, metrics=("psnr",), out=out, progress=False
+    )
+    saved = pd.read_csv(out)
+    assert len(saved) == 6 and not saved.duplicated(["scene", "method", "params"]).any()
+    assert len(table) == 5  # what this sweep asked for, the earlier rows included
+
+
+def test_interrupted_sweep_keeps_finished_rows(ctx, tmp_path, monkeypatch):
+    out = tmp_path / "r.csv"
+    calls = {"n": 0}
+    real = sw.blur
+
+    def interrupt_after_three(*args, **kwargs):
+        calls["n"] += 1
+        if calls["n"] > 4:  # one warm-up call, then three evaluations
+            raise KeyboardInterrupt
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(sw, "blur", interrupt_after_three)
+    with pytest.raises(KeyboardInterrupt):
+        sw.sweep(
+            ctx,
+            ["fan"],
+            GRID,
+            SIZE,
+            reference_samples=8,
+            metrics=("psnr",),
+            out=out,
+            progress=False,
+        )
+    assert len(pd.read_csv(out)) == 3
+    monkeypatch.undo()
+    table = sw.sweep(
+        ctx, ["fan"], GRID, SIZE, reference_samples=8, metrics=("psnr",), out=out, progress=False
+    )
+    assert len(table) == 5 and len(pd.read_csv(out)) == 5
+
+
+def test_bad_sweeps_are_rejected(ctx, tmp_path):
+    with pytest.raises(ValueError, match="no parameter 'kk'"):
+        sw.sweep(ctx, ["fan"], {"reconstruct_mcguire2012": {"kk": [1]}}, SIZE, progress=False)
+    with pytest.raises(ValueError, match="trail needs a frame sequence"):
+        sw.sweep(ctx, ["fan"], ["trail"], SIZE, progress=False)
+    with pytest.raises(ValueError, match=".csv"):
+        sw.sweep(ctx, ["fan"], ["gather_box"], SIZE, out=tmp_path / "r.parquet", progress=False)
+    with pytest.raises(ValueError, match="unknown metrics"):
+        sw.sweep(ctx, ["fan"], ["gather_box"], SIZE, metrics=("mse",), progress=False)
+
+
+def test_sweep_from_a_toml_file(tmp_path, capsys):
+    config = tmp_path / "sweep.toml"
+    config.write_text(
+        'scenes = ["fan"]\nsize = [48, 32]\nreference_samples = 8\n'
+        f'out = "{(tmp_path / "out.csv").as_posix()}"\n'
+        "[methods.gather_box]\ntaps = [3, 6]\n"
+    )
+    assert cli.main(["sweep", str(config)]) == 0
+    assert len(pd.read_csv(tmp_path / "out.csv")) == 2
+    bad = tmp_path / "bad.toml"
+    bad.write_text("scenes = ['fan']\nsamples = 3\n")
+    with pytest.raises(ValueError, match="unknown keys"):
+        cli.main(["sweep", str(bad)])
+
+
+def test_study_writes_the_report(tmp_path):
+    assert cli.main(["study", "--size", "160x90", "--out", str(tmp_path)]) == 0
+    report = (tmp_path / "report.html").read_text()
+    for name in bl.scenes.names():
+        assert f"{name}_pareto.png" in report
+        assert (tmp_path / f"{name}_pareto.png").stat().st_size > 1000
+        assert (tmp_path / f"{name}_images.png").exists()
+    table = pd.read_csv(tmp_path / "results.csv")
+    assert set(table["scene"]) == set(bl.scenes.names())
+    assert set(table["method"]) == set(sw.DEFAULT_GRIDS)
+    assert "best method within it" in report and (tmp_path / "curve_k.png").exists()
