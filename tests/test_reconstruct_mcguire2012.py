@@ -115,3 +115,11 @@ def test_unknown_method_and_backend(ctx, rng):
     with pytest.raises(ValueError, match="backends"):
         bl.blur(ctx, frame, "reconstruct_mcguire2012", backend="cuda")
     assert "reconstruct_mcguire2012" in bl.methods()
+
+
+def test_untimed_blur_gives_the_same_bits(ctx, rng):
+    frame = random_frame(rng, 48, 32)
+    timed = bl.blur(ctx, frame, "reconstruct_mcguire2012")
+    untimed = bl.blur(ctx, frame, "reconstruct_mcguire2012", timed=False)
+    assert untimed.color.tobytes() == timed.color.tobytes()
+    assert {t.clock for t in untimed.timings.values()} == {"untimed"}

@@ -3,12 +3,15 @@ interrupted, TOML configurations, and the study's report."""
 
 from __future__ import annotations
 
+import importlib
+
 import pandas as pd
 import pytest
 
 import blurlab as bl
 from blurlab import cli
-from blurlab import sweep as sw
+
+sw = importlib.import_module("blurlab.sweep")  # the module; bl.sweep is the function
 
 GRID = {"reconstruct_mcguire2012": {"k": [8, 16], "samples": [5, 9]}, "gather_box": {"taps": [4]}}
 SIZE = (64, 36)

@@ -1,6 +1,6 @@
 """blurlab: real-time motion-blur methods run headless on the GPU, measured from Python."""
 
-from . import io, mesh, reference, scenes
+from . import io, mesh, metrics, plots, reference, scenes
 from ._core import GLError, ShaderError
 from .accumulation import Reference, reference_samples_needed
 from .context import ComputeProgram, Context, PendingDownload, Texture, Timing
@@ -10,6 +10,7 @@ from .methods import BlurResult, blur, methods, render_and_blur
 from .methods import method_instant as methods_instant
 from .motion import Bone, Keyframe, Motion, Skeleton, quaternion
 from .scene import Camera, DirectionalLight, Material, Scene
+from .sweep import sweep  # the function; the module stays importable as blurlab.sweep
 
 __version__ = "0.1.0"
 
@@ -43,5 +44,8 @@ __all__ = [
     "reference",
     "reference_samples_needed",
     "render_and_blur",
+    "metrics",
+    "plots",
     "scenes",
+    "sweep",
 ]

@@ -5,6 +5,7 @@ defaults, and its backends; its passes are C++ classes with a NumPy twin in bl.r
 
 from __future__ import annotations
 
+import contextvars
 import math
 import warnings
 import weakref
@@ -99,9 +100,12 @@ def method(name: str) -> Method:
     return _REGISTRY[name]
 
 
-def blur(ctx: Context, frame: Frame, name: str, backend: str | None = None, **params) -> BlurResult:
+def blur(
+    ctx: Context, frame: Frame, name: str, backend: str | None = None, timed: bool = True, **params
+) -> BlurResult:
     """Runs method `name` on `frame` (rendered, or built from your arrays) with `params`
-    (unknown names are an error); returns a BlurResult."""
+    (unknown names are an error); returns a BlurResult. `timed=False` skips the per-pass
+    timers (their waits for the GPU), for sweeps that only want the error."""
     if not isinstance(ctx, Context):
         raise TypeError(f"blurlab: blur needs a blurlab Context, not {type(ctx).__name__}")
     if not isinstance(frame, Frame):
@@ -112,7 +116,11 @@ def blur(ctx: Context, frame: Frame, name: str, backend: str | None = None, **pa
         raise ValueError(f"blurlab: {name} runs on backends {m.backends}, not {backend!r}")
     values = resolve_params(m, frame, params)
     _check_instant(m, frame, values)
-    outputs, timings = m.run(ctx, frame, frame_textures(ctx, frame), values, backend)
+    token = _TIMED.set(timed)
+    try:
+        outputs, timings = m.run(ctx, frame, frame_textures(ctx, frame), values, backend)
+    finally:
+        _TIMED.reset(token)
     result = BlurResult(name, values, backend, timings, outputs)
     weakref.finalize(result, ctx._recycle, *outputs.values())
     return result
@@ -218,7 +226,16 @@ def depth_range_soft_z(frame: Frame) -> float:
     return 0.01 * (span if span > 0 else max(float(abs(finite.max())), 1.0))
 
 
+_TIMED: contextvars.ContextVar[bool] = contextvars.ContextVar("blurlab_timed", default=True)
+
+
 def timed(ctx: Context, timings: dict, name: str, fn: Callable) -> None:
+    """Runs one pass, timed by the context's clock unless blur(timed=False) asked otherwise
+    (the Timing then says clock "untimed" and NaN ms)."""
+    if not _TIMED.get():
+        fn()
+        timings[name] = Timing(math.nan, "untimed")
+        return
     with ctx.timer() as timing:
         fn()
     timings[name] = timing
