@@ -12,9 +12,10 @@ from blurlab import cli
 
 
 def test_info_prints_json(capsys):
-    assert cli.main(["--device", "software", "info"]) == 0
+    assert cli.main(["info"]) == 0
     report = json.loads(capsys.readouterr().out)
-    assert report["context"]["device"] == "software"
+    assert report["context"]["device"] in ("gpu", "software")
+    assert report["devices"] == bl.Context.devices()
 
 
 def test_demo_renders_blurs_and_writes(tmp_path, capsys):
