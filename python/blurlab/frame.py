@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -54,6 +55,13 @@ class Frame:
             )
         if self.motion_format not in MOTION_FORMATS:
             raise ValueError(f"blurlab: motion_format must be one of {MOTION_FORMATS}")
+
+    @functools.cached_property
+    def depth_range(self) -> tuple[float, float] | None:
+        """(nearest, farthest) finite depth, or None if nothing was drawn. Computed once: at
+        1080p it costs milliseconds, and default parameters ask for it on every blur."""
+        finite = self.depth[np.isfinite(self.depth)]
+        return (float(finite.min()), float(finite.max())) if finite.size else None
 
     @property
     def size(self) -> tuple[int, int]:

@@ -219,11 +219,11 @@ def frame_textures(ctx: Context, frame: Frame) -> dict[str, Texture]:
 
 def depth_range_soft_z(frame: Frame) -> float:
     """SPEC.md §3 default soft_z: 1 % of the frame's finite depth range."""
-    finite = frame.depth[np.isfinite(frame.depth)]
-    if finite.size == 0:
+    if frame.depth_range is None:
         return 0.01
-    span = float(finite.max() - finite.min())
-    return 0.01 * (span if span > 0 else max(float(abs(finite.max())), 1.0))
+    near, far = frame.depth_range
+    span = far - near
+    return 0.01 * (span if span > 0 else max(abs(far), 1.0))
 
 
 _TIMED: contextvars.ContextVar[bool] = contextvars.ContextVar("blurlab_timed", default=True)
@@ -322,8 +322,9 @@ def default_far(frame: Frame) -> float:
     else twice the largest finite depth."""
     if frame.camera is not None and "far" in frame.camera:
         return float(frame.camera["far"])
-    finite = frame.depth[np.isfinite(frame.depth)]
-    return 2.0 * float(finite.max()) if finite.size and finite.max() > 0 else 1.0
+    if frame.depth_range is None or frame.depth_range[1] <= 0:
+        return 1.0
+    return 2.0 * frame.depth_range[1]
 
 
 def _run_urho3d(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):

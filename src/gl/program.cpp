@@ -174,6 +174,8 @@ std::shared_ptr<Program> Program::compute(std::shared_ptr<Context> context, cons
   GLint size[3] = {0, 0, 0};
   glGetProgramiv(program->id_, GL_COMPUTE_WORK_GROUP_SIZE, size);
   program->local_size_ = {size[0], size[1], size[2]};
+  for (int i = 0; i < 3; ++i)
+    glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, i, &program->max_groups_[i]);
   check_gl("creating a compute program");
   return program;
 }
@@ -323,14 +325,12 @@ void Program::dispatch(int groups_x, int groups_y, int groups_z) {
   if (local_size_[0] == 0)
     throw std::invalid_argument("blurlab: " + name_ + " is not a compute program");
   context_->make_current();
-  GLint limits[3];
-  for (int i = 0; i < 3; ++i) glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, i, &limits[i]);
   const int groups[3] = {groups_x, groups_y, groups_z};
   for (int i = 0; i < 3; ++i)
-    if (groups[i] < 1 || groups[i] > limits[i])
+    if (groups[i] < 1 || groups[i] > max_groups_[i])
       throw std::invalid_argument("blurlab: work-group count " + std::to_string(groups[i]) +
                                   " along axis " + std::to_string(i) + " is outside 1.." +
-                                  std::to_string(limits[i]));
+                                  std::to_string(max_groups_[i]));
   glUseProgram(id_);
   glDispatchCompute(groups_x, groups_y, groups_z);
   // Later passes, downloads and draws read what this pass wrote.

@@ -68,6 +68,7 @@ class Program {
   std::string name_;
   GLuint id_ = 0;
   std::array<int, 3> local_size_{0, 0, 0};
+  std::array<int, 3> max_groups_{0, 0, 0};  // GL_MAX_COMPUTE_WORK_GROUP_COUNT, read once
   std::map<std::string, GLenum> uniforms_;
 };
 
