@@ -97,11 +97,20 @@ def test_interrupted_sweep_keeps_finished_rows(ctx, tmp_path, monkeypatch):
             metrics=("psnr",),
             out=out,
             progress=False,
+            repeats=1,
         )
     assert len(pd.read_csv(out)) == 3
     monkeypatch.undo()
     table = sw.sweep(
-        ctx, ["fan"], GRID, SIZE, reference_samples=8, metrics=("psnr",), out=out, progress=False
+        ctx,
+        ["fan"],
+        GRID,
+        SIZE,
+        reference_samples=8,
+        metrics=("psnr",),
+        out=out,
+        progress=False,
+        repeats=1,
     )
     assert len(table) == 5 and len(pd.read_csv(out)) == 5
 
@@ -113,6 +122,8 @@ def test_bad_sweeps_are_rejected(ctx, tmp_path):
         sw.sweep(ctx, ["fan"], ["trail"], SIZE, progress=False)
     with pytest.raises(ValueError, match=".csv"):
         sw.sweep(ctx, ["fan"], ["gather_box"], SIZE, out=tmp_path / "r.parquet", progress=False)
+    with pytest.raises(ValueError, match="repeats"):
+        sw.sweep(ctx, ["fan"], ["gather_box"], SIZE, repeats=0, progress=False)
     with pytest.raises(ValueError, match="unknown metrics"):
         sw.sweep(ctx, ["fan"], ["gather_box"], SIZE, metrics=("mse",), progress=False)
 

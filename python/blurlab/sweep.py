@@ -13,6 +13,7 @@ import csv
 import itertools
 import json
 import math
+import statistics
 from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 
@@ -66,16 +67,21 @@ def sweep(
     out: str | Path | None = None,
     progress: bool = True,
     backends: Mapping[str, str] | None = None,
+    repeats: int = 3,
 ) -> pd.DataFrame:
     """Evaluates every method at every point of its grid on every scene.
 
     `methods_and_grids`: a list of method names (default grids), a {name: grid} mapping, or
     None for every single-frame method with its default grid. `reference_samples`: N of each
     scene's reference; None picks max(64, 2 × the longest motion in pixels). `out`: a CSV file
-    that rows are appended to as they finish; rows already in it are skipped.
+    that rows are appended to as they finish; rows already in it are skipped. Each pass time
+    is the median of `repeats` back-to-back runs (a GPU left idle while the CPU computes
+    SSIM and FLIP clocks down, and a single run after that is slow).
     """
     if not isinstance(ctx, Context):
         raise TypeError("blurlab.sweep needs a blurlab Context")
+    if isinstance(repeats, bool) or not isinstance(repeats, int) or repeats < 1:
+        raise ValueError(f"blurlab.sweep: repeats must be an integer >= 1, not {repeats!r}")
     unknown = set(metrics) - set(METRICS)
     if unknown:
         raise ValueError(f"blurlab.sweep: unknown metrics {sorted(unknown)}; choose from {METRICS}")
@@ -125,15 +131,22 @@ def sweep(
         if (name, backend) not in warmed:  # compile (and, on llvmpipe, JIT) before timing
             blur(ctx, frame, name, backend, **point)
             warmed.add((name, backend))
-        result = blur(ctx, frame, name, backend, **point)
+        runs = []
+        for _ in range(repeats):
+            result = blur(ctx, frame, name, backend, **point)
+            runs.append({p: t.ms for p, t in result.timings.items()})
+            if len(runs) < repeats:
+                del result  # back to the pool before the next run
+        passes = {p: statistics.median(r[p] for r in runs) for p in runs[0]}
         row = {
             "scene": scene.name,
             "method": name,
             "backend": result.backend,
             "params": json.dumps(point, sort_keys=True),
             **{f"param_{k}": v for k, v in point.items()},
-            **{f"ms_{p}": t.ms for p, t in result.timings.items()},
-            "total_ms": result.total_ms,
+            **{f"ms_{p}": ms for p, ms in passes.items()},
+            "total_ms": statistics.median(sum(r.values()) for r in runs),
+            "repeats": repeats,
             "clock": result.clock,
             "psnr": m.psnr_from_mse(m.gpu_mse(ctx, result.textures["color"], reference.texture)),
         }
