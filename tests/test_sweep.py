@@ -82,7 +82,8 @@ def test_interrupted_sweep_keeps_finished_rows(ctx, tmp_path, monkeypatch):
 
     def interrupt_after_three(*args, **kwargs):
         calls["n"] += 1
-        if calls["n"] > 4:  # one warm-up call, then three evaluations
+        # Per scene: the timing runs (2 warm-ups + 5 timed), then one run per row.
+        if calls["n"] > 9:
             raise KeyboardInterrupt
         return real(*args, **kwargs)
 
@@ -99,7 +100,7 @@ def test_interrupted_sweep_keeps_finished_rows(ctx, tmp_path, monkeypatch):
             progress=False,
             repeats=1,
         )
-    assert len(pd.read_csv(out)) == 3
+    assert len(pd.read_csv(out)) == 2
     monkeypatch.undo()
     table = sw.sweep(
         ctx,

@@ -75,8 +75,8 @@ def sweep(
     None for every single-frame method with its default grid. `reference_samples`: N of each
     scene's reference; None picks max(64, 2 × the longest motion in pixels). `out`: a CSV file
     that rows are appended to as they finish; rows already in it are skipped. Each pass time
-    is the median of `repeats` back-to-back runs (a GPU left idle while the CPU computes
-    SSIM and FLIP clocks down, and a single run after that is slow).
+    is the median of `repeats` runs, all configurations of a scene timed back to back before
+    any error is computed (a GPU left idle while the CPU computes SSIM and FLIP clocks down).
     """
     if not isinstance(ctx, Context):
         raise TypeError("blurlab.sweep needs a blurlab Context")
@@ -118,6 +118,7 @@ def sweep(
         bar = tqdm(total=len(jobs), desc="sweep", unit="evaluation")
     cache: dict = {}
     warmed: set = set()
+    pending = []
     for scene, name, point in jobs:
         backend = (backends or {}).get(name)
         key = _key(scene.name, name, backend or method(name).backends[0], point, size)
@@ -125,53 +126,70 @@ def sweep(
             if bar:
                 bar.update()
             continue
-        frame, reference = _scene_inputs(
-            ctx, scene, name, point, size, shutter, reference_samples, cache
-        )
-        if (name, backend) not in warmed:  # compile (and, on llvmpipe, JIT) before timing
-            blur(ctx, frame, name, backend, **point)
-            warmed.add((name, backend))
-        runs = []
-        for _ in range(repeats):
-            result = blur(ctx, frame, name, backend, **point)
-            runs.append({p: t.ms for p, t in result.timings.items()})
-            if len(runs) < repeats:
+        pending.append((scene, name, point, backend, key))
+    for scene in scene_list:
+        here = [job for job in pending if job[0] is scene]
+        # Timing first, every configuration back to back: the GPU stays busy, so its clocks
+        # stay up. Computing SSIM and FLIP between runs left it idle long enough to clock
+        # down, and single runs after that were several times slower on the H100.
+        timings = {}
+        for _, name, point, backend, key in here:
+            frame, reference = _scene_inputs(
+                ctx, scene, name, point, size, shutter, reference_samples, cache
+            )
+            if (name, backend) not in warmed:  # compile (and, on llvmpipe, JIT) before timing
+                blur(ctx, frame, name, backend, **point)
+                warmed.add((name, backend))
+            runs = []
+            for _ in range(repeats):
+                result = blur(ctx, frame, name, backend, **point)
+                runs.append({p: t.ms for p, t in result.timings.items()})
+                clock = result.clock
                 del result  # back to the pool before the next run
-        passes = {p: statistics.median(r[p] for r in runs) for p in runs[0]}
-        row = {
-            "scene": scene.name,
-            "method": name,
-            "backend": result.backend,
-            "params": json.dumps(point, sort_keys=True),
-            **{f"param_{k}": v for k, v in point.items()},
-            **{f"ms_{p}": ms for p, ms in passes.items()},
-            "total_ms": statistics.median(sum(r.values()) for r in runs),
-            "repeats": repeats,
-            "clock": result.clock,
-            "psnr": m.psnr_from_mse(m.gpu_mse(ctx, result.textures["color"], reference.texture)),
-        }
-        if "ssim" in metrics or "flip" in metrics:
-            color, ref = result.color, reference.color
-            if "ssim" in metrics:
-                row["ssim"] = m.ssim(ref, color)
-            if "flip" in metrics:
-                row["flip"] = m.flip(ref, color)
-        row.update(
-            {
-                "device": info["device"],
-                "renderer": info["renderer"],
-                "width": width,
-                "height": height,
-                "reference_samples": reference.samples,
-                "shutter": json.dumps(list(frame.shutter)),
+            timings[key] = (runs, clock)
+        # Then the error of each configuration, one untimed run each.
+        for _, name, point, backend, key in here:
+            frame, reference = _scene_inputs(
+                ctx, scene, name, point, size, shutter, reference_samples, cache
+            )
+            runs, clock = timings[key]
+            result = blur(ctx, frame, name, backend, timed=False, **point)
+            row = {
+                "scene": scene.name,
+                "method": name,
+                "backend": result.backend,
+                "params": json.dumps(point, sort_keys=True),
+                **{f"param_{k}": v for k, v in point.items()},
+                **{f"ms_{p}": statistics.median(r[p] for r in runs) for p in runs[0]},
+                "total_ms": statistics.median(sum(r.values()) for r in runs),
+                "repeats": repeats,
+                "clock": clock,
+                "psnr": m.psnr_from_mse(
+                    m.gpu_mse(ctx, result.textures["color"], reference.texture)
+                ),
             }
-        )
-        del result  # its textures go back to the pool before the next evaluation
-        if path is not None:
-            _append(path, row)
-        done[key] = row
-        if bar:
-            bar.update()
+            if "ssim" in metrics or "flip" in metrics:
+                color, ref = result.color, reference.color
+                if "ssim" in metrics:
+                    row["ssim"] = m.ssim(ref, color)
+                if "flip" in metrics:
+                    row["flip"] = m.flip(ref, color)
+            row.update(
+                {
+                    "device": info["device"],
+                    "renderer": info["renderer"],
+                    "width": width,
+                    "height": height,
+                    "reference_samples": reference.samples,
+                    "shutter": json.dumps(list(frame.shutter)),
+                }
+            )
+            del result  # its textures go back to the pool before the next evaluation
+            if path is not None:
+                _append(path, row)
+            done[key] = row
+            if bar:
+                bar.update()
     if bar:
         bar.close()
     rows = list(done.values())
