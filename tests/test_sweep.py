@@ -155,3 +155,24 @@ def test_study_writes_the_report(tmp_path):
     assert set(table["scene"]) == set(bl.scenes.names())
     assert set(table["method"]) == set(sw.DEFAULT_GRIDS)
     assert "best method within it" in report and (tmp_path / "curve_k.png").exists()
+
+
+def test_pareto_front_and_chart(ctx):
+    import pandas as pd
+
+    table = pd.DataFrame(
+        {
+            "scene": "s",
+            "method": ["a", "b", "c", "d"],
+            "total_ms": [1.0, 2.0, 3.0, 4.0],
+            "psnr": [20.0, 30.0, 25.0, 40.0],
+            "clock": "c",
+            "renderer": "r",
+            "width": 8,
+            "height": 8,
+        }
+    )
+    front = bl.plots.pareto_front(table)
+    assert list(front["method"]) == ["a", "b", "d"]  # c is slower and worse than b
+    with pytest.raises(ValueError, match="no rows for scene 'x'"):
+        bl.plots.pareto(table, "x")

@@ -40,8 +40,13 @@ def pareto_front(table: pd.DataFrame, metric: str = "psnr") -> pd.DataFrame:
 
 def pareto(table: pd.DataFrame, scene: str, metric: str = "psnr", budget_ms: float | None = None):
     """Time per frame against error for one scene, one color per method, front marked."""
-    plt = _pyplot()
     rows = table[table["scene"] == scene]
+    if rows.empty:
+        raise ValueError(
+            f"blurlab.plots.pareto: no rows for scene {scene!r}; the table has "
+            f"{sorted(set(table['scene']))}"
+        )
+    plt = _pyplot()
     fig, ax = plt.subplots(figsize=(7, 4.5))
     for name, group in rows.groupby("method"):
         ax.scatter(group["total_ms"], group[metric], label=name, s=28, alpha=0.85)
