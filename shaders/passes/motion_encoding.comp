@@ -3,7 +3,10 @@
 // Built with FORMAT_* (the stored format) and either ENCODE (rg32f motion -> stored) or DECODE
 // (stored -> rg32f motion, as a method reading that format would see it).
 //   rg16f         M as half floats
-//   rgba8_offset  c = clamp(M / maxlen, -1, 1) * 0.5 + 0.5 per channel; M = (c * 2 - 1) * maxlen
+//   rgba8_offset  c = clamp(M / maxlen, -1, 1) * 0.5 + 0.5 per channel; M = (c * 2 - 1) * maxlen,
+//                 except that levels 127 and 128 decode to 0: 0.5 is not an 8-bit level, and
+//                 without this every still pixel moves by half a step (8.6 px at maxlen = the
+//                 1080p diagonal)
 //   rgba8_polar   RG = dir * 0.5 + 0.5, B = sqrt(min(|M| / maxlen, 1)); M = dir * B^2 * maxlen
 #include "common/pixel.glsl"
 
@@ -41,7 +44,9 @@ vec2 decode(vec4 c) {
 #if defined(FORMAT_RG16F)
     return c.xy;
 #elif defined(FORMAT_RGBA8_OFFSET)
-    return (c.xy * 2.0 - 1.0) * maxlen;
+    vec2 level = round(c.xy * 255.0);
+    vec2 m = (c.xy * 2.0 - 1.0) * maxlen;
+    return mix(m, vec2(0.0), lessThan(abs(level - 127.5), vec2(1.0)));
 #elif defined(FORMAT_RGBA8_POLAR)
     return (c.xy * 2.0 - 1.0) * (c.z * c.z) * maxlen;
 #endif

@@ -34,7 +34,10 @@ def _polar_levels(m: np.ndarray, maxlen: float) -> np.ndarray:
 
 
 def _decode_offset(levels: np.ndarray, maxlen: float) -> np.ndarray:
-    return (levels / 255.0 * 2.0 - 1.0) * maxlen
+    """M = (c·2 - 1)·maxlen, levels 127 and 128 read as zero: 0.5 is not an 8-bit level, and
+    without this a still pixel would move by half a quantization step."""
+    m = (levels / 255.0 * 2.0 - 1.0) * maxlen
+    return np.where((levels == 127) | (levels == 128), 0.0, m)
 
 
 def _decode_polar(levels: np.ndarray, maxlen: float) -> np.ndarray:
