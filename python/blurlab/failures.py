@@ -1,0 +1,115 @@
+"""The failure-case suite: every single-frame method on every failure scene (bl.scenes.names
+("failure")), measured for error against the reference, NaN/Inf, colors outside the input
+range, flicker over an animation, and sensitivity to k and soft_z. docs/failure_cases.md
+explains each failure with these numbers."""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from . import metrics as m
+from . import scenes
+from .accumulation import reference_samples_needed
+from .methods import blur, method_instant
+from .sweep import DEFAULT_GRIDS
+
+RENDERING_METHODS = ("accumulation", "stochastic")  # they render; their inputs are sub-frames
+FILTERS = ("reconstruct_mcguire2012", "reconstruct_urho3d")
+
+
+def animation(ctx, scene, name: str, size, frames: int, params: dict):
+    """`frames` consecutive frames, frame n covering the shutter moved on by n shutter lengths,
+    each blurred with seed n where the method has one: (outputs, sharp colors, motions)."""
+    t0, t1 = scene.shutter
+    step = t1 - t0
+    outputs, colors, motions = [], [], []
+    for n in range(frames):
+        shutter = (t0 + n * step, t1 + n * step)
+        frame = ctx.render(scene, size, shutter, instant=method_instant(name, params))
+        extra = {"seed": n} if "seed" in _params_of(name) else {}
+        outputs.append(blur(ctx, frame, name, **params, **extra).color)
+        colors.append(frame.color)
+        motions.append(frame.motion)
+    return np.stack(outputs), np.stack(colors), np.stack(motions)
+
+
+def _params_of(name: str) -> dict:
+    from .methods import method
+
+    return method(name).params
+
+
+def still_pixels(colors: np.ndarray, motions: np.ndarray) -> np.ndarray:
+    """Pixels whose sharp color never changes and which never move: blur has no business
+    changing them from one frame to the next."""
+    unchanged = np.abs(np.diff(colors, axis=0)).max(axis=(0, 3)) == 0
+    return unchanged & (np.abs(motions).max(axis=(0, 3)) == 0)
+
+
+def evaluate(
+    ctx,
+    scene_names=None,
+    methods=None,
+    size=(320, 180),
+    frames: int = 16,
+    reference_samples: int | None = None,
+    progress: bool = True,
+) -> pd.DataFrame:
+    """One row per (failure scene, method) at the method's default parameters."""
+    scene_names = list(scene_names or scenes.names("failure"))
+    methods = list(methods or DEFAULT_GRIDS)
+    rows = []
+    bar = None
+    if progress:
+        from tqdm.auto import tqdm
+
+        bar = tqdm(total=len(scene_names) * len(methods), desc="failure cases", unit="case")
+    for scene_name in scene_names:
+        scene = scenes.get(scene_name)
+        frame = ctx.render(scene, size)
+        n = reference_samples or max(64, 2 * reference_samples_needed(frame))
+        reference = ctx.reference(scene, size, samples=n, progress=False)
+        for name in methods:
+            instant_frame = ctx.render(scene, size, instant=method_instant(name, {}))
+            out = blur(ctx, instant_frame, name).color
+            lo, hi = instant_frame.color.min(axis=(0, 1)), instant_frame.color.max(axis=(0, 1))
+            outside = ((out < lo - 1e-5) | (out > hi + 1e-5)).any(axis=-1).sum()
+            outputs, colors, motions = animation(ctx, scene, name, size, frames, {})
+            still = still_pixels(colors, motions)
+            row = {
+                "scene": scene_name,
+                "method": name,
+                "psnr": m.psnr(reference.color, out),
+                "ssim": m.ssim(reference.color, out),
+                "nan": int(np.isnan(out).sum()),
+                "inf": int(np.isinf(out).sum()),
+                "outside_input_range": int(outside) if name not in RENDERING_METHODS else np.nan,
+                "flicker": m.flicker(outputs, still) if still.any() else np.nan,
+                "still_pixels": int(still.sum()),
+                "reference_samples": n,
+            }
+            if name in FILTERS:
+                row.update(_sensitivity(ctx, reference.color, frame, name))
+            rows.append(row)
+            if bar:
+                bar.update()
+    if bar:
+        bar.close()
+    return pd.DataFrame(rows)
+
+
+def _sensitivity(ctx, reference: np.ndarray, frame, name: str) -> dict:
+    """PSNR spread (max - min, dB) over k in {10, 20, 40} and soft_z in {0.1, 1, 10} x default."""
+    by_k = [m.psnr(reference, blur(ctx, frame, name, k=k).color) for k in (10, 20, 40)]
+    soft_z = blur(ctx, frame, name).params["soft_z"]
+    by_z = [
+        m.psnr(reference, blur(ctx, frame, name, soft_z=soft_z * f).color) for f in (0.1, 1, 10)
+    ]
+    return {
+        "psnr_k10": by_k[0],
+        "psnr_k20": by_k[1],
+        "psnr_k40": by_k[2],
+        "k_spread_db": max(by_k) - min(by_k),
+        "soft_z_spread_db": max(by_z) - min(by_z),
+    }
