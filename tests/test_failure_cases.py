@@ -1,0 +1,119 @@
+"""The failure-case suite (docs/failure_cases.md): where post-process blur breaks, guarded."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import blurlab as bl
+from blurlab import failures
+from blurlab.sweep import DEFAULT_GRIDS
+
+SIZE = (64, 36)
+POST_PROCESS = [m for m in DEFAULT_GRIDS if m not in failures.RENDERING_METHODS]
+
+
+@pytest.fixture(scope="module")
+def frames(ctx):
+    """Each failure scene rendered at both instants, once for the module."""
+    return {
+        name: {i: ctx.render(bl.scenes.get(name), SIZE, instant=i) for i in ("center", "close")}
+        for name in bl.scenes.names("failure")
+    }
+
+
+def test_the_suite_lists_ten_tagged_scenes():
+    names = bl.scenes.names("failure")
+    assert len(names) == 10 and not set(names) & set(bl.scenes.names())
+    with pytest.raises(ValueError, match="tag"):
+        bl.scenes.names("broken")
+
+
+@pytest.mark.parametrize("scene", bl.scenes.names("failure"))
+def test_no_nan_inf_or_colors_outside_the_input_range(ctx, frames, scene):
+    for name in POST_PROCESS:
+        frame = frames[scene][bl.methods_instant(name)]
+        out = bl.blur(ctx, frame, name).color
+        assert np.isfinite(out).all(), name
+        lo, hi = frame.color.min(axis=(0, 1)), frame.color.max(axis=(0, 1))
+        assert (out >= lo - 1e-5).all() and (out <= hi + 1e-5).all(), name
+    for name in failures.RENDERING_METHODS:  # their inputs are other renders: finite is asked
+        assert np.isfinite(bl.blur(ctx, frames[scene]["center"], name).color).all(), name
+
+
+@pytest.mark.parametrize("name", list(DEFAULT_GRIDS))
+def test_every_method_is_deterministic(ctx, frames, name):
+    frame = frames["crossing"][bl.methods_instant(name)]
+    first = bl.blur(ctx, frame, name).color
+    assert bl.blur(ctx, frame, name).color.tobytes() == first.tobytes()
+
+
+def test_silhouette_over_still_background_beats_gather_box(ctx):
+    """The thesis's Figure 5.6 as a number: where the teapot's blur covers the still
+    background, the reconstruction filter is nearer the reference than the box gather."""
+    scene = bl.scenes.teapot_pass()
+    size = (96, 54)
+    reference = ctx.reference(scene, size, samples=128, progress=False).color
+    center, close = ctx.render(scene, size), ctx.render(scene, size, instant="close")
+    blurred = np.abs(reference - center.color).max(axis=-1) > 1e-3
+    filter_error = np.abs(bl.blur(ctx, center, "reconstruct_mcguire2012").color - reference)
+    box_error = np.abs(bl.blur(ctx, close, "gather_box").color - reference)
+    assert filter_error[blurred].mean() < 0.5 * box_error[blurred].mean()
+
+
+def test_still_pixels_stay_still_with_8_bit_offset_motion(ctx):
+    scene = bl.scenes.long_motion()
+    size = (256, 144)
+    for instant in ("center", "close"):
+        exact = ctx.render(scene, size, instant=instant)
+        stored = ctx.render(scene, size, instant=instant, motion_format="rgba8_offset")
+        assert not stored.motion[exact.motion == 0].any()  # zero decodes to zero
+        # Rows far from anything that moves: beyond the reach of NeighborMax (two tiles of 20).
+        moving = np.abs(exact.motion).max(axis=-1) > 0
+        ys, _ = np.nonzero(moving)
+        far = np.ones(moving.shape, bool)
+        far[max(ys.min() - 45, 0) : ys.max() + 45] = False
+        assert far.sum() > 500
+        for name in POST_PROCESS:
+            if bl.methods_instant(name) != instant:
+                continue
+            out = bl.blur(ctx, stored, name).color
+            assert np.abs(out - stored.color)[far].max() <= 1e-6, name  # weights: rounding only
+
+
+def test_guard_band_removes_the_edge_error_clamping_leaves(ctx):
+    scene = bl.scenes.camera_yaw()
+    size = (96, 54)
+    reference = ctx.reference(scene, size, samples=128, progress=False).color
+    frame = ctx.render(scene, size, instant="close")
+    assert frame.motion[..., 0].mean() > 0  # the world moves right: backward taps leave left
+    border = np.zeros(size[::-1], bool)
+    border[:, :10] = True
+    clamp = bl.blur(ctx, frame, "gather_box", edge="clamp").color
+    guard = bl.blur(ctx, frame, "gather_box", edge="guard").color
+    assert np.abs(guard - reference)[border].mean() < np.abs(clamp - reference)[border].mean()
+
+
+def test_failure_table_has_every_measure(ctx):
+    table = failures.evaluate(
+        ctx,
+        ["occluder"],
+        ["reconstruct_mcguire2012", "gather_box"],
+        SIZE,
+        frames=3,
+        reference_samples=16,
+        progress=False,
+    )
+    assert len(table) == 2
+    for column in (
+        "psnr",
+        "ssim",
+        "nan",
+        "inf",
+        "outside_input_range",
+        "flicker",
+        "k_spread_db",
+        "soft_z_spread_db",
+    ):
+        assert column in table.columns
+    assert (table["nan"] == 0).all() and (table["inf"] == 0).all()
