@@ -87,3 +87,12 @@ def reference_samples_needed(frame: Frame) -> int:
     speed = np.linalg.norm(frame.motion, axis=-1)
     finite = speed[np.isfinite(speed)]
     return max(1, math.ceil(float(finite.max()))) if finite.size else 1
+
+
+MAX_DEFAULT_SAMPLES = 1024
+
+
+def default_reference_samples(frame: Frame) -> int:
+    """The N that sweeps use when none is given: max(64, 2 x the longest motion in pixels),
+    capped at 1024 (a point racing through the near plane can "move" thousands of pixels)."""
+    return min(MAX_DEFAULT_SAMPLES, max(64, 2 * reference_samples_needed(frame)))

@@ -10,7 +10,7 @@ import pandas as pd
 
 from . import metrics as m
 from . import scenes
-from .accumulation import reference_samples_needed
+from .accumulation import default_reference_samples
 from .methods import blur, method_instant
 from .sweep import DEFAULT_GRIDS
 
@@ -68,7 +68,7 @@ def evaluate(
     for scene_name in scene_names:
         scene = scenes.get(scene_name)
         frame = ctx.render(scene, size)
-        n = reference_samples or max(64, 2 * reference_samples_needed(frame))
+        n = reference_samples or default_reference_samples(frame)
         reference = ctx.reference(scene, size, samples=n, progress=False)
         for name in methods:
             instant_frame = ctx.render(scene, size, instant=method_instant(name, {}))

@@ -20,7 +20,7 @@ from pathlib import Path
 import pandas as pd
 
 from . import metrics as m
-from .accumulation import reference_samples_needed
+from .accumulation import default_reference_samples
 from .context import Context
 from .methods import blur, method, method_instant, methods
 from .render import check_shutter
@@ -73,7 +73,7 @@ def sweep(
 
     `methods_and_grids`: a list of method names (default grids), a {name: grid} mapping, or
     None for every single-frame method with its default grid. `reference_samples`: N of each
-    scene's reference; None picks max(64, 2 × the longest motion in pixels). `out`: a CSV file
+    scene's reference; None picks max(64, 2 × the longest motion in pixels), at most 1024. `out`: a CSV file
     that rows are appended to as they finish; rows already in it are skipped. Each pass time
     is the median of `repeats` runs, all configurations of a scene timed back to back before
     any error is computed (a GPU left idle while the CPU computes SSIM and FLIP clocks down).
@@ -225,7 +225,7 @@ def _scene_inputs(ctx, scene, name, point, size, shutter, reference_samples, cac
     if ("reference", id(scene)) not in cache:
         n = reference_samples
         if n is None:
-            n = max(64, 2 * reference_samples_needed(frame))
+            n = default_reference_samples(frame)
         cache[("reference", id(scene))] = ctx.reference(
             scene,
             size,
