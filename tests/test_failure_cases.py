@@ -69,7 +69,9 @@ def test_still_pixels_stay_still_with_8_bit_offset_motion(ctx):
         stored = ctx.render(scene, size, instant=instant, motion_format="rgba8_offset")
         assert not stored.motion[exact.motion == 0].any()  # zero decodes to zero
         # Rows far from anything that moves: beyond the reach of NeighborMax (two tiles of 20).
-        moving = np.abs(exact.motion).max(axis=-1) > 0
+        # Moving: over 0.01 px, the G-buffer's accuracy (tests/test_gbuffer.py); the H100
+        # leaves rounding-sized motion on still surfaces that this test is not about.
+        moving = np.abs(exact.motion).max(axis=-1) > 0.01
         ys, _ = np.nonzero(moving)
         far = np.ones(moving.shape, bool)
         far[max(ys.min() - 45, 0) : ys.max() + 45] = False
