@@ -7,6 +7,7 @@
 // per tile, since a group per 4 x 4 tile leaves most threads idle and barriers cost llvmpipe
 // dearly.
 // NumPy twin: blurlab.reference.mcguire2012.tile_max.
+#include "common/inputs.glsl"
 #include "common/mcguire2012.glsl"
 
 layout(binding = 0) uniform sampler2D motion;
@@ -22,7 +23,7 @@ vec2 scan(ivec2 tile, ivec2 first, int step) {
     float best_length = -1.0;
     for (int y = origin.y + first.y; y < end.y; y += step) {
         for (int x = origin.x + first.x; x < end.x; x += step) {
-            vec2 v = half_velocity(texelFetch(motion, ivec2(x, y), 0).xy, exposure, float(k));
+            vec2 v = half_velocity(sanitize_motion(texelFetch(motion, ivec2(x, y), 0).xy), exposure, float(k));
             float l = length(v);
             if (l > best_length) {
                 best = v;

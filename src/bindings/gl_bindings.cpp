@@ -142,6 +142,8 @@ void bind_gl(py::module_& m) {
       .def_static("devices", &Context::devices)
       .def("info", &Context::info)
       .def("live_objects", &Context::live_objects)
+      .def("gl_errors", &Context::gl_errors)
+      .def("memory", &Context::memory)
       .def("finish", &Context::finish, py::call_guard<py::gil_scoped_release>())
       .def("make_current", &Context::make_current)
       .def_property_readonly("software", &Context::is_software)

@@ -283,8 +283,34 @@ void Context::make_current() {
 }
 
 bool Context::try_make_current() noexcept {
+  if (std::this_thread::get_id() != owner_) return false;
   if (eglGetCurrentContext() == context_) return true;
   return eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_) == EGL_TRUE;
+}
+
+std::vector<std::string> Context::gl_errors() {
+  make_current();
+  std::vector<std::string> errors;
+  for (int i = 0; i < 16; ++i) {
+    const GLenum e = glGetError();
+    if (e == GL_NO_ERROR) break;
+    errors.push_back(gl_error_name(e));
+  }
+  return errors;
+}
+
+std::map<std::string, long long> Context::memory() {
+  make_current();
+  std::map<std::string, long long> result;
+  if (epoxy_has_gl_extension("GL_NVX_gpu_memory_info")) {
+    GLint total = 0, available = 0;
+    glGetIntegerv(0x9048, &total);      // GPU_MEMORY_INFO_TOTAL_AVAILABLE_MEMORY_NVX
+    glGetIntegerv(0x9049, &available);  // GPU_MEMORY_INFO_CURRENT_AVAILABLE_VIDMEM_NVX
+    check_gl("querying video memory");
+    result["total"] = total;
+    result["available"] = available;
+  }
+  return result;
 }
 
 void Context::finish() {

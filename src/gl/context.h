@@ -42,7 +42,16 @@ class Context : public std::enable_shared_from_this<Context> {
   // created the context: a GL context is current on one thread at a time.
   void make_current();
   // For destructors, which may run on any thread and must not throw: true if current now.
+  // Never true on a thread other than the owner: taking the context away from its thread would
+  // leave the owner unable to make it current again. (The object's GL name then leaks, and
+  // live_objects() still counts it.)
   bool try_make_current() noexcept;
+  // Reads and clears every pending GL error, without throwing: the names of the errors that
+  // were set ("GL_INVALID_VALUE", ...), empty if none. Tests assert it after each call.
+  std::vector<std::string> gl_errors();
+  // Video memory in KiB where the driver reports it (GL_NVX_gpu_memory_info: "total",
+  // "available"); empty on drivers without it, llvmpipe included.
+  std::map<std::string, long long> memory();
 
   const std::map<std::string, std::string>& info() const { return info_; }
   bool is_software() const { return software_; }

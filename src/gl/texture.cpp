@@ -43,9 +43,9 @@ Texture::Texture(std::shared_ptr<Context> context, int width, int height,
     throw std::invalid_argument("blurlab: texture size " + std::to_string(width) + "x" +
                                 std::to_string(height) + " is outside 1.." + std::to_string(limit) +
                                 " (GL_MAX_TEXTURE_SIZE) per side");
+  if (levels < 1) throw std::invalid_argument("blurlab: a texture has at least one level");
   context_->make_current();
   glCreateTextures(GL_TEXTURE_2D, 1, &id_);
-  if (levels < 1) throw std::invalid_argument("blurlab: a texture has at least one level");
   glTextureStorage2D(id_, levels, format_.internal, width, height);
   glTextureParameteri(id_, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
   glTextureParameteri(id_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
