@@ -244,8 +244,13 @@ def _typed(method_name: str, key: str, value, p: Param):
             value = math.inf
         if not math.isfinite(value):
             raise ValueError(f"{where} must be finite ({p.allowed()}), not {_show(value)}")
-    too_low = p.low is not None and (value <= p.low if p.low_open else value < p.low)
-    too_high = p.high is not None and value > p.high
+    # The GPU gets float32: check the value it will see (1e-50 is 0 there, 1e39 is inf).
+    with np.errstate(over="ignore"):
+        seen = float(np.float32(value)) if kind is float else value
+    if kind is float and not math.isfinite(seen):
+        raise ValueError(f"{where} = {_show(value)} overflows float32 ({p.allowed()})")
+    too_low = p.low is not None and (seen <= p.low if p.low_open else seen < p.low)
+    too_high = p.high is not None and seen > p.high
     if too_low or too_high:
         closed = p.low is not None and p.high is not None and not p.low_open
         verb = "is outside" if closed else "must be"

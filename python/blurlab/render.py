@@ -35,7 +35,11 @@ def check_size(size, limit: int) -> tuple[int, int]:
         width, height = (int(v) for v in size)
     except (TypeError, ValueError, OverflowError):
         raise ValueError(f"blurlab: size must be (W, H), not {size!r}") from None
-    if any(isinstance(v, bool) for v in size) or (width, height) != tuple(size) or not (1 <= width <= limit and 1 <= height <= limit):
+    if (
+        any(isinstance(v, bool) for v in size)
+        or (width, height) != tuple(size)
+        or not (1 <= width <= limit and 1 <= height <= limit)
+    ):
         raise ValueError(f"blurlab: size {size!r} must be two integers in 1..{limit} (W, H)")
     return width, height
 
