@@ -6,7 +6,7 @@ from .accumulation import Reference, reference_samples_needed
 from .context import ComputeProgram, Context, PendingDownload, Texture, Timing
 from .frame import MOTION_FORMATS, Frame
 from .mesh import Mesh
-from .methods import BlurResult, blur, methods, render_and_blur
+from .methods import BlurResult, blur, method, methods, render_and_blur
 from .methods import method_instant as methods_instant
 from .motion import Bone, Keyframe, Motion, Skeleton, quaternion
 from .scene import Camera, DirectionalLight, Material, Scene
@@ -38,6 +38,7 @@ __all__ = [
     "blur",
     "io",
     "mesh",
+    "method",
     "methods",
     "methods_instant",
     "quaternion",
