@@ -10,6 +10,7 @@ a rerun with the same file skips them.
 from __future__ import annotations
 
 import csv
+import io
 import itertools
 import json
 import math
@@ -74,10 +75,10 @@ def sweep(
     `methods_and_grids`: a list of method names (default grids), a {name: grid} mapping, or
     None for every single-frame method with its default grid. `reference_samples`: N of each
     scene's reference; None picks max(64, 2 × the longest motion in pixels), at most 1024.
-    `out`: a CSV file that rows are appended to as they finish; rows already in it are
-    skipped. Each pass time is the median of `repeats` runs, all configurations of a scene
-    timed back to back before any error is computed (a GPU left idle while the CPU computes
-    SSIM and FLIP clocks down).
+    `out`: a CSV file that rows are appended to as they finish; rows already in it are skipped
+    (a row cut short by a crash is dropped and evaluated again). Each pass time
+    is the median of `repeats` runs, all configurations of a scene timed back to back before
+    any error is computed (a GPU left idle while the CPU computes SSIM and FLIP clocks down).
     """
     if not isinstance(ctx, Context):
         raise TypeError("blurlab.sweep needs a blurlab Context")
@@ -244,10 +245,13 @@ def _key(scene: str, name: str, backend: str, point: dict, size) -> tuple:
 def _finished_keys(path: Path | None) -> dict:
     if path is None or not path.exists() or path.stat().st_size == 0:
         return {}
+    _drop_partial_line(path)
     table = pd.read_csv(path)
     done = {}
     for row in table.to_dict("records"):
         row = {k: v for k, v in row.items() if not (isinstance(v, float) and math.isnan(v))}
+        if not {"scene", "method", "backend", "params", "width", "height"} <= set(row):
+            continue  # not a finished row: evaluate it again
         done[
             _key(
                 row["scene"],
@@ -260,15 +264,29 @@ def _finished_keys(path: Path | None) -> dict:
     return done
 
 
+def _drop_partial_line(path: Path) -> None:
+    """Cuts a last line that has no newline (a write cut short by a crash or a kill), so the
+    next row starts on a line of its own and the cut row is evaluated again."""
+    with path.open("rb+") as f:
+        data = f.read()
+        if data and not data.endswith(b"\n"):
+            f.truncate(data.rfind(b"\n") + 1)
+
+
 def _append(path: Path, row: dict) -> None:
-    """Appends one row; a new column (a method with other passes) rewrites the file once."""
+    """Appends one row; a new column (a method with other passes) rewrites the file once.
+    Each row is one write() of one whole line: an interrupt (KeyboardInterrupt arrives
+    between Python operations) leaves finished rows only."""
     path.parent.mkdir(parents=True, exist_ok=True)
     if path.exists() and path.stat().st_size > 0:
+        _drop_partial_line(path)
         with path.open(newline="") as f:
             header = next(csv.reader(f))
         if set(row) <= set(header):
+            line = io.StringIO()
+            csv.DictWriter(line, header).writerow(row)
             with path.open("a", newline="") as f:
-                csv.DictWriter(f, header).writerow(row)
+                f.write(line.getvalue())
             return
         table = pd.concat([pd.read_csv(path), pd.DataFrame([row])], ignore_index=True)
         tmp = path.with_suffix(".csv.tmp")
