@@ -262,6 +262,7 @@ void Context::create_on(EGLDisplay display, const std::string& platform, const E
 Context::~Context() {
   if (context_ != EGL_NO_CONTEXT) {
     if (try_make_current()) {
+      run_deferred();
       spare_pack_buffers_.clear();
       glFinish();
     }
@@ -280,6 +281,35 @@ void Context::make_current() {
   if (eglGetCurrentContext() != context_ &&
       !eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_))
     throw std::runtime_error("blurlab: eglMakeCurrent failed (" + egl_error_text() + ")");
+  if (has_deferred_.load()) run_deferred();
+}
+
+void Context::release(const char* kind, std::function<void()> free) noexcept {
+  if (try_make_current()) {
+    free();
+    if (kind) track(kind, -1);
+    return;
+  }
+  try {
+    std::lock_guard<std::mutex> lock(mutex_);
+    deferred_.emplace_back(kind ? kind : "", std::move(free));
+    has_deferred_ = true;
+  } catch (...) {
+    // No memory to queue the release: the object leaks (live_objects() still counts it).
+  }
+}
+
+void Context::run_deferred() {
+  std::vector<std::pair<std::string, std::function<void()>>> work;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    work.swap(deferred_);
+    has_deferred_ = false;
+  }
+  for (auto& [kind, free] : work) {
+    free();
+    if (!kind.empty()) track(kind.c_str(), -1);
+  }
 }
 
 bool Context::try_make_current() noexcept {
@@ -323,7 +353,8 @@ void Context::track(const char* kind, int delta) {
   live_[kind] += delta;
 }
 
-std::map<std::string, int> Context::live_objects() const {
+std::map<std::string, int> Context::live_objects() {
+  if (has_deferred_.load() && try_make_current()) run_deferred();
   std::lock_guard<std::mutex> lock(mutex_);
   return live_;
 }

@@ -231,10 +231,7 @@ void Program::link(const std::vector<GLuint>& shaders) {
 }
 
 Program::~Program() {
-  if (id_ && context_->try_make_current()) {
-    glDeleteProgram(id_);
-    context_->track("program", -1);
-  }
+  if (id_) context_->release("program", [id = id_] { glDeleteProgram(id); });
 }
 
 void Program::set_uniform(const std::string& name, const std::vector<double>& v) {

@@ -62,10 +62,7 @@ Texture::Texture(std::shared_ptr<Context> context, int width, int height,
 }
 
 Texture::~Texture() {
-  if (context_->try_make_current()) {
-    glDeleteTextures(1, &id_);
-    context_->track("texture", -1);
-  }
+  context_->release("texture", [id = id_] { glDeleteTextures(1, &id); });
 }
 
 void Texture::upload(const void* data, size_t bytes) {

@@ -20,12 +20,12 @@ GBufferPass::GBufferPass(std::shared_ptr<Context> context) : context_(std::move(
 }
 
 GBufferPass::~GBufferPass() {
-  if (context_->try_make_current()) {
-    bones_.reset();
-    glDeleteFramebuffers(1, &framebuffer_);
-    glDeleteRenderbuffers(1, &depth_buffer_);
-    glDeleteVertexArrays(1, &empty_vao_);
-  }
+  bones_.reset();
+  context_->release(nullptr, [framebuffer = framebuffer_, depth = depth_buffer_, vao = empty_vao_] {
+    glDeleteFramebuffers(1, &framebuffer);
+    glDeleteRenderbuffers(1, &depth);
+    glDeleteVertexArrays(1, &vao);
+  });
 }
 
 GLint GBufferPass::location(const char* name) const {
