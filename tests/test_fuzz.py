@@ -452,3 +452,34 @@ def test_load_any_obj(tmp_path_factory, lines, cut):
         assert "mesh.obj" in str(error) or "mesh" in str(error)
         return
     assert np.isfinite(mesh.positions).all() and len(mesh.indices) > 0
+
+
+# --- compute programs ----------------------------------------------------------------------
+
+
+@fuzz(150)
+@given(
+    size=st.tuples(st.integers(-1, 40), st.integers(-1, 40)),
+    seed=st.integers(0, 2**32 - 1)
+    | st.sampled_from([-1, 2**32, 0.5, math.nan, math.inf, 1e20, [1, 2], "7"]),
+    define=st.sampled_from(
+        [{}, {"CHECKER": 4}, {"CHECKER": 1.5}, {"not valid": 1}, {"X": math.nan}]
+    ),
+)
+def test_program_run_any_arguments(ctx, size, seed, define):
+    count_example()
+    width, height = size
+    try:
+        program = ctx.program("util/test_pattern.comp", defines=define)
+        target = ctx.empty((max(height, 1), max(width, 1), 4))
+        program.run(size, images=[target], uniforms={"seed": seed})
+    except (*BAD_ARGUMENT, bl.ShaderError) as error:
+        assert_no_gl_error(ctx)
+        if isinstance(error, bl.ShaderError):
+            assert define.get("CHECKER") == 1.5  # a float where GLSL needs an int
+        else:
+            assert_names(error, "seed", "work-group", "not a GLSL identifier", "finite", "define")
+        return
+    assert width >= 1 and height >= 1
+    assert np.isfinite(target.download()).all()
+    assert_no_gl_error(ctx)
