@@ -355,9 +355,9 @@ def _run_mcguire2012(ctx: Context, frame: Frame, inputs: dict, values: dict, bac
 
 SEED_MAX = 2**32 - 1
 FLOAT32_MAX = float(np.finfo(np.float32).max)  # float parameters go to the GPU as float32
-# Exposure and intensity scale motion; beyond 1000 x the (at most 2^20-pixel, SPEC.md
-# "Non-finite input") motion, tap positions would leave the range where float32 holds whole
-# pixels and GLSL's float-to-int conversion is defined.
+# Exposure and intensity scale motion, which the passes read as at most 2^20 px per component
+# (shaders/common/inputs.glsl, docs/reliability.md); up to 1000 x that, tap positions stay
+# below 2^31 px, where GLSL's float-to-int conversion is defined.
 PARAM_SCALE_MAX = 1000.0
 _K = Param(20, int, "tile size = largest blur radius, pixels (1..256)", 1, 256)
 _SAMPLES = Param(15, int, "samples S per pixel (1..256)", 1, 256)
