@@ -125,6 +125,12 @@ def test_bad_sweeps_are_rejected(ctx, tmp_path):
         sw.sweep(ctx, ["fan"], ["gather_box"], SIZE, out=tmp_path / "r.parquet", progress=False)
     with pytest.raises(ValueError, match="repeats"):
         sw.sweep(ctx, ["fan"], ["gather_box"], SIZE, repeats=0, progress=False)
+    with pytest.raises(ValueError, match=r"k = 0 is outside 1\.\.256"):
+        out = tmp_path / "never.csv"
+        sw.sweep(ctx, ["fan"], {"reconstruct_mcguire2012": {"k": [8, 0]}}, SIZE, out=out)
+    assert not out.exists()  # refused before anything ran
+    with pytest.raises(TypeError, match="taps must be an integer"):
+        sw.sweep(ctx, ["fan"], {"gather_box": {"taps": [4, "8"]}}, SIZE, progress=False)
     with pytest.raises(ValueError, match="unknown metrics"):
         sw.sweep(ctx, ["fan"], ["gather_box"], SIZE, metrics=("mse",), progress=False)
 

@@ -218,6 +218,15 @@ def _describe(default) -> str:
     return "from the frame" if callable(default) else repr(default)
 
 
+def check_param(name: str, key: str, value):
+    """`value` as parameter `key` of method `name` takes it, or the error a blur would raise:
+    for callers (sweeps) that check their values before running anything."""
+    m = method(name)
+    if key not in m.params:
+        raise ValueError(f"blurlab: {name} has no parameter {key!r}")
+    return _typed(name, key, value, m.params[key])
+
+
 def _typed(method_name: str, key: str, value, p: Param):
     """`value` as parameter `key` of method `method_name` takes it (SPEC.md parameter tables):
     the one place where every method's parameters are type- and range-checked. Every error

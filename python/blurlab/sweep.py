@@ -23,7 +23,7 @@ import pandas as pd
 from . import metrics as m
 from .accumulation import default_reference_samples
 from .context import Context
-from .methods import blur, method, method_instant, methods
+from .methods import blur, check_param, method, method_instant, methods
 from .render import check_shutter
 from .scene import Scene
 
@@ -98,6 +98,10 @@ def sweep(
         for key in grid:
             if key not in method(name).params:
                 raise ValueError(f"blurlab.sweep: {name} has no parameter {key!r}")
+        # Every value now, not an hour into the sweep when its turn comes.
+        for point in grid_points(grid):
+            for key, value in point.items():
+                check_param(name, key, value)
     scene_list = [_scene(s) for s in scenes]
     if not scene_list:
         raise ValueError("blurlab.sweep: no scenes")
