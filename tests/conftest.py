@@ -43,6 +43,16 @@ def ctx() -> bl.Context:
     return bl.Context()
 
 
+@pytest.fixture(autouse=True)
+def no_gl_error_left(request):
+    """After every test that used the session context: no GL error is left set (every blurlab
+    call checks and clears the ones it causes; docs/reliability.md)."""
+    yield
+    if "ctx" in request.fixturenames:
+        context = request.getfixturevalue("ctx")
+        assert context.gl_errors() == [], "a GL error was left set"
+
+
 @pytest.fixture
 def rng() -> np.random.Generator:
     return np.random.default_rng(20261122)
