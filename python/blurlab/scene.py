@@ -105,12 +105,37 @@ class DirectionalLight:
 @dataclass(eq=False)
 class Material:
     """Lambert (specular = 0) or Blinn–Phong; `texture` (a path read through OpenImageIO, or an
-    array) multiplies `color`. 8-bit textures are taken as sRGB, float ones as linear."""
+    array) multiplies `color`. 8-bit textures are taken as sRGB, float ones as linear.
+    ``Material.hatching(...)`` makes a hatched one (`hatch`, SPEC.md §5)."""
 
     color: tuple = (0.8, 0.8, 0.8)
     texture: str | Path | np.ndarray | None = None
     specular: float = 0.0
     shininess: float = 32.0
+    hatch: object = None  # a blurlab.hatching.Hatching, made by Material.hatching
+
+    @classmethod
+    def hatching(
+        cls,
+        scheme: str = "threshold",
+        tam=None,
+        scale: float = 1.0,
+        color=(1.0, 1.0, 1.0),
+        texture=None,
+        specular: float = 0.0,
+        shininess: float = 32.0,
+    ) -> Material:
+        """Hatching with a tonal art map instead of shading (SPEC.md §5): color · (1 − ink).
+
+        ``scheme``: "six_way" (per-vertex weights of the two nearest of 6 tones, Praun et al.
+        2001) or "threshold" (a per-pixel threshold test, Webb et al. 2002). ``tam``: a
+        ``blurlab.tam.TAM``, a (6, S, S) ink array, or None for ``blurlab.tam.default_tam()``.
+        ``scale``: TAM repeats per unit of texture coordinate, > 0. The tone comes from the
+        scene's light: Lambert, or Blinn–Phong when ``specular`` > 0.
+        """
+        from .hatching import material
+
+        return material(scheme, tam, scale, color, texture, specular, shininess)
 
     def __post_init__(self):
         c = np.asarray(self.color, dtype=np.float64)

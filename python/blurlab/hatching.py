@@ -1,0 +1,282 @@
+"""Hatched materials (SPEC.md §5) and the measurements that compare the two schemes.
+
+``bl.Material.hatching(scheme, tam, scale)`` makes a material the G-buffer pass draws with a
+tonal art map instead of shading: ``"six_way"`` (Praun et al. 2001: per-vertex weights of the
+two nearest of 6 tones, blended per pixel) or ``"threshold"`` (Webb et al. 2002: a per-pixel
+threshold test against the darkness). Hatched objects keep their depth, motion and object id,
+so every motion-blur method blurs them.
+
+Measurements (docs/hatching.md): ``tone_reproduction`` renders a flat-lit patch for a ramp of
+target tones and measures its mean ink; ``temporal_coherence`` renders a slowly turning teapot
+under a moving light and counts the stroke pixels that appear or vanish from frame to frame.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from numbers import Real
+
+import numpy as np
+
+from . import mesh as meshes
+from .motion import Motion
+from .scene import Camera, DirectionalLight, Material, Scene
+from .tam import TAM, default_tam
+
+SCHEMES = ("six_way", "threshold")
+_CODES = {"six_way": 1, "threshold": 2}  # src/passes/gbuffer.h GBufferMaterial::Hatching
+
+
+@dataclass(frozen=True, eq=False)
+class Hatching:
+    """What a hatched material draws with: the scheme, the TAM, and how many times the TAM
+    repeats per unit of texture coordinate."""
+
+    scheme: str
+    tam: TAM
+    scale: float
+
+    def draw(self, ctx) -> tuple:
+        """The draw's hatching entry for the G-buffer pass (src/bindings/passes_bindings.cpp)."""
+        low, high, thresholds = self.tam.textures(ctx)
+        if self.scheme == "six_way":
+            return (_CODES["six_way"], float(self.scale), low, high)
+        return (_CODES["threshold"], float(self.scale), thresholds, None)
+
+
+def material(
+    scheme: str = "threshold",
+    tam=None,
+    scale: float = 1.0,
+    color=(1.0, 1.0, 1.0),
+    texture=None,
+    specular: float = 0.0,
+    shininess: float = 32.0,
+) -> Material:
+    """A hatched material; see ``bl.Material.hatching``."""
+    if scheme not in SCHEMES:
+        raise ValueError(f"blurlab: hatching scheme must be one of {SCHEMES}, not {scheme!r}")
+    if tam is None:
+        tam = default_tam()
+    elif isinstance(tam, np.ndarray):
+        tam = _single_image_tam(tam)
+    elif not isinstance(tam, TAM):
+        raise ValueError(
+            "blurlab: hatching tam must be a blurlab.tam.TAM, a (6, S, S) float array of ink, "
+            f"or None (the default TAM), not {type(tam).__name__}"
+        )
+    if isinstance(scale, bool) or not isinstance(scale, Real) or not math.isfinite(scale):
+        raise ValueError(f"blurlab: hatching scale must be a finite number > 0, not {scale!r}")
+    if scale <= 0:
+        raise ValueError(f"blurlab: hatching scale must be > 0, not {scale!r}")
+    hatch = Hatching(scheme, tam, float(scale))
+    return Material(color, texture=texture, specular=specular, shininess=shininess, hatch=hatch)
+
+
+def _single_image_tam(array: np.ndarray) -> TAM:
+    """A (6, S, S) ink array as a TAM whose coarser levels are 2×2 averages (down to 8)."""
+    if array.ndim != 3 or array.shape[0] != 6 or array.shape[1] != array.shape[2]:
+        raise ValueError(
+            f"blurlab: hatching tam array must have shape (6, S, S), not {array.shape}"
+        )
+    if array.dtype.kind != "f" and array.dtype != np.uint8:
+        raise ValueError(
+            f"blurlab: hatching tam array must be float ink in [0, 1] or uint8, not {array.dtype}"
+        )
+    try:
+        levels = [np.asarray(array / 255.0 if array.dtype == np.uint8 else array, np.float32)]
+        while levels[-1].shape[1] > 8 and levels[-1].shape[1] % 2 == 0:
+            s = levels[-1].shape[1] // 2
+            levels.append(levels[-1].reshape(6, s, 2, s, 2).mean((2, 4)))
+        return TAM(levels)
+    except ValueError as error:
+        raise ValueError(str(error).replace("tam tones", "hatching tam")) from None
+
+
+# --- measurements --------------------------------------------------------------------------
+
+
+def patch_scene(darkness: float, hatched: Material) -> Scene:
+    """A plane facing the camera that fills a square image, lit so that its intensity is
+    exactly 1 − darkness (Lambert, no ambient), showing `scale` × `scale` TAM tiles."""
+    intensity = 1.0 - float(darkness)
+    light = DirectionalLight(
+        direction=(math.sqrt(max(0.0, 1.0 - intensity**2)), 0.0, intensity),
+        color=(1.0, 1.0, 1.0),
+        ambient=(0.0, 0.0, 0.0),
+    )
+    # fov 30° at distance 0.5/tan(15°): the view is exactly one unit across at the plane.
+    camera = Camera(position=(0, 0, 0.5 / math.tan(math.radians(15))), fov_y=30.0)
+    scene = Scene(camera, light, background=(1, 1, 1), name="hatching_patch")
+    # 2 × 2 units with uv 0..2: one TAM tile per unit (scale 1) across the view.
+    plane = meshes.plane(2.0, 2.0, uv_repeat=2.0).transformed(meshes._rotation_x(math.pi / 2))
+    scene.add(plane, hatched, name="patch")
+    return scene
+
+
+def ink_of(frame, paper=(1.0, 1.0, 1.0)) -> np.ndarray:
+    """(H, W) ink = 1 − luminance(color) / luminance(paper) of a frame's color."""
+    weights = np.array([0.2126, 0.7152, 0.0722])
+    lum = frame.color[..., :3].astype(np.float64) @ weights
+    return np.clip(1.0 - lum / float(np.dot(paper, weights)), 0.0, 1.0)
+
+
+def box_filter(image: np.ndarray, width: int) -> np.ndarray:
+    """Mean over a width × width box around each pixel (wrapping at the edges, as the TAM does
+    on a patch that shows whole tiles)."""
+    if width <= 1:
+        return image.astype(np.float64)
+    out = np.zeros(image.shape, np.float64)
+    for dy in range(width):
+        for dx in range(width):
+            out += np.roll(image, (dy - width // 2, dx - width // 2), axis=(0, 1))
+    return out / (width * width)
+
+
+def tone_reproduction(
+    ctx,
+    scheme: str,
+    tam: TAM | None = None,
+    steps: int = 64,
+    size: int = 128,
+    spacing_texels: float = 8.0,
+) -> dict:
+    """Renders the flat-lit patch at `steps` target tones (darkness 0..1) and measures its ink.
+
+    The patch shows one TAM tile across `size` pixels. Ink is box-filtered over one stroke
+    spacing (`spacing_texels` TAM texels at the level GL picks, in pixels) before it is
+    averaged; the spread of the filtered ink says how even the tone is. Returns target,
+    measured (mean ink), spread (std of the filtered ink), expected (what the TAM itself
+    predicts, blurlab.reference.hatching.patch_ink), the mean absolute tone error and the
+    number of distinguishable steps (a step counts when its tone differs from the last counted
+    one by at least half the spacing of the targets).
+    """
+    from .reference import hatching as ref
+
+    tam = tam or default_tam()
+    target = np.linspace(0.0, 1.0, steps)
+    hatched = material(scheme, tam, 1.0)
+    pixels_per_texel = size / tam.sizes[0]
+    level = int(np.clip(round(-math.log2(pixels_per_texel)), 0, len(tam.sizes) - 1))
+    box = max(1, round(spacing_texels * size / tam.sizes[level]))
+    measured, spread = [], []
+    for d in target:
+        frame = ctx.render(patch_scene(d, hatched), (size, size), shutter=(0.0, 0.0))
+        filtered = box_filter(ink_of(frame), box)
+        measured.append(filtered.mean())
+        spread.append(filtered.std())
+    measured = np.array(measured)
+    return {
+        "scheme": scheme,
+        "target": target,
+        "measured": measured,
+        "spread": np.array(spread),
+        "expected": ref.patch_ink(tam, scheme, target, level),
+        "mean_abs_error": float(np.abs(measured - target).mean()),
+        "distinguishable_steps": distinguishable_steps(measured, 0.5 / (steps - 1)),
+        "size": size,
+        "level": level,
+        "box_pixels": box,
+    }
+
+
+def distinguishable_steps(tones: np.ndarray, threshold: float) -> int:
+    """How many of the (increasing) tones differ from the last counted one by >= threshold."""
+    count, last = 1, tones[0]
+    for tone in tones[1:]:
+        if abs(tone - last) >= threshold:
+            count, last = count + 1, tone
+    return count
+
+
+def coherence_scene(
+    scheme: str,
+    tam: TAM | None = None,
+    scale: float = 2.0,
+    frame_time: float = 1 / 30,
+    spin_per_frame: float = math.radians(1.0),
+) -> Scene:
+    """The teapot turning slowly about y (`spin_per_frame` radians a frame), for
+    temporal_coherence; its light is set per frame there."""
+    camera = Camera(position=(0.0, 0.9, 2.6), look_at=(0.0, 0.45, 0.0), fov_y=40.0)
+    scene = Scene(camera, background=(1, 1, 1), name="hatching_teapot")
+    motion = Motion.linear(spin_axis=(0, 1, 0), spin_rate=spin_per_frame / frame_time)
+    scene.add(meshes.teapot(), material(scheme, tam, scale), motion, name="teapot")
+    return scene
+
+
+def light_at(frame: int, frames: int, moving: bool = True) -> DirectionalLight:
+    """The coherence study's light: it sweeps 60° around the teapot over the frames."""
+    angle = math.radians(30.0 + (60.0 * frame / max(frames - 1, 1) if moving else 0.0))
+    return DirectionalLight(
+        direction=(math.sin(angle), 0.8, math.cos(angle)), ambient=(0.05, 0.05, 0.05)
+    )
+
+
+def temporal_coherence(
+    ctx,
+    scheme: str,
+    tam: TAM | None = None,
+    frames: int = 32,
+    size=(320, 240),
+    moving_light: bool = True,
+    frame_time: float = 1 / 30,
+) -> dict:
+    """Fraction of stroke pixels that pop, frame to frame, on the slowly turning teapot.
+
+    Each frame is rendered with the shutter spanning the previous frame's time to its own, at
+    its own time, so its motion vectors lead every pixel back to where its surface point was
+    one frame before. A pixel is a stroke where its ink is > 0.5; it pops when it is a stroke
+    now and the previous frame's ink at the point it came from (bilinear) was not, or the other
+    way round. Pixels whose point was not on the teapot one frame before are left out. The
+    fraction is pops / stroke pixels (of either frame) per frame pair. With ``moving_light``
+    False only the turning remains: what resampling alone costs, the baseline.
+    """
+    scene = coherence_scene(scheme, tam, frame_time=frame_time)
+    previous = None
+    fractions = []
+    for n in range(frames):
+        scene.light = light_at(n, frames, moving_light)
+        t = n * frame_time
+        frame = ctx.render(scene, size, shutter=(t - frame_time, t), instant="close")
+        ink = ink_of(frame)
+        on = frame.object_id >= 0
+        if previous is not None:
+            prev_ink, prev_on = previous
+            h, w = ink.shape
+            y, x = np.mgrid[0:h, 0:w] + 0.5
+            sx = x - frame.motion[..., 0]
+            sy = y - frame.motion[..., 1]
+            came = _bilinear(prev_ink, sx, sy)
+            ix = np.clip(np.floor(sx).astype(int), 0, w - 1)
+            iy = np.clip(np.floor(sy).astype(int), 0, h - 1)
+            inside = (sx >= 0) & (sx < w) & (sy >= 0) & (sy < h)
+            valid = on & inside & prev_on[iy, ix]
+            now, before = ink > 0.5, came > 0.5
+            strokes = valid & (now | before)
+            pops = valid & (now != before)
+            fractions.append(pops.sum() / max(strokes.sum(), 1))
+        previous = (ink, on)
+    fractions = np.array(fractions)
+    return {
+        "scheme": scheme,
+        "moving_light": moving_light,
+        "pop_fraction": fractions,
+        "mean_pop_fraction": float(fractions.mean()),
+        "frames": frames,
+        "size": tuple(size),
+    }
+
+
+def _bilinear(image: np.ndarray, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """Samples `image` at pixel coordinates (x, y) (centers at +0.5), clamped at the edges."""
+    h, w = image.shape
+    px, py = x - 0.5, y - 0.5
+    x0 = np.clip(np.floor(px).astype(int), 0, w - 1)
+    y0 = np.clip(np.floor(py).astype(int), 0, h - 1)
+    x1, y1 = np.clip(x0 + 1, 0, w - 1), np.clip(y0 + 1, 0, h - 1)
+    fx, fy = np.clip(px - x0, 0, 1), np.clip(py - y0, 0, 1)
+    top = image[y0, x0] * (1 - fx) + image[y0, x1] * fx
+    bottom = image[y1, x0] * (1 - fx) + image[y1, x1] * fx
+    return top * (1 - fy) + bottom * fy
