@@ -222,6 +222,7 @@ def temporal_coherence(
     size=(320, 240),
     moving_light: bool = True,
     frame_time: float = 1 / 30,
+    spin_per_frame: float = math.radians(1.0),
 ) -> dict:
     """Fraction of stroke pixels that pop, frame to frame, on the slowly turning teapot.
 
@@ -233,7 +234,7 @@ def temporal_coherence(
     fraction is pops / stroke pixels (of either frame) per frame pair. With ``moving_light``
     False only the turning remains: what resampling alone costs, the baseline.
     """
-    scene = coherence_scene(scheme, tam, frame_time=frame_time)
+    scene = coherence_scene(scheme, tam, frame_time=frame_time, spin_per_frame=spin_per_frame)
     previous = None
     fractions = []
     for n in range(frames):
