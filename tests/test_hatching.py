@@ -76,6 +76,28 @@ def test_gpu_threshold_rule_matches_the_reference_pixel_for_pixel(ctx, tam):
         np.testing.assert_allclose(hatching.ink_of(frame), expected, atol=5e-3)
 
 
+def test_blinn_phong_tone_source_matches_the_reference_per_pixel(ctx, tam):
+    size = 128
+    material = bl.Material.hatching("threshold", tam, specular=0.6, shininess=8.0)
+    scene = hatching.patch_scene(0.0, material)
+    scene.light = bl.DirectionalLight((0.5, 0.3, 0.8), color=(0.5, 0.5, 0.5), ambient=(0.02,) * 3)
+    frame = ctx.render(scene, (size, size), shutter=(0, 0))
+    y, x = np.mgrid[0:size, 0:size] + 0.5
+    points = np.stack([x / size - 0.5, 0.5 - y / size, 0 * x], -1)  # the view is 1 unit across
+    eye = scene.camera.position
+    view = eye - points
+    view /= np.linalg.norm(view, axis=-1, keepdims=True)
+    light = np.array(scene.light.direction) / np.linalg.norm(scene.light.direction)
+    intensity = ref.intensity(
+        [0, 0, 1], view, light, scene.light.color, scene.light.ambient, 0.6, 8
+    )
+    assert intensity.max() - intensity.min() > 0.05  # the highlight makes a gradient
+    uv = np.stack([0.5 + x / size, 0.5 + y / size], -1)
+    expected = ref.threshold_ink(tam.thresholds[0], uv, 1.0 - intensity)
+    differ = np.abs(hatching.ink_of(frame) - expected) > 0.01
+    assert differ.mean() < 0.005  # only where a threshold equals the darkness to float precision
+
+
 @pytest.mark.parametrize("scheme", bl.hatching.SCHEMES)
 def test_darker_targets_give_more_ink_as_the_tam_predicts(ctx, tam, scheme):
     result = hatching.tone_reproduction(ctx, scheme, tam, steps=12, size=64)
@@ -112,6 +134,16 @@ def test_no_motion_and_no_light_change_means_no_popping(ctx, tam):
         ctx, "threshold", tam, frames=3, size=(96, 72), moving_light=False, spin_per_frame=0.0
     )
     assert result["pop_fraction"].tolist() == [0.0, 0.0]
+    assert result["reprojected_pop_fraction"].tolist() == [0.0, 0.0]
+    assert result["ink_change"].tolist() == [0.0, 0.0]
+
+
+def test_turning_the_light_with_the_object_is_the_same_tone(ctx, tam):
+    # spin only, still light: the same-pose measure compares frame n with frame n's light
+    # turned back and forth; with a still light the turn is all there is
+    result = hatching.temporal_coherence(ctx, "six_way", tam, frames=3, size=(96, 72))
+    assert (result["pop_fraction"] < 0.5).all()
+    assert (result["ink_change"] > 0).all()
 
 
 @pytest.mark.parametrize(

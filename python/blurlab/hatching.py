@@ -190,6 +190,29 @@ def distinguishable_steps(tones: np.ndarray, threshold: float) -> int:
     return count
 
 
+def pair_scene(scheme: str | None, tam: TAM | None = None, motion: Motion | None = None) -> Scene:
+    """The teapot and the torus side by side on white paper (the seed's Figures 3–8), hatched
+    with `scheme` ("six_way" or "threshold"), or shaded white Lambert when it is None. The
+    teapot takes `motion` if given."""
+
+    def surface(scale: float) -> Material:
+        return Material((1, 1, 1)) if scheme is None else material(scheme, tam, scale)
+
+    scene = Scene(
+        Camera(position=(0, 0.9, 3.2), look_at=(0, 0.4, 0), fov_y=40),
+        DirectionalLight(direction=(0.6, 0.8, 0.5), ambient=(0.05, 0.05, 0.05)),
+        background=(1, 1, 1),
+        name="hatching_pair",
+    )
+    left = np.eye(4)
+    left[0, 3] = -0.7
+    right = meshes._rotation_x(math.radians(60))
+    right[:3, 3] = (0.8, 0.45, 0)
+    scene.add(meshes.teapot().transformed(left), surface(2.0), motion, name="teapot")
+    scene.add(meshes.torus().transformed(right), surface(4.0), name="torus")
+    return scene
+
+
 def coherence_scene(
     scheme: str,
     tam: TAM | None = None,
@@ -207,8 +230,9 @@ def coherence_scene(
 
 
 def light_at(frame: int, frames: int, moving: bool = True) -> DirectionalLight:
-    """The coherence study's light: it sweeps 60° around the teapot over the frames."""
-    angle = math.radians(30.0 + (60.0 * frame / max(frames - 1, 1) if moving else 0.0))
+    """The coherence study's light: it sweeps 60° around the teapot over the frames, against
+    the teapot's turn (so the two add up, as seen from the surface)."""
+    angle = math.radians(30.0 - (60.0 * frame / max(frames - 1, 1) if moving else 0.0))
     return DirectionalLight(
         direction=(math.sin(angle), 0.8, math.cos(angle)), ambient=(0.05, 0.05, 0.05)
     )
@@ -224,50 +248,72 @@ def temporal_coherence(
     frame_time: float = 1 / 30,
     spin_per_frame: float = math.radians(1.0),
 ) -> dict:
-    """Fraction of stroke pixels that pop, frame to frame, on the slowly turning teapot.
+    """Stroke pixels that pop (appear or vanish) from frame to frame on the slowly turning
+    teapot, per frame pair. A pixel is a stroke where its ink is > 0.5.
 
-    Each frame is rendered with the shutter spanning the previous frame's time to its own, at
-    its own time, so its motion vectors lead every pixel back to where its surface point was
-    one frame before. A pixel is a stroke where its ink is > 0.5; it pops when it is a stroke
-    now and the previous frame's ink at the point it came from (bilinear) was not, or the other
-    way round. Pixels whose point was not on the teapot one frame before are left out. The
-    fraction is pops / stroke pixels (of either frame) per frame pair. With ``moving_light``
-    False only the turning remains: what resampling alone costs, the baseline.
+    - ``pop_fraction`` (same pose): frame n is rendered twice at its own pose, once under its
+      own light and once under frame n−1's light turned with the object from n−1 to n, so that
+      every surface point gets the intensity it had one frame before (exact for Lambert). Pixel
+      for pixel, what differs is what the tone change did: no resampling is involved.
+    - ``reprojected_pop_fraction``: frame n against frame n−1 itself, each pixel led back by its
+      motion vector (the shutter spans n−1 to n) and the previous ink read bilinearly there; it
+      adds what the turning itself changes (mip levels, foreshortening) and the resampling
+      error. Pixels whose point was not on the teapot one frame before are left out.
+    - ``ink_change``: mean |ink_n − ink under n−1's light| on the teapot (same pose): blended
+      strokes fading count here even where they stay on one side of 0.5.
+
+    Fractions are pops / stroke pixels of either image.
     """
     scene = coherence_scene(scheme, tam, frame_time=frame_time, spin_per_frame=spin_per_frame)
+    teapot = scene.objects[0]
     previous = None
-    fractions = []
+    same_pose, reprojected, change = [], [], []
     for n in range(frames):
-        scene.light = light_at(n, frames, moving_light)
         t = n * frame_time
+        light = light_at(n, frames, moving_light)
+        scene.light = light
         frame = ctx.render(scene, size, shutter=(t - frame_time, t), instant="close")
         ink = ink_of(frame)
         on = frame.object_id >= 0
         if previous is not None:
-            prev_ink, prev_on = previous
+            prev_ink, prev_on, prev_light = previous
+            turn = teapot.model(t)[:3, :3] @ np.linalg.inv(teapot.model(t - frame_time)[:3, :3])
+            scene.light = DirectionalLight(
+                turn @ prev_light.direction, prev_light.color, prev_light.ambient
+            )
+            before = ink_of(ctx.render(scene, size, shutter=(t, t)))
+            same_pose.append(_pops(ink, before, on))
+            change.append(float(np.abs(ink - before)[on].mean()))
             h, w = ink.shape
             y, x = np.mgrid[0:h, 0:w] + 0.5
-            sx = x - frame.motion[..., 0]
-            sy = y - frame.motion[..., 1]
-            came = _bilinear(prev_ink, sx, sy)
+            sx, sy = x - frame.motion[..., 0], y - frame.motion[..., 1]
             ix = np.clip(np.floor(sx).astype(int), 0, w - 1)
             iy = np.clip(np.floor(sy).astype(int), 0, h - 1)
             inside = (sx >= 0) & (sx < w) & (sy >= 0) & (sy < h)
             valid = on & inside & prev_on[iy, ix]
-            now, before = ink > 0.5, came > 0.5
-            strokes = valid & (now | before)
-            pops = valid & (now != before)
-            fractions.append(pops.sum() / max(strokes.sum(), 1))
-        previous = (ink, on)
-    fractions = np.array(fractions)
+            reprojected.append(_pops(ink, _bilinear(prev_ink, sx, sy), valid))
+        previous = (ink, on, light)
+    same_pose, reprojected = np.array(same_pose), np.array(reprojected)
     return {
         "scheme": scheme,
         "moving_light": moving_light,
-        "pop_fraction": fractions,
-        "mean_pop_fraction": float(fractions.mean()),
+        "pop_fraction": same_pose,
+        "mean_pop_fraction": float(same_pose.mean()),
+        "reprojected_pop_fraction": reprojected,
+        "mean_reprojected_pop_fraction": float(reprojected.mean()),
+        "ink_change": np.array(change),
+        "mean_ink_change": float(np.mean(change)),
         "frames": frames,
         "size": tuple(size),
     }
+
+
+def _pops(ink: np.ndarray, before: np.ndarray, where: np.ndarray) -> float:
+    """Pixels that are a stroke (ink > 0.5) in one image and not the other, over the pixels
+    that are a stroke in either, among `where`."""
+    now, then = ink > 0.5, before > 0.5
+    strokes = (where & (now | then)).sum()
+    return float((where & (now != then)).sum() / max(strokes, 1))
 
 
 def _bilinear(image: np.ndarray, x: np.ndarray, y: np.ndarray) -> np.ndarray:
