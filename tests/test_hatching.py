@@ -129,6 +129,14 @@ def test_hatched_objects_keep_depth_and_motion_and_blur(ctx, tam):
         assert np.abs(out.color - hatched.color).max() > 0.1  # the hatching was blurred
 
 
+def test_a_tam_folder_is_a_tam(ctx, tam, tmp_path):
+    tam.write(tmp_path)
+    material = bl.Material.hatching("six_way", str(tmp_path))
+    assert material.hatch.tam.sizes == tam.sizes
+    frame = ctx.render(hatching.patch_scene(0.5, material), (64, 64), shutter=(0, 0))
+    assert hatching.ink_of(frame).mean() == pytest.approx(0.5, abs=0.02)
+
+
 def test_no_motion_and_no_light_change_means_no_popping(ctx, tam):
     result = hatching.temporal_coherence(
         ctx, "threshold", tam, frames=3, size=(96, 72), moving_light=False, spin_per_frame=0.0

@@ -16,6 +16,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from numbers import Real
+from pathlib import Path
 
 import numpy as np
 
@@ -45,33 +46,26 @@ class Hatching:
         return (_CODES["threshold"], float(self.scale), thresholds, None)
 
 
-def material(
-    scheme: str = "threshold",
-    tam=None,
-    scale: float = 1.0,
-    color=(1.0, 1.0, 1.0),
-    texture=None,
-    specular: float = 0.0,
-    shininess: float = 32.0,
-) -> Material:
-    """A hatched material; see ``bl.Material.hatching``."""
+def hatch(scheme: str, tam, scale: float) -> Hatching:
+    """The checked hatching of a material; ``bl.Material.hatching`` documents the arguments."""
     if scheme not in SCHEMES:
         raise ValueError(f"blurlab: hatching scheme must be one of {SCHEMES}, not {scheme!r}")
     if tam is None:
         tam = default_tam()
     elif isinstance(tam, np.ndarray):
         tam = _single_image_tam(tam)
+    elif isinstance(tam, (str, Path)) and Path(tam).is_dir():
+        tam = TAM.read(tam)
     elif not isinstance(tam, TAM):
         raise ValueError(
             "blurlab: hatching tam must be a blurlab.tam.TAM, a (6, S, S) float array of ink, "
-            f"or None (the default TAM), not {type(tam).__name__}"
+            f"a folder written by TAM.write, or None (the default TAM), not {tam!r:.80}"
         )
     if isinstance(scale, bool) or not isinstance(scale, Real) or not math.isfinite(scale):
         raise ValueError(f"blurlab: hatching scale must be a finite number > 0, not {scale!r}")
     if scale <= 0:
         raise ValueError(f"blurlab: hatching scale must be > 0, not {scale!r}")
-    hatch = Hatching(scheme, tam, float(scale))
-    return Material(color, texture=texture, specular=specular, shininess=shininess, hatch=hatch)
+    return Hatching(scheme, tam, float(scale))
 
 
 def _single_image_tam(array: np.ndarray) -> TAM:
@@ -156,7 +150,7 @@ def tone_reproduction(
 
     tam = tam or default_tam()
     target = np.linspace(0.0, 1.0, steps)
-    hatched = material(scheme, tam, 1.0)
+    hatched = Material.hatching(scheme, tam, 1.0)
     pixels_per_texel = size / tam.sizes[0]
     level = int(np.clip(round(-math.log2(pixels_per_texel)), 0, len(tam.sizes) - 1))
     box = max(1, round(spacing_texels * size / tam.sizes[level]))
@@ -196,7 +190,7 @@ def pair_scene(scheme: str | None, tam: TAM | None = None, motion: Motion | None
     teapot takes `motion` if given."""
 
     def surface(scale: float) -> Material:
-        return Material((1, 1, 1)) if scheme is None else material(scheme, tam, scale)
+        return Material((1, 1, 1)) if scheme is None else Material.hatching(scheme, tam, scale)
 
     scene = Scene(
         Camera(position=(0, 0.9, 3.2), look_at=(0, 0.4, 0), fov_y=40),
@@ -225,7 +219,7 @@ def coherence_scene(
     camera = Camera(position=(0.0, 0.9, 2.6), look_at=(0.0, 0.45, 0.0), fov_y=40.0)
     scene = Scene(camera, background=(1, 1, 1), name="hatching_teapot")
     motion = Motion.linear(spin_axis=(0, 1, 0), spin_rate=spin_per_frame / frame_time)
-    scene.add(meshes.teapot(), material(scheme, tam, scale), motion, name="teapot")
+    scene.add(meshes.teapot(), Material.hatching(scheme, tam, scale), motion, name="teapot")
     return scene
 
 

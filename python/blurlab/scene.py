@@ -129,13 +129,14 @@ class Material:
 
         ``scheme``: "six_way" (per-vertex weights of the two nearest of 6 tones, Praun et al.
         2001) or "threshold" (a per-pixel threshold test, Webb et al. 2002). ``tam``: a
-        ``blurlab.tam.TAM``, a (6, S, S) ink array, or None for ``blurlab.tam.default_tam()``.
+        ``blurlab.tam.TAM``, a (6, S, S) ink array, a folder written by ``TAM.write``, or None
+        for ``blurlab.tam.default_tam()``.
         ``scale``: TAM repeats per unit of texture coordinate, > 0. The tone comes from the
         scene's light: Lambert, or Blinn–Phong when ``specular`` > 0.
         """
-        from .hatching import material
+        from .hatching import hatch
 
-        return material(scheme, tam, scale, color, texture, specular, shininess)
+        return cls(color, texture, specular, shininess, hatch(scheme, tam, scale))
 
     def __post_init__(self):
         c = np.asarray(self.color, dtype=np.float64)
