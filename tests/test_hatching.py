@@ -76,6 +76,29 @@ def test_gpu_threshold_rule_matches_the_reference_pixel_for_pixel(ctx, tam):
         np.testing.assert_allclose(hatching.ink_of(frame), expected, atol=5e-3)
 
 
+def test_small_images_read_the_tams_own_coarsest_level(ctx, tam):
+    # 64 texels over 8 pixels: the level of detail (3) lies past the last level (2), which GL
+    # then reads alone; each pixel center falls between 2 × 2 texels of that level.
+    size, level = 8, len(tam.sizes) - 1
+    y, x = np.mgrid[0:size, 0:size]
+    uv = np.stack([0.5 + (x + 0.5) / size, 0.5 + (y + 0.5) / size], -1)
+    s = tam.sizes[level]
+    p = uv * s - 0.5
+    x0, y0 = np.floor(p[..., 0]).astype(int) % s, np.floor(p[..., 1]).astype(int) % s
+    x1, y1 = (x0 + 1) % s, (y0 + 1) % s
+    tones = tam.tones[level].astype(np.float16).astype(np.float64)
+    mean = (tones[:, y0, x0] + tones[:, y0, x1] + tones[:, y1, x0] + tones[:, y1, x1]) / 4
+    for darkness in (0.3, 0.75):
+        threshold = bl.Material.hatching("threshold", tam)
+        frame = ctx.render(hatching.patch_scene(darkness, threshold), (size, size), (0, 0))
+        expected = ref.threshold_ink(tam.thresholds[level], uv, darkness)
+        np.testing.assert_allclose(hatching.ink_of(frame), expected, atol=5e-3)
+        six_way = bl.Material.hatching("six_way", tam)
+        frame = ctx.render(hatching.patch_scene(darkness, six_way), (size, size), (0, 0))
+        expected = ref.six_way_ink(ref.six_way_weights(1.0 - darkness), mean)
+        np.testing.assert_allclose(hatching.ink_of(frame), expected, atol=5e-3)
+
+
 def test_blinn_phong_tone_source_matches_the_reference_per_pixel(ctx, tam):
     size = 128
     material = bl.Material.hatching("threshold", tam, specular=0.6, shininess=8.0)
@@ -168,9 +191,15 @@ def test_turning_the_light_with_the_object_is_the_same_tone(ctx, tam):
         ({"scale": math.nan}, "scale"),
         ({"scale": "2"}, "scale"),
         ({"specular": -1.0}, "specular"),
+        ({"tam": bl.tam}, "tam"),
     ],
 )
 def test_bad_arguments_name_the_argument(kwargs, name, tam):
     kwargs.setdefault("tam", tam)
     with pytest.raises(ValueError, match=name):
         bl.Material.hatching(**kwargs)
+
+
+def test_a_hatch_that_is_not_a_hatching_is_refused():
+    with pytest.raises(ValueError, match="hatch"):
+        bl.Material(hatch="six_way")

@@ -149,6 +149,14 @@ class Material:
             raise ValueError(f"blurlab: shininess must be > 0, not {self.shininess}")
         if isinstance(self.texture, (str, Path)) and not Path(self.texture).is_file():
             raise FileNotFoundError(f"blurlab: material texture not found: {self.texture}")
+        if self.hatch is not None:
+            from .hatching import Hatching
+
+            if not isinstance(self.hatch, Hatching):
+                raise ValueError(
+                    "blurlab: material hatch must come from Material.hatching(...), not "
+                    f"{type(self.hatch).__name__}"
+                )
 
     def texture_rgba(self) -> np.ndarray | None:
         """The texture as (H, W, 4) linear float16, or None."""
