@@ -1,6 +1,6 @@
 """blurlab: real-time motion-blur methods run headless on the GPU, measured from Python."""
 
-from . import io, mesh, metrics, plots, reference, scenes
+from . import hatching, io, mesh, metrics, plots, reference, scenes, tam
 from ._core import GLError, ShaderError
 from .accumulation import Reference, reference_samples_needed
 from .context import ComputeProgram, Context, PendingDownload, Texture, Timing
@@ -36,6 +36,7 @@ __all__ = [
     "Texture",
     "Timing",
     "blur",
+    "hatching",
     "io",
     "mesh",
     "method",
@@ -49,4 +50,5 @@ __all__ = [
     "plots",
     "scenes",
     "sweep",
+    "tam",
 ]

@@ -181,6 +181,7 @@ def render_targets(
                 float(m.shininess),
                 ctx._gpu_material_texture(m),
                 object_id,
+                None if m.hatch is None else m.hatch.draw(ctx),
             )
         )
     # Every target is fully overwritten (the background pass covers every pixel), so pooled

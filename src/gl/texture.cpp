@@ -1,5 +1,6 @@
 #include "gl/texture.h"
 
+#include <algorithm>
 #include <cstdint>
 
 #include "gl/context.h"
@@ -75,6 +76,21 @@ void Texture::upload(const void* data, size_t bytes) {
   check_gl("texture upload");
 }
 
+void Texture::upload_level(int level, const void* data, size_t bytes) {
+  if (level < 0 || level >= levels_)
+    throw std::invalid_argument("blurlab: level " + std::to_string(level) + " is outside 0.." +
+                                std::to_string(levels_ - 1));
+  const int w = std::max(1, width_ >> level), h = std::max(1, height_ >> level);
+  const size_t expected = static_cast<size_t>(w) * h * format_.bytes_per_texel;
+  if (bytes != expected)
+    throw std::invalid_argument("blurlab: upload of " + std::to_string(bytes) +
+                                " bytes into level " + std::to_string(level) + " of " +
+                                std::to_string(expected));
+  context_->make_current();
+  glTextureSubImage2D(id_, level, 0, 0, w, h, format_.pixel_format, format_.pixel_type, data);
+  check_gl("texture level upload");
+}
+
 void Texture::download(void* data, size_t bytes) const {
   if (bytes != byte_size())
     throw std::invalid_argument("blurlab: download of a texture of " + std::to_string(byte_size()) +
@@ -111,12 +127,17 @@ void Texture::copy_from(const Texture& source, int x, int y) {
 void Texture::generate_mipmaps() {
   context_->make_current();
   glGenerateTextureMipmap(id_);
+  use_mipmaps();
+}
+
+void Texture::use_mipmaps() {
+  context_->make_current();
   glTextureParameteri(id_, GL_TEXTURE_MIN_FILTER,
                       levels_ > 1 ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
   glTextureParameteri(id_, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
   glTextureParameteri(id_, GL_TEXTURE_WRAP_S, GL_REPEAT);
   glTextureParameteri(id_, GL_TEXTURE_WRAP_T, GL_REPEAT);
-  check_gl("generating mipmaps");
+  check_gl("setting mipmap sampling");
 }
 
 }  // namespace blurlab

@@ -6,6 +6,7 @@ Each GPU pass has its twin here, and the tests hold the GPU to it.
 from . import (
     accumulation,
     gathers,
+    hatching,
     inputs,
     mcguire2012,
     motion_encoding,
@@ -19,6 +20,7 @@ from .patterns import test_pattern
 __all__ = [
     "accumulation",
     "gathers",
+    "hatching",
     "inputs",
     "mcguire2012",
     "motion_encoding",
