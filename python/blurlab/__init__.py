@@ -3,6 +3,7 @@
 from . import io, mesh, metrics, plots, reference, scenes
 from ._core import GLError, ShaderError
 from .accumulation import Reference, reference_samples_needed
+from .cluster import local_cluster
 from .context import ComputeProgram, Context, PendingDownload, Texture, Timing
 from .frame import MOTION_FORMATS, Frame
 from .mesh import Mesh
@@ -37,6 +38,7 @@ __all__ = [
     "Timing",
     "blur",
     "io",
+    "local_cluster",
     "mesh",
     "methods",
     "methods_instant",
