@@ -81,7 +81,9 @@ def local_cluster(n_workers: int | None = None, device: str = "auto", **cluster_
     """
     distributed = _distributed()
     if device not in DEVICE_MODES:
-        raise ValueError(f"blurlab.local_cluster: device must be one of {DEVICE_MODES}, not {device!r}")
+        raise ValueError(
+            f"blurlab.local_cluster: device must be one of {DEVICE_MODES}, not {device!r}"
+        )
     gpus = [d for d in Context.devices() if d["kind"] == "gpu"]
     if device == "gpu" and not gpus:
         raise RuntimeError(

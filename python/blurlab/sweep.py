@@ -88,10 +88,11 @@ def sweep(
 
     `methods_and_grids`: a list of method names (default grids), a {name: grid} mapping, or
     None for every single-frame method with its default grid. `reference_samples`: N of each
-    scene's reference; None picks max(64, 2 × the longest motion in pixels), at most 1024. `out`: a CSV file
-    that rows are appended to as they finish; rows already in it are skipped. Each pass time
-    is the median of `repeats` runs, all configurations of a scene timed back to back before
-    any error is computed (a GPU left idle while the CPU computes SSIM and FLIP clocks down).
+    scene's reference; None picks max(64, 2 × the longest motion in pixels), at most 1024.
+    `out`: a CSV file that rows are appended to as they finish; rows already in it are
+    skipped. Each pass time is the median of `repeats` runs, all configurations of a scene
+    timed back to back before any error is computed (a GPU left idle while the CPU computes
+    SSIM and FLIP clocks down).
 
     `cluster`: run on Dask workers instead of `ctx` (then pass ctx=None): a
     ``distributed.Client``, a cluster such as ``bl.local_cluster()``, or a scheduler address
@@ -103,8 +104,7 @@ def sweep(
         raise TypeError("blurlab.sweep needs a blurlab Context (or ctx=None and a cluster)")
     if cluster is not None and ctx is not None:
         raise ValueError(
-            "blurlab.sweep: with cluster=, every worker renders on its own device; "
-            "pass ctx=None"
+            "blurlab.sweep: with cluster=, every worker renders on its own device; pass ctx=None"
         )
     if isinstance(repeats, bool) or not isinstance(repeats, int) or repeats < 1:
         raise ValueError(f"blurlab.sweep: repeats must be an integer >= 1, not {repeats!r}")
