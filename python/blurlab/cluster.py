@@ -24,6 +24,7 @@ INSTALL_HINT = "pip install 'blurlab[distributed]' (or dask[distributed])"
 # Scenes whose frames and references a worker keeps; the client keeps each worker on one scene
 # at a time, so two are enough for the hand-over between scenes.
 SCENES_KEPT = 2
+MAX_CHUNK = 8  # configurations per task unless bl.sweep's chunk_size says otherwise
 
 _worker_state: dict = {}  # this process as a Dask worker: its Context and scene caches
 
@@ -176,10 +177,8 @@ def sweep_on_cluster(cluster, scenes, pending, settings, record, chunk_size, bar
     try:
         client.wait_for_workers(1, timeout=120)
         queues = {i: deque(jobs) for i, jobs in enumerate(pending) if jobs}
-        total = sum(len(q) for q in queues.values())
         workers = list(client.nthreads())
-        if chunk_size is None:  # about four chunks per worker, at most 8 configurations each
-            chunk_size = max(1, min(8, math.ceil(total / (4 * len(workers)))))
+        largest = chunk_size or MAX_CHUNK
         token = uuid.uuid4().hex[:12]
         scattered: dict = {}
         owner: dict = {}
@@ -201,7 +200,11 @@ def sweep_on_cluster(cluster, scenes, pending, settings, record, chunk_size, bar
                 return
             owner[worker] = i
             started.add(i)
-            chunk = [queues[i].popleft() for _ in range(min(chunk_size, len(queues[i])))]
+            # Guided self-scheduling: chunks shrink as the work left does, so the workers
+            # finish together; a chunk is at most `largest` configurations of one scene.
+            left = sum(len(q) for q in queues.values())
+            size = max(1, min(largest, len(queues[i]), math.ceil(left / (2 * len(workers)))))
+            chunk = [queues[i].popleft() for _ in range(size)]
             if i not in scattered:
                 scattered[i] = client.scatter(scenes[i], broadcast=True, hash=False)
             future = client.submit(
@@ -227,7 +230,7 @@ def sweep_on_cluster(cluster, scenes, pending, settings, record, chunk_size, bar
             counts[name] = counts.get(name, 0) + len(rows)
             if bar:
                 bar.set_postfix(rows_per_worker=",".join(f"{n}:{c}" for n, c in counts.items()))
-            alive = list(client.nthreads())
+            alive = workers = list(client.nthreads())
             busy = set(futures.values())
             # This worker again (or, if it is gone, any), and workers that joined meanwhile.
             for target in [worker if worker in alive else None] + alive:

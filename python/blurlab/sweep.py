@@ -98,7 +98,8 @@ def sweep(
     ``distributed.Client``, a cluster such as ``bl.local_cluster()``, or a scheduler address
     ``"tcp://host:8786"``. Each worker renders on its own device and returns rows; they land
     in the same table and the same `out` file as a local sweep's (docs/distributed.md).
-    `chunk_size`: configurations of one scene per task (default: a few tasks per worker).
+    `chunk_size`: at most this many configurations of one scene per task (default 8; chunks
+    shrink towards the end of the sweep so that the workers finish together).
     """
     if cluster is None and not isinstance(ctx, Context):
         raise TypeError("blurlab.sweep needs a blurlab Context (or ctx=None and a cluster)")
