@@ -150,6 +150,10 @@ def run_chunk(scene, scene_key, jobs, settings) -> tuple[str, list]:
     return str(_distributed().get_worker().name), rows
 
 
+def _scene_copy(scene):
+    return scene
+
+
 def _connect(cluster):
     """(client, whether this call made it) for a Client, a cluster or a scheduler address."""
     distributed = _distributed()
@@ -180,7 +184,7 @@ def sweep_on_cluster(cluster, scenes, pending, settings, record, chunk_size, bar
         workers = list(client.nthreads())
         largest = chunk_size or MAX_CHUNK
         token = uuid.uuid4().hex[:12]
-        scattered: dict = {}
+        shipped: dict = {}
         owner: dict = {}
         started: set = set()
         counts: dict = {}
@@ -205,11 +209,13 @@ def sweep_on_cluster(cluster, scenes, pending, settings, record, chunk_size, bar
             left = sum(len(q) for q in queues.values())
             size = max(1, min(largest, len(queues[i]), math.ceil(left / (2 * len(workers)))))
             chunk = [queues[i].popleft() for _ in range(size)]
-            if i not in scattered:
-                scattered[i] = client.scatter(scenes[i], broadcast=True, hash=False)
+            if i not in shipped:
+                # A task that returns the scene, not scattered data: if the worker holding it
+                # dies, Dask computes it again from the task instead of losing it.
+                shipped[i] = client.submit(_scene_copy, scenes[i], pure=False)
             future = client.submit(
                 run_chunk,
-                scattered[i],
+                shipped[i],
                 (token, i),
                 chunk,
                 settings,
