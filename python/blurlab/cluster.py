@@ -154,17 +154,25 @@ def _scene_copy(scene):
     return scene
 
 
+def check_cluster(cluster) -> None:
+    """Raises unless `cluster` is a Client, a cluster object or a scheduler address."""
+    distributed = _distributed()
+    if not (
+        isinstance(cluster, (distributed.Client, str)) or hasattr(cluster, "scheduler_address")
+    ):
+        raise TypeError(
+            "blurlab.sweep: cluster must be a distributed.Client, a cluster (e.g. "
+            f"bl.local_cluster()) or a scheduler address 'tcp://host:8786', not {cluster!r}"
+        )
+
+
 def _connect(cluster):
     """(client, whether this call made it) for a Client, a cluster or a scheduler address."""
     distributed = _distributed()
+    check_cluster(cluster)
     if isinstance(cluster, distributed.Client):
         return cluster, False
-    if isinstance(cluster, str) or hasattr(cluster, "scheduler_address"):
-        return distributed.Client(cluster, timeout="60s"), True
-    raise TypeError(
-        "blurlab.sweep: cluster must be a distributed.Client, a cluster (e.g. "
-        f"bl.local_cluster()) or a scheduler address 'tcp://host:8786', not {cluster!r}"
-    )
+    return distributed.Client(cluster, timeout="60s"), True
 
 
 def sweep_on_cluster(cluster, scenes, pending, settings, record, chunk_size, bar) -> None:

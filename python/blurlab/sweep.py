@@ -107,6 +107,10 @@ def sweep(
         raise ValueError(
             "blurlab.sweep: with cluster=, every worker renders on its own device; pass ctx=None"
         )
+    if cluster is not None:
+        from .cluster import check_cluster
+
+        check_cluster(cluster)
     if isinstance(repeats, bool) or not isinstance(repeats, int) or repeats < 1:
         raise ValueError(f"blurlab.sweep: repeats must be an integer >= 1, not {repeats!r}")
     if chunk_size is not None and (
@@ -174,7 +178,7 @@ def sweep(
                 if jobs:
                     for key, row in evaluate_scene(ctx, scene, jobs, settings, {}):
                         record(key, row)
-        else:
+        elif any(pending):  # a finished sweep needs no cluster
             from .cluster import sweep_on_cluster
 
             sweep_on_cluster(cluster, scene_list, pending, settings, record, chunk_size, bar)
