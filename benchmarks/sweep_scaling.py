@@ -38,7 +38,7 @@ def main() -> None:
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--workers", type=int, nargs="+", default=[1, 2])
     parser.add_argument(
-        "--local", action="store_true", help="also time the sweep in this process, no Dask"
+        "--local", action="store_true", help="last, time the sweep in this process, no Dask"
     )
     parser.add_argument("--json", default=None)
     args = parser.parse_args()
@@ -69,47 +69,57 @@ def main() -> None:
         f"\n{record['date']}  {record['renderer']}  {args.size}, {len(args.scenes)} scenes, "
         f"{evaluations} evaluations, metrics {','.join(metrics)}; EGL GPUs: {len(gpus)}\n"
     )
-    tables = {}
-    if args.local:
-        start = time.perf_counter()
-        tables["local"] = bl.sweep(ctx, **sweep_args)
-        record["runs"].append(_run("local", 0.0, time.perf_counter() - start, tables["local"]))
-    for n in args.workers:
-        if gpus and args.device != "software" and n > len(gpus):
-            print(f"note: {n} workers share {len(gpus)} GPU(s)")
-        start = time.perf_counter()
-        with bl.local_cluster(n, args.device) as cluster:
-            from distributed import Client
-
-            with Client(cluster) as client:
-                client.wait_for_workers(n, timeout=300)
-                startup = time.perf_counter() - start
-                start = time.perf_counter()
-                tables[n] = bl.sweep(None, cluster=client, **sweep_args)
-                wall = time.perf_counter() - start
-                devices = client.run(_worker_device)
-        run = _run(f"{n} worker(s)", startup, wall, tables[n])
-        run["workers"] = n
-        run["worker_devices"] = sorted(devices.values())
-        record["runs"].append(run)
-    base = next((r for r in record["runs"] if r.get("workers") == min(args.workers)), None)
     print(
         "| run | cluster start s | sweep wall s | evaluations / s | GPU-timed s | speed-up "
-        "| same rows |\n|---|---|---|---|---|---|---|"
+        "| same rows |\n|---|---|---|---|---|---|---|",
+        flush=True,
     )
-    first = next(iter(tables.values()))
-    for run, table in zip(record["runs"], tables.values(), strict=True):
+    # Each run's line is printed and saved as soon as it is measured, so a run cut short by a
+    # time limit still leaves the ones before it.
+    first_table = None
+    base = None  # the first cluster run: speed-ups are relative to it
+    runs = [(f"{n} worker(s)", n) for n in args.workers] + ([("local", 0)] if args.local else [])
+    for name, n in runs:
+        if n and gpus and args.device != "software" and n > len(gpus):
+            print(f"note: {n} workers share {len(gpus)} GPU(s)", flush=True)
+        if n == 0:
+            start = time.perf_counter()
+            table = bl.sweep(ctx, **sweep_args)
+            run = _run(name, 0.0, time.perf_counter() - start, table)
+        else:
+            run, table = _cluster_run(name, n, args.device, sweep_args)
+            base = base or run
+        first_table = table if first_table is None else first_table
         run["speedup"] = base["wall_s"] / run["wall_s"] if base else float("nan")
-        run["same_rows_as_first"] = _same(first, table)
+        run["same_rows_as_first"] = _same(first_table, table)
+        record["runs"].append(run)
         print(
-            f"| {run['name']} | {run['startup_s']:.1f} | {run['wall_s']:.1f} "
+            f"| {name} | {run['startup_s']:.1f} | {run['wall_s']:.1f} "
             f"| {evaluations / run['wall_s']:.2f} | {run['gpu_timed_s']:.1f} "
-            f"| {run['speedup']:.2f}x | {run['same_rows_as_first']} |"
+            f"| {run['speedup']:.2f}x | {run['same_rows_as_first']} |",
+            flush=True,
         )
+        save(args.json, record)
     for run in record["runs"]:
         if "worker_devices" in run:
             print(f"{run['name']}: " + "; ".join(run["worker_devices"]))
-    save(args.json, record)
+
+
+def _cluster_run(name: str, n: int, device: str, sweep_args: dict):
+    from distributed import Client
+
+    start = time.perf_counter()
+    with bl.local_cluster(n, device) as cluster, Client(cluster) as client:
+        client.wait_for_workers(n, timeout=300)
+        startup = time.perf_counter() - start
+        start = time.perf_counter()
+        table = bl.sweep(None, cluster=client, **sweep_args)
+        wall = time.perf_counter() - start
+        devices = client.run(_worker_device)
+    run = _run(name, startup, wall, table)
+    run["workers"] = n
+    run["worker_devices"] = sorted(devices.values())
+    return run, table
 
 
 def _run(name: str, startup: float, wall: float, table: pd.DataFrame) -> dict:
