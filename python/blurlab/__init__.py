@@ -3,6 +3,7 @@
 from . import hatching, io, mesh, metrics, plots, reference, scenes, tam
 from ._core import GLError, ShaderError
 from .accumulation import Reference, reference_samples_needed
+from .cluster import local_cluster
 from .context import ComputeProgram, Context, PendingDownload, Texture, Timing
 from .frame import MOTION_FORMATS, Frame
 from .mesh import Mesh
@@ -38,6 +39,7 @@ __all__ = [
     "blur",
     "hatching",
     "io",
+    "local_cluster",
     "mesh",
     "method",
     "methods",
