@@ -4,6 +4,7 @@
 # benchmarks named as arguments (default: transfer). Results land in $OUT (or out/gpu).
 #
 #   device run, carry [".gl", ".whl"]:  bash benchmarks/gpu.sh transfer
+#   GPU_TESTS=0 bash benchmarks/gpu.sh "methods --size 1920x1080"   (no test suite)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out="${OUT:-out/gpu}"
@@ -34,9 +35,13 @@ export PYTHONUNBUFFERED=1
 
 python3 -m blurlab --device gpu info | tee "$out/info_gpu.json"
 # The test suite there (the notebooks need a Jupyter kernel, which the device lacks; CI runs
-# them).
-python3 -m pytest -q -p no:cacheprovider --ignore tests/test_notebooks.py tests 2>&1 \
-  | tail -n 15 || echo "gpu.sh: tests FAILED"
+# them). GPU_TESTS=0 skips it, for a second call that only measures.
+if [ "${GPU_TESTS:-1}" = 1 ]; then
+  start=$SECONDS
+  python3 -m pytest -q -p no:cacheprovider --ignore tests/test_notebooks.py tests 2>&1 \
+    | tail -n 15 || echo "gpu.sh: tests FAILED"
+  echo "gpu.sh: tests took $((SECONDS - start)) s"
+fi
 
 # Each argument is a benchmark script and its arguments, e.g. "gbuffer --size 1920x1080".
 for bench in "${@:-transfer}"; do
