@@ -190,6 +190,12 @@ def _typed(method_name: str, key: str, value, kind):
         return value
     if kind is object:
         return value
+    if kind is bool:
+        if not isinstance(value, (bool, np.bool_)):
+            raise TypeError(
+                f"blurlab: {method_name} parameter {key} must be True or False, not {value!r}"
+            )
+        return bool(value)
     if kind is int:
         if isinstance(value, bool) or not isinstance(value, Integral):
             raise TypeError(
@@ -244,6 +250,13 @@ def timed(ctx: Context, timings: dict, name: str, fn: Callable) -> None:
 # --- reconstruct_mcguire2012 (SPEC.md §3) -------------------------------------------------
 
 
+def _classify_params() -> dict:
+    from .classify import classify_params
+
+    return classify_params()
+
+
+
 def _mcguire_params(values: dict) -> _core.McGuire2012Params:
     p = _core.McGuire2012Params()
     for key in ("k", "samples", "soft_z", "exposure"):
@@ -256,7 +269,10 @@ def _mcguire_params(values: dict) -> _core.McGuire2012Params:
 
 
 def _run_mcguire2012(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
+    from . import classify
+
     params = _mcguire_params(values)
+    classify.check_backend(values, backend, "reconstruct_mcguire2012")
     height, width = inputs["color"].shape[:2]
     k = params.k
     grid = (-(-height // k), -(-width // k), 2)
@@ -266,23 +282,34 @@ def _run_mcguire2012(ctx: Context, frame: Frame, inputs: dict, values: dict, bac
     tile_pass = ctx._pass("tile_max", _core.TileMaxPass)
     neighbor_pass = ctx._pass("neighbor_max", _core.NeighborMaxPass)
     reconstruct = ctx._pass("reconstruct_mcguire2012", _core.ReconstructMcGuire2012Pass)
-    timed(
-        ctx,
-        timings,
-        "tile_max",
-        lambda: tile_pass.run(inputs["motion"]._core, tiles._core, params, backend),
-    )
+    extra = {}
+    if values["classify"]:
+        bounds = []
+        timed(
+            ctx,
+            timings,
+            "tile_max",
+            lambda: bounds.append(
+                classify.tile_max_with_bounds(ctx, tile_pass, inputs["motion"], tiles, params)
+            ),
+        )
+        extra["tile_bounds"] = bounds[0]
+    else:
+        timed(
+            ctx,
+            timings,
+            "tile_max",
+            lambda: tile_pass.run(inputs["motion"]._core, tiles._core, params, backend),
+        )
     timed(
         ctx,
         timings,
         "neighbor_max",
         lambda: neighbor_pass.run(tiles._core, neighbors._core, backend),
     )
-    timed(
-        ctx,
-        timings,
-        "reconstruct",
-        lambda: reconstruct.run(
+
+    def run_reconstruct():
+        reconstruct.run(
             inputs["color"]._core,
             inputs["depth"]._core,
             inputs["motion"]._core,
@@ -290,9 +317,26 @@ def _run_mcguire2012(ctx: Context, frame: Frame, inputs: dict, values: dict, bac
             result._core,
             params,
             backend,
-        ),
-    )
-    return {"color": result, "tile_max": tiles, "neighbor_max": neighbors}, timings
+        )
+
+    if values["classify"]:
+        extra.update(
+            classify.run_classified(
+                ctx,
+                lambda name, fn: timed(ctx, timings, name, fn),
+                inputs,
+                neighbors,
+                extra["tile_bounds"],
+                result,
+                params,
+                values["uniform_spread"],
+                reconstruct,
+                run_reconstruct,
+            )
+        )
+    else:
+        timed(ctx, timings, "reconstruct", run_reconstruct)
+    return {"color": result, "tile_max": tiles, "neighbor_max": neighbors, **extra}, timings
 
 
 register(
@@ -305,6 +349,7 @@ register(
             "soft_z": Param(depth_range_soft_z, float, "soft depth extent, depth units (> 0)"),
             "exposure": Param(1.0, float, "exposure E, fraction of the shutter (>= 0)"),
             "seed": Param(0, int, "jitter seed (0..2^32-1)"),
+            **_classify_params(),
         },
         backends=("compute", "fragment"),
         run=_run_mcguire2012,
