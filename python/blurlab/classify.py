@@ -23,10 +23,13 @@ def classify_params():
     from .methods import Param
 
     return {
-        "classify": Param(False, bool, "tile classification: skip still tiles, cheap gather "
-                          "on uniform ones (compute backend)"),
+        "classify": Param(
+            False,
+            bool,
+            "tile classification: skip still tiles, cheap gather on uniform ones (compute backend)",
+        ),
         "uniform_spread": Param(
-            0.25, float, "classification: largest |V - NeighborMax| of a uniform tile, px (>= 0)"
+            0.5, float, "classification: largest |V - NeighborMax| of a uniform tile, px (>= 0)"
         ),
     }
 
@@ -73,8 +76,10 @@ def run_classified(
     classify = ctx._pass("classify_tiles", _core.ClassifyTilesPass)
     copy = ctx._pass("tile_copy", _core.TileCopyPass)
     gather = ctx._pass("uniform_gather", _core.UniformGatherPass)
-    timed("classify_tiles", lambda: classify.run(bounds._core, neighbors._core, classes._core,
-                                                 lists, cp))
+    timed(
+        "classify_tiles",
+        lambda: classify.run(bounds._core, neighbors._core, classes._core, lists, cp),
+    )
 
     def restricted(pass_, tile_class, fn):
         pass_.restrict_to_tiles(lists, tile_class)
@@ -83,11 +88,18 @@ def run_classified(
         finally:
             pass_.restrict_to_tiles(None, 0)
 
-    timed("still_copy", lambda: restricted(
-        copy, STILL, lambda: copy.run(inputs["color"]._core, result._core)))
-    timed("uniform_gather", lambda: restricted(
-        gather, UNIFORM,
-        lambda: gather.run(inputs["color"]._core, neighbors._core, result._core, params)))
+    timed(
+        "still_copy",
+        lambda: restricted(copy, STILL, lambda: copy.run(inputs["color"]._core, result._core)),
+    )
+    timed(
+        "uniform_gather",
+        lambda: restricted(
+            gather,
+            UNIFORM,
+            lambda: gather.run(inputs["color"]._core, neighbors._core, result._core, params),
+        ),
+    )
     timed("reconstruct", lambda: restricted(full_pass, FULL_CLASS, run_full))
     return {"tile_class": classes}
 

@@ -256,7 +256,6 @@ def _classify_params() -> dict:
     return classify_params()
 
 
-
 def _mcguire_params(values: dict) -> _core.McGuire2012Params:
     p = _core.McGuire2012Params()
     for key in ("k", "samples", "soft_z", "exposure"):

@@ -6,7 +6,7 @@
 // | name            | default | allowed       | meaning                                       |
 // |-----------------|---------|---------------|-----------------------------------------------|
 // | still_threshold | 0.51    | finite, >= 0  | |NeighborMax| at or below it: still (SPEC §3.4) |
-// | uniform_spread  | 0.25    | finite, >= 0  | largest |V - NeighborMax| of a uniform tile, px |
+// | uniform_spread  | 0.5     | finite, >= 0  | largest |V - NeighborMax| of a uniform tile, px |
 #pragma once
 
 #include <array>
@@ -28,7 +28,7 @@ enum TileClass : int { tile_still = 0, tile_uniform = 1, tile_full = 2 };
 
 struct ClassifyParams {
   float still_threshold = 0.51f;
-  float uniform_spread = 0.25f;
+  float uniform_spread = 0.5f;
 
   // Throws std::invalid_argument naming the parameter, its value and the allowed range.
   void validate() const {

@@ -3,7 +3,16 @@
 Each GPU pass has its twin here, and the tests hold the GPU to it.
 """
 
-from . import accumulation, classify, gathers, mcguire2012, motion_encoding, projection, stochastic, urho3d
+from . import (
+    accumulation,
+    classify,
+    gathers,
+    mcguire2012,
+    motion_encoding,
+    projection,
+    stochastic,
+    urho3d,
+)
 from .hashing import pcg, rand
 from .patterns import test_pattern
 

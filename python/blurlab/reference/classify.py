@@ -32,7 +32,7 @@ def classify_tiles(
     bounds: np.ndarray,
     neighbor: np.ndarray,
     still_threshold: float = STILL_THRESHOLD,
-    uniform_spread: float = 0.25,
+    uniform_spread: float = 0.5,
 ) -> np.ndarray:
     """(tiles_h, tiles_w) int: STILL where |vN| <= still_threshold; else UNIFORM where the
     corner of the 3 x 3 neighbourhood's bounding box of V farthest from vN lies within
@@ -87,7 +87,7 @@ def classified(
     samples: int = 15,
     exposure: float = 1.0,
     seed: int = 0,
-    uniform_spread: float = 0.25,
+    uniform_spread: float = 0.5,
     still_threshold: float = STILL_THRESHOLD,
 ):
     """The classified filter: C on still tiles, uniform_gather on uniform tiles and `full`
