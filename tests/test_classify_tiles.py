@@ -8,7 +8,6 @@ import numpy as np
 import pytest
 from conftest import random_frame
 
-import blurlab as bl
 from blurlab import _core
 from blurlab.reference import classify as ref
 from blurlab.reference import mcguire2012 as m
