@@ -6,7 +6,7 @@ from .accumulation import Reference, reference_samples_needed
 from .context import ComputeProgram, Context, PendingDownload, Texture, Timing
 from .frame import MOTION_FORMATS, Frame
 from .mesh import Mesh
-from .methods import BlurResult, blur, methods, render_and_blur
+from .methods import BlurResult, blur, blur_steps, methods, render_and_blur, render_steps
 from .methods import method_instant as methods_instant
 from .motion import Bone, Keyframe, Motion, Skeleton, quaternion
 from .scene import Camera, DirectionalLight, Material, Scene
@@ -36,6 +36,7 @@ __all__ = [
     "Texture",
     "Timing",
     "blur",
+    "blur_steps",
     "io",
     "mesh",
     "methods",
@@ -44,6 +45,7 @@ __all__ = [
     "reference",
     "reference_samples_needed",
     "render_and_blur",
+    "render_steps",
     "metrics",
     "plots",
     "scenes",

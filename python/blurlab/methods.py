@@ -71,6 +71,9 @@ class Method:
     # (ctx, frame, inputs: dict[str, Texture], params, backend) -> (outputs, timings)
     run: Callable
     doc: str = ""
+    # True for methods that render sub-frames themselves (accumulation, stochastic): `steps`
+    # does not apply to them.
+    renders: bool = False
 
 
 _REGISTRY: dict[str, Method] = {}
@@ -149,11 +152,102 @@ def render_and_blur(
     size=(640, 360),
     shutter=None,
     backend: str | None = None,
+    steps: int = 1,
     **params,
-) -> tuple[Frame, BlurResult]:
-    """Renders `scene` at the instant method `name` expects and runs it: (frame, result)."""
-    frame = ctx.render(scene, size, shutter, instant=method_instant(name, params))
-    return frame, blur(ctx, frame, name, backend, **params)
+) -> tuple[Frame | list[Frame], BlurResult]:
+    """Renders `scene` at the instant method `name` expects and runs it: (frame, result).
+
+    `steps` = n > 1 splits the shutter into n equal sub-intervals, renders and blurs each over
+    its own sub-interval and averages the n results (render_steps, blur_steps); the first
+    element is then the list of the n frames. steps = 1 is the plain render and blur."""
+    frames = render_steps(ctx, scene, name, steps, size, shutter, **params)
+    result = blur_steps(ctx, frames, name, backend, **params)
+    return (frames[0] if len(frames) == 1 else frames), result
+
+
+MAX_STEPS = 256
+
+
+def check_steps(name: str, steps) -> int:
+    """`steps` as an int in 1..MAX_STEPS for a post-process method; raises naming both."""
+    if isinstance(steps, bool) or not isinstance(steps, Integral):
+        raise TypeError(f"blurlab: steps must be an integer, not {steps!r}")
+    if not 1 <= steps <= MAX_STEPS:
+        raise ValueError(f"blurlab: steps = {steps} is outside 1..{MAX_STEPS}")
+    if steps > 1 and method(name).renders:
+        raise ValueError(
+            f"blurlab: steps applies to post-process methods; {name} renders its own sub-frames"
+        )
+    return int(steps)
+
+
+def step_shutters(shutter: tuple[float, float], steps: int) -> list[tuple[float, float]]:
+    """The n equal sub-intervals [t0 + i/n·Δ, t0 + (i+1)/n·Δ] of a shutter (Δ = t1 - t0)."""
+    t0, t1 = shutter
+    if steps == 1:
+        return [(t0, t1)]
+    edges = [t0 + (t1 - t0) * i / steps for i in range(steps)] + [t1]
+    return list(zip(edges[:-1], edges[1:], strict=True))
+
+
+def render_steps(
+    ctx: Context, scene, name: str, steps: int = 1, size=(640, 360), shutter=None, **params
+) -> list[Frame]:
+    """The G-buffers that `blur_steps` needs: one per sub-interval of the shutter, each at the
+    instant method `name` expects within it, its motion over the sub-interval."""
+    from .render import check_shutter
+
+    steps = check_steps(name, steps)
+    shutter = check_shutter(scene.shutter if shutter is None else shutter)
+    instant = method_instant(name, params)
+    return [ctx.render(scene, size, sub, instant=instant) for sub in step_shutters(shutter, steps)]
+
+
+def blur_steps(
+    ctx: Context,
+    frames: list[Frame],
+    name: str,
+    backend: str | None = None,
+    timed: bool = True,
+    **params,
+) -> BlurResult:
+    """Blurs each frame of `render_steps` over its own sub-interval and averages the results
+    in float32 on the GPU (the accumulate pass, weight 1/n each). One frame: bl.blur itself,
+    bit for bit. The timings sum each pass over the steps and add `steps_accumulate` and
+    `extra_gbuffers` (the G-buffer passes of steps 2..n, beyond the one every post-process
+    method needs); params gain "steps"."""
+    frames = list(frames)
+    if not frames or not all(isinstance(f, Frame) for f in frames):
+        raise TypeError("blurlab: blur_steps needs a non-empty list of blurlab Frames")
+    steps = check_steps(name, len(frames))
+    if steps == 1:
+        return blur(ctx, frames[0], name, backend, timed, **params)
+    height, width = frames[0].color.shape[:2]
+    if any(f.color.shape[:2] != (height, width) for f in frames):
+        raise ValueError("blurlab: the frames of blur_steps differ in size")
+    total = ctx._pooled((height, width, 4))
+    total.clear()
+    accumulate = ctx._pass("accumulate", _core.AccumulatePass)
+    timings: dict[str, Timing] = {}
+    for frame in frames:
+        result = blur(ctx, frame, name, backend, timed, **params)
+        add = Timing(math.nan, "untimed")
+        if timed:
+            with ctx.timer() as add:
+                accumulate.run(result.textures["color"]._core, total._core, 1 / steps)
+        else:
+            accumulate.run(result.textures["color"]._core, total._core, 1 / steps)
+        for key, timing in {**result.timings, "steps_accumulate": add}.items():
+            before = timings.get(key, Timing(0.0, timing.clock))
+            timings[key] = Timing(before.ms + timing.ms, timing.clock)
+        values, backend_used = result.params, result.backend
+        del result  # back to the pool before the next step
+    extra = sum(f.timings["gbuffer"].ms for f in frames[1:] if "gbuffer" in f.timings)
+    clock = next(iter(timings.values())).clock
+    timings["extra_gbuffers"] = Timing(extra, clock)
+    out = BlurResult(name, {**values, "steps": steps}, backend_used, timings, {"color": total})
+    weakref.finalize(out, ctx._recycle, total)
+    return out
 
 
 def resolve_params(m: Method, frame: Frame | None, given: dict, frame_free: bool = False) -> dict:
@@ -690,6 +784,7 @@ register(
         },
         backends=("compute",),
         run=_run_accumulation,
+        renders=True,
         doc="Haeberli-Akeley accumulation (the OGRE paper): the reference with small N. "
         "SPEC.md §4.",
     )
@@ -746,6 +841,7 @@ register(
         },
         backends=("compute",),
         run=_run_stochastic,
+        renders=True,
         doc="The OGRE paper's stochastic blur: K time slices, rotated-grid samples in and "
         "around each pixel, weights 5/32 and 3/32. SPEC.md §4.",
     )

@@ -22,7 +22,7 @@ import pandas as pd
 from . import metrics as m
 from .accumulation import default_reference_samples
 from .context import Context
-from .methods import blur, method, method_instant, methods
+from .methods import blur_steps, check_steps, method, method_instant, methods, render_steps
 from .render import check_shutter
 from .scene import Scene
 
@@ -72,9 +72,11 @@ def sweep(
     """Evaluates every method at every point of its grid on every scene.
 
     `methods_and_grids`: a list of method names (default grids), a {name: grid} mapping, or
-    None for every single-frame method with its default grid. `reference_samples`: N of each
-    scene's reference; None picks max(64, 2 × the longest motion in pixels), at most 1024. `out`: a CSV file
-    that rows are appended to as they finish; rows already in it are skipped. Each pass time
+    None for every single-frame method with its default grid. A grid of a post-process method
+    may also vary `steps` (bl.blur_steps: n sub-intervals of the shutter, each rendered and
+    blurred, then averaged). `reference_samples`: N of each scene's reference; None picks
+    max(64, 2 × the longest motion in pixels), at most 1024. `out`: a CSV file that rows are
+    appended to as they finish; rows already in it are skipped. Each pass time
     is the median of `repeats` runs, all configurations of a scene timed back to back before
     any error is computed (a GPU left idle while the CPU computes SSIM and FLIP clocks down).
     """
@@ -94,7 +96,10 @@ def sweep(
         if name == "trail":
             raise ValueError("blurlab.sweep: trail needs a frame sequence; it is not swept")
         for key in grid:
-            if key not in method(name).params:
+            if key == "steps":
+                for steps in grid[key]:
+                    check_steps(name, steps)
+            elif key not in method(name).params:
                 raise ValueError(f"blurlab.sweep: {name} has no parameter {key!r}")
     scene_list = [_scene(s) for s in scenes]
     if not scene_list:
@@ -134,26 +139,28 @@ def sweep(
         # down, and single runs after that were several times slower on the H100.
         timings = {}
         for _, name, point, backend, key in here:
-            frame, reference = _scene_inputs(
+            frames, reference = _scene_inputs(
                 ctx, scene, name, point, size, shutter, reference_samples, cache
             )
+            params = {k: v for k, v in point.items() if k != "steps"}
             if (name, backend) not in warmed:  # compile (and, on llvmpipe, JIT) before timing
-                blur(ctx, frame, name, backend, **point)
+                blur_steps(ctx, frames, name, backend, **params)
                 warmed.add((name, backend))
             runs = []
             for _ in range(repeats):
-                result = blur(ctx, frame, name, backend, **point)
+                result = blur_steps(ctx, frames, name, backend, **params)
                 runs.append({p: t.ms for p, t in result.timings.items()})
                 clock = result.clock
                 del result  # back to the pool before the next run
             timings[key] = (runs, clock)
         # Then the error of each configuration, one untimed run each.
         for _, name, point, backend, key in here:
-            frame, reference = _scene_inputs(
+            frames, reference = _scene_inputs(
                 ctx, scene, name, point, size, shutter, reference_samples, cache
             )
+            params = {k: v for k, v in point.items() if k != "steps"}
             runs, clock = timings[key]
-            result = blur(ctx, frame, name, backend, timed=False, **point)
+            result = blur_steps(ctx, frames, name, backend, timed=False, **params)
             row = {
                 "scene": scene.name,
                 "method": name,
@@ -181,7 +188,7 @@ def sweep(
                     "width": width,
                     "height": height,
                     "reference_samples": reference.samples,
-                    "shutter": json.dumps(list(frame.shutter)),
+                    "shutter": json.dumps([frames[0].shutter[0], frames[-1].shutter[1]]),
                 }
             )
             del result  # its textures go back to the pool before the next evaluation
@@ -216,12 +223,24 @@ def sweep(
 
 
 def _scene_inputs(ctx, scene, name, point, size, shutter, reference_samples, cache):
-    """The frame at the method's instant and the scene's reference, each made once."""
-    instant = method_instant(name, point)
+    """The frames at the method's instant (one, or one per step of the shutter) and the
+    scene's reference, each made once."""
+    instant = method_instant(name, {k: v for k, v in point.items() if k != "steps"})
+    steps = point.get("steps", 1)
     frames = cache.setdefault(("frames", id(scene)), {})
-    if instant not in frames:
-        frames[instant] = ctx.render(scene, size, shutter, instant=instant)
-    frame = frames[instant]
+    if (instant, 1) not in frames:
+        frames[(instant, 1)] = [ctx.render(scene, size, shutter, instant=instant)]
+    if (instant, steps) not in frames:
+        frames[(instant, steps)] = render_steps(
+            ctx,
+            scene,
+            name,
+            steps,
+            size,
+            shutter,
+            **{k: v for k, v in point.items() if k != "steps"},
+        )
+    frame = frames[(instant, 1)][0]
     if ("reference", id(scene)) not in cache:
         n = reference_samples
         if n is None:
@@ -233,7 +252,7 @@ def _scene_inputs(ctx, scene, name, point, size, shutter, reference_samples, cac
             samples=n,
             progress=False,
         )
-    return frame, cache[("reference", id(scene))]
+    return frames[(instant, steps)], cache[("reference", id(scene))]
 
 
 def _key(scene: str, name: str, backend: str, point: dict, size) -> tuple:
