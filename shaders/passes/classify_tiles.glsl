@@ -7,8 +7,10 @@
 //   uniform (1): max over the corners c of B of |c - vN| <= uniform_spread — then every V[Y]
 //                that a pixel of T can sample lies within uniform_spread of vN;
 //   full    (2): otherwise.
-// Writes the class map and appends T to its class's list (atomic counter = the x count of
-// that class's indirect dispatch command). Compute only.
+// Writes the class map and appends T to its class's list. Each class has two indirect
+// dispatch commands, {count, blocks per tile, 1} and {count, 1, 1} (passes that take whole
+// tiles, WHOLE_TILES), at words 6c and 6c + 3; the atomic counter is the first one's count.
+// Compute only.
 // NumPy twin: blurlab.reference.classify.classify_tiles.
 #ifdef STAGE_COMPUTE
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -47,7 +49,8 @@ void main() {
         if (spread <= uniform_spread) c = UNIFORM;
     }
     imageStore(tile_class, tile, vec4(float(c)));
-    uint i = atomicAdd(words[3u * c], 1u);
+    uint i = atomicAdd(words[6u * c], 1u);
+    atomicAdd(words[6u * c + 3u], 1u);
     words[list_first + c * list_stride + i] = uint(tile.x) | (uint(tile.y) << 16);
 }
 #endif

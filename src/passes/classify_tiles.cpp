@@ -31,7 +31,7 @@ TileLists::TileLists(std::shared_ptr<Context> context, int grid_width, int grid_
                                 " work groups; use a larger k");
   // Each list starts at a multiple of the binding alignment, so one class binds as a range.
   const uint32_t words = std::max<uint32_t>(1, uint32_t(alignment) / 4);
-  list_first_ = round_up(3 * kClasses, words);
+  list_first_ = round_up(6 * kClasses, words);
   list_stride_ = round_up(uint32_t(tiles), words);
   const size_t bytes = size_t(list_first_ + kClasses * list_stride_) * 4;
   buffer_ = std::make_unique<Buffer>(context_.get(), bytes, Buffer::Usage::storage);
@@ -46,20 +46,23 @@ GLuint TileLists::buffer() const {
 
 void TileLists::reset() {
   const uint32_t blocks = uint32_t((k_ + 7) / 8);
-  std::array<uint32_t, 3 * kClasses> commands{};
-  for (int c = 0; c < kClasses; ++c) commands[3 * c + 1] = blocks * blocks, commands[3 * c + 2] = 1;
+  std::array<uint32_t, 6 * kClasses> commands{};
+  for (int c = 0; c < kClasses; ++c) {
+    commands[6 * c + 1] = blocks * blocks;
+    commands[6 * c + 2] = commands[6 * c + 4] = commands[6 * c + 5] = 1;
+  }
   context_->make_current();
   glNamedBufferSubData(buffer_->id(), 0, sizeof(commands), commands.data());
   check_gl("resetting tile lists");
 }
 
 std::array<uint32_t, TileLists::kClasses> TileLists::counts() const {
-  std::array<uint32_t, 3 * kClasses> commands{};
+  std::array<uint32_t, 6 * kClasses> commands{};
   context_->make_current();
   glGetNamedBufferSubData(buffer_->id(), 0, sizeof(commands), commands.data());
   check_gl("reading tile counts");
   std::array<uint32_t, kClasses> result{};
-  for (int c = 0; c < kClasses; ++c) result[c] = commands[3 * c];
+  for (int c = 0; c < kClasses; ++c) result[c] = commands[6 * c];
   return result;
 }
 

@@ -41,9 +41,10 @@ struct ClassifyParams {
   }
 };
 
-// One GL buffer holding, for each class, an indirect dispatch command {tiles in the class,
-// 8 x 8 blocks per tile, 1} and the list of its tiles (x | y << 16), which ClassifyTilesPass
-// fills with atomic counters and restricted passes (PostProcessPass::restrict_to_tiles) read.
+// One GL buffer holding, for each class, two indirect dispatch commands — {tiles in the class,
+// 8 x 8 blocks per tile, 1} and {tiles in the class, 1, 1} for passes that take a whole tile
+// per work group — and the list of its tiles (x | y << 16), which ClassifyTilesPass fills with
+// atomic counters and restricted passes (PostProcessPass::restrict_to_tiles) read.
 class TileLists {
  public:
   static constexpr int kClasses = 3;
@@ -64,7 +65,9 @@ class TileLists {
   int grid_width() const { return grid_width_; }
   int grid_height() const { return grid_height_; }
   GLuint buffer() const;
-  GLintptr command_offset(int tile_class) const { return GLintptr(tile_class) * 12; }
+  GLintptr command_offset(int tile_class, bool whole_tiles) const {
+    return GLintptr(2 * tile_class + (whole_tiles ? 1 : 0)) * 12;
+  }
   // Where class lists start and how far apart they are, in 32-bit words.
   uint32_t list_first() const { return list_first_; }
   uint32_t list_stride() const { return list_stride_; }

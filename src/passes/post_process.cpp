@@ -39,7 +39,10 @@ void PostProcessPass::restrict_to_tiles(std::shared_ptr<const TileLists> lists, 
 Defines PostProcessPass::defines(Backend backend) const {
   Defines d{{backend == Backend::compute ? "STAGE_COMPUTE" : "STAGE_FRAGMENT", "1"}};
   d.insert(d.end(), variant_.begin(), variant_.end());
-  if (tile_lists_ && backend == Backend::compute) d.emplace_back("TILE_LIST", "1");
+  if (tile_lists_ && backend == Backend::compute) {
+    d.emplace_back("TILE_LIST", "1");
+    if (whole_tiles_) d.emplace_back("WHOLE_TILES", "1");
+  }
   return d;
 }
 
@@ -71,7 +74,7 @@ void PostProcessPass::run(Backend backend, const std::vector<const Texture*>& in
         throw std::invalid_argument("blurlab: the tile lists were made for another image size");
       p.set_uniform("tile_list_k", {double(lists.k())});
       lists.bind_list(0, tile_class_);
-      p.dispatch_indirect(lists.buffer(), lists.command_offset(tile_class_));
+      p.dispatch_indirect(lists.buffer(), lists.command_offset(tile_class_, whole_tiles_));
     } else if (group_per_texel) {
       p.dispatch(target.width(), target.height(), 1);
     } else {

@@ -63,6 +63,8 @@ class PostProcessPass {
   };
 
   std::shared_ptr<Context> context_;
+  // Set by passes whose shader takes a whole listed tile per work group (WHOLE_TILES).
+  bool whole_tiles_ = false;
 
  private:
   Defines defines(Backend backend) const;

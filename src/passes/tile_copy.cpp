@@ -5,7 +5,9 @@
 namespace blurlab {
 
 TileCopyPass::TileCopyPass(std::shared_ptr<Context> context)
-    : PostProcessPass(std::move(context), "passes/tile_copy.glsl") {}
+    : PostProcessPass(std::move(context), "passes/tile_copy.glsl") {
+  whole_tiles_ = true;  // a copy is too cheap per pixel to pay for a work group per 8 x 8 block
+}
 
 void TileCopyPass::run(const Texture& color, const Texture& result) {
   if (color.width() != result.width() || color.height() != result.height())
