@@ -4,7 +4,9 @@
 // V[X] = V[Y] = vN and f = b = 1: the weight of a tap at distance d is
 // a = 2·cone(d, vN) + 2·cyl(d, vN)², the center's 1/len(vN); only colors are read (one fetch
 // per tap instead of three). Same taps and jitter as the full filter, so where motion is truly
-// uniform and depth even, both give the same image. Run over the uniform tiles' list
+// uniform and depth even, both give the same image. The tap loop repeats the filter's (taps,
+// jitter, clamping) so that the filter's own loop can gain options without touching this one.
+// Run over the uniform tiles' list
 // (TILE_LIST) or, without it, over the whole image. Compute only.
 // NumPy twin: blurlab.reference.classify.uniform_gather.
 #ifdef STAGE_COMPUTE

@@ -55,7 +55,10 @@ def classify_tiles(
 
 
 def uniform_gather(color, neighbor: np.ndarray, k: int, samples: int = 15, seed: int = 0):
-    """SPEC.md §3.4 with V[X] = V[Y] = vN and f = b = 1 at every pixel: (H, W, C) float64."""
+    """SPEC.md §3.4 with V[X] = V[Y] = vN and f = b = 1 at every pixel: (H, W, C) float64.
+
+    Its own tap loop, not the filter run on a frame of V = vN: a tap in a neighbouring tile
+    would then read that tile's vN, where here every tap of X uses X's."""
     color = np.asarray(color, np.float64)
     h, w = color.shape[:2]
     y, x = np.mgrid[0:h, 0:w]
