@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import numpy as np
@@ -11,11 +12,45 @@ import blurlab as bl
 
 TEST_SHADERS = Path(__file__).parent / "shaders"
 
+try:
+    from hypothesis import settings
+
+    # CI: the same examples on every run (derandomized), no example database in the tree.
+    # HYPOTHESIS_PROFILE=explore draws new examples each run.
+    settings.register_profile("blurlab", derandomize=True, database=None, print_blob=True)
+    settings.register_profile("explore", database=None, print_blob=True)
+    settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "blurlab"))
+except ImportError:  # hypothesis is in the test extra; only the fuzz tests need it
+    pass
+
+# Examples run by the property tests (tests/test_fuzz.py calls count_example() in each);
+# the total is printed at the end of the run, and docs/reliability.md records it.
+EXAMPLES = {"count": 0}
+
+
+def count_example() -> None:
+    EXAMPLES["count"] += 1
+
+
+def pytest_terminal_summary(terminalreporter):
+    if EXAMPLES["count"]:
+        terminalreporter.write_line(f"hypothesis: {EXAMPLES['count']} examples run")
+
 
 @pytest.fixture(scope="session")
 def ctx() -> bl.Context:
     """The default context: the GPU where EGL finds one, llvmpipe otherwise (CI)."""
     return bl.Context()
+
+
+@pytest.fixture(autouse=True)
+def no_gl_error_left(request):
+    """After every test that used the session context: no GL error is left set (every blurlab
+    call checks and clears the ones it causes; docs/reliability.md)."""
+    yield
+    if "ctx" in request.fixturenames:
+        context = request.getfixturevalue("ctx")
+        assert context.gl_errors() == [], "a GL error was left set"
 
 
 @pytest.fixture

@@ -128,7 +128,11 @@ def test_timings_name_every_pass(ctx, rng):
     ("params", "error", "message"),
     [
         ({"classify": "yes"}, TypeError, "classify must be True or False"),
-        ({"classify": True, "uniform_spread": -1.0}, ValueError, "uniform_spread = -1"),
+        (
+            {"classify": True, "uniform_spread": -1.0},
+            ValueError,
+            r"uniform_spread = -1.0 is outside \[0, 512\]",
+        ),
         ({"classify": True, "backend": "fragment"}, ValueError, "compute backend"),
     ],
 )

@@ -69,7 +69,9 @@ def test_still_pixels_stay_still_with_8_bit_offset_motion(ctx):
         stored = ctx.render(scene, size, instant=instant, motion_format="rgba8_offset")
         assert not stored.motion[exact.motion == 0].any()  # zero decodes to zero
         # Rows far from anything that moves: beyond the reach of NeighborMax (two tiles of 20).
-        moving = np.abs(exact.motion).max(axis=-1) > 0
+        # Moving: over 0.01 px, the G-buffer's accuracy (tests/test_gbuffer.py); the H100
+        # leaves rounding-sized motion on still surfaces that this test is not about.
+        moving = np.abs(exact.motion).max(axis=-1) > 0.01
         ys, _ = np.nonzero(moving)
         far = np.ones(moving.shape, bool)
         far[max(ys.min() - 45, 0) : ys.max() + 45] = False
@@ -112,8 +114,48 @@ def test_failure_table_has_every_measure(ctx):
         "inf",
         "outside_input_range",
         "flicker",
+        "seed_noise",
         "k_spread_db",
+        "psnr_soft_z_x100",
         "soft_z_spread_db",
     ):
         assert column in table.columns
     assert (table["nan"] == 0).all() and (table["inf"] == 0).all()
+    by_method = table.set_index("method")
+    assert by_method.loc["reconstruct_mcguire2012", "seed_noise"] > 0  # jittered taps
+    assert by_method.loc["gather_box", "seed_noise"] == 0  # no seed, no noise
+
+
+def test_every_failure_scene_says_what_it_shows():
+    for name in bl.scenes.names("failure") + bl.scenes.names():
+        assert len(bl.scenes.describe(name)) > 20, name
+    with pytest.raises(ValueError, match="no built-in scene"):
+        bl.scenes.describe("nothing")
+
+
+def test_the_depth_test_keeps_a_still_occluder_sharp(ctx):
+    """soft_z matters: at the default the post in front of the moving box stays sharp; a
+    soft_z spanning the whole scene turns the depth test off and the box smears over it."""
+    scene = bl.scenes.occluder()
+    size = (96, 54)
+    frame = ctx.render(scene, size)
+    post = frame.object_id == [o.name for o in scene.objects].index("post")
+    soft_z = bl.blur(ctx, frame, "reconstruct_mcguire2012").params["soft_z"]
+    default = bl.blur(ctx, frame, "reconstruct_mcguire2012").color
+    no_depth_test = bl.blur(ctx, frame, "reconstruct_mcguire2012", soft_z=soft_z * 100).color
+    sharp = frame.color
+    assert np.abs(default - sharp)[post].mean() < 0.5 * np.abs(no_depth_test - sharp)[post].mean()
+
+
+def test_backward_gather_of_the_closing_frame_lags_a_turning_camera(ctx):
+    """docs/failure_cases.md: on a turning camera the G-buffer at t1 gathered backward along
+    M (SPEC.md §4) smears each edge over pixels it never crossed; the same taps mirrored to
+    X + s·M are nearer the reference. Recorded as a failure of the specified method."""
+    scene = bl.scenes.camera_yaw()
+    size = (96, 54)
+    reference = ctx.reference(scene, size, samples=128, progress=False).color
+    frame = ctx.render(scene, size, instant="close")
+    mirrored = bl.Frame(frame.color, frame.depth, -frame.motion, shutter=frame.shutter)
+    backward = bl.metrics.psnr(reference, bl.blur(ctx, frame, "gather_box").color)
+    forward = bl.metrics.psnr(reference, bl.blur(ctx, mirrored, "gather_box").color)
+    assert forward > backward + 6

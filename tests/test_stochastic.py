@@ -61,5 +61,5 @@ def test_every_slice_is_used_and_choices_are_deterministic():
 
 @pytest.mark.parametrize("slices", [0, 65])
 def test_bad_slice_counts(ctx, slices):
-    with pytest.raises(ValueError, match=r"slices K = .* is outside 1\.\.64"):
+    with pytest.raises(ValueError, match=r"slices = .* is outside 1\.\.64"):
         bl.blur(ctx, ctx.render(bl.scenes.fan(), (16, 16)), "stochastic", slices=slices)

@@ -125,6 +125,12 @@ def test_bad_sweeps_are_rejected(ctx, tmp_path):
         sw.sweep(ctx, ["fan"], ["gather_box"], SIZE, out=tmp_path / "r.parquet", progress=False)
     with pytest.raises(ValueError, match="repeats"):
         sw.sweep(ctx, ["fan"], ["gather_box"], SIZE, repeats=0, progress=False)
+    with pytest.raises(ValueError, match=r"k = 0 is outside 1\.\.256"):
+        out = tmp_path / "never.csv"
+        sw.sweep(ctx, ["fan"], {"reconstruct_mcguire2012": {"k": [8, 0]}}, SIZE, out=out)
+    assert not out.exists()  # refused before anything ran
+    with pytest.raises(TypeError, match="taps must be an integer"):
+        sw.sweep(ctx, ["fan"], {"gather_box": {"taps": [4, "8"]}}, SIZE, progress=False)
     with pytest.raises(ValueError, match="unknown metrics"):
         sw.sweep(ctx, ["fan"], ["gather_box"], SIZE, metrics=("mse",), progress=False)
 
@@ -176,3 +182,69 @@ def test_pareto_front_and_chart(ctx):
     assert list(front["method"]) == ["a", "b", "d"]  # c is slower and worse than b
     with pytest.raises(ValueError, match="no rows for scene 'x'"):
         bl.plots.pareto(table, "x")
+
+
+SWEEP_SCRIPT = """
+import importlib
+import blurlab as bl
+sw = importlib.import_module("blurlab.sweep")
+sw.sweep(bl.Context(), ["fan"], {{"gather_box": {{"taps": list(range(2, 200))}}}}, (48, 32),
+         reference_samples=4, metrics=("psnr", "ssim"), out={out!r}, progress=False, repeats=1)
+"""
+
+
+def test_sigint_mid_sweep_keeps_every_finished_row(ctx, tmp_path):
+    """A real interrupt: Ctrl-C (SIGINT) to a sweep running in another process, once rows
+    are being written; every row on disk is whole, and a rerun finishes the rest."""
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    out = tmp_path / "r.csv"
+    proc = subprocess.Popen(
+        [sys.executable, "-c", SWEEP_SCRIPT.format(out=str(out))],
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline and proc.poll() is None:
+        if out.exists() and out.read_text().count("\n") >= 4:  # header + 3 rows
+            break
+        time.sleep(0.02)
+    proc.send_signal(signal.SIGINT)
+    _, stderr = proc.communicate(timeout=60)
+    assert proc.returncode != 0 and "KeyboardInterrupt" in stderr, stderr[-500:]
+    text = out.read_text()
+    assert text.endswith("\n")  # no row cut in half
+    saved = pd.read_csv(out)
+    assert 3 <= len(saved) < 198, "the interrupt did not land mid-sweep"
+    assert saved[["scene", "params", "psnr", "ssim", "total_ms"]].notna().all().all()
+    table = sw.sweep(
+        ctx,
+        ["fan"],
+        {"gather_box": {"taps": list(range(2, 200))}},
+        (48, 32),
+        reference_samples=4,
+        metrics=("psnr", "ssim"),
+        out=out,
+        progress=False,
+        repeats=1,
+    )
+    final = pd.read_csv(out)
+    assert len(table) == 198 and len(final) == 198
+    assert not final.duplicated(["scene", "method", "params"]).any()
+    kept = final.set_index("params").loc[saved["params"], "psnr"].to_numpy()
+    assert (kept == saved["psnr"].to_numpy()).all()  # finished rows were kept, not redone
+
+
+def test_row_cut_short_by_a_crash_is_evaluated_again(ctx, tmp_path):
+    out = tmp_path / "r.csv"
+    grid = {"gather_box": {"taps": [3, 4, 5]}}
+    args = dict(reference_samples=4, metrics=("psnr",), out=out, progress=False, repeats=1)
+    sw.sweep(ctx, ["fan"], grid, (32, 24), **args)
+    text = out.read_text()
+    out.write_text(text[: len(text) - 25])  # the last row loses its end, and its newline
+    table = sw.sweep(ctx, ["fan"], grid, (32, 24), **args)
+    final = pd.read_csv(out)
+    assert len(table) == 3 and len(final) == 3 and final["psnr"].notna().all()

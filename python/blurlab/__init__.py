@@ -1,12 +1,21 @@
 """blurlab: real-time motion-blur methods run headless on the GPU, measured from Python."""
 
-from . import io, mesh, metrics, plots, reference, scenes
+from . import hatching, io, mesh, metrics, plots, reference, scenes, tam
 from ._core import GLError, ShaderError
 from .accumulation import Reference, reference_samples_needed
+from .cluster import local_cluster
 from .context import ComputeProgram, Context, PendingDownload, Texture, Timing
 from .frame import MOTION_FORMATS, Frame
 from .mesh import Mesh
-from .methods import BlurResult, blur, blur_steps, methods, render_and_blur, render_steps
+from .methods import (
+    BlurResult,
+    blur,
+    blur_steps,
+    method,
+    methods,
+    render_and_blur,
+    render_steps,
+)
 from .methods import method_instant as methods_instant
 from .motion import Bone, Keyframe, Motion, Skeleton, quaternion
 from .scene import Camera, DirectionalLight, Material, Scene
@@ -37,8 +46,11 @@ __all__ = [
     "Timing",
     "blur",
     "blur_steps",
+    "hatching",
     "io",
+    "local_cluster",
     "mesh",
+    "method",
     "methods",
     "methods_instant",
     "quaternion",
@@ -50,4 +62,5 @@ __all__ = [
     "plots",
     "scenes",
     "sweep",
+    "tam",
 ]

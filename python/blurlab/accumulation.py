@@ -36,6 +36,10 @@ class Reference:
         return self._color
 
 
+# A million sub-frames is hours even on the GPU; more is a mistake, not a reference.
+MAX_SAMPLES = 1 << 20
+
+
 def reference_render(
     ctx,
     scene: Scene,
@@ -50,8 +54,10 @@ def reference_render(
     """The mean of `samples` renders at t_i = t0 + (i + u_i)/N·(t1 - t0) (SPEC.md §1)."""
     if not isinstance(scene, Scene):
         raise TypeError(f"blurlab: reference needs a blurlab Scene, not {type(scene).__name__}")
-    if isinstance(samples, bool) or not isinstance(samples, int) or samples < 1:
-        raise ValueError(f"blurlab: reference samples N must be an integer >= 1, not {samples!r}")
+    if isinstance(samples, bool) or not isinstance(samples, int) or not 1 <= samples <= MAX_SAMPLES:
+        raise ValueError(
+            f"blurlab: reference samples N must be an integer in 1..{MAX_SAMPLES}, not {samples!r}"
+        )
     if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed < 2**32:
         raise ValueError(f"blurlab: seed must be an integer in 0..2^32-1, not {seed!r}")
     size = check_size(size, ctx.max_texture_size)

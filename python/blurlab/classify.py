@@ -29,7 +29,11 @@ def classify_params():
             "tile classification: skip still tiles, cheap gather on uniform ones (compute backend)",
         ),
         "uniform_spread": Param(
-            0.5, float, "classification: largest |V - NeighborMax| of a uniform tile, px (>= 0)"
+            0.5,
+            float,
+            "classification: largest |V - NeighborMax| of a uniform tile, px (0..512)",
+            0.0,
+            512.0,
         ),
     }
 

@@ -1,10 +1,11 @@
-"""The ``blurlab`` command: ``blurlab info`` and ``blurlab demo``."""
+"""The ``blurlab`` command: ``info``, ``demo``, ``study`` and ``sweep``."""
 
 from __future__ import annotations
 
 import argparse
 import json
 import sys
+from contextlib import contextmanager
 from pathlib import Path
 
 from .context import Context
@@ -91,20 +92,41 @@ def _motion_picture(motion):
     return np.stack(rgb, axis=-1).astype(np.float32)
 
 
+@contextmanager
+def _cluster(args):
+    """The cluster that --scheduler or --workers asks for, or None (this process renders)."""
+    if args.scheduler:
+        yield args.scheduler
+    elif args.workers:
+        if not isinstance(args.device, str):
+            raise SystemExit(
+                "blurlab: --workers gives each worker its own device; --device must be "
+                "auto, gpu or software with it"
+            )
+        from .cluster import local_cluster
+
+        with local_cluster(args.workers, args.device) as cluster:
+            yield cluster
+    else:
+        yield None
+
+
 def _study(args) -> int:
     from .study import run_study
 
     ctx = Context(args.device)
     info = ctx.info()
     print(f"device: {info['device']} ({info['renderer']}); {args.size[0]}x{args.size[1]}")
-    report = run_study(
-        ctx,
-        args.scenes,
-        args.size,
-        args.out,
-        args.reference_samples,
-        tuple(args.metrics.split(",")),
-    )
+    with _cluster(args) as cluster:
+        report = run_study(
+            ctx,
+            args.scenes,
+            args.size,
+            args.out,
+            args.reference_samples,
+            tuple(args.metrics.split(",")),
+            cluster=cluster,
+        )
     print(f"wrote {report} and {Path(args.out) / 'results.csv'}")
     return 0
 
@@ -112,9 +134,33 @@ def _study(args) -> int:
 def _sweep(args) -> int:
     from .study import run_sweep_config
 
-    table = run_sweep_config(Context(args.device), args.config)
+    with _cluster(args) as cluster:
+        ctx = Context(args.device) if cluster is None else None
+        table = run_sweep_config(ctx, args.config, cluster=cluster)
     print(f"{len(table)} rows")
     return 0
+
+
+def _add_cluster_options(parser) -> None:
+    group = parser.add_mutually_exclusive_group()
+    group.add_argument(
+        "--scheduler",
+        metavar="ADDRESS",
+        help="run the sweep on the Dask cluster at this scheduler address (tcp://host:8786); "
+        "each worker renders on its own device (docs/distributed.md)",
+    )
+    group.add_argument(
+        "--workers",
+        type=_positive_int,
+        metavar="N",
+        help="run the sweep on N local Dask workers: one per GPU, or N llvmpipe workers",
+    )
+
+
+def _positive_int(text: str) -> int:
+    if not text.isdigit() or int(text) < 1:
+        raise argparse.ArgumentTypeError(f"must be an integer >= 1, not {text!r}")
+    return int(text)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -146,8 +192,10 @@ def main(argv: list[str] | None = None) -> int:
         help="N of each reference (default: max(64, 2 x longest motion))",
     )
     study.add_argument("--metrics", default="psnr,ssim,flip", help="comma-separated")
+    _add_cluster_options(study)
     sweep = sub.add_parser("sweep", help="run the sweep a TOML configuration describes")
     sweep.add_argument("config", help="TOML file: scenes, methods, size, shutter, ...")
+    _add_cluster_options(sweep)
     args = parser.parse_args(argv)
     return {"info": _info, "demo": _demo, "study": _study, "sweep": _sweep}[args.command](args)
 

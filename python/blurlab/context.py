@@ -11,6 +11,7 @@ import weakref
 from collections.abc import Mapping, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass
+from numbers import Integral
 from pathlib import Path
 
 import numpy as np
@@ -41,6 +42,8 @@ def _check_array(array, what: str = "array") -> np.ndarray:
         )
     if array.size == 0:
         raise ValueError(f"blurlab: {what} of shape {array.shape} is empty")
+    if not array.dtype.isnative:  # e.g. big-endian '>f4': GL reads native bytes
+        array = array.astype(array.dtype.newbyteorder("="))
     return np.ascontiguousarray(array)
 
 
@@ -226,14 +229,24 @@ class Context:
 
     def empty(self, shape: tuple[int, ...], dtype: str = "float32") -> Texture:
         """A new zero-filled texture of ``shape`` (H, W) or (H, W, C) and ``dtype``."""
-        shape = tuple(int(s) for s in shape)
-        if len(shape) not in (2, 3) or (len(shape) == 3 and not 1 <= shape[2] <= 4):
+        if (
+            not isinstance(shape, (tuple, list))
+            or len(shape) not in (2, 3)
+            or not all(isinstance(s, Integral) and not isinstance(s, bool) for s in shape)
+            or (len(shape) == 3 and not 1 <= shape[2] <= 4)
+        ):
             raise ValueError(
-                f"blurlab: texture shape {shape} is not (H, W) or (H, W, C) with C in 1..4"
+                f"blurlab: texture shape {shape!r} is not (H, W) or (H, W, C) of integers "
+                "with C in 1..4"
             )
-        if np.dtype(dtype).name not in TEXTURE_DTYPES:
+        shape = tuple(int(s) for s in shape)
+        try:
+            dtype_name = np.dtype(dtype).name
+        except TypeError:
+            dtype_name = repr(dtype)
+        if dtype_name not in TEXTURE_DTYPES:
             raise TypeError(
-                f"blurlab: texture dtype {dtype} is not one of " + ", ".join(TEXTURE_DTYPES)
+                f"blurlab: texture dtype {dtype!r} is not one of " + ", ".join(TEXTURE_DTYPES)
             )
         self._check_size(shape[1], shape[0])
         channels = shape[2] if len(shape) == 3 else 1
@@ -284,6 +297,17 @@ class Context:
     def live_objects(self) -> dict[str, int]:
         """Counts of live GL objects blurlab made, by kind (texture, buffer, program, query)."""
         return dict(self._core.live_objects())
+
+    def gl_errors(self) -> list[str]:
+        """Reads and clears GL's error flags: the names of the errors set ("GL_INVALID_VALUE",
+        ...), or [] when none is. Every blurlab call checks and clears them itself, so a
+        non-empty list means a bug (or GL calls of your own, e.g. through moderngl)."""
+        return list(self._core.gl_errors())
+
+    def memory(self) -> dict[str, int]:
+        """Video memory in KiB ("total", "available") where the driver reports it (NVIDIA's
+        GL_NVX_gpu_memory_info); {} elsewhere, llvmpipe included."""
+        return {k: int(v) for k, v in self._core.memory().items()}
 
     def moderngl(self):
         """A moderngl context on this very GL context, for users' own passes.

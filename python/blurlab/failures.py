@@ -1,7 +1,7 @@
 """The failure-case suite: every single-frame method on every failure scene (bl.scenes.names
 ("failure")), measured for error against the reference, NaN/Inf, colors outside the input
-range, flicker over an animation, and sensitivity to k and soft_z. docs/failure_cases.md
-explains each failure with these numbers."""
+range, flicker over an animation, the jitter's noise, and sensitivity to k and soft_z.
+docs/failure_cases.md explains each failure with these numbers."""
 
 from __future__ import annotations
 
@@ -77,6 +77,7 @@ def evaluate(
             outside = ((out < lo - 1e-5) | (out > hi + 1e-5)).any(axis=-1).sum()
             outputs, colors, motions = animation(ctx, scene, name, size, frames, {})
             still = still_pixels(colors, motions)
+            seeded = "seed" in _params_of(name)
             row = {
                 "scene": scene_name,
                 "method": name,
@@ -87,6 +88,7 @@ def evaluate(
                 "outside_input_range": int(outside) if name not in RENDERING_METHODS else np.nan,
                 "flicker": m.flicker(outputs, still) if still.any() else np.nan,
                 "still_pixels": int(still.sum()),
+                "seed_noise": _seed_noise(ctx, instant_frame, name, out) if seeded else 0.0,
                 "reference_samples": n,
             }
             if name in FILTERS:
@@ -99,17 +101,55 @@ def evaluate(
     return pd.DataFrame(rows)
 
 
+def _seed_noise(ctx, frame, name: str, out: np.ndarray) -> float:
+    """Mean |out(seed 0) - out(seed 1)| over RGB on one frame: the jitter's noise alone, which
+    `flicker` cannot see where no pixel is still (a turning camera)."""
+    other = blur(ctx, frame, name, seed=1).color
+    return float(np.abs(other[..., :3] - out[..., :3]).mean())
+
+
+K_VALUES = (10, 20, 40)
+SOFT_Z_FACTORS = (0.1, 1, 10, 100)  # x the default; 100 x spans the scene: no depth test left
+
+
 def _sensitivity(ctx, reference: np.ndarray, frame, name: str) -> dict:
-    """PSNR spread (max - min, dB) over k in {10, 20, 40} and soft_z in {0.1, 1, 10} x default."""
-    by_k = [m.psnr(reference, blur(ctx, frame, name, k=k).color) for k in (10, 20, 40)]
+    """PSNR (dB) for each k in K_VALUES and soft_z in SOFT_Z_FACTORS x default, and the
+    spread (max - min) of each."""
+    by_k = {k: m.psnr(reference, blur(ctx, frame, name, k=k).color) for k in K_VALUES}
     soft_z = blur(ctx, frame, name).params["soft_z"]
-    by_z = [
-        m.psnr(reference, blur(ctx, frame, name, soft_z=soft_z * f).color) for f in (0.1, 1, 10)
-    ]
-    return {
-        "psnr_k10": by_k[0],
-        "psnr_k20": by_k[1],
-        "psnr_k40": by_k[2],
-        "k_spread_db": max(by_k) - min(by_k),
-        "soft_z_spread_db": max(by_z) - min(by_z),
+    by_z = {
+        f: m.psnr(reference, blur(ctx, frame, name, soft_z=soft_z * f).color)
+        for f in SOFT_Z_FACTORS
     }
+    return {
+        **{f"psnr_k{k}": v for k, v in by_k.items()},
+        **{f"psnr_soft_z_x{f:g}": v for f, v in by_z.items()},
+        "k_spread_db": max(by_k.values()) - min(by_k.values()),
+        "soft_z_spread_db": max(by_z.values()) - min(by_z.values()),
+    }
+
+
+GALLERY_METHODS = (
+    "reconstruct_mcguire2012",
+    "reconstruct_urho3d",
+    "gather_box",
+    "camera_only",
+    "stochastic",
+)
+
+
+def gallery(ctx, scene_name: str, size, methods=GALLERY_METHODS, reference_samples=None):
+    """A figure: the reference, each method's image (at the instant it declares) and its
+    |error| map below it."""
+    from .plots import image_grid
+
+    scene = scenes.get(scene_name)
+    n = reference_samples or default_reference_samples(ctx.render(scene, size))
+    reference = ctx.reference(scene, size, samples=n, progress=False)
+    images = {}
+    for name in methods:
+        frame = ctx.render(scene, size, instant=method_instant(name, {}))
+        images[name.replace("reconstruct_", "")] = blur(ctx, frame, name).color
+    fig = image_grid(reference.color, images)
+    fig.suptitle(f"{scene_name}: {scenes.describe(scene_name)}", fontsize=8)
+    return fig

@@ -14,10 +14,14 @@ MOTION_FORMATS = ("rg32f", "rg16f", "rgba8_offset", "rgba8_polar")
 class Frame:
     """SPEC.md §1 conventions: arrays (H, W, ...), row 0 at the top.
 
-    color      (H, W, 4) linear float32
+    color      (H, W, 4) linear float32 (or (H, W, 3): alpha 1 is added)
     depth      (H, W) positive linear view distance, +inf where nothing was drawn
     motion     (H, W, 2) pixels from shutter open to close, +x right, +y down
     object_id  (H, W) int32, -1 for the background
+
+    Arrays of any real dtype are converted to float32. Non-finite values are kept as given;
+    every method reads them as docs/reliability.md says (NaN color as 0, NaN or non-positive
+    depth as far, NaN or infinite motion as none), so they never spread through a blur.
     """
 
     color: np.ndarray
@@ -38,29 +42,37 @@ class Frame:
         h, w = self.color.shape[:2]
         if self.color.shape[2] == 3:
             self.color = np.concatenate([self.color, np.ones((h, w, 1), np.float32)], axis=2)
-        self.depth = np.ascontiguousarray(np.asarray(self.depth, dtype=np.float32))
-        if self.depth.ndim == 3 and self.depth.shape[2] == 1:
-            self.depth = self.depth[..., 0]
+        if isinstance(self.depth, np.ndarray) and self.depth.ndim == 2:
+            self.depth = self.depth[..., None]
+        self.depth = _float_image(self.depth, "depth", (1,))[..., 0]
         if self.depth.shape != (h, w):
             raise ValueError(f"blurlab: depth has shape {self.depth.shape}, color is {(h, w)}")
         self.motion = _float_image(self.motion, "motion", (2,))
         if self.motion.shape[:2] != (h, w):
             raise ValueError(f"blurlab: motion has shape {self.motion.shape}, color is {(h, w)}")
         if self.object_id is None:
-            self.object_id = np.where(np.isinf(self.depth), -1, 0).astype(np.int32)
-        self.object_id = np.asarray(self.object_id).astype(np.int32)
+            drawn = np.isfinite(self.depth) & (self.depth > 0)
+            self.object_id = np.where(drawn, 0, -1).astype(np.int32)
+        self.object_id = np.asarray(self.object_id)
+        if self.object_id.dtype.kind not in "fiu":
+            raise TypeError(
+                f"blurlab: frame object_id has dtype {self.object_id.dtype}; expected integers"
+            )
+        with np.errstate(invalid="ignore"):
+            self.object_id = self.object_id.astype(np.int32)
         if self.object_id.shape != (h, w):
             raise ValueError(
                 f"blurlab: object_id has shape {self.object_id.shape}, expected {(h, w)}"
             )
-        if self.motion_format not in MOTION_FORMATS:
+        if not isinstance(self.motion_format, str) or self.motion_format not in MOTION_FORMATS:
             raise ValueError(f"blurlab: motion_format must be one of {MOTION_FORMATS}")
 
     @functools.cached_property
     def depth_range(self) -> tuple[float, float] | None:
-        """(nearest, farthest) finite depth, or None if nothing was drawn. Computed once: at
-        1080p it costs milliseconds, and default parameters ask for it on every blur."""
-        finite = self.depth[np.isfinite(self.depth)]
+        """(nearest, farthest) finite positive depth, or None if nothing was drawn. Computed
+        once: at 1080p it costs milliseconds, and default parameters ask for it on every blur.
+        Non-positive and NaN depths are far (docs/reliability.md), so they do not count."""
+        finite = self.depth[np.isfinite(self.depth) & (self.depth > 0)]
         return (float(finite.min()), float(finite.max())) if finite.size else None
 
     @property
@@ -76,8 +88,10 @@ def _float_image(array, what: str, channels: tuple[int, ...]) -> np.ndarray:
         )
     if array.ndim != 3 or array.shape[2] not in channels or array.size == 0:
         raise ValueError(
-            f"blurlab: frame {what} has shape {array.shape}; expected (H, W, C), C in {channels}"
+            f"blurlab: frame {what} has shape {array.shape}; expected "
+            + ("(H, W)" if channels == (1,) else f"(H, W, C), C in {channels}")
         )
     if array.dtype.kind not in "fiu":
         raise TypeError(f"blurlab: frame {what} has dtype {array.dtype}; expected a float type")
-    return np.ascontiguousarray(array, dtype=np.float32)
+    with np.errstate(over="ignore"):  # float64 beyond float32's range becomes +-inf
+        return np.ascontiguousarray(array, dtype=np.float32)

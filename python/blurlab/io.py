@@ -83,14 +83,14 @@ def write(path: str | os.PathLike, array: np.ndarray) -> Path:
         out = oiio.ImageOutput.create(tmp_name)
         if out is None:
             raise OSError(
-                f"blurlab.io.write: OpenImageIO has no writer for {suffix}: {oiio.geterror()}"
+                f"blurlab.io.write: OpenImageIO has no writer for {suffix}: {_error_text(oiio)}"
             )
         if not out.open(tmp_name, spec):
-            raise OSError(f"blurlab.io.write: cannot open {path}: {out.geterror()}")
+            raise OSError(f"blurlab.io.write: cannot open {path}: {_error_text(out)}")
         ok = out.write_image(data)
         closed = out.close()
         if not (ok and closed):
-            raise OSError(f"blurlab.io.write: writing {path} failed: {out.geterror()}")
+            raise OSError(f"blurlab.io.write: writing {path} failed: {_error_text(out)}")
         os.replace(tmp_name, path)
     except BaseException:
         Path(tmp_name).unlink(missing_ok=True)
@@ -108,18 +108,26 @@ def read(path: str | os.PathLike) -> np.ndarray:
     config.attribute("oiio:UnassociatedAlpha", 1)
     image = oiio.ImageInput.open(str(path), config)
     if image is None:
-        raise OSError(f"blurlab.io.read: cannot read {path}: {oiio.geterror()}")
+        raise OSError(f"blurlab.io.read: cannot read {path}: {_error_text(oiio)}")
     try:
         spec = image.spec()
         base = spec.format.basetype
         want = oiio.UINT8 if base == oiio.UINT8 else oiio.FLOAT
         pixels = image.read_image(want)
         if pixels is None:
-            raise OSError(f"blurlab.io.read: {path} is corrupt or truncated: {image.geterror()}")
+            raise OSError(f"blurlab.io.read: {path} is corrupt or truncated: {_error_text(image)}")
     finally:
         image.close()
     pixels = np.asarray(pixels)
     return pixels.reshape(spec.height, spec.width, spec.nchannels)
+
+
+def _error_text(source) -> str:
+    """OpenImageIO's error message; a corrupt file can put bytes that are not UTF-8 in it."""
+    try:
+        return source.geterror()
+    except UnicodeDecodeError as error:
+        return error.object.decode("utf-8", "replace")
 
 
 def _encode(array: np.ndarray, suffix: str) -> np.ndarray:

@@ -307,10 +307,10 @@ def load(path: str | Path) -> Mesh:
             raise OSError(
                 f"blurlab.mesh.load: {path}:{number}: {error}: {line.strip()!r}"
             ) from None
-    if not corners:
-        raise OSError(f"blurlab.mesh.load: {path} has no faces")
     if any(len(p) != 3 for p in v):
         raise OSError(f"blurlab.mesh.load: {path}: a vertex has fewer than 3 coordinates")
+    if not corners:
+        raise OSError(f"blurlab.mesh.load: {path} has no faces")
     unique, inverse = np.unique(np.array(corners), axis=0, return_inverse=True)
     positions = np.array(v, dtype=np.float64)[unique[:, 0]]
     uvs = (
@@ -325,7 +325,10 @@ def load(path: str | Path) -> Mesh:
         normals = _smooth_normals(positions, indices)
     norm = np.linalg.norm(normals, axis=1, keepdims=True)
     normals = np.where(norm > 0, normals / np.maximum(norm, 1e-12), [0.0, 1.0, 0.0])
-    return Mesh(positions, normals, uvs, indices, name=path.stem)
+    try:
+        return Mesh(positions, normals, uvs, indices, name=path.stem)
+    except ValueError as error:  # e.g. "nan" or "1e999" coordinates
+        raise OSError(f"blurlab.mesh.load: {path}: {error}") from None
 
 
 def _obj_corner(word: str, nv: int, nvt: int, nvn: int) -> tuple[int, int, int]:

@@ -56,9 +56,48 @@ class BlurResult:
 
 @dataclass(frozen=True)
 class Param:
+    """One parameter of a method: its default, its type and, for numbers, its allowed range.
+
+    Every value passes through ``_typed`` before a method runs, so a method never sees a value
+    of the wrong type or outside [low, high]: the error names the method, the parameter, the
+    value and what is allowed.
+    """
+
     default: object  # a value, or a callable(frame) -> value
-    kind: object  # int, float, or a tuple of allowed strings
+    kind: object  # int, float, bool, a tuple of allowed strings, or object (anything)
     doc: str
+    low: float | None = None  # inclusive bounds for int and float parameters
+    high: float | None = None
+    low_open: bool = False  # True: the value must be > low (e.g. soft_z > 0)
+
+    def allowed(self) -> str:
+        """What values are allowed, in words (for error messages and docs)."""
+        if isinstance(self.kind, tuple):
+            return "one of " + ", ".join(repr(k) for k in self.kind)
+        if self.kind is bool:
+            return "True or False"
+        if self.kind is object:
+            return "any value"
+        if self.low is not None and self.high is not None and not self.low_open:
+            if self.kind is int:
+                return f"{_num(self.low)}..{_num(self.high)}"
+            return f"[{_num(self.low)}, {_num(self.high)}]"
+        bounds = []
+        if self.low is not None:
+            bounds.append(f"{'>' if self.low_open else '>='} {_num(self.low)}")
+        if self.high is not None:
+            bounds.append(f"<= {_num(self.high)}")
+        return "finite" + "".join(" and " + b for b in bounds) if bounds else "finite"
+
+
+def _num(x: float) -> str:
+    if float(x).is_integer() and abs(x) >= 2**16:
+        exponent = math.log2(abs(x) + (1 if x < 0 else 0))
+        if exponent.is_integer():
+            return f"2^{int(exponent)}" if x > 0 else f"-2^{int(exponent)}"
+        if math.log2(x + 1).is_integer():
+            return f"2^{int(math.log2(x + 1))}-1"
+    return f"{x:g}"
 
 
 @dataclass(frozen=True)
@@ -267,7 +306,7 @@ def resolve_params(m: Method, frame: Frame | None, given: dict, frame_free: bool
         if value is None:  # an optional parameter, such as trail's history
             values[key] = None
             continue
-        values[key] = _typed(m.name, key, value, p.kind)
+        values[key] = _typed(m.name, key, value, p)
     return values
 
 
@@ -275,32 +314,62 @@ def _describe(default) -> str:
     return "from the frame" if callable(default) else repr(default)
 
 
-def _typed(method_name: str, key: str, value, kind):
-    if isinstance(kind, tuple):
-        if value not in kind:
-            raise ValueError(
-                f"blurlab: {method_name} parameter {key} must be one of {kind}, not {value!r}"
-            )
-        return value
+def check_param(name: str, key: str, value):
+    """`value` as parameter `key` of method `name` takes it, or the error a blur would raise:
+    for callers (sweeps) that check their values before running anything."""
+    m = method(name)
+    if key not in m.params:
+        raise ValueError(f"blurlab: {name} has no parameter {key!r}")
+    return _typed(name, key, value, m.params[key])
+
+
+def _typed(method_name: str, key: str, value, p: Param):
+    """`value` as parameter `key` of method `method_name` takes it (SPEC.md parameter tables):
+    the one place where every method's parameters are type- and range-checked. Every error
+    names the method, the parameter, the value and what is allowed."""
+    where = f"blurlab: {method_name} parameter {key}"
+    kind = p.kind
     if kind is object:
         return value
     if kind is bool:
         if not isinstance(value, (bool, np.bool_)):
-            raise TypeError(
-                f"blurlab: {method_name} parameter {key} must be True or False, not {value!r}"
-            )
+            raise TypeError(f"{where} must be True or False, not {_show(value)}")
         return bool(value)
+    if isinstance(kind, tuple):
+        # Compare strings only: `value in kind` on an array or other odd object may itself raise.
+        if not isinstance(value, str) or value not in kind:
+            raise ValueError(f"{where} must be {p.allowed()}, not {_show(value)}")
+        return value
     if kind is int:
         if isinstance(value, bool) or not isinstance(value, Integral):
-            raise TypeError(
-                f"blurlab: {method_name} parameter {key} must be an integer, not {value!r}"
-            )
-        return int(value)
-    if isinstance(value, bool) or not isinstance(value, Real):
-        raise TypeError(f"blurlab: {method_name} parameter {key} must be a number, not {value!r}")
-    if not math.isfinite(value):
-        raise ValueError(f"blurlab: {method_name} parameter {key} must be finite, not {value!r}")
-    return float(value)
+            raise TypeError(f"{where} must be an integer ({p.allowed()}), not {_show(value)}")
+        value = int(value)
+    else:
+        if isinstance(value, bool) or not isinstance(value, Real):
+            raise TypeError(f"{where} must be a number ({p.allowed()}), not {_show(value)}")
+        try:
+            value = float(value)
+        except OverflowError:  # an int beyond float's range
+            value = math.inf
+        if not math.isfinite(value):
+            raise ValueError(f"{where} must be finite ({p.allowed()}), not {_show(value)}")
+    # The GPU gets float32: check the value it will see (1e-50 is 0 there, 1e39 is inf).
+    with np.errstate(over="ignore"):
+        seen = float(np.float32(value)) if kind is float else value
+    if kind is float and not math.isfinite(seen):
+        raise ValueError(f"{where} = {_show(value)} overflows float32 ({p.allowed()})")
+    too_low = p.low is not None and (seen <= p.low if p.low_open else seen < p.low)
+    too_high = p.high is not None and seen > p.high
+    if too_low or too_high:
+        closed = p.low is not None and p.high is not None and not p.low_open
+        verb = "is outside" if closed else "must be"
+        raise ValueError(f"{where} = {_show(value)} {verb} {p.allowed()}")
+    return value
+
+
+def _show(value) -> str:
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
 
 
 def frame_textures(ctx: Context, frame: Frame) -> dict[str, Texture]:
@@ -354,8 +423,6 @@ def _mcguire_params(values: dict) -> _core.McGuire2012Params:
     p = _core.McGuire2012Params()
     for key in ("k", "samples", "soft_z", "exposure"):
         setattr(p, key, values[key])
-    if not 0 <= values["seed"] < 2**32:
-        raise ValueError(f"blurlab: seed = {values['seed']} is outside 0..2^32-1")
     p.seed = values["seed"]
     p.validate()
     return p
@@ -432,16 +499,29 @@ def _run_mcguire2012(ctx: Context, frame: Frame, inputs: dict, values: dict, bac
     return {"color": result, "tile_max": tiles, "neighbor_max": neighbors, **extra}, timings
 
 
+SEED_MAX = 2**32 - 1
+FLOAT32_MAX = float(np.finfo(np.float32).max)  # float parameters go to the GPU as float32
+# Exposure and intensity scale motion, which the passes read as at most 2^20 px per component
+# (shaders/common/inputs.glsl, docs/reliability.md); up to 1000 x that, tap positions stay
+# below 2^31 px, where GLSL's float-to-int conversion is defined.
+PARAM_SCALE_MAX = 1000.0
+_K = Param(20, int, "tile size = largest blur radius, pixels (1..256)", 1, 256)
+_SAMPLES = Param(15, int, "samples S per pixel (1..256)", 1, 256)
+_SOFT_Z = Param(
+    depth_range_soft_z, float, "soft depth extent, depth units (> 0)", 0, FLOAT32_MAX, True
+)
+_EXPOSURE = Param(1.0, float, "exposure E, fraction of the shutter (0..1000)", 0, PARAM_SCALE_MAX)
+
 register(
     Method(
         name="reconstruct_mcguire2012",
         instant="center",
         params={
-            "k": Param(20, int, "tile size = largest blur radius, pixels (1..256)"),
-            "samples": Param(15, int, "samples S per pixel (1..256)"),
-            "soft_z": Param(depth_range_soft_z, float, "soft depth extent, depth units (> 0)"),
-            "exposure": Param(1.0, float, "exposure E, fraction of the shutter (>= 0)"),
-            "seed": Param(0, int, "jitter seed (0..2^32-1)"),
+            "k": _K,
+            "samples": _SAMPLES,
+            "soft_z": _SOFT_Z,
+            "exposure": _EXPOSURE,
+            "seed": Param(0, int, "jitter seed (0..2^32-1)", 0, SEED_MAX),
             **_classify_params(),
         },
         backends=("compute", "fragment"),
@@ -462,15 +542,13 @@ def default_far(frame: Frame) -> float:
         return float(frame.camera["far"])
     if frame.depth_range is None or frame.depth_range[1] <= 0:
         return 1.0
-    return 2.0 * frame.depth_range[1]
+    return min(2.0 * frame.depth_range[1], FLOAT32_MAX)  # finite even for depths near 3.4e38
 
 
 def _run_urho3d(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
     from .reference.urho3d import jitter_texture
 
     params = _mcguire_params(values)
-    if not values["far"] > 0:
-        raise ValueError(f"blurlab: far = {values['far']} must be > 0 (depth units)")
     height, width = inputs["color"].shape[:2]
     k = params.k
     grid = (-(-height // k), -(-width // k), 2)
@@ -519,12 +597,14 @@ register(
         name="reconstruct_urho3d",
         instant="center",
         params={
-            "k": Param(20, int, "tile size = largest blur radius, pixels (1..256)"),
-            "samples": Param(15, int, "samples S per pixel (1..256)"),
-            "soft_z": Param(depth_range_soft_z, float, "soft depth extent, depth units (> 0)"),
-            "exposure": Param(1.0, float, "exposure E, fraction of the shutter (>= 0)"),
-            "seed": Param(0, int, "seed of the 64 x 64 jitter texture (0..2^32-1)"),
-            "far": Param(default_far, float, "depth that +inf is read as (> 0)"),
+            "k": _K,
+            "samples": _SAMPLES,
+            "soft_z": _SOFT_Z,
+            "exposure": _EXPOSURE,
+            "seed": Param(0, int, "seed of the 64 x 64 jitter texture (0..2^32-1)", 0, SEED_MAX),
+            "far": Param(
+                default_far, float, "depth that +inf is read as (> 0)", 0, FLOAT32_MAX, True
+            ),
         },
         backends=("fragment",),
         run=_run_urho3d,
@@ -618,8 +698,10 @@ register(
 )
 
 _BOX_PARAMS = {
-    "taps": Param(10, int, "n equal taps (2..256)"),
-    "intensity": Param(1.0, float, "length of the blur, fraction of the motion (>= 0)"),
+    "taps": Param(10, int, "n equal taps (2..256)", 2, 256),
+    "intensity": Param(
+        1.0, float, "length of the blur, fraction of the motion (0..1000)", 0, PARAM_SCALE_MAX
+    ),
     "direction": Param("backward", ("backward", "centered"), "taps behind X, or around it"),
     "edge": _EDGE,
 }
@@ -712,8 +794,6 @@ register(
 
 def _run_trail(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
     alpha = values["alpha"]
-    if not 0.0 <= alpha <= 1.0:
-        raise ValueError(f"blurlab: trail alpha = {alpha} is outside [0, 1]")
     history = values["history"]
     if history is not None and not isinstance(history, BlurResult):
         raise TypeError("blurlab: trail history must be the previous frame's BlurResult or None")
@@ -741,7 +821,7 @@ register(
         name="trail",
         instant="close",
         params={
-            "alpha": Param(0.5, float, "weight of the current frame, in [0, 1]"),
+            "alpha": Param(0.5, float, "weight of the current frame, in [0, 1]", 0, 1),
             "history": Param(None, object, "the previous frame's BlurResult (None: first frame)"),
         },
         backends=("compute",),
@@ -778,9 +858,9 @@ register(
         name="accumulation",
         instant="center",
         params={
-            "samples": Param(8, int, "sub-frames N (>= 1; 4-32 shows the banding)"),
+            "samples": Param(8, int, "sub-frames N (1..4096; 4-32 shows the banding)", 1, 4096),
             "stratified": Param("uniform", ("uniform", "stratified"), "sub-frame times"),
-            "seed": Param(0, int, "seed of stratified times"),
+            "seed": Param(0, int, "seed of stratified times (0..2^32-1)", 0, SEED_MAX),
         },
         backends=("compute",),
         run=_run_accumulation,
@@ -799,10 +879,6 @@ def _run_stochastic(ctx: Context, frame: Frame, inputs: dict, values: dict, back
     from .render import render_targets
 
     slices, seed = values["slices"], values["seed"]
-    if not 1 <= slices <= 64:
-        raise ValueError(f"blurlab: slices K = {slices} is outside 1..64")
-    if not 0 <= seed < 2**32:
-        raise ValueError(f"blurlab: seed = {seed} is outside 0..2^32-1")
     if frame.scene is None:
         raise ValueError("blurlab: stochastic renders time slices: use a frame made by ctx.render")
     height, width = frame.color.shape[:2]
@@ -836,8 +912,10 @@ register(
         name="stochastic",
         instant="center",
         params={
-            "slices": Param(4, int, "time slices K (1..64); 4 K jittered renders"),
-            "seed": Param(0, int, "seed of slice times and per-pixel permutations"),
+            "slices": Param(4, int, "time slices K (1..64); 4 K jittered renders", 1, 64),
+            "seed": Param(
+                0, int, "seed of slice times and per-pixel permutations (0..2^32-1)", 0, SEED_MAX
+            ),
         },
         backends=("compute",),
         run=_run_stochastic,

@@ -33,9 +33,13 @@ def instant_time(instant: str | float, shutter: tuple[float, float]) -> float:
 def check_size(size, limit: int) -> tuple[int, int]:
     try:
         width, height = (int(v) for v in size)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise ValueError(f"blurlab: size must be (W, H), not {size!r}") from None
-    if (width, height) != tuple(size) or not (1 <= width <= limit and 1 <= height <= limit):
+    if (
+        any(isinstance(v, bool) for v in size)
+        or (width, height) != tuple(size)
+        or not (1 <= width <= limit and 1 <= height <= limit)
+    ):
         raise ValueError(f"blurlab: size {size!r} must be two integers in 1..{limit} (W, H)")
     return width, height
 
@@ -43,7 +47,7 @@ def check_size(size, limit: int) -> tuple[int, int]:
 def check_shutter(shutter) -> tuple[float, float]:
     try:
         t0, t1 = (float(v) for v in shutter)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise ValueError(f"blurlab: shutter must be (t0, t1), not {shutter!r}") from None
     if not (math.isfinite(t0) and math.isfinite(t1)) or t1 < t0:
         raise ValueError(f"blurlab: shutter (t0, t1) must be finite with t1 >= t0, not {shutter!r}")
@@ -177,6 +181,7 @@ def render_targets(
                 float(m.shininess),
                 ctx._gpu_material_texture(m),
                 object_id,
+                None if m.hatch is None else m.hatch.draw(ctx),
             )
         )
     # Every target is fully overwritten (the background pass covers every pixel), so pooled

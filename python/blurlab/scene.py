@@ -105,12 +105,38 @@ class DirectionalLight:
 @dataclass(eq=False)
 class Material:
     """Lambert (specular = 0) or Blinn–Phong; `texture` (a path read through OpenImageIO, or an
-    array) multiplies `color`. 8-bit textures are taken as sRGB, float ones as linear."""
+    array) multiplies `color`. 8-bit textures are taken as sRGB, float ones as linear.
+    ``Material.hatching(...)`` makes a hatched one (`hatch`, SPEC.md §5)."""
 
     color: tuple = (0.8, 0.8, 0.8)
     texture: str | Path | np.ndarray | None = None
     specular: float = 0.0
     shininess: float = 32.0
+    hatch: object = None  # a blurlab.hatching.Hatching, made by Material.hatching
+
+    @classmethod
+    def hatching(
+        cls,
+        scheme: str = "threshold",
+        tam=None,
+        scale: float = 1.0,
+        color=(1.0, 1.0, 1.0),
+        texture=None,
+        specular: float = 0.0,
+        shininess: float = 32.0,
+    ) -> Material:
+        """Hatching with a tonal art map instead of shading (SPEC.md §5): color · (1 − ink).
+
+        ``scheme``: "six_way" (per-vertex weights of the two nearest of 6 tones, Praun et al.
+        2001) or "threshold" (a per-pixel threshold test, Webb et al. 2002). ``tam``: a
+        ``blurlab.tam.TAM``, a (6, S, S) ink array, a folder written by ``TAM.write``, or None
+        for ``blurlab.tam.default_tam()``.
+        ``scale``: TAM repeats per unit of texture coordinate, > 0. The tone comes from the
+        scene's light: Lambert, or Blinn–Phong when ``specular`` > 0.
+        """
+        from .hatching import hatch
+
+        return cls(color, texture, specular, shininess, hatch(scheme, tam, scale))
 
     def __post_init__(self):
         c = np.asarray(self.color, dtype=np.float64)
@@ -123,6 +149,14 @@ class Material:
             raise ValueError(f"blurlab: shininess must be > 0, not {self.shininess}")
         if isinstance(self.texture, (str, Path)) and not Path(self.texture).is_file():
             raise FileNotFoundError(f"blurlab: material texture not found: {self.texture}")
+        if self.hatch is not None:
+            from .hatching import Hatching
+
+            if not isinstance(self.hatch, Hatching):
+                raise ValueError(
+                    "blurlab: material hatch must come from Material.hatching(...), not "
+                    f"{type(self.hatch).__name__}"
+                )
 
     def texture_rgba(self) -> np.ndarray | None:
         """The texture as (H, W, 4) linear float16, or None."""

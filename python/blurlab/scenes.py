@@ -380,6 +380,14 @@ def names(tag: str | None = None) -> list[str]:
     raise ValueError(f"blurlab: scene tag must be None, 'failure' or 'benchmark', not {tag!r}")
 
 
+def describe(name: str) -> str:
+    """One sentence on what the built-in scene `name` shows (its docstring's first line)."""
+    builder = _SCENES.get(name) or _FAILURES.get(name)
+    if builder is None:
+        get(name)  # raises the error that lists the scenes
+    return " ".join(builder.__doc__.split("\n\n")[0].split())
+
+
 def get(name: str) -> Scene:
     if name in _SCENES:
         return _SCENES[name]()

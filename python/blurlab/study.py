@@ -28,14 +28,16 @@ def run_study(
     metrics=("psnr", "ssim", "flip"),
     grids=None,
     progress: bool = True,
+    cluster=None,
 ) -> Path:
-    """Runs the study and returns the path of report.html."""
+    """Runs the study and returns the path of report.html. With `cluster` (as bl.sweep takes
+    it) the sweep runs on Dask workers; `ctx` still renders the report's images."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     names = list(scene_names or scenes.names())
     grids = grids or DEFAULT_GRIDS
     table = sweep(
-        ctx,
+        None if cluster is not None else ctx,
         names,
         grids,
         size,
@@ -43,6 +45,7 @@ def run_study(
         metrics=metrics,
         out=out / "results.csv",
         progress=progress,
+        cluster=cluster,
     )
     info = ctx.info()
     sections = []
@@ -177,7 +180,10 @@ def load_config(path: str | Path) -> dict:
     return config
 
 
-def run_sweep_config(ctx: Context, path: str | Path, progress: bool = True) -> pd.DataFrame:
+def run_sweep_config(
+    ctx: Context | None, path: str | Path, progress: bool = True, cluster=None
+) -> pd.DataFrame:
+    """Runs the sweep of a TOML file, on `ctx` or (ctx=None) on a Dask `cluster`."""
     config = load_config(path)
     out = config.get("out", str(Path(path).with_suffix(".csv")))
     return sweep(
@@ -190,6 +196,7 @@ def run_sweep_config(ctx: Context, path: str | Path, progress: bool = True) -> p
         tuple(config.get("metrics", ("psnr",))),
         out=out,
         progress=progress,
+        cluster=cluster,
     )
 
 

@@ -4,17 +4,20 @@ Each scene's G-buffer is rendered once per instant its methods need and its refe
 each evaluation runs the method, reduces the squared error against the reference on the GPU
 (PSNR from a scalar readback), and, if asked, computes SSIM and FLIP on the CPU. Rows are
 appended to a CSV file as they are made, so an interrupted sweep keeps every finished row and
-a rerun with the same file skips them.
+a rerun with the same file skips them. With a Dask cluster the same evaluations run on its
+workers, a scene's configurations split into chunks (blurlab.cluster).
 """
 
 from __future__ import annotations
 
 import csv
+import io
 import itertools
 import json
 import math
 import statistics
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Iterable, Iterator, Mapping, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 
 import pandas as pd
@@ -22,7 +25,15 @@ import pandas as pd
 from . import metrics as m
 from .accumulation import default_reference_samples
 from .context import Context
-from .methods import blur_steps, check_steps, method, method_instant, methods, render_steps
+from .methods import (
+    blur_steps,
+    check_param,
+    check_steps,
+    method,
+    method_instant,
+    methods,
+    render_steps,
+)
 from .render import check_shutter
 from .scene import Scene
 
@@ -56,8 +67,19 @@ def _scene(item) -> Scene:
     return scenes.get(item) if isinstance(item, str) else item
 
 
+@dataclass(frozen=True)
+class Settings:
+    """What every evaluation of one sweep shares; small and picklable, so workers get it too."""
+
+    size: tuple[int, int]
+    shutter: tuple[float, float] | None
+    reference_samples: int | None
+    metrics: tuple[str, ...]
+    repeats: int
+
+
 def sweep(
-    ctx: Context,
+    ctx: Context | None,
     scenes: Iterable,
     methods_and_grids=None,
     size=(640, 360),
@@ -68,22 +90,45 @@ def sweep(
     progress: bool = True,
     backends: Mapping[str, str] | None = None,
     repeats: int = 3,
+    cluster=None,
+    chunk_size: int | None = None,
 ) -> pd.DataFrame:
     """Evaluates every method at every point of its grid on every scene.
 
     `methods_and_grids`: a list of method names (default grids), a {name: grid} mapping, or
-    None for every single-frame method with its default grid. A grid of a post-process method
-    may also vary `steps` (bl.blur_steps: n sub-intervals of the shutter, each rendered and
-    blurred, then averaged). `reference_samples`: N of each scene's reference; None picks
-    max(64, 2 × the longest motion in pixels), at most 1024. `out`: a CSV file that rows are
-    appended to as they finish; rows already in it are skipped. Each pass time
-    is the median of `repeats` runs, all configurations of a scene timed back to back before
-    any error is computed (a GPU left idle while the CPU computes SSIM and FLIP clocks down).
+    None for every single-frame method with its default grid; a post-process method's grid may
+    also vary `steps` (bl.blur_steps). `reference_samples`: N of each
+    scene's reference; None picks max(64, 2 × the longest motion in pixels), at most 1024.
+    `out`: a CSV file that rows are appended to as they finish; rows already in it are
+    skipped (a row cut short by a crash is dropped and evaluated again). Each pass time is the
+    median of `repeats` runs, all configurations of a scene timed back to back before any error
+    is computed (a GPU left idle while the CPU computes SSIM and FLIP clocks down).
+
+    `cluster`: run on Dask workers instead of `ctx` (then pass ctx=None): a
+    ``distributed.Client``, a cluster such as ``bl.local_cluster()``, or a scheduler address
+    ``"tcp://host:8786"``. Each worker renders on its own device and returns rows; they land
+    in the same table and the same `out` file as a local sweep's (docs/distributed.md).
+    `chunk_size`: at most this many configurations of one scene per task (default 8; chunks
+    shrink towards the end of the sweep so that the workers finish together).
     """
-    if not isinstance(ctx, Context):
-        raise TypeError("blurlab.sweep needs a blurlab Context")
+    if cluster is None and not isinstance(ctx, Context):
+        raise TypeError("blurlab.sweep needs a blurlab Context (or ctx=None and a cluster)")
+    if cluster is not None and ctx is not None:
+        raise ValueError(
+            "blurlab.sweep: with cluster=, every worker renders on its own device; pass ctx=None"
+        )
+    if cluster is not None:
+        from .cluster import check_cluster
+
+        check_cluster(cluster)
     if isinstance(repeats, bool) or not isinstance(repeats, int) or repeats < 1:
         raise ValueError(f"blurlab.sweep: repeats must be an integer >= 1, not {repeats!r}")
+    if chunk_size is not None and (
+        isinstance(chunk_size, bool) or not isinstance(chunk_size, int) or chunk_size < 1
+    ):
+        raise ValueError(
+            f"blurlab.sweep: chunk_size must be None or an integer >= 1, not {chunk_size!r}"
+        )
     unknown = set(metrics) - set(METRICS)
     if unknown:
         raise ValueError(f"blurlab.sweep: unknown metrics {sorted(unknown)}; choose from {METRICS}")
@@ -96,163 +141,164 @@ def sweep(
         if name == "trail":
             raise ValueError("blurlab.sweep: trail needs a frame sequence; it is not swept")
         for key in grid:
-            if key == "steps":
-                for steps in grid[key]:
-                    check_steps(name, steps)
-            elif key not in method(name).params:
+            if key != "steps" and key not in method(name).params:
                 raise ValueError(f"blurlab.sweep: {name} has no parameter {key!r}")
+        # Every value now, not an hour into the sweep when its turn comes.
+        for point in grid_points(grid):
+            for key, value in point.items():
+                if key == "steps":  # n sub-intervals of the shutter (bl.blur_steps)
+                    check_steps(name, value)
+                else:
+                    check_param(name, key, value)
     scene_list = [_scene(s) for s in scenes]
     if not scene_list:
         raise ValueError("blurlab.sweep: no scenes")
     path = Path(out) if out is not None else None
     if path is not None and path.suffix.lower() != ".csv":
         raise ValueError(f"blurlab.sweep: results go to a .csv file (appendable), not {path.name}")
+    settings = Settings(
+        (int(size[0]), int(size[1])),
+        None if shutter is None else tuple(shutter),
+        reference_samples,
+        tuple(metrics),
+        repeats,
+    )
     done = _finished_keys(path)
-    info = ctx.info()
-    width, height = size
-    jobs = [
-        (scene, name, point)
-        for scene in scene_list
-        for name, grid in methods_and_grids.items()
-        for point in grid_points(grid)
-    ]
+    # Every evaluation asked for, in table order, and per scene those not yet in `out`.
+    keys = []
+    pending: list[list[tuple]] = [[] for _ in scene_list]
+    for i, scene in enumerate(scene_list):
+        for name, grid in methods_and_grids.items():
+            backend = (backends or {}).get(name)
+            for point in grid_points(grid):
+                key = _key(scene.name, name, backend or method(name).backends[0], point, size)
+                keys.append(key)
+                if key not in done:
+                    pending[i].append((name, point, backend, key))
     bar = None
     if progress:
         from tqdm.auto import tqdm
 
-        bar = tqdm(total=len(jobs), desc="sweep", unit="evaluation")
-    cache: dict = {}
+        bar = tqdm(total=len(keys), desc="sweep", unit="evaluation")
+        bar.update(len(keys) - sum(len(jobs) for jobs in pending))
+
+    def record(key: tuple, row: dict) -> None:
+        if path is not None:
+            _append(path, row)
+        done[key] = row
+        if bar:
+            bar.update()
+
+    try:
+        if cluster is None:
+            for scene, jobs in zip(scene_list, pending, strict=True):
+                if jobs:
+                    for key, row in evaluate_scene(ctx, scene, jobs, settings, {}):
+                        record(key, row)
+        elif any(pending):  # a finished sweep needs no cluster
+            from .cluster import sweep_on_cluster
+
+            sweep_on_cluster(cluster, scene_list, pending, settings, record, chunk_size, bar)
+    finally:
+        if bar:
+            bar.close()
+    return pd.DataFrame([done[key] for key in dict.fromkeys(keys) if key in done])
+
+
+def evaluate_scene(
+    ctx: Context, scene: Scene, jobs: Sequence[tuple], settings: Settings, cache: dict
+) -> Iterator[tuple[tuple, dict]]:
+    """Evaluates `jobs` = [(method, point, backend, key)] of one scene; yields (key, row) as
+    each row is finished. `cache` holds the scene's frames and reference between calls (a
+    worker keeps one per scene it has worked on)."""
+    size = settings.size
+    info = ctx.info()
+    # Timing first, every configuration back to back: the GPU stays busy, so its clocks stay
+    # up. Computing SSIM and FLIP between runs left it idle long enough to clock down, and
+    # single runs after that were several times slower on the H100. Each method runs once
+    # untimed first: it compiles (and, on llvmpipe, JITs), and the GPU wakes up.
+    timings = {}
     warmed: set = set()
-    pending = []
-    for scene, name, point in jobs:
-        backend = (backends or {}).get(name)
-        key = _key(scene.name, name, backend or method(name).backends[0], point, size)
-        if key in done:
-            if bar:
-                bar.update()
-            continue
-        pending.append((scene, name, point, backend, key))
-    for scene in scene_list:
-        here = [job for job in pending if job[0] is scene]
-        # Timing first, every configuration back to back: the GPU stays busy, so its clocks
-        # stay up. Computing SSIM and FLIP between runs left it idle long enough to clock
-        # down, and single runs after that were several times slower on the H100.
-        timings = {}
-        for _, name, point, backend, key in here:
-            frames, reference = _scene_inputs(
-                ctx, scene, name, point, size, shutter, reference_samples, cache
-            )
-            params = {k: v for k, v in point.items() if k != "steps"}
-            if (name, backend) not in warmed:  # compile (and, on llvmpipe, JIT) before timing
-                blur_steps(ctx, frames, name, backend, **params)
-                warmed.add((name, backend))
-            runs = []
-            for _ in range(repeats):
-                result = blur_steps(ctx, frames, name, backend, **params)
-                runs.append({p: t.ms for p, t in result.timings.items()})
-                clock = result.clock
-                del result  # back to the pool before the next run
-            timings[key] = (runs, clock)
-        # Then the error of each configuration, one untimed run each.
-        for _, name, point, backend, key in here:
-            frames, reference = _scene_inputs(
-                ctx, scene, name, point, size, shutter, reference_samples, cache
-            )
-            params = {k: v for k, v in point.items() if k != "steps"}
-            runs, clock = timings[key]
-            result = blur_steps(ctx, frames, name, backend, timed=False, **params)
-            row = {
-                "scene": scene.name,
-                "method": name,
-                "backend": result.backend,
-                "params": json.dumps(point, sort_keys=True),
-                **{f"param_{k}": v for k, v in point.items()},
-                **{f"ms_{p}": statistics.median(r[p] for r in runs) for p in runs[0]},
-                "total_ms": statistics.median(sum(r.values()) for r in runs),
-                "repeats": repeats,
-                "clock": clock,
-                "psnr": m.psnr_from_mse(
-                    m.gpu_mse(ctx, result.textures["color"], reference.texture)
-                ),
+    for name, point, backend, key in jobs:
+        frames, reference = _scene_inputs(ctx, scene, name, point, settings, cache)
+        params = _without_steps(point)
+        if (name, backend) not in warmed:
+            blur_steps(ctx, frames, name, backend, **params)
+            warmed.add((name, backend))
+        runs = []
+        for _ in range(settings.repeats):
+            result = blur_steps(ctx, frames, name, backend, **params)
+            runs.append({p: t.ms for p, t in result.timings.items()})
+            clock = result.clock
+            del result  # back to the pool before the next run
+        timings[key] = (runs, clock)
+    # Then the error of each configuration, one untimed run each.
+    for name, point, backend, key in jobs:
+        frames, reference = _scene_inputs(ctx, scene, name, point, settings, cache)
+        runs, clock = timings[key]
+        result = blur_steps(ctx, frames, name, backend, timed=False, **_without_steps(point))
+        row = {
+            "scene": scene.name,
+            "method": name,
+            "backend": result.backend,
+            "params": json.dumps(point, sort_keys=True),
+            **{f"param_{k}": v for k, v in point.items()},
+            **{f"ms_{p}": statistics.median(r[p] for r in runs) for p in runs[0]},
+            "total_ms": statistics.median(sum(r.values()) for r in runs),
+            "repeats": settings.repeats,
+            "clock": clock,
+            "psnr": m.psnr_from_mse(m.gpu_mse(ctx, result.textures["color"], reference.texture)),
+        }
+        if "ssim" in settings.metrics or "flip" in settings.metrics:
+            color, ref = result.color, reference.color
+            if "ssim" in settings.metrics:
+                row["ssim"] = m.ssim(ref, color)
+            if "flip" in settings.metrics:
+                row["flip"] = m.flip(ref, color)
+        row.update(
+            {
+                "device": info["device"],
+                "renderer": info["renderer"],
+                "width": size[0],
+                "height": size[1],
+                "reference_samples": reference.samples,
+                "shutter": json.dumps([frames[0].shutter[0], frames[-1].shutter[1]]),
             }
-            if "ssim" in metrics or "flip" in metrics:
-                color, ref = result.color, reference.color
-                if "ssim" in metrics:
-                    row["ssim"] = m.ssim(ref, color)
-                if "flip" in metrics:
-                    row["flip"] = m.flip(ref, color)
-            row.update(
-                {
-                    "device": info["device"],
-                    "renderer": info["renderer"],
-                    "width": width,
-                    "height": height,
-                    "reference_samples": reference.samples,
-                    "shutter": json.dumps([frames[0].shutter[0], frames[-1].shutter[1]]),
-                }
-            )
-            del result  # its textures go back to the pool before the next evaluation
-            if path is not None:
-                _append(path, row)
-            done[key] = row
-            if bar:
-                bar.update()
-    if bar:
-        bar.close()
-    rows = list(done.values())
-    table = pd.DataFrame(rows)
-    keys = {
-        _key(s.name, n, (backends or {}).get(n) or method(n).backends[0], p, size)
-        for s, n, p in jobs
-    }
-    if len(table):
-        table = table[
-            [
-                _key(
-                    r["scene"],
-                    r["method"],
-                    r["backend"],
-                    json.loads(r["params"]),
-                    (r["width"], r["height"]),
-                )
-                in keys
-                for r in rows
-            ]
-        ]
-    return table.reset_index(drop=True)
+        )
+        del result  # its textures go back to the pool before the next evaluation
+        yield key, row
 
 
-def _scene_inputs(ctx, scene, name, point, size, shutter, reference_samples, cache):
-    """The frames at the method's instant (one, or one per step of the shutter) and the
-    scene's reference, each made once."""
-    instant = method_instant(name, {k: v for k, v in point.items() if k != "steps"})
+def _without_steps(point: dict) -> dict:
+    return {k: v for k, v in point.items() if k != "steps"}
+
+
+def _scene_inputs(ctx, scene, name, point, settings: Settings, cache: dict):
+    """The frames at the method's instant (one, or one per step of the shutter: `steps` in
+    the point) and the scene's reference, each made once."""
+    params = _without_steps(point)
+    instant = method_instant(name, params)
     steps = point.get("steps", 1)
-    frames = cache.setdefault(("frames", id(scene)), {})
+    frames = cache.setdefault("frames", {})
     if (instant, 1) not in frames:
-        frames[(instant, 1)] = [ctx.render(scene, size, shutter, instant=instant)]
+        frames[(instant, 1)] = [ctx.render(scene, settings.size, settings.shutter, instant=instant)]
     if (instant, steps) not in frames:
         frames[(instant, steps)] = render_steps(
-            ctx,
-            scene,
-            name,
-            steps,
-            size,
-            shutter,
-            **{k: v for k, v in point.items() if k != "steps"},
+            ctx, scene, name, steps, settings.size, settings.shutter, **params
         )
     frame = frames[(instant, 1)][0]
-    if ("reference", id(scene)) not in cache:
-        n = reference_samples
+    if "reference" not in cache:
+        n = settings.reference_samples
         if n is None:
             n = default_reference_samples(frame)
-        cache[("reference", id(scene))] = ctx.reference(
+        cache["reference"] = ctx.reference(
             scene,
-            size,
-            check_shutter(scene.shutter if shutter is None else shutter),
+            settings.size,
+            check_shutter(scene.shutter if settings.shutter is None else settings.shutter),
             samples=n,
             progress=False,
         )
-    return frames[(instant, steps)], cache[("reference", id(scene))]
+    return frames[(instant, steps)], cache["reference"]
 
 
 def _key(scene: str, name: str, backend: str, point: dict, size) -> tuple:
@@ -262,10 +308,13 @@ def _key(scene: str, name: str, backend: str, point: dict, size) -> tuple:
 def _finished_keys(path: Path | None) -> dict:
     if path is None or not path.exists() or path.stat().st_size == 0:
         return {}
+    _drop_partial_line(path)
     table = pd.read_csv(path)
     done = {}
     for row in table.to_dict("records"):
         row = {k: v for k, v in row.items() if not (isinstance(v, float) and math.isnan(v))}
+        if not {"scene", "method", "backend", "params", "width", "height"} <= set(row):
+            continue  # not a finished row: evaluate it again
         done[
             _key(
                 row["scene"],
@@ -278,15 +327,29 @@ def _finished_keys(path: Path | None) -> dict:
     return done
 
 
+def _drop_partial_line(path: Path) -> None:
+    """Cuts a last line that has no newline (a write cut short by a crash or a kill), so the
+    next row starts on a line of its own and the cut row is evaluated again."""
+    with path.open("rb+") as f:
+        data = f.read()
+        if data and not data.endswith(b"\n"):
+            f.truncate(data.rfind(b"\n") + 1)
+
+
 def _append(path: Path, row: dict) -> None:
-    """Appends one row; a new column (a method with other passes) rewrites the file once."""
+    """Appends one row; a new column (a method with other passes) rewrites the file once.
+    Each row is one write() of one whole line: an interrupt (KeyboardInterrupt arrives
+    between Python operations) leaves finished rows only."""
     path.parent.mkdir(parents=True, exist_ok=True)
     if path.exists() and path.stat().st_size > 0:
+        _drop_partial_line(path)
         with path.open(newline="") as f:
             header = next(csv.reader(f))
         if set(row) <= set(header):
+            line = io.StringIO()
+            csv.DictWriter(line, header).writerow(row)
             with path.open("a", newline="") as f:
-                csv.DictWriter(f, header).writerow(row)
+                f.write(line.getvalue())
             return
         table = pd.concat([pd.read_csv(path), pd.DataFrame([row])], ignore_index=True)
         tmp = path.with_suffix(".csv.tmp")

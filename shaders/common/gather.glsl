@@ -3,6 +3,7 @@
 //   clamp  - a tap outside the image reads the nearest edge pixel;
 //   ignore - a tap outside the image is dropped and the weights of the others renormalized;
 //   guard  - the frame was rendered with a margin, so taps stay inside (run as clamp, cropped).
+#include "common/inputs.glsl"
 
 layout(binding = 0) uniform sampler2D color;
 layout(binding = 1) uniform sampler2D motion;
@@ -16,6 +17,6 @@ void add_tap(vec2 p, float weight, inout vec4 sum, inout float total) {
         if (ignore_outside) return;
         y = clamp(y, ivec2(0), size - 1);
     }
-    sum += weight * texelFetch(color, y, 0);
+    sum += weight * sanitize_color(texelFetch(color, y, 0));
     total += weight;
 }

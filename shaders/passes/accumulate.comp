@@ -2,6 +2,8 @@
 // Accumulation, SPEC.md §1 "Reference": sum += weight * color, in float32, one sub-frame at a
 // time. With weight 1/N over N sub-frames the sum is their mean.
 // NumPy twin: blurlab.reference.accumulation.mean_of_renders.
+#include "common/inputs.glsl"
+
 layout(local_size_x = 16, local_size_y = 16) in;
 layout(binding = 0) uniform sampler2D color;
 layout(binding = 0, rgba32f) uniform image2D sum;
@@ -10,5 +12,5 @@ uniform float weight;
 void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(p, imageSize(sum)))) return;
-    imageStore(sum, p, imageLoad(sum, p) + weight * texelFetch(color, p, 0));
+    imageStore(sum, p, imageLoad(sum, p) + weight * sanitize_color(texelFetch(color, p, 0)));
 }

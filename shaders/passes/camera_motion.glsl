@@ -3,6 +3,7 @@
 // only the camera moved, from its depth and the camera's transforms: reproject the point seen
 // at X to t0 and t1. Points at infinity (depth +inf) move with the camera's rotation only.
 // Compute only. NumPy twin: blurlab.reference.gathers.camera_motion.
+#include "common/inputs.glsl"
 
 layout(local_size_x = 16, local_size_y = 16) in;
 layout(binding = 0) uniform sampler2D depth;
@@ -23,7 +24,7 @@ void main() {
     ivec2 size = textureSize(depth, 0);
     if (any(greaterThanEqual(x, size))) return;
     vec2 ndc = (vec2(x) + 0.5) / vec2(size) * 2.0 - 1.0;
-    float z = texelFetch(depth, x, 0).x;
+    float z = sanitize_depth(texelFetch(depth, x, 0).x);
     vec2 m;
     if (isinf(z)) {
         vec4 far_point = sky_from_clip * vec4(ndc, 1.0, 1.0);

@@ -9,7 +9,7 @@ uniform float intensity;
 uniform bool centered;
 
 vec4 gather_box_at(ivec2 x) {
-    vec2 m = texelFetch(motion, x, 0).xy * intensity;
+    vec2 m = sanitize_motion(texelFetch(motion, x, 0).xy) * intensity;
     vec2 center = vec2(x) + 0.5;
     vec4 sum = vec4(0.0);
     float total = 0.0;
@@ -19,7 +19,7 @@ vec4 gather_box_at(ivec2 x) {
     }
     // Backward: the first tap is X itself. Centered with an even n has no tap at X; if every
     // tap fell outside under "ignore", keep the pixel.
-    return total > 0.0 ? sum / total : texelFetch(color, x, 0);
+    return total > 0.0 ? sum / total : sanitize_color(texelFetch(color, x, 0));
 }
 
 #ifdef STAGE_COMPUTE

@@ -5,7 +5,7 @@
 #include "common/gather.glsl"
 
 vec4 gather_weighted_at(ivec2 x) {
-    vec2 m = texelFetch(motion, x, 0).xy * 0.5;
+    vec2 m = sanitize_motion(texelFetch(motion, x, 0).xy) * 0.5;
     vec2 center = vec2(x) + 0.5;
     const float weights[4] = float[](0.4, 0.3, 0.2, 0.1);
     vec4 sum = vec4(0.0);

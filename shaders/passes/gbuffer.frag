@@ -1,6 +1,10 @@
 #version 450
 // G-buffer pass, fragment stage (SPEC.md §1): linear color, linear depth, motion t0→t1 in
-// pixels (+y down), object id. Motion is divided by w here, per fragment.
+// pixels (+y down), object id. Motion is divided by w here, per fragment. Hatched materials
+// (SPEC.md §5) replace the shading with color · (1 − ink).
+
+#include "common/hatching.glsl"
+#include "common/hatching_threshold.glsl"
 
 in Surface {
     vec4 clip_open;
@@ -8,6 +12,8 @@ in Surface {
     vec3 world;
     vec3 normal;
     vec2 uv;
+    vec3 tone_low;
+    vec3 tone_high;
 } surface;
 
 layout(location = 0) out vec4 out_color;
@@ -32,6 +38,10 @@ uniform float material_shininess;
 uniform bool has_texture;
 uniform int object_id;
 layout(binding = 0) uniform sampler2D albedo_map;
+uniform int hatching;  // 0 none, 1 six_way, 2 threshold
+uniform float hatching_scale;
+layout(binding = 1) uniform sampler2D tam_low;   // six_way: tones 1–3; threshold: thresholds
+layout(binding = 2) uniform sampler2D tam_high;  // six_way: tones 4–6
 
 // Clip position -> pixel position, x right, y down (the projection has y flipped). w is the
 // point's view depth. A point closer than the near plane at t0 or t1 (or behind the eye) has no
@@ -72,6 +82,17 @@ void main() {
         specular = material_specular * pow(max(dot(n, normalize(l + v)), 0.0), material_shininess);
     out_color = vec4(albedo.rgb * (ambient + light_color * diffuse) + light_color * specular,
                      albedo.a);
+    if (hatching == 1) {
+        vec2 tam_uv = surface.uv * hatching_scale;
+        float ink = dot(surface.tone_low, texture(tam_low, tam_uv).rgb) +
+                    dot(surface.tone_high, texture(tam_high, tam_uv).rgb);
+        out_color = vec4(albedo.rgb * (1.0 - clamp(ink, 0.0, 1.0)), albedo.a);
+    } else if (hatching == 2) {
+        float intensity = hatching_intensity(n, v, l, light_color, ambient, material_specular,
+                                             material_shininess);
+        float ink = threshold_ink(tam_low, surface.uv * hatching_scale, 1.0 - intensity);
+        out_color = vec4(albedo.rgb * (1.0 - ink), albedo.a);
+    }
     // clip.w is the view depth, and the rasterizer interpolates 1/w for perspective correction
     // anyway: no separate varying is needed.
     out_depth = 1.0 / gl_FragCoord.w;

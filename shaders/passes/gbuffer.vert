@@ -1,6 +1,9 @@
 #version 450
 // G-buffer pass, vertex stage (SPEC.md §1). Index 0 = shutter open t0, 1 = close t1, 2 = the
 // G-buffer's instant. Positions at t0 and t1 go to the rasterizer undivided (see gbuffer.frag).
+// Hatched materials (SPEC.md §5, six_way) get their tone weights here, per vertex.
+
+#include "common/hatching.glsl"
 
 layout(location = 0) in vec3 position;
 layout(location = 1) in vec3 normal;
@@ -12,6 +15,13 @@ uniform mat4 model[3];
 uniform mat4 view_projection[3];  // y flipped: see src/passes/gbuffer.h
 uniform int bone_count;
 uniform bool background;
+uniform int hatching;  // 0 none, 1 six_way, 2 threshold
+uniform vec3 eye;
+uniform vec3 light_direction;
+uniform vec3 light_color;
+uniform vec3 ambient;
+uniform float material_specular;
+uniform float material_shininess;
 
 // Bone matrices: bone_count at t0, then bone_count at t1, then bone_count at the instant.
 layout(std430, binding = 0, row_major) readonly buffer Bones { mat4 bones[]; };
@@ -22,6 +32,8 @@ out Surface {
     vec3 world;
     vec3 normal;
     vec2 uv;
+    vec3 tone_low;   // six_way weights of tones 1–3
+    vec3 tone_high;  // and of tones 4–6
 } surface;
 
 mat4 skinning(int time) {
@@ -46,5 +58,15 @@ void main() {
     surface.world = world.xyz;
     surface.normal = transpose(inverse(mat3(at_instant))) * normal;
     surface.uv = texcoord;
+    surface.tone_low = vec3(0.0);
+    surface.tone_high = vec3(0.0);
+    if (hatching == 1) {
+        vec3 n = normalize(surface.normal);
+        vec3 v = normalize(eye - surface.world);
+        if (dot(n, v) < 0.0) n = -n;  // two-sided, as in gbuffer.frag
+        float intensity = hatching_intensity(n, v, normalize(light_direction), light_color,
+                                             ambient, material_specular, material_shininess);
+        six_way_weights(intensity, surface.tone_low, surface.tone_high);
+    }
     gl_Position = view_projection[2] * world;
 }

@@ -3,6 +3,7 @@
 // weighted by depth order and by whether the sample's or the center's blur covers the other.
 // Compute (16 x 16 threads per group, one per pixel) or fragment (one fragment per pixel).
 // NumPy twin: blurlab.reference.mcguire2012.reconstruct_mcguire2012.
+#include "common/inputs.glsl"
 #include "common/mcguire2012.glsl"
 #include "common/random.glsl"
 
@@ -18,13 +19,13 @@ uniform uint seed;
 
 vec4 reconstruct_at(ivec2 x) {
     ivec2 size = textureSize(color, 0);
-    vec4 cx = texelFetch(color, x, 0);
+    vec4 cx = sanitize_color(texelFetch(color, x, 0));
     vec2 vn = texelFetch(neighbor_max, x / k, 0).xy;
     if (length(vn) <= 0.5 + 0.01) return cx;  // nothing moves near here
 
     float kf = float(k);
-    float zx = texelFetch(depth, x, 0).x;
-    vec2 vx = half_velocity(texelFetch(motion, x, 0).xy, exposure, kf);
+    float zx = sanitize_depth(texelFetch(depth, x, 0).x);
+    vec2 vx = half_velocity(sanitize_motion(texelFetch(motion, x, 0).xy), exposure, kf);
     float weight = 1.0 / len_half(vx);
     vec4 sum = cx * weight;
     float j = rand(uint(x.x), uint(x.y), seed) - 0.5;
@@ -34,15 +35,15 @@ vec4 reconstruct_at(ivec2 x) {
         if (i == skip) continue;
         float t = -1.0 + 2.0 * (float(i) + j + 1.0) / float(samples + 1);
         ivec2 y = clamp(ivec2(floor(center + vn * t)), ivec2(0), size - 1);
-        float zy = texelFetch(depth, y, 0).x;
-        vec2 vy = half_velocity(texelFetch(motion, y, 0).xy, exposure, kf);
+        float zy = sanitize_depth(texelFetch(depth, y, 0).x);
+        vec2 vy = half_velocity(sanitize_motion(texelFetch(motion, y, 0).xy), exposure, kf);
         float dist = length(vec2(y - x));
         float f = soft_depth_compare(zx, zy, soft_z);
         float b = soft_depth_compare(zy, zx, soft_z);
         float a = f * cone(dist, vy) + b * cone(dist, vx)
                 + cylinder(dist, vy) * cylinder(dist, vx) * 2.0;
         weight += a;
-        sum += a * texelFetch(color, y, 0);
+        sum += a * sanitize_color(texelFetch(color, y, 0));
     }
     return sum / weight;
 }

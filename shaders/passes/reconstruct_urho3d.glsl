@@ -10,6 +10,7 @@
 //   - jitter from a tiled 64 x 64 texture.
 // Depth +inf (the background) is read as `far`, so that bilinear weights never meet inf * 0.
 // NumPy twin: blurlab.reference.urho3d.reconstruct_urho3d.
+#include "common/inputs.glsl"
 #include "common/mcguire2012.glsl"
 
 layout(binding = 0) uniform sampler2D color;
@@ -28,7 +29,7 @@ vec2 velocity_urho(vec2 m) {
 }
 
 float depth_at(ivec2 p) {
-    return min(texelFetch(depth, p, 0).x, far);
+    return min(sanitize_depth(texelFetch(depth, p, 0).x), far);
 }
 
 float sdc_urho(float za, float zb) {
@@ -52,9 +53,9 @@ Tap bilinear(vec2 position) {
         for (int dx = 0; dx <= 1; ++dx) {
             ivec2 p = clamp(i0 + ivec2(dx, dy), ivec2(0), size - 1);
             float w = (dx == 1 ? f.x : 1.0 - f.x) * (dy == 1 ? f.y : 1.0 - f.y);
-            tap.color += w * texelFetch(color, p, 0);
+            tap.color += w * sanitize_color(texelFetch(color, p, 0));
             tap.depth += w * depth_at(p);
-            tap.motion += w * texelFetch(motion, p, 0).xy;
+            tap.motion += w * sanitize_motion(texelFetch(motion, p, 0).xy);
         }
     }
     return tap;
@@ -64,14 +65,14 @@ layout(location = 0) out vec4 result;
 
 void main() {
     ivec2 x = ivec2(gl_FragCoord.xy);
-    vec4 cx = texelFetch(color, x, 0);
+    vec4 cx = sanitize_color(texelFetch(color, x, 0));
     vec2 vn = clamp(texelFetch(neighbor_max, x / k, 0).xy, -float(k), float(k));
     if (length(vn) <= 0.5 + 0.01) {
         result = cx;
         return;
     }
     float zx = depth_at(x);
-    vec2 vx = velocity_urho(texelFetch(motion, x, 0).xy);
+    vec2 vx = velocity_urho(sanitize_motion(texelFetch(motion, x, 0).xy));
     float weight = 0.75;
     vec4 sum = cx * weight;
     float j = texelFetch(jitter, x % 64, 0).x - 0.5;

@@ -8,6 +8,7 @@
 // this pass adds its share. The neighbour to the right gives its leftmost sample (i = 2), the
 // one below its topmost (0), the one to the left its rightmost (1), the one above its
 // bottommost (3). NumPy twin: blurlab.reference.stochastic.
+#include "common/inputs.glsl"
 #include "common/random.glsl"
 
 layout(local_size_x = 16, local_size_y = 16) in;
@@ -40,11 +41,11 @@ void main() {
     ivec2 size = imageSize(sum);
     if (any(greaterThanEqual(x, size))) return;
     vec4 add = vec4(0.0);
-    if (slice_of(x, position) == slice) add += 5.0 / 32.0 * texelFetch(color, x, 0);
+    if (slice_of(x, position) == slice) add += 5.0 / 32.0 * sanitize_color(texelFetch(color, x, 0));
     const ivec2 neighbours[4] = ivec2[](ivec2(0, 1), ivec2(-1, 0), ivec2(1, 0), ivec2(0, -1));
     // Neighbour n gives sample n: below -> 0 (topmost), left -> 1 (rightmost),
     // right -> 2 (leftmost), above -> 3 (bottommost).
     ivec2 n = clamp(x + neighbours[position], ivec2(0), size - 1);
-    if (slice_of(n, position) == slice) add += 3.0 / 32.0 * texelFetch(color, n, 0);
+    if (slice_of(n, position) == slice) add += 3.0 / 32.0 * sanitize_color(texelFetch(color, n, 0));
     imageStore(sum, x, imageLoad(sum, x) + add);
 }

@@ -10,6 +10,7 @@
 // With TILE_BOUNDS (compute only) it also writes each tile's component-wise bounds of V
 // (min V.x, min V.y, max V.x, max V.y) for the tile classification (classify_tiles.glsl);
 // NumPy twin blurlab.reference.classify.tile_bounds.
+#include "common/inputs.glsl"
 #include "common/mcguire2012.glsl"
 
 layout(binding = 0) uniform sampler2D motion;
@@ -34,7 +35,7 @@ vec2 scan(ivec2 tile, ivec2 first, int step) {
     float best_length = -1.0;
     for (int y = origin.y + first.y; y < end.y; y += step) {
         for (int x = origin.x + first.x; x < end.x; x += step) {
-            vec2 v = half_velocity(texelFetch(motion, ivec2(x, y), 0).xy, exposure, float(k));
+            vec2 v = half_velocity(sanitize_motion(texelFetch(motion, ivec2(x, y), 0).xy), exposure, float(k));
             float l = length(v);
 #ifdef TILE_BOUNDS
             scanned_bounds = union_bounds(scanned_bounds, vec4(v, v));

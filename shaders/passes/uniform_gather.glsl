@@ -10,6 +10,7 @@
 // (TILE_LIST) or, without it, over the whole image. Compute only.
 // NumPy twin: blurlab.reference.classify.uniform_gather.
 #ifdef STAGE_COMPUTE
+#include "common/inputs.glsl"
 #include "common/mcguire2012.glsl"
 #include "common/random.glsl"
 #include "common/tile_list.glsl"
@@ -23,7 +24,7 @@ uniform uint seed;
 
 vec4 uniform_gather_at(ivec2 x) {
     ivec2 size = textureSize(color, 0);
-    vec4 cx = texelFetch(color, x, 0);
+    vec4 cx = sanitize_color(texelFetch(color, x, 0));
     vec2 vn = texelFetch(neighbor_max, x / k, 0).xy;
     float weight = 1.0 / len_half(vn);
     vec4 sum = cx * weight;
@@ -38,7 +39,7 @@ vec4 uniform_gather_at(ivec2 x) {
         float c = cylinder(dist, vn);
         float a = 2.0 * cone(dist, vn) + 2.0 * c * c;
         weight += a;
-        sum += a * texelFetch(color, y, 0);
+        sum += a * sanitize_color(texelFetch(color, y, 0));
     }
     return sum / weight;
 }

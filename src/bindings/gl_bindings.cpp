@@ -46,7 +46,7 @@ GLenum image_access(const std::string& access) {
       "blurlab: image access must be 'read', 'write' or 'read_write', not '" + access + "'");
 }
 
-void upload(Texture& texture, const py::array& array) {
+void upload_level(Texture& texture, int level, const py::array& array) {
   if (!(array.flags() & py::array::c_style))
     throw std::invalid_argument("blurlab: upload needs a C-contiguous array");
   if (py::str(array.dtype()).cast<std::string>() != dtype_name(texture.format().type))
@@ -55,7 +55,11 @@ void upload(Texture& texture, const py::array& array) {
   const size_t bytes = static_cast<size_t>(array.nbytes());
   const void* data = array.data();
   py::gil_scoped_release release;
-  texture.upload(data, bytes);
+  texture.upload_level(level, data, bytes);
+}
+
+void upload(Texture& texture, const py::array& array) {
+  upload_level(texture, 0, array);
 }
 
 py::array download(const Texture& texture) {
@@ -142,6 +146,8 @@ void bind_gl(py::module_& m) {
       .def_static("devices", &Context::devices)
       .def("info", &Context::info)
       .def("live_objects", &Context::live_objects)
+      .def("gl_errors", &Context::gl_errors)
+      .def("memory", &Context::memory)
       .def("finish", &Context::finish, py::call_guard<py::gil_scoped_release>())
       .def("make_current", &Context::make_current)
       .def_property_readonly("software", &Context::is_software)
@@ -176,6 +182,8 @@ void bind_gl(py::module_& m) {
              t.clear(value.data());
            })
       .def("generate_mipmaps", &Texture::generate_mipmaps)
+      .def("upload_level", &upload_level, py::arg("level"), py::arg("array"))
+      .def("use_mipmaps", &Texture::use_mipmaps)
       .def("copy_from", &Texture::copy_from, py::arg("source"), py::arg("x"), py::arg("y"))
       .def_property_readonly("levels", &Texture::levels);
 

@@ -73,9 +73,10 @@ std::shared_ptr<Mesh> make_mesh(const std::shared_ptr<Context>& ctx, const Float
 }
 
 // One draw as Python hands it over: (mesh, model (3,4,4), bones (3,B,4,4) or None,
-// color (4,), specular, shininess, texture or None, object_id).
+// color (4,), specular, shininess, texture or None, object_id, hatching or None), where
+// hatching = (scheme 1 six_way | 2 threshold, scale, tam texture, tam texture or None).
 GBufferDraw make_draw(const py::tuple& t) {
-  if (t.size() != 8) throw std::invalid_argument("blurlab: a G-buffer draw is an 8-tuple");
+  if (t.size() != 9) throw std::invalid_argument("blurlab: a G-buffer draw is a 9-tuple");
   GBufferDraw d;
   d.mesh = t[0].cast<std::shared_ptr<Mesh>>();
   copy_floats(&d.model[0][0], t[1].cast<Floats>(), 48, "model matrices");
@@ -90,6 +91,16 @@ GBufferDraw make_draw(const py::tuple& t) {
   d.material.shininess = t[5].cast<float>();
   if (!t[6].is_none()) d.material.texture = t[6].cast<std::shared_ptr<Texture>>();
   d.object_id = t[7].cast<int>();
+  if (!t[8].is_none()) {
+    const auto h = t[8].cast<py::tuple>();
+    const int scheme = h[0].cast<int>();
+    if (scheme != 1 && scheme != 2)
+      throw std::invalid_argument("blurlab: hatching scheme code must be 1 or 2");
+    d.material.hatching = static_cast<GBufferMaterial::Hatching>(scheme);
+    d.material.hatching_scale = h[1].cast<float>();
+    d.material.tam[0] = h[2].cast<std::shared_ptr<Texture>>();
+    if (!h[3].is_none()) d.material.tam[1] = h[3].cast<std::shared_ptr<Texture>>();
+  }
   return d;
 }
 

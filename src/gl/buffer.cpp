@@ -29,11 +29,10 @@ Buffer::Buffer(Context* context, size_t bytes, Usage usage) : context_(context),
 }
 
 Buffer::~Buffer() {
-  if (context_->try_make_current()) {
-    if (mapped_) glUnmapNamedBuffer(id_);
-    glDeleteBuffers(1, &id_);
-    context_->track("buffer", -1);
-  }
+  context_->release("buffer", [id = id_, mapped = mapped_ != nullptr] {
+    if (mapped) glUnmapNamedBuffer(id);
+    glDeleteBuffers(1, &id);
+  });
 }
 
 }  // namespace blurlab

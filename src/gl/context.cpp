@@ -262,6 +262,7 @@ void Context::create_on(EGLDisplay display, const std::string& platform, const E
 Context::~Context() {
   if (context_ != EGL_NO_CONTEXT) {
     if (try_make_current()) {
+      run_deferred();
       spare_pack_buffers_.clear();
       glFinish();
     }
@@ -280,11 +281,66 @@ void Context::make_current() {
   if (eglGetCurrentContext() != context_ &&
       !eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_))
     throw std::runtime_error("blurlab: eglMakeCurrent failed (" + egl_error_text() + ")");
+  if (has_deferred_.load()) run_deferred();
+}
+
+void Context::release(const char* kind, std::function<void()> free) noexcept {
+  if (try_make_current()) {
+    free();
+    if (kind) track(kind, -1);
+    return;
+  }
+  try {
+    std::lock_guard<std::mutex> lock(mutex_);
+    deferred_.emplace_back(kind ? kind : "", std::move(free));
+    has_deferred_ = true;
+  } catch (...) {
+    // No memory to queue the release: the object leaks (live_objects() still counts it).
+  }
+}
+
+void Context::run_deferred() {
+  std::vector<std::pair<std::string, std::function<void()>>> work;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    work.swap(deferred_);
+    has_deferred_ = false;
+  }
+  for (auto& [kind, free] : work) {
+    free();
+    if (!kind.empty()) track(kind.c_str(), -1);
+  }
 }
 
 bool Context::try_make_current() noexcept {
+  if (std::this_thread::get_id() != owner_) return false;
   if (eglGetCurrentContext() == context_) return true;
   return eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_) == EGL_TRUE;
+}
+
+std::vector<std::string> Context::gl_errors() {
+  make_current();
+  std::vector<std::string> errors;
+  for (int i = 0; i < 16; ++i) {
+    const GLenum e = glGetError();
+    if (e == GL_NO_ERROR) break;
+    errors.push_back(gl_error_name(e));
+  }
+  return errors;
+}
+
+std::map<std::string, long long> Context::memory() {
+  make_current();
+  std::map<std::string, long long> result;
+  if (epoxy_has_gl_extension("GL_NVX_gpu_memory_info")) {
+    GLint total = 0, available = 0;
+    glGetIntegerv(0x9048, &total);      // GPU_MEMORY_INFO_TOTAL_AVAILABLE_MEMORY_NVX
+    glGetIntegerv(0x9049, &available);  // GPU_MEMORY_INFO_CURRENT_AVAILABLE_VIDMEM_NVX
+    check_gl("querying video memory");
+    result["total"] = total;
+    result["available"] = available;
+  }
+  return result;
 }
 
 void Context::finish() {
@@ -297,7 +353,8 @@ void Context::track(const char* kind, int delta) {
   live_[kind] += delta;
 }
 
-std::map<std::string, int> Context::live_objects() const {
+std::map<std::string, int> Context::live_objects() {
+  if (has_deferred_.load() && try_make_current()) run_deferred();
   std::lock_guard<std::mutex> lock(mutex_);
   return live_;
 }

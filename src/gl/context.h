@@ -3,6 +3,8 @@
 // (llvmpipe), else Mesa's surfaceless platform. DESIGN.md "What Python sees".
 #pragma once
 
+#include <atomic>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -42,7 +44,20 @@ class Context : public std::enable_shared_from_this<Context> {
   // created the context: a GL context is current on one thread at a time.
   void make_current();
   // For destructors, which may run on any thread and must not throw: true if current now.
+  // Never true on a thread other than the owner: taking the context away from its thread would
+  // leave the owner unable to make it current again. (The object's GL name then leaks, and
+  // live_objects() still counts it.)
   bool try_make_current() noexcept;
+  // Frees a GL object: now, where this thread owns the context, else at the owner's next
+  // make_current(). Destructors call it, since Python may drop the last reference to an object
+  // on any thread; `kind` (or nullptr) is what track() counted. Never throws.
+  void release(const char* kind, std::function<void()> free) noexcept;
+  // Reads and clears every pending GL error, without throwing: the names of the errors that
+  // were set ("GL_INVALID_VALUE", ...), empty if none. Tests assert it after each call.
+  std::vector<std::string> gl_errors();
+  // Video memory in KiB where the driver reports it (GL_NVX_gpu_memory_info: "total",
+  // "available"); empty on drivers without it, llvmpipe included.
+  std::map<std::string, long long> memory();
 
   const std::map<std::string, std::string>& info() const { return info_; }
   bool is_software() const { return software_; }
@@ -55,7 +70,8 @@ class Context : public std::enable_shared_from_this<Context> {
   // Live GL objects by kind ("texture", "buffer", "program", "query"), so tests can show that
   // freeing objects returns the count to where it was.
   void track(const char* kind, int delta);
-  std::map<std::string, int> live_objects() const;
+  // On the owner's thread, releases queued by other threads are done first.
+  std::map<std::string, int> live_objects();
 
   // Pool of persistently mapped pixel-pack buffers for asynchronous readback: allocating
   // pinned memory for every download would cost more than the copy itself.
@@ -73,8 +89,15 @@ class Context : public std::enable_shared_from_this<Context> {
   int max_texture_size_ = 0;
   std::string shader_dir_;
   std::map<std::string, std::string> info_;
-  mutable std::mutex mutex_;  // guards live_ and spare_pack_buffers_ (destructors may run anywhere)
+  void run_deferred();
+
+  // Guards live_, deferred_ and spare_pack_buffers_ (destructors may run on any thread).
+  mutable std::mutex mutex_;
   std::map<std::string, int> live_;
+  // Declared before spare_pack_buffers_: a spare buffer destroyed with the context queues its
+  // release here, so this must still exist then.
+  std::vector<std::pair<std::string, std::function<void()>>> deferred_;
+  std::atomic<bool> has_deferred_{false};
   std::vector<std::shared_ptr<Buffer>> spare_pack_buffers_;
 };
 

@@ -14,10 +14,10 @@ FullscreenDraw::FullscreenDraw(std::shared_ptr<Context> context) : context_(std:
 }
 
 FullscreenDraw::~FullscreenDraw() {
-  if (context_->try_make_current()) {
-    glDeleteFramebuffers(1, &framebuffer_);
-    glDeleteVertexArrays(1, &vao_);
-  }
+  context_->release(nullptr, [framebuffer = framebuffer_, vao = vao_] {
+    glDeleteFramebuffers(1, &framebuffer);
+    glDeleteVertexArrays(1, &vao);
+  });
 }
 
 void FullscreenDraw::draw(const Program& program, const Texture& target) {

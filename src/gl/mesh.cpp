@@ -1,5 +1,9 @@
 #include "gl/mesh.h"
 
+#include <algorithm>
+#include <array>
+#include <iterator>
+
 #include "gl/context.h"
 
 namespace blurlab {
@@ -46,11 +50,12 @@ Mesh::Mesh(std::shared_ptr<Context> context, const MeshData& data)
 }
 
 Mesh::~Mesh() {
-  if (context_->try_make_current()) {
-    glDeleteVertexArrays(1, &vao_);
-    glDeleteBuffers(6, buffers_);
-    context_->track("mesh", -1);
-  }
+  std::array<GLuint, 6> buffers;
+  std::copy(std::begin(buffers_), std::end(buffers_), buffers.begin());
+  context_->release("mesh", [vao = vao_, buffers] {
+    glDeleteVertexArrays(1, &vao);
+    glDeleteBuffers(6, buffers.data());
+  });
 }
 
 void Mesh::draw() const {

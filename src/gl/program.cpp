@@ -1,5 +1,6 @@
 #include "gl/program.h"
 
+#include <cmath>
 #include <fstream>
 #include <regex>
 #include <set>
@@ -231,10 +232,7 @@ void Program::link(const std::vector<GLuint>& shaders) {
 }
 
 Program::~Program() {
-  if (id_ && context_->try_make_current()) {
-    glDeleteProgram(id_);
-    context_->track("program", -1);
-  }
+  if (id_) context_->release("program", [id = id_] { glDeleteProgram(id); });
 }
 
 void Program::set_uniform(const std::string& name, const std::vector<double>& v) {
@@ -253,8 +251,19 @@ void Program::set_uniform(const std::string& name, const std::vector<double>& v)
                                   " value(s), got " + std::to_string(v.size()));
   };
   auto f = [&](size_t i) { return static_cast<float>(v[i]); };
-  auto i32 = [&](size_t i) { return static_cast<GLint>(v[i]); };
-  auto u32 = [&](size_t i) { return static_cast<GLuint>(v[i]); };
+  // Converting a double outside an integer type's range is undefined behaviour: refuse it.
+  auto whole = [&](size_t i, double low, double high, const char* what) {
+    if (!(v[i] >= low && v[i] <= high) || v[i] != std::floor(v[i]))
+      throw std::invalid_argument("blurlab: uniform '" + name + "' takes " + what + ", got " +
+                                  std::to_string(v[i]));
+    return v[i];
+  };
+  auto i32 = [&](size_t i) {
+    return static_cast<GLint>(whole(i, -2147483648.0, 2147483647.0, "integers in -2^31..2^31-1"));
+  };
+  auto u32 = [&](size_t i) {
+    return static_cast<GLuint>(whole(i, 0.0, 4294967295.0, "integers in 0..2^32-1"));
+  };
   switch (it->second) {
     case GL_FLOAT:
       need(1);

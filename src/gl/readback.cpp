@@ -22,13 +22,15 @@ PendingDownload::PendingDownload(const Texture& texture) : context_(texture.cont
 }
 
 PendingDownload::~PendingDownload() {
-  if (context_->try_make_current()) {
-    if (fence_) {
-      glClientWaitSync(fence_, GL_SYNC_FLUSH_COMMANDS_BIT, GL_TIMEOUT_IGNORED);
-      glDeleteSync(fence_);
-    }
-    if (buffer_) context_->return_pack_buffer(std::move(buffer_));
-  }
+  // The buffer goes back to the pool once the GPU has finished writing it.
+  context_->release(nullptr,
+                    [fence = fence_, buffer = std::move(buffer_), context = context_.get()] {
+                      if (fence) {
+                        glClientWaitSync(fence, GL_SYNC_FLUSH_COMMANDS_BIT, GL_TIMEOUT_IGNORED);
+                        glDeleteSync(fence);
+                      }
+                      if (buffer) context->return_pack_buffer(buffer);
+                    });
 }
 
 bool PendingDownload::done() {

@@ -1,5 +1,6 @@
 #include "gl/texture.h"
 
+#include <algorithm>
 #include <cstdint>
 
 #include "gl/context.h"
@@ -43,9 +44,9 @@ Texture::Texture(std::shared_ptr<Context> context, int width, int height,
     throw std::invalid_argument("blurlab: texture size " + std::to_string(width) + "x" +
                                 std::to_string(height) + " is outside 1.." + std::to_string(limit) +
                                 " (GL_MAX_TEXTURE_SIZE) per side");
+  if (levels < 1) throw std::invalid_argument("blurlab: a texture has at least one level");
   context_->make_current();
   glCreateTextures(GL_TEXTURE_2D, 1, &id_);
-  if (levels < 1) throw std::invalid_argument("blurlab: a texture has at least one level");
   glTextureStorage2D(id_, levels, format_.internal, width, height);
   glTextureParameteri(id_, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
   glTextureParameteri(id_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
@@ -62,10 +63,7 @@ Texture::Texture(std::shared_ptr<Context> context, int width, int height,
 }
 
 Texture::~Texture() {
-  if (context_->try_make_current()) {
-    glDeleteTextures(1, &id_);
-    context_->track("texture", -1);
-  }
+  context_->release("texture", [id = id_] { glDeleteTextures(1, &id); });
 }
 
 void Texture::upload(const void* data, size_t bytes) {
@@ -76,6 +74,21 @@ void Texture::upload(const void* data, size_t bytes) {
   glTextureSubImage2D(id_, 0, 0, 0, width_, height_, format_.pixel_format, format_.pixel_type,
                       data);
   check_gl("texture upload");
+}
+
+void Texture::upload_level(int level, const void* data, size_t bytes) {
+  if (level < 0 || level >= levels_)
+    throw std::invalid_argument("blurlab: level " + std::to_string(level) + " is outside 0.." +
+                                std::to_string(levels_ - 1));
+  const int w = std::max(1, width_ >> level), h = std::max(1, height_ >> level);
+  const size_t expected = static_cast<size_t>(w) * h * format_.bytes_per_texel;
+  if (bytes != expected)
+    throw std::invalid_argument("blurlab: upload of " + std::to_string(bytes) +
+                                " bytes into level " + std::to_string(level) + " of " +
+                                std::to_string(expected));
+  context_->make_current();
+  glTextureSubImage2D(id_, level, 0, 0, w, h, format_.pixel_format, format_.pixel_type, data);
+  check_gl("texture level upload");
 }
 
 void Texture::download(void* data, size_t bytes) const {
@@ -114,12 +127,17 @@ void Texture::copy_from(const Texture& source, int x, int y) {
 void Texture::generate_mipmaps() {
   context_->make_current();
   glGenerateTextureMipmap(id_);
+  use_mipmaps();
+}
+
+void Texture::use_mipmaps() {
+  context_->make_current();
   glTextureParameteri(id_, GL_TEXTURE_MIN_FILTER,
                       levels_ > 1 ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
   glTextureParameteri(id_, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
   glTextureParameteri(id_, GL_TEXTURE_WRAP_S, GL_REPEAT);
   glTextureParameteri(id_, GL_TEXTURE_WRAP_T, GL_REPEAT);
-  check_gl("generating mipmaps");
+  check_gl("setting mipmap sampling");
 }
 
 }  // namespace blurlab

@@ -41,6 +41,9 @@ class Texture {
 
   // Whole-image transfers of tightly packed rows, row 0 first.
   void upload(const void* data, size_t bytes);
+  // One mip level, for textures whose levels are made by the caller rather than by averaging
+  // (a tonal art map's levels each hold their own strokes, SPEC.md §5).
+  void upload_level(int level, const void* data, size_t bytes);
   void download(void* data, size_t bytes) const;
   // Clears every texel to zero, or to `value` (as many floats as the texture has channels).
   void clear();
@@ -48,6 +51,8 @@ class Texture {
   // Fills levels 1.. from level 0 and samples with trilinear filtering and repeat wrapping,
   // as a material texture should be.
   void generate_mipmaps();
+  // Trilinear filtering and repeat wrapping over the levels as they are (uploaded level by level).
+  void use_mipmaps();
   // Copies this texture's size worth of texels from `source` starting at (x, y) there (a crop).
   void copy_from(const Texture& source, int x, int y);
   int levels() const { return levels_; }

@@ -15,11 +15,11 @@ Timer::Timer(std::shared_ptr<Context> context)
 }
 
 Timer::~Timer() {
-  if (query_ && context_->try_make_current()) {
-    if (running_) glEndQuery(GL_TIME_ELAPSED);
-    glDeleteQueries(1, &query_);
-    context_->track("query", -1);
-  }
+  if (!query_) return;
+  // A query still running can only be ended now, on the owner's thread: ended later, the
+  // EndQuery would end whichever timer runs then.
+  if (running_ && context_->try_make_current()) glEndQuery(GL_TIME_ELAPSED);
+  context_->release("query", [query = query_] { glDeleteQueries(1, &query); });
 }
 
 const char* Timer::clock() const {

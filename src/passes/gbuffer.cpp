@@ -20,12 +20,12 @@ GBufferPass::GBufferPass(std::shared_ptr<Context> context) : context_(std::move(
 }
 
 GBufferPass::~GBufferPass() {
-  if (context_->try_make_current()) {
-    bones_.reset();
-    glDeleteFramebuffers(1, &framebuffer_);
-    glDeleteRenderbuffers(1, &depth_buffer_);
-    glDeleteVertexArrays(1, &empty_vao_);
-  }
+  bones_.reset();
+  context_->release(nullptr, [framebuffer = framebuffer_, depth = depth_buffer_, vao = empty_vao_] {
+    glDeleteFramebuffers(1, &framebuffer);
+    glDeleteRenderbuffers(1, &depth);
+    glDeleteVertexArrays(1, &vao);
+  });
 }
 
 GLint GBufferPass::location(const char* name) const {
@@ -129,6 +129,17 @@ void GBufferPass::render(const GBufferTargets& targets, const GBufferCamera& cam
     glProgramUniform1i(id, location("has_texture"), draw.material.texture ? 1 : 0);
     glProgramUniform1i(id, location("object_id"), draw.object_id);
     if (draw.material.texture) glBindTextureUnit(0, draw.material.texture->id());
+    const auto hatching = draw.material.hatching;
+    if (hatching != GBufferMaterial::Hatching::none) {
+      const int needed = hatching == GBufferMaterial::Hatching::six_way ? 2 : 1;
+      for (int i = 0; i < needed; ++i) {
+        if (!draw.material.tam[i])
+          throw std::invalid_argument("blurlab: a hatched draw lacks its tonal art map textures");
+        glBindTextureUnit(1 + i, draw.material.tam[i]->id());
+      }
+    }
+    glProgramUniform1i(id, location("hatching"), static_cast<int>(hatching));
+    glProgramUniform1f(id, location("hatching_scale"), draw.material.hatching_scale);
     draw.mesh->draw();
   }
   glBindVertexArray(0);

@@ -47,6 +47,12 @@ struct GBufferMaterial {
   float specular = 0.0f;
   float shininess = 32.0f;
   std::shared_ptr<Texture> texture;  // optional albedo map, multiplied with color
+  // Tonal-art-map hatching (SPEC.md §5) replaces the shading with color · (1 − ink).
+  // six_way: tam[0] holds tones 1–3 in RGB, tam[1] tones 4–6; threshold: tam[0].r holds the
+  // darkness at which each texel turns to ink. Both are mip chains made level by level.
+  enum class Hatching { none = 0, six_way = 1, threshold = 2 } hatching = Hatching::none;
+  float hatching_scale = 1.0f;  // TAM repeats per unit of texture coordinate
+  std::shared_ptr<Texture> tam[2];
 };
 
 struct GBufferDraw {

@@ -6,7 +6,7 @@
 // | k        | 20 (tile size = largest blur, px) | 1 .. 256           |
 // | samples  | 15                               | 1 .. 256            |
 // | soft_z   | 0.01 x the frame's depth range   | > 0, finite         |
-// | exposure | 1                                | finite, >= 0        |
+// | exposure | 1                                | 0 .. 1000           |
 // | seed     | 0                                | 0 .. 2^32 - 1       |
 #pragma once
 
@@ -35,9 +35,11 @@ struct McGuire2012Params {
     if (!(soft_z > 0.0f) || !std::isfinite(soft_z))
       throw std::invalid_argument("blurlab: soft_z = " + std::to_string(soft_z) +
                                   " must be finite and > 0 (depth units)");
-    if (!std::isfinite(exposure) || exposure < 0.0f)
+    // Above 1000 x the largest motion (2^20 px, shaders/common/inputs.glsl) half-vectors
+    // would overflow float32.
+    if (!std::isfinite(exposure) || exposure < 0.0f || exposure > 1000.0f)
       throw std::invalid_argument("blurlab: exposure = " + std::to_string(exposure) +
-                                  " must be finite and >= 0");
+                                  " is outside 0..1000");
   }
 };
 

@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from .hashing import rand
+from .inputs import sanitize_color
 
 
 def sample_times(
@@ -20,4 +21,4 @@ def sample_times(
 
 def mean_of_renders(colors) -> np.ndarray:
     """The reference: the mean of the sub-frame colors, float64."""
-    return np.mean(np.asarray(colors, np.float64), axis=0)
+    return np.mean(sanitize_color(colors), axis=0)

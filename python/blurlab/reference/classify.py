@@ -9,6 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from .hashing import rand
+from .inputs import sanitize_color
 from .mcguire2012 import cone, cylinder, half_velocity, len_half, neighbor_max, tile_max
 
 STILL, UNIFORM, FULL = 0, 1, 2
@@ -59,7 +60,7 @@ def uniform_gather(color, neighbor: np.ndarray, k: int, samples: int = 15, seed:
 
     Its own tap loop, not the filter run on a frame of V = vN: a tap in a neighbouring tile
     would then read that tile's vN, where here every tap of X uses X's."""
-    color = np.asarray(color, np.float64)
+    color = sanitize_color(color)
     h, w = color.shape[:2]
     y, x = np.mgrid[0:h, 0:w]
     vn = neighbor[y // k, x // k]
@@ -95,7 +96,7 @@ def classified(
 ):
     """The classified filter: C on still tiles, uniform_gather on uniform tiles and `full`
     (the unclassified filter's (H, W, C) output) on full tiles. Returns (image, class map)."""
-    color = np.asarray(color, np.float64)
+    color = sanitize_color(color)
     v = half_velocity(motion, exposure, k)
     neighbor = neighbor_max(tile_max(v, k))
     classes = classify_tiles(tile_bounds(v, k), neighbor, still_threshold, uniform_spread)

@@ -7,12 +7,14 @@ from __future__ import annotations
 
 import numpy as np
 
+from .inputs import sanitize_color, sanitize_depth, sanitize_motion
+
 EDGES = ("clamp", "ignore")
 
 
 def _gather(color, positions, weights, edge: str) -> np.ndarray:
     """Sum of weights[i] * color at positions[i] (each (H, W, 2)), normalized."""
-    color = np.asarray(color, np.float64)
+    color = sanitize_color(color)
     h, w = color.shape[:2]
     total = np.zeros((h, w))
     acc = np.zeros_like(color)
@@ -36,7 +38,7 @@ def _centers(h: int, w: int) -> np.ndarray:
 
 def gather_weighted(color, motion, edge: str = "clamp") -> np.ndarray:
     """ogldev tutorial 41: m = M/2; taps X, X - m, X - 2m, X - 3m, weights 0.4, 0.3, 0.2, 0.1."""
-    m = np.asarray(motion, np.float64) / 2
+    m = sanitize_motion(motion) / 2
     center = _centers(*m.shape[:2])
     return _gather(color, [center - i * m for i in range(4)], [0.4, 0.3, 0.2, 0.1], edge)
 
@@ -50,7 +52,7 @@ def gather_box(
     edge: str = "clamp",
 ) -> np.ndarray:
     """ "Blurry things": n equal taps at X - s·M·intensity, s = i/(n-1) (- 1/2 if centered)."""
-    m = np.asarray(motion, np.float64) * intensity
+    m = sanitize_motion(motion) * intensity
     center = _centers(*m.shape[:2])
     s = np.arange(taps) / (taps - 1) - (0.5 if centered else 0.0)
     return _gather(color, [center - si * m for si in s], [1.0] * taps, edge)
@@ -61,7 +63,7 @@ def camera_motion(depth, camera: dict, size) -> np.ndarray:
     point to t0 and t1 with the matrices of a rendered frame's `camera` dict. Points at
     infinity move with the camera's rotation only."""
     width, height = size
-    depth = np.asarray(depth, np.float64)
+    depth = sanitize_depth(depth)
     center = _centers(height, width)
     ndc = center / np.array([width, height]) * 2 - 1
     ones = np.ones(depth.shape)

@@ -8,11 +8,13 @@ from __future__ import annotations
 import numpy as np
 
 from .hashing import rand
+from .inputs import sanitize_color, sanitize_depth, sanitize_motion
 
 
 def half_velocity(motion: np.ndarray, exposure: float, k: float) -> np.ndarray:
-    """§3.1: q = M·E/2; V = q · clamp(|q|, 0.5, k) / max(|q|, 1e-6); V = 0 where q = 0."""
-    q = np.asarray(motion, np.float64) * exposure / 2
+    """§3.1: q = M·E/2; V = q · clamp(|q|, 0.5, k) / max(|q|, 1e-6); V = 0 where q = 0.
+    M is read as the GPU reads it (reference.inputs: non-finite vectors are zero motion)."""
+    q = sanitize_motion(motion) * exposure / 2
     n = np.linalg.norm(q, axis=-1, keepdims=True)
     scale = np.clip(n, 0.5, k) / np.maximum(n, 1e-6)
     return np.where(n > 0, q * scale, 0.0)
@@ -96,8 +98,8 @@ def reconstruct_mcguire2012(
 
         full = reconstruct_mcguire2012(color, depth, motion, k, samples, soft_z, exposure, seed)
         return classified(color, depth, motion, full, k, samples, exposure, seed, uniform_spread)[0]
-    color = np.asarray(color, np.float64)
-    depth = np.asarray(depth, np.float64)
+    color = sanitize_color(color)
+    depth = sanitize_depth(depth)
     h, w = depth.shape
     v = half_velocity(motion, exposure, k)
     if neighbor is None:

@@ -7,6 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from .hashing import pcg, rand
+from .inputs import sanitize_color
 
 # Rotated-grid sample positions inside a pixel, from its top-left corner (pixels).
 ROTATED_GRID = np.array([[0.375, 0.125], [0.875, 0.375], [0.125, 0.625], [0.625, 0.875]])
@@ -44,7 +45,7 @@ def slice_of(x: np.ndarray, y: np.ndarray, i: int, slices: int, seed: int) -> np
 def combine(renders: np.ndarray, slices: int, seed: int) -> np.ndarray:
     """renders: (K, 4, H, W, C), render of slice l at grid position i. C = 5/32 Σ inside +
     3/32 Σ neighbour samples."""
-    renders = np.asarray(renders, np.float64)
+    renders = sanitize_color(renders)
     h, w = renders.shape[2:4]
     y, x = np.mgrid[0:h, 0:w]
     out = np.zeros(renders.shape[2:])

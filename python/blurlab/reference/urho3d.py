@@ -8,6 +8,7 @@ from __future__ import annotations
 import numpy as np
 
 from .hashing import rand
+from .inputs import sanitize_color, sanitize_depth, sanitize_motion
 from .mcguire2012 import cone, cylinder, half_velocity, neighbor_max, tile_max
 
 JITTER_SIZE = 64
@@ -55,9 +56,9 @@ def reconstruct_urho3d(
     seed: int = 0,
     far: float = 100.0,
 ) -> np.ndarray:
-    color = np.asarray(color, np.float64)
-    depth = np.minimum(np.asarray(depth, np.float64), far)
-    motion = np.asarray(motion, np.float64)
+    color = sanitize_color(color)
+    depth = np.minimum(sanitize_depth(depth), far)
+    motion = sanitize_motion(motion)
     h, w = depth.shape
     y, x = np.mgrid[0:h, 0:w]
     vn = neighbor_max(tile_max(half_velocity(motion, exposure, k), k))[y // k, x // k]

@@ -1,0 +1,121 @@
+"""Sweeps on a Dask cluster: the same rows as one worker and as a local sweep, resuming from the
+same CSV file, each worker's device, and bad arguments.
+
+The cluster runs in tests/cluster_job.py, in a process group of its own that is killed if it
+does not finish in time, so a stuck cluster fails the test instead of hanging the suite.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+from pathlib import Path
+
+import pandas as pd
+import pytest
+
+import blurlab as bl
+from blurlab import cluster
+
+pytest.importorskip("distributed")
+
+JOB = Path(__file__).parent / "cluster_job.py"
+TIMEOUT_S = 300
+
+
+@pytest.fixture(scope="module")
+def job(tmp_path_factory) -> Path:
+    folder = tmp_path_factory.mktemp("cluster")
+    process = subprocess.Popen(
+        [sys.executable, str(JOB), str(folder)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+        start_new_session=True,
+    )
+    try:
+        output, _ = process.communicate(timeout=TIMEOUT_S)
+    except subprocess.TimeoutExpired:
+        os.killpg(process.pid, signal.SIGKILL)
+        output, _ = process.communicate()
+        pytest.fail(f"the cluster sweep did not finish in {TIMEOUT_S} s:\n{output[-4000:]}")
+    assert process.returncode == 0, output[-4000:]
+    return folder
+
+
+def _without_timings(table: pd.DataFrame, also=()) -> pd.DataFrame:
+    columns = [c for c in table.columns if not c.startswith("ms_") and c not in ("total_ms", *also)]
+    return table[columns].sort_values(["scene", "method", "params"]).reset_index(drop=True)
+
+
+def test_two_workers_give_the_rows_of_one_worker_and_of_a_local_sweep(job):
+    one = pd.read_csv(job / "one.csv")
+    two = pd.read_csv(job / "two.csv")
+    local = pd.read_csv(job / "local.csv")
+    assert len(one) == 2 * 5 and not one.duplicated(["scene", "method", "params"]).any()
+    assert sorted(one.columns) == sorted(two.columns) == sorted(local.columns)
+    # Every parameter, error and count, bit for bit; only the pass times may differ.
+    pd.testing.assert_frame_equal(
+        _without_timings(two), _without_timings(one), check_exact=True, check_like=True
+    )
+    pd.testing.assert_frame_equal(
+        _without_timings(local), _without_timings(one), check_exact=True, check_like=True
+    )
+    assert two["total_ms"].gt(0).all()
+
+
+def test_both_workers_evaluated_scenes(job):
+    kept = json.loads((job / "workers.json").read_text())
+    assert len(kept) == 2
+    assert all(kept.values()), kept  # each worker rendered at least one scene's reference
+    assert set().union(*map(set, kept.values())) == {0, 1}
+
+
+def test_a_cluster_sweep_resumes_from_the_csv_file(job):
+    saved = pd.read_csv(job / "resumed.csv")
+    assert len(saved) == 10 and not saved.duplicated(["scene", "method", "params"]).any()
+    assert saved["repeats"].tolist().count(3) == 1  # the row `blurlab sweep` made (repeats 3)
+    table = pd.read_csv(job / "resumed_table.csv")
+    expected = _without_timings(pd.read_csv(job / "one.csv"), ["repeats"])
+    for got in (table, saved):
+        pd.testing.assert_frame_equal(
+            _without_timings(got, ["repeats"]), expected, check_exact=True, check_like=True
+        )
+
+
+def test_worker_rank_comes_from_the_worker_name():
+    assert cluster.worker_rank(3) == 3
+    assert cluster.worker_rank("node7-1") == 1
+    assert cluster.worker_rank("12") == 12
+    assert cluster.worker_rank("tcp://10.0.0.1:4000") is None
+    assert cluster.worker_rank(None) is None
+
+
+def test_worker_device_follows_blurlab_device_then_rank():
+    assert cluster.worker_device(5, {"BLURLAB_DEVICE": "software"}) == "software"
+    assert cluster.worker_device(5, {"BLURLAB_DEVICE": " 1 "}) == 1
+    gpus = [d["index"] for d in bl.Context.devices() if d["kind"] == "gpu"]
+    expected = gpus[3 % len(gpus)] if gpus else "software"
+    assert cluster.worker_device(3, {"BLURLAB_DEVICE": ""}) == expected
+    with pytest.raises(ValueError, match="BLURLAB_DEVICE must be one of"):
+        cluster.worker_device(0, {"BLURLAB_DEVICE": "tpu"})
+
+
+def test_bad_cluster_arguments_are_rejected(ctx):
+    with pytest.raises(ValueError, match="pass ctx=None"):
+        bl.sweep(ctx, ["fan"], ["gather_box"], (64, 36), cluster="tcp://127.0.0.1:1")
+    with pytest.raises(TypeError, match="or ctx=None and a cluster"):
+        bl.sweep(None, ["fan"], ["gather_box"], (64, 36), progress=False)
+    with pytest.raises(TypeError, match="cluster must be a distributed.Client"):
+        bl.sweep(None, ["fan"], ["gather_box"], (64, 36), cluster=42, progress=False)
+    with pytest.raises(ValueError, match="chunk_size"):
+        bl.sweep(None, ["fan"], ["gather_box"], cluster="tcp://127.0.0.1:1", chunk_size=0)
+    with pytest.raises(ValueError, match="n_workers"):
+        bl.local_cluster(0)
+    with pytest.raises(ValueError, match="device must be one of"):
+        bl.local_cluster(1, device="tpu")
+    with pytest.raises(ValueError, match="one thread each"):
+        bl.local_cluster(1, threads_per_worker=2)
