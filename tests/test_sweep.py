@@ -78,7 +78,7 @@ def test_resume_adds_no_duplicates(ctx, tmp_path):
 def test_interrupted_sweep_keeps_finished_rows(ctx, tmp_path, monkeypatch):
     out = tmp_path / "r.csv"
     calls = {"n": 0}
-    real = sw.blur
+    real = sw.blur_steps
 
     def interrupt_after_three(*args, **kwargs):
         calls["n"] += 1
@@ -87,7 +87,7 @@ def test_interrupted_sweep_keeps_finished_rows(ctx, tmp_path, monkeypatch):
             raise KeyboardInterrupt
         return real(*args, **kwargs)
 
-    monkeypatch.setattr(sw, "blur", interrupt_after_three)
+    monkeypatch.setattr(sw, "blur_steps", interrupt_after_three)
     with pytest.raises(KeyboardInterrupt):
         sw.sweep(
             ctx,

@@ -7,7 +7,15 @@ from .cluster import local_cluster
 from .context import ComputeProgram, Context, PendingDownload, Texture, Timing
 from .frame import MOTION_FORMATS, Frame
 from .mesh import Mesh
-from .methods import BlurResult, blur, method, methods, render_and_blur
+from .methods import (
+    BlurResult,
+    blur,
+    blur_steps,
+    method,
+    methods,
+    render_and_blur,
+    render_steps,
+)
 from .methods import method_instant as methods_instant
 from .motion import Bone, Keyframe, Motion, Skeleton, quaternion
 from .scene import Camera, DirectionalLight, Material, Scene
@@ -37,6 +45,7 @@ __all__ = [
     "Texture",
     "Timing",
     "blur",
+    "blur_steps",
     "hatching",
     "io",
     "local_cluster",
@@ -48,6 +57,7 @@ __all__ = [
     "reference",
     "reference_samples_needed",
     "render_and_blur",
+    "render_steps",
     "metrics",
     "plots",
     "scenes",

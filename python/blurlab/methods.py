@@ -64,7 +64,7 @@ class Param:
     """
 
     default: object  # a value, or a callable(frame) -> value
-    kind: object  # int, float, a tuple of allowed strings, or object (anything)
+    kind: object  # int, float, bool, a tuple of allowed strings, or object (anything)
     doc: str
     low: float | None = None  # inclusive bounds for int and float parameters
     high: float | None = None
@@ -74,6 +74,8 @@ class Param:
         """What values are allowed, in words (for error messages and docs)."""
         if isinstance(self.kind, tuple):
             return "one of " + ", ".join(repr(k) for k in self.kind)
+        if self.kind is bool:
+            return "True or False"
         if self.kind is object:
             return "any value"
         if self.low is not None and self.high is not None and not self.low_open:
@@ -108,6 +110,9 @@ class Method:
     # (ctx, frame, inputs: dict[str, Texture], params, backend) -> (outputs, timings)
     run: Callable
     doc: str = ""
+    # True for methods that render sub-frames themselves (accumulation, stochastic): `steps`
+    # does not apply to them.
+    renders: bool = False
 
 
 _REGISTRY: dict[str, Method] = {}
@@ -186,11 +191,102 @@ def render_and_blur(
     size=(640, 360),
     shutter=None,
     backend: str | None = None,
+    steps: int = 1,
     **params,
-) -> tuple[Frame, BlurResult]:
-    """Renders `scene` at the instant method `name` expects and runs it: (frame, result)."""
-    frame = ctx.render(scene, size, shutter, instant=method_instant(name, params))
-    return frame, blur(ctx, frame, name, backend, **params)
+) -> tuple[Frame | list[Frame], BlurResult]:
+    """Renders `scene` at the instant method `name` expects and runs it: (frame, result).
+
+    `steps` = n > 1 splits the shutter into n equal sub-intervals, renders and blurs each over
+    its own sub-interval and averages the n results (render_steps, blur_steps); the first
+    element is then the list of the n frames. steps = 1 is the plain render and blur."""
+    frames = render_steps(ctx, scene, name, steps, size, shutter, **params)
+    result = blur_steps(ctx, frames, name, backend, **params)
+    return (frames[0] if len(frames) == 1 else frames), result
+
+
+MAX_STEPS = 256
+
+
+def check_steps(name: str, steps) -> int:
+    """`steps` as an int in 1..MAX_STEPS for a post-process method; raises naming both."""
+    if isinstance(steps, bool) or not isinstance(steps, Integral):
+        raise TypeError(f"blurlab: steps must be an integer, not {steps!r}")
+    if not 1 <= steps <= MAX_STEPS:
+        raise ValueError(f"blurlab: steps = {steps} is outside 1..{MAX_STEPS}")
+    if steps > 1 and method(name).renders:
+        raise ValueError(
+            f"blurlab: steps applies to post-process methods; {name} renders its own sub-frames"
+        )
+    return int(steps)
+
+
+def step_shutters(shutter: tuple[float, float], steps: int) -> list[tuple[float, float]]:
+    """The n equal sub-intervals [t0 + i/n·Δ, t0 + (i+1)/n·Δ] of a shutter (Δ = t1 - t0)."""
+    t0, t1 = shutter
+    if steps == 1:
+        return [(t0, t1)]
+    edges = [t0 + (t1 - t0) * i / steps for i in range(steps)] + [t1]
+    return list(zip(edges[:-1], edges[1:], strict=True))
+
+
+def render_steps(
+    ctx: Context, scene, name: str, steps: int = 1, size=(640, 360), shutter=None, **params
+) -> list[Frame]:
+    """The G-buffers that `blur_steps` needs: one per sub-interval of the shutter, each at the
+    instant method `name` expects within it, its motion over the sub-interval."""
+    from .render import check_shutter
+
+    steps = check_steps(name, steps)
+    shutter = check_shutter(scene.shutter if shutter is None else shutter)
+    instant = method_instant(name, params)
+    return [ctx.render(scene, size, sub, instant=instant) for sub in step_shutters(shutter, steps)]
+
+
+def blur_steps(
+    ctx: Context,
+    frames: list[Frame],
+    name: str,
+    backend: str | None = None,
+    timed: bool = True,
+    **params,
+) -> BlurResult:
+    """Blurs each frame of `render_steps` over its own sub-interval and averages the results
+    in float32 on the GPU (the accumulate pass, weight 1/n each). One frame: bl.blur itself,
+    bit for bit. The timings sum each pass over the steps and add `steps_accumulate` and
+    `extra_gbuffers` (the G-buffer passes of steps 2..n, beyond the one every post-process
+    method needs); params gain "steps"."""
+    frames = list(frames)
+    if not frames or not all(isinstance(f, Frame) for f in frames):
+        raise TypeError("blurlab: blur_steps needs a non-empty list of blurlab Frames")
+    steps = check_steps(name, len(frames))
+    if steps == 1:
+        return blur(ctx, frames[0], name, backend, timed, **params)
+    height, width = frames[0].color.shape[:2]
+    if any(f.color.shape[:2] != (height, width) for f in frames):
+        raise ValueError("blurlab: the frames of blur_steps differ in size")
+    total = ctx._pooled((height, width, 4))
+    total.clear()
+    accumulate = ctx._pass("accumulate", _core.AccumulatePass)
+    timings: dict[str, Timing] = {}
+    for frame in frames:
+        result = blur(ctx, frame, name, backend, timed, **params)
+        add = Timing(math.nan, "untimed")
+        if timed:
+            with ctx.timer() as add:
+                accumulate.run(result.textures["color"]._core, total._core, 1 / steps)
+        else:
+            accumulate.run(result.textures["color"]._core, total._core, 1 / steps)
+        for key, timing in {**result.timings, "steps_accumulate": add}.items():
+            before = timings.get(key, Timing(0.0, timing.clock))
+            timings[key] = Timing(before.ms + timing.ms, timing.clock)
+        values, backend_used = result.params, result.backend
+        del result  # back to the pool before the next step
+    extra = sum(f.timings["gbuffer"].ms for f in frames[1:] if "gbuffer" in f.timings)
+    clock = next(iter(timings.values())).clock
+    timings["extra_gbuffers"] = Timing(extra, clock)
+    out = BlurResult(name, {**values, "steps": steps}, backend_used, timings, {"color": total})
+    weakref.finalize(out, ctx._recycle, total)
+    return out
 
 
 def resolve_params(m: Method, frame: Frame | None, given: dict, frame_free: bool = False) -> dict:
@@ -235,6 +331,10 @@ def _typed(method_name: str, key: str, value, p: Param):
     kind = p.kind
     if kind is object:
         return value
+    if kind is bool:
+        if not isinstance(value, (bool, np.bool_)):
+            raise TypeError(f"{where} must be True or False, not {_show(value)}")
+        return bool(value)
     if isinstance(kind, tuple):
         # Compare strings only: `value in kind` on an array or other odd object may itself raise.
         if not isinstance(value, str) or value not in kind:
@@ -313,6 +413,12 @@ def timed(ctx: Context, timings: dict, name: str, fn: Callable) -> None:
 # --- reconstruct_mcguire2012 (SPEC.md §3) -------------------------------------------------
 
 
+def _classify_params() -> dict:
+    from .classify import classify_params
+
+    return classify_params()
+
+
 def _mcguire_params(values: dict) -> _core.McGuire2012Params:
     p = _core.McGuire2012Params()
     for key in ("k", "samples", "soft_z", "exposure"):
@@ -323,7 +429,10 @@ def _mcguire_params(values: dict) -> _core.McGuire2012Params:
 
 
 def _run_mcguire2012(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
+    from . import classify
+
     params = _mcguire_params(values)
+    classify.check_backend(values, backend, "reconstruct_mcguire2012")
     height, width = inputs["color"].shape[:2]
     k = params.k
     grid = (-(-height // k), -(-width // k), 2)
@@ -333,23 +442,34 @@ def _run_mcguire2012(ctx: Context, frame: Frame, inputs: dict, values: dict, bac
     tile_pass = ctx._pass("tile_max", _core.TileMaxPass)
     neighbor_pass = ctx._pass("neighbor_max", _core.NeighborMaxPass)
     reconstruct = ctx._pass("reconstruct_mcguire2012", _core.ReconstructMcGuire2012Pass)
-    timed(
-        ctx,
-        timings,
-        "tile_max",
-        lambda: tile_pass.run(inputs["motion"]._core, tiles._core, params, backend),
-    )
+    extra = {}
+    if values["classify"]:
+        bounds = []
+        timed(
+            ctx,
+            timings,
+            "tile_max",
+            lambda: bounds.append(
+                classify.tile_max_with_bounds(ctx, tile_pass, inputs["motion"], tiles, params)
+            ),
+        )
+        extra["tile_bounds"] = bounds[0]
+    else:
+        timed(
+            ctx,
+            timings,
+            "tile_max",
+            lambda: tile_pass.run(inputs["motion"]._core, tiles._core, params, backend),
+        )
     timed(
         ctx,
         timings,
         "neighbor_max",
         lambda: neighbor_pass.run(tiles._core, neighbors._core, backend),
     )
-    timed(
-        ctx,
-        timings,
-        "reconstruct",
-        lambda: reconstruct.run(
+
+    def run_reconstruct():
+        reconstruct.run(
             inputs["color"]._core,
             inputs["depth"]._core,
             inputs["motion"]._core,
@@ -357,9 +477,26 @@ def _run_mcguire2012(ctx: Context, frame: Frame, inputs: dict, values: dict, bac
             result._core,
             params,
             backend,
-        ),
-    )
-    return {"color": result, "tile_max": tiles, "neighbor_max": neighbors}, timings
+        )
+
+    if values["classify"]:
+        extra.update(
+            classify.run_classified(
+                ctx,
+                lambda name, fn: timed(ctx, timings, name, fn),
+                inputs,
+                neighbors,
+                extra["tile_bounds"],
+                result,
+                params,
+                values["uniform_spread"],
+                reconstruct,
+                run_reconstruct,
+            )
+        )
+    else:
+        timed(ctx, timings, "reconstruct", run_reconstruct)
+    return {"color": result, "tile_max": tiles, "neighbor_max": neighbors, **extra}, timings
 
 
 SEED_MAX = 2**32 - 1
@@ -385,6 +522,7 @@ register(
             "soft_z": _SOFT_Z,
             "exposure": _EXPOSURE,
             "seed": Param(0, int, "jitter seed (0..2^32-1)", 0, SEED_MAX),
+            **_classify_params(),
         },
         backends=("compute", "fragment"),
         run=_run_mcguire2012,
@@ -726,6 +864,7 @@ register(
         },
         backends=("compute",),
         run=_run_accumulation,
+        renders=True,
         doc="Haeberli-Akeley accumulation (the OGRE paper): the reference with small N. "
         "SPEC.md §4.",
     )
@@ -780,6 +919,7 @@ register(
         },
         backends=("compute",),
         run=_run_stochastic,
+        renders=True,
         doc="The OGRE paper's stochastic blur: K time slices, rotated-grid samples in and "
         "around each pixel, weights 5/32 and 3/32. SPEC.md §4.",
     )

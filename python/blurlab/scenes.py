@@ -322,7 +322,35 @@ def fast_fan() -> Scene:
     return scene
 
 
+# --- benchmark scenes: built for one measurement each (docs/classify_and_steps.md) ---------
+
+
+def mostly_still() -> Scene:
+    """A still room (checkered wall, a box and a sphere) with one small textured card sliding
+    across it: most tiles are still, the card's inside moves uniformly, its edges do not. The
+    scene tile classification is measured on (benchmarks/classify.py)."""
+    scene = _flat("mostly_still")
+    _wall(scene)
+    scene.add(
+        mesh.box((0.5, 0.5, 0.5)),
+        Material((0.2, 0.4, 0.8)),
+        Motion.static((-1.1, -0.4, -0.3), quaternion((0, 1, 0), 0.5)),
+        name="box",
+    )
+    scene.add(
+        mesh.sphere(0.3), Material((0.3, 0.7, 0.3)), Motion.static((1.2, 0.5, -0.2)), name="sphere"
+    )
+    scene.add(
+        mesh.box((1.0, 0.7, 0.02)),
+        Material(texture=rainbow(256, 8)),
+        Motion.linear((-0.1, 0.1, 0.5), (9.0, 0.0, 0.0)),
+        name="card",
+    )
+    return scene
+
+
 _SCENES = {f.__name__: f for f in (teapot_pass, fan, vehicle, textured_spin, skinned_arm)}
+_BENCHMARKS = {f.__name__: f for f in (mostly_still,)}
 _FAILURES = {
     f.__name__: f
     for f in (
@@ -341,12 +369,15 @@ _FAILURES = {
 
 
 def names(tag: str | None = None) -> list[str]:
-    """The built-in scenes; `tag="failure"` lists the failure cases instead."""
+    """The built-in scenes; `tag="failure"` lists the failure cases instead, `"benchmark"`
+    the scenes built for one benchmark."""
     if tag is None:
         return list(_SCENES)
     if tag == "failure":
         return list(_FAILURES)
-    raise ValueError(f"blurlab: scene tag must be None or 'failure', not {tag!r}")
+    if tag == "benchmark":
+        return list(_BENCHMARKS)
+    raise ValueError(f"blurlab: scene tag must be None, 'failure' or 'benchmark', not {tag!r}")
 
 
 def describe(name: str) -> str:
@@ -362,7 +393,10 @@ def get(name: str) -> Scene:
         return _SCENES[name]()
     if name in _FAILURES:
         return _FAILURES[name]()
-    raise ValueError(f"blurlab: no built-in scene {name!r}; there are {names() + names('failure')}")
+    if name in _BENCHMARKS:
+        return _BENCHMARKS[name]()
+    everything = names() + names("failure") + names("benchmark")
+    raise ValueError(f"blurlab: no built-in scene {name!r}; there are {everything}")
 
 
 def _move(x, y, z) -> np.ndarray:

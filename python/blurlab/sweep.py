@@ -25,7 +25,15 @@ import pandas as pd
 from . import metrics as m
 from .accumulation import default_reference_samples
 from .context import Context
-from .methods import blur, check_param, method, method_instant, methods
+from .methods import (
+    blur_steps,
+    check_param,
+    check_steps,
+    method,
+    method_instant,
+    methods,
+    render_steps,
+)
 from .render import check_shutter
 from .scene import Scene
 
@@ -88,7 +96,8 @@ def sweep(
     """Evaluates every method at every point of its grid on every scene.
 
     `methods_and_grids`: a list of method names (default grids), a {name: grid} mapping, or
-    None for every single-frame method with its default grid. `reference_samples`: N of each
+    None for every single-frame method with its default grid; a post-process method's grid may
+    also vary `steps` (bl.blur_steps). `reference_samples`: N of each
     scene's reference; None picks max(64, 2 × the longest motion in pixels), at most 1024.
     `out`: a CSV file that rows are appended to as they finish; rows already in it are
     skipped (a row cut short by a crash is dropped and evaluated again). Each pass time is the
@@ -132,12 +141,15 @@ def sweep(
         if name == "trail":
             raise ValueError("blurlab.sweep: trail needs a frame sequence; it is not swept")
         for key in grid:
-            if key not in method(name).params:
+            if key != "steps" and key not in method(name).params:
                 raise ValueError(f"blurlab.sweep: {name} has no parameter {key!r}")
         # Every value now, not an hour into the sweep when its turn comes.
         for point in grid_points(grid):
             for key, value in point.items():
-                check_param(name, key, value)
+                if key == "steps":  # n sub-intervals of the shutter (bl.blur_steps)
+                    check_steps(name, value)
+                else:
+                    check_param(name, key, value)
     scene_list = [_scene(s) for s in scenes]
     if not scene_list:
         raise ValueError("blurlab.sweep: no scenes")
@@ -208,22 +220,23 @@ def evaluate_scene(
     timings = {}
     warmed: set = set()
     for name, point, backend, key in jobs:
-        frame, reference = _scene_inputs(ctx, scene, name, point, settings, cache)
+        frames, reference = _scene_inputs(ctx, scene, name, point, settings, cache)
+        params = _without_steps(point)
         if (name, backend) not in warmed:
-            blur(ctx, frame, name, backend, **point)
+            blur_steps(ctx, frames, name, backend, **params)
             warmed.add((name, backend))
         runs = []
         for _ in range(settings.repeats):
-            result = blur(ctx, frame, name, backend, **point)
+            result = blur_steps(ctx, frames, name, backend, **params)
             runs.append({p: t.ms for p, t in result.timings.items()})
             clock = result.clock
             del result  # back to the pool before the next run
         timings[key] = (runs, clock)
     # Then the error of each configuration, one untimed run each.
     for name, point, backend, key in jobs:
-        frame, reference = _scene_inputs(ctx, scene, name, point, settings, cache)
+        frames, reference = _scene_inputs(ctx, scene, name, point, settings, cache)
         runs, clock = timings[key]
-        result = blur(ctx, frame, name, backend, timed=False, **point)
+        result = blur_steps(ctx, frames, name, backend, timed=False, **_without_steps(point))
         row = {
             "scene": scene.name,
             "method": name,
@@ -249,20 +262,31 @@ def evaluate_scene(
                 "width": size[0],
                 "height": size[1],
                 "reference_samples": reference.samples,
-                "shutter": json.dumps(list(frame.shutter)),
+                "shutter": json.dumps([frames[0].shutter[0], frames[-1].shutter[1]]),
             }
         )
         del result  # its textures go back to the pool before the next evaluation
         yield key, row
 
 
+def _without_steps(point: dict) -> dict:
+    return {k: v for k, v in point.items() if k != "steps"}
+
+
 def _scene_inputs(ctx, scene, name, point, settings: Settings, cache: dict):
-    """The frame at the method's instant and the scene's reference, each made once."""
-    instant = method_instant(name, point)
+    """The frames at the method's instant (one, or one per step of the shutter: `steps` in
+    the point) and the scene's reference, each made once."""
+    params = _without_steps(point)
+    instant = method_instant(name, params)
+    steps = point.get("steps", 1)
     frames = cache.setdefault("frames", {})
-    if instant not in frames:
-        frames[instant] = ctx.render(scene, settings.size, settings.shutter, instant=instant)
-    frame = frames[instant]
+    if (instant, 1) not in frames:
+        frames[(instant, 1)] = [ctx.render(scene, settings.size, settings.shutter, instant=instant)]
+    if (instant, steps) not in frames:
+        frames[(instant, steps)] = render_steps(
+            ctx, scene, name, steps, settings.size, settings.shutter, **params
+        )
+    frame = frames[(instant, 1)][0]
     if "reference" not in cache:
         n = settings.reference_samples
         if n is None:
@@ -274,7 +298,7 @@ def _scene_inputs(ctx, scene, name, point, settings: Settings, cache: dict):
             samples=n,
             progress=False,
         )
-    return frame, cache["reference"]
+    return frames[(instant, steps)], cache["reference"]
 
 
 def _key(scene: str, name: str, backend: str, point: dict, size) -> tuple:

@@ -49,11 +49,11 @@ vec4 reconstruct_at(ivec2 x) {
 }
 
 #ifdef STAGE_COMPUTE
-layout(local_size_x = 16, local_size_y = 16) in;
+#include "common/tile_list.glsl"
 layout(binding = 0, rgba32f) uniform writeonly image2D result;
 
 void main() {
-    ivec2 x = ivec2(gl_GlobalInvocationID.xy);
+    ivec2 x = invocation_pixel();
     if (any(greaterThanEqual(x, textureSize(color, 0)))) return;
     imageStore(result, x, reconstruct_at(x));
 }

@@ -12,6 +12,7 @@
 #include "gl/texture.h"
 #include "passes/accumulate.h"
 #include "passes/camera_motion.h"
+#include "passes/classify_tiles.h"
 #include "passes/error_reduction.h"
 #include "passes/gather_box.h"
 #include "passes/gather_params.h"
@@ -23,7 +24,9 @@
 #include "passes/reconstruct_mcguire2012.h"
 #include "passes/reconstruct_urho3d.h"
 #include "passes/stochastic.h"
+#include "passes/tile_copy.h"
 #include "passes/tile_max.h"
+#include "passes/uniform_gather.h"
 
 namespace py = pybind11;
 
@@ -148,6 +151,14 @@ void bind_passes(py::module_& m) {
       .def_readwrite("seed", &McGuire2012Params::seed)
       .def("validate", &McGuire2012Params::validate);
 
+  py::class_<PostProcessPass, std::shared_ptr<PostProcessPass>>(m, "PostProcessPass")
+      .def(
+          "restrict_to_tiles",
+          [](PostProcessPass& pass, std::shared_ptr<TileLists> lists, int tile_class) {
+            pass.restrict_to_tiles(std::move(lists), tile_class);
+          },
+          py::arg("lists"), py::arg("tile_class"));
+
   py::class_<TileMaxPass, std::shared_ptr<TileMaxPass>>(m, "TileMaxPass")
       .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))
       .def(
@@ -156,7 +167,9 @@ void bind_passes(py::module_& m) {
              const McGuire2012Params& params, const std::string& backend) {
             pass.run(motion, tile_max, params, parse_backend(backend));
           },
-          py::arg("motion"), py::arg("tile_max"), py::arg("params"), py::arg("backend"));
+          py::arg("motion"), py::arg("tile_max"), py::arg("params"), py::arg("backend"))
+      .def("run_with_bounds", &TileMaxPass::run_with_bounds, py::arg("motion"), py::arg("tile_max"),
+           py::arg("tile_bounds"), py::arg("params"));
 
   py::class_<NeighborMaxPass, std::shared_ptr<NeighborMaxPass>>(m, "NeighborMaxPass")
       .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))
@@ -168,8 +181,8 @@ void bind_passes(py::module_& m) {
           },
           py::arg("tile_max"), py::arg("neighbor_max"), py::arg("backend"));
 
-  py::class_<ReconstructMcGuire2012Pass, std::shared_ptr<ReconstructMcGuire2012Pass>>(
-      m, "ReconstructMcGuire2012Pass")
+  py::class_<ReconstructMcGuire2012Pass, PostProcessPass,
+             std::shared_ptr<ReconstructMcGuire2012Pass>>(m, "ReconstructMcGuire2012Pass")
       .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))
       .def(
           "run",
@@ -187,6 +200,36 @@ void bind_passes(py::module_& m) {
       .def("run", &ReconstructUrho3dPass::run, py::arg("color"), py::arg("depth"),
            py::arg("motion"), py::arg("neighbor_max"), py::arg("jitter"), py::arg("result"),
            py::arg("params"), py::arg("far"));
+
+  py::class_<ClassifyParams>(m, "ClassifyParams")
+      .def(py::init<>())
+      .def_readwrite("still_threshold", &ClassifyParams::still_threshold)
+      .def_readwrite("uniform_spread", &ClassifyParams::uniform_spread)
+      .def("validate", &ClassifyParams::validate);
+
+  py::class_<TileLists, std::shared_ptr<TileLists>>(m, "TileLists")
+      .def(py::init<std::shared_ptr<Context>, int, int, int>(), py::arg("context"),
+           py::arg("grid_width"), py::arg("grid_height"), py::arg("k"))
+      .def("counts", &TileLists::counts)
+      .def("tiles", &TileLists::tiles, py::arg("tile_class"))
+      .def_property_readonly("k", &TileLists::k)
+      .def_property_readonly("grid_width", &TileLists::grid_width)
+      .def_property_readonly("grid_height", &TileLists::grid_height);
+
+  py::class_<ClassifyTilesPass, std::shared_ptr<ClassifyTilesPass>>(m, "ClassifyTilesPass")
+      .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))
+      .def("run", &ClassifyTilesPass::run, py::arg("tile_bounds"), py::arg("neighbor_max"),
+           py::arg("tile_class"), py::arg("lists"), py::arg("params"));
+
+  py::class_<TileCopyPass, PostProcessPass, std::shared_ptr<TileCopyPass>>(m, "TileCopyPass")
+      .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))
+      .def("run", &TileCopyPass::run, py::arg("color"), py::arg("result"));
+
+  py::class_<UniformGatherPass, PostProcessPass, std::shared_ptr<UniformGatherPass>>(
+      m, "UniformGatherPass")
+      .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))
+      .def("run", &UniformGatherPass::run, py::arg("color"), py::arg("neighbor_max"),
+           py::arg("result"), py::arg("params"));
 
   py::class_<AccumulatePass, std::shared_ptr<AccumulatePass>>(m, "AccumulatePass")
       .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))

@@ -1,12 +1,18 @@
 // What every post-process pass shares: its shader compiled for the compute backend (the
 // default; GPU.md) and, on demand, for the fragment backend, and a way to run it over a
 // target. One shader file serves both, selected by STAGE_COMPUTE / STAGE_FRAGMENT.
+//
+// A compute pass can also be restricted to the tiles of one class of a tile classification
+// (Jimenez 2014; ClassifyTilesPass): it is then compiled with TILE_LIST defined, so that
+// shaders/common/tile_list.glsl maps each invocation to a pixel of a listed tile, and run by
+// an indirect dispatch whose work-group count the classification wrote.
 #pragma once
 
 #include <array>
 #include <map>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "gl/program.h"
@@ -16,6 +22,7 @@ namespace blurlab {
 class Context;
 class FullscreenDraw;
 class Texture;
+class TileLists;
 
 enum class Backend { compute, fragment };
 
@@ -27,8 +34,13 @@ class PostProcessPass {
   PostProcessPass(std::shared_ptr<Context> context, std::string shader);
   virtual ~PostProcessPass();
 
+  // Restricts the following compute runs to the tiles of class `tile_class` in `lists`
+  // (their k must be the pass's tile size); nullptr lifts the restriction. A restricted pass
+  // writes only the pixels of those tiles and leaves the rest of its target as it was.
+  void restrict_to_tiles(std::shared_ptr<const TileLists> lists, int tile_class);
+
  protected:
-  // The program for `backend`, compiled on first use.
+  // The program for `backend` and the current variant, compiled on first use.
   Program& program(Backend backend);
   // Binds `inputs` to texture units 0, 1, ... and runs the program once per texel of
   // `target` (compute: image unit 0; fragment: the framebuffer's color attachment). With
@@ -36,11 +48,32 @@ class PostProcessPass {
   void run(Backend backend, const std::vector<const Texture*>& inputs, const Texture& target,
            bool group_per_texel = false);
 
+  // Compiles the shader with `defines` for the program() and run() calls made while the
+  // returned guard lives (e.g. TileMax's TILE_BOUNDS output).
+  class Variant {
+   public:
+    Variant(PostProcessPass& pass, Defines defines);
+    ~Variant();
+    Variant(const Variant&) = delete;
+    Variant& operator=(const Variant&) = delete;
+
+   private:
+    PostProcessPass& pass_;
+    Defines previous_;
+  };
+
   std::shared_ptr<Context> context_;
+  // Set by passes whose shader takes a whole listed tile per work group (WHOLE_TILES).
+  bool whole_tiles_ = false;
 
  private:
+  Defines defines(Backend backend) const;
+
   std::string shader_;
-  std::map<Backend, std::shared_ptr<Program>> programs_;
+  Defines variant_;
+  std::shared_ptr<const TileLists> tile_lists_;
+  int tile_class_ = 0;
+  std::map<std::pair<Backend, Defines>, std::shared_ptr<Program>> programs_;
   std::unique_ptr<FullscreenDraw> fullscreen_;
 };
 

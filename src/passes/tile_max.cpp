@@ -30,4 +30,14 @@ void TileMaxPass::run(const Texture& motion, const Texture& tile_max,
   PostProcessPass::run(backend, {&motion}, tile_max, group_per_tile);
 }
 
+void TileMaxPass::run_with_bounds(const Texture& motion, const Texture& tile_max,
+                                  const Texture& tile_bounds, const McGuire2012Params& params) {
+  if (tile_bounds.width() != tile_max.width() || tile_bounds.height() != tile_max.height() ||
+      tile_bounds.format().channels != 4)
+    throw std::invalid_argument("blurlab: tile_bounds must be an RGBA texture of the tile grid");
+  Variant bounds(*this, {{"TILE_BOUNDS", "1"}});
+  program(Backend::compute).bind_image(1, tile_bounds, GL_WRITE_ONLY);
+  run(motion, tile_max, params, Backend::compute);
+}
+
 }  // namespace blurlab

@@ -13,6 +13,11 @@ class TileMaxPass : public PostProcessPass {
   // motion: (H, W) RG32F; tile_max: (ceil(H/k), ceil(W/k)) RG32F.
   void run(const Texture& motion, const Texture& tile_max, const McGuire2012Params& params,
            Backend backend);
+  // The same on the compute backend, also writing each tile's component-wise bounds of V
+  // (min V.x, min V.y, max V.x, max V.y) into tile_bounds (the grid, RGBA32F) for the tile
+  // classification (ClassifyTilesPass).
+  void run_with_bounds(const Texture& motion, const Texture& tile_max, const Texture& tile_bounds,
+                       const McGuire2012Params& params);
 };
 
 }  // namespace blurlab

@@ -5,6 +5,7 @@ Each GPU pass has its twin here, and the tests hold the GPU to it.
 
 from . import (
     accumulation,
+    classify,
     gathers,
     hatching,
     inputs,
@@ -19,6 +20,7 @@ from .patterns import test_pattern
 
 __all__ = [
     "accumulation",
+    "classify",
     "gathers",
     "hatching",
     "inputs",

@@ -88,8 +88,16 @@ def reconstruct_mcguire2012(
     exposure: float = 1.0,
     seed: int = 0,
     neighbor: np.ndarray | None = None,
+    classify: bool = False,
+    uniform_spread: float = 0.5,
 ) -> np.ndarray:
-    """§3.4: (H, W, C) float64 blurred color. `neighbor` is NeighborMax if already computed."""
+    """§3.4: (H, W, C) float64 blurred color. `neighbor` is NeighborMax if already computed.
+    With `classify`, the tile-classified filter (blurlab.reference.classify.classified)."""
+    if classify:
+        from .classify import classified
+
+        full = reconstruct_mcguire2012(color, depth, motion, k, samples, soft_z, exposure, seed)
+        return classified(color, depth, motion, full, k, samples, exposure, seed, uniform_spread)[0]
     color = sanitize_color(color)
     depth = sanitize_depth(depth)
     h, w = depth.shape
