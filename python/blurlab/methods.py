@@ -244,72 +244,120 @@ def timed(ctx: Context, timings: dict, name: str, fn: Callable) -> None:
 # --- reconstruct_mcguire2012 (SPEC.md §3) -------------------------------------------------
 
 
-def _mcguire_params(values: dict) -> _core.McGuire2012Params:
-    p = _core.McGuire2012Params()
+_FILTER_OPTIONS = ("jitter_tiles", "adaptive_samples", "early_exit")
+
+
+def _mcguire_params(values: dict, params=None):
+    p = params if params is not None else _core.McGuire2012Params()
     for key in ("k", "samples", "soft_z", "exposure"):
         setattr(p, key, values[key])
     if not 0 <= values["seed"] < 2**32:
         raise ValueError(f"blurlab: seed = {values['seed']} is outside 0..2^32-1")
     p.seed = values["seed"]
+    for key in ("jitter_tiles", "adaptive_samples"):
+        if values.get(key, 0) not in (0, 1):
+            raise ValueError(f"blurlab: {key} = {values[key]} must be 0 (off) or 1 (on)")
+        setattr(p, key, bool(values.get(key, 0)))
+    p.early_exit = values.get("early_exit", 0.0)
     p.validate()
     return p
 
 
-def _run_mcguire2012(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
-    params = _mcguire_params(values)
-    height, width = inputs["color"].shape[:2]
-    k = params.k
-    grid = (-(-height // k), -(-width // k), 2)
-    tiles, neighbors = ctx._pooled(grid), ctx._pooled(grid)
-    result = ctx._pooled((height, width, 4))
-    timings: dict[str, Timing] = {}
-    tile_pass = ctx._pass("tile_max", _core.TileMaxPass)
-    neighbor_pass = ctx._pass("neighbor_max", _core.NeighborMaxPass)
-    reconstruct = ctx._pass("reconstruct_mcguire2012", _core.ReconstructMcGuire2012Pass)
-    timed(
-        ctx,
-        timings,
-        "tile_max",
-        lambda: tile_pass.run(inputs["motion"]._core, tiles._core, params, backend),
-    )
-    timed(
-        ctx,
-        timings,
-        "neighbor_max",
-        lambda: neighbor_pass.run(tiles._core, neighbors._core, backend),
-    )
-    timed(
-        ctx,
-        timings,
-        "reconstruct",
-        lambda: reconstruct.run(
-            inputs["color"]._core,
-            inputs["depth"]._core,
-            inputs["motion"]._core,
-            neighbors._core,
-            result._core,
-            params,
-            backend,
-        ),
-    )
-    return {"color": result, "tile_max": tiles, "neighbor_max": neighbors}, timings
+def _guertin_params(values: dict):
+    p = _core.Guertin2014Params()
+    p.gamma, p.kappa = values["gamma"], values["kappa"]
+    return _mcguire_params(values, p)
 
+
+def _run_filter(name: str, pass_type, make_params, diagonal_reach: bool):
+    """TileMax → NeighborMax → the reconstruct pass `name` (SPEC.md §3, docs/guertin2014.md)."""
+
+    def run(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
+        params = make_params(values)
+        height, width = inputs["color"].shape[:2]
+        k = params.k
+        grid = (-(-height // k), -(-width // k), 2)
+        tiles, neighbors = ctx._pooled(grid), ctx._pooled(grid)
+        result = ctx._pooled((height, width, 4))
+        timings: dict[str, Timing] = {}
+        tile_pass = ctx._pass("tile_max", _core.TileMaxPass)
+        neighbor_pass = ctx._pass("neighbor_max", _core.NeighborMaxPass)
+        reconstruct = ctx._pass(name, pass_type)
+        timed(
+            ctx,
+            timings,
+            "tile_max",
+            lambda: tile_pass.run(inputs["motion"]._core, tiles._core, params, backend),
+        )
+        timed(
+            ctx,
+            timings,
+            "neighbor_max",
+            lambda: neighbor_pass.run(tiles._core, neighbors._core, backend, diagonal_reach),
+        )
+        timed(
+            ctx,
+            timings,
+            "reconstruct",
+            lambda: reconstruct.run(
+                inputs["color"]._core,
+                inputs["depth"]._core,
+                inputs["motion"]._core,
+                neighbors._core,
+                result._core,
+                params,
+                backend,
+            ),
+        )
+        return {"color": result, "tile_max": tiles, "neighbor_max": neighbors}, timings
+
+    return run
+
+
+_FILTER_PARAMS = {
+    "k": Param(20, int, "tile size = largest blur radius, pixels (1..256)"),
+    "samples": Param(15, int, "samples S per pixel (1..256)"),
+    "soft_z": Param(depth_range_soft_z, float, "soft depth extent, depth units (> 0)"),
+    "exposure": Param(1.0, float, "exposure E, fraction of the shutter (>= 0)"),
+    "seed": Param(0, int, "jitter seed (0..2^32-1)"),
+    "jitter_tiles": Param(0, int, "1: jittered NeighborMax lookup against tile blockiness"),
+    "adaptive_samples": Param(0, int, "1: S scaled with the neighborhood's motion length"),
+    "early_exit": Param(0.0, float, "pixels whose neighborhood moves < this many px keep C"),
+}
 
 register(
     Method(
         name="reconstruct_mcguire2012",
         instant="center",
+        params=_FILTER_PARAMS,
+        backends=("compute", "fragment"),
+        run=_run_filter(
+            "reconstruct_mcguire2012", _core.ReconstructMcGuire2012Pass, _mcguire_params, False
+        ),
+        doc="McGuire, Hennessy, Bukowski, Osman: A Reconstruction Filter for Plausible Motion "
+        "Blur (I3D 2012). SPEC.md §3; options in docs/guertin2014.md.",
+    )
+)
+
+
+# --- reconstruct_guertin2014 (docs/guertin2014.md) -----------------------------------------
+
+register(
+    Method(
+        name="reconstruct_guertin2014",
+        instant="center",
         params={
-            "k": Param(20, int, "tile size = largest blur radius, pixels (1..256)"),
-            "samples": Param(15, int, "samples S per pixel (1..256)"),
-            "soft_z": Param(depth_range_soft_z, float, "soft depth extent, depth units (> 0)"),
-            "exposure": Param(1.0, float, "exposure E, fraction of the shutter (>= 0)"),
-            "seed": Param(0, int, "jitter seed (0..2^32-1)"),
+            **_FILTER_PARAMS,
+            "gamma": Param(1.5, float, "γ: px over 0.5 at which wc is V[X]'s direction (> 0)"),
+            "kappa": Param(40.0, float, "κ: center weight S / (κ len(V[X])) (> 0)"),
         },
         backends=("compute", "fragment"),
-        run=_run_mcguire2012,
-        doc="McGuire, Hennessy, Bukowski, Osman: A Reconstruction Filter for Plausible Motion "
-        "Blur (I3D 2012). SPEC.md §3.",
+        run=_run_filter(
+            "reconstruct_guertin2014", _core.ReconstructGuertin2014Pass, _guertin_params, True
+        ),
+        doc="Guertin, McGuire, Nowrouzezahrai: A Fast and Stable Feature-Aware Motion Blur "
+        "Filter (HPG 2014): SPEC.md §3 with direction-keeping dilation, two sampling "
+        "directions, mirrored pairs and alignment weights. docs/guertin2014.md.",
     )
 )
 

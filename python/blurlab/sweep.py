@@ -73,10 +73,11 @@ def sweep(
 
     `methods_and_grids`: a list of method names (default grids), a {name: grid} mapping, or
     None for every single-frame method with its default grid. `reference_samples`: N of each
-    scene's reference; None picks max(64, 2 × the longest motion in pixels), at most 1024. `out`: a CSV file
-    that rows are appended to as they finish; rows already in it are skipped. Each pass time
-    is the median of `repeats` runs, all configurations of a scene timed back to back before
-    any error is computed (a GPU left idle while the CPU computes SSIM and FLIP clocks down).
+    scene's reference; None picks max(64, 2 × the longest motion in pixels), at most 1024.
+    `out`: a CSV file that rows are appended to as they finish; rows already in it are
+    skipped. Each pass time is the median of `repeats` runs, all configurations of a scene
+    timed back to back before any error is computed (a GPU left idle while the CPU computes
+    SSIM and FLIP clocks down).
     """
     if not isinstance(ctx, Context):
         raise TypeError("blurlab.sweep needs a blurlab Context")

@@ -3,13 +3,23 @@
 Each GPU pass has its twin here, and the tests hold the GPU to it.
 """
 
-from . import accumulation, gathers, mcguire2012, motion_encoding, projection, stochastic, urho3d
+from . import (
+    accumulation,
+    gathers,
+    guertin2014,
+    mcguire2012,
+    motion_encoding,
+    projection,
+    stochastic,
+    urho3d,
+)
 from .hashing import pcg, rand
 from .patterns import test_pattern
 
 __all__ = [
     "accumulation",
     "gathers",
+    "guertin2014",
     "mcguire2012",
     "motion_encoding",
     "pcg",
