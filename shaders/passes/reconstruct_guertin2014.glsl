@@ -61,10 +61,12 @@ vec4 reconstruct_at(ivec2 x) {
     float kf = float(k);
     float zx = texelFetch(depth, x, 0).x;
     vec2 vx = half_velocity(texelFetch(motion, x, 0).xy, exposure, kf);
-    // Eq. 1: wc from vN's perpendicular (on V[X]'s side) to V[X]'s own direction.
+    // Eq. 1: wc from vN's perpendicular (on V[X]'s side) to V[X]'s own direction. Where V[X]
+    // is parallel to vN (within 1e-3 rad; float rounding would pick the side at random) wp is
+    // the left perpendicular (-wn.y, wn.x).
     vec2 wn = vn / vn_length;
     vec2 wp = vec2(-wn.y, wn.x);
-    if (dot(wp, vx) < 0.0) wp = -wp;
+    if (dot(wp, vx) < -1e-3 * length(vx)) wp = -wp;
     float vx_length = length(vx);
     float blend = clamp((vx_length - 0.5) / gamma, 0.0, 1.0);
     vec2 wc = normalize(mix(wp, vx_length > 0.0 ? vx / vx_length : wp, blend));

@@ -32,8 +32,10 @@ def center_direction(vn: np.ndarray, vx: np.ndarray, gamma: float) -> np.ndarray
     0, 1))), wp = vN's perpendicular on V[X]'s side (where V[X] = 0: wp)."""
     wn = _direction(vn)
     wp = np.stack([-wn[..., 1], wn[..., 0]], -1)
-    wp = np.where((np.sum(wp * vx, -1) < 0)[..., None], -wp, wp)
     vx_length = np.linalg.norm(vx, axis=-1)
+    # Side of V[X]; where V[X] is parallel to vN (within 1e-3 rad) the left perpendicular, so
+    # that float rounding does not pick the side.
+    wp = np.where((np.sum(wp * vx, -1) < -1e-3 * vx_length)[..., None], -wp, wp)
     blend = np.clip((vx_length - 0.5) / gamma, 0, 1)[..., None]
     own = np.where((vx_length > 0)[..., None], _direction(vx), wp)
     return _direction(wp + (own - wp) * blend)
