@@ -34,25 +34,33 @@ OPTIONS = {
 BLOCKY_K = 32
 
 
-def measure(ctx, frame, reference, method, runs, **params) -> dict:
-    bl.blur(ctx, frame, method, **params)  # compile, and on llvmpipe JIT, before timing
-    totals = []
+def measure(ctx, frame, reference, configs, runs) -> list[dict]:
+    """Time and error of each (method, params) in `configs`: one warm-up run each, then
+    `runs` rounds in which every configuration runs once, so that a change of the machine's
+    load (llvmpipe shares the CPU) touches all of them alike."""
+    for method, params in configs:
+        bl.blur(ctx, frame, method, **params)  # compile, and on llvmpipe JIT, before timing
+    totals = [[] for _ in configs]
     for _ in range(runs):
-        result = bl.blur(ctx, frame, method, **params)
-        totals.append(result.total_ms)
-        clock = result.clock
-        del result  # back to the pool: fresh textures cost GPU time on first use
-    result = bl.blur(ctx, frame, method, timed=False, **params)
-    color = result.color
-    return {
-        "total_ms": statistics.median(totals),
-        "clock": clock,
-        "psnr": bl.metrics.psnr_from_mse(
-            bl.metrics.gpu_mse(ctx, result.textures["color"], reference.texture)
-        ),
-        "ssim": bl.metrics.ssim(reference.color, color),
-        "color": color,
-    }
+        for i, (method, params) in enumerate(configs):
+            result = bl.blur(ctx, frame, method, **params)
+            totals[i].append(result.total_ms)
+            clock = result.clock
+            del result  # back to the pool: fresh textures cost GPU time on first use
+    out = []
+    for (method, params), times in zip(configs, totals, strict=True):
+        result = bl.blur(ctx, frame, method, timed=False, **params)
+        mse = bl.metrics.gpu_mse(ctx, result.textures["color"], reference.texture)
+        out.append(
+            {
+                "total_ms": statistics.median(times),
+                "clock": clock,
+                "psnr": bl.metrics.psnr_from_mse(mse),
+                "ssim": bl.metrics.ssim(reference.color, result.color),
+                "color": result.color,
+            }
+        )
+    return out
 
 
 def main() -> None:
@@ -70,8 +78,8 @@ def main() -> None:
     failure = bl.scenes.names("failure")
     names = args.scenes.split(",") if args.scenes else failure + bl.scenes.names()
     print(f"\n{record['date']}  {record['renderer']}  {args.size}, medians of {args.runs} runs")
-    print("\n| scene | method | options | PSNR dB | SSIM | ms | clock |")
-    print("|---|---|---|---|---|---|---|")
+    print("\n| scene | method | options | k | PSNR dB | SSIM | ms | clock |")
+    print("|---|---|---|---|---|---|---|---|")
     rows = record["rows"]
     for name in names:
         scene = bl.scenes.get(name)
@@ -83,35 +91,32 @@ def main() -> None:
             "suite": "failure" if name in failure else "built-in",
             "reference_samples": n,
         }
-        for method in FILTERS:
-            for label, options in OPTIONS.items():
-                m = measure(ctx, frame, reference, method, args.runs, **options)
-                rows.append(
-                    {
-                        **base,
-                        "method": method,
-                        "options": label,
-                        "k": 20,
-                        **{key: m[key] for key in ("psnr", "ssim", "total_ms", "clock")},
-                    }
-                )
-                print(
-                    f"| {name} | {method} | {label or '—'} | {m['psnr']:.2f} | {m['ssim']:.4f} "
-                    f"| {m['total_ms']:.3f} | {m['clock']} |"
-                )
-            for label, options in (("", {}), ("jitter_tiles", {"jitter_tiles": 1})):
-                m = measure(ctx, frame, reference, method, args.runs, k=BLOCKY_K, **options)
+        configs = [
+            (method, label, 20, options) for method in FILTERS for label, options in OPTIONS.items()
+        ] + [
+            (method, label, BLOCKY_K, options)
+            for method in FILTERS
+            for label, options in (("", {}), ("jitter_tiles", {"jitter_tiles": 1}))
+        ]
+        measured = measure(
+            ctx, frame, reference, [(c[0], {"k": c[2], **c[3]}) for c in configs], args.runs
+        )
+        for (method, label, k, _), m in zip(configs, measured, strict=True):
+            row = {
+                **base,
+                "method": method,
+                "options": label,
+                "k": k,
+                **{key: m[key] for key in ("psnr", "ssim", "total_ms", "clock")},
+            }
+            if k == BLOCKY_K:
                 blocky = bl.metrics.tile_border_error(reference.color, m["color"], BLOCKY_K, 2)
-                rows.append(
-                    {
-                        **base,
-                        "method": method,
-                        "options": label,
-                        "k": BLOCKY_K,
-                        **{key: m[key] for key in ("psnr", "ssim", "total_ms", "clock")},
-                        **{f"tile_{key}": value for key, value in blocky.items()},
-                    }
-                )
+                row.update({f"tile_{key}": value for key, value in blocky.items()})
+            rows.append(row)
+            print(
+                f"| {name} | {method} | {label or '—'} | {k} | {m['psnr']:.2f} | {m['ssim']:.4f} "
+                f"| {m['total_ms']:.3f} | {m['clock']} |"
+            )
     for row in rows:
         row.update(
             {

@@ -34,12 +34,10 @@ vec2 direction(vec2 v) {
     return l > 0.0 ? v / l : vec2(0.0);
 }
 
-// The weight of the sample at pixel y seen from x, for the sampling direction d (unit), before
-// mirroring: the 2012 terms, each scaled by the alignment of the motion it spreads with d.
-float sample_weight(ivec2 x, ivec2 y, float zx, vec2 vx, vec2 wc, vec2 d, float kf) {
-    float zy = texelFetch(depth, y, 0).x;
-    vec2 vy = half_velocity(texelFetch(motion, y, 0).xy, exposure, kf);
-    float dist = length(vec2(y - x));
+// The weight of a sample (depth zy, half-vector vy, dist pixels from x) for the sampling
+// direction d (unit), before mirroring: the 2012 terms, each scaled by the alignment of the
+// motion it spreads with d.
+float sample_weight(float dist, float zy, vec2 vy, float zx, vec2 vx, vec2 wc, vec2 d) {
     float f = soft_depth_compare(zx, zy, soft_z);
     float b = soft_depth_compare(zy, zx, soft_z);
     float wa = abs(dot(wc, d));
@@ -82,12 +80,14 @@ vec4 reconstruct_at(ivec2 x) {
         vec2 step = d * vn_length * t;
         ivec2 y1 = clamp(ivec2(floor(center + step)), ivec2(0), size - 1);
         ivec2 y2 = clamp(ivec2(floor(center - step)), ivec2(0), size - 1);
-        float a1 = sample_weight(x, y1, zx, vx, wc, d, kf);
-        float a2 = sample_weight(x, y2, zx, vx, wc, d, kf);
+        float z1 = texelFetch(depth, y1, 0).x, z2 = texelFetch(depth, y2, 0).x;
+        vec2 v1 = half_velocity(texelFetch(motion, y1, 0).xy, exposure, kf);
+        vec2 v2 = half_velocity(texelFetch(motion, y2, 0).xy, exposure, kf);
+        float a1 = sample_weight(length(vec2(y1 - x)), z1, v1, zx, vx, wc, d);
+        float a2 = sample_weight(length(vec2(y2 - x)), z2, v2, zx, vx, wc, d);
         // Mirror: the pair takes the weight of its sample that is nearer and moves farther.
-        bool behind = texelFetch(depth, y1, 0).x > texelFetch(depth, y2, 0).x;
-        bool slower = length(half_velocity(texelFetch(motion, y2, 0).xy, exposure, kf))
-                    > length(half_velocity(texelFetch(motion, y1, 0).xy, exposure, kf));
+        bool behind = z1 > z2;
+        bool slower = length(v2) > length(v1);
         if (behind && slower) a1 = a2;
         else if (!behind && !slower) a2 = a1;
         weight += a1 + a2;
