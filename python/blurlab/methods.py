@@ -269,32 +269,37 @@ def _guertin_params(values: dict):
     return _mcguire_params(values, p)
 
 
+def _tile_passes(ctx: Context, motion, params, backend: str, diagonal_reach: bool = False):
+    """TileMax (§3.2) and NeighborMax (§3.3, or the direction-keeping dilation of
+    docs/guertin2014.md): (tiles, neighbors, timings)."""
+    height, width = motion.shape[:2]
+    grid = (-(-height // params.k), -(-width // params.k), 2)
+    tiles, neighbors = ctx._pooled(grid), ctx._pooled(grid)
+    tile_pass = ctx._pass("tile_max", _core.TileMaxPass)
+    neighbor_pass = ctx._pass("neighbor_max", _core.NeighborMaxPass)
+    timings: dict[str, Timing] = {}
+    timed(
+        ctx, timings, "tile_max", lambda: tile_pass.run(motion._core, tiles._core, params, backend)
+    )
+    timed(
+        ctx,
+        timings,
+        "neighbor_max",
+        lambda: neighbor_pass.run(tiles._core, neighbors._core, backend, diagonal_reach),
+    )
+    return tiles, neighbors, timings
+
+
 def _run_filter(name: str, pass_type, make_params, diagonal_reach: bool):
     """TileMax → NeighborMax → the reconstruct pass `name` (SPEC.md §3, docs/guertin2014.md)."""
 
     def run(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
         params = make_params(values)
-        height, width = inputs["color"].shape[:2]
-        k = params.k
-        grid = (-(-height // k), -(-width // k), 2)
-        tiles, neighbors = ctx._pooled(grid), ctx._pooled(grid)
-        result = ctx._pooled((height, width, 4))
-        timings: dict[str, Timing] = {}
-        tile_pass = ctx._pass("tile_max", _core.TileMaxPass)
-        neighbor_pass = ctx._pass("neighbor_max", _core.NeighborMaxPass)
+        tiles, neighbors, timings = _tile_passes(
+            ctx, inputs["motion"], params, backend, diagonal_reach
+        )
+        result = ctx._pooled(inputs["color"].shape[:2] + (4,))
         reconstruct = ctx._pass(name, pass_type)
-        timed(
-            ctx,
-            timings,
-            "tile_max",
-            lambda: tile_pass.run(inputs["motion"]._core, tiles._core, params, backend),
-        )
-        timed(
-            ctx,
-            timings,
-            "neighbor_max",
-            lambda: neighbor_pass.run(tiles._core, neighbors._core, backend, diagonal_reach),
-        )
         timed(
             ctx,
             timings,
@@ -381,31 +386,13 @@ def _run_urho3d(ctx: Context, frame: Frame, inputs: dict, values: dict, backend:
     params = _mcguire_params(values)
     if not values["far"] > 0:
         raise ValueError(f"blurlab: far = {values['far']} must be > 0 (depth units)")
-    height, width = inputs["color"].shape[:2]
-    k = params.k
-    grid = (-(-height // k), -(-width // k), 2)
-    tiles, neighbors = ctx._pooled(grid), ctx._pooled(grid)
-    result = ctx._pooled((height, width, 4))
+    tiles, neighbors, timings = _tile_passes(ctx, inputs["motion"], params, backend)
+    result = ctx._pooled(inputs["color"].shape[:2] + (4,))
     key = ("urho3d_jitter", values["seed"])
     if key not in ctx._passes:
         ctx._passes[key] = ctx.upload(jitter_texture(values["seed"]))
     jitter = ctx._passes[key]
-    timings: dict[str, Timing] = {}
-    tile_pass = ctx._pass("tile_max", _core.TileMaxPass)
-    neighbor_pass = ctx._pass("neighbor_max", _core.NeighborMaxPass)
     reconstruct = ctx._pass("reconstruct_urho3d", _core.ReconstructUrho3dPass)
-    timed(
-        ctx,
-        timings,
-        "tile_max",
-        lambda: tile_pass.run(inputs["motion"]._core, tiles._core, params, backend),
-    )
-    timed(
-        ctx,
-        timings,
-        "neighbor_max",
-        lambda: neighbor_pass.run(tiles._core, neighbors._core, backend),
-    )
     timed(
         ctx,
         timings,

@@ -39,7 +39,7 @@ DEFAULT_GRIDS: dict[str, dict[str, list] | list[dict[str, list]]] = {
         {"k": [10, 20, 40], "samples": [5, 9, 15, 25]},
         *_OPTIONS_AT_DEFAULT,
     ],
-    "reconstruct_guertin2014": [{"k": [20], "samples": [5, 9, 15, 25]}, *_OPTIONS_AT_DEFAULT],
+    "reconstruct_guertin2014": [{"k": [20], "samples": [9, 15, 25]}, *_OPTIONS_AT_DEFAULT],
     "reconstruct_urho3d": {"k": [20], "samples": [9, 15]},
     "gather_weighted": {},
     "gather_box": {"taps": [5, 10, 20]},
