@@ -9,7 +9,8 @@ clock (GL timer queries on a GPU, glFinish + wall clock on llvmpipe). Blockiness
 bl.metrics.tile_border_error at k = 32, band 2 px.
 
     python benchmarks/stable_filter.py [--device gpu] [--size 1920x1080] [--runs 10]
-        [--csv benchmarks/results/DATE-DEVICE-stable_filter.csv]
+        [--no-ssim] [--csv benchmarks/results/DATE-DEVICE-stable_filter.csv]
+    bash benchmarks/gpu.sh "stable_filter --size 1920x1080 --runs 20 --no-ssim"
 """
 
 from __future__ import annotations
@@ -34,7 +35,7 @@ OPTIONS = {
 BLOCKY_K = 32
 
 
-def measure(ctx, frame, reference, configs, runs) -> list[dict]:
+def measure(ctx, frame, reference, configs, runs, ssim=True) -> list[dict]:
     """Time and error of each (method, params) in `configs`: one warm-up run each, then
     `runs` rounds in which every configuration runs once, so that a change of the machine's
     load (llvmpipe shares the CPU) touches all of them alike."""
@@ -56,8 +57,8 @@ def measure(ctx, frame, reference, configs, runs) -> list[dict]:
                 "total_ms": statistics.median(times),
                 "clock": clock,
                 "psnr": bl.metrics.psnr_from_mse(mse),
-                "ssim": bl.metrics.ssim(reference.color, result.color),
-                "color": result.color,
+                "ssim": bl.metrics.ssim(reference.color, result.color) if ssim else float("nan"),
+                "result": result,  # downloaded only where the blockiness needs its color
             }
         )
     return out
@@ -70,6 +71,9 @@ def main() -> None:
     parser.add_argument("--runs", type=int, default=5)
     parser.add_argument("--scenes", default=None, help="comma-separated (default: all)")
     parser.add_argument("--csv", default=None, help="the table (default: beside --json)")
+    parser.add_argument(
+        "--no-ssim", action="store_true", help="skip SSIM (CPU-bound; for 1080p runs)"
+    )
     parser.add_argument("--json", default=None)
     args = parser.parse_args()
     ctx = bl.Context(int(args.device) if args.device.isdigit() else args.device)
@@ -99,7 +103,12 @@ def main() -> None:
             for label, options in (("", {}), ("jitter_tiles", {"jitter_tiles": 1}))
         ]
         measured = measure(
-            ctx, frame, reference, [(c[0], {"k": c[2], **c[3]}) for c in configs], args.runs
+            ctx,
+            frame,
+            reference,
+            [(c[0], {"k": c[2], **c[3]}) for c in configs],
+            args.runs,
+            ssim=not args.no_ssim,
         )
         for (method, label, k, _), m in zip(configs, measured, strict=True):
             row = {
@@ -110,7 +119,9 @@ def main() -> None:
                 **{key: m[key] for key in ("psnr", "ssim", "total_ms", "clock")},
             }
             if k == BLOCKY_K:
-                blocky = bl.metrics.tile_border_error(reference.color, m["color"], BLOCKY_K, 2)
+                blocky = bl.metrics.tile_border_error(
+                    reference.color, m["result"].color, BLOCKY_K, 2
+                )
                 row.update({f"tile_{key}": value for key, value in blocky.items()})
             rows.append(row)
             print(
