@@ -550,9 +550,7 @@ _FILTER_PARAMS = {
     "seed": Param(0, int, "jitter seed (0..2^32-1)", 0, SEED_MAX),
     "jitter_tiles": Param(0, int, "1: jittered NeighborMax lookup against tile blockiness", 0, 1),
     "adaptive_samples": Param(0, int, "1: S scaled with the neighborhood's motion length", 0, 1),
-    "early_exit": Param(
-        0.0, float, "pixels whose neighborhood moves < this many px keep C", 0, FLOAT32_MAX
-    ),
+    "early_exit": Param(0.0, float, "pixels whose neighborhood moves < this many px keep C", 0),
 }
 
 register(
