@@ -128,16 +128,8 @@ def test_ssim_column_equals_numpy_on_the_same_images(ctx, monkeypatch):
         return value
 
     monkeypatch.setattr(sw.m, "gpu_ssim", gpu_and_numpy)
-    table = sw.sweep(
-        ctx,
-        ["fan"],
-        GRID,
-        SIZE,
-        reference_samples=8,
-        metrics=("psnr", "ssim"),
-        progress=False,
-        repeats=1,
-    )
+    args = dict(reference_samples=8, metrics=("psnr", "ssim"), progress=False, repeats=1)
+    table = sw.sweep(ctx, ["fan"], GRID, SIZE, **args)
     assert len(compared) == len(table) == 5
     assert list(table["ssim"]) == [gpu for gpu, _ in compared]
     for gpu, numpy in compared:

@@ -7,12 +7,11 @@
 #pragma once
 
 #include <memory>
-#include <vector>
 
 namespace blurlab {
 
-class Buffer;
 class Context;
+class PairReduction;
 class Program;
 class Texture;
 
@@ -29,8 +28,7 @@ class SsimReductionPass {
  private:
   std::shared_ptr<Context> context_;
   std::shared_ptr<Program> program_;
-  std::unique_ptr<Buffer> partials_;
-  std::vector<float> host_;
+  std::unique_ptr<PairReduction> reduction_;
 };
 
 }  // namespace blurlab
