@@ -282,3 +282,40 @@ def test_row_cut_short_by_a_crash_is_evaluated_again(ctx, tmp_path):
     table = sw.sweep(ctx, ["fan"], grid, (32, 24), **args)
     final = pd.read_csv(out)
     assert len(table) == 3 and len(final) == 3 and final["psnr"].notna().all()
+
+
+def test_a_list_of_grids_sweeps_their_union(ctx, tmp_path):
+    grid = [
+        {"k": [8], "samples": [5, 9]},
+        {"k": [8], "samples": [9], "jitter_tiles": [1]},
+        {"k": [8], "samples": [5]},  # already in the first: run once
+    ]
+    points = sw.grid_points(grid)
+    assert points == [
+        {"k": 8, "samples": 5},
+        {"k": 8, "samples": 9},
+        {"jitter_tiles": 1, "k": 8, "samples": 9},
+    ]
+    assert sw.grid_keys(grid) == {"k", "samples", "jitter_tiles"}
+    assert sw.middle_point(grid) == {"k": 8, "samples": 9}
+    table = sw.sweep(
+        ctx,
+        ["fan"],
+        {"reconstruct_guertin2014": grid},
+        SIZE,
+        reference_samples=8,
+        metrics=("psnr",),
+        progress=False,
+    )
+    assert len(table) == 3
+    assert table["param_jitter_tiles"].fillna(0).tolist() == [0, 0, 1]
+    with pytest.raises(ValueError, match="no parameter 'gamma'"):
+        sw.sweep(ctx, ["fan"], {"reconstruct_mcguire2012": [{"gamma": [1.0]}]}, SIZE)
+
+
+def test_default_grids_show_each_filter_option_on_both_filters():
+    for name in ("reconstruct_mcguire2012", "reconstruct_guertin2014"):
+        points = sw.grid_points(sw.DEFAULT_GRIDS[name])
+        for option, on in (("jitter_tiles", 1), ("adaptive_samples", 1), ("early_exit", 2.0)):
+            assert {"k": 20, "samples": 15, option: on} in points, (name, option)
+        assert {"k": 20, "samples": 15} in points

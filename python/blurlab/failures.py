@@ -15,7 +15,7 @@ from .methods import blur, method_instant
 from .sweep import DEFAULT_GRIDS
 
 RENDERING_METHODS = ("accumulation", "stochastic")  # they render; their inputs are sub-frames
-FILTERS = ("reconstruct_mcguire2012", "reconstruct_urho3d")
+FILTERS = ("reconstruct_mcguire2012", "reconstruct_guertin2014", "reconstruct_urho3d")
 
 
 def animation(ctx, scene, name: str, size, frames: int, params: dict):

@@ -419,84 +419,114 @@ def _classify_params() -> dict:
     return classify_params()
 
 
-def _mcguire_params(values: dict) -> _core.McGuire2012Params:
-    p = _core.McGuire2012Params()
+_FILTER_OPTIONS = ("jitter_tiles", "adaptive_samples", "early_exit")
+
+
+def _mcguire_params(values: dict, params=None):
+    p = params if params is not None else _core.McGuire2012Params()
     for key in ("k", "samples", "soft_z", "exposure"):
         setattr(p, key, values[key])
     p.seed = values["seed"]
+    p.jitter_tiles = bool(values.get("jitter_tiles", 0))
+    p.adaptive_samples = bool(values.get("adaptive_samples", 0))
+    p.early_exit = values.get("early_exit", 0.0)
     p.validate()
     return p
 
 
-def _run_mcguire2012(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
-    from . import classify
+def _guertin_params(values: dict):
+    p = _core.Guertin2014Params()
+    p.gamma, p.kappa = values["gamma"], values["kappa"]
+    return _mcguire_params(values, p)
 
-    params = _mcguire_params(values)
-    classify.check_backend(values, backend, "reconstruct_mcguire2012")
-    height, width = inputs["color"].shape[:2]
-    k = params.k
-    grid = (-(-height // k), -(-width // k), 2)
+
+def _tile_passes(
+    ctx: Context, motion, params, backend: str, diagonal_reach=False, with_bounds=False
+):
+    """TileMax (§3.2) and NeighborMax (§3.3, or the direction-keeping dilation of
+    docs/guertin2014.md): (tiles, neighbors, timings, bounds). `with_bounds` has TileMax also
+    write each tile's motion bounds for classification (docs/classify_and_steps.md)."""
+    height, width = motion.shape[:2]
+    grid = (-(-height // params.k), -(-width // params.k), 2)
     tiles, neighbors = ctx._pooled(grid), ctx._pooled(grid)
-    result = ctx._pooled((height, width, 4))
-    timings: dict[str, Timing] = {}
     tile_pass = ctx._pass("tile_max", _core.TileMaxPass)
     neighbor_pass = ctx._pass("neighbor_max", _core.NeighborMaxPass)
-    reconstruct = ctx._pass("reconstruct_mcguire2012", _core.ReconstructMcGuire2012Pass)
-    extra = {}
-    if values["classify"]:
-        bounds = []
-        timed(
-            ctx,
-            timings,
-            "tile_max",
-            lambda: bounds.append(
-                classify.tile_max_with_bounds(ctx, tile_pass, inputs["motion"], tiles, params)
-            ),
+    timings: dict[str, Timing] = {}
+    bounds = []
+    if with_bounds:
+        from .classify import tile_max_with_bounds
+
+        run_tile_max = lambda: bounds.append(  # noqa: E731
+            tile_max_with_bounds(ctx, tile_pass, motion, tiles, params)
         )
-        extra["tile_bounds"] = bounds[0]
     else:
-        timed(
-            ctx,
-            timings,
-            "tile_max",
-            lambda: tile_pass.run(inputs["motion"]._core, tiles._core, params, backend),
-        )
+        run_tile_max = lambda: tile_pass.run(motion._core, tiles._core, params, backend)  # noqa: E731
+    timed(ctx, timings, "tile_max", run_tile_max)
     timed(
         ctx,
         timings,
         "neighbor_max",
-        lambda: neighbor_pass.run(tiles._core, neighbors._core, backend),
+        lambda: neighbor_pass.run(tiles._core, neighbors._core, backend, diagonal_reach),
     )
+    return tiles, neighbors, timings, (bounds[0] if bounds else None)
 
-    def run_reconstruct():
-        reconstruct.run(
-            inputs["color"]._core,
-            inputs["depth"]._core,
-            inputs["motion"]._core,
-            neighbors._core,
-            result._core,
-            params,
-            backend,
+
+def _run_filter(name: str, pass_type, make_params, diagonal_reach: bool):
+    """TileMax → NeighborMax → the reconstruct pass `name` (SPEC.md §3, docs/guertin2014.md),
+    the last one tile class by tile class where the method offers classify=True."""
+
+    def run(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
+        params = make_params(values)
+        classified = values.get("classify", False)
+        if classified:
+            from . import classify
+
+            classify.check_backend(values, backend, name)
+            options = [o for o in _FILTER_OPTIONS if values.get(o)]
+            if options:
+                raise ValueError(
+                    f"blurlab: {name} with classify=True takes none of the filter options "
+                    f"yet; {', '.join(options)} set (docs/classify_and_steps.md)"
+                )
+        tiles, neighbors, timings, bounds = _tile_passes(
+            ctx, inputs["motion"], params, backend, diagonal_reach, classified
         )
+        result = ctx._pooled(inputs["color"].shape[:2] + (4,))
+        reconstruct = ctx._pass(name, pass_type)
 
-    if values["classify"]:
-        extra.update(
-            classify.run_classified(
-                ctx,
-                lambda name, fn: timed(ctx, timings, name, fn),
-                inputs,
-                neighbors,
-                extra["tile_bounds"],
-                result,
+        def run_reconstruct():
+            reconstruct.run(
+                inputs["color"]._core,
+                inputs["depth"]._core,
+                inputs["motion"]._core,
+                neighbors._core,
+                result._core,
                 params,
-                values["uniform_spread"],
-                reconstruct,
-                run_reconstruct,
+                backend,
             )
-        )
-    else:
-        timed(ctx, timings, "reconstruct", run_reconstruct)
-    return {"color": result, "tile_max": tiles, "neighbor_max": neighbors, **extra}, timings
+
+        extra = {}
+        if classified:
+            extra["tile_bounds"] = bounds
+            extra.update(
+                classify.run_classified(
+                    ctx,
+                    lambda pass_name, fn: timed(ctx, timings, pass_name, fn),
+                    inputs,
+                    neighbors,
+                    bounds,
+                    result,
+                    params,
+                    values["uniform_spread"],
+                    reconstruct,
+                    run_reconstruct,
+                )
+            )
+        else:
+            timed(ctx, timings, "reconstruct", run_reconstruct)
+        return {"color": result, "tile_max": tiles, "neighbor_max": neighbors, **extra}, timings
+
+    return run
 
 
 SEED_MAX = 2**32 - 1
@@ -512,22 +542,62 @@ _SOFT_Z = Param(
 )
 _EXPOSURE = Param(1.0, float, "exposure E, fraction of the shutter (0..1000)", 0, PARAM_SCALE_MAX)
 
+_FILTER_PARAMS = {
+    "k": _K,
+    "samples": _SAMPLES,
+    "soft_z": _SOFT_Z,
+    "exposure": _EXPOSURE,
+    "seed": Param(0, int, "jitter seed (0..2^32-1)", 0, SEED_MAX),
+    "jitter_tiles": Param(0, int, "1: jittered NeighborMax lookup against tile blockiness", 0, 1),
+    "adaptive_samples": Param(0, int, "1: S scaled with the neighborhood's motion length", 0, 1),
+    "early_exit": Param(
+        0.0, float, "pixels whose neighborhood moves < this many px keep C", 0, FLOAT32_MAX
+    ),
+}
+
 register(
     Method(
         name="reconstruct_mcguire2012",
         instant="center",
+        params={**_FILTER_PARAMS, **_classify_params()},
+        backends=("compute", "fragment"),
+        run=_run_filter(
+            "reconstruct_mcguire2012", _core.ReconstructMcGuire2012Pass, _mcguire_params, False
+        ),
+        doc="McGuire, Hennessy, Bukowski, Osman: A Reconstruction Filter for Plausible Motion "
+        "Blur (I3D 2012). SPEC.md §3; options in docs/guertin2014.md, classification in "
+        "docs/classify_and_steps.md.",
+    )
+)
+
+
+# --- reconstruct_guertin2014 (docs/guertin2014.md) -----------------------------------------
+
+register(
+    Method(
+        name="reconstruct_guertin2014",
+        instant="center",
         params={
-            "k": _K,
-            "samples": _SAMPLES,
-            "soft_z": _SOFT_Z,
-            "exposure": _EXPOSURE,
-            "seed": Param(0, int, "jitter seed (0..2^32-1)", 0, SEED_MAX),
-            **_classify_params(),
+            **_FILTER_PARAMS,
+            "gamma": Param(
+                1.5,
+                float,
+                "γ: px over 0.5 at which wc is V[X]'s direction (> 0)",
+                0,
+                FLOAT32_MAX,
+                True,
+            ),
+            "kappa": Param(
+                40.0, float, "κ: center weight S / (κ len(V[X])) (> 0)", 0, FLOAT32_MAX, True
+            ),
         },
         backends=("compute", "fragment"),
-        run=_run_mcguire2012,
-        doc="McGuire, Hennessy, Bukowski, Osman: A Reconstruction Filter for Plausible Motion "
-        "Blur (I3D 2012). SPEC.md §3.",
+        run=_run_filter(
+            "reconstruct_guertin2014", _core.ReconstructGuertin2014Pass, _guertin_params, True
+        ),
+        doc="Guertin, McGuire, Nowrouzezahrai: A Fast and Stable Feature-Aware Motion Blur "
+        "Filter (HPG 2014): SPEC.md §3 with direction-keeping dilation, two sampling "
+        "directions, mirrored pairs and alignment weights. docs/guertin2014.md.",
     )
 )
 
@@ -549,31 +619,13 @@ def _run_urho3d(ctx: Context, frame: Frame, inputs: dict, values: dict, backend:
     from .reference.urho3d import jitter_texture
 
     params = _mcguire_params(values)
-    height, width = inputs["color"].shape[:2]
-    k = params.k
-    grid = (-(-height // k), -(-width // k), 2)
-    tiles, neighbors = ctx._pooled(grid), ctx._pooled(grid)
-    result = ctx._pooled((height, width, 4))
+    tiles, neighbors, timings, _ = _tile_passes(ctx, inputs["motion"], params, backend)
+    result = ctx._pooled(inputs["color"].shape[:2] + (4,))
     key = ("urho3d_jitter", values["seed"])
     if key not in ctx._passes:
         ctx._passes[key] = ctx.upload(jitter_texture(values["seed"]))
     jitter = ctx._passes[key]
-    timings: dict[str, Timing] = {}
-    tile_pass = ctx._pass("tile_max", _core.TileMaxPass)
-    neighbor_pass = ctx._pass("neighbor_max", _core.NeighborMaxPass)
     reconstruct = ctx._pass("reconstruct_urho3d", _core.ReconstructUrho3dPass)
-    timed(
-        ctx,
-        timings,
-        "tile_max",
-        lambda: tile_pass.run(inputs["motion"]._core, tiles._core, params, backend),
-    )
-    timed(
-        ctx,
-        timings,
-        "neighbor_max",
-        lambda: neighbor_pass.run(tiles._core, neighbors._core, backend),
-    )
     timed(
         ctx,
         timings,

@@ -123,3 +123,60 @@ def gpu_ssim(ctx, a, b) -> float:
     sums of the SSIM map (one float per 16 x 16 pixels) are read back."""
     _same_size(a, b, "gpu_ssim")
     return ctx._pass("ssim", _core.SsimReductionPass).mean_ssim(a._core, b._core)
+
+
+def tile_border_error(reference, test, k: int, band: int = 1) -> dict:
+    """Blockiness of a tiled filter (the Urho3D thesis saw it at k = 32), two ways:
+
+    - level: the mean per-pixel error (`error_map`) on pixels within `band` pixels of a k x k
+      tile border ("border") and on the pixels inside the tiles ("interior");
+    - seams: the mean jump of the signed error (test - reference, mean over RGB) between
+      neighboring pixels on either side of a tile border ("border_step") and between the other
+      neighboring pixels ("interior_step").
+
+    "ratio" and "step_ratio" are border / interior (> 1: errors line up with the tile grid).
+    Borders are the lines x = i·k and y = i·k between tiles; the image edges are not borders."""
+    if isinstance(k, bool) or not isinstance(k, int) or k < 2:
+        raise ValueError(f"blurlab.metrics.tile_border_error: k must be an integer >= 2, not {k!r}")
+    if isinstance(band, bool) or not isinstance(band, int) or not 1 <= band <= k // 2:
+        raise ValueError(
+            f"blurlab.metrics.tile_border_error: band must be an integer in 1..k/2, not {band!r}"
+        )
+    a, b = _pair(reference, test)
+    errors = np.mean(np.abs(a - b), axis=-1)
+    signed = np.mean(b - a, axis=-1)
+    h, w = errors.shape
+    if h <= k and w <= k:
+        raise ValueError(
+            f"blurlab.metrics.tile_border_error: a {w}x{h} image has no tile border at k = {k}"
+        )
+
+    def near_border(n: int) -> np.ndarray:
+        near = np.zeros(n, bool)
+        for border in range(k, n, k):  # the border between pixels border - 1 and border
+            near[border - band : border + band] = True
+        return near
+
+    border = near_border(h)[:, None] | near_border(w)[None, :]
+    # Jumps between horizontal neighbors (x, x + 1) and vertical ones (y, y + 1).
+    steps_x = np.abs(np.diff(signed, axis=1))
+    steps_y = np.abs(np.diff(signed, axis=0))
+    across_x = np.broadcast_to((np.arange(1, w) % k == 0)[None, :], steps_x.shape)
+    across_y = np.broadcast_to((np.arange(1, h) % k == 0)[:, None], steps_y.shape)
+    on_steps = np.concatenate([steps_x[across_x], steps_y[across_y]])
+    off_steps = np.concatenate([steps_x[~across_x], steps_y[~across_y]])
+
+    def ratio(on: float, off: float) -> float:
+        return on / off if off > 0 else (math.inf if on > 0 else 1.0)
+
+    level_on, level_off = float(errors[border].mean()), float(errors[~border].mean())
+    step_on, step_off = float(on_steps.mean()), float(off_steps.mean())
+    return {
+        "border": level_on,
+        "interior": level_off,
+        "ratio": ratio(level_on, level_off),
+        "border_step": step_on,
+        "interior_step": step_off,
+        "step_ratio": ratio(step_on, step_off),
+        "border_pixels": int(border.sum()),
+    }

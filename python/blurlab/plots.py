@@ -48,8 +48,19 @@ def pareto(table: pd.DataFrame, scene: str, metric: str = "psnr", budget_ms: flo
         )
     plt = _pyplot()
     fig, ax = plt.subplots(figsize=(7, 4.5))
-    for name, group in rows.groupby("method"):
-        ax.scatter(group["total_ms"], group[metric], label=name, s=28, alpha=0.85)
+    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    methods = sorted(set(rows["method"]))
+    variants = rows.apply(_variant, axis=1)
+    for (name, options), group in rows.groupby([rows["method"], variants]):
+        ax.scatter(
+            group["total_ms"],
+            group[metric],
+            label=name + (f" +{options}" if options else ""),
+            s=28,
+            alpha=0.85,
+            color=colors[methods.index(name) % len(colors)],
+            marker=OPTION_MARKERS.get(options, "*") if options else "o",
+        )
     front = pareto_front(rows, metric)
     ax.step(
         front["total_ms"], front[metric], where="post", color="black", lw=1, label="Pareto front"
@@ -86,6 +97,18 @@ def pareto(table: pd.DataFrame, scene: str, metric: str = "psnr", budget_ms: flo
     return fig
 
 
+# The filters' options (docs/guertin2014.md), each its own marker on the Pareto chart.
+FILTER_OPTIONS = ("jitter_tiles", "adaptive_samples", "early_exit")
+OPTION_MARKERS = {"jitter_tiles": "^", "adaptive_samples": "s", "early_exit": "D"}
+
+
+def _variant(row) -> str:
+    """The filter options a row turns on, "+"-joined ("" for none)."""
+    return "+".join(
+        o for o in FILTER_OPTIONS if pd.notna(row.get(f"param_{o}")) and row[f"param_{o}"] != 0
+    )
+
+
 def _short(row) -> str:
     params = {k[6:]: v for k, v in row.items() if k.startswith("param_") and pd.notna(v)}
     text = ", ".join(
@@ -105,6 +128,9 @@ def parameter_curves(
     rows = table[table["method"] == method]
     for key, value in (fixed or {}).items():
         rows = rows[rows[f"param_{key}"] == value]
+    # Only the configurations that set nothing but `param` and `fixed` (not, say, an option).
+    others = [c for c in rows if c.startswith("param_") and c[6:] not in {param, *(fixed or {})}]
+    rows = rows[rows[others].isna().all(axis=1)] if others else rows
     fig, (left, right) = plt.subplots(1, 2, figsize=(9, 3.5))
     for scene, group in rows.groupby("scene"):
         group = group.sort_values(f"param_{param}")

@@ -14,7 +14,7 @@ import pandas as pd
 from . import io, plots, scenes
 from .context import Context
 from .methods import blur, method_instant
-from .sweep import DEFAULT_GRIDS, sweep
+from .sweep import DEFAULT_GRIDS, middle_point, sweep
 
 BUDGETS_MS = (0.1, 1.0, 10.0, 100.0)
 
@@ -82,7 +82,7 @@ def _scene_section(ctx, name, table, size, out: Path, grids) -> dict:
     )
     images = {}
     for method_name, grid in grids.items():
-        point = {k: v[len(v) // 2] for k, v in grid.items()}
+        point = middle_point(grid)
         frame = ctx.render(scene, size, instant=method_instant(method_name, point))
         images[method_name] = blur(ctx, frame, method_name, **point).color
     plots.save(plots.image_grid(reference.color, images), out / f"{name}_images.png")

@@ -37,9 +37,20 @@ from .methods import (
 from .render import check_shutter
 from .scene import Scene
 
-# Parameter grids of `blurlab study`: sensible ranges, small enough for llvmpipe.
-DEFAULT_GRIDS: dict[str, dict[str, list]] = {
-    "reconstruct_mcguire2012": {"k": [10, 20, 40], "samples": [5, 9, 15, 25]},
+# Parameter grids of `blurlab study`: sensible ranges, small enough for llvmpipe. A grid is a
+# {param: [values]} product, or a list of them (their union): the filter options each get one
+# point beside the default configuration instead of multiplying the k × S product.
+_OPTIONS_AT_DEFAULT = [
+    {"k": [20], "samples": [15], "jitter_tiles": [1]},
+    {"k": [20], "samples": [15], "adaptive_samples": [1]},
+    {"k": [20], "samples": [15], "early_exit": [2.0]},
+]
+DEFAULT_GRIDS: dict[str, dict[str, list] | list[dict[str, list]]] = {
+    "reconstruct_mcguire2012": [
+        {"k": [10, 20, 40], "samples": [5, 9, 15, 25]},
+        *_OPTIONS_AT_DEFAULT,
+    ],
+    "reconstruct_guertin2014": [{"k": [20], "samples": [9, 15, 25]}, *_OPTIONS_AT_DEFAULT],
     "reconstruct_urho3d": {"k": [20], "samples": [9, 15]},
     "gather_weighted": {},
     "gather_box": {"taps": [5, 10, 20]},
@@ -52,13 +63,31 @@ SINGLE_FRAME_METHODS = tuple(DEFAULT_GRIDS)
 METRICS = ("psnr", "ssim", "flip")
 
 
-def grid_points(grid: Mapping[str, Sequence]) -> list[dict]:
-    """Every combination of a {param: [values]} grid, in a stable order."""
+def grid_points(grid) -> list[dict]:
+    """Every combination of a {param: [values]} grid, in a stable order; for a list of grids,
+    the points of each in turn, each point once."""
+    if not isinstance(grid, Mapping):
+        points = []
+        for part in grid:
+            points += [p for p in grid_points(part) if p not in points]
+        return points
     keys = sorted(grid)
     return [
         dict(zip(keys, values, strict=True))
         for values in itertools.product(*(grid[k] for k in keys))
     ]
+
+
+def grid_keys(grid) -> set[str]:
+    """The parameter names a grid (or a list of grids) sets."""
+    return set(grid) if isinstance(grid, Mapping) else set().union(*(set(g) for g in grid))
+
+
+def middle_point(grid) -> dict:
+    """The configuration that stands for a method in image grids: the middle of each list of
+    its (first) grid."""
+    grid = grid if isinstance(grid, Mapping) else (grid[0] if grid else {})
+    return {k: v[len(v) // 2] for k, v in grid.items()}
 
 
 def _scene(item) -> Scene:
@@ -140,7 +169,7 @@ def sweep(
         method(name)  # raises for unknown names
         if name == "trail":
             raise ValueError("blurlab.sweep: trail needs a frame sequence; it is not swept")
-        for key in grid:
+        for key in grid_keys(grid):
             if key != "steps" and key not in method(name).params:
                 raise ValueError(f"blurlab.sweep: {name} has no parameter {key!r}")
         # Every value now, not an hour into the sweep when its turn comes.

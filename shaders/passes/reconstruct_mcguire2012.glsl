@@ -6,6 +6,7 @@
 #include "common/inputs.glsl"
 #include "common/mcguire2012.glsl"
 #include "common/random.glsl"
+#include "common/filter_options.glsl"
 
 layout(binding = 0) uniform sampler2D color;
 layout(binding = 1) uniform sampler2D depth;
@@ -16,12 +17,17 @@ uniform int samples;
 uniform float soft_z;
 uniform float exposure;
 uniform uint seed;
+uniform bool jitter_tiles;      // options, common/filter_options.glsl; all off by default
+uniform bool adaptive_samples;
+uniform float early_exit;       // pixels; 0: only the §3.4 test
 
 vec4 reconstruct_at(ivec2 x) {
     ivec2 size = textureSize(color, 0);
     vec4 cx = sanitize_color(texelFetch(color, x, 0));
-    vec2 vn = texelFetch(neighbor_max, x / k, 0).xy;
-    if (length(vn) <= 0.5 + 0.01) return cx;  // nothing moves near here
+    ivec2 tile = lookup_tile(x, k, seed, jitter_tiles, textureSize(neighbor_max, 0));
+    vec2 vn = texelFetch(neighbor_max, tile, 0).xy;
+    if (exits_early(length(vn), early_exit)) return cx;  // nothing moves near here
+    int n = sample_count(length(vn), samples, adaptive_samples);
 
     float kf = float(k);
     float zx = sanitize_depth(texelFetch(depth, x, 0).x);
@@ -30,10 +36,10 @@ vec4 reconstruct_at(ivec2 x) {
     vec4 sum = cx * weight;
     float j = rand(uint(x.x), uint(x.y), seed) - 0.5;
     vec2 center = vec2(x) + 0.5;
-    int skip = (samples % 2 == 1) ? (samples - 1) / 2 : -1;  // the center itself is X
-    for (int i = 0; i < samples; ++i) {
+    int skip = (n % 2 == 1) ? (n - 1) / 2 : -1;  // the center itself is X
+    for (int i = 0; i < n; ++i) {
         if (i == skip) continue;
-        float t = -1.0 + 2.0 * (float(i) + j + 1.0) / float(samples + 1);
+        float t = -1.0 + 2.0 * (float(i) + j + 1.0) / float(n + 1);
         ivec2 y = clamp(ivec2(floor(center + vn * t)), ivec2(0), size - 1);
         float zy = sanitize_depth(texelFetch(depth, y, 0).x);
         vec2 vy = half_velocity(sanitize_motion(texelFetch(motion, y, 0).xy), exposure, kf);

@@ -18,9 +18,11 @@
 #include "passes/gather_params.h"
 #include "passes/gather_weighted.h"
 #include "passes/gbuffer.h"
+#include "passes/guertin2014_params.h"
 #include "passes/mcguire2012_params.h"
 #include "passes/motion_encoding.h"
 #include "passes/neighbor_max.h"
+#include "passes/reconstruct_guertin2014.h"
 #include "passes/reconstruct_mcguire2012.h"
 #include "passes/reconstruct_urho3d.h"
 #include "passes/ssim_reduction.h"
@@ -150,6 +152,9 @@ void bind_passes(py::module_& m) {
       .def_readwrite("soft_z", &McGuire2012Params::soft_z)
       .def_readwrite("exposure", &McGuire2012Params::exposure)
       .def_readwrite("seed", &McGuire2012Params::seed)
+      .def_readwrite("jitter_tiles", &McGuire2012Params::jitter_tiles)
+      .def_readwrite("adaptive_samples", &McGuire2012Params::adaptive_samples)
+      .def_readwrite("early_exit", &McGuire2012Params::early_exit)
       .def("validate", &McGuire2012Params::validate);
 
   py::class_<PostProcessPass, std::shared_ptr<PostProcessPass>>(m, "PostProcessPass")
@@ -159,6 +164,12 @@ void bind_passes(py::module_& m) {
             pass.restrict_to_tiles(std::move(lists), tile_class);
           },
           py::arg("lists"), py::arg("tile_class"));
+
+  py::class_<Guertin2014Params, McGuire2012Params>(m, "Guertin2014Params")
+      .def(py::init<>())
+      .def_readwrite("gamma", &Guertin2014Params::gamma)
+      .def_readwrite("kappa", &Guertin2014Params::kappa)
+      .def("validate", &Guertin2014Params::validate);
 
   py::class_<TileMaxPass, std::shared_ptr<TileMaxPass>>(m, "TileMaxPass")
       .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))
@@ -177,10 +188,11 @@ void bind_passes(py::module_& m) {
       .def(
           "run",
           [](NeighborMaxPass& pass, const Texture& tile_max, const Texture& neighbor_max,
-             const std::string& backend) {
-            pass.run(tile_max, neighbor_max, parse_backend(backend));
+             const std::string& backend, bool diagonal_reach) {
+            pass.run(tile_max, neighbor_max, parse_backend(backend), diagonal_reach);
           },
-          py::arg("tile_max"), py::arg("neighbor_max"), py::arg("backend"));
+          py::arg("tile_max"), py::arg("neighbor_max"), py::arg("backend"),
+          py::arg("diagonal_reach") = false);
 
   py::class_<ReconstructMcGuire2012Pass, PostProcessPass,
              std::shared_ptr<ReconstructMcGuire2012Pass>>(m, "ReconstructMcGuire2012Pass")
@@ -190,6 +202,19 @@ void bind_passes(py::module_& m) {
           [](ReconstructMcGuire2012Pass& pass, const Texture& color, const Texture& depth,
              const Texture& motion, const Texture& neighbor_max, const Texture& result,
              const McGuire2012Params& params, const std::string& backend) {
+            pass.run(color, depth, motion, neighbor_max, result, params, parse_backend(backend));
+          },
+          py::arg("color"), py::arg("depth"), py::arg("motion"), py::arg("neighbor_max"),
+          py::arg("result"), py::arg("params"), py::arg("backend"));
+
+  py::class_<ReconstructGuertin2014Pass, std::shared_ptr<ReconstructGuertin2014Pass>>(
+      m, "ReconstructGuertin2014Pass")
+      .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))
+      .def(
+          "run",
+          [](ReconstructGuertin2014Pass& pass, const Texture& color, const Texture& depth,
+             const Texture& motion, const Texture& neighbor_max, const Texture& result,
+             const Guertin2014Params& params, const std::string& backend) {
             pass.run(color, depth, motion, neighbor_max, result, params, parse_backend(backend));
           },
           py::arg("color"), py::arg("depth"), py::arg("motion"), py::arg("neighbor_max"),

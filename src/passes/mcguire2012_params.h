@@ -8,6 +8,14 @@
 // | soft_z   | 0.01 x the frame's depth range   | > 0, finite         |
 // | exposure | 1                                | 0 .. 1000           |
 // | seed     | 0                                | 0 .. 2^32 - 1       |
+//
+// Options of the filters (docs/guertin2014.md "Options"); off by default, so SPEC.md §3.4 holds:
+//
+// | name             | default | allowed                                             |
+// |------------------|---------|-----------------------------------------------------|
+// | jitter_tiles     | false   | jittered NeighborMax lookup (Unity / KinoMotion)    |
+// | adaptive_samples | false   | S scaled with the neighborhood's motion length      |
+// | early_exit       | 0       | finite, >= 0: pixels whose 2|vN| is under it return C |
 #pragma once
 
 #include <cmath>
@@ -23,6 +31,9 @@ struct McGuire2012Params {
   float soft_z = 0.01f;
   float exposure = 1.0f;
   uint32_t seed = 0;
+  bool jitter_tiles = false;
+  bool adaptive_samples = false;
+  float early_exit = 0.0f;
 
   // Throws std::invalid_argument naming the parameter, its value and the allowed range.
   void validate() const {
@@ -40,6 +51,9 @@ struct McGuire2012Params {
     if (!std::isfinite(exposure) || exposure < 0.0f || exposure > 1000.0f)
       throw std::invalid_argument("blurlab: exposure = " + std::to_string(exposure) +
                                   " is outside 0..1000");
+    if (!std::isfinite(early_exit) || early_exit < 0.0f)
+      throw std::invalid_argument("blurlab: early_exit = " + std::to_string(early_exit) +
+                                  " must be finite and >= 0 (pixels; 0 = off)");
   }
 };
 

@@ -7,6 +7,11 @@
 
 namespace blurlab {
 
+// Sets the uniforms that SPEC.md §3's parameters and the filters' options give every
+// reconstruct shader (k, samples, soft_z, exposure, seed, jitter_tiles, adaptive_samples,
+// early_exit), after validating them.
+void set_filter_uniforms(Program& program, const McGuire2012Params& params);
+
 class ReconstructMcGuire2012Pass : public PostProcessPass {
  public:
   explicit ReconstructMcGuire2012Pass(std::shared_ptr<Context> context);

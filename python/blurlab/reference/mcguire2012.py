@@ -58,8 +58,12 @@ def tile_max(v: np.ndarray, k: int) -> np.ndarray:
     return np.take_along_axis(tiles, best[..., None, None], axis=2)[:, :, 0]
 
 
-def neighbor_max(tiles: np.ndarray) -> np.ndarray:
-    """§3.3: the TileMax of largest length among the 3 x 3 tiles around each tile."""
+def neighbor_max(tiles: np.ndarray, diagonal_reach: bool = False) -> np.ndarray:
+    """§3.3: the TileMax of largest length among the 3 x 3 tiles around each tile.
+
+    `diagonal_reach` (reconstruct_guertin2014, docs/guertin2014.md step 1): a diagonal tile at
+    offset (dx, dy) counts only where (v.x dx)(v.y dy) > 0, i.e. where its motion, extended
+    both ways, can reach the center tile."""
     th, tw = tiles.shape[:2]
     lengths = np.full((th + 2, tw + 2), -1.0)  # outside the grid: never chosen
     lengths[1:-1, 1:-1] = np.linalg.norm(tiles, axis=-1)
@@ -70,12 +74,62 @@ def neighbor_max(tiles: np.ndarray) -> np.ndarray:
     for dy in (-1, 0, 1):
         for dx in (-1, 0, 1):
             candidate = lengths[1 + dy : th + 1 + dy, 1 + dx : tw + 1 + dx]
+            v = padded[1 + dy : th + 1 + dy, 1 + dx : tw + 1 + dx]
             better = candidate > best_length
+            if diagonal_reach and dx and dy:
+                better &= (v[..., 0] * dx) * (v[..., 1] * dy) > 0
             best_length = np.where(better, candidate, best_length)
-            best = np.where(
-                better[..., None], padded[1 + dy : th + 1 + dy, 1 + dx : tw + 1 + dx], best
-            )
+            best = np.where(better[..., None], v, best)
     return best
+
+
+# --- Options of the filters (docs/guertin2014.md "Options"; GLSL twin:
+# shaders/common/filter_options.glsl). Each is off at its default.
+
+TILE_JITTER_SALT = 0x68E31DA4
+
+
+def lookup_tile(x, y, k: int, seed: int, jitter: bool, grid) -> tuple[np.ndarray, np.ndarray]:
+    """(tile row, tile column) whose NeighborMax pixel (x, y) reads: its own tile, or with
+    `jitter` the tile containing its center + k/4 (cos a, sin a), a = 2π rand(x, y, seed ^
+    salt), clamped to the grid, never a diagonal neighbor (the axis of the smaller offset stays
+    the pixel's own)."""
+    own_x, own_y = x // k, y // k
+    if not jitter:
+        return own_y, own_x
+    a = 2 * np.pi * rand(x, y, np.uint32(seed) ^ np.uint32(TILE_JITTER_SALT))
+    ox, oy = 0.25 * k * np.cos(a), 0.25 * k * np.sin(a)
+    tx = np.clip(np.floor((x + 0.5 + ox) / k).astype(np.int64), 0, grid[1] - 1)
+    ty = np.clip(np.floor((y + 0.5 + oy) / k).astype(np.int64), 0, grid[0] - 1)
+    diagonal = (tx != own_x) & (ty != own_y)
+    keep_x = np.abs(ox) >= np.abs(oy)
+    ty = np.where(diagonal & keep_x, own_y, ty)
+    tx = np.where(diagonal & ~keep_x, own_x, tx)
+    return ty, tx
+
+
+def sample_count(vn_length: np.ndarray, samples: int, adaptive: bool) -> np.ndarray:
+    """S, or with `adaptive` about one sample per 2 px of the span 2|vN|: clamp(⌊|vN| + 0.5⌋,
+    2, S) (S where S < 2)."""
+    if not adaptive:
+        return np.full(np.shape(vn_length), samples, np.int64)
+    return np.minimum(samples, np.maximum(2, np.floor(vn_length + 0.5).astype(np.int64)))
+
+
+def exits_early(vn_length: np.ndarray, early_exit: float) -> np.ndarray:
+    """§3.4's test |vN| <= 0.5 + 0.01, or the longest motion nearby, 2|vN|, under `early_exit`
+    pixels."""
+    return (vn_length <= 0.5 + 0.01) | (2 * vn_length < early_exit)
+
+
+def neighborhood(v, k, seed, jitter_tiles, neighbor, diagonal_reach=False):
+    """(x, y, vN) for every pixel: its coordinates and the NeighborMax it reads."""
+    h, w = v.shape[:2]
+    if neighbor is None:
+        neighbor = neighbor_max(tile_max(v, k), diagonal_reach)
+    y, x = np.mgrid[0:h, 0:w]
+    ty, tx = lookup_tile(x, y, k, seed, jitter_tiles, neighbor.shape[:2])
+    return x, y, neighbor[ty, tx]
 
 
 def reconstruct_mcguire2012(
@@ -88,11 +142,15 @@ def reconstruct_mcguire2012(
     exposure: float = 1.0,
     seed: int = 0,
     neighbor: np.ndarray | None = None,
+    jitter_tiles: int = 0,
+    adaptive_samples: int = 0,
+    early_exit: float = 0.0,
     classify: bool = False,
     uniform_spread: float = 0.5,
 ) -> np.ndarray:
-    """§3.4: (H, W, C) float64 blurred color. `neighbor` is NeighborMax if already computed.
-    With `classify`, the tile-classified filter (blurlab.reference.classify.classified)."""
+    """§3.4: (H, W, C) float64 blurred color. `neighbor` is NeighborMax if already computed;
+    the options (off by default) are those of docs/guertin2014.md. With `classify`, the
+    tile-classified filter (blurlab.reference.classify.classified), which takes no option."""
     if classify:
         from .classify import classified
 
@@ -102,22 +160,20 @@ def reconstruct_mcguire2012(
     depth = sanitize_depth(depth)
     h, w = depth.shape
     v = half_velocity(motion, exposure, k)
-    if neighbor is None:
-        neighbor = neighbor_max(tile_max(v, k))
-    y, x = np.mgrid[0:h, 0:w]
-    vn = neighbor[y // k, x // k]
-    moving = np.linalg.norm(vn, axis=-1) > 0.5 + 0.01
+    x, y, vn = neighborhood(v, k, seed, jitter_tiles, neighbor)
+    vn_length = np.linalg.norm(vn, axis=-1)
+    moving = ~exits_early(vn_length, early_exit)
+    n = sample_count(vn_length, samples, adaptive_samples)
 
     vx = v
     weight = 1 / len_half(vx)
     total = color * weight[..., None]
     j = rand(x, y, seed) - 0.5
     center = np.stack([x, y], -1) + 0.5
-    skip = (samples - 1) // 2 if samples % 2 == 1 else -1
+    skip = np.where(n % 2 == 1, (n - 1) // 2, -1)
     for i in range(samples):
-        if i == skip:
-            continue
-        t = -1 + 2 * (i + j + 1) / (samples + 1)
+        active = (i < n) & (i != skip)
+        t = -1 + 2 * (i + j + 1) / (n + 1)
         p = np.floor(center + vn * t[..., None]).astype(np.int64)
         py, px = np.clip(p[..., 1], 0, h - 1), np.clip(p[..., 0], 0, w - 1)
         dist = np.hypot(px - x, py - y)
@@ -126,6 +182,7 @@ def reconstruct_mcguire2012(
         f = soft_depth_compare(zx, zy, soft_z)
         b = soft_depth_compare(zy, zx, soft_z)
         a = f * cone(dist, vy) + b * cone(dist, vx) + cylinder(dist, vy) * cylinder(dist, vx) * 2
+        a = np.where(active, a, 0.0)
         weight = weight + a
         total = total + a[..., None] * color[py, px]
     return np.where(moving[..., None], total / weight[..., None], color)

@@ -1,0 +1,122 @@
+"""Reconstruct of Guertin, McGuire and Nowrouzezahrai, "A Fast and Stable Feature-Aware Motion
+Blur Filter" (HPG 2014), as changes to SPEC.md §3 (docs/guertin2014.md lists them, numbered as
+below), in NumPy float64. GPU twin: shaders/passes/reconstruct_guertin2014.glsl, after TileMax
+(§3.2) and NeighborMax with diagonal_reach (step 1, mcguire2012.neighbor_max).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .hashing import rand
+from .inputs import sanitize_color, sanitize_depth
+from .mcguire2012 import (
+    cone,
+    cylinder,
+    exits_early,
+    half_velocity,
+    len_half,
+    neighborhood,
+    sample_count,
+    soft_depth_compare,
+)
+
+
+def _direction(v: np.ndarray) -> np.ndarray:
+    """v / |v|, or 0 where v = 0."""
+    length = np.linalg.norm(v, axis=-1, keepdims=True)
+    return np.where(length > 0, v / np.where(length > 0, length, 1.0), 0.0)
+
+
+def center_direction(vn: np.ndarray, vx: np.ndarray, gamma: float) -> np.ndarray:
+    """Step 2, the paper's Eq. 1: wc = normalize(lerp(wp, V[X]/|V[X]|, clamp((|V[X]| - 0.5) / γ,
+    0, 1))), wp = vN's perpendicular on V[X]'s side (where V[X] = 0: wp)."""
+    wn = _direction(vn)
+    wp = np.stack([-wn[..., 1], wn[..., 0]], -1)
+    vx_length = np.linalg.norm(vx, axis=-1)
+    # Side of V[X]; where V[X] is parallel to vN (within 1e-3 rad) the left perpendicular, so
+    # that float rounding does not pick the side.
+    wp = np.where((np.sum(wp * vx, -1) < -1e-3 * vx_length)[..., None], -wp, wp)
+    blend = np.clip((vx_length - 0.5) / gamma, 0, 1)[..., None]
+    own = np.where((vx_length > 0)[..., None], _direction(vx), wp)
+    return _direction(wp + (own - wp) * blend)
+
+
+def sample_weight(x, y, px, py, depth, v, vx, wc, d, soft_z) -> np.ndarray:
+    """Step 4: SPEC.md §3.4's three terms, the sample's cone scaled by wb = |V̂[Y]·d|, the
+    center's by wa = |wc·d|, the cylinder (of the shorter motion) by max(wa, wb)."""
+    dist = np.hypot(px - x, py - y)
+    vy = v[py, px]
+    zx, zy = depth, depth[py, px]
+    f = soft_depth_compare(zx, zy, soft_z)
+    b = soft_depth_compare(zy, zx, soft_z)
+    wa = np.abs(np.sum(wc * d, -1))
+    wb = np.abs(np.sum(_direction(vy) * d, -1))
+    shorter = np.minimum(len_half(vy), len_half(vx))
+    return (
+        f * cone(dist, vy) * wb
+        + b * cone(dist, vx) * wa
+        + cylinder(dist, np.stack([shorter, np.zeros_like(shorter)], -1)) * np.maximum(wa, wb) * 2
+    )
+
+
+def reconstruct_guertin2014(
+    color,
+    depth,
+    motion,
+    k: int = 20,
+    samples: int = 15,
+    soft_z: float = 0.01,
+    exposure: float = 1.0,
+    seed: int = 0,
+    gamma: float = 1.5,
+    kappa: float = 40.0,
+    neighbor: np.ndarray | None = None,
+    jitter_tiles: int = 0,
+    adaptive_samples: int = 0,
+    early_exit: float = 0.0,
+) -> np.ndarray:
+    """(H, W, C) float64 blurred color. `neighbor`: NeighborMax (with diagonal_reach) if
+    already computed; the options (off by default) are those of docs/guertin2014.md."""
+    color = sanitize_color(color)
+    depth = sanitize_depth(depth)
+    h, w = depth.shape
+    v = half_velocity(motion, exposure, k)
+    x, y, vn = neighborhood(v, k, seed, jitter_tiles, neighbor, diagonal_reach=True)
+    vn_length = np.linalg.norm(vn, axis=-1)
+    moving = ~exits_early(vn_length, early_exit)
+    n = sample_count(vn_length, samples, adaptive_samples)
+
+    vx = v
+    wn = _direction(vn)
+    wc = center_direction(vn, vx, gamma)
+    # Step 3: the center's weight S / (κ len(V[X])).
+    weight = n / (kappa * len_half(vx))
+    total = color * weight[..., None]
+    j = rand(x, y, seed) - 0.5
+    center = np.stack([x, y], -1) + 0.5
+    pairs = n // 2
+    speed = np.linalg.norm(v, axis=-1)
+    for i in range(samples // 2):
+        active = i < pairs
+        # Step 2: pair i lies at ±t along wn (i even) or wc (i odd), |vN| long.
+        t = (i + 0.5 + j) / np.maximum(pairs, 1)
+        d = wn if i % 2 == 0 else wc
+        step = d * (vn_length * t)[..., None]
+        ends = []
+        for sign in (1, -1):
+            p = np.floor(center + sign * step).astype(np.int64)
+            ends.append((np.clip(p[..., 1], 0, h - 1), np.clip(p[..., 0], 0, w - 1)))
+        (py1, px1), (py2, px2) = ends
+        a1 = sample_weight(x, y, px1, py1, depth, v, vx, wc, d, soft_z)
+        a2 = sample_weight(x, y, px2, py2, depth, v, vx, wc, d, soft_z)
+        # Step 5, the mirror: the pair takes the weight of its sample that is nearer and
+        # moves farther (sample 1 where neither is both).
+        behind = depth[py1, px1] > depth[py2, px2]
+        slower = speed[py2, px2] > speed[py1, px1]
+        a1 = np.where(behind & slower, a2, a1)
+        a2 = np.where(~behind & ~slower, a1, a2)
+        a1, a2 = np.where(active, a1, 0.0), np.where(active, a2, 0.0)
+        weight = weight + a1 + a2
+        total = total + a1[..., None] * color[py1, px1] + a2[..., None] * color[py2, px2]
+    return np.where(moving[..., None], total / weight[..., None], color)
