@@ -116,6 +116,40 @@ def test_interrupted_sweep_keeps_finished_rows(ctx, tmp_path, monkeypatch):
     assert len(table) == 5 and len(pd.read_csv(out)) == 5
 
 
+def test_ssim_column_equals_numpy_on_the_same_images(ctx, monkeypatch):
+    # The sweep reduces SSIM on the GPU; each value must equal metrics.ssim of the very images
+    # it compared (downloaded here, not by the sweep), as the CPU column did before.
+    real = sw.m.gpu_ssim
+    compared = []
+
+    def gpu_and_numpy(ctx_, reference, color):
+        value = real(ctx_, reference, color)
+        compared.append((value, sw.m.ssim(reference.download(), color.download())))
+        return value
+
+    monkeypatch.setattr(sw.m, "gpu_ssim", gpu_and_numpy)
+    args = dict(reference_samples=8, metrics=("psnr", "ssim"), progress=False, repeats=1)
+    table = sw.sweep(ctx, ["fan"], GRID, SIZE, **args)
+    assert len(compared) == len(table) == 5
+    assert list(table["ssim"]) == [gpu for gpu, _ in compared]
+    for gpu, numpy in compared:
+        assert gpu == pytest.approx(numpy, abs=1e-5)
+    assert table["ssim"].between(0, 1).all() and table["ssim"].nunique() > 1
+
+
+def test_only_flip_downloads_the_images(ctx, monkeypatch):
+    downloads = []
+    real = bl.Texture.download
+    monkeypatch.setattr(bl.Texture, "download", lambda t: downloads.append(t) or real(t))
+    ctx.render(bl.scenes.fan(), SIZE)
+    render = len(downloads)  # the G-buffer's arrays, which every sweep makes once per scene
+    args = dict(reference_samples=8, progress=False, repeats=1)
+    for metrics, images in ((("psnr", "ssim"), 0), (("flip",), 2)):
+        downloads.clear()
+        sw.sweep(ctx, ["fan"], {"gather_box": {"taps": [4]}}, SIZE, metrics=metrics, **args)
+        assert len(downloads) == render + images, metrics  # FLIP: the reference and the output
+
+
 def test_bad_sweeps_are_rejected(ctx, tmp_path):
     with pytest.raises(ValueError, match="no parameter 'kk'"):
         sw.sweep(ctx, ["fan"], {"reconstruct_mcguire2012": {"kk": [1]}}, SIZE, progress=False)

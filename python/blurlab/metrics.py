@@ -1,6 +1,7 @@
 """Error against a reference, SPEC.md §6: PSNR (linear color clipped to [0, 1]), SSIM on
 luminance, FLIP (the flip-evaluator package, on sRGB), per-pixel error maps, and flicker for
-sequences. `gpu_mse` reduces the squared error on the GPU and reads back a scalar, for sweeps.
+sequences. `gpu_mse` and `gpu_ssim` reduce the error on the GPU and read back a scalar, for
+sweeps.
 """
 
 from __future__ import annotations
@@ -47,6 +48,8 @@ def psnr(a, b) -> float:
 
 
 def _gaussian_blur(image: np.ndarray, sigma: float = 1.5, radius: int = 5) -> np.ndarray:
+    # np.pad's reflect mirrors without repeating the edge, and repeats the mirror for images
+    # smaller than the window (period 2(n - 1)); shaders/passes/ssim.comp does the same.
     x = np.arange(-radius, radius + 1)
     kernel = np.exp(-(x**2) / (2 * sigma**2))
     kernel /= kernel.sum()
@@ -99,12 +102,27 @@ def flicker(frames, still) -> float:
     return float(steps[:, still].mean())
 
 
+def _same_size(a, b, name: str) -> None:
+    if a.shape[:2] != b.shape[:2]:
+        raise ValueError(
+            f"blurlab.metrics.{name}: textures differ in shape: {a.shape} and {b.shape}"
+        )
+
+
 def gpu_mse(ctx, a, b) -> float:
     """`mse` of two (H, W, 4) float32 textures, reduced on the GPU: only partial sums (one
     float per 16 x 16 pixels) are read back."""
+    _same_size(a, b, "gpu_mse")
     reduction = ctx._pass("squared_error", _core.ErrorReductionPass)
     height, width = a.shape[:2]
     return reduction.squared_error(a._core, b._core) / (height * width * 3)
+
+
+def gpu_ssim(ctx, a, b) -> float:
+    """`ssim` of two (H, W, 4) float32 textures, computed on the GPU (SPEC.md §6): only partial
+    sums of the SSIM map (one float per 16 x 16 pixels) are read back."""
+    _same_size(a, b, "gpu_ssim")
+    return ctx._pass("ssim", _core.SsimReductionPass).mean_ssim(a._core, b._core)
 
 
 def tile_border_error(reference, test, k: int, band: int = 1) -> dict:

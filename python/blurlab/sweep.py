@@ -1,8 +1,8 @@
 """Sweeps: scenes × methods × parameter grids → one row per evaluation, in a pandas DataFrame.
 
 Each scene's G-buffer is rendered once per instant its methods need and its reference once;
-each evaluation runs the method, reduces the squared error against the reference on the GPU
-(PSNR from a scalar readback), and, if asked, computes SSIM and FLIP on the CPU. Rows are
+each evaluation runs the method, reduces the squared error and, if asked, the SSIM map against
+the reference on the GPU (scalar readbacks), and computes FLIP, if asked, on the CPU. Rows are
 appended to a CSV file as they are made, so an interrupted sweep keeps every finished row and
 a rerun with the same file skips them. With a Dask cluster the same evaluations run on its
 workers, a scene's configurations split into chunks (blurlab.cluster).
@@ -131,7 +131,7 @@ def sweep(
     `out`: a CSV file that rows are appended to as they finish; rows already in it are
     skipped (a row cut short by a crash is dropped and evaluated again). Each pass time is the
     median of `repeats` runs, all configurations of a scene timed back to back before any error
-    is computed (a GPU left idle while the CPU computes SSIM and FLIP clocks down).
+    is computed (a GPU left idle while the CPU computes FLIP clocks down).
 
     `cluster`: run on Dask workers instead of `ctx` (then pass ctx=None): a
     ``distributed.Client``, a cluster such as ``bl.local_cluster()``, or a scheduler address
@@ -278,12 +278,11 @@ def evaluate_scene(
             "clock": clock,
             "psnr": m.psnr_from_mse(m.gpu_mse(ctx, result.textures["color"], reference.texture)),
         }
-        if "ssim" in settings.metrics or "flip" in settings.metrics:
-            color, ref = result.color, reference.color
-            if "ssim" in settings.metrics:
-                row["ssim"] = m.ssim(ref, color)
-            if "flip" in settings.metrics:
-                row["flip"] = m.flip(ref, color)
+        # PSNR and SSIM are reduced on the GPU (SPEC.md §6); only FLIP needs the images.
+        if "ssim" in settings.metrics:
+            row["ssim"] = m.gpu_ssim(ctx, reference.texture, result.textures["color"])
+        if "flip" in settings.metrics:
+            row["flip"] = m.flip(reference.color, result.color)
         row.update(
             {
                 "device": info["device"],

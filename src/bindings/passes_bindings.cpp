@@ -25,6 +25,7 @@
 #include "passes/reconstruct_guertin2014.h"
 #include "passes/reconstruct_mcguire2012.h"
 #include "passes/reconstruct_urho3d.h"
+#include "passes/ssim_reduction.h"
 #include "passes/stochastic.h"
 #include "passes/tile_copy.h"
 #include "passes/tile_max.h"
@@ -318,6 +319,11 @@ void bind_passes(py::module_& m) {
   py::class_<ErrorReductionPass, std::shared_ptr<ErrorReductionPass>>(m, "ErrorReductionPass")
       .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))
       .def("squared_error", &ErrorReductionPass::squared_error, py::arg("a"), py::arg("b"),
+           py::call_guard<py::gil_scoped_release>());
+
+  py::class_<SsimReductionPass, std::shared_ptr<SsimReductionPass>>(m, "SsimReductionPass")
+      .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))
+      .def("mean_ssim", &SsimReductionPass::mean_ssim, py::arg("a"), py::arg("b"),
            py::call_guard<py::gil_scoped_release>());
 
   py::class_<MotionEncodingPass, std::shared_ptr<MotionEncodingPass>>(m, "MotionEncodingPass")

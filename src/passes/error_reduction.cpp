@@ -1,41 +1,20 @@
 #include "passes/error_reduction.h"
 
-#include <stdexcept>
-
-#include "gl/buffer.h"
 #include "gl/context.h"
 #include "gl/program.h"
-#include "gl/texture.h"
+#include "passes/pair_reduction.h"
 
 namespace blurlab {
 
 ErrorReductionPass::ErrorReductionPass(std::shared_ptr<Context> context)
     : context_(std::move(context)),
-      program_(Program::compute(context_, "passes/squared_error.comp", {})) {}
+      program_(Program::compute(context_, "passes/squared_error.comp", {})),
+      reduction_(std::make_unique<PairReduction>(context_.get())) {}
 
 ErrorReductionPass::~ErrorReductionPass() = default;
 
 double ErrorReductionPass::squared_error(const Texture& a, const Texture& b) {
-  if (a.width() != b.width() || a.height() != b.height())
-    throw std::invalid_argument("blurlab: compared images differ in size");
-  if (a.format().channels < 3 || b.format().channels < 3)
-    throw std::invalid_argument("blurlab: compared images need RGB channels");
-  const int gx = (a.width() + 15) / 16, gy = (a.height() + 15) / 16;
-  const size_t groups = size_t(gx) * gy;
-  if (!partials_ || partials_->size() < groups * sizeof(float))
-    partials_ =
-        std::make_unique<Buffer>(context_.get(), groups * sizeof(float), Buffer::Usage::storage);
-  program_->bind_texture(0, a);
-  program_->bind_texture(1, b);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, partials_->id());
-  program_->dispatch(gx, gy, 1);
-  host_.resize(groups);
-  glGetNamedBufferSubData(partials_->id(), 0, static_cast<GLsizeiptr>(groups * sizeof(float)),
-                          host_.data());
-  check_gl("reading back partial error sums");
-  double sum = 0.0;
-  for (float v : host_) sum += v;
-  return sum;
+  return reduction_->sum(*program_, a, b);
 }
 
 }  // namespace blurlab

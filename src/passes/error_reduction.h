@@ -3,12 +3,11 @@
 #pragma once
 
 #include <memory>
-#include <vector>
 
 namespace blurlab {
 
-class Buffer;
 class Context;
+class PairReduction;
 class Program;
 class Texture;
 
@@ -22,8 +21,7 @@ class ErrorReductionPass {
  private:
   std::shared_ptr<Context> context_;
   std::shared_ptr<Program> program_;
-  std::unique_ptr<Buffer> partials_;
-  std::vector<float> host_;
+  std::unique_ptr<PairReduction> reduction_;
 };
 
 }  // namespace blurlab

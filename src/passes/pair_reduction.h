@@ -1,0 +1,31 @@
+// What the error reductions of SPEC.md §6 share (ErrorReductionPass, SsimReductionPass): a
+// compute program over two images of one size in 16 x 16 work groups, each group writing one
+// partial sum to a storage buffer, read back and added up in double precision on the CPU.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+namespace blurlab {
+
+class Buffer;
+class Context;
+class Program;
+class Texture;
+
+class PairReduction {
+ public:
+  explicit PairReduction(Context* context);
+  ~PairReduction();
+  // Binds a and b to texture units 0 and 1 and the partial sums to storage buffer 0, runs
+  // `program` over ⌈W/16⌉ × ⌈H/16⌉ groups and returns the sum of the partials. Throws
+  // std::invalid_argument, naming both sizes, if a and b differ in size or lack RGB.
+  double sum(Program& program, const Texture& a, const Texture& b);
+
+ private:
+  Context* context_;
+  std::unique_ptr<Buffer> partials_;
+  std::vector<float> host_;
+};
+
+}  // namespace blurlab

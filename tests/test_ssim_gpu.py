@@ -1,0 +1,79 @@
+"""SsimReductionPass (shaders/passes/ssim.comp) against its NumPy twin metrics.ssim, SPEC.md §6:
+random images, rendered frames, near-flat images (where float32 variances cancel), sizes that are
+not multiples of the 16 x 16 work group and sizes smaller than the 11-tap window."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import blurlab as bl
+from blurlab import metrics
+
+# Measured on llvmpipe: at most 5.4e-7 apart on every image below (float32 sums of 121 taps
+# against float64; the rendered frame's dark pixels, where C1 dominates, and the smallest
+# images, whose means average the least, show the largest gaps). The bound keeps a margin of
+# about 10x and is 2x tighter than sweeps need (1e-5).
+TOLERANCE = 5e-6
+
+
+def agree(ctx, a: np.ndarray, b: np.ndarray, tolerance: float = TOLERANCE) -> float:
+    gpu = metrics.gpu_ssim(ctx, ctx.upload(a), ctx.upload(b))
+    assert gpu == pytest.approx(metrics.ssim(a, b), abs=tolerance)
+    return gpu
+
+
+def noisy_pair(rng, height: int, width: int) -> tuple[np.ndarray, np.ndarray]:
+    """A random image with values outside [0, 1] (clipped by both) and a noisy copy."""
+    a = rng.uniform(-0.2, 1.2, (height, width, 4)).astype(np.float32)
+    b = (a + rng.normal(0.0, 0.1, a.shape)).astype(np.float32)
+    return a, b
+
+
+@pytest.mark.parametrize("size", [(160, 90), (17, 33), (16, 16), (33, 1)])
+def test_random_images_equal_numpy(ctx, rng, size):
+    a, b = noisy_pair(rng, size[1], size[0])
+    assert agree(ctx, a, b) < 0.99
+
+
+@pytest.mark.parametrize("size", [(1, 1), (2, 3), (5, 4), (7, 1), (11, 11)])
+def test_images_smaller_than_the_window_mirror_as_numpy_does(ctx, rng, size):
+    # np.pad(mode="reflect") repeats the mirror with period 2(n - 1) when n <= radius; the
+    # shader's reflect_index does the same, so tiny images need no special case.
+    a, b = noisy_pair(rng, size[1], size[0])
+    agree(ctx, a, b)
+
+
+def test_smooth_bright_images_keep_their_variance(ctx):
+    # Luminance 0.9 ± 0.03, varying smoothly: E[x²] - E[x]² cancels about three digits in
+    # float32. The shader takes the moments about the luminance at its tile's center; measured
+    # 3e-9 from NumPy that way, 2e-6 without the shift (the rendered frame below: 5e-7 with
+    # the shift, 6e-5 without).
+    y, x = np.mgrid[0:90, 0:160].astype(np.float64)
+    a = 0.9 + 0.03 * np.sin(x / 7) * np.cos(y / 5)
+    b = 0.9 + 0.03 * np.sin(x / 6 + 1) * np.cos(y / 4)
+    gray = lambda v: np.repeat(v[..., None], 4, axis=-1).astype(np.float32)  # noqa: E731
+    assert agree(ctx, gray(a), gray(b), tolerance=2e-7) < 0.95
+
+
+def test_rendered_frame_against_its_reference(ctx):
+    scene = bl.scenes.fan()
+    frame = ctx.render(scene, (96, 54))
+    reference = ctx.reference(scene, (96, 54), samples=16, progress=False)
+    gpu = metrics.gpu_ssim(ctx, reference.texture, ctx.upload(frame.color))
+    numpy = metrics.ssim(reference.color, frame.color)
+    assert gpu == pytest.approx(numpy, abs=TOLERANCE)
+    assert 0.0 < gpu < 1.0
+
+
+def test_identical_images_give_one(ctx, rng):
+    a, _ = noisy_pair(rng, 36, 64)
+    texture = ctx.upload(a)
+    assert metrics.gpu_ssim(ctx, texture, texture) == pytest.approx(1.0, abs=1e-6)
+
+
+def test_textures_of_different_shapes_are_rejected(ctx):
+    a = ctx.upload(np.zeros((36, 64, 4), np.float32))
+    b = ctx.upload(np.zeros((36, 63, 4), np.float32))
+    with pytest.raises(ValueError, match=r"\(36, 64, 4\) and \(36, 63, 4\)"):
+        metrics.gpu_ssim(ctx, a, b)
