@@ -38,8 +38,9 @@ python3 -m blurlab --device gpu info | tee "$out/info_gpu.json"
 # them). GPU_TESTS=0 skips it, for a second call that only measures.
 if [ "${GPU_TESTS:-1}" = 1 ]; then
   start=$SECONDS
-  python3 -m pytest -q -p no:cacheprovider --ignore tests/test_notebooks.py tests 2>&1 \
-    | tail -n 15 || echo "gpu.sh: tests FAILED"
+  python3 -m pytest -q -p no:cacheprovider --ignore tests/test_notebooks.py tests >"$out/pytest.log" 2>&1 \
+    || echo "gpu.sh: tests FAILED (the whole log: pytest.log)"
+  tail -n 15 "$out/pytest.log"
   echo "gpu.sh: tests took $((SECONDS - start)) s"
 fi
 

@@ -125,4 +125,9 @@ def test_gpu_reads_inputs_as_the_reference_does(ctx):
     color = np.resize(values, (2, 4, 4)).astype(np.float32)
     frame = bl.Frame(color=color, depth=np.ones((2, 4), np.float32), motion=np.zeros((2, 4, 2)))
     out = bl.blur(ctx, frame, "gather_box", taps=2).color
-    np.testing.assert_array_equal(out, inputs.sanitize_color(color).astype(np.float32))
+    expected = inputs.sanitize_color(color).astype(np.float32)
+    # GPUs may flush denormals (1e-45) to zero in shader arithmetic (the H100 does); GL allows
+    # it, so a denormal input reads as itself or as zero, and everything else exactly.
+    denormal = (expected != 0) & (np.abs(expected) < np.finfo(np.float32).tiny)
+    assert ((out == expected) | (denormal & (out == 0))).all()
+    assert (out[~denormal] == expected[~denormal]).all()
