@@ -144,3 +144,14 @@ def test_bad_input_is_named(ctx, rng, params, error, message):
 def test_classify_is_off_by_default(ctx, rng):
     result = bl.blur(ctx, random_frame(rng, 32, 32), FILTER)
     assert result.params["classify"] is False and "tile_class" not in result.buffers
+
+
+@pytest.mark.parametrize(
+    "option", [{"jitter_tiles": 1}, {"adaptive_samples": 1}, {"early_exit": 2.0}]
+)
+def test_classification_refuses_the_filter_options(ctx, option):
+    frame = bl.Frame(
+        np.zeros((32, 32, 4), np.float32), np.ones((32, 32), np.float32), np.ones((32, 32, 2))
+    )
+    with pytest.raises(ValueError, match=f"classify=True takes none of .*{next(iter(option))}"):
+        bl.blur(ctx, frame, "reconstruct_mcguire2012", classify=True, **option)
