@@ -47,7 +47,7 @@ def pareto(table: pd.DataFrame, scene: str, metric: str = "psnr", budget_ms: flo
             f"{sorted(set(table['scene']))}"
         )
     plt = _pyplot()
-    fig, ax = plt.subplots(figsize=(7, 4.5))
+    fig, ax = plt.subplots(figsize=(9, 4.5))
     colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     methods = sorted(set(rows["method"]))
     variants = rows.apply(_variant, axis=1)
@@ -92,7 +92,8 @@ def pareto(table: pd.DataFrame, scene: str, metric: str = "psnr", budget_ms: flo
         f"{scene}: speed against accuracy, {rows['width'].iloc[0]}x{rows['height'].iloc[0]}"
     )
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=7, loc="best")
+    # Outside the axes: with a dozen methods and options a legend inside hides points.
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     fig.tight_layout()
     return fig
 
