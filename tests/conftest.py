@@ -80,3 +80,11 @@ def random_frame(rng, width: int, height: int, k: int = 20, background: float = 
     length = rng.uniform(1.1, 1.9 * k, (height, width))
     motion = (np.stack([np.cos(angle), np.sin(angle)], -1) * length[..., None]).astype(np.float32)
     return bl.Frame(color=color, depth=depth, motion=motion)
+
+
+def assert_inside_input_range(out: np.ndarray, color: np.ndarray, tolerance: float = 1e-6):
+    """Every channel of `out` lies within [min, max] of the same channel of `color`: a blur
+    takes convex combinations of its input colors."""
+    for c in range(color.shape[-1]):
+        lo, hi = color[..., c].min(), color[..., c].max()
+        assert lo - tolerance <= out[..., c].min() and out[..., c].max() <= hi + tolerance, c
