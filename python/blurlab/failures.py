@@ -11,7 +11,7 @@ import pandas as pd
 from . import metrics as m
 from . import scenes
 from .accumulation import default_reference_samples
-from .methods import blur, method_instant
+from .methods import blur, method, method_instant
 from .sweep import DEFAULT_GRIDS
 
 RENDERING_METHODS = ("accumulation", "stochastic")  # they render; their inputs are sub-frames
@@ -27,17 +27,11 @@ def animation(ctx, scene, name: str, size, frames: int, params: dict):
     for n in range(frames):
         shutter = (t0 + n * step, t1 + n * step)
         frame = ctx.render(scene, size, shutter, instant=method_instant(name, params))
-        extra = {"seed": n} if "seed" in _params_of(name) else {}
+        extra = {"seed": n} if "seed" in method(name).params else {}
         outputs.append(blur(ctx, frame, name, **params, **extra).color)
         colors.append(frame.color)
         motions.append(frame.motion)
     return np.stack(outputs), np.stack(colors), np.stack(motions)
-
-
-def _params_of(name: str) -> dict:
-    from .methods import method
-
-    return method(name).params
 
 
 def still_pixels(colors: np.ndarray, motions: np.ndarray) -> np.ndarray:
@@ -70,14 +64,18 @@ def evaluate(
         frame = ctx.render(scene, size)
         n = reference_samples or default_reference_samples(frame)
         reference = ctx.reference(scene, size, samples=n, progress=False)
+        by_instant = {"center": frame}  # methods share the G-buffer of their instant
         for name in methods:
-            instant_frame = ctx.render(scene, size, instant=method_instant(name, {}))
+            instant = method_instant(name, {})
+            if instant not in by_instant:
+                by_instant[instant] = ctx.render(scene, size, instant=instant)
+            instant_frame = by_instant[instant]
             out = blur(ctx, instant_frame, name).color
             lo, hi = instant_frame.color.min(axis=(0, 1)), instant_frame.color.max(axis=(0, 1))
             outside = ((out < lo - 1e-5) | (out > hi + 1e-5)).any(axis=-1).sum()
             outputs, colors, motions = animation(ctx, scene, name, size, frames, {})
             still = still_pixels(colors, motions)
-            seeded = "seed" in _params_of(name)
+            seeded = "seed" in method(name).params
             row = {
                 "scene": scene_name,
                 "method": name,
