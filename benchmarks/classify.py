@@ -20,7 +20,7 @@ import statistics
 import numpy as np
 
 import blurlab as bl
-from blurlab.accumulation import default_reference_samples
+from blurlab.converged import default_reference_samples
 
 from common import describe, save
 

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # One call on the lent NVIDIA machine (the device tool): unpack the GL runtime and headers that
-# .gl/ carries (recipe in ../shared/GPU.md), build blurlab, run the GL tests there, then the
+# .gl/ carries (recipe in docs/gpu.md), build blurlab, run the GL tests there, then the
 # benchmarks named as arguments (default: transfer). Results land in $OUT (or out/gpu).
 #
 #   device run, carry [".gl", ".whl"]:  bash benchmarks/gpu.sh transfer

@@ -1,4 +1,4 @@
-"""Time per frame of the two hatching schemes (SPEC.md §5), beside unhatched Lambert shading.
+"""Time per frame of the two hatching schemes (docs/spec.md §5), beside unhatched Lambert shading.
 
 The scene is the notebook's: the teapot and the torus side by side, hatched with the default
 TAM (256…16 texels). Reports the G-buffer pass alone (GL timer query on a GPU, glFinish + wall
@@ -14,6 +14,7 @@ from __future__ import annotations
 import argparse
 
 import blurlab as bl
+from blurlab.studies import hatching
 
 from common import describe, save, summarize
 
@@ -33,7 +34,7 @@ def main() -> None:
     tam = bl.tam.default_tam()
     record = {**describe(ctx), "size": f"{width}x{height}", "tam": tam.sizes, "passes": {}}
     for name in ("lambert", *bl.hatching.SCHEMES):
-        s = bl.hatching.pair_scene(None if name == "lambert" else name, tam)
+        s = hatching.pair_scene(None if name == "lambert" else name, tam)
         for _ in range(2):
             ctx.render(s, (width, height))
         times = []
@@ -43,9 +44,9 @@ def main() -> None:
         record["passes"][name] = {**summarize(times), "clock": frame.timings["gbuffer"].clock}
     if args.measure:
         for scheme in bl.hatching.SCHEMES:
-            tone = bl.hatching.tone_reproduction(ctx, scheme, tam, steps=64, size=256)
-            moving = bl.hatching.temporal_coherence(ctx, scheme, tam, frames=32)
-            still = bl.hatching.temporal_coherence(ctx, scheme, tam, frames=32, moving_light=False)
+            tone = hatching.tone_reproduction(ctx, scheme, tam, steps=64, size=256)
+            moving = hatching.temporal_coherence(ctx, scheme, tam, frames=32)
+            still = hatching.temporal_coherence(ctx, scheme, tam, frames=32, moving_light=False)
             record[scheme] = {
                 "tone_mean_abs_error": tone["mean_abs_error"],
                 "distinguishable_steps": tone["distinguishable_steps"],

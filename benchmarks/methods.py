@@ -47,7 +47,7 @@ def main() -> None:
     print("|---|---|---|---|---|---|")
     for name in bl.methods():
         params = SETTINGS.get(name, {})
-        instant = bl.methods_instant(name, params)
+        instant = bl.method_instant(name, params)
         frame = ctx.render(scene, (width, height), instant=instant)
         bl.blur(ctx, frame, name, **params)
         # Keep timings, not results: a live result holds its textures out of the pool, and

@@ -1,4 +1,4 @@
-"""The precision study of "Blurry things" (SPEC.md §2): error of each motion storage format
+"""The precision study of "Blurry things" (docs/spec.md §2): error of each motion storage format
 against rg32f as the motion grows, measured on the GPU's encode/decode pass.
 
 For each length L, 4096 vectors of length L at evenly spread directions (plus a small random

@@ -1,4 +1,4 @@
-"""Time per pass of the reconstruction filter (SPEC.md §3), compute against fragment backends.
+"""Time per pass of the reconstruction filter (docs/spec.md §3), compute against fragment backends.
 
 Redoes the Urho3D thesis's Table 5.2 (S sweep at k = 32) and Table 5.3 (k sweep at S = 12) on
 this pipeline, and measures the target configuration k = 20, S = 15 with both backends, the

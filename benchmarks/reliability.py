@@ -58,7 +58,7 @@ def main() -> None:
         name = names[i % len(names)]
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            frame = ctx.render(scene, size, instant=bl.methods_instant(name, {}))
+            frame = ctx.render(scene, size, instant=bl.method_instant(name, {}))
             color = bl.blur(ctx, frame, name).color
         assert np.isfinite(color).all()
 

@@ -21,7 +21,7 @@ import statistics
 from pathlib import Path
 
 import blurlab as bl
-from blurlab.accumulation import default_reference_samples
+from blurlab.converged import default_reference_samples
 
 from common import describe, save
 

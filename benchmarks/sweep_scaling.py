@@ -21,7 +21,7 @@ import time
 import pandas as pd
 
 import blurlab as bl
-from blurlab.sweep import DEFAULT_GRIDS, grid_points
+from blurlab.studies.sweep import default_grids, grid_points
 
 from common import describe, save
 
@@ -48,14 +48,14 @@ def main() -> None:
     gpus = [d for d in bl.Context.devices() if d["kind"] == "gpu"]
     sweep_args = {
         "scenes": args.scenes,
-        "methods_and_grids": DEFAULT_GRIDS,
+        "methods_and_grids": default_grids(),
         "size": (width, height),
         "reference_samples": args.reference_samples,
         "metrics": metrics,
         "repeats": args.repeats,
         "progress": False,
     }
-    evaluations = len(args.scenes) * sum(len(grid_points(g)) for g in DEFAULT_GRIDS.values())
+    evaluations = len(args.scenes) * sum(len(grid_points(g)) for g in default_grids().values())
     record = {
         **describe(ctx),
         "size": args.size,
@@ -137,7 +137,7 @@ def _same(a: pd.DataFrame, b: pd.DataFrame) -> bool:
 
 
 def _worker_device() -> str:
-    from blurlab import cluster
+    from blurlab.studies import cluster
 
     ctx = cluster._worker_state.get("ctx")
     if ctx is None:

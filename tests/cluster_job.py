@@ -50,14 +50,14 @@ def main(folder: Path) -> None:
 
 
 def _forget() -> None:
-    from blurlab import cluster
+    from blurlab.studies import cluster
 
     cluster._worker_state.get("scenes", {}).clear()
 
 
 def _kept_scenes() -> list[int]:
     """Indices of the scenes whose reference this worker rendered in the last sweep."""
-    from blurlab import cluster
+    from blurlab.studies import cluster
 
     return sorted(index for _, index in cluster._worker_state.get("scenes", {}))
 

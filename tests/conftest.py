@@ -68,7 +68,7 @@ def random_frame(rng, width: int, height: int, k: int = 20, background: float = 
     """A Frame of random color, depth (a fraction `background` at +inf) and motion.
 
     Motion lengths lie in (1.1, 1.9·k) pixels, so every half-vector lies strictly inside the
-    clamp range [0.5, k] of SPEC.md §3.1: lengths are then distinct almost surely, and TileMax
+    clamp range [0.5, k] of docs/spec.md §3.1: lengths are then distinct almost surely, and TileMax
     and NeighborMax have no ties.
     """
     import blurlab as bl

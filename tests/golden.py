@@ -85,12 +85,7 @@ def _kind(param):
 
 
 def _default_grid(name: str):
-    method = bl.method(name)
-    if hasattr(method, "default_grid"):
-        return method.default_grid
-    from blurlab.sweep import DEFAULT_GRIDS  # the layout before issue 15
-
-    return DEFAULT_GRIDS.get(name, {})
+    return bl.method(name).default_grid
 
 
 def _digest(array: np.ndarray) -> str:

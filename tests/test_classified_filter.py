@@ -10,6 +10,7 @@ from conftest import assert_inside_input_range, random_frame
 from test_classify_tiles import structured_motion
 
 import blurlab as bl
+from blurlab.methods.core import twin_keywords
 from blurlab.reference import classify as ref
 from blurlab.reference import mcguire2012 as m
 
@@ -25,12 +26,15 @@ def test_random_frames_match_reference(ctx, rng, k, samples, size):
     frame = structured_motion(rng, *size, k)
     params = {"k": k, "samples": samples, "soft_z": 0.5, "seed": 3, "uniform_spread": 0.5}
     out = bl.blur(ctx, frame, FILTER, classify=True, **params)
+    values = bl.method(FILTER).defaults(frame, **params)
+    taken = {key: values[key] for key in ("k", "samples", "exposure", "seed", "uniform_spread")}
     full = m.reconstruct_mcguire2012(
-        frame.color, frame.depth, frame.motion, k=k, samples=samples, soft_z=0.5, seed=3
+        frame.color,
+        frame.depth,
+        frame.motion,
+        **{key: values[key] for key in twin_keywords(m.reconstruct_mcguire2012)},
     )
-    expected, classes = ref.classified(
-        frame.color, frame.depth, frame.motion, full, k, samples, seed=3, uniform_spread=0.5
-    )
+    expected, classes = ref.classified(frame.color, frame.depth, frame.motion, full, **taken)
     np.testing.assert_array_equal(out.buffers["tile_class"], classes)
     assert np.bincount(classes.ravel(), minlength=3).min() > 0  # every class ran
     error = np.abs(out.color - expected)

@@ -43,12 +43,16 @@ def gpu_classification(ctx, frame, k, uniform_spread, still_threshold=ref.STILL_
     bounds, classes = ctx.empty((*grid, 4)), ctx.empty(grid)
     params = _core.McGuire2012Params()
     params.k = k
-    _core.TileMaxPass(ctx._core).run_with_bounds(motion._core, tiles._core, bounds._core, params)
-    _core.NeighborMaxPass(ctx._core).run(tiles._core, neighbors._core, "compute")
-    lists = _core.TileLists(ctx._core, grid[1], grid[0], k)
+    _core.TileMaxPass(ctx.native).run_with_bounds(
+        motion.native, tiles.native, bounds.native, params
+    )
+    _core.NeighborMaxPass(ctx.native).run(tiles.native, neighbors.native, "compute")
+    lists = _core.TileLists(ctx.native, grid[1], grid[0], k)
     cp = _core.ClassifyParams()
     cp.uniform_spread, cp.still_threshold = uniform_spread, still_threshold
-    _core.ClassifyTilesPass(ctx._core).run(bounds._core, neighbors._core, classes._core, lists, cp)
+    _core.ClassifyTilesPass(ctx.native).run(
+        bounds.native, neighbors.native, classes.native, lists, cp
+    )
     return bounds.download(), neighbors.download(), classes.download(), lists
 
 
@@ -93,7 +97,7 @@ def test_still_threshold_is_the_filters_early_exit(ctx, rng):
 def test_too_many_tiles_for_the_device_names_k(ctx):
     # 65535^2 tiles exceed every device's work-group limit (2^31 - 1 on NVIDIA, 65535 on Mesa).
     with pytest.raises(ValueError, match="use a larger k"):
-        _core.TileLists(ctx._core, 65535, 65535, 1)
+        _core.TileLists(ctx.native, 65535, 65535, 1)
 
 
 @pytest.mark.parametrize(

@@ -31,7 +31,7 @@ def fingerprints(ctx) -> dict[str, str]:
         params = {"seed": SEED} if "seed" in bl.method(name).params else {}
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            frame = ctx.render(scene, SIZE, instant=bl.methods_instant(name, params))
+            frame = ctx.render(scene, SIZE, instant=bl.method_instant(name, params))
             out[name] = digest(bl.blur(ctx, frame, name, **params).color)
     reference = ctx.reference(scene, SIZE, samples=8, stratified=True, seed=SEED, progress=False)
     out["ctx.reference"] = digest(reference.color)
@@ -39,13 +39,18 @@ def fingerprints(ctx) -> dict[str, str]:
     color = rng.random((SIZE[1], SIZE[0], 4))
     depth = rng.uniform(1, 5, SIZE[::-1])
     motion = rng.normal(0, 6, (SIZE[1], SIZE[0], 2))
+    filter_params = dict(k=8, samples=15, soft_z=0.01, exposure=1.0, seed=SEED)
+    options = dict(jitter_tiles=0, adaptive_samples=0, early_exit=0.0)
     out["reference.mcguire2012"] = digest(
-        bl.reference.mcguire2012.reconstruct_mcguire2012(color, depth, motion, k=8, seed=SEED)
+        bl.reference.mcguire2012.reconstruct_mcguire2012(
+            color, depth, motion, **filter_params, **options
+        )
     )
     out["reference.urho3d"] = digest(
-        bl.reference.urho3d.reconstruct_urho3d(color, depth, motion, k=8, seed=SEED)
+        bl.reference.urho3d.reconstruct_urho3d(color, depth, motion, **filter_params, far=100.0)
     )
-    out["reference.gather_box"] = digest(bl.reference.gathers.gather_box(color, motion))
+    box = dict(taps=10, intensity=1.0, direction="backward", edge="clamp")
+    out["reference.gather_box"] = digest(bl.reference.gathers.gather_box(color, motion, **box))
     return out
 
 

@@ -7,10 +7,10 @@ import pytest
 
 import blurlab as bl
 from blurlab import failures
-from blurlab.sweep import DEFAULT_GRIDS
+from blurlab.studies.sweep import default_grids
 
 SIZE = (64, 36)
-POST_PROCESS = [m for m in DEFAULT_GRIDS if m not in failures.RENDERING_METHODS]
+POST_PROCESS = [m for m in default_grids() if not bl.method(m).renders]
 
 
 @pytest.fixture(scope="module")
@@ -32,18 +32,20 @@ def test_the_suite_lists_ten_tagged_scenes():
 @pytest.mark.parametrize("scene", bl.scenes.names("failure"))
 def test_no_nan_inf_or_colors_outside_the_input_range(ctx, frames, scene):
     for name in POST_PROCESS:
-        frame = frames[scene][bl.methods_instant(name)]
+        frame = frames[scene][bl.method_instant(name)]
         out = bl.blur(ctx, frame, name).color
         assert np.isfinite(out).all(), name
         lo, hi = frame.color.min(axis=(0, 1)), frame.color.max(axis=(0, 1))
         assert (out >= lo - 1e-5).all() and (out <= hi + 1e-5).all(), name
-    for name in failures.RENDERING_METHODS:  # their inputs are other renders: finite is asked
+    for name in [
+        m for m in bl.methods() if bl.method(m).renders
+    ]:  # their inputs are other renders: finite is asked
         assert np.isfinite(bl.blur(ctx, frames[scene]["center"], name).color).all(), name
 
 
-@pytest.mark.parametrize("name", list(DEFAULT_GRIDS))
+@pytest.mark.parametrize("name", list(default_grids()))
 def test_every_method_is_deterministic(ctx, frames, name):
-    frame = frames["crossing"][bl.methods_instant(name)]
+    frame = frames["crossing"][bl.method_instant(name)]
     first = bl.blur(ctx, frame, name).color
     assert bl.blur(ctx, frame, name).color.tobytes() == first.tobytes()
 
@@ -77,7 +79,7 @@ def test_still_pixels_stay_still_with_8_bit_offset_motion(ctx):
         far[max(ys.min() - 45, 0) : ys.max() + 45] = False
         assert far.sum() > 500
         for name in POST_PROCESS:
-            if bl.methods_instant(name) != instant:
+            if bl.method_instant(name) != instant:
                 continue
             out = bl.blur(ctx, stored, name).color
             assert np.abs(out - stored.color)[far].max() <= 1e-6, name  # weights: rounding only
@@ -149,7 +151,7 @@ def test_the_depth_test_keeps_a_still_occluder_sharp(ctx):
 
 def test_backward_gather_of_the_closing_frame_lags_a_turning_camera(ctx):
     """docs/failure_cases.md: on a turning camera the G-buffer at t1 gathered backward along
-    M (SPEC.md §4) smears each edge over pixels it never crossed; the same taps mirrored to
+    M (docs/spec.md §4) smears each edge over pixels it never crossed; the same taps mirrored to
     X + s·M are nearer the reference. Recorded as a failure of the specified method."""
     scene = bl.scenes.camera_yaw()
     size = (96, 54)

@@ -9,12 +9,10 @@ import pytest
 from conftest import random_frame
 
 import blurlab as bl
-from blurlab.reference import guertin2014, mcguire2012
+from blurlab.reference import mcguire2012
 
-FILTERS = {
-    "reconstruct_mcguire2012": mcguire2012.reconstruct_mcguire2012,
-    "reconstruct_guertin2014": guertin2014.reconstruct_guertin2014,
-}
+# Every filter that offers the options, from the registry.
+FILTERS = [name for name in bl.methods() if "jitter_tiles" in bl.method(name).params]
 OPTIONS = [
     {"jitter_tiles": 1},
     {"adaptive_samples": 1},
@@ -35,7 +33,7 @@ def moved(frame, scale):
 def test_options_match_reference(ctx, rng, method, options, backend):
     frame = random_frame(rng, 123, 71, k=12)
     result = bl.blur(ctx, frame, method, backend=backend, k=12, soft_z=0.5, seed=5, **options)
-    expected = FILTERS[method](frame.color, frame.depth, frame.motion, **result.params)
+    expected = bl.method(method).twin_output(frame, **result.params)
     error = np.abs(result.color - expected)
     assert (error.max(axis=-1) <= 1e-3).mean() >= 0.999
     assert error.mean() <= 1e-4

@@ -159,7 +159,7 @@ def test_every_method_takes_any_parameters(ctx, frames, call, backend):
         invalid = invalid | {"classify"}  # tile classification runs on the compute backend
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # instant mismatches are warned about, not errors
-        instant = bl.methods_instant(name, {}) if not callable(m.instant) else "center"
+        instant = bl.method_instant(name, {}) if not callable(m.instant) else "center"
         try:
             result = bl.blur(ctx, frames[instant], name, backend, **params)
         except BAD_ARGUMENT as error:

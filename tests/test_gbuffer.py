@@ -1,4 +1,4 @@
-"""The G-buffer against NumPy projections of known motion (SPEC.md §1)."""
+"""The G-buffer against NumPy projections of known motion (docs/spec.md §1)."""
 
 from __future__ import annotations
 

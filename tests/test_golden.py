@@ -6,9 +6,9 @@ from __future__ import annotations
 import json
 
 import pytest
+from golden import GOLDEN_FILE, compute
 
 import blurlab as bl
-from golden import GOLDEN_FILE, compute
 
 
 def test_every_method_output_matches_the_golden_hashes():

@@ -1,4 +1,4 @@
-"""Hatched materials (SPEC.md §5) against the NumPy reference: six_way weights, the threshold
+"""Hatched materials (docs/spec.md §5) against the NumPy reference: six_way weights, the threshold
 rule, tone reproduction of a flat-lit patch, and hatched objects in the G-buffer."""
 
 from __future__ import annotations
@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 import blurlab as bl
-from blurlab import hatching
 from blurlab.reference import hatching as ref
+from blurlab.studies import hatching
 
 
 @pytest.fixture(scope="module")

@@ -1,4 +1,4 @@
-"""NeighborMax (SPEC.md §3.3) on the GPU against bl.reference.mcguire2012.neighbor_max."""
+"""NeighborMax (docs/spec.md §3.3) on the GPU against bl.reference.mcguire2012.neighbor_max."""
 
 from __future__ import annotations
 

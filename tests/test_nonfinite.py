@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import blurlab as bl
-from blurlab.reference import gathers, inputs, mcguire2012, urho3d
+from blurlab.reference import gathers, inputs
 
 W, H = 48, 32
 
@@ -42,7 +42,7 @@ def rendered(ctx):
 
 @pytest.mark.parametrize("name", bl.methods())
 def test_no_method_spreads_nan(ctx, rng, rendered, name):
-    m = bl.methods_instant(name, {})
+    m = bl.method_instant(name, {})
     frame = poisoned(rng, rendered[m])
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -81,7 +81,7 @@ def test_reconstruct_matches_reference_on_poisoned_input(ctx, rng):
     frame = array_frame(rng)
     params = dict(k=8, samples=9, soft_z=0.5, exposure=1.0, seed=3)
     gpu = bl.blur(ctx, frame, "reconstruct_mcguire2012", **params).color
-    ref = mcguire2012.reconstruct_mcguire2012(frame.color, frame.depth, frame.motion, **params)
+    ref = bl.method("reconstruct_mcguire2012").twin_output(frame, **params)
     assert np.isfinite(gpu).all() and np.isfinite(ref).all()
     assert_close(gpu, ref)
 
@@ -90,7 +90,7 @@ def test_urho3d_matches_reference_on_poisoned_input(ctx, rng):
     frame = array_frame(rng, nan_color_only=True)
     params = dict(k=8, samples=9, soft_z=0.5, exposure=1.0, seed=3, far=20.0)
     gpu = bl.blur(ctx, frame, "reconstruct_urho3d", **params).color
-    ref = urho3d.reconstruct_urho3d(frame.color, frame.depth, frame.motion, **params)
+    ref = bl.method("reconstruct_urho3d").twin_output(frame, **params)
     assert np.isfinite(gpu).all()
     assert_close(gpu, ref)
 
@@ -99,9 +99,9 @@ def test_urho3d_matches_reference_on_poisoned_input(ctx, rng):
 def test_gathers_match_reference_on_poisoned_input(ctx, rng, edge):
     frame = array_frame(rng)
     box = bl.blur(ctx, frame, "gather_box", taps=6, edge=edge).color
-    assert_close(box, gathers.gather_box(frame.color, frame.motion, 6, edge=edge))
+    assert_close(box, bl.method("gather_box").twin_output(frame, taps=6, edge=edge))
     weighted = bl.blur(ctx, frame, "gather_weighted", edge=edge).color
-    assert_close(weighted, gathers.gather_weighted(frame.color, frame.motion, edge))
+    assert_close(weighted, gathers.gather_weighted(frame.color, frame.motion, edge=edge))
 
 
 def test_sanitize_rules():

@@ -28,7 +28,7 @@ def test_test_pattern_matches_its_reference(ctx):
     ref = reference.test_pattern(width, height, seed)
     np.testing.assert_allclose(gpu[..., :2], ref[..., :2], atol=1e-7)
     np.testing.assert_array_equal(gpu[..., 2], ref[..., 2])
-    # SPEC.md §1 hash: the GPU keeps 24 bits of it, so the two differ by less than 2^-24.
+    # docs/spec.md §1 hash: the GPU keeps 24 bits of it, so the two differ by less than 2^-24.
     assert np.max(np.abs(gpu[..., 3] - ref[..., 3])) < 2.0**-24
     assert np.all(gpu[..., 3] < 1.0)
 

@@ -1,4 +1,4 @@
-"""Reconstruct (SPEC.md §3.4) on the GPU against bl.reference.mcguire2012, and the filter's
+"""Reconstruct (docs/spec.md §3.4) on the GPU against bl.reference.mcguire2012, and the filter's
 promises: still images unchanged, output inside the input range, no NaN."""
 
 from __future__ import annotations
@@ -8,11 +8,10 @@ import pytest
 from conftest import assert_inside_input_range, random_frame
 
 import blurlab as bl
-from blurlab.reference import mcguire2012 as ref
 
 
 def assert_matches_reference(result, frame, **params):
-    expected = ref.reconstruct_mcguire2012(frame.color, frame.depth, frame.motion, **params)
+    expected = bl.method("reconstruct_mcguire2012").twin_output(frame, **params)
     error = np.abs(result.color - expected)
     within = (error.max(axis=-1) <= 1e-3).mean()
     assert within >= 0.999, f"{within:.5f} of pixels within 1e-3"

@@ -1,4 +1,4 @@
-"""reconstruct_urho3d (the Urho3D thesis's pass, SPEC.md §3 variant) against its NumPy twin."""
+"""reconstruct_urho3d (the Urho3D thesis's pass, docs/spec.md §3 variant) against its NumPy twin."""
 
 from __future__ import annotations
 

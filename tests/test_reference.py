@@ -1,4 +1,4 @@
-"""The converged reference (SPEC.md §1): N renders across the shutter, averaged on the GPU."""
+"""The converged reference (docs/spec.md §1): N renders across the shutter, averaged on the GPU."""
 
 from __future__ import annotations
 

@@ -35,7 +35,7 @@ def test_thousand_render_blur_readback_cycles_stay_flat(ctx):
         name = names[i % len(names)]
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            frame = ctx.render(scene, SIZE, instant=bl.methods_instant(name, {}))
+            frame = ctx.render(scene, SIZE, instant=bl.method_instant(name, {}))
             out = bl.blur(ctx, frame, name)
         color = out.color
         assert color.shape == (SIZE[1], SIZE[0], 4)

@@ -1,4 +1,4 @@
-"""stochastic (SPEC.md §4, the OGRE paper): K jittered time slices combined per pixel."""
+"""stochastic (docs/spec.md §4, the OGRE paper): K jittered time slices combined per pixel."""
 
 from __future__ import annotations
 

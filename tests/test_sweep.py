@@ -11,7 +11,8 @@ import pytest
 import blurlab as bl
 from blurlab import cli
 
-sw = importlib.import_module("blurlab.sweep")  # the module; bl.sweep is the function
+sw = importlib.import_module("blurlab.studies.sweep")  # the module; bl.sweep is the function
+evaluation = importlib.import_module("blurlab.studies.evaluation")
 
 GRID = {"reconstruct_mcguire2012": {"k": [8, 16], "samples": [5, 9]}, "gather_box": {"taps": [4]}}
 SIZE = (64, 36)
@@ -78,7 +79,7 @@ def test_resume_adds_no_duplicates(ctx, tmp_path):
 def test_interrupted_sweep_keeps_finished_rows(ctx, tmp_path, monkeypatch):
     out = tmp_path / "r.csv"
     calls = {"n": 0}
-    real = sw.blur_steps
+    real = evaluation.blur_steps
 
     def interrupt_after_three(*args, **kwargs):
         calls["n"] += 1
@@ -87,7 +88,7 @@ def test_interrupted_sweep_keeps_finished_rows(ctx, tmp_path, monkeypatch):
             raise KeyboardInterrupt
         return real(*args, **kwargs)
 
-    monkeypatch.setattr(sw, "blur_steps", interrupt_after_three)
+    monkeypatch.setattr(evaluation, "blur_steps", interrupt_after_three)
     with pytest.raises(KeyboardInterrupt):
         sw.sweep(
             ctx,
@@ -119,15 +120,15 @@ def test_interrupted_sweep_keeps_finished_rows(ctx, tmp_path, monkeypatch):
 def test_ssim_column_equals_numpy_on_the_same_images(ctx, monkeypatch):
     # The sweep reduces SSIM on the GPU; each value must equal metrics.ssim of the very images
     # it compared (downloaded here, not by the sweep), as the CPU column did before.
-    real = sw.m.gpu_ssim
+    real = evaluation.m.gpu_ssim
     compared = []
 
     def gpu_and_numpy(ctx_, reference, color):
         value = real(ctx_, reference, color)
-        compared.append((value, sw.m.ssim(reference.download(), color.download())))
+        compared.append((value, evaluation.m.ssim(reference.download(), color.download())))
         return value
 
-    monkeypatch.setattr(sw.m, "gpu_ssim", gpu_and_numpy)
+    monkeypatch.setattr(evaluation.m, "gpu_ssim", gpu_and_numpy)
     args = dict(reference_samples=8, metrics=("psnr", "ssim"), progress=False, repeats=1)
     table = sw.sweep(ctx, ["fan"], GRID, SIZE, **args)
     assert len(compared) == len(table) == 5
@@ -193,7 +194,7 @@ def test_study_writes_the_report(tmp_path):
         assert (tmp_path / f"{name}_images.png").exists()
     table = pd.read_csv(tmp_path / "results.csv")
     assert set(table["scene"]) == set(bl.scenes.names())
-    assert set(table["method"]) == set(sw.DEFAULT_GRIDS)
+    assert set(table["method"]) == set(sw.default_grids())
     assert "best method within it" in report and (tmp_path / "curve_k.png").exists()
 
 
@@ -221,7 +222,7 @@ def test_pareto_front_and_chart(ctx):
 SWEEP_SCRIPT = """
 import importlib
 import blurlab as bl
-sw = importlib.import_module("blurlab.sweep")
+sw = importlib.import_module("blurlab.studies.sweep")
 sw.sweep(bl.Context(), ["fan"], {{"gather_box": {{"taps": list(range(2, 200))}}}}, (48, 32),
          reference_samples=4, metrics=("psnr", "ssim"), out={out!r}, progress=False, repeats=1)
 """
@@ -315,7 +316,7 @@ def test_a_list_of_grids_sweeps_their_union(ctx, tmp_path):
 
 def test_default_grids_show_each_filter_option_on_both_filters():
     for name in ("reconstruct_mcguire2012", "reconstruct_guertin2014"):
-        points = sw.grid_points(sw.DEFAULT_GRIDS[name])
+        points = sw.grid_points(sw.default_grids()[name])
         for option, on in (("jitter_tiles", 1), ("adaptive_samples", 1), ("early_exit", 2.0)):
             assert {"k": 20, "samples": 15, option: on} in points, (name, option)
         assert {"k": 20, "samples": 15} in points

@@ -18,7 +18,7 @@ import pandas as pd
 import pytest
 
 import blurlab as bl
-from blurlab import cluster
+from blurlab.studies import cluster
 
 pytest.importorskip("distributed")
 

@@ -1,4 +1,4 @@
-"""The TAM generator (SPEC.md §5): nesting across tones and levels, determinism, calibrated
+"""The TAM generator (docs/spec.md §5): nesting across tones and levels, determinism, calibrated
 thresholds, files, users' own images, and argument checks."""
 
 from __future__ import annotations

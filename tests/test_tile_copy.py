@@ -13,7 +13,7 @@ from blurlab import _core
 def test_whole_image_copy_is_the_identity(ctx, rng):
     frame = random_frame(rng, 67, 45)
     color, result = ctx.upload(frame.color), ctx.empty((45, 67, 4))
-    _core.TileCopyPass(ctx._core).run(color._core, result._core)
+    _core.TileCopyPass(ctx.native).run(color.native, result.native)
     assert result.download().tobytes() == frame.color.tobytes()
 
 
@@ -22,9 +22,9 @@ def test_restricted_copy_writes_the_listed_tiles_only(ctx, rng):
     frame = structured_motion(rng, 130, 70, k)
     _, _, classes, lists = gpu_classification(ctx, frame, k, 0.25)
     color, result = ctx.upload(frame.color), ctx.empty((70, 130, 4))
-    copy = _core.TileCopyPass(ctx._core)
+    copy = _core.TileCopyPass(ctx.native)
     copy.restrict_to_tiles(lists, 0)
-    copy.run(color._core, result._core)
+    copy.run(color.native, result.native)
     copy.restrict_to_tiles(None, 0)
     still = np.kron(classes == 0, np.ones((k, k), bool))[:70, :130]
     out = result.download()

@@ -1,4 +1,4 @@
-"""TileMax (SPEC.md §3.2) on the GPU against bl.reference.mcguire2012.tile_max."""
+"""TileMax (docs/spec.md §3.2) on the GPU against bl.reference.mcguire2012.tile_max."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""trail (SPEC.md §4): out_n = α·C_n + (1 - α)·out_{n-1} over a frame sequence."""
+"""trail (docs/spec.md §4): out_n = α·C_n + (1 - α)·out_{n-1} over a frame sequence."""
 
 from __future__ import annotations
 

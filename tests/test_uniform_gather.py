@@ -20,8 +20,8 @@ def gpu_uniform_gather(ctx, frame, k, samples, seed):
     color, result = ctx.upload(frame.color), ctx.empty((height, width, 4))
     params = _core.McGuire2012Params()
     params.k, params.samples, params.seed = k, samples, seed
-    _core.UniformGatherPass(ctx._core).run(
-        color._core, ctx.upload(neighbor)._core, result._core, params
+    _core.UniformGatherPass(ctx.native).run(
+        color.native, ctx.upload(neighbor).native, result.native, params
     )
     return result.download(), neighbor
 
@@ -30,7 +30,7 @@ def gpu_uniform_gather(ctx, frame, k, samples, seed):
 def test_matches_reference(ctx, rng, k, samples, size):
     frame = random_frame(rng, *size, k=k)
     out, neighbor = gpu_uniform_gather(ctx, frame, k, samples, seed=5)
-    expected = ref.uniform_gather(frame.color, neighbor, k, samples, seed=5)
+    expected = ref.uniform_gather(frame.color, neighbor, k=k, samples=samples, seed=5)
     error = np.abs(out - expected)
     assert (error.max(axis=-1) <= 1e-3).mean() >= 0.999
     assert error.mean() <= 1e-4

@@ -1,10 +1,9 @@
 """blurlab: real-time motion-blur methods run headless on the GPU, measured from Python."""
 
-from . import hatching, io, mesh, metrics, plots, reference, scenes, tam
+from . import hatching, io, mesh, metrics, reference, scenes, tam
 from ._core import GLError, ShaderError
-from .accumulation import Reference, reference_samples_needed
-from .cluster import local_cluster
 from .context import ComputeProgram, Context, PendingDownload, Texture, Timing
+from .converged import Reference, reference_samples_needed
 from .frame import MOTION_FORMATS, Frame
 from .mesh import Mesh
 from .methods import (
@@ -12,14 +11,19 @@ from .methods import (
     blur,
     blur_steps,
     method,
+    method_instant,
     methods,
     render_and_blur,
     render_steps,
 )
-from .methods import method_instant as methods_instant
 from .motion import Bone, Keyframe, Motion, Skeleton, quaternion
 from .scene import Camera, DirectionalLight, Material, Scene
-from .sweep import sweep  # the function; the module stays importable as blurlab.sweep
+
+# The studies sit above the core (the core never imports them); the package offers the most
+# used ones by name.
+from .studies import failures, plots  # noqa: E402
+from .studies.cluster import local_cluster  # noqa: E402
+from .studies.sweep import sweep  # noqa: E402
 
 __version__ = "0.1.0"
 
@@ -51,14 +55,15 @@ __all__ = [
     "local_cluster",
     "mesh",
     "method",
+    "method_instant",
     "methods",
-    "methods_instant",
     "quaternion",
     "reference",
     "reference_samples_needed",
     "render_and_blur",
     "render_steps",
     "metrics",
+    "failures",
     "plots",
     "scenes",
     "sweep",

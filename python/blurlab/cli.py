@@ -8,7 +8,12 @@ import sys
 from contextlib import contextmanager
 from pathlib import Path
 
+from . import io, scenes
 from .context import Context
+from .methods import blur, method, methods
+from .reference.patterns import test_pattern
+from .studies.cluster import local_cluster
+from .studies.study import run_study, run_sweep_config
 
 
 def parse_size(text: str) -> tuple[int, int]:
@@ -35,10 +40,6 @@ def _info(args) -> int:
 def _demo(args) -> int:
     import numpy as np
 
-    from . import io, scenes
-    from .methods import blur
-    from .reference.patterns import test_pattern
-
     ctx = Context(args.device)
     info = ctx.info()
     print(f"device: {info['device']} ({info['renderer']}, {info['version']})")
@@ -58,7 +59,7 @@ def _demo(args) -> int:
     print(f"\n{'scene':<14} {'G-buffer ms':>12} {'blur ms':>9} {'max |M| px':>11}")
     for name in scenes.names():
         frame = ctx.render(scenes.get(name), (width, height))
-        result = blur(ctx, frame, "reconstruct_mcguire2012", seed=args.seed)
+        result = blur(ctx, frame, args.method, seed=args.seed)
         speed = np.linalg.norm(frame.motion, axis=-1)
         io.write(out / f"{name}_sharp.png", frame.color)
         io.write(out / f"{name}_blurred.png", result.color)
@@ -103,8 +104,6 @@ def _cluster(args):
                 "blurlab: --workers gives each worker its own device; --device must be "
                 "auto, gpu or software with it"
             )
-        from .cluster import local_cluster
-
         with local_cluster(args.workers, args.device) as cluster:
             yield cluster
     else:
@@ -112,8 +111,6 @@ def _cluster(args):
 
 
 def _study(args) -> int:
-    from .study import run_study
-
     ctx = Context(args.device)
     info = ctx.info()
     print(f"device: {info['device']} ({info['renderer']}); {args.size[0]}x{args.size[1]}")
@@ -132,8 +129,6 @@ def _study(args) -> int:
 
 
 def _sweep(args) -> int:
-    from .study import run_sweep_config
-
     with _cluster(args) as cluster:
         ctx = Context(args.device) if cluster is None else None
         table = run_sweep_config(ctx, args.config, cluster=cluster)
@@ -155,6 +150,33 @@ def _add_cluster_options(parser) -> None:
         metavar="N",
         help="run the sweep on N local Dask workers: one per GPU, or N llvmpipe workers",
     )
+
+
+def _methods(args) -> int:
+    """Prints each method's kind, instant, backends and parameter table: the one declaration
+    of every parameter, in Markdown."""
+    for name in [args.name] if args.name else methods():
+        print(method_table(method(name)))
+    return 0
+
+
+def method_table(m) -> str:
+    """A method's parameters as a Markdown table, from their declarations."""
+    instant = "depends on the parameters" if callable(m.instant) else m.instant
+    lines = [
+        f"## {m.name}",
+        "",
+        f"{m.doc}",
+        "",
+        f"kind: {m.kind}; G-buffer instant: {instant}; backends: {', '.join(m.backends)}",
+        "",
+        "| parameter | default | allowed | meaning |",
+        "|---|---|---|---|",
+    ]
+    for key, p in m.params.items():
+        default = "from the frame" if callable(p.default) else repr(p.default)
+        lines.append(f"| `{key}` | {default} | {p.allowed()} | {p.doc} |")
+    return "\n".join(lines) + "\n"
 
 
 def _positive_int(text: str) -> int:
@@ -179,6 +201,16 @@ def main(argv: list[str] | None = None) -> int:
     demo.add_argument("--out", default="out/demo", help="output folder (default: out/demo)")
     demo.add_argument("--size", type=parse_size, default=(640, 360), help="WxH (default 640x360)")
     demo.add_argument("--seed", type=int, default=0)
+    demo.add_argument(
+        "--method",
+        choices=methods(),
+        default=methods()[0],
+        help=f"the method that blurs each scene (default: {methods()[0]})",
+    )
+    listing = sub.add_parser(
+        "methods", help="list the registered methods and their parameters (defaults, ranges)"
+    )
+    listing.add_argument("name", nargs="?", help="one method (default: all)")
     study = sub.add_parser(
         "study", help="the main job: every scene x method x grid, report.html + results.csv"
     )
@@ -197,7 +229,8 @@ def main(argv: list[str] | None = None) -> int:
     sweep.add_argument("config", help="TOML file: scenes, methods, size, shutter, ...")
     _add_cluster_options(sweep)
     args = parser.parse_args(argv)
-    return {"info": _info, "demo": _demo, "study": _study, "sweep": _sweep}[args.command](args)
+    commands = {"info": _info, "demo": _demo, "methods": _methods, "study": _study, "sweep": _sweep}
+    return commands[args.command](args)
 
 
 if __name__ == "__main__":

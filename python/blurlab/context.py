@@ -18,6 +18,8 @@ import numpy as np
 
 from . import _core
 from ._paths import shader_dir as _default_shader_dir
+from .converged import reference_render
+from .render import render
 
 TEXTURE_DTYPES = ("uint8", "float16", "float32")
 DEVICE_MODES = ("auto", "gpu", "software")
@@ -63,6 +65,11 @@ class Texture:
         self._core = core
         self.shape = shape
         self.dtype = np.dtype(core.dtype)
+
+    @property
+    def native(self) -> _core.Texture:
+        """The C++ texture, for blurlab's own passes (blurlab._core)."""
+        return self._core
 
     @property
     def glo(self) -> int:
@@ -170,6 +177,52 @@ class ComputeProgram:
         self._core.dispatch(-(-width // lx), -(-height // ly), 1)
 
 
+class ShaderPass:
+    """A post-process pass known by its shader: its inputs, outputs and uniforms are the
+    shader's own samplers, images and uniforms, bound by name (``reflect()`` lists them).
+    Made once per context and shader by ``Context.shader_pass``; the values it gets are
+    validated where they are declared (blurlab.methods), not again here."""
+
+    def __init__(self, core: _core.ShaderPass):
+        self._core = core
+
+    @property
+    def shader(self) -> str:
+        return self._core.shader
+
+    def run(
+        self,
+        inputs: Mapping[str, Texture],
+        outputs: Mapping[str, Texture],
+        uniforms: Mapping[str, object] | None = None,
+        backend: str = "compute",
+        group_per_texel: bool = False,
+    ) -> None:
+        """Runs the shader once per texel of the first output (``group_per_texel``: one work
+        group per texel). Every sampler and image of the shader must be named."""
+        self._core.run(
+            {name: texture._core for name, texture in inputs.items()},
+            {name: texture._core for name, texture in outputs.items()},
+            dict(uniforms or {}),
+            backend,
+            group_per_texel,
+        )
+
+    def reflect(self, backend: str = "compute") -> dict:
+        """The shader's samplers, images, fragment outputs and uniforms on `backend`."""
+        return self._core.reflect(backend)
+
+    @contextmanager
+    def restricted_to(self, lists: _core.TileLists, tile_class: int):
+        """Inside the block, compute runs cover only the tiles of `tile_class` in `lists` (a
+        tile classification's lists), by an indirect dispatch."""
+        self._core.restrict_to_tiles(lists, tile_class)
+        try:
+            yield self
+        finally:
+            self._core.restrict_to_tiles(None, 0)
+
+
 class Context:
     """An OpenGL 4.5 core context with no display.
 
@@ -191,7 +244,7 @@ class Context:
         mode, index = ("index", device) if isinstance(device, int) else (device, -1)
         self._core = _core.Context(mode, index, str(folder.resolve()))
         self._moderngl = None
-        self._passes: dict = {}
+        self._cache: dict = {}  # cached(): passes, tile lists, lookup textures
         self._pool: dict = {}  # (shape, dtype) -> free textures
         # GPU copies of scene data, dropped with the mesh or material they belong to.
         self._meshes: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
@@ -341,11 +394,9 @@ class Context:
         ``shutter`` = (t0, t1) seconds (default: the scene's); ``instant`` is "center" (the
         reconstruction filters' choice), "close", "open" or a time in [t0, t1]. Motion is always
         t0 -> t1. ``motion_format`` stores motion as rg32f, rg16f, rgba8_offset or rgba8_polar
-        (SPEC.md §2, ``maxlen`` pixels, default the image diagonal) and returns what a method
+        (docs/spec.md §2, ``maxlen`` pixels, default the image diagonal) and returns what a method
         reading that format would decode.
         """
-        from .render import render
-
         return render(self, scene, size, shutter, instant, motion_format, maxlen)
 
     def reference(
@@ -360,22 +411,36 @@ class Context:
         guard: int = 0,
     ):
         """The converged reference of `scene` over `shutter`: the mean of `samples` full renders
-        at t_i = t0 + (i + u_i)/N·(t1 - t0), u_i = 0.5 or hashed when `stratified` (SPEC.md §1),
+        at t_i = t0 + (i + u_i)/N·(t1 - t0), u_i = 0.5 or hashed when `stratified` (docs/spec.md §1),
         accumulated in float32 on the GPU; a progress bar for N >= 64. Returns a Reference."""
-        from .accumulation import reference_render
-
         return reference_render(
             self, scene, size, shutter, samples, stratified, seed, progress, guard
         )
 
-    def _pass(self, name: str, factory):
-        """One instance of a C++ pass per context (its programs compile once)."""
-        if name not in self._passes:
-            self._passes[name] = factory(self._core)
-        return self._passes[name]
+    @property
+    def native(self) -> _core.Context:
+        """The C++ context, for blurlab's own passes (blurlab._core)."""
+        return self._core
 
-    def _pooled(self, shape, dtype: str = "float32") -> Texture:
-        """A texture from the context's pool; its contents are undefined.
+    def cached(self, key, make):
+        """The object stored under `key`, made by `make()` on first use and kept as long as the
+        context: passes (their programs compile once), tile lists, lookup textures."""
+        if key not in self._cache:
+            self._cache[key] = make()
+        return self._cache[key]
+
+    def shader_pass(self, shader: str, defines: Mapping[str, object] | None = None) -> ShaderPass:
+        """The pass of `shader` (a path under the shader folder) compiled with `defines`, made
+        once per context (its programs compile on first use per backend)."""
+        pairs = tuple((str(k), _glsl_literal(v)) for k, v in (defines or {}).items())
+        return self.cached(
+            ("shader_pass", shader, pairs),
+            lambda: ShaderPass(_core.ShaderPass(self._core, shader, list(pairs))),
+        )
+
+    def pooled(self, shape, dtype: str = "float32") -> Texture:
+        """A texture from the context's pool; its contents are undefined. Give it back with
+        ``recycle``.
 
         Fresh allocations are expensive on first use (about 4 ms per 1080p RGBA32F target on
         the H100), so passes that run many times take their targets from here.
@@ -383,13 +448,16 @@ class Context:
         free = self._pool.get((tuple(shape), np.dtype(dtype).name))
         return free.pop() if free else self.empty(shape, dtype)
 
-    def _recycle(self, *textures: Texture) -> None:
+    def recycle(self, *textures: Texture) -> None:
+        """Returns textures to the pool for later ``pooled`` calls; the caller must not use
+        them afterwards."""
         for texture in textures:
             free = self._pool.setdefault((texture.shape, texture.dtype.name), [])
             if len(free) < 8:  # a few spares serve a pipeline; more would only hold memory
                 free.append(texture)
 
-    def _gpu_mesh(self, mesh):
+    def gpu_mesh(self, mesh) -> _core.Mesh:
+        """The mesh's vertex and index buffers on this context, uploaded once per mesh."""
         if mesh not in self._meshes:
             self._meshes[mesh] = _core.Mesh(
                 self._core,
@@ -402,7 +470,8 @@ class Context:
             )
         return self._meshes[mesh]
 
-    def _gpu_material_texture(self, material):
+    def gpu_material_texture(self, material) -> _core.Texture | None:
+        """The material's texture, mip-mapped, on this context; uploaded once per material."""
         if material.texture is None:
             return None
         if material not in self._material_textures:

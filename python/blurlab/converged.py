@@ -1,4 +1,4 @@
-"""The converged reference (SPEC.md §1 "Reference"): N full renders across the shutter,
+"""The converged reference (docs/spec.md §1 "Reference"): N full renders across the shutter,
 averaged in float32 on the GPU. ``ctx.reference(...)`` and ``bl.reference_samples_needed``."""
 
 from __future__ import annotations
@@ -51,7 +51,7 @@ def reference_render(
     progress: bool | None = None,
     guard: int = 0,
 ) -> Reference:  # noqa: E501
-    """The mean of `samples` renders at t_i = t0 + (i + u_i)/N·(t1 - t0) (SPEC.md §1)."""
+    """The mean of `samples` renders at t_i = t0 + (i + u_i)/N·(t1 - t0) (docs/spec.md §1)."""
     if not isinstance(scene, Scene):
         raise TypeError(f"blurlab: reference needs a blurlab Scene, not {type(scene).__name__}")
     if isinstance(samples, bool) or not isinstance(samples, int) or not 1 <= samples <= MAX_SAMPLES:
@@ -64,9 +64,9 @@ def reference_render(
     shutter = check_shutter(scene.shutter if shutter is None else shutter)
     times = sample_times(shutter, samples, bool(stratified), seed)
     width, height = size[0] + 2 * guard, size[1] + 2 * guard
-    total = ctx._pooled((height, width, 4))
+    total = ctx.pooled((height, width, 4))
     total.clear()
-    accumulate = ctx._pass("accumulate", _core.AccumulatePass)
+    accumulate = ctx.cached("accumulate", lambda: _core.AccumulatePass(ctx.native))
     show = samples >= 64 if progress is None else bool(progress)
     iterator = times
     if show:
@@ -78,18 +78,18 @@ def reference_render(
     for t in iterator:
         targets, _, timing = render_targets(ctx, scene, size, shutter, float(t), guard)
         with ctx.timer() as add:
-            accumulate.run(targets["color"]._core, total._core, 1.0 / samples)
-        ctx._recycle(*targets.values())
+            accumulate.run(targets["color"].native, total.native, 1.0 / samples)
+        ctx.recycle(*targets.values())
         elapsed += timing.ms + add.ms
         clock = add.clock
     result = Reference(samples, times, bool(stratified), seed, elapsed / samples, clock, total)
-    weakref.finalize(result, ctx._recycle, total)
+    weakref.finalize(result, ctx.recycle, total)
     return result
 
 
 def reference_samples_needed(frame: Frame) -> int:
     """N for the reference of `frame`'s shutter: at least the longest motion in pixels
-    (SPEC.md §1), so that consecutive sub-frames move by at most one pixel."""
+    (docs/spec.md §1), so that consecutive sub-frames move by at most one pixel."""
     speed = np.linalg.norm(frame.motion, axis=-1)
     finite = speed[np.isfinite(speed)]
     return max(1, math.ceil(float(finite.max()))) if finite.size else 1

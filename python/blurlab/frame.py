@@ -12,7 +12,7 @@ MOTION_FORMATS = ("rg32f", "rg16f", "rgba8_offset", "rgba8_polar")
 
 @dataclass
 class Frame:
-    """SPEC.md §1 conventions: arrays (H, W, ...), row 0 at the top.
+    """docs/spec.md §1 conventions: arrays (H, W, ...), row 0 at the top.
 
     color      (H, W, 4) linear float32 (or (H, W, 3): alpha 1 is added)
     depth      (H, W) positive linear view distance, +inf where nothing was drawn

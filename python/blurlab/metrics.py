@@ -1,4 +1,4 @@
-"""Error against a reference, SPEC.md §6: PSNR (linear color clipped to [0, 1]), SSIM on
+"""Error against a reference, docs/spec.md §6: PSNR (linear color clipped to [0, 1]), SSIM on
 luminance, FLIP (the flip-evaluator package, on sRGB), per-pixel error maps, and flicker for
 sequences. `gpu_mse` and `gpu_ssim` reduce the error on the GPU and read back a scalar, for
 sweeps.
@@ -43,7 +43,7 @@ def psnr_from_mse(value: float) -> float:
 
 
 def psnr(a, b) -> float:
-    """PSNR in dB of linear color clipped to [0, 1] (SPEC.md §6)."""
+    """PSNR in dB of linear color clipped to [0, 1] (docs/spec.md §6)."""
     return psnr_from_mse(mse(a, b))
 
 
@@ -91,7 +91,7 @@ def error_map(a, b) -> np.ndarray:
 
 
 def flicker(frames, still) -> float:
-    """Mean |out_n - out_{n-1}| over RGB on the pixels where `still` is true (SPEC.md §6)."""
+    """Mean |out_n - out_{n-1}| over RGB on the pixels where `still` is true (docs/spec.md §6)."""
     frames = np.asarray(frames, np.float64)
     if frames.ndim != 4 or len(frames) < 2:
         raise ValueError("blurlab.metrics.flicker: needs a (N >= 2, H, W, C) sequence")
@@ -113,16 +113,18 @@ def gpu_mse(ctx, a, b) -> float:
     """`mse` of two (H, W, 4) float32 textures, reduced on the GPU: only partial sums (one
     float per 16 x 16 pixels) are read back."""
     _same_size(a, b, "gpu_mse")
-    reduction = ctx._pass("squared_error", _core.ErrorReductionPass)
+    reduction = ctx.cached("squared_error", lambda: _core.ErrorReductionPass(ctx.native))
     height, width = a.shape[:2]
-    return reduction.squared_error(a._core, b._core) / (height * width * 3)
+    return reduction.squared_error(a.native, b.native) / (height * width * 3)
 
 
 def gpu_ssim(ctx, a, b) -> float:
-    """`ssim` of two (H, W, 4) float32 textures, computed on the GPU (SPEC.md §6): only partial
+    """`ssim` of two (H, W, 4) float32 textures, computed on the GPU (docs/spec.md §6): only partial
     sums of the SSIM map (one float per 16 x 16 pixels) are read back."""
     _same_size(a, b, "gpu_ssim")
-    return ctx._pass("ssim", _core.SsimReductionPass).mean_ssim(a._core, b._core)
+    return ctx.cached("ssim", lambda: _core.SsimReductionPass(ctx.native)).mean_ssim(
+        a.native, b.native
+    )
 
 
 def tile_border_error(reference, test, k: int, band: int = 1) -> dict:

@@ -17,7 +17,7 @@ INSTANTS = ("center", "close", "open")
 
 
 def instant_time(instant: str | float, shutter: tuple[float, float]) -> float:
-    """The time at which the G-buffer is rendered (SPEC.md §1 "Instant")."""
+    """The time at which the G-buffer is rendered (docs/spec.md §1 "Instant")."""
     t0, t1 = shutter
     if isinstance(instant, str):
         if instant not in INSTANTS:
@@ -109,7 +109,7 @@ def render(
             f"blurlab: motion_format must be one of {MOTION_FORMATS}, not {motion_format!r}"
         )
     if maxlen is None:
-        maxlen = math.hypot(*size)  # SPEC.md §2: the image diagonal
+        maxlen = math.hypot(*size)  # docs/spec.md §2: the image diagonal
     if not (isinstance(maxlen, Real) and math.isfinite(maxlen) and maxlen > 0):
         raise ValueError(f"blurlab: maxlen must be a finite number of pixels > 0, not {maxlen!r}")
     targets, camera, timing = render_targets(ctx, scene, size, shutter, time, guard)
@@ -119,7 +119,7 @@ def render(
         targets["motion"], timings["motion_encoding"] = encode_motion(
             ctx, exact, motion_format, maxlen
         )
-        ctx._recycle(exact)
+        ctx.recycle(exact)
     frame = Frame(
         color=targets["color"].download(),
         depth=targets["depth"].download(),
@@ -135,7 +135,7 @@ def render(
     )
     # The targets go back to the pool when the frame is freed: frame.textures live as long as
     # the frame does.
-    weakref.finalize(frame, ctx._recycle, *targets.values())
+    weakref.finalize(frame, ctx.recycle, *targets.values())
     return frame
 
 
@@ -173,13 +173,13 @@ def render_targets(
         m = obj.material
         draws.append(
             (
-                ctx._gpu_mesh(obj.mesh),
+                ctx.gpu_mesh(obj.mesh),
                 models,
                 bones,
                 f32(m.color),
                 float(m.specular),
                 float(m.shininess),
-                ctx._gpu_material_texture(m),
+                ctx.gpu_material_texture(m),
                 object_id,
                 None if m.hatch is None else m.hatch.draw(ctx),
             )
@@ -187,14 +187,14 @@ def render_targets(
     # Every target is fully overwritten (the background pass covers every pixel), so pooled
     # textures need no clearing.
     targets = {
-        "color": ctx._pooled((height, width, 4)),
-        "depth": ctx._pooled((height, width)),
-        "motion": ctx._pooled((height, width, 2)),
-        "object_id": ctx._pooled((height, width)),
+        "color": ctx.pooled((height, width, 4)),
+        "depth": ctx.pooled((height, width)),
+        "motion": ctx.pooled((height, width, 2)),
+        "object_id": ctx.pooled((height, width)),
     }
-    gbuffer = ctx._pass("gbuffer", _core.GBufferPass)
+    gbuffer = ctx.cached("gbuffer", lambda: _core.GBufferPass(ctx.native))
     with ctx.timer() as timing:
-        gbuffer.render(*(t._core for t in targets.values()), camera_uniforms, light, draws)
+        gbuffer.render(*(t.native for t in targets.values()), camera_uniforms, light, draws)
     return targets, camera, timing
 
 
@@ -203,20 +203,20 @@ def encode_motion(ctx, motion, motion_format: str, maxlen: float):
     (what a method reading `motion_format` sees) and the pass's Timing."""
     width, height = motion.width, motion.height
     if motion_format == "rg16f":
-        stored = ctx._pooled((height, width, 2), "float16")
+        stored = ctx.pooled((height, width, 2), "float16")
     else:
-        stored = ctx._pooled((height, width, 4), "uint8")
-    decoded = ctx._pooled((height, width, 2))
-    encoding = ctx._pass("motion_encoding", _core.MotionEncodingPass)
+        stored = ctx.pooled((height, width, 4), "uint8")
+    decoded = ctx.pooled((height, width, 2))
+    encoding = ctx.cached("motion_encoding", lambda: _core.MotionEncodingPass(ctx.native))
     with ctx.timer() as timing:
-        encoding.run(motion._core, stored._core, decoded._core, motion_format, float(maxlen))
-    ctx._recycle(stored)
+        encoding.run(motion.native, stored.native, decoded.native, motion_format, float(maxlen))
+    ctx.recycle(stored)
     return decoded, timing
 
 
 def stored_motion(ctx, motion: np.ndarray, motion_format: str, maxlen: float) -> np.ndarray:
     """(H, W, 2) motion as a method reading `motion_format` would see it, computed on the GPU
-    (the precision study of SPEC.md §2)."""
+    (the precision study of docs/spec.md §2)."""
     if motion_format not in MOTION_FORMATS:
         raise ValueError(f"blurlab: motion_format must be one of {MOTION_FORMATS}")
     motion = np.asarray(motion, dtype=np.float32)
@@ -226,5 +226,5 @@ def stored_motion(ctx, motion: np.ndarray, motion_format: str, maxlen: float) ->
         return motion.copy()
     decoded, _ = encode_motion(ctx, ctx.upload(motion), motion_format, maxlen)
     result = decoded.download()
-    ctx._recycle(decoded)
+    ctx.recycle(decoded)
     return result

@@ -13,6 +13,8 @@ from pathlib import Path
 
 import numpy as np
 
+from . import io
+from .hatching import Hatching, hatch
 from .mesh import Mesh
 from .motion import Motion, Skeleton
 
@@ -106,7 +108,7 @@ class DirectionalLight:
 class Material:
     """Lambert (specular = 0) or Blinn–Phong; `texture` (a path read through OpenImageIO, or an
     array) multiplies `color`. 8-bit textures are taken as sRGB, float ones as linear.
-    ``Material.hatching(...)`` makes a hatched one (`hatch`, SPEC.md §5)."""
+    ``Material.hatching(...)`` makes a hatched one (`hatch`, docs/spec.md §5)."""
 
     color: tuple = (0.8, 0.8, 0.8)
     texture: str | Path | np.ndarray | None = None
@@ -125,7 +127,7 @@ class Material:
         specular: float = 0.0,
         shininess: float = 32.0,
     ) -> Material:
-        """Hatching with a tonal art map instead of shading (SPEC.md §5): color · (1 − ink).
+        """Hatching with a tonal art map instead of shading (docs/spec.md §5): color · (1 − ink).
 
         ``scheme``: "six_way" (per-vertex weights of the two nearest of 6 tones, Praun et al.
         2001) or "threshold" (a per-pixel threshold test, Webb et al. 2002). ``tam``: a
@@ -134,8 +136,6 @@ class Material:
         ``scale``: TAM repeats per unit of texture coordinate, > 0. The tone comes from the
         scene's light: Lambert, or Blinn–Phong when ``specular`` > 0.
         """
-        from .hatching import hatch
-
         return cls(color, texture, specular, shininess, hatch(scheme, tam, scale))
 
     def __post_init__(self):
@@ -150,8 +150,6 @@ class Material:
         if isinstance(self.texture, (str, Path)) and not Path(self.texture).is_file():
             raise FileNotFoundError(f"blurlab: material texture not found: {self.texture}")
         if self.hatch is not None:
-            from .hatching import Hatching
-
             if not isinstance(self.hatch, Hatching):
                 raise ValueError(
                     "blurlab: material hatch must come from Material.hatching(...), not "
@@ -162,8 +160,6 @@ class Material:
         """The texture as (H, W, 4) linear float16, or None."""
         if self.texture is None:
             return None
-        from . import io
-
         image = io.read(self.texture) if isinstance(self.texture, (str, Path)) else self.texture
         image = np.asarray(image)
         if image.ndim == 2:

@@ -1,4 +1,4 @@
-"""Tonal art maps (SPEC.md §5; Praun, Hoppe, Webb, Finkelstein 2001, "Real-Time Hatching").
+"""Tonal art maps (docs/spec.md §5; Praun, Hoppe, Webb, Finkelstein 2001, "Real-Time Hatching").
 
 A TAM is 6 tones of hatching strokes, lightest first, each a chain of mip levels (finest first,
 every level half the size of the one before). Strokes nest: a stroke of a lighter tone is in
@@ -22,6 +22,8 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+
+from . import io
 
 TONES = 6
 NEVER = 1.0  # threshold of texels no stroke covers: darkness never exceeds 1
@@ -105,8 +107,6 @@ class TAM:
     def write(self, folder: str | Path) -> list[Path]:
         """Writes one EXR per level, ``tam_<S>.exr``: 7 float channels, the 6 tones' ink then the
         threshold. Each file is written atomically (blurlab.io.write)."""
-        from . import io
-
         folder = Path(folder)
         if not folder.is_dir():
             raise FileNotFoundError(f"blurlab: tam folder {str(folder)!r} does not exist")
@@ -119,8 +119,6 @@ class TAM:
     @classmethod
     def read(cls, folder: str | Path) -> TAM:
         """Reads the files ``write`` made (every ``tam_<S>.exr`` in the folder)."""
-        from . import io
-
         folder = Path(folder)
         found = {}
         for path in folder.glob("tam_*.exr") if folder.is_dir() else ():
@@ -185,9 +183,9 @@ class TAM:
         if ctx not in self._gpu:
             count = len(self.tones)
             size = self.sizes[0]
-            low = ctx._core.texture(size, size, 3, "float16", count)
-            high = ctx._core.texture(size, size, 3, "float16", count)
-            thresholds = ctx._core.texture(size, size, 1, "float32", count)
+            low = ctx.native.texture(size, size, 3, "float16", count)
+            high = ctx.native.texture(size, size, 3, "float16", count)
+            thresholds = ctx.native.texture(size, size, 1, "float32", count)
             for level, (tones, thr) in enumerate(zip(self.tones, self.thresholds, strict=True)):
                 rgb = tones.transpose(1, 2, 0).astype(np.float16)
                 low.upload_level(level, np.ascontiguousarray(rgb[..., :3]))
@@ -389,8 +387,6 @@ def _bilinear(image, u, v):
 
 def _picture_ink(image, what: str) -> np.ndarray:
     """A picture of strokes (dark on white; array or path) as (H, W) float64 ink in [0, 1]."""
-    from . import io
-
     if isinstance(image, (str, Path)):
         image = io.read(image)
     if not isinstance(image, np.ndarray):

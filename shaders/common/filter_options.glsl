@@ -1,5 +1,5 @@
 // Options of the reconstruction filters reconstruct_mcguire2012 and reconstruct_guertin2014
-// (docs/guertin2014.md "Options"). Each is off at its default, which leaves SPEC.md §3.4
+// (docs/guertin2014.md "Options"). Each is off at its default, which leaves docs/spec.md §3.4
 // unchanged. Needs common/random.glsl. NumPy twin: blurlab.reference.mcguire2012 (lookup_tile,
 // sample_count, exits_early).
 
@@ -29,7 +29,7 @@ int sample_count(float vn_length, int samples, bool adaptive) {
     return min(samples, max(2, int(floor(vn_length + 0.5))));
 }
 
-// Early exit: nothing moves near x (|vN| <= 0.5 + 0.01, SPEC.md §3.4), or, with a threshold
+// Early exit: nothing moves near x (|vN| <= 0.5 + 0.01, docs/spec.md §3.4), or, with a threshold
 // early_exit > 0 pixels, the neighborhood's longest motion 2|vN| is under it.
 bool exits_early(float vn_length, float early_exit) {
     return vn_length <= 0.5 + 0.01 || 2.0 * vn_length < early_exit;

@@ -1,4 +1,4 @@
-// The threshold scheme of SPEC.md §5 (Webb, Praun, Finkelstein, Hoppe 2002), fragment stage only
+// The threshold scheme of docs/spec.md §5 (Webb, Praun, Finkelstein, Hoppe 2002), fragment stage only
 // (it needs implicit derivatives). NumPy twin: python/blurlab/reference/hatching.py.
 
 // threshold, at one mip level: each texel is ink where its threshold < darkness; the four texels

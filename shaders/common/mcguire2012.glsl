@@ -1,5 +1,5 @@
 // Shared terms of the reconstruction filter of McGuire, Hennessy, Bukowski and Osman,
-// "A Reconstruction Filter for Plausible Motion Blur", I3D 2012 — SPEC.md §3.
+// "A Reconstruction Filter for Plausible Motion Blur", I3D 2012 — docs/spec.md §3.
 // NumPy twin: blurlab.reference.mcguire2012.
 
 // §3.1: the half-vector, its length clamped to [0.5, k] pixels; zero stays zero.

@@ -1,4 +1,4 @@
-// Pixel conventions, SPEC.md §1: texel (x, y) is image pixel (x, y), x right, y down, row 0 at
+// Pixel conventions, docs/spec.md §1: texel (x, y) is image pixel (x, y), x right, y down, row 0 at
 // the top (textures are stored top row first; see src/gl/texture.h); its center is (x+0.5, y+0.5).
 
 // Nearest pixel inside the image: the default edge rule ("clamp").

@@ -1,4 +1,4 @@
-// Hashed random numbers, SPEC.md §1 "Random numbers". Same inputs, same bits, on every device.
+// Hashed random numbers, docs/spec.md §1 "Random numbers". Same inputs, same bits, on every device.
 // NumPy twin: blurlab.reference.hashing.
 
 uint pcg(uint v) {

@@ -1,5 +1,5 @@
 #version 450
-// Accumulation, SPEC.md §1 "Reference": sum += weight * color, in float32, one sub-frame at a
+// Accumulation, docs/spec.md §1 "Reference": sum += weight * color, in float32, one sub-frame at a
 // time. With weight 1/N over N sub-frames the sum is their mean.
 // NumPy twin: blurlab.reference.accumulation.mean_of_renders.
 #include "common/inputs.glsl"

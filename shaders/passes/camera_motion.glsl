@@ -1,5 +1,5 @@
 #version 450
-// camera_only's motion, SPEC.md §4 (Urho3D thesis §2.3.2): the motion each pixel would have if
+// camera_only's motion, docs/spec.md §4 (Urho3D thesis §2.3.2): the motion each pixel would have if
 // only the camera moved, from its depth and the camera's transforms: reproject the point seen
 // at X to t0 and t1. Points at infinity (depth +inf) move with the camera's rotation only.
 // Compute only. NumPy twin: blurlab.reference.gathers.camera_motion.

@@ -1,6 +1,6 @@
 #version 450
 // Tile classification (Jimenez 2014, "Next Generation Post Processing in Call of Duty:
-// Advanced Warfare"), on top of SPEC.md §3.2-3.3. One thread per tile T, with vN =
+// Advanced Warfare"), on top of docs/spec.md §3.2-3.3. One thread per tile T, with vN =
 // NeighborMax[T] and B = the union of the component-wise bounds of V over the 3 x 3 tiles
 // around T (those inside the grid):
 //   still   (0): |vN| <= still_threshold                       — the filter's own early exit;

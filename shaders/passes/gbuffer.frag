@@ -1,7 +1,7 @@
 #version 450
-// G-buffer pass, fragment stage (SPEC.md §1): linear color, linear depth, motion t0→t1 in
+// G-buffer pass, fragment stage (docs/spec.md §1): linear color, linear depth, motion t0→t1 in
 // pixels (+y down), object id. Motion is divided by w here, per fragment. Hatched materials
-// (SPEC.md §5) replace the shading with color · (1 − ink).
+// (docs/spec.md §5) replace the shading with color · (1 − ink).
 
 #include "common/hatching.glsl"
 #include "common/hatching_threshold.glsl"

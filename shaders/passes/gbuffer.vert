@@ -1,7 +1,7 @@
 #version 450
-// G-buffer pass, vertex stage (SPEC.md §1). Index 0 = shutter open t0, 1 = close t1, 2 = the
+// G-buffer pass, vertex stage (docs/spec.md §1). Index 0 = shutter open t0, 1 = close t1, 2 = the
 // G-buffer's instant. Positions at t0 and t1 go to the rasterizer undivided (see gbuffer.frag).
-// Hatched materials (SPEC.md §5, six_way) get their tone weights here, per vertex.
+// Hatched materials (docs/spec.md §5, six_way) get their tone weights here, per vertex.
 
 #include "common/hatching.glsl"
 

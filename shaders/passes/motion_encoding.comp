@@ -1,5 +1,5 @@
 #version 450
-// Motion-vector storage formats, SPEC.md §2 (the precision study of "Blurry things").
+// Motion-vector storage formats, docs/spec.md §2 (the precision study of "Blurry things").
 // Built with FORMAT_* (the stored format) and either ENCODE (rg32f motion -> stored) or DECODE
 // (stored -> rg32f motion, as a method reading that format would see it).
 //   rg16f         M as half floats

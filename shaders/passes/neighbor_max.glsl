@@ -1,5 +1,5 @@
 #version 450
-// NeighborMax, SPEC.md §3.3: for each tile, the TileMax of largest length among the 3 x 3 tiles
+// NeighborMax, docs/spec.md §3.3: for each tile, the TileMax of largest length among the 3 x 3 tiles
 // around it; tiles outside the grid are skipped. Compute (one thread per tile) or fragment.
 // With diagonal_reach (reconstruct_guertin2014, docs/guertin2014.md step 1), a diagonal tile
 // counts only where its TileMax, extended both ways, can reach the center tile: both of its

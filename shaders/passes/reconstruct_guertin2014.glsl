@@ -1,6 +1,6 @@
 #version 450
 // Reconstruct of Guertin, McGuire and Nowrouzezahrai, "A Fast and Stable Feature-Aware Motion
-// Blur Filter" (HPG 2014), as changes to SPEC.md §3.4 (docs/guertin2014.md, step by step):
+// Blur Filter" (HPG 2014), as changes to docs/spec.md §3.4 (docs/guertin2014.md, step by step):
 // samples in mirrored pairs around X, alternately along the neighborhood's dominant direction vN
 // and along wc, the center's direction blended towards vN's perpendicular as |V[X]| falls to
 // 0.5 + gamma (the paper's Eq. 1); each weight scaled by how well the sample's and the center's

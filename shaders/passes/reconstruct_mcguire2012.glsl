@@ -1,5 +1,5 @@
 #version 450
-// Reconstruct, SPEC.md §3.4: S samples along the neighborhood's dominant half-vector vN, each
+// Reconstruct, docs/spec.md §3.4: S samples along the neighborhood's dominant half-vector vN, each
 // weighted by depth order and by whether the sample's or the center's blur covers the other.
 // Compute (16 x 16 threads per group, one per pixel) or fragment (one fragment per pixel).
 // NumPy twin: blurlab.reference.mcguire2012.reconstruct_mcguire2012.

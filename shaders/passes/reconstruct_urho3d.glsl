@@ -1,5 +1,5 @@
 #version 450
-// reconstruct_urho3d: the reconstruct pass as the Urho3D thesis printed it, SPEC.md §3 variant,
+// reconstruct_urho3d: the reconstruct pass as the Urho3D thesis printed it, docs/spec.md §3 variant,
 // kept as the seed's baseline (a fragment pass; STAGE_FRAGMENT only). Its differences from
 // McGuire 2012 (reconstruct_mcguire2012.glsl):
 //   - start weight 0.75 instead of 1 / len(V[X]);

@@ -1,5 +1,5 @@
 #version 450
-// Squared-error reduction for sweeps, SPEC.md §6: the sum over pixels and RGB channels of
+// Squared-error reduction for sweeps, docs/spec.md §6: the sum over pixels and RGB channels of
 // (clamp(a, 0, 1) - clamp(b, 0, 1))^2, one partial sum per 16 x 16 work group (written to a
 // buffer and added up in double precision on the CPU), so a sweep reads back a few kilobytes
 // instead of two images. NumPy twin: blurlab.metrics.mse.

@@ -1,5 +1,5 @@
 #version 450
-// SSIM reduction for sweeps, SPEC.md §6: the sum over pixels of the SSIM map (Wang et al. 2004)
+// SSIM reduction for sweeps, docs/spec.md §6: the sum over pixels of the SSIM map (Wang et al. 2004)
 // of the luminance of two images clipped to [0, 1], Gaussian window of RADIUS = 5 (11 taps,
 // σ = 1.5; WEIGHTS computed in double on the CPU and injected as a define), C1 = 0.01²,
 // C2 = 0.03², one partial sum per 16 x 16 work group (added up in double on the CPU).

@@ -1,5 +1,5 @@
 #version 450
-// stochastic, SPEC.md §4 (the OGRE paper): K time slices; every pixel takes 4 samples at
+// stochastic, docs/spec.md §4 (the OGRE paper): K time slices; every pixel takes 4 samples at
 // rotated-grid positions inside it and 4 from its edge neighbours, C = 5/32 Σ inside +
 // 3/32 Σ neighbour. Sample i of pixel X comes from time quarter q = π_X(i) (a hashed
 // permutation of 0..3) and, within it, slice floor((q + r) K / 4) with r hashed per (X, i):

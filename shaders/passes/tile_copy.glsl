@@ -1,6 +1,6 @@
 #version 450
 // The still class of the tile classification (docs/classify_and_steps.md): the output is the
-// input color (sanitized as every pass reads it, docs/reliability.md), as SPEC.md §3.4's early
+// input color (sanitized as every pass reads it, docs/reliability.md), as docs/spec.md §3.4's early
 // exit gives it. Run over the still tiles' list (TILE_LIST, with WHOLE_TILES: one work group
 // per tile) or, without it, over the whole image. Compute only.
 // NumPy twin: blurlab.reference.classify.classified (still tiles keep C).

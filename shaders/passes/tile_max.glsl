@@ -1,5 +1,5 @@
 #version 450
-// TileMax, SPEC.md §3.2: for each k x k tile (the last row and column may be partial), the
+// TileMax, docs/spec.md §3.2: for each k x k tile (the last row and column may be partial), the
 // half-vector of largest length among its pixels. Built as a compute shader (STAGE_COMPUTE) or a
 // fragment shader (STAGE_FRAGMENT: one fragment per tile scans it all). The compute shader has
 // two modes: for large tiles one 8 x 8 work group per tile, each thread scanning a strided part

@@ -1,5 +1,5 @@
 #version 450
-// The uniform class of the tile classification (docs/classify_and_steps.md): SPEC.md §3.4
+// The uniform class of the tile classification (docs/classify_and_steps.md): docs/spec.md §3.4
 // with every pixel taken to move by vN = NeighborMax at one depth, so that
 // V[X] = V[Y] = vN and f = b = 1: the weight of a tap at distance d is
 // a = 2·cone(d, vN) + 2·cyl(d, vN)², the center's 1/len(vN); only colors are read (one fetch

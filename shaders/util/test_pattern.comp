@@ -1,6 +1,6 @@
 #version 450
 // A test pattern for `blurlab demo` and the foundation tests: a gradient in red and green, a
-// checkerboard of CHECKER-pixel squares in blue, and rand(x, y, seed) (SPEC.md §1) in alpha.
+// checkerboard of CHECKER-pixel squares in blue, and rand(x, y, seed) (docs/spec.md §1) in alpha.
 #include "common/pixel.glsl"
 #include "common/random.glsl"
 

@@ -10,7 +10,7 @@ Buffer::Buffer(Context* context, size_t bytes, Usage usage) : context_(context),
   glCreateBuffers(1, &id_);
   if (usage == Usage::readback) {
     // Client storage + persistent coherent mapping: the GPU writes straight into memory the CPU
-    // reads, with no map/unmap per download (GPU.md: sweeps must not stall on readback).
+    // reads, with no map/unmap per download (docs/gpu.md: sweeps must not stall on readback).
     const GLbitfield flags = GL_MAP_READ_BIT | GL_MAP_PERSISTENT_BIT | GL_MAP_COHERENT_BIT;
     glNamedBufferStorage(id_, static_cast<GLsizeiptr>(bytes), nullptr,
                          flags | GL_CLIENT_STORAGE_BIT);

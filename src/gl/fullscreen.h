@@ -1,6 +1,6 @@
 // Runs a fragment shader once per texel of a target texture: one triangle over the viewport,
 // drawn into a framebuffer whose only attachment is the target. The fragment backend of the
-// post-process passes (GPU.md: kept as the engines' baseline, measured beside compute).
+// post-process passes (docs/gpu.md: kept as the engines' baseline, measured beside compute).
 #pragma once
 
 #include <memory>

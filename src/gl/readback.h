@@ -1,6 +1,6 @@
 // Asynchronous texture download: the copy into a persistently mapped pixel-pack buffer is queued
 // with a fence, so the caller can queue more GPU work (or more downloads) before waiting.
-// GPU.md measured 2-3 GB/s for a plain glReadPixels on the H100; this path overlaps transfers.
+// docs/gpu.md measured 2-3 GB/s for a plain glReadPixels on the H100; this path overlaps transfers.
 #pragma once
 
 #include <memory>

@@ -42,7 +42,7 @@ class Texture {
   // Whole-image transfers of tightly packed rows, row 0 first.
   void upload(const void* data, size_t bytes);
   // One mip level, for textures whose levels are made by the caller rather than by averaging
-  // (a tonal art map's levels each hold their own strokes, SPEC.md §5).
+  // (a tonal art map's levels each hold their own strokes, docs/spec.md §5).
   void upload_level(int level, const void* data, size_t bytes);
   void download(void* data, size_t bytes) const;
   // Clears every texel to zero, or to `value` (as many floats as the texture has channels).

@@ -1,5 +1,5 @@
 // Times GPU work. Where timer queries are valid it uses GL_TIME_ELAPSED; on llvmpipe, whose
-// timer queries report nonsense (GPU.md), it brackets the work with glFinish and a wall clock.
+// timer queries report nonsense (docs/gpu.md), it brackets the work with glFinish and a wall clock.
 // Every result says which clock measured it.
 #pragma once
 

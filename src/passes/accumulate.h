@@ -1,4 +1,4 @@
-// Accumulation of sub-frames for the converged reference, SPEC.md §1 — shaders/passes/
+// Accumulation of sub-frames for the converged reference, docs/spec.md §1 — shaders/passes/
 // accumulate.comp, NumPy twin blurlab.reference.accumulation, tests/test_reference.py.
 #pragma once
 

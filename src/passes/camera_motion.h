@@ -1,4 +1,4 @@
-// camera_only's motion, SPEC.md §4 (Urho3D thesis §2.3.2): motion from depth and the camera's
+// camera_only's motion, docs/spec.md §4 (Urho3D thesis §2.3.2): motion from depth and the camera's
 // transforms alone — shaders/passes/camera_motion.glsl, NumPy twin
 // blurlab.reference.gathers.camera_motion, tests/test_camera_only.py.
 #pragma once

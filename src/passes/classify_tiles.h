@@ -1,5 +1,5 @@
 // Tile classification (Jimenez, "Next Generation Post Processing in Call of Duty: Advanced
-// Warfare", SIGGRAPH 2014 course) on top of TileMax / NeighborMax (SPEC.md §3.2-3.3):
+// Warfare", SIGGRAPH 2014 course) on top of TileMax / NeighborMax (docs/spec.md §3.2-3.3):
 // shaders/passes/classify_tiles.glsl, NumPy twin blurlab.reference.classify.classify_tiles,
 // tests/test_classify_tiles.py. docs/classify_and_steps.md defines the classes.
 //

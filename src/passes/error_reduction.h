@@ -1,4 +1,4 @@
-// Squared-error reduction for sweeps (SPEC.md §6) — shaders/passes/squared_error.comp, NumPy
+// Squared-error reduction for sweeps (docs/spec.md §6) — shaders/passes/squared_error.comp, NumPy
 // twin blurlab.metrics.mse, tests/test_metrics.py.
 #pragma once
 

@@ -1,4 +1,4 @@
-// gather_box, SPEC.md §4 ("Blurry things") — shaders/passes/gather_box.glsl, NumPy twin
+// gather_box, docs/spec.md §4 ("Blurry things") — shaders/passes/gather_box.glsl, NumPy twin
 // blurlab.reference.gathers.gather_box, tests/test_gather_box.py.
 #pragma once
 

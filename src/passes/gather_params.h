@@ -1,4 +1,4 @@
-// Parameters of the engines' gathers, SPEC.md §4.
+// Parameters of the engines' gathers, docs/spec.md §4.
 //
 // | name      | default   | allowed                        |
 // |-----------|-----------|--------------------------------|

@@ -1,4 +1,4 @@
-// gather_weighted, SPEC.md §4 (ogldev tutorial 41) — shaders/passes/gather_weighted.glsl,
+// gather_weighted, docs/spec.md §4 (ogldev tutorial 41) — shaders/passes/gather_weighted.glsl,
 // NumPy twin blurlab.reference.gathers.gather_weighted, tests/test_gather_weighted.py.
 #pragma once
 

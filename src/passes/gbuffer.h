@@ -1,4 +1,4 @@
-// G-buffer pass, SPEC.md §1: one raster pass writes linear color (RGBA32F), positive linear view
+// G-buffer pass, docs/spec.md §1: one raster pass writes linear color (RGBA32F), positive linear view
 // depth (R32F), motion t0→t1 in pixels with +y down (RG32F) and the object id (R32F, −1 for the
 // background) at the G-buffer's instant.
 //
@@ -47,7 +47,7 @@ struct GBufferMaterial {
   float specular = 0.0f;
   float shininess = 32.0f;
   std::shared_ptr<Texture> texture;  // optional albedo map, multiplied with color
-  // Tonal-art-map hatching (SPEC.md §5) replaces the shading with color · (1 − ink).
+  // Tonal-art-map hatching (docs/spec.md §5) replaces the shading with color · (1 − ink).
   // six_way: tam[0] holds tones 1–3 in RGB, tam[1] tones 4–6; threshold: tam[0].r holds the
   // darkness at which each texel turns to ink. Both are mip chains made level by level.
   enum class Hatching { none = 0, six_way = 1, threshold = 2 } hatching = Hatching::none;

@@ -1,5 +1,5 @@
 // Parameters of reconstruct_guertin2014 (Guertin, McGuire, Nowrouzezahrai, HPG 2014;
-// docs/guertin2014.md): those of SPEC.md §3 and the filters' options (McGuire2012Params), and
+// docs/guertin2014.md): those of docs/spec.md §3 and the filters' options (McGuire2012Params), and
 // the paper's two constants of the sampling and weighting.
 //
 // | name  | default (the paper's) | allowed          |

@@ -1,4 +1,4 @@
-// Parameters of the reconstruction filter, SPEC.md §3 (McGuire et al., I3D 2012). The same
+// Parameters of the reconstruction filter, docs/spec.md §3 (McGuire et al., I3D 2012). The same
 // names in C++, Python (bl.blur(..., k=20, samples=15, ...)) and the docs.
 //
 // | name     | default                          | allowed             |
@@ -9,7 +9,7 @@
 // | exposure | 1                                | 0 .. 1000           |
 // | seed     | 0                                | 0 .. 2^32 - 1       |
 //
-// Options of the filters (docs/guertin2014.md "Options"); off by default, so SPEC.md §3.4 holds:
+// Options of the filters (docs/guertin2014.md "Options"); off by default, so docs/spec.md §3.4 holds:
 //
 // | name             | default | allowed                                             |
 // |------------------|---------|-----------------------------------------------------|

@@ -1,4 +1,4 @@
-// NeighborMax, SPEC.md §3.3 — shaders/passes/neighbor_max.glsl, NumPy twin
+// NeighborMax, docs/spec.md §3.3 — shaders/passes/neighbor_max.glsl, NumPy twin
 // blurlab.reference.mcguire2012.neighbor_max, tests/test_neighbor_max.py.
 #pragma once
 

@@ -1,4 +1,4 @@
-// What the error reductions of SPEC.md §6 share (ErrorReductionPass, SsimReductionPass): a
+// What the error reductions of docs/spec.md §6 share (ErrorReductionPass, SsimReductionPass): a
 // compute program over two images of one size in 16 x 16 work groups, each group writing one
 // partial sum to a storage buffer, read back and added up in double precision on the CPU.
 #pragma once

@@ -1,5 +1,5 @@
 // What every post-process pass shares: its shader compiled for the compute backend (the
-// default; GPU.md) and, on demand, for the fragment backend, and a way to run it over a
+// default; docs/gpu.md) and, on demand, for the fragment backend, and a way to run it over a
 // target. One shader file serves both, selected by STAGE_COMPUTE / STAGE_FRAGMENT.
 //
 // A compute pass can also be restricted to the tiles of one class of a tile classification

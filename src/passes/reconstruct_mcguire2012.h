@@ -1,4 +1,4 @@
-// Reconstruct, SPEC.md §3.4 — shaders/passes/reconstruct_mcguire2012.glsl, NumPy twin
+// Reconstruct, docs/spec.md §3.4 — shaders/passes/reconstruct_mcguire2012.glsl, NumPy twin
 // blurlab.reference.mcguire2012.reconstruct_mcguire2012, tests/test_reconstruct_mcguire2012.py.
 #pragma once
 
@@ -7,7 +7,7 @@
 
 namespace blurlab {
 
-// Sets the uniforms that SPEC.md §3's parameters and the filters' options give every
+// Sets the uniforms that docs/spec.md §3's parameters and the filters' options give every
 // reconstruct shader (k, samples, soft_z, exposure, seed, jitter_tiles, adaptive_samples,
 // early_exit), after validating them.
 void set_filter_uniforms(Program& program, const McGuire2012Params& params);

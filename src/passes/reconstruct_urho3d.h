@@ -1,4 +1,4 @@
-// reconstruct_urho3d, the Urho3D thesis's reconstruct pass as printed there (SPEC.md §3
+// reconstruct_urho3d, the Urho3D thesis's reconstruct pass as printed there (docs/spec.md §3
 // variant): a fragment pass, the seed's baseline — shaders/passes/reconstruct_urho3d.glsl,
 // NumPy twin blurlab.reference.urho3d, tests/test_reconstruct_urho3d.py.
 #pragma once

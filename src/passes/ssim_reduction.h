@@ -1,4 +1,4 @@
-// SSIM reduction for sweeps (SPEC.md §6) — shaders/passes/ssim.comp, NumPy twin
+// SSIM reduction for sweeps (docs/spec.md §6) — shaders/passes/ssim.comp, NumPy twin
 // blurlab.metrics.ssim, tests/test_ssim_gpu.py.
 //
 // Mean SSIM (Wang et al. 2004) of the luminance of two images clipped to [0, 1]: Gaussian window

@@ -1,4 +1,4 @@
-// stochastic, SPEC.md §4 (the OGRE paper): adds one jittered time-slice render's share to the
+// stochastic, docs/spec.md §4 (the OGRE paper): adds one jittered time-slice render's share to the
 // output — shaders/passes/stochastic.comp, NumPy twin blurlab.reference.stochastic,
 // tests/test_stochastic.py.
 #pragma once

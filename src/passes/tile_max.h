@@ -1,4 +1,4 @@
-// TileMax, SPEC.md §3.2 — shaders/passes/tile_max.glsl, NumPy twin
+// TileMax, docs/spec.md §3.2 — shaders/passes/tile_max.glsl, NumPy twin
 // blurlab.reference.mcguire2012.tile_max, tests/test_tile_max.py.
 #pragma once
 

@@ -1,4 +1,4 @@
-// The uniform class of the tile classification (docs/classify_and_steps.md): SPEC.md §3.4 with
+// The uniform class of the tile classification (docs/classify_and_steps.md): docs/spec.md §3.4 with
 // V[X] = V[Y] = NeighborMax and f = b = 1, colors only — shaders/passes/uniform_gather.glsl,
 // NumPy twin blurlab.reference.classify.uniform_gather, tests/test_uniform_gather.py. Its
 // parameters are the filter's k, samples and seed (McGuire2012Params). Restrict it to the

@@ -1,11 +1,14 @@
-"""Motion-blur methods by name: ``bl.methods()`` lists them, ``bl.blur(ctx, frame, name, ...)``
-runs one. Each method declares the G-buffer instant it wants (SPEC.md §1), its parameters with
-defaults, and its backends; its passes are C++ classes with a NumPy twin in bl.reference.
+"""The core of the methods: parameter declaration and validation, the registry, ``blur``,
+shutter ``steps`` and pass timing. Each method lives in a module of its own beside this one
+(blurlab/methods/*.py) and registers a ``Method`` that carries everything other code needs:
+its parameters, instant (docs/spec.md §1), backends, kind, default sweep grid and NumPy twin.
+docs/adding_a_method.md walks through adding one.
 """
 
 from __future__ import annotations
 
 import contextvars
+import inspect
 import math
 import warnings
 import weakref
@@ -15,9 +18,10 @@ from numbers import Integral, Real
 
 import numpy as np
 
-from . import _core
-from .context import Context, Texture, Timing
-from .frame import Frame
+from .. import _core
+from ..context import Context, Texture, Timing
+from ..frame import Frame
+from ..render import check_shutter, instant_time
 
 
 @dataclass
@@ -100,9 +104,22 @@ def _num(x: float) -> str:
     return f"{x:g}"
 
 
+# What a method is, for the studies that choose methods by what they do:
+#   filter    - a tile-based reconstruction filter (k, samples, soft_z): failure-suite
+#               sensitivity to k and soft_z applies;
+#   gather    - a post-process gather along the motion;
+#   render    - renders sub-frames itself (accumulation, stochastic): `steps` does not apply,
+#               and its output is not a convex combination of one frame's colors;
+#   sequence  - blends a sequence of frames (trail): not swept over a single shutter.
+KINDS = ("filter", "gather", "render", "sequence")
+
+
 @dataclass(frozen=True)
 class Method:
+    """A registered method: everything the rest of blurlab needs to know about it."""
+
     name: str
+    kind: str  # one of KINDS
     # "center" or "close": the G-buffer time the method expects, or a function of the params
     instant: str | Callable[[dict], str]
     params: dict[str, Param]
@@ -110,9 +127,61 @@ class Method:
     # (ctx, frame, inputs: dict[str, Texture], params, backend) -> (outputs, timings)
     run: Callable
     doc: str = ""
-    # True for methods that render sub-frames themselves (accumulation, stochastic): `steps`
-    # does not apply to them.
-    renders: bool = False
+    # The grid `blurlab study` and `bl.sweep` use by default: {param: [values]} or a list of
+    # them (their union); {} is the defaults alone.
+    default_grid: dict | list = field(default_factory=dict)
+    # The NumPy twin: twin(*frame arrays named by twin_inputs, **params) -> (H, W, C) color,
+    # keyword-only parameters named as in `params`, with no defaults of their own.
+    twin: Callable | None = None
+    twin_inputs: tuple[str, ...] = ("color", "depth", "motion")
+    # Parameters whose time/error curves the study report draws (the thesis's tables 5.2/5.3).
+    study_curves: tuple[str, ...] = ()
+    # Shown in the failure suite's image gallery (one or two methods of each kind).
+    gallery: bool = False
+
+    def __post_init__(self):
+        if self.kind not in KINDS:
+            raise ValueError(f"blurlab: method kind {self.kind!r} is not one of {KINDS}")
+
+    @property
+    def renders(self) -> bool:
+        """True for methods that render sub-frames themselves: `steps` does not apply."""
+        return self.kind == "render"
+
+    @property
+    def sweepable(self) -> bool:
+        """True for methods a single-shutter sweep can evaluate."""
+        return self.kind != "sequence"
+
+    def defaults(self, frame: Frame | None = None, **given) -> dict:
+        """Every parameter's value for a call with `given` on `frame`, validated as blur
+        validates them (defaults read from the frame need a frame)."""
+        return resolve_params(self, frame, given)
+
+    def twin_output(self, frame: Frame, **given) -> np.ndarray:
+        """The NumPy twin's output for `frame` with `given` parameters (the rest at their
+        defaults): what the GPU passes must match."""
+        if self.twin is None:
+            raise ValueError(f"blurlab: {self.name} has no NumPy twin of a single frame")
+        values = resolve_params(self, frame, given)
+        taken = twin_keywords(self.twin)
+        arrays = [getattr(frame, name) for name in self.twin_inputs]
+        return self.twin(
+            *arrays, **{k: v for k, v in values.items() if taken is None or k in taken}
+        )
+
+
+def twin_keywords(twin: Callable) -> set[str] | None:
+    """The method parameters a NumPy twin takes: its keyword-only parameters without a default
+    (None where it takes **keywords, i.e. all of them). Keyword-only parameters with a default
+    are extra inputs, such as a precomputed NeighborMax, not method parameters."""
+    taken = set()
+    for p in inspect.signature(twin).parameters.values():
+        if p.kind is inspect.Parameter.VAR_KEYWORD:
+            return None
+        if p.kind is inspect.Parameter.KEYWORD_ONLY and p.default is inspect.Parameter.empty:
+            taken.add(p.name)
+    return taken
 
 
 _REGISTRY: dict[str, Method] = {}
@@ -164,7 +233,7 @@ def blur(
     finally:
         _TIMED.reset(token)
     result = BlurResult(name, values, backend, timings, outputs)
-    weakref.finalize(result, ctx._recycle, *outputs.values())
+    weakref.finalize(result, ctx.recycle, *outputs.values())
     return result
 
 
@@ -172,14 +241,12 @@ def _check_instant(m: Method, frame: Frame, values: dict) -> None:
     """Warns when a rendered frame was not rendered at the instant the method expects."""
     if frame.time is None or frame.camera is None:
         return
-    from .render import instant_time
-
     expected = m.instant(values) if callable(m.instant) else m.instant
     if abs(instant_time(expected, frame.shutter) - frame.time) > 1e-12:
         warnings.warn(
             f"blurlab: {m.name} expects the G-buffer at the shutter's {expected} "
             f"(t = {instant_time(expected, frame.shutter)}), this frame is at t = {frame.time}; "
-            f"render with instant=bl.methods_instant({m.name!r}, params) or use bl.render_and_blur",
+            f"render with instant=bl.method_instant({m.name!r}, params) or use bl.render_and_blur",
             stacklevel=3,
         )
 
@@ -234,8 +301,6 @@ def render_steps(
 ) -> list[Frame]:
     """The G-buffers that `blur_steps` needs: one per sub-interval of the shutter, each at the
     instant method `name` expects within it, its motion over the sub-interval."""
-    from .render import check_shutter
-
     steps = check_steps(name, steps)
     shutter = check_shutter(scene.shutter if shutter is None else shutter)
     instant = method_instant(name, params)
@@ -264,18 +329,18 @@ def blur_steps(
     height, width = frames[0].color.shape[:2]
     if any(f.color.shape[:2] != (height, width) for f in frames):
         raise ValueError("blurlab: the frames of blur_steps differ in size")
-    total = ctx._pooled((height, width, 4))
+    total = ctx.pooled((height, width, 4))
     total.clear()
-    accumulate = ctx._pass("accumulate", _core.AccumulatePass)
+    accumulate = ctx.cached("accumulate", lambda: _core.AccumulatePass(ctx.native))
     timings: dict[str, Timing] = {}
     for frame in frames:
         result = blur(ctx, frame, name, backend, timed, **params)
         add = Timing(math.nan, "untimed")
         if timed:
             with ctx.timer() as add:
-                accumulate.run(result.textures["color"]._core, total._core, 1 / steps)
+                accumulate.run(result.textures["color"].native, total.native, 1 / steps)
         else:
-            accumulate.run(result.textures["color"]._core, total._core, 1 / steps)
+            accumulate.run(result.textures["color"].native, total.native, 1 / steps)
         for key, timing in {**result.timings, "steps_accumulate": add}.items():
             before = timings.get(key, Timing(0.0, timing.clock))
             timings[key] = Timing(before.ms + timing.ms, timing.clock)
@@ -285,7 +350,7 @@ def blur_steps(
     clock = next(iter(timings.values())).clock
     timings["extra_gbuffers"] = Timing(extra, clock)
     out = BlurResult(name, {**values, "steps": steps}, backend_used, timings, {"color": total})
-    weakref.finalize(out, ctx._recycle, total)
+    weakref.finalize(out, ctx.recycle, total)
     return out
 
 
@@ -324,7 +389,7 @@ def check_param(name: str, key: str, value):
 
 
 def _typed(method_name: str, key: str, value, p: Param):
-    """`value` as parameter `key` of method `method_name` takes it (SPEC.md parameter tables):
+    """`value` as parameter `key` of method `method_name` takes it (parameter declarations):
     the one place where every method's parameters are type- and range-checked. Every error
     names the method, the parameter, the value and what is allowed."""
     where = f"blurlab: {method_name} parameter {key}"
@@ -386,15 +451,6 @@ def frame_textures(ctx: Context, frame: Frame) -> dict[str, Texture]:
     return textures
 
 
-def depth_range_soft_z(frame: Frame) -> float:
-    """SPEC.md §3 default soft_z: 1 % of the frame's finite depth range."""
-    if frame.depth_range is None:
-        return 0.01
-    near, far = frame.depth_range
-    span = far - near
-    return 0.01 * (span if span > 0 else max(abs(far), 1.0))
-
-
 _TIMED: contextvars.ContextVar[bool] = contextvars.ContextVar("blurlab_timed", default=True)
 
 
@@ -410,567 +466,11 @@ def timed(ctx: Context, timings: dict, name: str, fn: Callable) -> None:
     timings[name] = timing
 
 
-# --- reconstruct_mcguire2012 (SPEC.md §3) -------------------------------------------------
-
-
-def _classify_params() -> dict:
-    from .classify import classify_params
-
-    return classify_params()
-
-
-_FILTER_OPTIONS = ("jitter_tiles", "adaptive_samples", "early_exit")
-
-
-def _mcguire_params(values: dict, params=None):
-    p = params if params is not None else _core.McGuire2012Params()
-    for key in ("k", "samples", "soft_z", "exposure"):
-        setattr(p, key, values[key])
-    p.seed = values["seed"]
-    p.jitter_tiles = bool(values.get("jitter_tiles", 0))
-    p.adaptive_samples = bool(values.get("adaptive_samples", 0))
-    p.early_exit = values.get("early_exit", 0.0)
-    p.validate()
-    return p
-
-
-def _guertin_params(values: dict):
-    p = _core.Guertin2014Params()
-    p.gamma, p.kappa = values["gamma"], values["kappa"]
-    return _mcguire_params(values, p)
-
-
-def _tile_passes(
-    ctx: Context, motion, params, backend: str, diagonal_reach=False, with_bounds=False
-):
-    """TileMax (§3.2) and NeighborMax (§3.3, or the direction-keeping dilation of
-    docs/guertin2014.md): (tiles, neighbors, timings, bounds). `with_bounds` has TileMax also
-    write each tile's motion bounds for classification (docs/classify_and_steps.md)."""
-    height, width = motion.shape[:2]
-    grid = (-(-height // params.k), -(-width // params.k), 2)
-    tiles, neighbors = ctx._pooled(grid), ctx._pooled(grid)
-    tile_pass = ctx._pass("tile_max", _core.TileMaxPass)
-    neighbor_pass = ctx._pass("neighbor_max", _core.NeighborMaxPass)
-    timings: dict[str, Timing] = {}
-    bounds = []
-    if with_bounds:
-        from .classify import tile_max_with_bounds
-
-        run_tile_max = lambda: bounds.append(  # noqa: E731
-            tile_max_with_bounds(ctx, tile_pass, motion, tiles, params)
-        )
-    else:
-        run_tile_max = lambda: tile_pass.run(motion._core, tiles._core, params, backend)  # noqa: E731
-    timed(ctx, timings, "tile_max", run_tile_max)
-    timed(
-        ctx,
-        timings,
-        "neighbor_max",
-        lambda: neighbor_pass.run(tiles._core, neighbors._core, backend, diagonal_reach),
-    )
-    return tiles, neighbors, timings, (bounds[0] if bounds else None)
-
-
-def _run_filter(name: str, pass_type, make_params, diagonal_reach: bool):
-    """TileMax → NeighborMax → the reconstruct pass `name` (SPEC.md §3, docs/guertin2014.md),
-    the last one tile class by tile class where the method offers classify=True."""
-
-    def run(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
-        params = make_params(values)
-        classified = values.get("classify", False)
-        if classified:
-            from . import classify
-
-            classify.check_backend(values, backend, name)
-            options = [o for o in _FILTER_OPTIONS if values.get(o)]
-            if options:
-                raise ValueError(
-                    f"blurlab: {name} with classify=True takes none of the filter options "
-                    f"yet; {', '.join(options)} set (docs/classify_and_steps.md)"
-                )
-        tiles, neighbors, timings, bounds = _tile_passes(
-            ctx, inputs["motion"], params, backend, diagonal_reach, classified
-        )
-        result = ctx._pooled(inputs["color"].shape[:2] + (4,))
-        reconstruct = ctx._pass(name, pass_type)
-
-        def run_reconstruct():
-            reconstruct.run(
-                inputs["color"]._core,
-                inputs["depth"]._core,
-                inputs["motion"]._core,
-                neighbors._core,
-                result._core,
-                params,
-                backend,
-            )
-
-        extra = {}
-        if classified:
-            extra["tile_bounds"] = bounds
-            extra.update(
-                classify.run_classified(
-                    ctx,
-                    lambda pass_name, fn: timed(ctx, timings, pass_name, fn),
-                    inputs,
-                    neighbors,
-                    bounds,
-                    result,
-                    params,
-                    values["uniform_spread"],
-                    reconstruct,
-                    run_reconstruct,
-                )
-            )
-        else:
-            timed(ctx, timings, "reconstruct", run_reconstruct)
-        return {"color": result, "tile_max": tiles, "neighbor_max": neighbors, **extra}, timings
-
-    return run
-
-
 SEED_MAX = 2**32 - 1
 FLOAT32_MAX = float(np.finfo(np.float32).max)  # float parameters go to the GPU as float32
 # Exposure and intensity scale motion, which the passes read as at most 2^20 px per component
 # (shaders/common/inputs.glsl, docs/reliability.md); up to 1000 x that, tap positions stay
 # below 2^31 px, where GLSL's float-to-int conversion is defined.
 PARAM_SCALE_MAX = 1000.0
-_K = Param(20, int, "tile size = largest blur radius, pixels (1..256)", 1, 256)
-_SAMPLES = Param(15, int, "samples S per pixel (1..256)", 1, 256)
-_SOFT_Z = Param(
-    depth_range_soft_z, float, "soft depth extent, depth units (> 0)", 0, FLOAT32_MAX, True
-)
-_EXPOSURE = Param(1.0, float, "exposure E, fraction of the shutter (0..1000)", 0, PARAM_SCALE_MAX)
-
-_FILTER_PARAMS = {
-    "k": _K,
-    "samples": _SAMPLES,
-    "soft_z": _SOFT_Z,
-    "exposure": _EXPOSURE,
-    "seed": Param(0, int, "jitter seed (0..2^32-1)", 0, SEED_MAX),
-    "jitter_tiles": Param(0, int, "1: jittered NeighborMax lookup against tile blockiness", 0, 1),
-    "adaptive_samples": Param(0, int, "1: S scaled with the neighborhood's motion length", 0, 1),
-    "early_exit": Param(0.0, float, "pixels whose neighborhood moves < this many px keep C", 0),
-}
-
-register(
-    Method(
-        name="reconstruct_mcguire2012",
-        instant="center",
-        params={**_FILTER_PARAMS, **_classify_params()},
-        backends=("compute", "fragment"),
-        run=_run_filter(
-            "reconstruct_mcguire2012", _core.ReconstructMcGuire2012Pass, _mcguire_params, False
-        ),
-        doc="McGuire, Hennessy, Bukowski, Osman: A Reconstruction Filter for Plausible Motion "
-        "Blur (I3D 2012). SPEC.md §3; options in docs/guertin2014.md, classification in "
-        "docs/classify_and_steps.md.",
-    )
-)
-
-
-# --- reconstruct_guertin2014 (docs/guertin2014.md) -----------------------------------------
-
-register(
-    Method(
-        name="reconstruct_guertin2014",
-        instant="center",
-        params={
-            **_FILTER_PARAMS,
-            "gamma": Param(
-                1.5,
-                float,
-                "γ: px over 0.5 at which wc is V[X]'s direction (> 0)",
-                0,
-                FLOAT32_MAX,
-                True,
-            ),
-            "kappa": Param(
-                40.0, float, "κ: center weight S / (κ len(V[X])) (> 0)", 0, FLOAT32_MAX, True
-            ),
-        },
-        backends=("compute", "fragment"),
-        run=_run_filter(
-            "reconstruct_guertin2014", _core.ReconstructGuertin2014Pass, _guertin_params, True
-        ),
-        doc="Guertin, McGuire, Nowrouzezahrai: A Fast and Stable Feature-Aware Motion Blur "
-        "Filter (HPG 2014): SPEC.md §3 with direction-keeping dilation, two sampling "
-        "directions, mirrored pairs and alignment weights. docs/guertin2014.md.",
-    )
-)
-
-
-# --- reconstruct_urho3d (SPEC.md §3 variant, the seed's baseline) -------------------------
-
-
-def default_far(frame: Frame) -> float:
-    """The depth the Urho3D pass reads for +inf: the camera's far plane for rendered frames,
-    else twice the largest finite depth."""
-    if frame.camera is not None and "far" in frame.camera:
-        return float(frame.camera["far"])
-    if frame.depth_range is None or frame.depth_range[1] <= 0:
-        return 1.0
-    return min(2.0 * frame.depth_range[1], FLOAT32_MAX)  # finite even for depths near 3.4e38
-
-
-def _run_urho3d(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
-    from .reference.urho3d import jitter_texture
-
-    params = _mcguire_params(values)
-    tiles, neighbors, timings, _ = _tile_passes(ctx, inputs["motion"], params, backend)
-    result = ctx._pooled(inputs["color"].shape[:2] + (4,))
-    key = ("urho3d_jitter", values["seed"])
-    if key not in ctx._passes:
-        ctx._passes[key] = ctx.upload(jitter_texture(values["seed"]))
-    jitter = ctx._passes[key]
-    reconstruct = ctx._pass("reconstruct_urho3d", _core.ReconstructUrho3dPass)
-    timed(
-        ctx,
-        timings,
-        "reconstruct",
-        lambda: reconstruct.run(
-            inputs["color"]._core,
-            inputs["depth"]._core,
-            inputs["motion"]._core,
-            neighbors._core,
-            jitter._core,
-            result._core,
-            params,
-            values["far"],
-        ),
-    )
-    return {"color": result, "tile_max": tiles, "neighbor_max": neighbors}, timings
-
-
-register(
-    Method(
-        name="reconstruct_urho3d",
-        instant="center",
-        params={
-            "k": _K,
-            "samples": _SAMPLES,
-            "soft_z": _SOFT_Z,
-            "exposure": _EXPOSURE,
-            "seed": Param(0, int, "seed of the 64 x 64 jitter texture (0..2^32-1)", 0, SEED_MAX),
-            "far": Param(
-                default_far, float, "depth that +inf is read as (> 0)", 0, FLOAT32_MAX, True
-            ),
-        },
-        backends=("fragment",),
-        run=_run_urho3d,
-        doc="The reconstruct pass of the Urho3D thesis as printed there: a fragment pass, the "
-        "seed's baseline. SPEC.md §3 variant; the shader's header lists the differences.",
-    )
-)
-
-
-# --- the engines' gathers (SPEC.md §4) -----------------------------------------------------
-
-EDGES = ("clamp", "ignore", "guard")
-
-
-def _gather_params(values: dict) -> _core.GatherParams:
-    p = _core.GatherParams()
-    p.taps = values.get("taps", 10)
-    p.intensity = values.get("intensity", 1.0)
-    p.centered = values.get("direction", "backward") == "centered"
-    p.edge = "clamp" if values["edge"] == "guard" else values["edge"]
-    p.validate()
-    return p
-
-
-def _longest_motion(frame: Frame) -> float:
-    speed = np.linalg.norm(frame.motion, axis=-1)
-    speed = speed[np.isfinite(speed)]
-    return float(speed.max()) if speed.size else 0.0
-
-
-def _with_edge(ctx: Context, frame: Frame, inputs: dict, edge: str, reach: float, run):
-    """Runs `run(inputs) -> (color texture, timings)` on the frame, or, for edge "guard", on
-    the frame re-rendered with a margin wide enough for every tap, then crops the margin."""
-    if edge != "guard":
-        return run(inputs)
-    if frame.scene is None or frame.time is None:
-        raise ValueError(
-            "blurlab: edge='guard' re-renders the frame with a margin, so it needs a frame "
-            "made by ctx.render; use edge='clamp' or 'ignore' for frames built from arrays"
-        )
-    from .render import render_targets
-
-    guard = math.ceil(reach * _longest_motion(frame)) + 2
-    big, _, timing = render_targets(ctx, frame.scene, frame.size, frame.shutter, frame.time, guard)
-    color, timings = run(big)
-    height, width = frame.color.shape[:2]
-    result = ctx._pooled((height, width, 4))
-    result._core.copy_from(color._core, guard, guard)
-    ctx._recycle(color, *big.values())
-    return result, {"guard_gbuffer": timing, **timings}
-
-
-def _run_gather(name: str, pass_type, reach: Callable[[dict], float]):
-    def run(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
-        params = _gather_params(values)
-        gather = ctx._pass(name, pass_type)
-
-        def on(textures):
-            height, width = textures["color"].shape[:2]
-            result = ctx._pooled((height, width, 4))
-            timings: dict[str, Timing] = {}
-            timed(
-                ctx,
-                timings,
-                name,
-                lambda: gather.run(
-                    textures["color"]._core, textures["motion"]._core, result._core, params, backend
-                ),
-            )
-            return result, timings
-
-        color, timings = _with_edge(ctx, frame, inputs, values["edge"], reach(values), on)
-        return {"color": color}, timings
-
-    return run
-
-
-_EDGE = Param(
-    "clamp", EDGES, "taps outside the image: clamp, ignore, or guard (re-render a margin)"
-)
-
-register(
-    Method(
-        name="gather_weighted",
-        instant="close",
-        params={"edge": _EDGE},
-        backends=("compute", "fragment"),
-        run=_run_gather("gather_weighted", _core.GatherWeightedPass, lambda v: 1.5),
-        doc="ogldev tutorial 41: taps along M/2 with weights 0.4/0.3/0.2/0.1. SPEC.md §4.",
-    )
-)
-
-_BOX_PARAMS = {
-    "taps": Param(10, int, "n equal taps (2..256)", 2, 256),
-    "intensity": Param(
-        1.0, float, "length of the blur, fraction of the motion (0..1000)", 0, PARAM_SCALE_MAX
-    ),
-    "direction": Param("backward", ("backward", "centered"), "taps behind X, or around it"),
-    "edge": _EDGE,
-}
-
-
-def _box_reach(values: dict) -> float:
-    return values["intensity"] * (0.5 if values["direction"] == "centered" else 1.0)
-
-
-register(
-    Method(
-        name="gather_box",
-        instant=lambda v: "center" if v.get("direction") == "centered" else "close",
-        params=_BOX_PARAMS,
-        backends=("compute", "fragment"),
-        run=_run_gather("gather_box", _core.GatherBoxPass, _box_reach),
-        doc='"Blurry things": n equal taps along the motion, backward or centered. SPEC.md §4.',
-    )
-)
-
-
-def _camera_matrices(camera: dict) -> dict:
-    """The uniforms of the camera-motion pass from a rendered frame's camera matrices."""
-    return {
-        "view_from_clip": np.linalg.inv(camera["projection"]).astype(np.float32),
-        "world_from_view": np.linalg.inv(camera["view"][2]).astype(np.float32),
-        "clip_from_world": camera["view_projection"][:2].astype(np.float32),
-        "sky_from_clip": camera["sky_from_clip"].astype(np.float32),
-        "sky_projection": camera["sky_projection"].astype(np.float32),
-        "near": float(camera["near"]),
-    }
-
-
-def _run_camera_only(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
-    if frame.camera is None:
-        raise ValueError(
-            "blurlab: camera_only needs the camera's transforms: use a frame made by ctx.render"
-        )
-    params = _gather_params(values)
-    camera_pass = ctx._pass("camera_motion", _core.CameraMotionPass)
-    gather = ctx._pass("gather_box", _core.GatherBoxPass)
-
-    def on(textures):
-        height, width = textures["color"].shape[:2]
-        guard = (width - frame.size[0]) // 2
-        camera = frame.camera
-        if guard:  # the margin's frustum, as render_targets widened it
-            from .render import camera_matrices
-
-            camera = camera_matrices(frame.scene, frame.size, tuple(camera["times"]), guard)
-        matrices = _camera_matrices(camera)
-        motion, result = ctx._pooled((height, width, 2)), ctx._pooled((height, width, 4))
-        timings: dict[str, Timing] = {}
-        timed(
-            ctx,
-            timings,
-            "camera_motion",
-            lambda: camera_pass.run(textures["depth"]._core, motion._core, matrices),
-        )
-        timed(
-            ctx,
-            timings,
-            "gather_box",
-            lambda: gather.run(
-                textures["color"]._core, motion._core, result._core, params, backend
-            ),
-        )
-        ctx._recycle(motion)
-        return result, timings
-
-    color, timings = _with_edge(ctx, frame, inputs, values["edge"], _box_reach(values), on)
-    return {"color": color}, timings
-
-
-register(
-    Method(
-        name="camera_only",
-        instant=lambda v: "center" if v.get("direction") == "centered" else "close",
-        params=_BOX_PARAMS,
-        backends=("compute", "fragment"),
-        run=_run_camera_only,
-        doc="Urho3D thesis §2.3.2: motion from depth and the camera's transforms alone, then "
-        "gather_box; moving objects get no blur of their own. SPEC.md §4.",
-    )
-)
-
-
-# --- trail and accumulation (SPEC.md §4) ---------------------------------------------------
-
-
-def _run_trail(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
-    alpha = values["alpha"]
-    history = values["history"]
-    if history is not None and not isinstance(history, BlurResult):
-        raise TypeError("blurlab: trail history must be the previous frame's BlurResult or None")
-    height, width = inputs["color"].shape[:2]
-    result = ctx._pooled((height, width, 4))
-    result.clear()
-    accumulate = ctx._pass("accumulate", _core.AccumulatePass)
-
-    def blend():
-        if history is None:  # out_0 = C_0
-            accumulate.run(inputs["color"]._core, result._core, 1.0)
-            return
-        if history.textures["color"].shape != (height, width, 4):
-            raise ValueError("blurlab: trail history has another size than the frame")
-        accumulate.run(inputs["color"]._core, result._core, alpha)
-        accumulate.run(history.textures["color"]._core, result._core, 1.0 - alpha)
-
-    timings: dict[str, Timing] = {}
-    timed(ctx, timings, "trail", blend)
-    return {"color": result}, timings
-
-
-register(
-    Method(
-        name="trail",
-        instant="close",
-        params={
-            "alpha": Param(0.5, float, "weight of the current frame, in [0, 1]", 0, 1),
-            "history": Param(None, object, "the previous frame's BlurResult (None: first frame)"),
-        },
-        backends=("compute",),
-        run=_run_trail,
-        doc="Urho3D thesis §2.3.1: out_n = α·C_n + (1 - α)·out_{n-1}, feedback over a "
-        "sequence. SPEC.md §4.",
-    )
-)
-
-
-def _run_accumulation(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
-    if frame.scene is None:
-        raise ValueError(
-            "blurlab: accumulation renders the scene again: use a frame made by ctx.render"
-        )
-    reference = ctx.reference(
-        frame.scene,
-        frame.size,
-        frame.shutter,
-        samples=values["samples"],
-        stratified=values["stratified"] == "stratified",
-        seed=values["seed"],
-        progress=False,
-    )
-    height, width = frame.color.shape[:2]
-    result = ctx._pooled((height, width, 4))
-    result._core.copy_from(reference.texture._core, 0, 0)
-    timing = Timing(reference.ms_per_subframe * reference.samples, reference.clock)
-    return {"color": result}, {"accumulation": timing}
-
-
-register(
-    Method(
-        name="accumulation",
-        instant="center",
-        params={
-            "samples": Param(8, int, "sub-frames N (1..4096; 4-32 shows the banding)", 1, 4096),
-            "stratified": Param("uniform", ("uniform", "stratified"), "sub-frame times"),
-            "seed": Param(0, int, "seed of stratified times (0..2^32-1)", 0, SEED_MAX),
-        },
-        backends=("compute",),
-        run=_run_accumulation,
-        renders=True,
-        doc="Haeberli-Akeley accumulation (the OGRE paper): the reference with small N. "
-        "SPEC.md §4.",
-    )
-)
-
-
-# --- stochastic (SPEC.md §4, the OGRE paper) -----------------------------------------------
-
-
-def _run_stochastic(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
-    from .reference.stochastic import ROTATED_GRID, slice_times
-    from .render import render_targets
-
-    slices, seed = values["slices"], values["seed"]
-    if frame.scene is None:
-        raise ValueError("blurlab: stochastic renders time slices: use a frame made by ctx.render")
-    height, width = frame.color.shape[:2]
-    result = ctx._pooled((height, width, 4))
-    result.clear()
-    combine = ctx._pass("stochastic", _core.StochasticPass)
-    renders = combines = 0.0
-    clock = ""
-    for slice_index, t in enumerate(slice_times(frame.shutter, slices, seed)):
-        for position, p in enumerate(ROTATED_GRID):
-            jitter = (0.5 - p[0], 0.5 - p[1])
-            targets, _, timing = render_targets(
-                ctx, frame.scene, frame.size, frame.shutter, float(t), 0, jitter
-            )
-            with ctx.timer() as add:
-                combine.run(
-                    targets["color"]._core, result._core, slice_index, position, slices, seed
-                )
-            ctx._recycle(*targets.values())
-            renders += timing.ms
-            combines += add.ms
-            clock = add.clock
-    return {"color": result}, {
-        "slice_renders": Timing(renders, clock),
-        "stochastic": Timing(combines, clock),
-    }
-
-
-register(
-    Method(
-        name="stochastic",
-        instant="center",
-        params={
-            "slices": Param(4, int, "time slices K (1..64); 4 K jittered renders", 1, 64),
-            "seed": Param(
-                0, int, "seed of slice times and per-pixel permutations (0..2^32-1)", 0, SEED_MAX
-            ),
-        },
-        backends=("compute",),
-        run=_run_stochastic,
-        renders=True,
-        doc="The OGRE paper's stochastic blur: K time slices, rotated-grid samples in and "
-        "around each pixel, weights 5/32 and 3/32. SPEC.md §4.",
-    )
-)
+# Every method with random choices (jitter, stochastic times) takes this one seed parameter.
+SEED = Param(0, int, "seed of the method's random choices", 0, SEED_MAX)

@@ -1,4 +1,4 @@
-"""The converged reference over a shutter, SPEC.md §1, in NumPy: sample times and the mean.
+"""The converged reference over a shutter, docs/spec.md §1, in NumPy: sample times and the mean.
 GPU twin: shaders/passes/accumulate.comp driven by blurlab.reference_render."""
 
 from __future__ import annotations

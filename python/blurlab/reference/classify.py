@@ -1,5 +1,5 @@
 """Tile classification (Jimenez 2014, "Next Generation Post Processing in Call of Duty:
-Advanced Warfare") on top of the reconstruction filter's tiles (SPEC.md §3.2-3.3), in NumPy
+Advanced Warfare") on top of the reconstruction filter's tiles (docs/spec.md §3.2-3.3), in NumPy
 float64. GPU twins: shaders/passes/tile_max.glsl (TILE_BOUNDS), classify_tiles.glsl,
 tile_copy.glsl, uniform_gather.glsl. docs/classify_and_steps.md defines the classes.
 """
@@ -10,11 +10,19 @@ import numpy as np
 
 from .hashing import rand
 from .inputs import sanitize_color
-from .mcguire2012 import cone, cylinder, half_velocity, len_half, neighbor_max, tile_max
+from .mcguire2012 import (
+    cone,
+    cylinder,
+    half_velocity,
+    len_half,
+    neighbor_max,
+    reconstruct_mcguire2012,
+    tile_max,
+)
 
 STILL, UNIFORM, FULL = 0, 1, 2
 CLASS_NAMES = ("still", "uniform", "full")
-STILL_THRESHOLD = 0.5 + 0.01  # SPEC.md §3.4: the filter's early exit
+STILL_THRESHOLD = 0.5 + 0.01  # docs/spec.md §3.4: the filter's early exit
 
 
 def tile_bounds(v: np.ndarray, k: int) -> np.ndarray:
@@ -55,8 +63,8 @@ def classify_tiles(
     return np.where(np.linalg.norm(neighbor, axis=-1) <= still_threshold, STILL, classes)
 
 
-def uniform_gather(color, neighbor: np.ndarray, k: int, samples: int = 15, seed: int = 0):
-    """SPEC.md §3.4 with V[X] = V[Y] = vN and f = b = 1 at every pixel: (H, W, C) float64.
+def uniform_gather(color, neighbor: np.ndarray, *, k: int, samples: int, seed: int):
+    """docs/spec.md §3.4 with V[X] = V[Y] = vN and f = b = 1 at every pixel: (H, W, C) float64.
 
     Its own tap loop, not the filter run on a frame of V = vN: a tap in a neighbouring tile
     would then read that tile's vN, where here every tap of X uses X's."""
@@ -87,11 +95,12 @@ def classified(
     depth,
     motion,
     full,
-    k: int = 20,
-    samples: int = 15,
-    exposure: float = 1.0,
-    seed: int = 0,
-    uniform_spread: float = 0.5,
+    *,
+    k: int,
+    samples: int,
+    exposure: float,
+    seed: int,
+    uniform_spread: float,
     still_threshold: float = STILL_THRESHOLD,
 ):
     """The classified filter: C on still tiles, uniform_gather on uniform tiles and `full`
@@ -103,6 +112,26 @@ def classified(
     h, w = color.shape[:2]
     y, x = np.mgrid[0:h, 0:w]
     per_pixel = classes[y // k, x // k][..., None]
-    cheap = uniform_gather(color, neighbor, k, samples, seed)
+    cheap = uniform_gather(color, neighbor, k=k, samples=samples, seed=seed)
     image = np.where(per_pixel == STILL, color, np.where(per_pixel == UNIFORM, cheap, full))
     return image, classes
+
+
+def reconstruct(color, depth, motion, *, classify: bool, uniform_spread: float, **filter_params):
+    """reconstruct_mcguire2012 as the method runs it: the filter of blurlab.reference.
+    mcguire2012 with `filter_params` (its keyword-only parameters), or with `classify` the
+    classified filter, which takes none of the options: (H, W, C) float64."""
+    full = reconstruct_mcguire2012(color, depth, motion, **filter_params)
+    if not classify:
+        return full
+    return classified(
+        color,
+        depth,
+        motion,
+        full,
+        k=filter_params["k"],
+        samples=filter_params["samples"],
+        exposure=filter_params["exposure"],
+        seed=filter_params["seed"],
+        uniform_spread=uniform_spread,
+    )[0]

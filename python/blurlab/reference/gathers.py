@@ -1,4 +1,4 @@
-"""The engines' gathers, SPEC.md §4, in NumPy float64 (GPU twins: shaders/passes/
+"""The engines' gathers, docs/spec.md §4, in NumPy float64 (GPU twins: shaders/passes/
 gather_weighted.glsl, gather_box.glsl, camera_motion.glsl). A tap at continuous position p
 reads the pixel containing it; edge "clamp" reads the nearest edge pixel for taps outside the
 image, "ignore" drops them and renormalizes the remaining weights."""
@@ -14,6 +14,8 @@ EDGES = ("clamp", "ignore")
 
 def _gather(color, positions, weights, edge: str) -> np.ndarray:
     """Sum of weights[i] * color at positions[i] (each (H, W, 2)), normalized."""
+    if edge not in EDGES:  # "guard" re-renders the frame; on arrays it has no meaning
+        raise ValueError(f"blurlab: the gathers' twins take edge {EDGES}, not {edge!r}")
     color = sanitize_color(color)
     h, w = color.shape[:2]
     total = np.zeros((h, w))
@@ -36,7 +38,7 @@ def _centers(h: int, w: int) -> np.ndarray:
     return np.stack([x, y], -1) + 0.5
 
 
-def gather_weighted(color, motion, edge: str = "clamp") -> np.ndarray:
+def gather_weighted(color, motion, *, edge: str) -> np.ndarray:
     """ogldev tutorial 41: m = M/2; taps X, X - m, X - 2m, X - 3m, weights 0.4, 0.3, 0.2, 0.1."""
     m = sanitize_motion(motion) / 2
     center = _centers(*m.shape[:2])
@@ -44,17 +46,13 @@ def gather_weighted(color, motion, edge: str = "clamp") -> np.ndarray:
 
 
 def gather_box(
-    color,
-    motion,
-    taps: int = 10,
-    intensity: float = 1.0,
-    centered: bool = False,
-    edge: str = "clamp",
+    color, motion, *, taps: int, intensity: float, direction: str, edge: str
 ) -> np.ndarray:
-    """ "Blurry things": n equal taps at X - s·M·intensity, s = i/(n-1) (- 1/2 if centered)."""
+    """ "Blurry things": n equal taps at X - s·M·intensity, s = i/(n-1), minus 1/2 for
+    direction "centered" ("backward": the taps lie behind X)."""
     m = sanitize_motion(motion) * intensity
     center = _centers(*m.shape[:2])
-    s = np.arange(taps) / (taps - 1) - (0.5 if centered else 0.0)
+    s = np.arange(taps) / (taps - 1) - (0.5 if direction == "centered" else 0.0)
     return _gather(color, [center - si * m for si in s], [1.0] * taps, edge)
 
 

@@ -1,5 +1,5 @@
 """Reconstruct of Guertin, McGuire and Nowrouzezahrai, "A Fast and Stable Feature-Aware Motion
-Blur Filter" (HPG 2014), as changes to SPEC.md §3 (docs/guertin2014.md lists them, numbered as
+Blur Filter" (HPG 2014), as changes to docs/spec.md §3 (docs/guertin2014.md lists them, numbered as
 below), in NumPy float64. GPU twin: shaders/passes/reconstruct_guertin2014.glsl, after TileMax
 (§3.2) and NeighborMax with diagonal_reach (step 1, mcguire2012.neighbor_max).
 """
@@ -43,7 +43,7 @@ def center_direction(vn: np.ndarray, vx: np.ndarray, gamma: float) -> np.ndarray
 
 
 def sample_weight(x, y, px, py, depth, v, vx, wc, d, soft_z) -> np.ndarray:
-    """Step 4: SPEC.md §3.4's three terms, the sample's cone scaled by wb = |V̂[Y]·d|, the
+    """Step 4: docs/spec.md §3.4's three terms, the sample's cone scaled by wb = |V̂[Y]·d|, the
     center's by wa = |wc·d|, the cylinder (of the shorter motion) by max(wa, wb)."""
     dist = np.hypot(px - x, py - y)
     vy = v[py, px]
@@ -64,20 +64,21 @@ def reconstruct_guertin2014(
     color,
     depth,
     motion,
-    k: int = 20,
-    samples: int = 15,
-    soft_z: float = 0.01,
-    exposure: float = 1.0,
-    seed: int = 0,
-    gamma: float = 1.5,
-    kappa: float = 40.0,
+    *,
+    k: int,
+    samples: int,
+    soft_z: float,
+    exposure: float,
+    seed: int,
+    gamma: float,
+    kappa: float,
+    jitter_tiles: int,
+    adaptive_samples: int,
+    early_exit: float,
     neighbor: np.ndarray | None = None,
-    jitter_tiles: int = 0,
-    adaptive_samples: int = 0,
-    early_exit: float = 0.0,
 ) -> np.ndarray:
     """(H, W, C) float64 blurred color. `neighbor`: NeighborMax (with diagonal_reach) if
-    already computed; the options (off by default) are those of docs/guertin2014.md."""
+    already computed; the options (0 is off) are those of docs/guertin2014.md."""
     color = sanitize_color(color)
     depth = sanitize_depth(depth)
     h, w = depth.shape

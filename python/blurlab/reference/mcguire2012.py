@@ -1,4 +1,4 @@
-"""The reconstruction filter of McGuire, Hennessy, Bukowski and Osman (I3D 2012), SPEC.md §3,
+"""The reconstruction filter of McGuire, Hennessy, Bukowski and Osman (I3D 2012), docs/spec.md §3,
 in NumPy float64: one function per pass, vectorized over pixels. The GPU passes
 (shaders/passes/tile_max.glsl, neighbor_max.glsl, reconstruct_mcguire2012.glsl) must match it.
 """
@@ -136,26 +136,20 @@ def reconstruct_mcguire2012(
     color,
     depth,
     motion,
-    k: int = 20,
-    samples: int = 15,
-    soft_z: float = 0.01,
-    exposure: float = 1.0,
-    seed: int = 0,
+    *,
+    k: int,
+    samples: int,
+    soft_z: float,
+    exposure: float,
+    seed: int,
+    jitter_tiles: int,
+    adaptive_samples: int,
+    early_exit: float,
     neighbor: np.ndarray | None = None,
-    jitter_tiles: int = 0,
-    adaptive_samples: int = 0,
-    early_exit: float = 0.0,
-    classify: bool = False,
-    uniform_spread: float = 0.5,
 ) -> np.ndarray:
-    """§3.4: (H, W, C) float64 blurred color. `neighbor` is NeighborMax if already computed;
-    the options (off by default) are those of docs/guertin2014.md. With `classify`, the
-    tile-classified filter (blurlab.reference.classify.classified), which takes no option."""
-    if classify:
-        from .classify import classified
-
-        full = reconstruct_mcguire2012(color, depth, motion, k, samples, soft_z, exposure, seed)
-        return classified(color, depth, motion, full, k, samples, exposure, seed, uniform_spread)[0]
+    """§3.4: (H, W, C) float64 blurred color, with the options of docs/guertin2014.md
+    (jitter_tiles, adaptive_samples, early_exit; 0 is off). `neighbor` is NeighborMax if
+    already computed. The tile-classified filter is blurlab.reference.classify.reconstruct."""
     color = sanitize_color(color)
     depth = sanitize_depth(depth)
     h, w = depth.shape

@@ -1,4 +1,4 @@
-"""Pinhole projection in NumPy, SPEC.md §1: the reference that G-buffer motion and depth are
+"""Pinhole projection in NumPy, docs/spec.md §1: the reference that G-buffer motion and depth are
 checked against. It uses the camera's basis and field of view directly, not the 4x4 matrices
 the GPU uses, so the matrices are checked too."""
 

@@ -1,4 +1,4 @@
-"""stochastic (SPEC.md §4, the OGRE paper) in NumPy: slice times, the rotated grid, the
+"""stochastic (docs/spec.md §4, the OGRE paper) in NumPy: slice times, the rotated grid, the
 per-pixel slice choice, and the combination of the jittered slice renders. GPU twin:
 shaders/passes/stochastic.comp, whose header gives the rule."""
 

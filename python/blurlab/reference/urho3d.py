@@ -1,4 +1,4 @@
-"""reconstruct_urho3d in NumPy float64: the Urho3D thesis's reconstruct pass (SPEC.md §3
+"""reconstruct_urho3d in NumPy float64: the Urho3D thesis's reconstruct pass (docs/spec.md §3
 variant). GPU twin: shaders/passes/reconstruct_urho3d.glsl, whose header lists the
 differences from McGuire 2012. TileMax and NeighborMax are McGuire's (reference.mcguire2012).
 """
@@ -49,12 +49,13 @@ def reconstruct_urho3d(
     color,
     depth,
     motion,
-    k: int = 20,
-    samples: int = 15,
-    soft_z: float = 0.01,
-    exposure: float = 1.0,
-    seed: int = 0,
-    far: float = 100.0,
+    *,
+    k: int,
+    samples: int,
+    soft_z: float,
+    exposure: float,
+    seed: int,
+    far: float,
 ) -> np.ndarray:
     color = sanitize_color(color)
     depth = np.minimum(sanitize_depth(depth), far)

@@ -18,7 +18,8 @@ import re
 import uuid
 from collections import OrderedDict, deque
 
-from .context import DEVICE_MODES, Context
+from ..context import DEVICE_MODES, Context
+from .evaluation import evaluate_scene
 
 INSTALL_HINT = "pip install 'blurlab[distributed]' (or dask[distributed])"
 # Scenes whose frames and references a worker keeps; the client keeps each worker on one scene
@@ -137,8 +138,6 @@ def worker_context() -> Context:
 
 def run_chunk(scene, scene_key, jobs, settings) -> tuple[str, list]:
     """On a worker: evaluates `jobs` of `scene`; returns (worker name, [(key, row)])."""
-    from .sweep import evaluate_scene
-
     ctx = worker_context()
     ctx.make_current()  # a no-op on the thread that made it, which is every task's thread
     scenes = _worker_state["scenes"]

@@ -8,14 +8,12 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from . import metrics as m
-from . import scenes
-from .accumulation import default_reference_samples
-from .methods import blur, method, method_instant
-from .sweep import DEFAULT_GRIDS
-
-RENDERING_METHODS = ("accumulation", "stochastic")  # they render; their inputs are sub-frames
-FILTERS = ("reconstruct_mcguire2012", "reconstruct_guertin2014", "reconstruct_urho3d")
+from .. import metrics as m
+from .. import scenes
+from ..converged import default_reference_samples
+from ..methods import blur, method, method_instant, methods
+from . import plots
+from .sweep import sweep_methods
 
 
 def animation(ctx, scene, name: str, size, frames: int, params: dict):
@@ -52,7 +50,7 @@ def evaluate(
 ) -> pd.DataFrame:
     """One row per (failure scene, method) at the method's default parameters."""
     scene_names = list(scene_names or scenes.names("failure"))
-    methods = list(methods or DEFAULT_GRIDS)
+    methods = list(methods or sweep_methods())
     rows = []
     bar = None
     if progress:
@@ -83,13 +81,13 @@ def evaluate(
                 "ssim": m.ssim(reference.color, out),
                 "nan": int(np.isnan(out).sum()),
                 "inf": int(np.isinf(out).sum()),
-                "outside_input_range": int(outside) if name not in RENDERING_METHODS else np.nan,
+                "outside_input_range": np.nan if method(name).renders else int(outside),
                 "flicker": m.flicker(outputs, still) if still.any() else np.nan,
                 "still_pixels": int(still.sum()),
                 "seed_noise": _seed_noise(ctx, instant_frame, name, out) if seeded else 0.0,
                 "reference_samples": n,
             }
-            if name in FILTERS:
+            if method(name).kind == "filter":
                 row.update(_sensitivity(ctx, reference.color, frame, name))
             rows.append(row)
             if bar:
@@ -127,20 +125,15 @@ def _sensitivity(ctx, reference: np.ndarray, frame, name: str) -> dict:
     }
 
 
-GALLERY_METHODS = (
-    "reconstruct_mcguire2012",
-    "reconstruct_urho3d",
-    "gather_box",
-    "camera_only",
-    "stochastic",
-)
+def gallery_methods() -> list[str]:
+    """The methods the gallery shows: those that ask for it in the registry."""
+    return [name for name in methods() if method(name).gallery]
 
 
-def gallery(ctx, scene_name: str, size, methods=GALLERY_METHODS, reference_samples=None):
+def gallery(ctx, scene_name: str, size, methods=None, reference_samples=None):
     """A figure: the reference, each method's image (at the instant it declares) and its
-    |error| map below it."""
-    from .plots import image_grid
-
+    |error| map below it; `methods` default to gallery_methods()."""
+    methods = gallery_methods() if methods is None else methods
     scene = scenes.get(scene_name)
     n = reference_samples or default_reference_samples(ctx.render(scene, size))
     reference = ctx.reference(scene, size, samples=n, progress=False)
@@ -148,6 +141,6 @@ def gallery(ctx, scene_name: str, size, methods=GALLERY_METHODS, reference_sampl
     for name in methods:
         frame = ctx.render(scene, size, instant=method_instant(name, {}))
         images[name.replace("reconstruct_", "")] = blur(ctx, frame, name).color
-    fig = image_grid(reference.color, images)
+    fig = plots.image_grid(reference.color, images)
     fig.suptitle(f"{scene_name}: {scenes.describe(scene_name)}", fontsize=8)
     return fig

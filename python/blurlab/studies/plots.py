@@ -10,8 +10,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from .io import linear_to_srgb
-from .metrics import error_map
+from ..io import linear_to_srgb
+from ..metrics import error_map
 
 HIGHER_IS_BETTER = {"psnr": True, "ssim": True, "flip": False}
 

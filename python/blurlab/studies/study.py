@@ -11,10 +11,11 @@ from pathlib import Path
 
 import pandas as pd
 
-from . import io, plots, scenes
-from .context import Context
-from .methods import blur, method_instant
-from .sweep import DEFAULT_GRIDS, middle_point, sweep
+from .. import io, scenes
+from ..context import Context
+from ..methods import blur, method, method_instant
+from . import plots
+from .sweep import default_grids, middle_point, sweep
 
 BUDGETS_MS = (0.1, 1.0, 10.0, 100.0)
 
@@ -35,7 +36,7 @@ def run_study(
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     names = list(scene_names or scenes.names())
-    grids = grids or DEFAULT_GRIDS
+    grids = grids or default_grids()
     table = sweep(
         None if cluster is not None else ctx,
         names,
@@ -51,25 +52,43 @@ def run_study(
     sections = []
     for name in names:
         sections.append(_scene_section(ctx, name, table, size, out, grids))
-    curves = []
-    mcguire = table[table["method"] == "reconstruct_mcguire2012"]
-    if len(mcguire) and mcguire["param_k"].nunique() > 1 and mcguire["param_samples"].nunique() > 1:
-        k = 20 if 20 in set(mcguire["param_k"]) else int(mcguire["param_k"].iloc[0])
-        s = 15 if 15 in set(mcguire["param_samples"]) else int(mcguire["param_samples"].iloc[0])
-        plots.save(
-            plots.parameter_curves(table, "reconstruct_mcguire2012", "samples", {"k": k}),
-            out / "curve_samples.png",
-        )
-        plots.save(
-            plots.parameter_curves(table, "reconstruct_mcguire2012", "k", {"samples": s}),
-            out / "curve_k.png",
-        )
-        curves = [
-            ("S sweep (the thesis's Table 5.2, with accuracy)", "curve_samples.png"),
-            ("k sweep (the thesis's Table 5.3, with accuracy)", "curve_k.png"),
-        ]
+    curves: list = []
+    for name in grids:
+        curves += _parameter_curves(table, name, method(name).study_curves, out, curves)
     report = _html(info, size, table, sections, curves)
     return _write_atomically(out / "report.html", report)
+
+
+# The study's curves fix the other parameter at its usual value where the grid has it.
+_USUAL = {"k": 20, "samples": 15}
+_CURVE_TITLES = {
+    "samples": "S sweep (the thesis's Table 5.2, with accuracy)",
+    "k": "k sweep (the thesis's Table 5.3, with accuracy)",
+}
+
+
+def _parameter_curves(table, name: str, params: tuple[str, ...], out: Path, earlier) -> list:
+    """Time and error against each of `params` for method `name`, the others fixed (the
+    thesis's tables 5.2 and 5.3): [(title, png name)] of the charts written. A chart is
+    curve_<param>.png unless an `earlier` one took that name."""
+    rows = table[table["method"] == name]
+    columns = [f"param_{p}" for p in params]
+    if len(rows) == 0 or any(c not in rows or rows[c].nunique() < 2 for c in columns):
+        return []
+    curves = []
+    for param in params:
+        fixed = {}
+        for other in params:
+            if other != param:
+                values = set(rows[f"param_{other}"])
+                usual = _USUAL.get(other)
+                fixed[other] = usual if usual in values else int(rows[f"param_{other}"].iloc[0])
+        png = f"curve_{param}.png"
+        if png in {file for _, file in earlier}:
+            png = f"curve_{name}_{param}.png"
+        plots.save(plots.parameter_curves(table, name, param, fixed), out / png)
+        curves.append((_CURVE_TITLES.get(param, f"{param} sweep of {name}"), png))
+    return curves
 
 
 def _scene_section(ctx, name, table, size, out: Path, grids) -> dict:

@@ -5,7 +5,7 @@ each evaluation runs the method, reduces the squared error and, if asked, the SS
 the reference on the GPU (scalar readbacks), and computes FLIP, if asked, on the CPU. Rows are
 appended to a CSV file as they are made, so an interrupted sweep keeps every finished row and
 a rerun with the same file skips them. With a Dask cluster the same evaluations run on its
-workers, a scene's configurations split into chunks (blurlab.cluster).
+workers, a scene's configurations split into chunks (blurlab.studies.cluster).
 """
 
 from __future__ import annotations
@@ -15,51 +15,25 @@ import io
 import itertools
 import json
 import math
-import statistics
-from collections.abc import Iterable, Iterator, Mapping, Sequence
-from dataclasses import dataclass
+from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 
 import pandas as pd
 
-from . import metrics as m
-from .accumulation import default_reference_samples
-from .context import Context
-from .methods import (
-    blur_steps,
-    check_param,
-    check_steps,
-    method,
-    method_instant,
-    methods,
-    render_steps,
-)
-from .render import check_shutter
-from .scene import Scene
+from .. import scenes as builtin_scenes
+from ..context import Context
+from ..methods import check_param, check_steps, method, methods
+from ..scene import Scene
+from . import cluster as dask_cluster
+from .evaluation import Settings, evaluate_scene
 
-# Parameter grids of `blurlab study`: sensible ranges, small enough for llvmpipe. A grid is a
-# {param: [values]} product, or a list of them (their union): the filter options each get one
-# point beside the default configuration instead of multiplying the k × S product.
-_OPTIONS_AT_DEFAULT = [
-    {"k": [20], "samples": [15], "jitter_tiles": [1]},
-    {"k": [20], "samples": [15], "adaptive_samples": [1]},
-    {"k": [20], "samples": [15], "early_exit": [2.0]},
-]
-DEFAULT_GRIDS: dict[str, dict[str, list] | list[dict[str, list]]] = {
-    "reconstruct_mcguire2012": [
-        {"k": [10, 20, 40], "samples": [5, 9, 15, 25]},
-        *_OPTIONS_AT_DEFAULT,
-    ],
-    "reconstruct_guertin2014": [{"k": [20], "samples": [9, 15, 25]}, *_OPTIONS_AT_DEFAULT],
-    "reconstruct_urho3d": {"k": [20], "samples": [9, 15]},
-    "gather_weighted": {},
-    "gather_box": {"taps": [5, 10, 20]},
-    "camera_only": {"taps": [10]},
-    "accumulation": {"samples": [4, 8, 16]},
-    "stochastic": {"slices": [2, 4, 8]},
-}
-# trail blends a sequence of frames; a single shutter has none to blend, so it is not swept.
-SINGLE_FRAME_METHODS = tuple(DEFAULT_GRIDS)
+
+def default_grids() -> dict:
+    """Every method a single-shutter sweep can evaluate, with the default grid it declares
+    (blurlab study's grids: sensible ranges, small enough for llvmpipe)."""
+    return {name: method(name).default_grid for name in sweep_methods()}
+
+
 METRICS = ("psnr", "ssim", "flip")
 
 
@@ -91,20 +65,7 @@ def middle_point(grid) -> dict:
 
 
 def _scene(item) -> Scene:
-    from . import scenes
-
-    return scenes.get(item) if isinstance(item, str) else item
-
-
-@dataclass(frozen=True)
-class Settings:
-    """What every evaluation of one sweep shares; small and picklable, so workers get it too."""
-
-    size: tuple[int, int]
-    shutter: tuple[float, float] | None
-    reference_samples: int | None
-    metrics: tuple[str, ...]
-    repeats: int
+    return builtin_scenes.get(item) if isinstance(item, str) else item
 
 
 def sweep(
@@ -147,9 +108,7 @@ def sweep(
             "blurlab.sweep: with cluster=, every worker renders on its own device; pass ctx=None"
         )
     if cluster is not None:
-        from .cluster import check_cluster
-
-        check_cluster(cluster)
+        dask_cluster.check_cluster(cluster)
     if isinstance(repeats, bool) or not isinstance(repeats, int) or repeats < 1:
         raise ValueError(f"blurlab.sweep: repeats must be an integer >= 1, not {repeats!r}")
     if chunk_size is not None and (
@@ -162,13 +121,12 @@ def sweep(
     if unknown:
         raise ValueError(f"blurlab.sweep: unknown metrics {sorted(unknown)}; choose from {METRICS}")
     if methods_and_grids is None:
-        methods_and_grids = SINGLE_FRAME_METHODS
+        methods_and_grids = sweep_methods()
     if not isinstance(methods_and_grids, Mapping):
-        methods_and_grids = {name: DEFAULT_GRIDS.get(name, {}) for name in methods_and_grids}
+        methods_and_grids = {name: method(name).default_grid for name in methods_and_grids}
     for name, grid in methods_and_grids.items():
-        method(name)  # raises for unknown names
-        if name == "trail":
-            raise ValueError("blurlab.sweep: trail needs a frame sequence; it is not swept")
+        if not method(name).sweepable:  # method() raises for unknown names
+            raise ValueError(f"blurlab.sweep: {name} needs a frame sequence; it is not swept")
         for key in grid_keys(grid):
             if key != "steps" and key not in method(name).params:
                 raise ValueError(f"blurlab.sweep: {name} has no parameter {key!r}")
@@ -225,108 +183,13 @@ def sweep(
                     for key, row in evaluate_scene(ctx, scene, jobs, settings, {}):
                         record(key, row)
         elif any(pending):  # a finished sweep needs no cluster
-            from .cluster import sweep_on_cluster
-
-            sweep_on_cluster(cluster, scene_list, pending, settings, record, chunk_size, bar)
+            dask_cluster.sweep_on_cluster(
+                cluster, scene_list, pending, settings, record, chunk_size, bar
+            )
     finally:
         if bar:
             bar.close()
     return pd.DataFrame([done[key] for key in dict.fromkeys(keys) if key in done])
-
-
-def evaluate_scene(
-    ctx: Context, scene: Scene, jobs: Sequence[tuple], settings: Settings, cache: dict
-) -> Iterator[tuple[tuple, dict]]:
-    """Evaluates `jobs` = [(method, point, backend, key)] of one scene; yields (key, row) as
-    each row is finished. `cache` holds the scene's frames and reference between calls (a
-    worker keeps one per scene it has worked on)."""
-    size = settings.size
-    info = ctx.info()
-    # Timing first, every configuration back to back: the GPU stays busy, so its clocks stay
-    # up. Computing SSIM and FLIP between runs left it idle long enough to clock down, and
-    # single runs after that were several times slower on the H100. Each method runs once
-    # untimed first: it compiles (and, on llvmpipe, JITs), and the GPU wakes up.
-    timings = {}
-    warmed: set = set()
-    for name, point, backend, key in jobs:
-        frames, reference = _scene_inputs(ctx, scene, name, point, settings, cache)
-        params = _without_steps(point)
-        if (name, backend) not in warmed:
-            blur_steps(ctx, frames, name, backend, **params)
-            warmed.add((name, backend))
-        runs = []
-        for _ in range(settings.repeats):
-            result = blur_steps(ctx, frames, name, backend, **params)
-            runs.append({p: t.ms for p, t in result.timings.items()})
-            clock = result.clock
-            del result  # back to the pool before the next run
-        timings[key] = (runs, clock)
-    # Then the error of each configuration, one untimed run each.
-    for name, point, backend, key in jobs:
-        frames, reference = _scene_inputs(ctx, scene, name, point, settings, cache)
-        runs, clock = timings[key]
-        result = blur_steps(ctx, frames, name, backend, timed=False, **_without_steps(point))
-        row = {
-            "scene": scene.name,
-            "method": name,
-            "backend": result.backend,
-            "params": json.dumps(point, sort_keys=True),
-            **{f"param_{k}": v for k, v in point.items()},
-            **{f"ms_{p}": statistics.median(r[p] for r in runs) for p in runs[0]},
-            "total_ms": statistics.median(sum(r.values()) for r in runs),
-            "repeats": settings.repeats,
-            "clock": clock,
-            "psnr": m.psnr_from_mse(m.gpu_mse(ctx, result.textures["color"], reference.texture)),
-        }
-        # PSNR and SSIM are reduced on the GPU (SPEC.md §6); only FLIP needs the images.
-        if "ssim" in settings.metrics:
-            row["ssim"] = m.gpu_ssim(ctx, reference.texture, result.textures["color"])
-        if "flip" in settings.metrics:
-            row["flip"] = m.flip(reference.color, result.color)
-        row.update(
-            {
-                "device": info["device"],
-                "renderer": info["renderer"],
-                "width": size[0],
-                "height": size[1],
-                "reference_samples": reference.samples,
-                "shutter": json.dumps([frames[0].shutter[0], frames[-1].shutter[1]]),
-            }
-        )
-        del result  # its textures go back to the pool before the next evaluation
-        yield key, row
-
-
-def _without_steps(point: dict) -> dict:
-    return {k: v for k, v in point.items() if k != "steps"}
-
-
-def _scene_inputs(ctx, scene, name, point, settings: Settings, cache: dict):
-    """The frames at the method's instant (one, or one per step of the shutter: `steps` in
-    the point) and the scene's reference, each made once."""
-    params = _without_steps(point)
-    instant = method_instant(name, params)
-    steps = point.get("steps", 1)
-    frames = cache.setdefault("frames", {})
-    if (instant, 1) not in frames:
-        frames[(instant, 1)] = [ctx.render(scene, settings.size, settings.shutter, instant=instant)]
-    if (instant, steps) not in frames:
-        frames[(instant, steps)] = render_steps(
-            ctx, scene, name, steps, settings.size, settings.shutter, **params
-        )
-    frame = frames[(instant, 1)][0]
-    if "reference" not in cache:
-        n = settings.reference_samples
-        if n is None:
-            n = default_reference_samples(frame)
-        cache["reference"] = ctx.reference(
-            scene,
-            settings.size,
-            check_shutter(scene.shutter if settings.shutter is None else settings.shutter),
-            samples=n,
-            progress=False,
-        )
-    return frames[(instant, steps)], cache["reference"]
 
 
 def _key(scene: str, name: str, backend: str, point: dict, size) -> tuple:
@@ -392,4 +255,4 @@ def _append(path: Path, row: dict) -> None:
 
 def sweep_methods() -> list[str]:
     """Registered methods that a single-shutter sweep can evaluate."""
-    return [n for n in methods() if n != "trail"]
+    return [n for n in methods() if method(n).sweepable]

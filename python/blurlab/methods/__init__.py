@@ -1,0 +1,46 @@
+"""Motion-blur methods by name: ``bl.methods()`` lists them, ``bl.blur(ctx, frame, name, ...)``
+runs one. The core (parameters, registry, blur, steps, timing) is in ``core``; each method or
+family is a module of its own that registers itself on import, below. A new method is a new
+module here, its shader, its NumPy twin and its test (docs/adding_a_method.md).
+"""
+
+# Each module registers its methods on import; the order here is the registry's, which is the
+# order of rows in sweeps, studies and the failure suite.
+# isort: off
+from . import mcguire2012, guertin2014, urho3d, gathers, camera_only, trail  # noqa: F401
+from . import accumulation, stochastic  # noqa: F401
+
+# isort: on
+from .core import (
+    KINDS,
+    BlurResult,
+    Method,
+    Param,
+    blur,
+    blur_steps,
+    check_param,
+    check_steps,
+    method,
+    method_instant,
+    methods,
+    register,
+    render_and_blur,
+    render_steps,
+)
+
+__all__ = [
+    "KINDS",
+    "BlurResult",
+    "Method",
+    "Param",
+    "blur",
+    "blur_steps",
+    "check_param",
+    "check_steps",
+    "method",
+    "method_instant",
+    "methods",
+    "register",
+    "render_and_blur",
+    "render_steps",
+]

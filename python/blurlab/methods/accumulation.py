@@ -1,0 +1,50 @@
+"""accumulation (Haeberli-Akeley; the OGRE paper): the converged reference of docs/spec.md §1 with a
+small N (4-32), which shows banding where N is below the motion's length in pixels. It renders
+its sub-frames itself through ctx.reference (blurlab.converged).
+"""
+
+from __future__ import annotations
+
+from ..context import Context, Timing
+from ..frame import Frame
+from .core import SEED, Method, Param, register
+
+
+def _run_accumulation(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
+    if frame.scene is None:
+        raise ValueError(
+            "blurlab: accumulation renders the scene again: use a frame made by ctx.render"
+        )
+    reference = ctx.reference(
+        frame.scene,
+        frame.size,
+        frame.shutter,
+        samples=values["samples"],
+        stratified=values["stratified"] == "stratified",
+        seed=values["seed"],
+        progress=False,
+    )
+    height, width = frame.color.shape[:2]
+    result = ctx.pooled((height, width, 4))
+    result.native.copy_from(reference.texture.native, 0, 0)
+    timing = Timing(reference.ms_per_subframe * reference.samples, reference.clock)
+    return {"color": result}, {"accumulation": timing}
+
+
+register(
+    Method(
+        name="accumulation",
+        kind="render",
+        instant="center",
+        params={
+            "samples": Param(8, int, "sub-frames N; 4-32 shows the banding", 1, 4096),
+            "stratified": Param("uniform", ("uniform", "stratified"), "sub-frame times"),
+            "seed": SEED,
+        },
+        backends=("compute",),
+        run=_run_accumulation,
+        default_grid={"samples": [4, 8, 16]},
+        doc="Haeberli-Akeley accumulation (the OGRE paper): the reference with small N. "
+        "docs/spec.md §4.",
+    )
+)

@@ -1,0 +1,83 @@
+"""camera_only (Urho3D thesis §2.3.2): motion from depth and the camera's t0/t1 transforms
+alone (shaders/passes/camera_motion.glsl, NumPy twin blurlab.reference.gathers.camera_motion),
+then gather_box with gather_box's parameters; moving objects get no blur of their own.
+docs/spec.md §4.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .. import _core
+from ..context import Context, Timing
+from ..frame import Frame
+from ..render import camera_matrices
+from .core import Method, register, timed
+from .gathers import BOX_PARAMS, box_reach, gather_params, with_edge
+
+
+def _camera_matrices(camera: dict) -> dict:
+    """The uniforms of the camera-motion pass from a rendered frame's camera matrices."""
+    return {
+        "view_from_clip": np.linalg.inv(camera["projection"]).astype(np.float32),
+        "world_from_view": np.linalg.inv(camera["view"][2]).astype(np.float32),
+        "clip_from_world": camera["view_projection"][:2].astype(np.float32),
+        "sky_from_clip": camera["sky_from_clip"].astype(np.float32),
+        "sky_projection": camera["sky_projection"].astype(np.float32),
+        "near": float(camera["near"]),
+    }
+
+
+def _run_camera_only(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
+    if frame.camera is None:
+        raise ValueError(
+            "blurlab: camera_only needs the camera's transforms: use a frame made by ctx.render"
+        )
+    params = gather_params(values)
+    camera_pass = ctx.cached("camera_motion", lambda: _core.CameraMotionPass(ctx.native))
+    gather = ctx.cached("gather_box", lambda: _core.GatherBoxPass(ctx.native))
+
+    def on(textures):
+        height, width = textures["color"].shape[:2]
+        guard = (width - frame.size[0]) // 2
+        camera = frame.camera
+        if guard:  # the margin's frustum, as render_targets widened it
+            camera = camera_matrices(frame.scene, frame.size, tuple(camera["times"]), guard)
+        matrices = _camera_matrices(camera)
+        motion, result = ctx.pooled((height, width, 2)), ctx.pooled((height, width, 4))
+        timings: dict[str, Timing] = {}
+        timed(
+            ctx,
+            timings,
+            "camera_motion",
+            lambda: camera_pass.run(textures["depth"].native, motion.native, matrices),
+        )
+        timed(
+            ctx,
+            timings,
+            "gather_box",
+            lambda: gather.run(
+                textures["color"].native, motion.native, result.native, params, backend
+            ),
+        )
+        ctx.recycle(motion)
+        return result, timings
+
+    color, timings = with_edge(ctx, frame, inputs, values["edge"], box_reach(values), on)
+    return {"color": color}, timings
+
+
+register(
+    Method(
+        name="camera_only",
+        kind="gather",
+        instant=lambda v: "center" if v.get("direction") == "centered" else "close",
+        params=BOX_PARAMS,
+        backends=("compute", "fragment"),
+        run=_run_camera_only,
+        default_grid={"taps": [10]},
+        gallery=True,
+        doc="Urho3D thesis §2.3.2: motion from depth and the camera's transforms alone, then "
+        "gather_box; moving objects get no blur of their own. docs/spec.md §4.",
+    )
+)

@@ -1,0 +1,135 @@
+"""The engines' gathers along the motion (docs/spec.md §4): gather_weighted (ogldev tutorial 41)
+and gather_box ("Blurry things"), with the edge rules of "Blurry things" (clamp, ignore, or a
+guard band re-rendered around the frame). Shaders shaders/passes/gather_weighted.glsl and
+gather_box.glsl over shaders/common/gather.glsl; NumPy twins blurlab.reference.gathers.
+camera_only (camera_only.py) reuses gather_box's parameters and edge handling.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+
+import numpy as np
+
+from .. import _core
+from ..context import Context, Timing
+from ..frame import Frame
+from ..reference import gathers as twin
+from ..render import render_targets
+from .core import PARAM_SCALE_MAX, Method, Param, register, timed
+
+EDGES = ("clamp", "ignore", "guard")
+
+
+def gather_params(values: dict) -> _core.GatherParams:
+    p = _core.GatherParams()
+    if "taps" in values:
+        p.taps, p.intensity = values["taps"], values["intensity"]
+        p.centered = values["direction"] == "centered"
+    p.edge = "clamp" if values["edge"] == "guard" else values["edge"]
+    return p
+
+
+def _longest_motion(frame: Frame) -> float:
+    speed = np.linalg.norm(frame.motion, axis=-1)
+    speed = speed[np.isfinite(speed)]
+    return float(speed.max()) if speed.size else 0.0
+
+
+def with_edge(ctx: Context, frame: Frame, inputs: dict, edge: str, reach: float, run):
+    """Runs `run(inputs) -> (color texture, timings)` on the frame, or, for edge "guard", on
+    the frame re-rendered with a margin wide enough for every tap, then crops the margin."""
+    if edge != "guard":
+        return run(inputs)
+    if frame.scene is None or frame.time is None:
+        raise ValueError(
+            "blurlab: edge='guard' re-renders the frame with a margin, so it needs a frame "
+            "made by ctx.render; use edge='clamp' or 'ignore' for frames built from arrays"
+        )
+    guard = math.ceil(reach * _longest_motion(frame)) + 2
+    big, _, timing = render_targets(ctx, frame.scene, frame.size, frame.shutter, frame.time, guard)
+    color, timings = run(big)
+    height, width = frame.color.shape[:2]
+    result = ctx.pooled((height, width, 4))
+    result.native.copy_from(color.native, guard, guard)
+    ctx.recycle(color, *big.values())
+    return result, {"guard_gbuffer": timing, **timings}
+
+
+def _run_gather(name: str, pass_type, reach: Callable[[dict], float]):
+    def run(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
+        params = gather_params(values)
+        gather = ctx.cached(name, lambda: pass_type(ctx.native))
+
+        def on(textures):
+            height, width = textures["color"].shape[:2]
+            result = ctx.pooled((height, width, 4))
+            timings: dict[str, Timing] = {}
+            timed(
+                ctx,
+                timings,
+                name,
+                lambda: gather.run(
+                    textures["color"].native,
+                    textures["motion"].native,
+                    result.native,
+                    params,
+                    backend,
+                ),
+            )
+            return result, timings
+
+        color, timings = with_edge(ctx, frame, inputs, values["edge"], reach(values), on)
+        return {"color": color}, timings
+
+    return run
+
+
+_EDGE = Param(
+    "clamp", EDGES, "taps outside the image: clamp, ignore, or guard (re-render a margin)"
+)
+
+register(
+    Method(
+        name="gather_weighted",
+        kind="gather",
+        instant="close",
+        params={"edge": _EDGE},
+        backends=("compute", "fragment"),
+        run=_run_gather("gather_weighted", _core.GatherWeightedPass, lambda v: 1.5),
+        twin=twin.gather_weighted,
+        twin_inputs=("color", "motion"),
+        doc="ogldev tutorial 41: taps along M/2 with weights 0.4/0.3/0.2/0.1. docs/spec.md §4.",
+    )
+)
+
+BOX_PARAMS = {
+    "taps": Param(10, int, "n equal taps", 2, 256),
+    "intensity": Param(
+        1.0, float, "length of the blur, fraction of the motion", 0, PARAM_SCALE_MAX
+    ),
+    "direction": Param("backward", ("backward", "centered"), "taps behind X, or around it"),
+    "edge": _EDGE,
+}
+
+
+def box_reach(values: dict) -> float:
+    return values["intensity"] * (0.5 if values["direction"] == "centered" else 1.0)
+
+
+register(
+    Method(
+        name="gather_box",
+        kind="gather",
+        instant=lambda v: "center" if v.get("direction") == "centered" else "close",
+        params=BOX_PARAMS,
+        backends=("compute", "fragment"),
+        run=_run_gather("gather_box", _core.GatherBoxPass, box_reach),
+        default_grid={"taps": [5, 10, 20]},
+        twin=twin.gather_box,
+        twin_inputs=("color", "motion"),
+        gallery=True,
+        doc='"Blurry things": n equal taps along the motion, backward or centered. docs/spec.md §4.',
+    )
+)

@@ -1,0 +1,54 @@
+"""reconstruct_guertin2014: the stable filter of Guertin, McGuire and Nowrouzezahrai, "A Fast
+and Stable Feature-Aware Motion Blur Filter" (HPG 2014), as changes to docs/spec.md §3
+(docs/guertin2014.md): direction-keeping dilation, two sampling directions, mirrored pairs and
+alignment weights. Shader shaders/passes/reconstruct_guertin2014.glsl, NumPy twin
+blurlab.reference.guertin2014.reconstruct_guertin2014. Parameters: TILE_FILTER_PARAMS,
+FILTER_OPTIONS, and the paper's two constants gamma and kappa declared here.
+"""
+
+from __future__ import annotations
+
+from .. import _core
+from ..reference import guertin2014 as twin
+from .core import FLOAT32_MAX, Method, Param, register
+from .tile_filter import (
+    FILTER_OPTIONS,
+    OPTIONS_AT_DEFAULT,
+    TILE_FILTER_PARAMS,
+    filter_params,
+    run_filter,
+)
+
+PARAMS = {
+    **TILE_FILTER_PARAMS,
+    **FILTER_OPTIONS,
+    "gamma": Param(
+        1.5, float, "γ: px over 0.5 at which wc is V[X]'s direction", 0, FLOAT32_MAX, True
+    ),
+    "kappa": Param(40.0, float, "κ: center weight S / (κ len(V[X]))", 0, FLOAT32_MAX, True),
+}
+
+
+def _guertin_params(values: dict):
+    p = _core.Guertin2014Params()
+    p.gamma, p.kappa = values["gamma"], values["kappa"]
+    return filter_params(values, p)
+
+
+register(
+    Method(
+        name="reconstruct_guertin2014",
+        kind="filter",
+        instant="center",
+        params=PARAMS,
+        backends=("compute", "fragment"),
+        run=run_filter(
+            "reconstruct_guertin2014", _core.ReconstructGuertin2014Pass, _guertin_params, True
+        ),
+        default_grid=[{"k": [20], "samples": [9, 15, 25]}, *OPTIONS_AT_DEFAULT],
+        twin=twin.reconstruct_guertin2014,
+        doc="Guertin, McGuire, Nowrouzezahrai: A Fast and Stable Feature-Aware Motion Blur "
+        "Filter (HPG 2014): docs/spec.md §3 with direction-keeping dilation, two sampling "
+        "directions, mirrored pairs and alignment weights. docs/guertin2014.md.",
+    )
+)

@@ -1,0 +1,43 @@
+"""reconstruct_mcguire2012: the reconstruction filter of McGuire, Hennessy, Bukowski and Osman,
+"A Reconstruction Filter for Plausible Motion Blur" (I3D 2012), docs/spec.md §3.
+
+TileMax → NeighborMax → reconstruct (shaders/passes/reconstruct_mcguire2012.glsl), with the
+engines' options of docs/guertin2014.md and, with classify=True, the tile classification of
+docs/classify_and_steps.md. NumPy twin: blurlab.reference.classify.reconstruct (the filter of
+blurlab.reference.mcguire2012, classified when asked). Parameters: TILE_FILTER_PARAMS,
+FILTER_OPTIONS and CLASSIFY_PARAMS; `blurlab methods` lists them with defaults and ranges.
+"""
+
+from __future__ import annotations
+
+from .. import _core
+from ..reference import classify as twin
+from .classification import CLASSIFY_PARAMS
+from .core import Method, register
+from .tile_filter import (
+    FILTER_OPTIONS,
+    OPTIONS_AT_DEFAULT,
+    TILE_FILTER_PARAMS,
+    filter_params,
+    run_filter,
+)
+
+register(
+    Method(
+        name="reconstruct_mcguire2012",
+        kind="filter",
+        instant="center",
+        params={**TILE_FILTER_PARAMS, **FILTER_OPTIONS, **CLASSIFY_PARAMS},
+        backends=("compute", "fragment"),
+        run=run_filter(
+            "reconstruct_mcguire2012", _core.ReconstructMcGuire2012Pass, filter_params, False
+        ),
+        default_grid=[{"k": [10, 20, 40], "samples": [5, 9, 15, 25]}, *OPTIONS_AT_DEFAULT],
+        twin=twin.reconstruct,
+        study_curves=("samples", "k"),
+        gallery=True,
+        doc="McGuire, Hennessy, Bukowski, Osman: A Reconstruction Filter for Plausible Motion "
+        "Blur (I3D 2012). docs/spec.md §3; options in docs/guertin2014.md, classification in "
+        "docs/classify_and_steps.md.",
+    )
+)

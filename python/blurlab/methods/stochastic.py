@@ -1,0 +1,63 @@
+"""stochastic (the OGRE paper): K time slices, each rendered at a hashed time inside its part of
+the shutter with four rotated-grid sub-pixel offsets, combined per pixel with weights 5/32
+inside and 3/32 from the neighbors (shaders/passes/stochastic.comp; NumPy twin
+blurlab.reference.stochastic). Noise instead of banding. docs/spec.md §4.
+"""
+
+from __future__ import annotations
+
+from .. import _core
+from ..context import Context, Timing
+from ..frame import Frame
+from ..reference.stochastic import ROTATED_GRID, slice_times
+from ..render import render_targets
+from .core import SEED, Method, Param, register
+
+
+def _run_stochastic(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
+    slices, seed = values["slices"], values["seed"]
+    if frame.scene is None:
+        raise ValueError("blurlab: stochastic renders time slices: use a frame made by ctx.render")
+    height, width = frame.color.shape[:2]
+    result = ctx.pooled((height, width, 4))
+    result.clear()
+    combine = ctx.cached("stochastic", lambda: _core.StochasticPass(ctx.native))
+    renders = combines = 0.0
+    clock = ""
+    for slice_index, t in enumerate(slice_times(frame.shutter, slices, seed)):
+        for position, p in enumerate(ROTATED_GRID):
+            jitter = (0.5 - p[0], 0.5 - p[1])
+            targets, _, timing = render_targets(
+                ctx, frame.scene, frame.size, frame.shutter, float(t), 0, jitter
+            )
+            with ctx.timer() as add:
+                combine.run(
+                    targets["color"].native, result.native, slice_index, position, slices, seed
+                )
+            ctx.recycle(*targets.values())
+            renders += timing.ms
+            combines += add.ms
+            clock = add.clock
+    return {"color": result}, {
+        "slice_renders": Timing(renders, clock),
+        "stochastic": Timing(combines, clock),
+    }
+
+
+register(
+    Method(
+        name="stochastic",
+        kind="render",
+        instant="center",
+        params={
+            "slices": Param(4, int, "time slices K; 4 K jittered renders", 1, 64),
+            "seed": SEED,
+        },
+        backends=("compute",),
+        run=_run_stochastic,
+        default_grid={"slices": [2, 4, 8]},
+        gallery=True,
+        doc="The OGRE paper's stochastic blur: K time slices, rotated-grid samples in and "
+        "around each pixel, weights 5/32 and 3/32. docs/spec.md §4.",
+    )
+)

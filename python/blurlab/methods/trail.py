@@ -1,0 +1,53 @@
+"""trail (Urho3D thesis §2.3.1, accumulation by feedback): over a sequence of frames,
+out_n = α·C_n + (1 − α)·out_{n−1} (docs/spec.md §4), with the accumulate pass
+(shaders/passes/accumulate.comp). It blends frames, so a single-shutter sweep has nothing to
+blend: its kind is "sequence".
+"""
+
+from __future__ import annotations
+
+from .. import _core
+from ..context import Context, Timing
+from ..frame import Frame
+from .core import BlurResult, Method, Param, register, timed
+
+
+def _run_trail(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
+    alpha = values["alpha"]
+    history = values["history"]
+    if history is not None and not isinstance(history, BlurResult):
+        raise TypeError("blurlab: trail history must be the previous frame's BlurResult or None")
+    height, width = inputs["color"].shape[:2]
+    result = ctx.pooled((height, width, 4))
+    result.clear()
+    accumulate = ctx.cached("accumulate", lambda: _core.AccumulatePass(ctx.native))
+
+    def blend():
+        if history is None:  # out_0 = C_0
+            accumulate.run(inputs["color"].native, result.native, 1.0)
+            return
+        if history.textures["color"].shape != (height, width, 4):
+            raise ValueError("blurlab: trail history has another size than the frame")
+        accumulate.run(inputs["color"].native, result.native, alpha)
+        accumulate.run(history.textures["color"].native, result.native, 1.0 - alpha)
+
+    timings: dict[str, Timing] = {}
+    timed(ctx, timings, "trail", blend)
+    return {"color": result}, timings
+
+
+register(
+    Method(
+        name="trail",
+        kind="sequence",
+        instant="close",
+        params={
+            "alpha": Param(0.5, float, "weight of the current frame", 0, 1),
+            "history": Param(None, object, "the previous frame's BlurResult (None: first frame)"),
+        },
+        backends=("compute",),
+        run=_run_trail,
+        doc="Urho3D thesis §2.3.1: out_n = α·C_n + (1 - α)·out_{n-1}, feedback over a "
+        "sequence. docs/spec.md §4.",
+    )
+)

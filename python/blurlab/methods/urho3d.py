@@ -1,0 +1,70 @@
+"""reconstruct_urho3d: the reconstruct pass of the Urho3D thesis as printed there, a fragment
+pass kept as the seed's baseline (docs/spec.md §3, variant). Shader
+shaders/passes/reconstruct_urho3d.glsl (its header lists the differences from §3.4), NumPy twin
+blurlab.reference.urho3d.reconstruct_urho3d. Parameters: TILE_FILTER_PARAMS (the seed picks
+the 64 x 64 jitter texture) and `far`, declared here.
+"""
+
+from __future__ import annotations
+
+from .. import _core
+from ..context import Context
+from ..frame import Frame
+from ..reference import urho3d as twin
+from .core import FLOAT32_MAX, Method, Param, register, timed
+from .tile_filter import TILE_FILTER_PARAMS, filter_params, tile_passes
+
+
+def default_far(frame: Frame) -> float:
+    """The depth the Urho3D pass reads for +inf: the camera's far plane for rendered frames,
+    else twice the largest finite depth."""
+    if frame.camera is not None and "far" in frame.camera:
+        return float(frame.camera["far"])
+    if frame.depth_range is None or frame.depth_range[1] <= 0:
+        return 1.0
+    return min(2.0 * frame.depth_range[1], FLOAT32_MAX)  # finite even for depths near 3.4e38
+
+
+def _run_urho3d(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
+    params = filter_params(values)
+    tiles, neighbors, timings, _ = tile_passes(ctx, inputs["motion"], params, backend)
+    result = ctx.pooled(inputs["color"].shape[:2] + (4,))
+    seed = values["seed"]
+    jitter = ctx.cached(("urho3d_jitter", seed), lambda: ctx.upload(twin.jitter_texture(seed)))
+    reconstruct = ctx.cached("reconstruct_urho3d", lambda: _core.ReconstructUrho3dPass(ctx.native))
+    timed(
+        ctx,
+        timings,
+        "reconstruct",
+        lambda: reconstruct.run(
+            inputs["color"].native,
+            inputs["depth"].native,
+            inputs["motion"].native,
+            neighbors.native,
+            jitter.native,
+            result.native,
+            params,
+            values["far"],
+        ),
+    )
+    return {"color": result, "tile_max": tiles, "neighbor_max": neighbors}, timings
+
+
+register(
+    Method(
+        name="reconstruct_urho3d",
+        kind="filter",
+        instant="center",
+        params={
+            **TILE_FILTER_PARAMS,
+            "far": Param(default_far, float, "depth that +inf is read as", 0, FLOAT32_MAX, True),
+        },
+        backends=("fragment",),
+        run=_run_urho3d,
+        default_grid={"k": [20], "samples": [9, 15]},
+        twin=twin.reconstruct_urho3d,
+        gallery=True,
+        doc="The reconstruct pass of the Urho3D thesis as printed there: a fragment pass, the "
+        "seed's baseline. docs/spec.md §3 variant; the shader's header lists the differences.",
+    )
+)

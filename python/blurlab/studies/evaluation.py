@@ -1,0 +1,124 @@
+"""One scene's evaluations for a sweep: every configuration timed back to back, then each one's
+error against the scene's reference. Local sweeps (blurlab.studies.sweep) and Dask workers
+(blurlab.studies.cluster) both run them here.
+"""
+
+from __future__ import annotations
+
+import json
+import statistics
+from collections.abc import Iterator, Sequence
+from dataclasses import dataclass
+
+from .. import metrics as m
+from ..context import Context
+from ..converged import default_reference_samples
+from ..methods import blur_steps, method_instant, render_steps
+from ..render import check_shutter
+from ..scene import Scene
+
+
+@dataclass(frozen=True)
+class Settings:
+    """What every evaluation of one sweep shares; small and picklable, so workers get it too."""
+
+    size: tuple[int, int]
+    shutter: tuple[float, float] | None
+    reference_samples: int | None
+    metrics: tuple[str, ...]
+    repeats: int
+
+
+def evaluate_scene(
+    ctx: Context, scene: Scene, jobs: Sequence[tuple], settings: Settings, cache: dict
+) -> Iterator[tuple[tuple, dict]]:
+    """Evaluates `jobs` = [(method, point, backend, key)] of one scene; yields (key, row) as
+    each row is finished. `cache` holds the scene's frames and reference between calls (a
+    worker keeps one per scene it has worked on)."""
+    size = settings.size
+    info = ctx.info()
+    # Timing first, every configuration back to back: the GPU stays busy, so its clocks stay
+    # up. Computing SSIM and FLIP between runs left it idle long enough to clock down, and
+    # single runs after that were several times slower on the H100. Each method runs once
+    # untimed first: it compiles (and, on llvmpipe, JITs), and the GPU wakes up.
+    timings = {}
+    warmed: set = set()
+    for name, point, backend, key in jobs:
+        frames, reference = _scene_inputs(ctx, scene, name, point, settings, cache)
+        params = _without_steps(point)
+        if (name, backend) not in warmed:
+            blur_steps(ctx, frames, name, backend, **params)
+            warmed.add((name, backend))
+        runs = []
+        for _ in range(settings.repeats):
+            result = blur_steps(ctx, frames, name, backend, **params)
+            runs.append({p: t.ms for p, t in result.timings.items()})
+            clock = result.clock
+            del result  # back to the pool before the next run
+        timings[key] = (runs, clock)
+    # Then the error of each configuration, one untimed run each.
+    for name, point, backend, key in jobs:
+        frames, reference = _scene_inputs(ctx, scene, name, point, settings, cache)
+        runs, clock = timings[key]
+        result = blur_steps(ctx, frames, name, backend, timed=False, **_without_steps(point))
+        row = {
+            "scene": scene.name,
+            "method": name,
+            "backend": result.backend,
+            "params": json.dumps(point, sort_keys=True),
+            **{f"param_{k}": v for k, v in point.items()},
+            **{f"ms_{p}": statistics.median(r[p] for r in runs) for p in runs[0]},
+            "total_ms": statistics.median(sum(r.values()) for r in runs),
+            "repeats": settings.repeats,
+            "clock": clock,
+            "psnr": m.psnr_from_mse(m.gpu_mse(ctx, result.textures["color"], reference.texture)),
+        }
+        # PSNR and SSIM are reduced on the GPU (docs/spec.md §6); only FLIP needs the images.
+        if "ssim" in settings.metrics:
+            row["ssim"] = m.gpu_ssim(ctx, reference.texture, result.textures["color"])
+        if "flip" in settings.metrics:
+            row["flip"] = m.flip(reference.color, result.color)
+        row.update(
+            {
+                "device": info["device"],
+                "renderer": info["renderer"],
+                "width": size[0],
+                "height": size[1],
+                "reference_samples": reference.samples,
+                "shutter": json.dumps([frames[0].shutter[0], frames[-1].shutter[1]]),
+            }
+        )
+        del result  # its textures go back to the pool before the next evaluation
+        yield key, row
+
+
+def _without_steps(point: dict) -> dict:
+    return {k: v for k, v in point.items() if k != "steps"}
+
+
+def _scene_inputs(ctx, scene, name, point, settings: Settings, cache: dict):
+    """The frames at the method's instant (one, or one per step of the shutter: `steps` in
+    the point) and the scene's reference, each made once."""
+    params = _without_steps(point)
+    instant = method_instant(name, params)
+    steps = point.get("steps", 1)
+    frames = cache.setdefault("frames", {})
+    if (instant, 1) not in frames:
+        frames[(instant, 1)] = [ctx.render(scene, settings.size, settings.shutter, instant=instant)]
+    if (instant, steps) not in frames:
+        frames[(instant, steps)] = render_steps(
+            ctx, scene, name, steps, settings.size, settings.shutter, **params
+        )
+    frame = frames[(instant, 1)][0]
+    if "reference" not in cache:
+        n = settings.reference_samples
+        if n is None:
+            n = default_reference_samples(frame)
+        cache["reference"] = ctx.reference(
+            scene,
+            settings.size,
+            check_shutter(scene.shutter if settings.shutter is None else settings.shutter),
+            samples=n,
+            progress=False,
+        )
+    return frames[(instant, steps)], cache["reference"]
