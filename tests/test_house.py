@@ -1,0 +1,262 @@
+"""The rules of the house (issue 15), checked on the tree itself: a method lives in one place,
+each parameter is declared once, no module reaches into a Context's private members, no import
+cycles."""
+
+from __future__ import annotations
+
+import ast
+import inspect
+import re
+from pathlib import Path
+
+import pytest
+
+import blurlab as bl
+from blurlab.methods.core import KINDS, check_param, twin_keywords
+
+ROOT = Path(__file__).resolve().parents[1]
+PACKAGE = ROOT / "python" / "blurlab"
+
+
+def python_files(*folders: Path) -> list[Path]:
+    return sorted(p for folder in folders for p in folder.rglob("*.py"))
+
+
+def string_constants(path: Path) -> set[str]:
+    """The string literals of a module, less the names in its __all__."""
+    tree = ast.parse(path.read_text())
+    exported = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Assign) and any(
+            getattr(target, "id", "") == "__all__" for target in node.targets
+        ):
+            exported.update(id(n) for n in ast.walk(node.value))
+    return {
+        n.value
+        for n in ast.walk(tree)
+        if isinstance(n, ast.Constant) and isinstance(n.value, str) and id(n) not in exported
+    }
+
+
+def registering_module(name: str) -> Path:
+    """The module whose Method(name=...) registers `name`."""
+    for path in python_files(PACKAGE / "methods"):
+        tree = ast.parse(path.read_text())
+        for node in ast.walk(tree):
+            if isinstance(node, ast.Call) and getattr(node.func, "id", None) == "Method":
+                for keyword in node.keywords:
+                    if keyword.arg == "name" and getattr(keyword.value, "value", None) == name:
+                        return path
+    raise AssertionError(f"no module registers {name}")
+
+
+@pytest.mark.parametrize("name", bl.methods())
+def test_a_method_name_is_written_only_where_it_is_registered(name):
+    own = registering_module(name)
+    elsewhere = [
+        str(path.relative_to(ROOT))
+        for path in python_files(PACKAGE)
+        if path != own and name in string_constants(path)
+    ]
+    assert not elsewhere, f"{name} is listed outside its module {own.name}: {elsewhere}"
+
+
+def test_every_method_says_what_it_is():
+    for name in bl.methods():
+        m = bl.method(name)
+        assert m.kind in KINDS and m.doc, name
+        for part in [m.default_grid] if isinstance(m.default_grid, dict) else m.default_grid:
+            for key, values in part.items():
+                for value in values:
+                    if key != "steps":
+                        check_param(name, key, value)  # raises for an unknown or bad value
+
+
+def test_a_shared_parameter_is_one_declaration():
+    """Two methods whose parameter of one name has the same default and range share the one
+    declaration object; a second declaration of the same parameter would be a copy."""
+    seen: dict[tuple, object] = {}
+    for name in bl.methods():
+        for key, param in bl.method(name).params.items():
+            signature = (key, repr(param.default), repr(param.kind), param.low, param.high)
+            first = seen.setdefault(signature, param)
+            assert first is param, f"{name}.{key} is declared again with the same default/range"
+
+
+def test_no_param_declaration_states_its_range_in_its_doc():
+    """Ranges are derived from low/high (Param.allowed); a range in the doc line would be a
+    second declaration that can drift."""
+    for name in bl.methods():
+        for key, param in bl.method(name).params.items():
+            assert not re.search(r"\(\s*[<>]?=?\s*-?\d[\d.^]*\s*(\.\.|,)", param.doc), (
+                f"{name}.{key}: {param.doc!r} states a range"
+            )
+
+
+@pytest.mark.parametrize("name", [n for n in bl.methods() if bl.method(n).twin is not None])
+def test_twins_take_the_method_parameters_by_name_without_defaults(name):
+    m = bl.method(name)
+    taken = twin_keywords(m.twin)
+    if taken is not None:
+        assert taken <= set(m.params), f"{name}'s twin takes {taken - set(m.params)}"
+    for p in inspect.signature(m.twin).parameters.values():
+        if p.name in m.params:
+            assert p.kind is inspect.Parameter.KEYWORD_ONLY, f"{name} twin: {p.name} positional"
+            assert p.default is inspect.Parameter.empty, f"{name} twin: {p.name} has a default"
+
+
+def test_shaders_declare_no_parameter_defaults():
+    """A uniform with an initializer would be a second default beside the Python declaration."""
+    pattern = re.compile(r"^\s*uniform\s+\w+\s+\w+\s*=", re.M)
+    offenders = [
+        str(p.relative_to(ROOT))
+        for p in sorted((ROOT / "shaders").rglob("*"))
+        if p.is_file() and pattern.search(p.read_text())
+    ]
+    assert not offenders
+
+
+def context_private_members() -> set[str]:
+    """Names of Context's and Texture's private attributes and methods."""
+    tree = ast.parse((PACKAGE / "context.py").read_text())
+    names = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name):
+            if node.value.id == "self" and node.attr.startswith("_"):
+                names.add(node.attr)
+        if isinstance(node, ast.FunctionDef) and node.name.startswith("_"):
+            if not node.name.startswith("__"):
+                names.add(node.name)
+    return names
+
+
+def test_no_module_uses_a_context_private_member():
+    private = context_private_members()
+    assert "_core" in private and "_pool" in private  # the scan sees them
+    offenders = []
+    for path in python_files(PACKAGE, ROOT / "tests", ROOT / "benchmarks"):
+        if path == PACKAGE / "context.py":
+            continue
+        tree = ast.parse(path.read_text())
+        for node in ast.walk(tree):
+            if (
+                isinstance(node, ast.Attribute)
+                and node.attr in private
+                and not (isinstance(node.value, ast.Name) and node.value.id in ("self", "cls"))
+            ):
+                offenders.append(f"{path.relative_to(ROOT)}:{node.lineno} .{node.attr}")
+    assert not offenders, offenders[:10]
+
+
+def imports_of(path: Path) -> set[str]:
+    """The blurlab modules a module imports at its top level or anywhere inside it."""
+    module = ".".join(path.relative_to(PACKAGE.parent).with_suffix("").parts)
+    package = module if path.name == "__init__.py" else module.rsplit(".", 1)[0]
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = package.split(".")
+                base = base[: len(base) - node.level + 1]
+                target = ".".join(base + ([node.module] if node.module else []))
+            else:
+                target = node.module or ""
+            if target.startswith("blurlab"):
+                found.add(target)
+                found.update(f"{target}.{a.name}" for a in node.names)
+        elif isinstance(node, ast.Import):
+            found.update(a.name for a in node.names if a.name.startswith("blurlab"))
+    return found
+
+
+def module_graph() -> dict[str, set[str]]:
+    modules = {}
+    for path in python_files(PACKAGE):
+        name = ".".join(path.relative_to(PACKAGE.parent).with_suffix("").parts)
+        modules[name.removesuffix(".__init__")] = path
+    graph = {}
+    for name, path in modules.items():
+        graph[name] = {m for m in imports_of(path) if m in modules and m != name}
+    return graph
+
+
+def test_no_import_cycles_between_blurlab_modules():
+    """Package __init__ files only gather their children, so edges into a package's own
+    __init__ from its children are left out."""
+    graph = module_graph()
+    for name in graph:
+        graph[name] = {m for m in graph[name] if not name.startswith(m + ".")}
+    cycles = []
+    state: dict[str, int] = {}
+
+    def visit(node, stack):
+        state[node] = 1
+        stack.append(node)
+        for nxt in sorted(graph[node]):
+            if state.get(nxt) == 1:
+                cycles.append(stack[stack.index(nxt) :] + [nxt])
+            elif nxt not in state:
+                visit(nxt, stack)
+        stack.pop()
+        state[node] = 2
+
+    for node in sorted(graph):
+        if node not in state:
+            visit(node, [])
+    assert not cycles, cycles[:3]
+
+
+def test_the_core_never_imports_the_studies():
+    graph = module_graph()
+    core = [
+        m
+        for m in graph
+        if not m.startswith("blurlab.studies")
+        and m not in ("blurlab", "blurlab.cli", "blurlab.__main__")
+    ]
+    offenders = {m: sorted(i for i in graph[m] if i.startswith("blurlab.studies")) for m in core}
+    assert not {m: i for m, i in offenders.items() if i}
+
+
+def test_no_function_local_import_of_a_blurlab_module():
+    """Local imports hid cycles; optional third-party imports (moderngl, Dask, tqdm, ...) may
+    stay local."""
+    offenders = []
+    for path in python_files(PACKAGE):
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                for inner in ast.walk(node):
+                    if isinstance(inner, ast.ImportFrom) and (
+                        inner.level or (inner.module or "").startswith("blurlab")
+                    ):
+                        offenders.append(f"{path.relative_to(ROOT)}:{inner.lineno}")
+    assert not offenders, offenders
+
+
+def test_cpp_layers_have_no_include_cycle():
+    """Headers include no cycle, and no X.cpp includes a header that itself (through headers)
+    includes X.h: X's implementation would depend on something built on X (the cycle the
+    classification once made between post_process.cpp and classify_tiles.h)."""
+    include = re.compile(r'#include "([^"]+)"')
+    src = ROOT / "src"
+    includes = {
+        str(p.relative_to(src)): set(include.findall(p.read_text()))
+        for p in src.rglob("*")
+        if p.suffix in (".h", ".cpp")
+    }
+
+    def reached(header: str) -> set[str]:
+        seen, todo = set(), [header]
+        while todo:
+            for nxt in includes.get(todo.pop(), ()):
+                if nxt not in seen:
+                    seen.add(nxt)
+                    todo.append(nxt)
+        return seen
+
+    offenders = [h for h in includes if h.endswith(".h") and h in reached(h)]
+    for source, deps in includes.items():
+        if source.endswith(".cpp"):
+            own = source[:-4] + ".h"
+            offenders += [f"{source} -> {d}" for d in deps if d != own and own in reached(d)]
+    assert not offenders, offenders
