@@ -1,4 +1,5 @@
-"""SsimReductionPass (shaders/passes/ssim.comp) against its NumPy twin metrics.ssim, docs/spec.md §6:
+"""SsimReductionPass (shaders/passes/ssim.comp) against its NumPy twin metrics.ssim (docs/spec.md
+§6):
 random images, rendered frames, near-flat images (where float32 variances cancel), sizes that are
 not multiples of the 16 x 16 work group and sizes smaller than the 11-tap window."""
 

@@ -411,8 +411,9 @@ class Context:
         guard: int = 0,
     ):
         """The converged reference of `scene` over `shutter`: the mean of `samples` full renders
-        at t_i = t0 + (i + u_i)/N·(t1 - t0), u_i = 0.5 or hashed when `stratified` (docs/spec.md §1),
-        accumulated in float32 on the GPU; a progress bar for N >= 64. Returns a Reference."""
+        at t_i = t0 + (i + u_i)/N·(t1 - t0), u_i = 0.5 or hashed when `stratified`
+        (docs/spec.md §1), accumulated in float32 on the GPU; a progress bar for N >= 64.
+        Returns a Reference."""
         return reference_render(
             self, scene, size, shutter, samples, stratified, seed, progress, guard
         )

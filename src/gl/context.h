@@ -61,7 +61,8 @@ class Context : public std::enable_shared_from_this<Context> {
 
   const std::map<std::string, std::string>& info() const { return info_; }
   bool is_software() const { return software_; }
-  // llvmpipe's timer queries report nonsense (docs/gpu.md), so software contexts time by wall clock.
+  // llvmpipe's timer queries report nonsense (docs/gpu.md), so software contexts time by wall
+  // clock.
   bool timer_queries_valid() const { return !software_; }
   const std::string& shader_dir() const { return shader_dir_; }
   int max_texture_size() const { return max_texture_size_; }

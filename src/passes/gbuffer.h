@@ -1,6 +1,6 @@
-// G-buffer pass, docs/spec.md §1: one raster pass writes linear color (RGBA32F), positive linear view
-// depth (R32F), motion t0→t1 in pixels with +y down (RG32F) and the object id (R32F, −1 for the
-// background) at the G-buffer's instant.
+// G-buffer pass, docs/spec.md §1: one raster pass writes linear color (RGBA32F), positive linear
+// view depth (R32F), motion t0→t1 in pixels with +y down (RG32F) and the object id (R32F, −1 for
+// the background) at the G-buffer's instant.
 //
 // Motion is divided per fragment: the vertex shader hands the clip positions at t0 and t1 to
 // the rasterizer, which interpolates them perspective-correctly, and the fragment shader divides

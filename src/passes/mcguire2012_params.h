@@ -9,7 +9,8 @@
 // | exposure | 1                                | 0 .. 1000           |
 // | seed     | 0                                | 0 .. 2^32 - 1       |
 //
-// Options of the filters (docs/guertin2014.md "Options"); off by default, so docs/spec.md §3.4 holds:
+// Options of the filters (docs/guertin2014.md "Options"); off by default, so docs/spec.md §3.4
+// holds:
 //
 // | name             | default | allowed                                             |
 // |------------------|---------|-----------------------------------------------------|

@@ -130,6 +130,7 @@ register(
         twin=twin.gather_box,
         twin_inputs=("color", "motion"),
         gallery=True,
-        doc='"Blurry things": n equal taps along the motion, backward or centered. docs/spec.md §4.',
+        doc='"Blurry things": n equal taps along the motion, backward or centered. '
+        "docs/spec.md §4.",
     )
 )

@@ -1,4 +1,5 @@
-"""Hashed random numbers, docs/spec.md §1 "Random numbers" (GLSL twin: shaders/common/random.glsl)."""
+"""Hashed random numbers, docs/spec.md §1 "Random numbers" (GLSL twin:
+shaders/common/random.glsl)."""
 
 from __future__ import annotations
 

@@ -1,6 +1,6 @@
-"""Tonal-art-map hatching, docs/spec.md §5, in NumPy float64 (GPU twin: shaders/common/hatching.glsl,
-used by the G-buffer pass). Tones are numbered 0 (white paper) to 6 (the darkest TAM tone);
-darkness = 1 − intensity."""
+"""Tonal-art-map hatching, docs/spec.md §5, in NumPy float64 (GPU twin:
+shaders/common/hatching.glsl, used by the G-buffer pass). Tones are numbered 0 (white paper) to
+6 (the darkest TAM tone); darkness = 1 − intensity."""
 
 from __future__ import annotations
 
@@ -74,7 +74,8 @@ def threshold_ink(thresholds, uv, darkness) -> np.ndarray:
 
 def patch_ink(tam, scheme: str, darkness, level: int = 0) -> np.ndarray:
     """Mean ink of a flat-lit patch that shows a whole number of TAM tiles at `level`, for each
-    value of `darkness`: what a hatched patch should measure (docs/spec.md §5, tone reproduction)."""
+    value of `darkness`: what a hatched patch should measure (docs/spec.md §5, tone
+    reproduction)."""
     darkness = np.atleast_1d(np.asarray(darkness, np.float64))
     if scheme == "six_way":
         means = tam.tones[level].reshape(6, -1).mean(1).astype(np.float64)

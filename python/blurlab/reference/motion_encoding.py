@@ -1,4 +1,5 @@
-"""Motion storage formats, docs/spec.md §2, in NumPy (GPU twin: shaders/passes/motion_encoding.comp).
+"""Motion storage formats, docs/spec.md §2, in NumPy (GPU twin:
+shaders/passes/motion_encoding.comp).
 
 `decoded` returns the motion a method reading a format sees: encode, round to the format's
 precision, decode. The encoding is computed in float32, as the GPU computes it, so that values
