@@ -28,6 +28,7 @@
 #include "passes/ssim_reduction.h"
 #include "passes/stochastic.h"
 #include "passes/tile_copy.h"
+#include "passes/tile_lists.h"
 #include "passes/tile_max.h"
 #include "passes/uniform_gather.h"
 

@@ -3,7 +3,7 @@
 #include "gl/context.h"
 #include "gl/fullscreen.h"
 #include "gl/texture.h"
-#include "passes/classify_tiles.h"
+#include "passes/tile_lists.h"
 
 namespace blurlab {
 
