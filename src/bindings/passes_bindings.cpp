@@ -25,6 +25,7 @@
 #include "passes/reconstruct_guertin2014.h"
 #include "passes/reconstruct_mcguire2012.h"
 #include "passes/reconstruct_urho3d.h"
+#include "passes/shader_pass.h"
 #include "passes/ssim_reduction.h"
 #include "passes/stochastic.h"
 #include "passes/tile_copy.h"
@@ -108,6 +109,53 @@ GBufferDraw make_draw(const py::tuple& t) {
   return d;
 }
 
+// A dict of name -> _core.Texture, in the dict's order (the first output sets the dispatch).
+NamedTextures named_textures(const py::dict& dict, const ShaderPass& pass, const char* what) {
+  NamedTextures textures;
+  for (const auto& [key, value] : dict) {
+    const std::string name = key.cast<std::string>();
+    if (!py::isinstance<Texture>(value))
+      throw std::invalid_argument("blurlab: " + pass.shader() + ": " + what + " '" + name +
+                                  "' must be a _core.Texture, not " +
+                                  std::string(py::str(value.get_type().attr("__name__"))));
+    textures.emplace_back(name, &value.cast<const Texture&>());
+  }
+  return textures;
+}
+
+// Uniform values: a number becomes one value, a bool 0 or 1, a sequence or NumPy array its
+// values flattened row by row (a mat4 as NumPy holds it).
+UniformValues uniform_values(const py::dict& dict, const ShaderPass& pass) {
+  UniformValues values;
+  for (const auto& [key, value] : dict) {
+    const std::string name = key.cast<std::string>();
+    auto refuse = [&] {
+      return std::invalid_argument("blurlab: " + pass.shader() + ": uniform '" + name +
+                                   "' takes numbers, not " +
+                                   std::string(py::str(value.get_type().attr("__name__"))));
+    };
+    if (value.is_none() || py::isinstance<py::str>(value) || py::isinstance<py::bytes>(value))
+      throw refuse();
+    auto array = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(value);
+    if (!array) throw refuse();
+    values[name].assign(array.data(), array.data() + array.size());
+  }
+  return values;
+}
+
+py::dict bindings_dict(const std::map<std::string, ShaderReflection::Binding>& bindings,
+                       const char* unit_key, bool with_format) {
+  py::dict d;
+  for (const auto& [name, b] : bindings) {
+    py::dict entry;
+    entry["type"] = b.type;
+    entry[unit_key] = b.unit;
+    if (with_format) entry["format"] = b.format;
+    d[py::str(name)] = entry;
+  }
+  return d;
+}
+
 }  // namespace
 
 void bind_passes(py::module_& m) {
@@ -165,6 +213,40 @@ void bind_passes(py::module_& m) {
             pass.restrict_to_tiles(std::move(lists), tile_class);
           },
           py::arg("lists"), py::arg("tile_class"));
+
+  // Runs issue GL commands and do not wait for the GPU, so they keep the GIL.
+  py::class_<ShaderPass, PostProcessPass, std::shared_ptr<ShaderPass>>(m, "ShaderPass")
+      .def(py::init<std::shared_ptr<Context>, std::string, Defines>(), py::arg("context"),
+           py::arg("shader"), py::arg("defines") = Defines{})
+      .def_property_readonly("shader", &ShaderPass::shader)
+      .def(
+          "run",
+          [](ShaderPass& pass, const py::dict& inputs, const py::dict& outputs,
+             const py::dict& uniforms, const std::string& backend, bool group_per_texel) {
+            pass.run(named_textures(inputs, pass, "input"), named_textures(outputs, pass, "output"),
+                     uniform_values(uniforms, pass), parse_backend(backend), group_per_texel);
+          },
+          py::arg("inputs"), py::arg("outputs"), py::arg("uniforms"),
+          py::arg("backend") = "compute", py::arg("group_per_texel") = false)
+      .def(
+          "reflect",
+          [](ShaderPass& pass, const std::string& backend) {
+            const ShaderReflection r = pass.reflect(parse_backend(backend));
+            py::dict uniforms;
+            for (const auto& [name, u] : r.uniforms) {
+              py::dict entry;
+              entry["type"] = u.type;
+              entry["count"] = u.count;
+              uniforms[py::str(name)] = entry;
+            }
+            py::dict d;
+            d["samplers"] = bindings_dict(r.samplers, "unit", false);
+            d["images"] = bindings_dict(r.images, "unit", true);
+            d["fragment_outputs"] = bindings_dict(r.fragment_outputs, "location", false);
+            d["uniforms"] = uniforms;
+            return d;
+          },
+          py::arg("backend") = "compute");
 
   py::class_<Guertin2014Params, McGuire2012Params>(m, "Guertin2014Params")
       .def(py::init<>())

@@ -391,10 +391,10 @@ void Program::link(const std::vector<GLuint>& shaders,
   }
   glGetProgramInterfaceiv(id_, GL_PROGRAM_OUTPUT, GL_ACTIVE_RESOURCES, &count);
   for (GLint i = 0; i < count; ++i) {
-    const GLenum props[] = {GL_NAME_LENGTH, GL_LOCATION};
-    GLint values[2];
-    glGetProgramResourceiv(id_, GL_PROGRAM_OUTPUT, i, 2, props, 2, nullptr, values);
-    outputs_[resource_name(GL_PROGRAM_OUTPUT, i, values[0])] = values[1];
+    const GLenum props[] = {GL_NAME_LENGTH, GL_TYPE, GL_LOCATION};
+    GLint values[3];
+    glGetProgramResourceiv(id_, GL_PROGRAM_OUTPUT, i, 3, props, 3, nullptr, values);
+    outputs_[resource_name(GL_PROGRAM_OUTPUT, i, values[0])] = {GLenum(values[1]), values[2]};
   }
 }
 

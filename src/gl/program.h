@@ -45,6 +45,12 @@ struct UniformInfo {
   std::string format;
 };
 
+// A fragment shader's `out` variable: its type and color attachment.
+struct FragmentOutput {
+  GLenum type = 0;
+  int location = 0;
+};
+
 bool is_sampler_type(GLenum type);
 bool is_image_type(GLenum type);
 // The GLSL name of a uniform type ("vec2", "mat4", "sampler2D"), or its GL enum in hex.
@@ -73,8 +79,8 @@ class Program {
   std::array<int, 3> local_size() const { return local_size_; }
   // Active uniforms by name.
   const std::map<std::string, UniformInfo>& uniforms() const { return uniforms_; }
-  // A raster program's fragment outputs: name -> location (empty for compute programs).
-  const std::map<std::string, int>& outputs() const { return outputs_; }
+  // A raster program's fragment outputs (none for compute programs).
+  const std::map<std::string, FragmentOutput>& outputs() const { return outputs_; }
 
   // Sets a uniform of scalar or vector float, int, uint or bool type, mat4, or an array of those
   // from `values`: all elements, one after the other; a mat4 as 16 values row by row (NumPy's
@@ -101,7 +107,7 @@ class Program {
   std::array<int, 3> local_size_{0, 0, 0};
   std::array<int, 3> max_groups_{0, 0, 0};  // GL_MAX_COMPUTE_WORK_GROUP_COUNT, read once
   std::map<std::string, UniformInfo> uniforms_;
-  std::map<std::string, int> outputs_;
+  std::map<std::string, FragmentOutput> outputs_;
 };
 
 }  // namespace blurlab
