@@ -319,3 +319,24 @@ def test_render_targets_are_recycled(ctx):
     frame = render_many(10)
     assert ctx.live_objects()["texture"] == before
     assert frame.textures["color"].download().tobytes() == frame.color.tobytes()
+
+
+def test_gbuffer_draw_has_named_checked_fields():
+    from blurlab import _core
+
+    draw = _core.GBufferDraw()
+    draw.model = np.arange(48.0).reshape(3, 4, 4)
+    np.testing.assert_array_equal(draw.model[1, 0], [16, 17, 18, 19])
+    draw.bones = np.ones((3, 2, 4, 4))
+    assert draw.bone_count == 2 and draw.bones.shape == (3, 2, 4, 4)
+    draw.bones = None
+    assert draw.bone_count == 0 and draw.bones is None
+    hatching = draw.material.hatching  # parts are views of the draw, not copies
+    hatching.scheme, hatching.scale = _core.GBufferHatching.Scheme.threshold, 3.0
+    assert draw.material.hatching.scale == 3.0
+    with pytest.raises(ValueError, match="model has 47 values, expected 48"):
+        draw.model = np.zeros(47)
+    with pytest.raises(ValueError, match="color has 3 values, expected 4"):
+        draw.material.color = [1.0, 0.5, 0.25]
+    with pytest.raises(ValueError, match="bone matrices has 50 values"):
+        draw.bones = np.zeros(50)

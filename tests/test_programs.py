@@ -18,6 +18,26 @@ def test_add_one_agrees_with_numpy(ctx, rng, test_shader):
     np.testing.assert_array_equal(dst.download(), image + np.float32(1.0))
 
 
+def test_mat4_and_float_arrays_are_set_row_by_row(ctx, rng, test_shader):
+    # Small integers: every product and sum is exact in float32, whatever the GPU's order.
+    image = rng.integers(-8, 8, (6, 10, 4)).astype(np.float32)
+    matrices = rng.integers(-4, 4, (2, 4, 4)).astype(np.float64)
+    offsets = [0.5, -2.0]
+    src, dst = ctx.upload(image), ctx.empty(image.shape)
+    program = ctx.program(test_shader("matrix_array.comp"))
+    assert {"matrices", "offsets"} <= set(program.uniforms)  # arrays go by name, no "[0]"
+    program._core.set_uniform("matrices", matrices.ravel().tolist())
+    program._core.set_uniform("offsets", offsets)
+    program.run((10, 6), images=[(src, "read"), (dst, "write")])
+    column = np.arange(10) % 2
+    expected = (
+        np.einsum("xij,yxj->yxi", matrices[column], image) + np.take(offsets, column)[:, None]
+    )
+    np.testing.assert_array_equal(dst.download(), expected.astype(np.float32))
+    with pytest.raises(ValueError, match="matrix_array.comp: uniform 'matrices' takes 32 value"):
+        program._core.set_uniform("matrices", matrices[0].ravel().tolist())
+
+
 def test_test_pattern_matches_its_reference(ctx):
     width, height, seed = 97, 61, 7
     out = ctx.empty((height, width, 4))

@@ -168,22 +168,24 @@ def render_targets(
     }
     draws = []
     for object_id, obj in enumerate(scene.objects):
-        models = f32([obj.model(t) for t in times])
-        bones = None if obj.skeleton is None else f32([obj.skeleton.matrices(t) for t in times])
         m = obj.material
-        draws.append(
-            (
-                ctx.gpu_mesh(obj.mesh),
-                models,
-                bones,
-                f32(m.color),
-                float(m.specular),
-                float(m.shininess),
-                ctx.gpu_material_texture(m),
-                object_id,
-                None if m.hatch is None else m.hatch.draw(ctx),
-            )
-        )
+        draw = _core.GBufferDraw()
+        draw.mesh = ctx.gpu_mesh(obj.mesh)
+        draw.model = f32([obj.model(t) for t in times])
+        if obj.skeleton is not None:
+            draw.bones = f32([obj.skeleton.matrices(t) for t in times])
+        draw.object_id = object_id
+        draw.material.color = f32(m.color)
+        draw.material.specular = float(m.specular)
+        draw.material.shininess = float(m.shininess)
+        draw.material.texture = ctx.gpu_material_texture(m)
+        if m.hatch is not None:
+            scheme, scale, tam_low, tam_high = m.hatch.draw(ctx)
+            hatching = draw.material.hatching
+            hatching.scheme = _core.GBufferHatching.Scheme(scheme)
+            hatching.scale = scale
+            hatching.tam_low, hatching.tam_high = tam_low, tam_high
+        draws.append(draw)
     # Every target is fully overwritten (the background pass covers every pixel), so pooled
     # textures need no clearing.
     targets = {

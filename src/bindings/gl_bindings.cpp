@@ -199,7 +199,12 @@ void bind_gl(py::module_& m) {
       .def_property_readonly("glo", &Program::id)
       .def_property_readonly("name", &Program::name)
       .def_property_readonly("local_size", &Program::local_size)
-      .def_property_readonly("uniforms", &Program::uniforms)
+      .def_property_readonly("uniforms",
+                             [](const Program& p) {
+                               std::map<std::string, GLenum> types;
+                               for (const auto& [name, u] : p.uniforms()) types[name] = u.type;
+                               return types;
+                             })
       .def("set_uniform", &Program::set_uniform, py::arg("name"), py::arg("values"))
       .def(
           "bind_image",

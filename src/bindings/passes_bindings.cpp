@@ -25,9 +25,11 @@
 #include "passes/reconstruct_guertin2014.h"
 #include "passes/reconstruct_mcguire2012.h"
 #include "passes/reconstruct_urho3d.h"
+#include "passes/shader_pass.h"
 #include "passes/ssim_reduction.h"
 #include "passes/stochastic.h"
 #include "passes/tile_copy.h"
+#include "passes/tile_lists.h"
 #include "passes/tile_max.h"
 #include "passes/uniform_gather.h"
 
@@ -75,34 +77,62 @@ std::shared_ptr<Mesh> make_mesh(const std::shared_ptr<Context>& ctx, const Float
   return std::make_shared<Mesh>(ctx, d);
 }
 
-// One draw as Python hands it over: (mesh, model (3,4,4), bones (3,B,4,4) or None,
-// color (4,), specular, shininess, texture or None, object_id, hatching or None), where
-// hatching = (scheme 1 six_way | 2 threshold, scale, tam texture, tam texture or None).
-GBufferDraw make_draw(const py::tuple& t) {
-  if (t.size() != 9) throw std::invalid_argument("blurlab: a G-buffer draw is a 9-tuple");
-  GBufferDraw d;
-  d.mesh = t[0].cast<std::shared_ptr<Mesh>>();
-  copy_floats(&d.model[0][0], t[1].cast<Floats>(), 48, "model matrices");
-  if (!t[2].is_none()) {
-    Floats bones = t[2].cast<Floats>();
-    d.bone_count = static_cast<int>(bones.size() / 48);
-    require_size(bones, size_t(d.bone_count) * 48, "bone matrices");
-    d.bones.assign(bones.data(), bones.data() + bones.size());
+// A float array member as a NumPy copy of `shape`, and set from any array of as many values.
+template <typename Owner>
+void float_array(py::class_<Owner>& cls, const char* name, float* (*member)(Owner&),
+                 std::vector<py::ssize_t> shape) {
+  size_t count = 1;
+  for (py::ssize_t n : shape) count *= size_t(n);
+  cls.def_property(
+      name, [member, shape](Owner& o) { return Floats(shape, member(o)); },
+      [member, count, name](Owner& o, const Floats& values) {
+        copy_floats(member(o), values, count, name);
+      });
+}
+
+// A dict of name -> _core.Texture, in the dict's order (the first output sets the dispatch).
+NamedTextures named_textures(const py::dict& dict, const ShaderPass& pass, const char* what) {
+  NamedTextures textures;
+  for (const auto& [key, value] : dict) {
+    const std::string name = key.cast<std::string>();
+    if (!py::isinstance<Texture>(value))
+      throw std::invalid_argument("blurlab: " + pass.shader() + ": " + what + " '" + name +
+                                  "' must be a _core.Texture, not " +
+                                  std::string(py::str(value.get_type().attr("__name__"))));
+    textures.emplace_back(name, &value.cast<const Texture&>());
   }
-  copy_floats(d.material.color, t[3].cast<Floats>(), 4, "material color");
-  d.material.specular = t[4].cast<float>();
-  d.material.shininess = t[5].cast<float>();
-  if (!t[6].is_none()) d.material.texture = t[6].cast<std::shared_ptr<Texture>>();
-  d.object_id = t[7].cast<int>();
-  if (!t[8].is_none()) {
-    const auto h = t[8].cast<py::tuple>();
-    const int scheme = h[0].cast<int>();
-    if (scheme != 1 && scheme != 2)
-      throw std::invalid_argument("blurlab: hatching scheme code must be 1 or 2");
-    d.material.hatching = static_cast<GBufferMaterial::Hatching>(scheme);
-    d.material.hatching_scale = h[1].cast<float>();
-    d.material.tam[0] = h[2].cast<std::shared_ptr<Texture>>();
-    if (!h[3].is_none()) d.material.tam[1] = h[3].cast<std::shared_ptr<Texture>>();
+  return textures;
+}
+
+// Uniform values: a number becomes one value, a bool 0 or 1, a sequence or NumPy array its
+// values flattened row by row (a mat4 as NumPy holds it).
+UniformValues uniform_values(const py::dict& dict, const ShaderPass& pass) {
+  UniformValues values;
+  for (const auto& [key, value] : dict) {
+    const std::string name = key.cast<std::string>();
+    auto refuse = [&] {
+      return std::invalid_argument("blurlab: " + pass.shader() + ": uniform '" + name +
+                                   "' takes numbers, not " +
+                                   std::string(py::str(value.get_type().attr("__name__"))));
+    };
+    if (value.is_none() || py::isinstance<py::str>(value) || py::isinstance<py::bytes>(value))
+      throw refuse();
+    auto array = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(value);
+    if (!array) throw refuse();
+    values[name].assign(array.data(), array.data() + array.size());
+  }
+  return values;
+}
+
+py::dict bindings_dict(const std::map<std::string, ShaderReflection::Binding>& bindings,
+                       const char* unit_key, bool with_format) {
+  py::dict d;
+  for (const auto& [name, b] : bindings) {
+    py::dict entry;
+    entry["type"] = b.type;
+    entry[unit_key] = b.unit;
+    if (with_format) entry["format"] = b.format;
+    d[py::str(name)] = entry;
   }
   return d;
 }
@@ -117,13 +147,60 @@ void bind_passes(py::module_& m) {
       .def_property_readonly("skinned", &Mesh::skinned)
       .def_property_readonly("triangle_count", &Mesh::triangle_count);
 
+  // One draw of the G-buffer pass, built by python/blurlab/render.py. Arrays are copied in and
+  // out (row-major, as NumPy holds them) with their sizes checked.
+  py::class_<GBufferHatching> hatching(m, "GBufferHatching");
+  py::enum_<GBufferHatching::Scheme>(hatching, "Scheme")
+      .value("none", GBufferHatching::Scheme::none)
+      .value("six_way", GBufferHatching::Scheme::six_way)
+      .value("threshold", GBufferHatching::Scheme::threshold);
+  hatching.def(py::init<>())
+      .def_readwrite("scheme", &GBufferHatching::scheme)
+      .def_readwrite("scale", &GBufferHatching::scale)
+      .def_readwrite("tam_low", &GBufferHatching::tam_low)
+      .def_readwrite("tam_high", &GBufferHatching::tam_high);
+
+  py::class_<GBufferMaterial> material(m, "GBufferMaterial");
+  material.def(py::init<>())
+      .def_readwrite("specular", &GBufferMaterial::specular)
+      .def_readwrite("shininess", &GBufferMaterial::shininess)
+      .def_readwrite("texture", &GBufferMaterial::texture)
+      .def_readwrite("hatching", &GBufferMaterial::hatching);
+  float_array<GBufferMaterial>(material, "color", [](GBufferMaterial& o) { return o.color; }, {4});
+
+  py::class_<GBufferDraw> draw(m, "GBufferDraw");
+  draw.def(py::init<>())
+      .def_readwrite("mesh", &GBufferDraw::mesh)
+      .def_readwrite("material", &GBufferDraw::material)
+      .def_readwrite("object_id", &GBufferDraw::object_id)
+      .def_readonly("bone_count", &GBufferDraw::bone_count)
+      // (3, B, 4, 4): B bone matrices at t0, t1 and the instant; None for an unskinned mesh.
+      .def_property(
+          "bones",
+          [](GBufferDraw& d) -> py::object {
+            if (d.bone_count == 0) return py::none();
+            return Floats(
+                {py::ssize_t(3), py::ssize_t(d.bone_count), py::ssize_t(4), py::ssize_t(4)},
+                d.bones.data());
+          },
+          [](GBufferDraw& d, std::optional<Floats> bones) {
+            d.bones.clear();
+            d.bone_count = 0;
+            if (!bones) return;
+            const int count = static_cast<int>(bones->size() / 48);
+            require_size(*bones, size_t(count) * 48, "bone matrices");
+            d.bones.assign(bones->data(), bones->data() + bones->size());
+            d.bone_count = count;
+          });
+  float_array<GBufferDraw>(draw, "model", [](GBufferDraw& o) { return &o.model[0][0]; }, {3, 4, 4});
+
   py::class_<GBufferPass, std::shared_ptr<GBufferPass>>(m, "GBufferPass")
       .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))
       .def(
           "render",
           [](GBufferPass& pass, std::shared_ptr<Texture> color, std::shared_ptr<Texture> depth,
              std::shared_ptr<Texture> motion, std::shared_ptr<Texture> object_id,
-             const py::dict& camera, const py::dict& light, const py::list& draws) {
+             const py::dict& camera, const py::dict& light, const std::vector<GBufferDraw>& draws) {
             GBufferCamera c;
             copy_floats(&c.view_projection[0][0], camera["view_projection"].cast<Floats>(), 48,
                         "view_projection");
@@ -138,9 +215,7 @@ void bind_passes(py::module_& m) {
             copy_floats(l.color, light["color"].cast<Floats>(), 3, "light color");
             copy_floats(l.ambient, light["ambient"].cast<Floats>(), 3, "ambient");
             copy_floats(l.background, light["background"].cast<Floats>(), 4, "background");
-            std::vector<GBufferDraw> list;
-            for (const auto& item : draws) list.push_back(make_draw(item.cast<py::tuple>()));
-            pass.render({color, depth, motion, object_id}, c, l, list);
+            pass.render({color, depth, motion, object_id}, c, l, draws);
           },
           py::arg("color"), py::arg("depth"), py::arg("motion"), py::arg("object_id"),
           py::arg("camera"), py::arg("light"), py::arg("draws"));
@@ -164,6 +239,40 @@ void bind_passes(py::module_& m) {
             pass.restrict_to_tiles(std::move(lists), tile_class);
           },
           py::arg("lists"), py::arg("tile_class"));
+
+  // Runs issue GL commands and do not wait for the GPU, so they keep the GIL.
+  py::class_<ShaderPass, PostProcessPass, std::shared_ptr<ShaderPass>>(m, "ShaderPass")
+      .def(py::init<std::shared_ptr<Context>, std::string, Defines>(), py::arg("context"),
+           py::arg("shader"), py::arg("defines") = Defines{})
+      .def_property_readonly("shader", &ShaderPass::shader)
+      .def(
+          "run",
+          [](ShaderPass& pass, const py::dict& inputs, const py::dict& outputs,
+             const py::dict& uniforms, const std::string& backend, bool group_per_texel) {
+            pass.run(named_textures(inputs, pass, "input"), named_textures(outputs, pass, "output"),
+                     uniform_values(uniforms, pass), parse_backend(backend), group_per_texel);
+          },
+          py::arg("inputs"), py::arg("outputs"), py::arg("uniforms"),
+          py::arg("backend") = "compute", py::arg("group_per_texel") = false)
+      .def(
+          "reflect",
+          [](ShaderPass& pass, const std::string& backend) {
+            const ShaderReflection r = pass.reflect(parse_backend(backend));
+            py::dict uniforms;
+            for (const auto& [name, u] : r.uniforms) {
+              py::dict entry;
+              entry["type"] = u.type;
+              entry["count"] = u.count;
+              uniforms[py::str(name)] = entry;
+            }
+            py::dict d;
+            d["samplers"] = bindings_dict(r.samplers, "unit", false);
+            d["images"] = bindings_dict(r.images, "unit", true);
+            d["fragment_outputs"] = bindings_dict(r.fragment_outputs, "location", false);
+            d["uniforms"] = uniforms;
+            return d;
+          },
+          py::arg("backend") = "compute");
 
   py::class_<Guertin2014Params, McGuire2012Params>(m, "Guertin2014Params")
       .def(py::init<>())

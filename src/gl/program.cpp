@@ -1,5 +1,6 @@
 #include "gl/program.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <regex>
@@ -135,7 +136,146 @@ GLuint compile(GLenum stage, const ShaderSource& source) {
   return shader;
 }
 
+// The image format qualifiers of GLSL 4.50.
+bool is_image_format(const std::string& token) {
+  static const std::set<std::string> formats = {
+      "rgba32f",     "rgba16f",    "rg32f",     "rg16f",     "r11f_g11f_b10f",
+      "r32f",        "r16f",       "rgba16",    "rgb10_a2",  "rgba8",
+      "rg16",        "rg8",        "r16",       "r8",        "rgba16_snorm",
+      "rgba8_snorm", "rg16_snorm", "rg8_snorm", "r16_snorm", "r8_snorm",
+      "rgba32i",     "rgba16i",    "rgba8i",    "rg32i",     "rg16i",
+      "rg8i",        "r32i",       "r16i",      "r8i",       "rgba32ui",
+      "rgba16ui",    "rgb10_a2ui", "rgba8ui",   "rg32ui",    "rg16ui",
+      "rg8ui",       "r32ui",      "r16ui",     "r8ui"};
+  return formats.count(token) > 0;
+}
+
+// Image name -> format qualifier from the declarations `layout(..., FORMAT) ... uniform ...
+// imageXX name;` in `text`. Every declaration counts, #if branches included: a name whose
+// declarations disagree, or whose format is a macro, gets "".
+std::map<std::string, std::string> declared_image_formats(const std::string& text) {
+  static const std::regex declaration(
+      R"(layout\s*\(([^)]*)\)([\w\s]*)\b[iu]?image[0-9A-Z]\w*\s+(\w+)\s*;)");
+  static const std::regex uniform_word(R"(\buniform\b)");
+  std::map<std::string, std::string> formats;
+  for (std::sregex_iterator it(text.begin(), text.end(), declaration), end; it != end; ++it) {
+    const std::string qualifiers = (*it)[2].str();
+    if (!std::regex_search(qualifiers, uniform_word)) continue;
+    std::string format;
+    std::istringstream items((*it)[1].str());
+    for (std::string item; std::getline(items, item, ',');) {
+      item.erase(0, item.find_first_not_of(" \t\n"));
+      item.erase(item.find_last_not_of(" \t\n") + 1);
+      if (is_image_format(item)) format = item;
+    }
+    const std::string name = (*it)[3].str();
+    auto [known, inserted] = formats.emplace(name, format);
+    if (!inserted && known->second != format) known->second = "";
+  }
+  return formats;
+}
+
+// GLSL names of the uniform types; the samplers' and images' names say which they are.
+const std::map<GLenum, std::string>& type_names() {
+  static const std::map<GLenum, std::string> names = {
+      {GL_FLOAT, "float"},
+      {GL_FLOAT_VEC2, "vec2"},
+      {GL_FLOAT_VEC3, "vec3"},
+      {GL_FLOAT_VEC4, "vec4"},
+      {GL_INT, "int"},
+      {GL_INT_VEC2, "ivec2"},
+      {GL_INT_VEC3, "ivec3"},
+      {GL_INT_VEC4, "ivec4"},
+      {GL_UNSIGNED_INT, "uint"},
+      {GL_UNSIGNED_INT_VEC2, "uvec2"},
+      {GL_UNSIGNED_INT_VEC3, "uvec3"},
+      {GL_UNSIGNED_INT_VEC4, "uvec4"},
+      {GL_BOOL, "bool"},
+      {GL_BOOL_VEC2, "bvec2"},
+      {GL_BOOL_VEC3, "bvec3"},
+      {GL_BOOL_VEC4, "bvec4"},
+      {GL_FLOAT_MAT2, "mat2"},
+      {GL_FLOAT_MAT3, "mat3"},
+      {GL_FLOAT_MAT4, "mat4"},
+      {GL_SAMPLER_1D, "sampler1D"},
+      {GL_SAMPLER_2D, "sampler2D"},
+      {GL_SAMPLER_3D, "sampler3D"},
+      {GL_SAMPLER_CUBE, "samplerCube"},
+      {GL_SAMPLER_2D_SHADOW, "sampler2DShadow"},
+      {GL_SAMPLER_1D_ARRAY, "sampler1DArray"},
+      {GL_SAMPLER_2D_ARRAY, "sampler2DArray"},
+      {GL_SAMPLER_2D_ARRAY_SHADOW, "sampler2DArrayShadow"},
+      {GL_SAMPLER_2D_MULTISAMPLE, "sampler2DMS"},
+      {GL_SAMPLER_CUBE_SHADOW, "samplerCubeShadow"},
+      {GL_SAMPLER_BUFFER, "samplerBuffer"},
+      {GL_SAMPLER_2D_RECT, "sampler2DRect"},
+      {GL_SAMPLER_CUBE_MAP_ARRAY, "samplerCubeArray"},
+      {GL_INT_SAMPLER_2D, "isampler2D"},
+      {GL_INT_SAMPLER_3D, "isampler3D"},
+      {GL_INT_SAMPLER_2D_ARRAY, "isampler2DArray"},
+      {GL_INT_SAMPLER_BUFFER, "isamplerBuffer"},
+      {GL_UNSIGNED_INT_SAMPLER_2D, "usampler2D"},
+      {GL_UNSIGNED_INT_SAMPLER_3D, "usampler3D"},
+      {GL_UNSIGNED_INT_SAMPLER_2D_ARRAY, "usampler2DArray"},
+      {GL_UNSIGNED_INT_SAMPLER_BUFFER, "usamplerBuffer"},
+      {GL_IMAGE_1D, "image1D"},
+      {GL_IMAGE_2D, "image2D"},
+      {GL_IMAGE_3D, "image3D"},
+      {GL_IMAGE_CUBE, "imageCube"},
+      {GL_IMAGE_BUFFER, "imageBuffer"},
+      {GL_IMAGE_2D_ARRAY, "image2DArray"},
+      {GL_INT_IMAGE_2D, "iimage2D"},
+      {GL_INT_IMAGE_3D, "iimage3D"},
+      {GL_INT_IMAGE_2D_ARRAY, "iimage2DArray"},
+      {GL_INT_IMAGE_BUFFER, "iimageBuffer"},
+      {GL_UNSIGNED_INT_IMAGE_2D, "uimage2D"},
+      {GL_UNSIGNED_INT_IMAGE_3D, "uimage3D"},
+      {GL_UNSIGNED_INT_IMAGE_2D_ARRAY, "uimage2DArray"},
+      {GL_UNSIGNED_INT_IMAGE_BUFFER, "uimageBuffer"},
+  };
+  return names;
+}
+
 }  // namespace
+
+bool is_sampler_type(GLenum type) {
+  return glsl_type_name(type).find("sampler") != std::string::npos;
+}
+
+bool is_image_type(GLenum type) {
+  return glsl_type_name(type).find("image") != std::string::npos;
+}
+
+std::string glsl_type_name(GLenum type) {
+  auto it = type_names().find(type);
+  if (it != type_names().end()) return it->second;
+  std::ostringstream hex;
+  hex << "0x" << std::hex << type;
+  return hex.str();
+}
+
+int uniform_components(GLenum type) {
+  switch (type) {
+    case GL_FLOAT:
+    case GL_INT:
+    case GL_UNSIGNED_INT:
+    case GL_BOOL: return 1;
+    case GL_FLOAT_VEC2:
+    case GL_INT_VEC2:
+    case GL_UNSIGNED_INT_VEC2:
+    case GL_BOOL_VEC2: return 2;
+    case GL_FLOAT_VEC3:
+    case GL_INT_VEC3:
+    case GL_UNSIGNED_INT_VEC3:
+    case GL_BOOL_VEC3: return 3;
+    case GL_FLOAT_VEC4:
+    case GL_INT_VEC4:
+    case GL_UNSIGNED_INT_VEC4:
+    case GL_BOOL_VEC4: return 4;
+    case GL_FLOAT_MAT4: return 16;
+    default: return 0;
+  }
+}
 
 ShaderSource load_shader_source(const std::string& path, const std::string& shader_dir,
                                 const Defines& defines) {
@@ -171,7 +311,7 @@ std::shared_ptr<Program> Program::compute(std::shared_ptr<Context> context, cons
   const ShaderSource source = load_shader_source(path, context->shader_dir(), defines);
   std::shared_ptr<Program> program(new Program(context, path));
   GLuint shader = compile(GL_COMPUTE_SHADER, source);
-  program->link({shader});
+  program->link({shader}, {&source});
   GLint size[3] = {0, 0, 0};
   glGetProgramiv(program->id_, GL_COMPUTE_WORK_GROUP_SIZE, size);
   program->local_size_ = {size[0], size[1], size[2]};
@@ -197,12 +337,13 @@ std::shared_ptr<Program> Program::graphics(std::shared_ptr<Context> context,
     glDeleteShader(vertex);
     throw;
   }
-  program->link({vertex, fragment});
+  program->link({vertex, fragment}, {&vs, &fs});
   check_gl("creating a raster program");
   return program;
 }
 
-void Program::link(const std::vector<GLuint>& shaders) {
+void Program::link(const std::vector<GLuint>& shaders,
+                   const std::vector<const ShaderSource*>& sources) {
   id_ = glCreateProgram();
   context_->track("program", +1);
   for (GLuint s : shaders) glAttachShader(id_, s);
@@ -217,17 +358,43 @@ void Program::link(const std::vector<GLuint>& shaders) {
     glGetProgramInfoLog(id_, length, nullptr, log.data());
     throw ShaderError("blurlab: " + name_ + " failed to link:\n" + log);
   }
+  std::map<std::string, std::string> formats;
+  for (const ShaderSource* source : sources)
+    for (auto& [image, format] : declared_image_formats(source->text))
+      formats.emplace(image, format);
+  auto resource_name = [&](GLenum interface, GLint index, GLint length) {
+    std::string name(length, '\0');
+    glGetProgramResourceName(id_, interface, index, length, nullptr, name.data());
+    name.resize(name.find('\0') == std::string::npos ? name.size() : name.find('\0'));
+    return name;
+  };
   GLint count = 0;
   glGetProgramInterfaceiv(id_, GL_UNIFORM, GL_ACTIVE_RESOURCES, &count);
   for (GLint i = 0; i < count; ++i) {
-    const GLenum props[] = {GL_TYPE, GL_BLOCK_INDEX, GL_NAME_LENGTH};
-    GLint values[3];
-    glGetProgramResourceiv(id_, GL_UNIFORM, i, 3, props, 3, nullptr, values);
+    const GLenum props[] = {GL_TYPE, GL_BLOCK_INDEX, GL_NAME_LENGTH, GL_LOCATION, GL_ARRAY_SIZE};
+    GLint values[5];
+    glGetProgramResourceiv(id_, GL_UNIFORM, i, 5, props, 5, nullptr, values);
     if (values[1] != -1) continue;  // members of uniform blocks are set through their buffer
-    std::string uniform(values[2], '\0');
-    glGetProgramResourceName(id_, GL_UNIFORM, i, values[2], nullptr, uniform.data());
-    uniform.resize(uniform.find('\0') == std::string::npos ? uniform.size() : uniform.find('\0'));
-    uniforms_[uniform] = static_cast<GLenum>(values[0]);
+    std::string uniform = resource_name(GL_UNIFORM, i, values[2]);
+    if (uniform.size() > 3 && uniform.compare(uniform.size() - 3, 3, "[0]") == 0)
+      uniform.resize(uniform.size() - 3);
+    UniformInfo info;
+    info.type = static_cast<GLenum>(values[0]);
+    info.location = values[3];
+    info.array_size = std::max(values[4], 1);
+    if (is_sampler_type(info.type) || is_image_type(info.type)) {
+      // Set by layout(binding = N), or 0 without one.
+      glGetUniformiv(id_, info.location, &info.unit);
+      if (is_image_type(info.type) && formats.count(uniform)) info.format = formats[uniform];
+    }
+    uniforms_[uniform] = info;
+  }
+  glGetProgramInterfaceiv(id_, GL_PROGRAM_OUTPUT, GL_ACTIVE_RESOURCES, &count);
+  for (GLint i = 0; i < count; ++i) {
+    const GLenum props[] = {GL_NAME_LENGTH, GL_TYPE, GL_LOCATION};
+    GLint values[3];
+    glGetProgramResourceiv(id_, GL_PROGRAM_OUTPUT, i, 3, props, 3, nullptr, values);
+    outputs_[resource_name(GL_PROGRAM_OUTPUT, i, values[0])] = {GLenum(values[1]), values[2]};
   }
 }
 
@@ -239,77 +406,72 @@ void Program::set_uniform(const std::string& name, const std::vector<double>& v)
   auto it = uniforms_.find(name);
   if (it == uniforms_.end()) {
     std::string known;
-    for (const auto& [n, t] : uniforms_) known += (known.empty() ? "" : ", ") + n;
+    for (const auto& [n, u] : uniforms_)
+      if (uniform_components(u.type)) known += (known.empty() ? "" : ", ") + n;
     throw std::invalid_argument("blurlab: " + name_ + " has no uniform '" + name +
                                 "'; its uniforms are: " + (known.empty() ? "(none)" : known));
   }
-  context_->make_current();
-  const GLint loc = glGetUniformLocation(id_, name.c_str());
-  auto need = [&](size_t n) {
-    if (v.size() != n)
-      throw std::invalid_argument("blurlab: uniform '" + name + "' takes " + std::to_string(n) +
-                                  " value(s), got " + std::to_string(v.size()));
-  };
-  auto f = [&](size_t i) { return static_cast<float>(v[i]); };
+  const UniformInfo& u = it->second;
+  const int components = uniform_components(u.type);
+  if (components == 0)
+    throw std::invalid_argument("blurlab: " + name_ + ": uniform '" + name + "' is a " +
+                                glsl_type_name(u.type) +
+                                ", which set_uniform does not set; bind textures and images by "
+                                "unit");
+  const size_t count = size_t(components) * u.array_size;
+  if (v.size() != count)
+    throw std::invalid_argument("blurlab: " + name_ + ": uniform '" + name + "' takes " +
+                                std::to_string(count) + " value(s), got " +
+                                std::to_string(v.size()));
   // Converting a double outside an integer type's range is undefined behaviour: refuse it.
-  auto whole = [&](size_t i, double low, double high, const char* what) {
-    if (!(v[i] >= low && v[i] <= high) || v[i] != std::floor(v[i]))
-      throw std::invalid_argument("blurlab: uniform '" + name + "' takes " + what + ", got " +
-                                  std::to_string(v[i]));
-    return v[i];
+  auto whole = [&](double x, double low, double high, const char* what) {
+    if (!(x >= low && x <= high) || x != std::floor(x))
+      throw std::invalid_argument("blurlab: " + name_ + ": uniform '" + name + "' takes " + what +
+                                  ", got " + std::to_string(x));
+    return x;
   };
-  auto i32 = [&](size_t i) {
-    return static_cast<GLint>(whole(i, -2147483648.0, 2147483647.0, "integers in -2^31..2^31-1"));
-  };
-  auto u32 = [&](size_t i) {
-    return static_cast<GLuint>(whole(i, 0.0, 4294967295.0, "integers in 0..2^32-1"));
-  };
-  switch (it->second) {
+  context_->make_current();
+  const GLint loc = u.location;
+  const GLsizei n = u.array_size;
+  switch (u.type) {
     case GL_FLOAT:
-      need(1);
-      glProgramUniform1f(id_, loc, f(0));
-      break;
     case GL_FLOAT_VEC2:
-      need(2);
-      glProgramUniform2f(id_, loc, f(0), f(1));
-      break;
     case GL_FLOAT_VEC3:
-      need(3);
-      glProgramUniform3f(id_, loc, f(0), f(1), f(2));
-      break;
     case GL_FLOAT_VEC4:
-      need(4);
-      glProgramUniform4f(id_, loc, f(0), f(1), f(2), f(3));
+    case GL_FLOAT_MAT4: {
+      const std::vector<float> f(v.begin(), v.end());
+      if (components == 1) glProgramUniform1fv(id_, loc, n, f.data());
+      if (components == 2) glProgramUniform2fv(id_, loc, n, f.data());
+      if (components == 3) glProgramUniform3fv(id_, loc, n, f.data());
+      if (components == 4) glProgramUniform4fv(id_, loc, n, f.data());
+      // Row by row, as NumPy holds matrices; GL's default is column by column.
+      if (components == 16) glProgramUniformMatrix4fv(id_, loc, n, GL_TRUE, f.data());
       break;
-    case GL_INT:
-    case GL_BOOL:
-      need(1);
-      glProgramUniform1i(id_, loc, i32(0));
-      break;
-    case GL_INT_VEC2:
-      need(2);
-      glProgramUniform2i(id_, loc, i32(0), i32(1));
-      break;
-    case GL_INT_VEC3:
-      need(3);
-      glProgramUniform3i(id_, loc, i32(0), i32(1), i32(2));
-      break;
-    case GL_INT_VEC4:
-      need(4);
-      glProgramUniform4i(id_, loc, i32(0), i32(1), i32(2), i32(3));
-      break;
+    }
     case GL_UNSIGNED_INT:
-      need(1);
-      glProgramUniform1ui(id_, loc, u32(0));
-      break;
     case GL_UNSIGNED_INT_VEC2:
-      need(2);
-      glProgramUniform2ui(id_, loc, u32(0), u32(1));
+    case GL_UNSIGNED_INT_VEC3:
+    case GL_UNSIGNED_INT_VEC4: {
+      std::vector<GLuint> w;
+      for (double x : v)
+        w.push_back(static_cast<GLuint>(whole(x, 0.0, 4294967295.0, "integers in 0..2^32-1")));
+      if (components == 1) glProgramUniform1uiv(id_, loc, n, w.data());
+      if (components == 2) glProgramUniform2uiv(id_, loc, n, w.data());
+      if (components == 3) glProgramUniform3uiv(id_, loc, n, w.data());
+      if (components == 4) glProgramUniform4uiv(id_, loc, n, w.data());
       break;
-    default:
-      throw std::invalid_argument("blurlab: uniform '" + name +
-                                  "' is of a type that set_uniform does not set (a sampler, "
-                                  "image or matrix); bind textures and images by unit");
+    }
+    default: {  // int and bool, which GL sets through the int calls
+      std::vector<GLint> w;
+      for (double x : v)
+        w.push_back(
+            static_cast<GLint>(whole(x, -2147483648.0, 2147483647.0, "integers in -2^31..2^31-1")));
+      if (components == 1) glProgramUniform1iv(id_, loc, n, w.data());
+      if (components == 2) glProgramUniform2iv(id_, loc, n, w.data());
+      if (components == 3) glProgramUniform3iv(id_, loc, n, w.data());
+      if (components == 4) glProgramUniform4iv(id_, loc, n, w.data());
+      break;
+    }
   }
   check_gl(("setting uniform " + name).c_str());
 }

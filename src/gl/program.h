@@ -32,6 +32,33 @@ ShaderSource load_shader_source(const std::string& path, const std::string& shad
 // Rewrites "N:L(C)" (Mesa) and "N(L)" (NVIDIA) prefixes of a driver log into "file:L".
 std::string translate_shader_log(const std::string& log, const std::vector<std::string>& files);
 
+// An active uniform outside uniform blocks, as the linked program reports it. Arrays go by their
+// name without "[0]".
+struct UniformInfo {
+  GLenum type = 0;
+  GLint location = -1;
+  int array_size = 1;
+  // Samplers and images: the unit that layout(binding = N) gave them; -1 for other types.
+  int unit = -1;
+  // Images: the declaration's format qualifier (e.g. "rgba32f"). GL does not report it, so it is
+  // read from the source: "" where it is a macro or differs between #if branches.
+  std::string format;
+};
+
+// A fragment shader's `out` variable: its type and color attachment.
+struct FragmentOutput {
+  GLenum type = 0;
+  int location = 0;
+};
+
+bool is_sampler_type(GLenum type);
+bool is_image_type(GLenum type);
+// The GLSL name of a uniform type ("vec2", "mat4", "sampler2D"), or its GL enum in hex.
+std::string glsl_type_name(GLenum type);
+// Values that Program::set_uniform takes per array element: 1..4 for scalars and vectors, 16 for
+// mat4; 0 for the types it does not set.
+int uniform_components(GLenum type);
+
 class Program {
  public:
   // A compute program from one file.
@@ -50,11 +77,16 @@ class Program {
   const std::string& name() const { return name_; }
   // The compute work-group size declared by the shader (0s for raster programs).
   std::array<int, 3> local_size() const { return local_size_; }
-  // Active uniforms: name -> GL type.
-  const std::map<std::string, GLenum>& uniforms() const { return uniforms_; }
+  // Active uniforms by name.
+  const std::map<std::string, UniformInfo>& uniforms() const { return uniforms_; }
+  // A raster program's fragment outputs (none for compute programs).
+  const std::map<std::string, FragmentOutput>& outputs() const { return outputs_; }
 
-  // Sets a scalar or vector uniform of float, int, uint or bool type from `values`; throws
-  // std::invalid_argument naming the uniform if it does not exist or the count does not match.
+  // Sets a uniform of scalar or vector float, int, uint or bool type, mat4, or an array of those
+  // from `values`: all elements, one after the other; a mat4 as 16 values row by row (NumPy's
+  // order), uploaded transposed. Throws std::invalid_argument naming the program and the uniform
+  // if it does not exist or the count does not match. Integers must be whole and in range, as
+  // converting others is undefined behaviour.
   void set_uniform(const std::string& name, const std::vector<double>& values);
   void bind_image(int unit, const Texture& texture, GLenum access);
   void bind_texture(int unit, const Texture& texture);
@@ -68,13 +100,14 @@ class Program {
 
  private:
   Program(std::shared_ptr<Context> context, std::string name);
-  void link(const std::vector<GLuint>& shaders);
+  void link(const std::vector<GLuint>& shaders, const std::vector<const ShaderSource*>& sources);
   std::shared_ptr<Context> context_;
   std::string name_;
   GLuint id_ = 0;
   std::array<int, 3> local_size_{0, 0, 0};
   std::array<int, 3> max_groups_{0, 0, 0};  // GL_MAX_COMPUTE_WORK_GROUP_COUNT, read once
-  std::map<std::string, GLenum> uniforms_;
+  std::map<std::string, UniformInfo> uniforms_;
+  std::map<std::string, FragmentOutput> outputs_;
 };
 
 }  // namespace blurlab

@@ -129,17 +129,21 @@ void GBufferPass::render(const GBufferTargets& targets, const GBufferCamera& cam
     glProgramUniform1i(id, location("has_texture"), draw.material.texture ? 1 : 0);
     glProgramUniform1i(id, location("object_id"), draw.object_id);
     if (draw.material.texture) glBindTextureUnit(0, draw.material.texture->id());
-    const auto hatching = draw.material.hatching;
-    if (hatching != GBufferMaterial::Hatching::none) {
-      const int needed = hatching == GBufferMaterial::Hatching::six_way ? 2 : 1;
-      for (int i = 0; i < needed; ++i) {
-        if (!draw.material.tam[i])
-          throw std::invalid_argument("blurlab: a hatched draw lacks its tonal art map textures");
-        glBindTextureUnit(1 + i, draw.material.tam[i]->id());
-      }
+    const GBufferHatching& hatching = draw.material.hatching;
+    // Python can make the enum from any int.
+    if (hatching.scheme < GBufferHatching::Scheme::none ||
+        hatching.scheme > GBufferHatching::Scheme::threshold)
+      throw std::invalid_argument(
+          "blurlab: a draw's hatching scheme is not a GBufferHatching.Scheme");
+    if (hatching.scheme != GBufferHatching::Scheme::none) {
+      const bool six_way = hatching.scheme == GBufferHatching::Scheme::six_way;
+      if (!hatching.tam_low || (six_way && !hatching.tam_high))
+        throw std::invalid_argument("blurlab: a hatched draw lacks its tonal art map textures");
+      glBindTextureUnit(1, hatching.tam_low->id());
+      if (six_way) glBindTextureUnit(2, hatching.tam_high->id());
     }
-    glProgramUniform1i(id, location("hatching"), static_cast<int>(hatching));
-    glProgramUniform1f(id, location("hatching_scale"), draw.material.hatching_scale);
+    glProgramUniform1i(id, location("hatching"), static_cast<int>(hatching.scheme));
+    glProgramUniform1f(id, location("hatching_scale"), hatching.scale);
     draw.mesh->draw();
   }
   glBindVertexArray(0);

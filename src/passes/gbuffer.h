@@ -42,22 +42,27 @@ struct GBufferLight {
   float background[4];
 };
 
+// Tonal-art-map hatching (docs/spec.md §5) replaces the shading with color · (1 − ink). The maps
+// are mip chains made level by level.
+struct GBufferHatching {
+  enum class Scheme { none = 0, six_way = 1, threshold = 2 } scheme = Scheme::none;
+  float scale = 1.0f;                 // TAM repeats per unit of texture coordinate
+  std::shared_ptr<Texture> tam_low;   // six_way: tones 1–3 in RGB; threshold: in R, the
+                                      // darkness at which each texel turns to ink
+  std::shared_ptr<Texture> tam_high;  // six_way: tones 4–6 in RGB; threshold: unused
+};
+
 struct GBufferMaterial {
   float color[4] = {1, 1, 1, 1};
   float specular = 0.0f;
   float shininess = 32.0f;
   std::shared_ptr<Texture> texture;  // optional albedo map, multiplied with color
-  // Tonal-art-map hatching (docs/spec.md §5) replaces the shading with color · (1 − ink).
-  // six_way: tam[0] holds tones 1–3 in RGB, tam[1] tones 4–6; threshold: tam[0].r holds the
-  // darkness at which each texel turns to ink. Both are mip chains made level by level.
-  enum class Hatching { none = 0, six_way = 1, threshold = 2 } hatching = Hatching::none;
-  float hatching_scale = 1.0f;  // TAM repeats per unit of texture coordinate
-  std::shared_ptr<Texture> tam[2];
+  GBufferHatching hatching;
 };
 
 struct GBufferDraw {
   std::shared_ptr<Mesh> mesh;
-  float model[3][16];        // t0, t1, instant
+  float model[3][16] = {};   // t0, t1, instant
   std::vector<float> bones;  // bone_count matrices at t0, then at t1, then at the instant
   int bone_count = 0;
   GBufferMaterial material;

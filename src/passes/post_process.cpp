@@ -3,7 +3,7 @@
 #include "gl/context.h"
 #include "gl/fullscreen.h"
 #include "gl/texture.h"
-#include "passes/classify_tiles.h"
+#include "passes/tile_lists.h"
 
 namespace blurlab {
 
@@ -14,8 +14,9 @@ Backend parse_backend(const std::string& name) {
                               "'");
 }
 
-PostProcessPass::PostProcessPass(std::shared_ptr<Context> context, std::string shader)
-    : context_(std::move(context)), shader_(std::move(shader)) {}
+PostProcessPass::PostProcessPass(std::shared_ptr<Context> context, std::string shader,
+                                 Defines defines)
+    : context_(std::move(context)), shader_(std::move(shader)), defines_(std::move(defines)) {}
 
 PostProcessPass::~PostProcessPass() = default;
 
@@ -38,6 +39,7 @@ void PostProcessPass::restrict_to_tiles(std::shared_ptr<const TileLists> lists, 
 
 Defines PostProcessPass::defines(Backend backend) const {
   Defines d{{backend == Backend::compute ? "STAGE_COMPUTE" : "STAGE_FRAGMENT", "1"}};
+  d.insert(d.end(), defines_.begin(), defines_.end());
   d.insert(d.end(), variant_.begin(), variant_.end());
   if (tile_lists_ && backend == Backend::compute) {
     d.emplace_back("TILE_LIST", "1");
@@ -60,19 +62,29 @@ Program& PostProcessPass::program(Backend backend) {
 
 void PostProcessPass::run(Backend backend, const std::vector<const Texture*>& inputs,
                           const Texture& target, bool group_per_texel) {
+  std::vector<TextureUnitBinding> textures;
+  for (size_t unit = 0; unit < inputs.size(); ++unit)
+    textures.push_back({static_cast<int>(unit), inputs[unit]});
+  std::vector<ImageUnitBinding> images;
+  if (backend == Backend::compute) images.push_back({0, &target, GL_WRITE_ONLY});
+  run_bound(backend, textures, images, target, group_per_texel);
+}
+
+void PostProcessPass::run_bound(Backend backend, const std::vector<TextureUnitBinding>& textures,
+                                const std::vector<ImageUnitBinding>& images, const Texture& target,
+                                bool group_per_texel) {
   if (tile_lists_ && backend != Backend::compute)
     throw std::invalid_argument("blurlab: tile lists run on the compute backend only");
   Program& p = program(backend);
-  for (size_t unit = 0; unit < inputs.size(); ++unit)
-    p.bind_texture(static_cast<int>(unit), *inputs[unit]);
+  for (const TextureUnitBinding& t : textures) p.bind_texture(t.unit, *t.texture);
+  for (const ImageUnitBinding& i : images) p.bind_image(i.unit, *i.texture, i.access);
   if (backend == Backend::compute) {
-    p.bind_image(0, target, GL_WRITE_ONLY);
     if (tile_lists_) {
       const TileLists& lists = *tile_lists_;
       if (lists.grid_width() != (target.width() + lists.k() - 1) / lists.k() ||
           lists.grid_height() != (target.height() + lists.k() - 1) / lists.k())
         throw std::invalid_argument("blurlab: the tile lists were made for another image size");
-      p.set_uniform("tile_list_k", {double(lists.k())});
+      p.set_uniform(kTileListK, {double(lists.k())});
       lists.bind_list(0, tile_class_);
       p.dispatch_indirect(lists.buffer(), lists.command_offset(tile_class_, whole_tiles_));
     } else if (group_per_texel) {

@@ -29,10 +29,29 @@ enum class Backend { compute, fragment };
 // "compute" or "fragment"; throws std::invalid_argument naming both otherwise.
 Backend parse_backend(const std::string& name);
 
+// A texture for a sampler's texture unit, and one for an image unit with its access.
+struct TextureUnitBinding {
+  int unit;
+  const Texture* texture;
+};
+struct ImageUnitBinding {
+  int unit;
+  const Texture* texture;
+  GLenum access;
+};
+
+// The uniform that the tile-list variant of a compute pass reads (common/tile_list.glsl); run()
+// sets it.
+inline constexpr char kTileListK[] = "tile_list_k";
+
 class PostProcessPass {
  public:
-  PostProcessPass(std::shared_ptr<Context> context, std::string shader);
+  // `defines` go into every program of the pass.
+  PostProcessPass(std::shared_ptr<Context> context, std::string shader, Defines defines = {});
   virtual ~PostProcessPass();
+
+  // The shader file, relative to the shader folder.
+  const std::string& shader() const { return shader_; }
 
   // Restricts the following compute runs to the tiles of class `tile_class` in `lists`
   // (their k must be the pass's tile size); nullptr lifts the restriction. A restricted pass
@@ -43,10 +62,17 @@ class PostProcessPass {
   // The program for `backend` and the current variant, compiled on first use.
   Program& program(Backend backend);
   // Binds `inputs` to texture units 0, 1, ... and runs the program once per texel of
-  // `target` (compute: image unit 0; fragment: the framebuffer's color attachment). With
-  // `group_per_texel`, the compute backend runs one whole work group per texel.
+  // `target` (compute: image unit 0, write-only; fragment: the framebuffer's color attachment).
+  // With `group_per_texel`, the compute backend runs one whole work group per texel.
   void run(Backend backend, const std::vector<const Texture*>& inputs, const Texture& target,
            bool group_per_texel = false);
+  // What every run comes down to: binds `textures` and `images`, then runs the program once per
+  // texel of `target` (compute: a work group per local_size block, per texel with
+  // `group_per_texel`, or over the listed tiles when restricted; fragment: `target` drawn as the
+  // framebuffer's color attachment).
+  void run_bound(Backend backend, const std::vector<TextureUnitBinding>& textures,
+                 const std::vector<ImageUnitBinding>& images, const Texture& target,
+                 bool group_per_texel);
 
   // Compiles the shader with `defines` for the program() and run() calls made while the
   // returned guard lives (e.g. TileMax's TILE_BOUNDS output).
@@ -70,6 +96,7 @@ class PostProcessPass {
   Defines defines(Backend backend) const;
 
   std::string shader_;
+  Defines defines_;
   Defines variant_;
   std::shared_ptr<const TileLists> tile_lists_;
   int tile_class_ = 0;

@@ -1,0 +1,93 @@
+#include "passes/shader_pass.h"
+
+#include <set>
+#include <stdexcept>
+
+#include "gl/texture.h"
+
+namespace blurlab {
+namespace {
+
+std::string joined(const std::vector<std::string>& names) {
+  std::string list;
+  for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+  return list.empty() ? "(none)" : list;
+}
+
+// The program's uniforms of one kind (samplers or images), by name.
+std::vector<std::string> names_of(const Program& p, bool (*kind)(GLenum)) {
+  std::vector<std::string> names;
+  for (const auto& [name, u] : p.uniforms())
+    if (kind(u.type)) names.push_back(name);
+  return names;
+}
+
+// The units of `given`, each of which must be a uniform of `kind`; every such uniform must be
+// given, or the shader would read whatever an earlier pass left at its unit.
+std::vector<TextureUnitBinding> units_of(const Program& p, const NamedTextures& given,
+                                         bool (*kind)(GLenum), const char* what) {
+  const std::vector<std::string> known = names_of(p, kind);
+  std::vector<TextureUnitBinding> units;
+  std::set<std::string> seen;
+  for (const auto& [name, texture] : given) {
+    auto it = p.uniforms().find(name);
+    if (it == p.uniforms().end() || !kind(it->second.type))
+      throw std::invalid_argument("blurlab: " + p.name() + " has no " + what + " '" + name +
+                                  "'; its " + what + "s are: " + joined(known));
+    units.push_back({it->second.unit, texture});
+    seen.insert(name);
+  }
+  std::vector<std::string> missing;
+  for (const std::string& name : known)
+    if (!seen.count(name)) missing.push_back(name);
+  if (!missing.empty())
+    throw std::invalid_argument("blurlab: " + p.name() + ": no texture given for its " + what +
+                                "(s) " + joined(missing));
+  return units;
+}
+
+}  // namespace
+
+ShaderPass::ShaderPass(std::shared_ptr<Context> context, std::string shader, Defines defines)
+    : PostProcessPass(std::move(context), std::move(shader), std::move(defines)) {}
+
+void ShaderPass::run(const NamedTextures& inputs, const NamedTextures& outputs,
+                     const UniformValues& uniforms, Backend backend, bool group_per_texel) {
+  Program& p = program(backend);
+  if (outputs.empty())
+    throw std::invalid_argument("blurlab: " + p.name() + " needs at least one output");
+  const std::vector<TextureUnitBinding> textures = units_of(p, inputs, is_sampler_type, "sampler");
+  std::vector<ImageUnitBinding> images;
+  if (backend == Backend::compute) {
+    // Read-write suits every declaration; see shader_pass.h.
+    for (const TextureUnitBinding& b : units_of(p, outputs, is_image_type, "image"))
+      images.push_back({b.unit, b.texture, GL_READ_WRITE});
+  } else {
+    std::vector<std::string> known;
+    for (const auto& [name, output] : p.outputs()) known.push_back(name);
+    if (outputs.size() != 1 || !p.outputs().count(outputs.front().first))
+      throw std::invalid_argument("blurlab: " + p.name() +
+                                  " draws one output, its fragment output: " + joined(known));
+  }
+  for (const auto& [name, values] : uniforms) p.set_uniform(name, values);
+  run_bound(backend, textures, images, *outputs.front().second, group_per_texel);
+}
+
+ShaderReflection ShaderPass::reflect(Backend backend) {
+  const Program& p = program(backend);
+  ShaderReflection r;
+  for (const auto& [name, u] : p.uniforms()) {
+    const std::string type = glsl_type_name(u.type);
+    if (is_sampler_type(u.type))
+      r.samplers[name] = {type, u.unit, ""};
+    else if (is_image_type(u.type))
+      r.images[name] = {type, u.unit, u.format};
+    else if (name != kTileListK)
+      r.uniforms[name] = {type, uniform_components(u.type) * u.array_size};
+  }
+  for (const auto& [name, output] : p.outputs())
+    r.fragment_outputs[name] = {glsl_type_name(output.type), output.location, ""};
+  return r;
+}
+
+}  // namespace blurlab

@@ -1,0 +1,66 @@
+// A post-process pass known only by its shader (issue "the house", after Falcor's
+// RenderPass::reflect()): its inputs, outputs and parameters are the shader's own samplers, images
+// and uniforms, found by name in the linked program. One generic pass instead of a class per
+// shader: Python checks a pass's parameters once against reflect() and hands over plain values,
+// which are not checked again here.
+//
+// Units come from the shader: each sampler and image is bound at the unit its
+// `layout(binding = N)` gave it. Outputs of the compute backend are bound GL_READ_WRITE, whatever
+// the shader declares: valid for writeonly, readonly and read-modify-write images alike
+// (accumulate.comp's `sum`), and the same bits as the dedicated passes' GL_WRITE_ONLY
+// (tests/test_shader_pass.py). Inputs are bound with the texture's own sampler state (nearest,
+// clamp to edge); the post-process shaders read them with texelFetch, which ignores it.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "passes/post_process.h"
+
+namespace blurlab {
+
+// Textures by name, in the caller's order (the first output sets the dispatch's size).
+using NamedTextures = std::vector<std::pair<std::string, const Texture*>>;
+// Uniform values by name, as Program::set_uniform takes them (a mat4 row by row).
+using UniformValues = std::map<std::string, std::vector<double>>;
+
+// What a ShaderPass takes on one backend, by name.
+struct ShaderReflection {
+  struct Binding {
+    std::string type;    // GLSL type: "sampler2D", "image2D", "vec4"
+    int unit = 0;        // texture or image unit; a fragment output's color attachment
+    std::string format;  // images: the declared format ("rgba32f"), "" if unknown
+  };
+  struct Value {
+    std::string type;  // "float", "uint", "mat4", ...
+    int count = 0;     // values that run() takes for it: components x array size
+  };
+  std::map<std::string, Binding> samplers;
+  std::map<std::string, Binding> images;
+  std::map<std::string, Binding> fragment_outputs;
+  std::map<std::string, Value> uniforms;
+};
+
+class ShaderPass : public PostProcessPass {
+ public:
+  // `shader`: relative to the shader folder, compiled with STAGE_COMPUTE or STAGE_FRAGMENT and
+  // `defines`.
+  ShaderPass(std::shared_ptr<Context> context, std::string shader, Defines defines = {});
+
+  // Runs the shader once per texel of the first output. `inputs` must name every sampler of the
+  // program; `outputs` every image (compute), or the one fragment output (fragment: drawn as the
+  // framebuffer's color attachment). Throws std::invalid_argument naming the shader and the name
+  // that is unknown or missing, and (through Program::set_uniform) a uniform whose name or value
+  // count is wrong.
+  void run(const NamedTextures& inputs, const NamedTextures& outputs, const UniformValues& uniforms,
+           Backend backend, bool group_per_texel = false);
+
+  // The program's samplers, images, fragment outputs and uniforms on `backend` (compiling it if
+  // need be), leaving out the tile-list uniform that run() sets itself.
+  ShaderReflection reflect(Backend backend);
+};
+
+}  // namespace blurlab
