@@ -5,10 +5,14 @@
 #
 #   device run, carry [".gl", ".whl"]:  bash benchmarks/gpu.sh transfer
 #   GPU_TESTS=0 bash benchmarks/gpu.sh "methods --size 1920x1080"   (no test suite)
+#   BASELINE=.before bash benchmarks/gpu.sh "reconstruct ..."   (carry .before too: an older
+#     tree, e.g. `git archive REV | tar -x -C .before`; each benchmark then runs on both,
+#     baseline first, twice in turn, so drift of the GPU's clocks shows as a spread)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out="${OUT:-out/gpu}"
 mkdir -p "$out"
+out="$(cd "$out" && pwd)"  # absolute: baseline benchmarks run from their own tree
 
 for f in .gl/*.deb; do dpkg -x "$f" /; done
 ldconfig
@@ -30,6 +34,15 @@ python3 -m pip wheel -q --no-build-isolation --no-deps -w /tmp/wheel -C build-di
   -C cmake.define.BLURLAB_EXTRA_INCLUDE=/tmp/dev/usr/include \
   -C cmake.define.EPOXY_LIBRARY=/usr/lib/x86_64-linux-gnu/libepoxy.so.0 .
 python3 -m pip install -q --no-deps --upgrade --target "$site" /tmp/wheel/blurlab-*.whl
+if [ -n "${BASELINE:-}" ]; then  # the same build of the older tree, into a site of its own
+  cp -r "$site" /tmp/site-baseline
+  python3 -m pip wheel -q --no-build-isolation --no-deps -w /tmp/wheel-baseline \
+    -C build-dir=/tmp/blurlab-build-baseline \
+    -C cmake.define.BLURLAB_EXTRA_INCLUDE=/tmp/dev/usr/include \
+    -C cmake.define.EPOXY_LIBRARY=/usr/lib/x86_64-linux-gnu/libepoxy.so.0 "$BASELINE"
+  python3 -m pip install -q --no-deps --upgrade --target /tmp/site-baseline \
+    /tmp/wheel-baseline/blurlab-*.whl
+fi
 export PYTHONPATH="$site"
 export PYTHONUNBUFFERED=1
 
@@ -51,6 +64,14 @@ for bench in "${@:-transfer}"; do
   if [ "$name" = study ]; then  # the main job; its folder comes back as one archive
     python3 -m blurlab --device gpu study --out "$out/study" $rest
     tar czf "$out/study.tgz" -C "$out" study && rm -rf "$out/study"
+    continue
+  fi
+  if [ -n "${BASELINE:-}" ]; then
+    for round in 1 2; do
+      (cd "$BASELINE" && PYTHONPATH=/tmp/site-baseline python3 "benchmarks/$name.py" \
+        --device gpu $rest --json "$out/${name}_baseline${round}_gpu.json")
+      python3 "benchmarks/$name.py" --device gpu $rest --json "$out/${name}${round}_gpu.json"
+    done
     continue
   fi
   python3 "benchmarks/$name.py" --device gpu $rest --json "$out/${name}_gpu.json"
