@@ -1,7 +1,8 @@
-"""The engines' gathers, docs/spec.md §4, in NumPy float64 (GPU twins: shaders/passes/
-gather_weighted.glsl, gather_box.glsl, camera_motion.glsl). A tap at continuous position p
-reads the pixel containing it; edge "clamp" reads the nearest edge pixel for taps outside the
-image, "ignore" drops them and renormalizes the remaining weights."""
+"""The gathers along the motion, docs/spec.md §4, in NumPy float64 (GPU twins:
+shaders/passes/gather_weighted.glsl, gather_box.glsl, gather_gaussian.glsl, camera_motion.glsl).
+A tap at continuous position p reads the pixel containing it; edge "clamp" reads the nearest
+edge pixel for taps outside the image, "ignore" drops them and renormalizes the remaining
+weights."""
 
 from __future__ import annotations
 
@@ -54,6 +55,15 @@ def gather_box(
     center = _centers(*m.shape[:2])
     s = np.arange(taps) / (taps - 1) - (0.5 if direction == "centered" else 0.0)
     return _gather(color, [center - si * m for si in s], [1.0] * taps, edge)
+
+
+def gather_gaussian(color, motion, *, taps: int, sigma: float, edge: str) -> np.ndarray:
+    """n taps at X - s·M, s = i/(n-1) - 1/2, weighted exp(-s² / 2σ²) (σ in motion lengths)."""
+    m = sanitize_motion(motion)
+    center = _centers(*m.shape[:2])
+    s = np.arange(taps) / (taps - 1) - 0.5
+    weights = np.exp(-(s**2) / (2 * sigma**2))
+    return _gather(color, [center - si * m for si in s], list(weights), edge)
 
 
 def camera_motion(depth, camera: dict, size) -> np.ndarray:
