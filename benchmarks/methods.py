@@ -1,8 +1,9 @@
 """Time of every registered method on teapot_pass, and of the reference per sub-frame.
 
-Each method gets the G-buffer at the instant it declares. Medians over --runs after one
-warm-up run; each pass by the context's clock (GL timer queries on a GPU, glFinish + wall
-clock on llvmpipe). Methods that render (accumulation, stochastic) include their renders.
+Each method runs at its declared defaults on the G-buffer at the instant it declares. Medians
+over --runs after one warm-up run; each pass by the context's clock (GL timer queries on a
+GPU, glFinish + wall clock on llvmpipe). Methods that render (accumulation, stochastic) include
+their renders.
 
     python benchmarks/methods.py [--device gpu] [--size 1920x1080] [--runs 10]
 """
@@ -15,17 +16,6 @@ import statistics
 import blurlab as bl
 
 from common import describe, save
-
-SETTINGS = {
-    "reconstruct_mcguire2012": {"k": 20, "samples": 15},
-    "reconstruct_urho3d": {"k": 20, "samples": 15},
-    "gather_weighted": {},
-    "gather_box": {"taps": 10},
-    "camera_only": {"taps": 10},
-    "trail": {"alpha": 0.5},
-    "accumulation": {"samples": 8},
-    "stochastic": {"slices": 4},
-}
 
 
 def main() -> None:
@@ -45,8 +35,8 @@ def main() -> None:
     )
     print("\n| method | parameters | instant | total ms | passes (ms) | clock |")
     print("|---|---|---|---|---|---|")
-    for name in bl.methods():
-        params = SETTINGS.get(name, {})
+    for name in bl.methods():  # each at its declared defaults
+        params = {}
         instant = bl.method_instant(name, params)
         frame = ctx.render(scene, (width, height), instant=instant)
         bl.blur(ctx, frame, name, **params)

@@ -75,13 +75,11 @@ def main() -> None:
         out["fragment_over_compute"] = ratio
         print(f"\nfragment / compute, same algorithm: {ratio:.1f}x")
         if args.numpy:
-            from blurlab.reference import mcguire2012 as ref
-
-            params = bl.blur(ctx, frame, "reconstruct_mcguire2012").params
+            twin = bl.method("reconstruct_mcguire2012")
             times = []
             for _ in range(3):
                 start = time.perf_counter()
-                ref.reconstruct_mcguire2012(frame.color, frame.depth, frame.motion, **params)
+                twin.twin_output(frame)
                 times.append((time.perf_counter() - start) * 1e3)
             out["numpy_ms"] = statistics.median(times)
             speedup = out["numpy_ms"] / out["mcguire2012/compute"]["total"]

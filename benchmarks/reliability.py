@@ -52,7 +52,7 @@ def main() -> None:
     size = tuple(int(v) for v in args.size.split("x"))
     ctx = bl.Context(device)
     scene = bl.scenes.teapot_pass()
-    names = [n for n in bl.methods() if n not in ("accumulation", "stochastic")]
+    names = [n for n in bl.methods() if not bl.method(n).renders]
 
     def cycle(i):
         name = names[i % len(names)]

@@ -9,6 +9,7 @@ import pytest
 from conftest import random_frame
 
 from blurlab import _core
+from blurlab.methods import tile_filter
 from blurlab.reference import classify as ref
 from blurlab.reference import mcguire2012 as m
 
@@ -39,19 +40,14 @@ def gpu_classification(ctx, frame, k, uniform_spread, still_threshold=ref.STILL_
     height, width = frame.motion.shape[:2]
     grid = (-(-height // k), -(-width // k))
     motion = ctx.upload(frame.motion)
-    tiles, neighbors = ctx.empty((*grid, 2)), ctx.empty((*grid, 2))
-    bounds, classes = ctx.empty((*grid, 4)), ctx.empty(grid)
-    params = _core.McGuire2012Params()
-    params.k = k
-    _core.TileMaxPass(ctx.native).run_with_bounds(
-        motion.native, tiles.native, bounds.native, params
+    classes = ctx.empty(grid)
+    values = {"k": k, "exposure": 1.0}
+    _, neighbors, _, bounds = tile_filter.tile_passes(
+        ctx, motion, tile_filter.TILE_FILTER_PARAMS, values, "compute", with_bounds=True
     )
-    _core.NeighborMaxPass(ctx.native).run(tiles.native, neighbors.native, "compute")
     lists = _core.TileLists(ctx.native, grid[1], grid[0], k)
-    cp = _core.ClassifyParams()
-    cp.uniform_spread, cp.still_threshold = uniform_spread, still_threshold
     _core.ClassifyTilesPass(ctx.native).run(
-        bounds.native, neighbors.native, classes.native, lists, cp
+        bounds.native, neighbors.native, classes.native, lists, still_threshold, uniform_spread
     )
     return bounds.download(), neighbors.download(), classes.download(), lists
 
@@ -98,14 +94,3 @@ def test_too_many_tiles_for_the_device_names_k(ctx):
     # 65535^2 tiles exceed every device's work-group limit (2^31 - 1 on NVIDIA, 65535 on Mesa).
     with pytest.raises(ValueError, match="use a larger k"):
         _core.TileLists(ctx.native, 65535, 65535, 1)
-
-
-@pytest.mark.parametrize(
-    ("field", "value"),
-    [("uniform_spread", -1.0), ("uniform_spread", float("nan")), ("still_threshold", -0.5)],
-)
-def test_bad_classify_params_name_the_range(field, value):
-    params = _core.ClassifyParams()
-    setattr(params, field, value)
-    with pytest.raises(ValueError, match=f"{field} = .* must be finite and >= 0"):
-        params.validate()

@@ -20,6 +20,8 @@ def test_every_method_output_matches_the_golden_hashes():
             f"{ctx.info()['renderer']}: another JIT may round differently"
         )
     hashes = compute(ctx)
-    assert set(hashes) == set(golden["hashes"]), "the set of cases changed"
-    changed = sorted(case for case, digest in hashes.items() if golden["hashes"][case] != digest)
-    assert not changed, f"{len(changed)} of {len(hashes)} outputs changed, e.g. {changed[:5]}"
+    # Methods added since have cases of their own; every recorded case must still be made.
+    missing = sorted(set(golden["hashes"]) - set(hashes))
+    assert not missing, f"{len(missing)} recorded cases are no longer made, e.g. {missing[:3]}"
+    changed = sorted(c for c, digest in golden["hashes"].items() if hashes[c] != digest)
+    assert not changed, f"{len(changed)} of {len(golden['hashes'])} outputs changed: {changed[:5]}"

@@ -26,16 +26,17 @@ def test_mat4_and_float_arrays_are_set_row_by_row(ctx, rng, test_shader):
     src, dst = ctx.upload(image), ctx.empty(image.shape)
     program = ctx.program(test_shader("matrix_array.comp"))
     assert {"matrices", "offsets"} <= set(program.uniforms)  # arrays go by name, no "[0]"
-    program._core.set_uniform("matrices", matrices.ravel().tolist())
-    program._core.set_uniform("offsets", offsets)
-    program.run((10, 6), images=[(src, "read"), (dst, "write")])
+    uniforms = {"matrices": matrices, "offsets": offsets}
+    program.run((10, 6), images=[(src, "read"), (dst, "write")], uniforms=uniforms)
     column = np.arange(10) % 2
     expected = (
         np.einsum("xij,yxj->yxi", matrices[column], image) + np.take(offsets, column)[:, None]
     )
     np.testing.assert_array_equal(dst.download(), expected.astype(np.float32))
     with pytest.raises(ValueError, match="matrix_array.comp: uniform 'matrices' takes 32 value"):
-        program._core.set_uniform("matrices", matrices[0].ravel().tolist())
+        program.run(
+            (10, 6), images=[(src, "read"), (dst, "write")], uniforms={"matrices": matrices[0]}
+        )
 
 
 def test_test_pattern_matches_its_reference(ctx):

@@ -7,13 +7,13 @@ import numpy as np
 from conftest import random_frame
 from test_classify_tiles import gpu_classification, structured_motion
 
-from blurlab import _core
+SHADER = "passes/tile_copy.glsl"
 
 
 def test_whole_image_copy_is_the_identity(ctx, rng):
     frame = random_frame(rng, 67, 45)
     color, result = ctx.upload(frame.color), ctx.empty((45, 67, 4))
-    _core.TileCopyPass(ctx.native).run(color.native, result.native)
+    ctx.shader_pass(SHADER).run({"color": color}, {"result": result})
     assert result.download().tobytes() == frame.color.tobytes()
 
 
@@ -22,10 +22,8 @@ def test_restricted_copy_writes_the_listed_tiles_only(ctx, rng):
     frame = structured_motion(rng, 130, 70, k)
     _, _, classes, lists = gpu_classification(ctx, frame, k, 0.25)
     color, result = ctx.upload(frame.color), ctx.empty((70, 130, 4))
-    copy = _core.TileCopyPass(ctx.native)
-    copy.restrict_to_tiles(lists, 0)
-    copy.run(color.native, result.native)
-    copy.restrict_to_tiles(None, 0)
+    with ctx.shader_pass(SHADER).restricted_to(lists, 0) as copy:
+        copy.run({"color": color}, {"result": result})
     still = np.kron(classes == 0, np.ones((k, k), bool))[:70, :130]
     out = result.download()
     assert still.any() and (~still).any()

@@ -8,7 +8,6 @@ import pytest
 from conftest import random_frame
 
 import blurlab as bl
-from blurlab import _core
 from blurlab.reference import classify as ref
 from blurlab.reference import mcguire2012 as m
 
@@ -18,10 +17,10 @@ def gpu_uniform_gather(ctx, frame, k, samples, seed):
     neighbor = m.neighbor_max(m.tile_max(v, k)).astype(np.float32)
     height, width = frame.color.shape[:2]
     color, result = ctx.upload(frame.color), ctx.empty((height, width, 4))
-    params = _core.McGuire2012Params()
-    params.k, params.samples, params.seed = k, samples, seed
-    _core.UniformGatherPass(ctx.native).run(
-        color.native, ctx.upload(neighbor).native, result.native, params
+    ctx.shader_pass("passes/uniform_gather.glsl").run(
+        {"color": color, "neighbor_max": ctx.upload(neighbor)},
+        {"result": result},
+        {"k": k, "samples": samples, "seed": seed},
     )
     return result.download(), neighbor
 

@@ -171,7 +171,7 @@ class ComputeProgram:
         for unit, texture in enumerate(textures):
             self._core.bind_texture(unit, texture._core)
         for name, value in (uniforms or {}).items():
-            values = [float(v) for v in np.atleast_1d(np.asarray(value, dtype=np.float64))]
+            values = [float(v) for v in np.asarray(value, dtype=np.float64).ravel()]
             self._core.set_uniform(name, values)
         lx, ly, _ = self.local_size
         self._core.dispatch(-(-width // lx), -(-height // ly), 1)
@@ -430,13 +430,16 @@ class Context:
             self._cache[key] = make()
         return self._cache[key]
 
-    def shader_pass(self, shader: str, defines: Mapping[str, object] | None = None) -> ShaderPass:
+    def shader_pass(
+        self, shader: str, defines: Mapping[str, object] | None = None, whole_tiles: bool = False
+    ) -> ShaderPass:
         """The pass of `shader` (a path under the shader folder) compiled with `defines`, made
-        once per context (its programs compile on first use per backend)."""
+        once per context (its programs compile on first use per backend). `whole_tiles`: when
+        restricted to a tile class, one work group per listed tile (cheap passes)."""
         pairs = tuple((str(k), _glsl_literal(v)) for k, v in (defines or {}).items())
         return self.cached(
-            ("shader_pass", shader, pairs),
-            lambda: ShaderPass(_core.ShaderPass(self._core, shader, list(pairs))),
+            ("shader_pass", shader, pairs, whole_tiles),
+            lambda: ShaderPass(_core.ShaderPass(self._core, shader, list(pairs), whole_tiles)),
         )
 
     def pooled(self, shape, dtype: str = "float32") -> Texture:

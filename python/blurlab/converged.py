@@ -9,7 +9,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import _core
 from .frame import Frame
 from .reference.accumulation import sample_times
 from .render import check_shutter, check_size, render_targets
@@ -66,7 +65,6 @@ def reference_render(
     width, height = size[0] + 2 * guard, size[1] + 2 * guard
     total = ctx.pooled((height, width, 4))
     total.clear()
-    accumulate = ctx.cached("accumulate", lambda: _core.AccumulatePass(ctx.native))
     show = samples >= 64 if progress is None else bool(progress)
     iterator = times
     if show:
@@ -78,13 +76,21 @@ def reference_render(
     for t in iterator:
         targets, _, timing = render_targets(ctx, scene, size, shutter, float(t), guard)
         with ctx.timer() as add:
-            accumulate.run(targets["color"].native, total.native, 1.0 / samples)
+            accumulate(ctx, targets["color"], total, 1.0 / samples)
         ctx.recycle(*targets.values())
         elapsed += timing.ms + add.ms
         clock = add.clock
     result = Reference(samples, times, bool(stratified), seed, elapsed / samples, clock, total)
     weakref.finalize(result, ctx.recycle, total)
     return result
+
+
+def accumulate(ctx, color, total, weight: float) -> None:
+    """total += weight · color on the GPU, in float32 (shaders/passes/accumulate.comp): the
+    sum of sub-frames here, of steps and of trail's frames in blurlab.methods."""
+    ctx.shader_pass("passes/accumulate.comp").run(
+        {"color": color}, {"sum": total}, {"weight": weight}
+    )
 
 
 def reference_samples_needed(frame: Frame) -> int:

@@ -7,14 +7,16 @@
 
 layout(binding = 0) uniform sampler2D color;
 layout(binding = 1) uniform sampler2D motion;
-uniform bool ignore_outside;  // the "ignore" edge rule; otherwise "clamp"
+// The method's `edge` parameter as its index among the choices; EDGE_CLAMP, EDGE_IGNORE and
+// EDGE_GUARD are defined from the parameter's declaration (blurlab/methods/gathers.py).
+uniform int edge;
 
 // Adds weight * color at p to sum (rgb, a) and the weight used to total.
 void add_tap(vec2 p, float weight, inout vec4 sum, inout float total) {
     ivec2 size = textureSize(color, 0);
     ivec2 y = ivec2(floor(p));
     if (any(lessThan(y, ivec2(0))) || any(greaterThanEqual(y, size))) {
-        if (ignore_outside) return;
+        if (edge == EDGE_IGNORE) return;
         y = clamp(y, ivec2(0), size - 1);
     }
     sum += weight * sanitize_color(texelFetch(color, y, 0));

@@ -6,7 +6,7 @@
 
 uniform int taps;
 uniform float intensity;
-uniform bool centered;
+uniform int direction;  // DIRECTION_BACKWARD or DIRECTION_CENTERED, as `edge` in gather.glsl
 
 vec4 gather_box_at(ivec2 x) {
     vec2 m = sanitize_motion(texelFetch(motion, x, 0).xy) * intensity;
@@ -14,7 +14,7 @@ vec4 gather_box_at(ivec2 x) {
     vec4 sum = vec4(0.0);
     float total = 0.0;
     for (int i = 0; i < taps; ++i) {
-        float s = float(i) / float(taps - 1) - (centered ? 0.5 : 0.0);
+        float s = float(i) / float(taps - 1) - (direction == DIRECTION_CENTERED ? 0.5 : 0.0);
         add_tap(center - s * m, 1.0, sum, total);
     }
     // Backward: the first tap is X itself. Centered with an even n has no tap at X; if every
@@ -22,19 +22,5 @@ vec4 gather_box_at(ivec2 x) {
     return total > 0.0 ? sum / total : sanitize_color(texelFetch(color, x, 0));
 }
 
-#ifdef STAGE_COMPUTE
-layout(local_size_x = 16, local_size_y = 16) in;
-layout(binding = 0, rgba32f) uniform writeonly image2D result;
-void main() {
-    ivec2 x = ivec2(gl_GlobalInvocationID.xy);
-    if (any(greaterThanEqual(x, textureSize(color, 0)))) return;
-    imageStore(result, x, gather_box_at(x));
-}
-#endif
-
-#ifdef STAGE_FRAGMENT
-layout(location = 0) out vec4 result;
-void main() {
-    result = gather_box_at(ivec2(gl_FragCoord.xy));
-}
-#endif
+#define PASS_AT gather_box_at
+#include "common/pass_main.glsl"

@@ -14,19 +14,5 @@ vec4 gather_weighted_at(ivec2 x) {
     return sum / total;  // the center tap is always inside: total >= 0.4
 }
 
-#ifdef STAGE_COMPUTE
-layout(local_size_x = 16, local_size_y = 16) in;
-layout(binding = 0, rgba32f) uniform writeonly image2D result;
-void main() {
-    ivec2 x = ivec2(gl_GlobalInvocationID.xy);
-    if (any(greaterThanEqual(x, textureSize(color, 0)))) return;
-    imageStore(result, x, gather_weighted_at(x));
-}
-#endif
-
-#ifdef STAGE_FRAGMENT
-layout(location = 0) out vec4 result;
-void main() {
-    result = gather_weighted_at(ivec2(gl_FragCoord.xy));
-}
-#endif
+#define PASS_AT gather_weighted_at
+#include "common/pass_main.glsl"

@@ -25,7 +25,7 @@ uniform float exposure;
 uniform uint seed;
 uniform float gamma;  // the paper's γ: speed over 0.5 px at which wc is V[X]'s own direction
 uniform float kappa;  // the paper's κ: the center weight is S / (κ len(V[X]))
-uniform bool jitter_tiles;  // options, common/filter_options.glsl; all off by default
+uniform bool jitter_tiles;  // options, common/filter_options.glsl
 uniform bool adaptive_samples;
 uniform float early_exit;
 
@@ -99,21 +99,5 @@ vec4 reconstruct_at(ivec2 x) {
     return sum / weight;
 }
 
-#ifdef STAGE_COMPUTE
-layout(local_size_x = 16, local_size_y = 16) in;
-layout(binding = 0, rgba32f) uniform writeonly image2D result;
-
-void main() {
-    ivec2 x = ivec2(gl_GlobalInvocationID.xy);
-    if (any(greaterThanEqual(x, textureSize(color, 0)))) return;
-    imageStore(result, x, reconstruct_at(x));
-}
-#endif
-
-#ifdef STAGE_FRAGMENT
-layout(location = 0) out vec4 result;
-
-void main() {
-    result = reconstruct_at(ivec2(gl_FragCoord.xy));
-}
-#endif
+#define PASS_AT reconstruct_at
+#include "common/pass_main.glsl"

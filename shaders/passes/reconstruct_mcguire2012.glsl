@@ -17,7 +17,7 @@ uniform int samples;
 uniform float soft_z;
 uniform float exposure;
 uniform uint seed;
-uniform bool jitter_tiles;      // options, common/filter_options.glsl; all off by default
+uniform bool jitter_tiles;      // options, common/filter_options.glsl
 uniform bool adaptive_samples;
 uniform float early_exit;       // pixels; 0: only the §3.4 test
 
@@ -54,21 +54,5 @@ vec4 reconstruct_at(ivec2 x) {
     return sum / weight;
 }
 
-#ifdef STAGE_COMPUTE
-#include "common/tile_list.glsl"
-layout(binding = 0, rgba32f) uniform writeonly image2D result;
-
-void main() {
-    ivec2 x = invocation_pixel();
-    if (any(greaterThanEqual(x, textureSize(color, 0)))) return;
-    imageStore(result, x, reconstruct_at(x));
-}
-#endif
-
-#ifdef STAGE_FRAGMENT
-layout(location = 0) out vec4 result;
-
-void main() {
-    result = reconstruct_at(ivec2(gl_FragCoord.xy));
-}
-#endif
+#define PASS_AT reconstruct_at
+#include "common/pass_main.glsl"

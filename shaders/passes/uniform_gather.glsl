@@ -13,11 +13,9 @@
 #include "common/inputs.glsl"
 #include "common/mcguire2012.glsl"
 #include "common/random.glsl"
-#include "common/tile_list.glsl"
 
 layout(binding = 0) uniform sampler2D color;
 layout(binding = 1) uniform sampler2D neighbor_max;
-layout(binding = 0, rgba32f) uniform writeonly image2D result;
 uniform int k;
 uniform int samples;
 uniform uint seed;
@@ -43,10 +41,7 @@ vec4 uniform_gather_at(ivec2 x) {
     }
     return sum / weight;
 }
-
-void main() {
-    ivec2 x = invocation_pixel();
-    if (any(greaterThanEqual(x, textureSize(color, 0)))) return;
-    imageStore(result, x, uniform_gather_at(x));
-}
 #endif
+
+#define PASS_AT uniform_gather_at
+#include "common/pass_main.glsl"

@@ -10,28 +10,13 @@
 #include "gl/context.h"
 #include "gl/mesh.h"
 #include "gl/texture.h"
-#include "passes/accumulate.h"
-#include "passes/camera_motion.h"
 #include "passes/classify_tiles.h"
 #include "passes/error_reduction.h"
-#include "passes/gather_box.h"
-#include "passes/gather_params.h"
-#include "passes/gather_weighted.h"
 #include "passes/gbuffer.h"
-#include "passes/guertin2014_params.h"
-#include "passes/mcguire2012_params.h"
 #include "passes/motion_encoding.h"
-#include "passes/neighbor_max.h"
-#include "passes/reconstruct_guertin2014.h"
-#include "passes/reconstruct_mcguire2012.h"
-#include "passes/reconstruct_urho3d.h"
 #include "passes/shader_pass.h"
 #include "passes/ssim_reduction.h"
-#include "passes/stochastic.h"
-#include "passes/tile_copy.h"
 #include "passes/tile_lists.h"
-#include "passes/tile_max.h"
-#include "passes/uniform_gather.h"
 
 namespace py = pybind11;
 
@@ -220,18 +205,6 @@ void bind_passes(py::module_& m) {
           py::arg("color"), py::arg("depth"), py::arg("motion"), py::arg("object_id"),
           py::arg("camera"), py::arg("light"), py::arg("draws"));
 
-  py::class_<McGuire2012Params>(m, "McGuire2012Params")
-      .def(py::init<>())
-      .def_readwrite("k", &McGuire2012Params::k)
-      .def_readwrite("samples", &McGuire2012Params::samples)
-      .def_readwrite("soft_z", &McGuire2012Params::soft_z)
-      .def_readwrite("exposure", &McGuire2012Params::exposure)
-      .def_readwrite("seed", &McGuire2012Params::seed)
-      .def_readwrite("jitter_tiles", &McGuire2012Params::jitter_tiles)
-      .def_readwrite("adaptive_samples", &McGuire2012Params::adaptive_samples)
-      .def_readwrite("early_exit", &McGuire2012Params::early_exit)
-      .def("validate", &McGuire2012Params::validate);
-
   py::class_<PostProcessPass, std::shared_ptr<PostProcessPass>>(m, "PostProcessPass")
       .def(
           "restrict_to_tiles",
@@ -242,8 +215,8 @@ void bind_passes(py::module_& m) {
 
   // Runs issue GL commands and do not wait for the GPU, so they keep the GIL.
   py::class_<ShaderPass, PostProcessPass, std::shared_ptr<ShaderPass>>(m, "ShaderPass")
-      .def(py::init<std::shared_ptr<Context>, std::string, Defines>(), py::arg("context"),
-           py::arg("shader"), py::arg("defines") = Defines{})
+      .def(py::init<std::shared_ptr<Context>, std::string, Defines, bool>(), py::arg("context"),
+           py::arg("shader"), py::arg("defines") = Defines{}, py::arg("whole_tiles") = false)
       .def_property_readonly("shader", &ShaderPass::shader)
       .def(
           "run",
@@ -274,74 +247,6 @@ void bind_passes(py::module_& m) {
           },
           py::arg("backend") = "compute");
 
-  py::class_<Guertin2014Params, McGuire2012Params>(m, "Guertin2014Params")
-      .def(py::init<>())
-      .def_readwrite("gamma", &Guertin2014Params::gamma)
-      .def_readwrite("kappa", &Guertin2014Params::kappa)
-      .def("validate", &Guertin2014Params::validate);
-
-  py::class_<TileMaxPass, std::shared_ptr<TileMaxPass>>(m, "TileMaxPass")
-      .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))
-      .def(
-          "run",
-          [](TileMaxPass& pass, const Texture& motion, const Texture& tile_max,
-             const McGuire2012Params& params, const std::string& backend) {
-            pass.run(motion, tile_max, params, parse_backend(backend));
-          },
-          py::arg("motion"), py::arg("tile_max"), py::arg("params"), py::arg("backend"))
-      .def("run_with_bounds", &TileMaxPass::run_with_bounds, py::arg("motion"), py::arg("tile_max"),
-           py::arg("tile_bounds"), py::arg("params"));
-
-  py::class_<NeighborMaxPass, std::shared_ptr<NeighborMaxPass>>(m, "NeighborMaxPass")
-      .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))
-      .def(
-          "run",
-          [](NeighborMaxPass& pass, const Texture& tile_max, const Texture& neighbor_max,
-             const std::string& backend, bool diagonal_reach) {
-            pass.run(tile_max, neighbor_max, parse_backend(backend), diagonal_reach);
-          },
-          py::arg("tile_max"), py::arg("neighbor_max"), py::arg("backend"),
-          py::arg("diagonal_reach") = false);
-
-  py::class_<ReconstructMcGuire2012Pass, PostProcessPass,
-             std::shared_ptr<ReconstructMcGuire2012Pass>>(m, "ReconstructMcGuire2012Pass")
-      .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))
-      .def(
-          "run",
-          [](ReconstructMcGuire2012Pass& pass, const Texture& color, const Texture& depth,
-             const Texture& motion, const Texture& neighbor_max, const Texture& result,
-             const McGuire2012Params& params, const std::string& backend) {
-            pass.run(color, depth, motion, neighbor_max, result, params, parse_backend(backend));
-          },
-          py::arg("color"), py::arg("depth"), py::arg("motion"), py::arg("neighbor_max"),
-          py::arg("result"), py::arg("params"), py::arg("backend"));
-
-  py::class_<ReconstructGuertin2014Pass, std::shared_ptr<ReconstructGuertin2014Pass>>(
-      m, "ReconstructGuertin2014Pass")
-      .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))
-      .def(
-          "run",
-          [](ReconstructGuertin2014Pass& pass, const Texture& color, const Texture& depth,
-             const Texture& motion, const Texture& neighbor_max, const Texture& result,
-             const Guertin2014Params& params, const std::string& backend) {
-            pass.run(color, depth, motion, neighbor_max, result, params, parse_backend(backend));
-          },
-          py::arg("color"), py::arg("depth"), py::arg("motion"), py::arg("neighbor_max"),
-          py::arg("result"), py::arg("params"), py::arg("backend"));
-
-  py::class_<ReconstructUrho3dPass, std::shared_ptr<ReconstructUrho3dPass>>(m,
-                                                                            "ReconstructUrho3dPass")
-      .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))
-      .def("run", &ReconstructUrho3dPass::run, py::arg("color"), py::arg("depth"),
-           py::arg("motion"), py::arg("neighbor_max"), py::arg("jitter"), py::arg("result"),
-           py::arg("params"), py::arg("far"));
-
-  py::class_<ClassifyParams>(m, "ClassifyParams")
-      .def(py::init<>())
-      .def_readwrite("still_threshold", &ClassifyParams::still_threshold)
-      .def_readwrite("uniform_spread", &ClassifyParams::uniform_spread)
-      .def("validate", &ClassifyParams::validate);
-
   py::class_<TileLists, std::shared_ptr<TileLists>>(m, "TileLists")
       .def(py::init<std::shared_ptr<Context>, int, int, int>(), py::arg("context"),
            py::arg("grid_width"), py::arg("grid_height"), py::arg("k"))
@@ -354,76 +259,8 @@ void bind_passes(py::module_& m) {
   py::class_<ClassifyTilesPass, std::shared_ptr<ClassifyTilesPass>>(m, "ClassifyTilesPass")
       .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))
       .def("run", &ClassifyTilesPass::run, py::arg("tile_bounds"), py::arg("neighbor_max"),
-           py::arg("tile_class"), py::arg("lists"), py::arg("params"));
-
-  py::class_<TileCopyPass, PostProcessPass, std::shared_ptr<TileCopyPass>>(m, "TileCopyPass")
-      .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))
-      .def("run", &TileCopyPass::run, py::arg("color"), py::arg("result"));
-
-  py::class_<UniformGatherPass, PostProcessPass, std::shared_ptr<UniformGatherPass>>(
-      m, "UniformGatherPass")
-      .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))
-      .def("run", &UniformGatherPass::run, py::arg("color"), py::arg("neighbor_max"),
-           py::arg("result"), py::arg("params"));
-
-  py::class_<AccumulatePass, std::shared_ptr<AccumulatePass>>(m, "AccumulatePass")
-      .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))
-      .def("run", &AccumulatePass::run, py::arg("color"), py::arg("sum"), py::arg("weight"));
-
-  py::class_<GatherParams>(m, "GatherParams")
-      .def(py::init<>())
-      .def_readwrite("taps", &GatherParams::taps)
-      .def_readwrite("intensity", &GatherParams::intensity)
-      .def_readwrite("centered", &GatherParams::centered)
-      .def_readwrite("edge", &GatherParams::edge)
-      .def("validate", &GatherParams::validate);
-
-  py::class_<GatherWeightedPass, std::shared_ptr<GatherWeightedPass>>(m, "GatherWeightedPass")
-      .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))
-      .def(
-          "run",
-          [](GatherWeightedPass& pass, const Texture& color, const Texture& motion,
-             const Texture& result, const GatherParams& params, const std::string& backend) {
-            pass.run(color, motion, result, params, parse_backend(backend));
-          },
-          py::arg("color"), py::arg("motion"), py::arg("result"), py::arg("params"),
-          py::arg("backend"));
-
-  py::class_<GatherBoxPass, std::shared_ptr<GatherBoxPass>>(m, "GatherBoxPass")
-      .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))
-      .def(
-          "run",
-          [](GatherBoxPass& pass, const Texture& color, const Texture& motion,
-             const Texture& result, const GatherParams& params, const std::string& backend) {
-            pass.run(color, motion, result, params, parse_backend(backend));
-          },
-          py::arg("color"), py::arg("motion"), py::arg("result"), py::arg("params"),
-          py::arg("backend"));
-
-  py::class_<CameraMotionPass, std::shared_ptr<CameraMotionPass>>(m, "CameraMotionPass")
-      .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))
-      .def(
-          "run",
-          [](CameraMotionPass& pass, const Texture& depth, const Texture& motion,
-             const py::dict& d) {
-            CameraMotionMatrices m;
-            copy_floats(m.view_from_clip, d["view_from_clip"].cast<Floats>(), 16, "view_from_clip");
-            copy_floats(m.world_from_view, d["world_from_view"].cast<Floats>(), 16,
-                        "world_from_view");
-            copy_floats(&m.clip_from_world[0][0], d["clip_from_world"].cast<Floats>(), 32,
-                        "clip_from_world");
-            copy_floats(m.sky_from_clip, d["sky_from_clip"].cast<Floats>(), 16, "sky_from_clip");
-            copy_floats(&m.sky_projection[0][0], d["sky_projection"].cast<Floats>(), 32,
-                        "sky_projection");
-            m.near = d["near"].cast<float>();
-            pass.run(depth, motion, m);
-          },
-          py::arg("depth"), py::arg("motion"), py::arg("matrices"));
-
-  py::class_<StochasticPass, std::shared_ptr<StochasticPass>>(m, "StochasticPass")
-      .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))
-      .def("run", &StochasticPass::run, py::arg("color"), py::arg("sum"), py::arg("slice"),
-           py::arg("position"), py::arg("slices"), py::arg("seed"));
+           py::arg("tile_class"), py::arg("lists"), py::arg("still_threshold"),
+           py::arg("uniform_spread"));
 
   py::class_<ErrorReductionPass, std::shared_ptr<ErrorReductionPass>>(m, "ErrorReductionPass")
       .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))

@@ -48,8 +48,11 @@ std::vector<TextureUnitBinding> units_of(const Program& p, const NamedTextures& 
 
 }  // namespace
 
-ShaderPass::ShaderPass(std::shared_ptr<Context> context, std::string shader, Defines defines)
-    : PostProcessPass(std::move(context), std::move(shader), std::move(defines)) {}
+ShaderPass::ShaderPass(std::shared_ptr<Context> context, std::string shader, Defines defines,
+                       bool whole_tiles)
+    : PostProcessPass(std::move(context), std::move(shader), std::move(defines)) {
+  whole_tiles_ = whole_tiles;
+}
 
 void ShaderPass::run(const NamedTextures& inputs, const NamedTextures& outputs,
                      const UniformValues& uniforms, Backend backend, bool group_per_texel) {

@@ -48,7 +48,11 @@ class ShaderPass : public PostProcessPass {
  public:
   // `shader`: relative to the shader folder, compiled with STAGE_COMPUTE or STAGE_FRAGMENT and
   // `defines`.
-  ShaderPass(std::shared_ptr<Context> context, std::string shader, Defines defines = {});
+  // `whole_tiles`: restricted to a tile class, one work group takes a whole listed tile
+  // (WHOLE_TILES in common/tile_list.glsl), for passes too cheap per pixel to pay for a group
+  // per 8 x 8 block.
+  ShaderPass(std::shared_ptr<Context> context, std::string shader, Defines defines = {},
+             bool whole_tiles = false);
 
   // Runs the shader once per texel of the first output. `inputs` must name every sampler of the
   // program; `outputs` every image (compute), or the one fragment output (fragment: drawn as the

@@ -8,12 +8,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from .. import _core
 from ..context import Context, Timing
 from ..frame import Frame
 from ..render import camera_matrices
-from .core import Method, register, timed
-from .gathers import BOX_PARAMS, box_reach, gather_params, with_edge
+from .core import Method, Pass, register, run_pass
+from .gathers import BOX_PARAMS, GATHER_BOX, box_reach, with_edge
 
 
 def _camera_matrices(camera: dict) -> dict:
@@ -28,14 +27,15 @@ def _camera_matrices(camera: dict) -> dict:
     }
 
 
+# Motion from depth and the camera's transforms; a compute pass whatever the gather's backend.
+CAMERA_MOTION = Pass("camera_motion", "passes/camera_motion.glsl")
+
+
 def _run_camera_only(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
     if frame.camera is None:
         raise ValueError(
             "blurlab: camera_only needs the camera's transforms: use a frame made by ctx.render"
         )
-    params = gather_params(values)
-    camera_pass = ctx.cached("camera_motion", lambda: _core.CameraMotionPass(ctx.native))
-    gather = ctx.cached("gather_box", lambda: _core.GatherBoxPass(ctx.native))
 
     def on(textures):
         height, width = textures["color"].shape[:2]
@@ -43,22 +43,21 @@ def _run_camera_only(ctx: Context, frame: Frame, inputs: dict, values: dict, bac
         camera = frame.camera
         if guard:  # the margin's frustum, as render_targets widened it
             camera = camera_matrices(frame.scene, frame.size, tuple(camera["times"]), guard)
-        matrices = _camera_matrices(camera)
         motion, result = ctx.pooled((height, width, 2)), ctx.pooled((height, width, 4))
         timings: dict[str, Timing] = {}
-        timed(
+        run_pass(
             ctx,
             timings,
-            "camera_motion",
-            lambda: camera_pass.run(textures["depth"].native, motion.native, matrices),
+            CAMERA_MOTION,
+            BOX_PARAMS,
+            values,
+            {"depth": textures["depth"]},
+            {"motion": motion},
+            uniforms=_camera_matrices(camera),
         )
-        timed(
-            ctx,
-            timings,
-            "gather_box",
-            lambda: gather.run(
-                textures["color"].native, motion.native, result.native, params, backend
-            ),
+        gathered = {"color": textures["color"], "motion": motion}
+        run_pass(
+            ctx, timings, GATHER_BOX, BOX_PARAMS, values, gathered, {"result": result}, backend
         )
         ctx.recycle(motion)
         return result, timings

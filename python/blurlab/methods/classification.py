@@ -3,10 +3,9 @@ copy the color, uniform tiles take the cheap single-direction gather, the rest t
 own reconstruct pass — each run by an indirect dispatch over its class's tile list.
 docs/classify_and_steps.md; NumPy twin blurlab.reference.classify.
 
-A filter opts in with the parameters CLASSIFY_PARAMS and two calls (tile_filter.run_filter
-makes them): TileMax with bounds (`tile_max_with_bounds`) instead of plain TileMax, then
-`run_classified` in place of its reconstruct dispatch, handing over a function that runs its
-own reconstruct pass.
+A filter opts in with the parameters CLASSIFY_PARAMS; tile_filter.run_filter then runs TileMax
+with each tile's bounds and `run_classified` in place of its reconstruct dispatch, handing over
+a function that runs its own reconstruct pass on a class's tiles.
 """
 
 from __future__ import annotations
@@ -15,7 +14,7 @@ from collections.abc import Callable
 
 from .. import _core
 from ..reference.classify import FULL, STILL, STILL_THRESHOLD, UNIFORM
-from .core import Param
+from .core import Param, Pass, run_pass, timed
 
 # The parameters a filter adds to offer classification.
 CLASSIFY_PARAMS = {
@@ -55,63 +54,49 @@ def tile_lists(ctx, grid: tuple[int, int], k: int) -> _core.TileLists:
     )
 
 
+# The passes that write the still and uniform tiles (docs/classify_and_steps.md).
+STILL_COPY = Pass("still_copy", "passes/tile_copy.glsl", whole_tiles=True)
+UNIFORM_GATHER = Pass("uniform_gather", "passes/uniform_gather.glsl", ("k", "samples", "seed"))
+
+
 def run_classified(
     ctx,
-    timed: Callable,
+    timings: dict,
+    params: dict,
+    values: dict,
     inputs: dict,
     neighbors,
     bounds,
     result,
-    params: _core.McGuire2012Params,
-    uniform_spread: float,
-    full_pass,
-    run_full: Callable[[], None],
+    run_full: Callable,
     still_threshold: float = STILL_THRESHOLD,
 ) -> dict:
     """Classifies the tiles, then writes `result` class by class: the still tiles' color, the
-    uniform tiles' gather, and `run_full()` (the filter's reconstruct pass, `full_pass`)
-    restricted to the full tiles. `timed(name, fn)` runs and times one pass. Returns the
-    class map texture as {"tile_class": texture}."""
+    uniform tiles' gather, and `run_full((lists, FULL))` (the filter's reconstruct pass,
+    restricted to the full tiles). Returns the class map texture as {"tile_class": texture}."""
     grid = tuple(neighbors.shape[:2])
-    lists = tile_lists(ctx, grid, params.k)
+    lists = tile_lists(ctx, grid, values["k"])
     classes = ctx.pooled(grid)
-    cp = _core.ClassifyParams()
-    cp.still_threshold = still_threshold
-    cp.uniform_spread = uniform_spread
-    cp.validate()
     classify = ctx.cached("classify_tiles", lambda: _core.ClassifyTilesPass(ctx.native))
-    copy = ctx.cached("tile_copy", lambda: _core.TileCopyPass(ctx.native))
-    gather = ctx.cached("uniform_gather", lambda: _core.UniformGatherPass(ctx.native))
     timed(
+        ctx,
+        timings,
         "classify_tiles",
-        lambda: classify.run(bounds.native, neighbors.native, classes.native, lists, cp),
-    )
-
-    def restricted(pass_, tile_class, fn):
-        pass_.restrict_to_tiles(lists, tile_class)
-        try:
-            fn()
-        finally:
-            pass_.restrict_to_tiles(None, 0)
-
-    timed(
-        "still_copy",
-        lambda: restricted(copy, STILL, lambda: copy.run(inputs["color"].native, result.native)),
-    )
-    timed(
-        "uniform_gather",
-        lambda: restricted(
-            gather,
-            UNIFORM,
-            lambda: gather.run(inputs["color"].native, neighbors.native, result.native, params),
+        lambda: classify.run(
+            bounds.native,
+            neighbors.native,
+            classes.native,
+            lists,
+            still_threshold,
+            values["uniform_spread"],
         ),
     )
-    timed("reconstruct", lambda: restricted(full_pass, FULL, run_full))
+    color = {"color": inputs["color"]}
+    out = {"result": result}
+    run_pass(ctx, timings, STILL_COPY, params, values, color, out, tiles=(lists, STILL))
+    gather_inputs = {**color, "neighbor_max": neighbors}
+    run_pass(
+        ctx, timings, UNIFORM_GATHER, params, values, gather_inputs, out, tiles=(lists, UNIFORM)
+    )
+    run_full((lists, FULL))
     return {"tile_class": classes}
-
-
-def tile_max_with_bounds(ctx, tile_pass, motion, tiles, params) -> object:
-    """TileMax that also writes each tile's bounds of V; returns the bounds texture."""
-    bounds = ctx.pooled((*tiles.shape[:2], 4))
-    tile_pass.run_with_bounds(motion.native, tiles.native, bounds.native, params)
-    return bounds

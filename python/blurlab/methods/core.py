@@ -18,8 +18,8 @@ from numbers import Integral, Real
 
 import numpy as np
 
-from .. import _core
 from ..context import Context, Texture, Timing
+from ..converged import accumulate
 from ..frame import Frame
 from ..render import check_shutter, instant_time
 
@@ -331,16 +331,15 @@ def blur_steps(
         raise ValueError("blurlab: the frames of blur_steps differ in size")
     total = ctx.pooled((height, width, 4))
     total.clear()
-    accumulate = ctx.cached("accumulate", lambda: _core.AccumulatePass(ctx.native))
     timings: dict[str, Timing] = {}
     for frame in frames:
         result = blur(ctx, frame, name, backend, timed, **params)
         add = Timing(math.nan, "untimed")
         if timed:
             with ctx.timer() as add:
-                accumulate.run(result.textures["color"].native, total.native, 1 / steps)
+                accumulate(ctx, result.textures["color"], total, 1 / steps)
         else:
-            accumulate.run(result.textures["color"].native, total.native, 1 / steps)
+            accumulate(ctx, result.textures["color"], total, 1 / steps)
         for key, timing in {**result.timings, "steps_accumulate": add}.items():
             before = timings.get(key, Timing(0.0, timing.clock))
             timings[key] = Timing(before.ms + timing.ms, timing.clock)
@@ -449,6 +448,71 @@ def frame_textures(ctx: Context, frame: Frame) -> dict[str, Texture]:
         }
         frame.textures = textures
     return textures
+
+
+@dataclass(frozen=True)
+class Pass:
+    """One GPU pass of a method: the shader it runs and the method parameters it takes as
+    uniforms of the same names. Its inputs and outputs are the shader's own samplers and images
+    (ShaderPass.reflect lists them); `name` keys its timing."""
+
+    name: str
+    shader: str  # under shaders/
+    params: tuple[str, ...] = ()
+    whole_tiles: bool = False  # restricted to a tile class: a work group per tile (cheap passes)
+
+
+def pass_uniforms(params: dict[str, Param], values: dict, names) -> dict:
+    """The uniforms of the parameters `names` from validated `values`: the same names; a
+    choice becomes its index among the declared choices (see choice_defines)."""
+    uniforms = {}
+    for key in names:
+        kind = params[key].kind
+        uniforms[key] = kind.index(values[key]) if isinstance(kind, tuple) else values[key]
+    return uniforms
+
+
+def choice_defines(params: dict[str, Param], names) -> dict[str, int]:
+    """#defines that name each choice's index, KEY_CHOICE (EDGE_IGNORE = 1), so that a shader
+    compares a choice uniform with a name derived from the one declaration."""
+    defines = {}
+    for key in names:
+        kind = params[key].kind
+        if isinstance(kind, tuple):
+            for index, choice in enumerate(kind):
+                defines[f"{key}_{choice}".upper()] = index
+    return defines
+
+
+def run_pass(
+    ctx: Context,
+    timings: dict,
+    step: Pass,
+    params: dict[str, Param],
+    values: dict,
+    inputs: dict[str, Texture],
+    outputs: dict[str, Texture],
+    backend: str = "compute",
+    uniforms: dict | None = None,
+    defines: dict | None = None,
+    group_per_texel: bool = False,
+    tiles=None,
+) -> None:
+    """Runs `step` with the method's validated `values` (and any pass-level `uniforms`), timed
+    under step.name; `tiles` = (lists, tile_class) restricts it to one class of a tile
+    classification."""
+    all_defines = {**choice_defines(params, step.params), **(defines or {})}
+    shader = ctx.shader_pass(step.shader, all_defines, step.whole_tiles)
+    all_uniforms = {**pass_uniforms(params, values, step.params), **(uniforms or {})}
+
+    def run():
+        shader.run(inputs, outputs, all_uniforms, backend, group_per_texel)
+
+    if tiles is None:
+        timed(ctx, timings, step.name, run)
+        return
+    with shader.restricted_to(*tiles):
+        timed(ctx, timings, step.name, run)
 
 
 _TIMED: contextvars.ContextVar[bool] = contextvars.ContextVar("blurlab_timed", default=True)

@@ -12,23 +12,13 @@ from collections.abc import Callable
 
 import numpy as np
 
-from .. import _core
 from ..context import Context, Timing
 from ..frame import Frame
 from ..reference import gathers as twin
 from ..render import render_targets
-from .core import PARAM_SCALE_MAX, Method, Param, register, timed
+from .core import PARAM_SCALE_MAX, Method, Param, Pass, register, run_pass
 
 EDGES = ("clamp", "ignore", "guard")
-
-
-def gather_params(values: dict) -> _core.GatherParams:
-    p = _core.GatherParams()
-    if "taps" in values:
-        p.taps, p.intensity = values["taps"], values["intensity"]
-        p.centered = values["direction"] == "centered"
-    p.edge = "clamp" if values["edge"] == "guard" else values["edge"]
-    return p
 
 
 def _longest_motion(frame: Frame) -> float:
@@ -57,27 +47,17 @@ def with_edge(ctx: Context, frame: Frame, inputs: dict, edge: str, reach: float,
     return result, {"guard_gbuffer": timing, **timings}
 
 
-def _run_gather(name: str, pass_type, reach: Callable[[dict], float]):
-    def run(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
-        params = gather_params(values)
-        gather = ctx.cached(name, lambda: pass_type(ctx.native))
+def run_gather(step: Pass, params: dict[str, Param], reach: Callable[[dict], float]):
+    """A gather's run function: `step` over the frame's color and motion, inside a guard band
+    where edge="guard" (`reach`: the farthest tap, in motion lengths)."""
 
+    def run(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
         def on(textures):
             height, width = textures["color"].shape[:2]
             result = ctx.pooled((height, width, 4))
             timings: dict[str, Timing] = {}
-            timed(
-                ctx,
-                timings,
-                name,
-                lambda: gather.run(
-                    textures["color"].native,
-                    textures["motion"].native,
-                    result.native,
-                    params,
-                    backend,
-                ),
-            )
+            gathered = {"color": textures["color"], "motion": textures["motion"]}
+            run_pass(ctx, timings, step, params, values, gathered, {"result": result}, backend)
             return result, timings
 
         color, timings = with_edge(ctx, frame, inputs, values["edge"], reach(values), on)
@@ -86,18 +66,20 @@ def _run_gather(name: str, pass_type, reach: Callable[[dict], float]):
     return run
 
 
-_EDGE = Param(
+EDGE_PARAM = Param(
     "clamp", EDGES, "taps outside the image: clamp, ignore, or guard (re-render a margin)"
 )
+WEIGHTED_PARAMS = {"edge": EDGE_PARAM}
+GATHER_WEIGHTED = Pass("gather_weighted", "passes/gather_weighted.glsl", ("edge",))
 
 register(
     Method(
         name="gather_weighted",
         kind="gather",
         instant="close",
-        params={"edge": _EDGE},
+        params=WEIGHTED_PARAMS,
         backends=("compute", "fragment"),
-        run=_run_gather("gather_weighted", _core.GatherWeightedPass, lambda v: 1.5),
+        run=run_gather(GATHER_WEIGHTED, WEIGHTED_PARAMS, lambda v: 1.5),
         twin=twin.gather_weighted,
         twin_inputs=("color", "motion"),
         doc="ogldev tutorial 41: taps along M/2 with weights 0.4/0.3/0.2/0.1. docs/spec.md §4.",
@@ -110,8 +92,11 @@ BOX_PARAMS = {
         1.0, float, "length of the blur, fraction of the motion", 0, PARAM_SCALE_MAX
     ),
     "direction": Param("backward", ("backward", "centered"), "taps behind X, or around it"),
-    "edge": _EDGE,
+    "edge": EDGE_PARAM,
 }
+
+
+GATHER_BOX = Pass("gather_box", "passes/gather_box.glsl", tuple(BOX_PARAMS))
 
 
 def box_reach(values: dict) -> float:
@@ -125,7 +110,7 @@ register(
         instant=lambda v: "center" if v.get("direction") == "centered" else "close",
         params=BOX_PARAMS,
         backends=("compute", "fragment"),
-        run=_run_gather("gather_box", _core.GatherBoxPass, box_reach),
+        run=run_gather(GATHER_BOX, BOX_PARAMS, box_reach),
         default_grid={"taps": [5, 10, 20]},
         twin=twin.gather_box,
         twin_inputs=("color", "motion"),

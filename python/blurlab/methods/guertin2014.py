@@ -8,16 +8,9 @@ FILTER_OPTIONS, and the paper's two constants gamma and kappa declared here.
 
 from __future__ import annotations
 
-from .. import _core
 from ..reference import guertin2014 as twin
-from .core import FLOAT32_MAX, Method, Param, register
-from .tile_filter import (
-    FILTER_OPTIONS,
-    OPTIONS_AT_DEFAULT,
-    TILE_FILTER_PARAMS,
-    filter_params,
-    run_filter,
-)
+from .core import FLOAT32_MAX, Method, Param, Pass, register
+from .tile_filter import FILTER_OPTIONS, OPTIONS_AT_DEFAULT, TILE_FILTER_PARAMS, run_filter
 
 PARAMS = {
     **TILE_FILTER_PARAMS,
@@ -29,10 +22,7 @@ PARAMS = {
 }
 
 
-def _guertin_params(values: dict):
-    p = _core.Guertin2014Params()
-    p.gamma, p.kappa = values["gamma"], values["kappa"]
-    return filter_params(values, p)
+RECONSTRUCT = Pass("reconstruct", "passes/reconstruct_guertin2014.glsl", tuple(PARAMS))
 
 
 register(
@@ -42,9 +32,7 @@ register(
         instant="center",
         params=PARAMS,
         backends=("compute", "fragment"),
-        run=run_filter(
-            "reconstruct_guertin2014", _core.ReconstructGuertin2014Pass, _guertin_params, True
-        ),
+        run=run_filter("reconstruct_guertin2014", PARAMS, RECONSTRUCT, diagonal_reach=True),
         default_grid=[{"k": [20], "samples": [9, 15, 25]}, *OPTIONS_AT_DEFAULT],
         twin=twin.reconstruct_guertin2014,
         doc="Guertin, McGuire, Nowrouzezahrai: A Fast and Stable Feature-Aware Motion Blur "

@@ -10,16 +10,16 @@ FILTER_OPTIONS and CLASSIFY_PARAMS; `blurlab methods` lists them with defaults a
 
 from __future__ import annotations
 
-from .. import _core
 from ..reference import classify as twin
 from .classification import CLASSIFY_PARAMS
-from .core import Method, register
-from .tile_filter import (
-    FILTER_OPTIONS,
-    OPTIONS_AT_DEFAULT,
-    TILE_FILTER_PARAMS,
-    filter_params,
-    run_filter,
+from .core import Method, Pass, register
+from .tile_filter import FILTER_OPTIONS, OPTIONS_AT_DEFAULT, TILE_FILTER_PARAMS, run_filter
+
+PARAMS = {**TILE_FILTER_PARAMS, **FILTER_OPTIONS, **CLASSIFY_PARAMS}
+RECONSTRUCT = Pass(
+    "reconstruct",
+    "passes/reconstruct_mcguire2012.glsl",
+    (*TILE_FILTER_PARAMS, *FILTER_OPTIONS),
 )
 
 register(
@@ -27,11 +27,9 @@ register(
         name="reconstruct_mcguire2012",
         kind="filter",
         instant="center",
-        params={**TILE_FILTER_PARAMS, **FILTER_OPTIONS, **CLASSIFY_PARAMS},
+        params=PARAMS,
         backends=("compute", "fragment"),
-        run=run_filter(
-            "reconstruct_mcguire2012", _core.ReconstructMcGuire2012Pass, filter_params, False
-        ),
+        run=run_filter("reconstruct_mcguire2012", PARAMS, RECONSTRUCT, diagonal_reach=False),
         default_grid=[{"k": [10, 20, 40], "samples": [5, 9, 15, 25]}, *OPTIONS_AT_DEFAULT],
         twin=twin.reconstruct,
         study_curves=("samples", "k"),

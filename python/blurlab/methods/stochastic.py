@@ -6,12 +6,14 @@ blurlab.reference.stochastic). Noise instead of banding. docs/spec.md §4.
 
 from __future__ import annotations
 
-from .. import _core
 from ..context import Context, Timing
 from ..frame import Frame
 from ..reference.stochastic import ROTATED_GRID, slice_times
 from ..render import render_targets
-from .core import SEED, Method, Param, register
+from .core import SEED, Method, Param, Pass, register
+
+# Adds one jittered slice render into the sum; its time is summed over the 4 K renders.
+COMBINE = Pass("stochastic", "passes/stochastic.comp", ("slices", "seed"))
 
 
 def _run_stochastic(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
@@ -21,7 +23,7 @@ def _run_stochastic(ctx: Context, frame: Frame, inputs: dict, values: dict, back
     height, width = frame.color.shape[:2]
     result = ctx.pooled((height, width, 4))
     result.clear()
-    combine = ctx.cached("stochastic", lambda: _core.StochasticPass(ctx.native))
+    combine = ctx.shader_pass(COMBINE.shader)
     renders = combines = 0.0
     clock = ""
     for slice_index, t in enumerate(slice_times(frame.shutter, slices, seed)):
@@ -32,7 +34,9 @@ def _run_stochastic(ctx: Context, frame: Frame, inputs: dict, values: dict, back
             )
             with ctx.timer() as add:
                 combine.run(
-                    targets["color"].native, result.native, slice_index, position, slices, seed
+                    {"color": targets["color"]},
+                    {"sum": result},
+                    {"slice": slice_index, "position": position, "slices": slices, "seed": seed},
                 )
             ctx.recycle(*targets.values())
             renders += timing.ms
@@ -40,7 +44,7 @@ def _run_stochastic(ctx: Context, frame: Frame, inputs: dict, values: dict, back
             clock = add.clock
     return {"color": result}, {
         "slice_renders": Timing(renders, clock),
-        "stochastic": Timing(combines, clock),
+        COMBINE.name: Timing(combines, clock),
     }
 
 

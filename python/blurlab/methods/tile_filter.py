@@ -6,13 +6,10 @@ built on it; the tile classification of mcguire2012 plugs into its last step.
 
 from __future__ import annotations
 
-from collections.abc import Callable
-
-from .. import _core
 from ..context import Context, Timing
 from ..frame import Frame
 from . import classification
-from .core import FLOAT32_MAX, PARAM_SCALE_MAX, SEED, Param, timed
+from .core import FLOAT32_MAX, PARAM_SCALE_MAX, SEED, Param, Pass, run_pass
 
 
 def depth_range_soft_z(frame: Frame) -> float:
@@ -51,75 +48,103 @@ OPTIONS_AT_DEFAULT = [
 ]
 
 
-def filter_params(values: dict, params=None):
-    """The C++ parameter struct of the filter passes from validated values."""
-    p = params if params is not None else _core.McGuire2012Params()
-    for key in ("k", "samples", "soft_z", "exposure", "seed"):
-        setattr(p, key, values[key])
-    for key in FILTER_OPTIONS:
-        if key in values:
-            setattr(p, key, values[key])
-    return p
+# TileMax (§3.2) and NeighborMax (§3.3). NeighborMax's `diagonal_reach` is the
+# direction-keeping dilation of docs/guertin2014.md: a property of the filter, not a parameter.
+TILE_MAX = Pass("tile_max", "passes/tile_max.glsl", ("k", "exposure"))
+NEIGHBOR_MAX = Pass("neighbor_max", "passes/neighbor_max.glsl")
+
+
+def largest_tile_for_one_thread(ctx: Context) -> int:
+    """Largest tile side that one thread of TileMax scans. On a GPU a work group per tile pays
+    off above 8 x 8 pixels; llvmpipe runs a group's threads as SIMD lanes and its barriers are
+    costly, so there one thread per tile is faster up to 32 x 32 (benchmarks/reconstruct.py,
+    docs/benchmarks.md)."""
+    return 32 if ctx.software else 8
 
 
 def tile_passes(
-    ctx: Context, motion, params, backend: str, diagonal_reach=False, with_bounds=False
+    ctx: Context,
+    motion,
+    params: dict,
+    values: dict,
+    backend: str,
+    diagonal_reach=False,
+    with_bounds=False,
 ):
     """TileMax (§3.2) and NeighborMax (§3.3, or the direction-keeping dilation of
     docs/guertin2014.md): (tiles, neighbors, timings, bounds). `with_bounds` has TileMax also
     write each tile's motion bounds for classification (docs/classify_and_steps.md)."""
     height, width = motion.shape[:2]
-    grid = (-(-height // params.k), -(-width // params.k), 2)
+    k = values["k"]
+    grid = (-(-height // k), -(-width // k), 2)
     tiles, neighbors = ctx.pooled(grid), ctx.pooled(grid)
-    tile_pass = ctx.cached("tile_max", lambda: _core.TileMaxPass(ctx.native))
-    neighbor_pass = ctx.cached("neighbor_max", lambda: _core.NeighborMaxPass(ctx.native))
     timings: dict[str, Timing] = {}
-    bounds = []
+    group_per_tile = k > largest_tile_for_one_thread(ctx)
+    outputs = {"tile_max": tiles}
+    defines = {}
+    bounds = None
     if with_bounds:
-
-        def run_tile_max():
-            bounds.append(
-                classification.tile_max_with_bounds(ctx, tile_pass, motion, tiles, params)
-            )
-    else:
-
-        def run_tile_max():
-            tile_pass.run(motion.native, tiles.native, params, backend)
-
-    timed(ctx, timings, "tile_max", run_tile_max)
-    timed(
+        bounds = ctx.pooled((*grid[:2], 4))
+        outputs["tile_bounds"] = bounds
+        defines["TILE_BOUNDS"] = 1
+    run_pass(
         ctx,
         timings,
-        "neighbor_max",
-        lambda: neighbor_pass.run(tiles.native, neighbors.native, backend, diagonal_reach),
+        TILE_MAX,
+        params,
+        values,
+        {"motion": motion},
+        outputs,
+        backend,
+        uniforms={"group_per_tile": group_per_tile} if backend == "compute" else {},
+        defines=defines,
+        group_per_texel=group_per_tile,
     )
-    return tiles, neighbors, timings, (bounds[0] if bounds else None)
+    run_pass(
+        ctx,
+        timings,
+        NEIGHBOR_MAX,
+        params,
+        values,
+        {"tile_max": tiles},
+        {"neighbor_max": neighbors},
+        backend,
+        uniforms={"diagonal_reach": diagonal_reach},
+    )
+    return tiles, neighbors, timings, bounds
 
 
-def run_filter(name: str, pass_type, make_params: Callable, diagonal_reach: bool):
-    """TileMax → NeighborMax → the reconstruct pass `name` (docs/spec.md §3, docs/guertin2014.md),
-    the last one tile class by tile class where the method offers classify=True."""
+def run_filter(name: str, params: dict[str, Param], reconstruct: Pass, diagonal_reach: bool):
+    """TileMax → NeighborMax → the method's `reconstruct` pass (docs/spec.md §3,
+    docs/guertin2014.md), the last one tile class by tile class where the method offers
+    classify=True; `params` are the method's parameter declarations."""
 
     def run(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
-        params = make_params(values)
         classified = values.get("classify", False)
         if classified:
             classification.check_request(name, values, backend, FILTER_OPTIONS)
         tiles, neighbors, timings, bounds = tile_passes(
-            ctx, inputs["motion"], params, backend, diagonal_reach, classified
+            ctx, inputs["motion"], params, values, backend, diagonal_reach, classified
         )
         result = ctx.pooled(inputs["color"].shape[:2] + (4,))
-        reconstruct = ctx.cached(name, lambda: pass_type(ctx.native))
+        textures = {
+            "color": inputs["color"],
+            "depth": inputs["depth"],
+            "motion": inputs["motion"],
+            "neighbor_max": neighbors,
+        }
 
-        def run_reconstruct():
-            reconstruct.run(
-                inputs["color"].native,
-                inputs["depth"].native,
-                inputs["motion"].native,
-                neighbors.native,
-                result.native,
+        def run_reconstruct(tiles_of_class=None):
+            run_pass(
+                ctx,
+                timings,
+                reconstruct,
                 params,
+                values,
+                textures,
+                {"result": result},
                 backend,
+                tiles=tiles_of_class,
             )
 
         extra = {}
@@ -127,20 +152,11 @@ def run_filter(name: str, pass_type, make_params: Callable, diagonal_reach: bool
             extra["tile_bounds"] = bounds
             extra.update(
                 classification.run_classified(
-                    ctx,
-                    lambda pass_name, fn: timed(ctx, timings, pass_name, fn),
-                    inputs,
-                    neighbors,
-                    bounds,
-                    result,
-                    params,
-                    values["uniform_spread"],
-                    reconstruct,
-                    run_reconstruct,
+                    ctx, timings, params, values, inputs, neighbors, bounds, result, run_reconstruct
                 )
             )
         else:
-            timed(ctx, timings, "reconstruct", run_reconstruct)
+            run_reconstruct()
         return {"color": result, "tile_max": tiles, "neighbor_max": neighbors, **extra}, timings
 
     return run

@@ -6,8 +6,8 @@ blend: its kind is "sequence".
 
 from __future__ import annotations
 
-from .. import _core
 from ..context import Context, Timing
+from ..converged import accumulate
 from ..frame import Frame
 from .core import BlurResult, Method, Param, register, timed
 
@@ -20,16 +20,15 @@ def _run_trail(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: 
     height, width = inputs["color"].shape[:2]
     result = ctx.pooled((height, width, 4))
     result.clear()
-    accumulate = ctx.cached("accumulate", lambda: _core.AccumulatePass(ctx.native))
 
     def blend():
         if history is None:  # out_0 = C_0
-            accumulate.run(inputs["color"].native, result.native, 1.0)
+            accumulate(ctx, inputs["color"], result, 1.0)
             return
         if history.textures["color"].shape != (height, width, 4):
             raise ValueError("blurlab: trail history has another size than the frame")
-        accumulate.run(inputs["color"].native, result.native, alpha)
-        accumulate.run(history.textures["color"].native, result.native, 1.0 - alpha)
+        accumulate(ctx, inputs["color"], result, alpha)
+        accumulate(ctx, history.textures["color"], result, 1.0 - alpha)
 
     timings: dict[str, Timing] = {}
     timed(ctx, timings, "trail", blend)

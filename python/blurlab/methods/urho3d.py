@@ -7,12 +7,11 @@ the 64 x 64 jitter texture) and `far`, declared here.
 
 from __future__ import annotations
 
-from .. import _core
 from ..context import Context
 from ..frame import Frame
 from ..reference import urho3d as twin
-from .core import FLOAT32_MAX, Method, Param, register, timed
-from .tile_filter import TILE_FILTER_PARAMS, filter_params, tile_passes
+from .core import FLOAT32_MAX, Method, Param, Pass, register, run_pass
+from .tile_filter import TILE_FILTER_PARAMS, tile_passes
 
 
 def default_far(frame: Frame) -> float:
@@ -25,28 +24,31 @@ def default_far(frame: Frame) -> float:
     return min(2.0 * frame.depth_range[1], FLOAT32_MAX)  # finite even for depths near 3.4e38
 
 
+PARAMS = {
+    **TILE_FILTER_PARAMS,
+    "far": Param(default_far, float, "depth that +inf is read as", 0, FLOAT32_MAX, True),
+}
+# The seed picks the jitter texture; it is no uniform of the shader.
+RECONSTRUCT = Pass(
+    "reconstruct",
+    "passes/reconstruct_urho3d.glsl",
+    ("k", "samples", "soft_z", "exposure", "far"),
+)
+
+
 def _run_urho3d(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
-    params = filter_params(values)
-    tiles, neighbors, timings, _ = tile_passes(ctx, inputs["motion"], params, backend)
+    tiles, neighbors, timings, _ = tile_passes(ctx, inputs["motion"], PARAMS, values, backend)
     result = ctx.pooled(inputs["color"].shape[:2] + (4,))
     seed = values["seed"]
     jitter = ctx.cached(("urho3d_jitter", seed), lambda: ctx.upload(twin.jitter_texture(seed)))
-    reconstruct = ctx.cached("reconstruct_urho3d", lambda: _core.ReconstructUrho3dPass(ctx.native))
-    timed(
-        ctx,
-        timings,
-        "reconstruct",
-        lambda: reconstruct.run(
-            inputs["color"].native,
-            inputs["depth"].native,
-            inputs["motion"].native,
-            neighbors.native,
-            jitter.native,
-            result.native,
-            params,
-            values["far"],
-        ),
-    )
+    textures = {
+        "color": inputs["color"],
+        "depth": inputs["depth"],
+        "motion": inputs["motion"],
+        "neighbor_max": neighbors,
+        "jitter": jitter,
+    }
+    run_pass(ctx, timings, RECONSTRUCT, PARAMS, values, textures, {"result": result}, backend)
     return {"color": result, "tile_max": tiles, "neighbor_max": neighbors}, timings
 
 
@@ -55,10 +57,7 @@ register(
         name="reconstruct_urho3d",
         kind="filter",
         instant="center",
-        params={
-            **TILE_FILTER_PARAMS,
-            "far": Param(default_far, float, "depth that +inf is read as", 0, FLOAT32_MAX, True),
-        },
+        params=PARAMS,
         backends=("fragment",),
         run=_run_urho3d,
         default_grid={"k": [20], "samples": [9, 15]},

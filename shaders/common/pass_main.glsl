@@ -1,0 +1,24 @@
+// The entry points every post-process pass with one RGBA32F output shares. Before including
+// this file a pass defines PASS_AT to its per-pixel function (vec4 f(ivec2 x)) and declares a
+// sampler2D `color` of the output's size. Compute (STAGE_COMPUTE): one invocation per pixel,
+// or per pixel of the listed tiles with TILE_LIST (common/tile_list.glsl), written to image
+// `result`; fragment (STAGE_FRAGMENT): one fragment per pixel of the framebuffer, written to
+// output `result`.
+#ifdef STAGE_COMPUTE
+#include "common/tile_list.glsl"
+layout(binding = 0, rgba32f) uniform writeonly image2D result;
+
+void main() {
+    ivec2 x = invocation_pixel();
+    if (any(greaterThanEqual(x, textureSize(color, 0)))) return;
+    imageStore(result, x, PASS_AT(x));
+}
+#endif
+
+#ifdef STAGE_FRAGMENT
+layout(location = 0) out vec4 result;
+
+void main() {
+    result = PASS_AT(ivec2(gl_FragCoord.xy));
+}
+#endif
