@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import blurlab as bl
-from blurlab.reference import gathers
+from blurlab.twins import gathers
 
 
 def panning_scene():

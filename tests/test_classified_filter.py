@@ -1,5 +1,5 @@
 """reconstruct_mcguire2012 with classify=True (docs/classify_and_steps.md): the classified
-image against bl.reference.classify.classified and against the unclassified filter class by
+image against bl.twins.classify.classified and against the unclassified filter class by
 class, and the filter's invariants with classification on."""
 
 from __future__ import annotations
@@ -11,8 +11,8 @@ from test_classify_tiles import structured_motion
 
 import blurlab as bl
 from blurlab.methods.core import twin_keywords
-from blurlab.reference import classify as ref
-from blurlab.reference import mcguire2012 as m
+from blurlab.twins import classify as ref
+from blurlab.twins import mcguire2012 as m
 
 FILTER = "reconstruct_mcguire2012"
 

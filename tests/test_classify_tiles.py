@@ -1,5 +1,5 @@
 """Tile classification (Jimenez 2014; docs/classify_and_steps.md) on the GPU against
-bl.reference.classify: TileMax's bounds output, the class map, and the tile lists that the
+bl.twins.classify: TileMax's bounds output, the class map, and the tile lists that the
 indirect dispatches read."""
 
 from __future__ import annotations
@@ -10,8 +10,8 @@ from conftest import random_frame
 
 from blurlab import _core
 from blurlab.methods import tile_filter
-from blurlab.reference import classify as ref
-from blurlab.reference import mcguire2012 as m
+from blurlab.twins import classify as ref
+from blurlab.twins import mcguire2012 as m
 
 
 def structured_motion(rng, width, height, k):

@@ -42,15 +42,15 @@ def fingerprints(ctx) -> dict[str, str]:
     filter_params = dict(k=8, samples=15, soft_z=0.01, exposure=1.0, seed=SEED)
     options = dict(jitter_tiles=0, adaptive_samples=0, early_exit=0.0)
     out["reference.mcguire2012"] = digest(
-        bl.reference.mcguire2012.reconstruct_mcguire2012(
+        bl.twins.mcguire2012.reconstruct_mcguire2012(
             color, depth, motion, **filter_params, **options
         )
     )
     out["reference.urho3d"] = digest(
-        bl.reference.urho3d.reconstruct_urho3d(color, depth, motion, **filter_params, far=100.0)
+        bl.twins.urho3d.reconstruct_urho3d(color, depth, motion, **filter_params, far=100.0)
     )
     box = dict(taps=10, intensity=1.0, direction="backward", edge="clamp")
-    out["reference.gather_box"] = digest(bl.reference.gathers.gather_box(color, motion, **box))
+    out["reference.gather_box"] = digest(bl.twins.gathers.gather_box(color, motion, **box))
     return out
 
 

@@ -9,7 +9,7 @@ import pytest
 from conftest import random_frame
 
 import blurlab as bl
-from blurlab.reference import mcguire2012
+from blurlab.twins import mcguire2012
 
 # Every filter that offers the options, from the registry.
 FILTERS = [name for name in bl.methods() if "jitter_tiles" in bl.method(name).params]

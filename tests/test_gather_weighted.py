@@ -7,7 +7,7 @@ import pytest
 from conftest import random_frame
 
 import blurlab as bl
-from blurlab.reference import gathers
+from blurlab.twins import gathers
 
 
 def close_enough(gpu, expected):

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import blurlab as bl
-from blurlab.reference import projection
+from blurlab.twins import projection
 
 SIZE = (160, 90)
 SHUTTER = (0.0, 1.0 / 60.0)
@@ -216,7 +216,7 @@ def test_motion_formats_match_their_reference(ctx, fmt):
     exact = ctx.render(scene, SIZE)
     stored = ctx.render(scene, SIZE, motion_format=fmt, maxlen=64.0)
     assert stored.motion_format == fmt
-    reference = bl.reference.motion_encoding.decoded(exact.motion, fmt, 64.0)
+    reference = bl.twins.motion_encoding.decoded(exact.motion, fmt, 64.0)
     if fmt == "rg16f":
         # GL lets the float-to-half conversion round to nearest or toward zero: one half ULP.
         error = np.abs(stored.motion - reference)
@@ -226,7 +226,7 @@ def test_motion_formats_match_their_reference(ctx, fmt):
         # GL lets each 8-bit channel take either neighbouring level (llvmpipe rounds to
         # nearest; the H100 driver took the nearest level at only 5 % of these pixels): the GPU
         # must give one of the permitted results at every pixel.
-        allowed = bl.reference.motion_encoding.decoded_allowed(exact.motion, fmt, 64.0)
+        allowed = bl.twins.motion_encoding.decoded_allowed(exact.motion, fmt, 64.0)
         error = np.abs(stored.motion[None] - allowed).max(axis=-1).min(axis=0)
         assert error.max() <= 1e-4
         assert np.abs(stored.motion - exact.motion).max() > 0.1  # the format really quantizes

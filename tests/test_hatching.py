@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 import blurlab as bl
-from blurlab.reference import hatching as ref
 from blurlab.studies import hatching
+from blurlab.twins import hatching as ref
 
 
 @pytest.fixture(scope="module")

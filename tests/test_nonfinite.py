@@ -1,7 +1,7 @@
 """NaN and infinity inside input buffers (docs/reliability.md "Non-finite input"): NaN color is
 0, infinite color clamps to +-2^64, NaN/zero/negative depth is far, NaN or infinite motion is
 no motion. The GPU (shaders/common/inputs.glsl) and the NumPy references
-(bl.reference.inputs) read them alike, and no NaN spreads through any blur."""
+(bl.twins.inputs) read them alike, and no NaN spreads through any blur."""
 
 from __future__ import annotations
 
@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import blurlab as bl
-from blurlab.reference import gathers, inputs
+from blurlab.twins import gathers, inputs
 
 W, H = 48, 32
 

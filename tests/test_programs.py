@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import blurlab as bl
-from blurlab import reference
+from blurlab import twins
 
 
 def test_add_one_agrees_with_numpy(ctx, rng, test_shader):
@@ -46,7 +46,7 @@ def test_test_pattern_matches_its_reference(ctx):
         (width, height), images=[out], uniforms={"seed": seed}
     )
     gpu = out.download().astype(np.float64)
-    ref = reference.test_pattern(width, height, seed)
+    ref = twins.test_pattern(width, height, seed)
     np.testing.assert_allclose(gpu[..., :2], ref[..., :2], atol=1e-7)
     np.testing.assert_array_equal(gpu[..., 2], ref[..., 2])
     # docs/spec.md §1 hash: the GPU keeps 24 bits of it, so the two differ by less than 2^-24.
@@ -61,14 +61,14 @@ def test_pcg_matches_spec_formula():
         s = (x * 747796405 + 2891336453) % 2**32
         w = (((s >> ((s >> 28) + 4)) ^ s) * 277803737) % 2**32
         expected.append((w >> 22) ^ w)
-    np.testing.assert_array_equal(reference.pcg(v), np.array(expected, dtype=np.uint32))
+    np.testing.assert_array_equal(twins.pcg(v), np.array(expected, dtype=np.uint32))
 
 
 def test_define_is_injected(ctx):
     out = ctx.empty((8, 8, 4))
     ctx.program("util/test_pattern.comp", defines={"CHECKER": 2}).run((8, 8), images=[out])
     np.testing.assert_array_equal(
-        out.download()[..., 2], reference.test_pattern(8, 8, checker=2)[..., 2]
+        out.download()[..., 2], twins.test_pattern(8, 8, checker=2)[..., 2]
     )
 
 

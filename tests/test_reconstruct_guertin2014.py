@@ -1,5 +1,5 @@
 """reconstruct_guertin2014 (docs/guertin2014.md) on the GPU against
-bl.reference.guertin2014, its direction-keeping NeighborMax, and the 2012 filter's promises:
+bl.twins.guertin2014, its direction-keeping NeighborMax, and the 2012 filter's promises:
 still images unchanged, output inside the input range, no NaN, same seed same bits."""
 
 from __future__ import annotations
@@ -9,8 +9,8 @@ import pytest
 from conftest import assert_inside_input_range, random_frame
 
 import blurlab as bl
-from blurlab.reference import guertin2014 as ref
-from blurlab.reference import mcguire2012
+from blurlab.twins import guertin2014 as ref
+from blurlab.twins import mcguire2012
 
 METHOD = "reconstruct_guertin2014"
 

@@ -7,7 +7,7 @@ import pytest
 from conftest import random_frame
 
 import blurlab as bl
-from blurlab.reference import urho3d as ref
+from blurlab.twins import urho3d as ref
 
 
 @pytest.mark.parametrize(

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import blurlab as bl
-from blurlab.reference import accumulation, projection
+from blurlab.twins import accumulation, projection
 
 SIZE = (160, 90)
 

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 import blurlab as bl
-from blurlab.reference import stochastic
 from blurlab.render import render_targets
+from blurlab.twins import stochastic
 
 SIZE = (96, 54)
 

@@ -1,4 +1,4 @@
-"""TileMax (docs/spec.md §3.2) on the GPU against bl.reference.mcguire2012.tile_max."""
+"""TileMax (docs/spec.md §3.2) on the GPU against bl.twins.mcguire2012.tile_max."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import pytest
 from conftest import random_frame
 
 import blurlab as bl
-from blurlab.reference import mcguire2012 as ref
+from blurlab.twins import mcguire2012 as ref
 
 
 @pytest.mark.parametrize("backend", ["compute", "fragment"])

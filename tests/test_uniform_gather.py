@@ -1,5 +1,5 @@
 """The uniform class's gather (shaders/passes/uniform_gather.glsl) against
-bl.reference.classify.uniform_gather, and against the full filter where motion is uniform."""
+bl.twins.classify.uniform_gather, and against the full filter where motion is uniform."""
 
 from __future__ import annotations
 
@@ -8,8 +8,8 @@ import pytest
 from conftest import random_frame
 
 import blurlab as bl
-from blurlab.reference import classify as ref
-from blurlab.reference import mcguire2012 as m
+from blurlab.twins import classify as ref
+from blurlab.twins import mcguire2012 as m
 
 
 def gpu_uniform_gather(ctx, frame, k, samples, seed):

@@ -1,6 +1,6 @@
 """blurlab: real-time motion-blur methods run headless on the GPU, measured from Python."""
 
-from . import hatching, io, mesh, metrics, reference, scenes, tam
+from . import hatching, io, mesh, metrics, scenes, tam, twins
 from ._core import GLError, ShaderError
 from .context import ComputeProgram, Context, PendingDownload, Texture, Timing
 from .converged import Reference, reference_samples_needed
@@ -58,7 +58,6 @@ __all__ = [
     "method_instant",
     "methods",
     "quaternion",
-    "reference",
     "reference_samples_needed",
     "render_and_blur",
     "render_steps",
@@ -68,4 +67,5 @@ __all__ = [
     "scenes",
     "sweep",
     "tam",
+    "twins",
 ]

@@ -11,9 +11,9 @@ from pathlib import Path
 from . import io, scenes
 from .context import Context
 from .methods import blur, method, methods
-from .reference.patterns import test_pattern
 from .studies.cluster import local_cluster
 from .studies.study import run_study, run_sweep_config
+from .twins.patterns import test_pattern
 
 
 def parse_size(text: str) -> tuple[int, int]:

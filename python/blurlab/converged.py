@@ -10,9 +10,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .frame import Frame
-from .reference.accumulation import sample_times
 from .render import check_shutter, check_size, render_targets
 from .scene import Scene
+from .twins.accumulation import sample_times
 
 
 @dataclass

@@ -1,6 +1,6 @@
 // Options of the reconstruction filters reconstruct_mcguire2012 and reconstruct_guertin2014
 // (docs/guertin2014.md "Options"). Each is off at its default, which leaves docs/spec.md §3.4
-// unchanged. Needs common/random.glsl. NumPy twin: blurlab.reference.mcguire2012 (lookup_tile,
+// unchanged. Needs common/random.glsl. NumPy twin: blurlab.twins.mcguire2012 (lookup_tile,
 // sample_count, exits_early).
 
 // Jittered tile lookup (Unity / KinoMotion): the tile whose NeighborMax pixel x reads. Off: the

@@ -1,6 +1,6 @@
 // Tonal-art-map hatching, docs/spec.md §5 (Praun, Hoppe, Webb, Finkelstein 2001, "Real-Time
 // Hatching"; Webb, Praun, Finkelstein, Hoppe 2002, "Fine Tone Control in Hardware Hatching").
-// NumPy twin: python/blurlab/reference/hatching.py. Tones are numbered 0 (white paper) to 6
+// NumPy twin: python/blurlab/twins/hatching.py. Tones are numbered 0 (white paper) to 6
 // (the darkest TAM tone); darkness = 1 − intensity.
 
 const vec3 HATCHING_LUMINANCE = vec3(0.2126, 0.7152, 0.0722);

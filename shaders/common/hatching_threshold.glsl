@@ -1,5 +1,5 @@
 // The threshold scheme of docs/spec.md §5 (Webb, Praun, Finkelstein, Hoppe 2002), fragment stage only
-// (it needs implicit derivatives). NumPy twin: python/blurlab/reference/hatching.py.
+// (it needs implicit derivatives). NumPy twin: python/blurlab/twins/hatching.py.
 
 // threshold, at one mip level: each texel is ink where its threshold < darkness; the four texels
 // around uv are blended with weights smoothstep(fract) in x and y, a smooth step one texel wide

@@ -1,6 +1,6 @@
 // What every pass reads from a G-buffer whose values may not be finite (a frame built from a
 // user's arrays, a point crossing the near plane). docs/spec.md §1 conventions; docs/reliability.md
-// "Non-finite input". NumPy twin: blurlab.reference.inputs.
+// "Non-finite input". NumPy twin: blurlab.twins.inputs.
 //   color  NaN -> 0; +-inf and magnitudes beyond 2^64 -> +-2^64 (per channel);
 //   depth  NaN, 0, negative or -inf -> +inf (far: nothing drawn there); +inf stays +inf;
 //   motion a vector with a NaN or infinite component -> zero motion; finite components are

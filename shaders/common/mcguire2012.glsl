@@ -1,6 +1,6 @@
 // Shared terms of the reconstruction filter of McGuire, Hennessy, Bukowski and Osman,
 // "A Reconstruction Filter for Plausible Motion Blur", I3D 2012 — docs/spec.md §3.
-// NumPy twin: blurlab.reference.mcguire2012.
+// NumPy twin: blurlab.twins.mcguire2012.
 
 // §3.1: the half-vector, its length clamped to [0.5, k] pixels; zero stays zero.
 vec2 half_velocity(vec2 motion, float exposure, float k) {

@@ -1,5 +1,5 @@
 // Hashed random numbers, docs/spec.md §1 "Random numbers". Same inputs, same bits, on every device.
-// NumPy twin: blurlab.reference.hashing.
+// NumPy twin: blurlab.twins.hashing.
 
 uint pcg(uint v) {
     uint s = v * 747796405u + 2891336453u;

@@ -2,7 +2,7 @@
 // camera_only's motion, docs/spec.md §4 (Urho3D thesis §2.3.2): the motion each pixel would have if
 // only the camera moved, from its depth and the camera's transforms: reproject the point seen
 // at X to t0 and t1. Points at infinity (depth +inf) move with the camera's rotation only.
-// Compute only. NumPy twin: blurlab.reference.gathers.camera_motion.
+// Compute only. NumPy twin: blurlab.twins.gathers.camera_motion.
 #include "common/inputs.glsl"
 
 layout(local_size_x = 16, local_size_y = 16) in;

@@ -11,7 +11,7 @@
 // dispatch commands, {count, blocks per tile, 1} and {count, 1, 1} (passes that take whole
 // tiles, WHOLE_TILES), at words 6c and 6c + 3; the atomic counter is the first one's count.
 // Compute only.
-// NumPy twin: blurlab.reference.classify.classify_tiles.
+// NumPy twin: blurlab.twins.classify.classify_tiles.
 #ifdef STAGE_COMPUTE
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(binding = 0) uniform sampler2D tile_bounds;  // min V.x, min V.y, max V.x, max V.y

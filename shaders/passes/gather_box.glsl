@@ -1,7 +1,7 @@
 #version 450
 // gather_box, docs/spec.md §4 ("Blurry things"): n equal taps at X - s·M·intensity, s = i/(n - 1)
 // (backward, instant t1) or s = i/(n - 1) - 1/2 (centered, instant at the shutter's center).
-// Compute (default) or fragment. NumPy twin: blurlab.reference.gathers.gather_box.
+// Compute (default) or fragment. NumPy twin: blurlab.twins.gathers.gather_box.
 #include "common/gather.glsl"
 
 uniform int taps;

@@ -4,7 +4,7 @@
 // With diagonal_reach (reconstruct_guertin2014, docs/guertin2014.md step 1), a diagonal tile
 // counts only where its TileMax, extended both ways, can reach the center tile: both of its
 // components point along the diagonal, (v.x dx)(v.y dy) > 0.
-// NumPy twin: blurlab.reference.mcguire2012.neighbor_max.
+// NumPy twin: blurlab.twins.mcguire2012.neighbor_max.
 
 layout(binding = 0) uniform sampler2D tile_max;
 uniform bool diagonal_reach;

@@ -8,26 +8,11 @@
 // weights mirrored against each other by depth and speed. Reads the NeighborMax of the
 // direction-keeping dilation (neighbor_max.glsl with diagonal_reach).
 // Compute (16 x 16 threads per group, one per pixel) or fragment (one fragment per pixel).
-// NumPy twin: blurlab.reference.guertin2014.reconstruct_guertin2014.
-#include "common/inputs.glsl"
-#include "common/mcguire2012.glsl"
-#include "common/random.glsl"
-#include "common/filter_options.glsl"
+// NumPy twin: blurlab.twins.guertin2014.reconstruct_guertin2014.
+#include "common/tile_filter.glsl"
 
-layout(binding = 0) uniform sampler2D color;
-layout(binding = 1) uniform sampler2D depth;
-layout(binding = 2) uniform sampler2D motion;
-layout(binding = 3) uniform sampler2D neighbor_max;
-uniform int k;
-uniform int samples;
-uniform float soft_z;
-uniform float exposure;
-uniform uint seed;
 uniform float gamma;  // the paper's γ: speed over 0.5 px at which wc is V[X]'s own direction
 uniform float kappa;  // the paper's κ: the center weight is S / (κ len(V[X]))
-uniform bool jitter_tiles;  // options, common/filter_options.glsl
-uniform bool adaptive_samples;
-uniform float early_exit;
 
 // v / |v|, or 0 where v = 0.
 vec2 direction(vec2 v) {

@@ -2,24 +2,8 @@
 // Reconstruct, docs/spec.md §3.4: S samples along the neighborhood's dominant half-vector vN, each
 // weighted by depth order and by whether the sample's or the center's blur covers the other.
 // Compute (16 x 16 threads per group, one per pixel) or fragment (one fragment per pixel).
-// NumPy twin: blurlab.reference.mcguire2012.reconstruct_mcguire2012.
-#include "common/inputs.glsl"
-#include "common/mcguire2012.glsl"
-#include "common/random.glsl"
-#include "common/filter_options.glsl"
-
-layout(binding = 0) uniform sampler2D color;
-layout(binding = 1) uniform sampler2D depth;
-layout(binding = 2) uniform sampler2D motion;
-layout(binding = 3) uniform sampler2D neighbor_max;
-uniform int k;
-uniform int samples;
-uniform float soft_z;
-uniform float exposure;
-uniform uint seed;
-uniform bool jitter_tiles;      // options, common/filter_options.glsl
-uniform bool adaptive_samples;
-uniform float early_exit;       // pixels; 0: only the §3.4 test
+// NumPy twin: blurlab.twins.mcguire2012.reconstruct_mcguire2012.
+#include "common/tile_filter.glsl"
 
 vec4 reconstruct_at(ivec2 x) {
     ivec2 size = textureSize(color, 0);

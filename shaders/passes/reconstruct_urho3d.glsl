@@ -9,7 +9,7 @@
 //     hardware filtering weights have too few bits for the NumPy twin to match);
 //   - jitter from a tiled 64 x 64 texture.
 // Depth +inf (the background) is read as `far`, so that bilinear weights never meet inf * 0.
-// NumPy twin: blurlab.reference.urho3d.reconstruct_urho3d.
+// NumPy twin: blurlab.twins.urho3d.reconstruct_urho3d.
 #include "common/inputs.glsl"
 #include "common/mcguire2012.glsl"
 

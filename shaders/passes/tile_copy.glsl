@@ -3,7 +3,7 @@
 // input color (sanitized as every pass reads it, docs/reliability.md), as docs/spec.md §3.4's early
 // exit gives it. Run over the still tiles' list (TILE_LIST, with WHOLE_TILES: one work group
 // per tile) or, without it, over the whole image. Compute only.
-// NumPy twin: blurlab.reference.classify.classified (still tiles keep C).
+// NumPy twin: blurlab.twins.classify.classified (still tiles keep C).
 #ifdef STAGE_COMPUTE
 #include "common/inputs.glsl"
 #include "common/tile_list.glsl"

@@ -6,10 +6,10 @@
 // of it, then a reduction in shared memory; for small tiles (group_per_tile = false) one thread
 // per tile, since a group per 4 x 4 tile leaves most threads idle and barriers cost llvmpipe
 // dearly.
-// NumPy twin: blurlab.reference.mcguire2012.tile_max.
+// NumPy twin: blurlab.twins.mcguire2012.tile_max.
 // With TILE_BOUNDS (compute only) it also writes each tile's component-wise bounds of V
 // (min V.x, min V.y, max V.x, max V.y) for the tile classification (classify_tiles.glsl);
-// NumPy twin blurlab.reference.classify.tile_bounds.
+// NumPy twin blurlab.twins.classify.tile_bounds.
 #include "common/inputs.glsl"
 #include "common/mcguire2012.glsl"
 

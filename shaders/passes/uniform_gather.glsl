@@ -8,7 +8,7 @@
 // jitter, clamping) so that the filter's own loop can gain options without touching this one.
 // Run over the uniform tiles' list
 // (TILE_LIST) or, without it, over the whole image. Compute only.
-// NumPy twin: blurlab.reference.classify.uniform_gather.
+// NumPy twin: blurlab.twins.classify.uniform_gather.
 #ifdef STAGE_COMPUTE
 #include "common/inputs.glsl"
 #include "common/mcguire2012.glsl"

@@ -1,6 +1,6 @@
 // Tile classification (Jimenez, "Next Generation Post Processing in Call of Duty: Advanced
 // Warfare", SIGGRAPH 2014 course) on top of TileMax / NeighborMax (docs/spec.md §3.2-3.3):
-// shaders/passes/classify_tiles.glsl, NumPy twin blurlab.reference.classify.classify_tiles,
+// shaders/passes/classify_tiles.glsl, NumPy twin blurlab.twins.classify.classify_tiles,
 // tests/test_classify_tiles.py. docs/classify_and_steps.md defines the classes. Its two
 // values (still_threshold, uniform_spread) are declared and validated in Python
 // (blurlab/methods/classification.py) and arrive here as plain numbers.

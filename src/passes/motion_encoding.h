@@ -1,6 +1,6 @@
 // Motion-vector storage formats, docs/spec.md §2: encodes rg32f motion into rg16f, rgba8_offset or
 // rgba8_polar and decodes it back, so a study can see what a method reading that format gets.
-// Shader: shaders/passes/motion_encoding.comp; NumPy twin: blurlab.reference.motion_encoding.
+// Shader: shaders/passes/motion_encoding.comp; NumPy twin: blurlab.twins.motion_encoding.
 #pragma once
 
 #include <map>

@@ -1,5 +1,5 @@
 """camera_only (Urho3D thesis §2.3.2): motion from depth and the camera's t0/t1 transforms
-alone (shaders/passes/camera_motion.glsl, NumPy twin blurlab.reference.gathers.camera_motion),
+alone (shaders/passes/camera_motion.glsl, NumPy twin blurlab.twins.gathers.camera_motion),
 then gather_box with gather_box's parameters; moving objects get no blur of their own.
 docs/spec.md §4.
 """

@@ -1,7 +1,7 @@
 """Tile classification (Jimenez 2014) as an option of the reconstruction filters: still tiles
 copy the color, uniform tiles take the cheap single-direction gather, the rest the filter's
 own reconstruct pass — each run by an indirect dispatch over its class's tile list.
-docs/classify_and_steps.md; NumPy twin blurlab.reference.classify.
+docs/classify_and_steps.md; NumPy twin blurlab.twins.classify.
 
 A filter opts in with the parameters CLASSIFY_PARAMS; tile_filter.run_filter then runs TileMax
 with each tile's bounds and `run_classified` in place of its reconstruct dispatch, handing over
@@ -13,7 +13,7 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from .. import _core
-from ..reference.classify import FULL, STILL, STILL_THRESHOLD, UNIFORM
+from ..twins.classify import FULL, STILL, STILL_THRESHOLD, UNIFORM
 from .core import Param, Pass, run_pass, timed
 
 # The parameters a filter adds to offer classification.

@@ -1,13 +1,13 @@
 """gather_gaussian: n taps along the motion, centered on the pixel, with Gaussian weights
 exp(-s² / 2σ²) where s ∈ [-1/2, 1/2] is the tap's position in motion lengths (docs/spec.md
 §4). A smoother falloff than gather_box's equal weights, for the same taps. Shader
-shaders/passes/gather_gaussian.glsl, NumPy twin blurlab.reference.gathers.gather_gaussian,
+shaders/passes/gather_gaussian.glsl, NumPy twin blurlab.twins.gathers.gather_gaussian,
 test tests/test_gather_gaussian.py; docs/adding_a_method.md walks through this file.
 """
 
 from __future__ import annotations
 
-from ..reference import gathers as twin
+from ..twins import gathers as twin
 from .core import Method, Param, Pass, register
 from .gathers import EDGE_PARAM, run_gather
 

@@ -1,7 +1,7 @@
 """The engines' gathers along the motion (docs/spec.md §4): gather_weighted (ogldev tutorial 41)
 and gather_box ("Blurry things"), with the edge rules of "Blurry things" (clamp, ignore, or a
 guard band re-rendered around the frame). Shaders shaders/passes/gather_weighted.glsl and
-gather_box.glsl over shaders/common/gather.glsl; NumPy twins blurlab.reference.gathers.
+gather_box.glsl over shaders/common/gather.glsl; NumPy twins blurlab.twins.gathers.
 camera_only (camera_only.py) reuses gather_box's parameters and edge handling.
 """
 
@@ -14,8 +14,8 @@ import numpy as np
 
 from ..context import Context, Timing
 from ..frame import Frame
-from ..reference import gathers as twin
 from ..render import render_targets
+from ..twins import gathers as twin
 from .core import PARAM_SCALE_MAX, Method, Param, Pass, register, run_pass
 
 EDGES = ("clamp", "ignore", "guard")

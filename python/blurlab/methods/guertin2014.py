@@ -2,13 +2,13 @@
 and Stable Feature-Aware Motion Blur Filter" (HPG 2014), as changes to docs/spec.md §3
 (docs/guertin2014.md): direction-keeping dilation, two sampling directions, mirrored pairs and
 alignment weights. Shader shaders/passes/reconstruct_guertin2014.glsl, NumPy twin
-blurlab.reference.guertin2014.reconstruct_guertin2014. Parameters: TILE_FILTER_PARAMS,
+blurlab.twins.guertin2014.reconstruct_guertin2014. Parameters: TILE_FILTER_PARAMS,
 FILTER_OPTIONS, and the paper's two constants gamma and kappa declared here.
 """
 
 from __future__ import annotations
 
-from ..reference import guertin2014 as twin
+from ..twins import guertin2014 as twin
 from .core import FLOAT32_MAX, Method, Param, Pass, register
 from .tile_filter import FILTER_OPTIONS, OPTIONS_AT_DEFAULT, TILE_FILTER_PARAMS, run_filter
 

@@ -3,14 +3,14 @@
 
 TileMax → NeighborMax → reconstruct (shaders/passes/reconstruct_mcguire2012.glsl), with the
 engines' options of docs/guertin2014.md and, with classify=True, the tile classification of
-docs/classify_and_steps.md. NumPy twin: blurlab.reference.classify.reconstruct (the filter of
-blurlab.reference.mcguire2012, classified when asked). Parameters: TILE_FILTER_PARAMS,
+docs/classify_and_steps.md. NumPy twin: blurlab.twins.classify.reconstruct (the filter of
+blurlab.twins.mcguire2012, classified when asked). Parameters: TILE_FILTER_PARAMS,
 FILTER_OPTIONS and CLASSIFY_PARAMS; `blurlab methods` lists them with defaults and ranges.
 """
 
 from __future__ import annotations
 
-from ..reference import classify as twin
+from ..twins import classify as twin
 from .classification import CLASSIFY_PARAMS
 from .core import Method, Pass, register
 from .tile_filter import FILTER_OPTIONS, OPTIONS_AT_DEFAULT, TILE_FILTER_PARAMS, run_filter

@@ -1,15 +1,15 @@
 """stochastic (the OGRE paper): K time slices, each rendered at a hashed time inside its part of
 the shutter with four rotated-grid sub-pixel offsets, combined per pixel with weights 5/32
 inside and 3/32 from the neighbors (shaders/passes/stochastic.comp; NumPy twin
-blurlab.reference.stochastic). Noise instead of banding. docs/spec.md §4.
+blurlab.twins.stochastic). Noise instead of banding. docs/spec.md §4.
 """
 
 from __future__ import annotations
 
 from ..context import Context, Timing
 from ..frame import Frame
-from ..reference.stochastic import ROTATED_GRID, slice_times
 from ..render import render_targets
+from ..twins.stochastic import ROTATED_GRID, slice_times
 from .core import SEED, Method, Param, Pass, register
 
 # Adds one jittered slice render into the sum; its time is summed over the 4 K renders.

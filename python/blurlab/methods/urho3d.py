@@ -1,7 +1,7 @@
 """reconstruct_urho3d: the reconstruct pass of the Urho3D thesis as printed there, a fragment
 pass kept as the seed's baseline (docs/spec.md §3, variant). Shader
 shaders/passes/reconstruct_urho3d.glsl (its header lists the differences from §3.4), NumPy twin
-blurlab.reference.urho3d.reconstruct_urho3d. Parameters: TILE_FILTER_PARAMS (the seed picks
+blurlab.twins.urho3d.reconstruct_urho3d. Parameters: TILE_FILTER_PARAMS (the seed picks
 the 64 x 64 jitter texture) and `far`, declared here.
 """
 
@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from ..context import Context
 from ..frame import Frame
-from ..reference import urho3d as twin
+from ..twins import urho3d as twin
 from .core import FLOAT32_MAX, Method, Param, Pass, register, run_pass
 from .tile_filter import TILE_FILTER_PARAMS, tile_passes
 

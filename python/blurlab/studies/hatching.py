@@ -12,9 +12,9 @@ import numpy as np
 
 from .. import mesh as meshes
 from ..motion import Motion
-from ..reference import hatching as ref
 from ..scene import Camera, DirectionalLight, Material, Scene
 from ..tam import TAM, default_tam
+from ..twins import hatching as ref
 
 
 def patch_scene(darkness: float, hatched: Material) -> Scene:
@@ -68,7 +68,7 @@ def tone_reproduction(
     spacing (`spacing_texels` TAM texels at the level GL picks, in pixels) before it is
     averaged; the spread of the filtered ink says how even the tone is. Returns target,
     measured (mean ink), spread (std of the filtered ink), expected (what the TAM itself
-    predicts, blurlab.reference.hatching.patch_ink), the mean absolute tone error and the
+    predicts, blurlab.twins.hatching.patch_ink), the mean absolute tone error and the
     number of distinguishable steps (a step counts when its tone differs from the last counted
     one by at least half the spacing of the targets).
     """

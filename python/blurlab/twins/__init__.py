@@ -1,4 +1,4 @@
-"""NumPy references: the specification (docs/spec.md) in code, float64 where it computes.
+"""The NumPy twins: the specification (docs/spec.md) in code, float64 where it computes.
 
 Each GPU pass has its twin here, and the tests hold the GPU to it.
 """

@@ -1,6 +1,6 @@
 """reconstruct_urho3d in NumPy float64: the Urho3D thesis's reconstruct pass (docs/spec.md §3
 variant). GPU twin: shaders/passes/reconstruct_urho3d.glsl, whose header lists the
-differences from McGuire 2012. TileMax and NeighborMax are McGuire's (reference.mcguire2012).
+differences from McGuire 2012. TileMax and NeighborMax are McGuire's (twins.mcguire2012).
 """
 
 from __future__ import annotations

@@ -13,7 +13,7 @@ from .inputs import sanitize_color, sanitize_depth, sanitize_motion
 
 def half_velocity(motion: np.ndarray, exposure: float, k: float) -> np.ndarray:
     """§3.1: q = M·E/2; V = q · clamp(|q|, 0.5, k) / max(|q|, 1e-6); V = 0 where q = 0.
-    M is read as the GPU reads it (reference.inputs: non-finite vectors are zero motion)."""
+    M is read as the GPU reads it (twins.inputs: non-finite vectors are zero motion)."""
     q = sanitize_motion(motion) * exposure / 2
     n = np.linalg.norm(q, axis=-1, keepdims=True)
     scale = np.clip(n, 0.5, k) / np.maximum(n, 1e-6)
@@ -149,7 +149,7 @@ def reconstruct_mcguire2012(
 ) -> np.ndarray:
     """§3.4: (H, W, C) float64 blurred color, with the options of docs/guertin2014.md
     (jitter_tiles, adaptive_samples, early_exit; 0 is off). `neighbor` is NeighborMax if
-    already computed. The tile-classified filter is blurlab.reference.classify.reconstruct."""
+    already computed. The tile-classified filter is blurlab.twins.classify.reconstruct."""
     color = sanitize_color(color)
     depth = sanitize_depth(depth)
     h, w = depth.shape

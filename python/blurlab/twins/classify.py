@@ -118,7 +118,7 @@ def classified(
 
 
 def reconstruct(color, depth, motion, *, classify: bool, uniform_spread: float, **filter_params):
-    """reconstruct_mcguire2012 as the method runs it: the filter of blurlab.reference.
+    """reconstruct_mcguire2012 as the method runs it: the filter of blurlab.twins.
     mcguire2012 with `filter_params` (its keyword-only parameters), or with `classify` the
     classified filter, which takes none of the options: (H, W, C) float64."""
     full = reconstruct_mcguire2012(color, depth, motion, **filter_params)
