@@ -13,6 +13,8 @@ import blurlab as bl
 
 def test_every_method_output_matches_the_golden_hashes():
     golden = json.loads(GOLDEN_FILE.read_text())
+    if not any(device["kind"] == "software" for device in bl.Context.devices()):
+        pytest.skip("golden hashes are llvmpipe's, and this machine has no software EGL device")
     ctx = bl.Context("software")
     if ctx.info()["renderer"] != golden["renderer"]:
         pytest.skip(

@@ -65,6 +65,7 @@ class Texture:
         self._core = core
         self.shape = shape
         self.dtype = np.dtype(core.dtype)
+        self.dtype_name = self.dtype.name  # "float32": the pool's key, read on every recycle
 
     @property
     def native(self) -> _core.Texture:
@@ -449,14 +450,15 @@ class Context:
         Fresh allocations are expensive on first use (about 4 ms per 1080p RGBA32F target on
         the H100), so passes that run many times take their targets from here.
         """
-        free = self._pool.get((tuple(shape), np.dtype(dtype).name))
+        name = dtype if dtype in TEXTURE_DTYPES else np.dtype(dtype).name
+        free = self._pool.get((tuple(shape), name))
         return free.pop() if free else self.empty(shape, dtype)
 
     def recycle(self, *textures: Texture) -> None:
         """Returns textures to the pool for later ``pooled`` calls; the caller must not use
         them afterwards."""
         for texture in textures:
-            free = self._pool.setdefault((texture.shape, texture.dtype.name), [])
+            free = self._pool.setdefault((texture.shape, texture.dtype_name), [])
             if len(free) < 8:  # a few spares serve a pipeline; more would only hold memory
                 free.append(texture)
 

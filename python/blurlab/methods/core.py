@@ -10,6 +10,7 @@ from __future__ import annotations
 import contextvars
 import inspect
 import math
+import struct
 import warnings
 import weakref
 from collections.abc import Callable
@@ -418,8 +419,7 @@ def _typed(method_name: str, key: str, value, p: Param):
         if not math.isfinite(value):
             raise ValueError(f"{where} must be finite ({p.allowed()}), not {_show(value)}")
     # The GPU gets float32: check the value it will see (1e-50 is 0 there, 1e39 is inf).
-    with np.errstate(over="ignore"):
-        seen = float(np.float32(value)) if kind is float else value
+    seen = as_float32(value) if kind is float else value
     if kind is float and not math.isfinite(seen):
         raise ValueError(f"{where} = {_show(value)} overflows float32 ({p.allowed()})")
     too_low = p.low is not None and (seen <= p.low if p.low_open else seen < p.low)
@@ -429,6 +429,17 @@ def _typed(method_name: str, key: str, value, p: Param):
         verb = "is outside" if closed else "must be"
         raise ValueError(f"{where} = {_show(value)} {verb} {p.allowed()}")
     return value
+
+
+_FLOAT32 = struct.Struct("f")
+
+
+def as_float32(value: float) -> float:
+    """`value` rounded to float32 as the GPU receives it; ±inf where it overflows."""
+    try:
+        return _FLOAT32.unpack(_FLOAT32.pack(value))[0]
+    except OverflowError:
+        return math.copysign(math.inf, value)
 
 
 def _show(value) -> str:
@@ -501,8 +512,13 @@ def run_pass(
     """Runs `step` with the method's validated `values` (and any pass-level `uniforms`), timed
     under step.name; `tiles` = (lists, tile_class) restricts it to one class of a tile
     classification."""
-    all_defines = {**choice_defines(params, step.params), **(defines or {})}
-    shader = ctx.shader_pass(step.shader, all_defines, step.whole_tiles)
+    extra = tuple(sorted(defines.items())) if defines else ()
+
+    def make():
+        all_defines = {**choice_defines(params, step.params), **dict(extra)}
+        return ctx.shader_pass(step.shader, all_defines, step.whole_tiles)
+
+    shader = ctx.cached(("run_pass", step, id(params), extra), make)
     all_uniforms = {**pass_uniforms(params, values, step.params), **(uniforms or {})}
 
     def run():
