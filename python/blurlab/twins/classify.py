@@ -17,6 +17,7 @@ from .mcguire2012 import (
     len_half,
     neighbor_max,
     reconstruct_mcguire2012,
+    tap_positions,
     tile_max,
 )
 
@@ -76,11 +77,7 @@ def uniform_gather(color, neighbor: np.ndarray, *, k: int, samples: int, seed: i
     total = color * weight[..., None]
     j = rand(x, y, seed) - 0.5
     center = np.stack([x, y], -1) + 0.5
-    skip = (samples - 1) // 2 if samples % 2 == 1 else -1
-    for i in range(samples):
-        if i == skip:
-            continue
-        t = -1 + 2 * (i + j + 1) / (samples + 1)
+    for t in tap_positions(samples, j):
         p = np.floor(center + vn * t[..., None]).astype(np.int64)
         py, px = np.clip(p[..., 1], 0, h - 1), np.clip(p[..., 0], 0, w - 1)
         dist = np.hypot(px - x, py - y)

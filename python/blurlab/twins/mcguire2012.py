@@ -47,6 +47,13 @@ def soft_depth_compare(za: np.ndarray, zb: np.ndarray, soft_z: float) -> np.ndar
     return np.clip(1 - d / soft_z, 0, 1)
 
 
+def tap_positions(samples: int, j) -> list:
+    """§3.4's sample positions t in (-1, 1) along vN for a fixed S: t_i = -1 + 2(i + j + 1)/(S + 1)
+    for i = 0..S-1, the middle one skipped when S is odd (it is X itself)."""
+    skip = (samples - 1) // 2 if samples % 2 == 1 else -1
+    return [-1 + 2 * (i + j + 1) / (samples + 1) for i in range(samples) if i != skip]
+
+
 def tile_max(v: np.ndarray, k: int) -> np.ndarray:
     """§3.2: (ceil(H/k), ceil(W/k), 2): the half-vector of largest length in each k x k tile."""
     h, w = v.shape[:2]

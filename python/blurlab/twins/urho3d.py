@@ -9,7 +9,7 @@ import numpy as np
 
 from .hashing import rand
 from .inputs import sanitize_color, sanitize_depth, sanitize_motion
-from .mcguire2012 import cone, cylinder, half_velocity, neighbor_max, tile_max
+from .mcguire2012 import cone, cylinder, half_velocity, neighbor_max, tap_positions, tile_max
 
 JITTER_SIZE = 64
 
@@ -70,11 +70,7 @@ def reconstruct_urho3d(
     total = color * 0.75
     j = jitter_texture(seed).astype(np.float64)[y % JITTER_SIZE, x % JITTER_SIZE] - 0.5
     center = np.stack([x, y], -1) + 0.5
-    skip = (samples - 1) // 2 if samples % 2 == 1 else -1
-    for i in range(samples):
-        if i == skip:
-            continue
-        t = -1 + 2 * (i + j + 1) / (samples + 1)
+    for t in tap_positions(samples, j):
         offset = vn * t[..., None]
         position = center + offset
         cy, zy = bilinear(color, position), bilinear(depth, position)
