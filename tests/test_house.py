@@ -12,6 +12,7 @@ from pathlib import Path
 import pytest
 
 import blurlab as bl
+from blurlab.cli import method_table
 from blurlab.methods.core import KINDS, check_param, twin_keywords
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -260,3 +261,24 @@ def test_cpp_layers_have_no_include_cycle():
             own = source[:-4] + ".h"
             offenders += [f"{source} -> {d}" for d in deps if d != own and own in reached(d)]
     assert not offenders, offenders
+
+
+def test_the_parameter_docs_are_generated_from_the_declarations():
+    """docs/parameters.md below its header is `blurlab methods`' output: the docs restate no
+    default or range by hand."""
+    text = (ROOT / "docs" / "parameters.md").read_text()
+    generated = "".join(method_table(bl.method(name)) + "\n" for name in bl.methods())
+    assert text[text.index("## ") :] == generated, (
+        "docs/parameters.md is out of date: regenerate it with `blurlab methods` (see its header)"
+    )
+
+
+def test_no_cpp_parameter_struct_restates_defaults():
+    """Parameters reach C++ as plain values (uniforms by name); a *Params struct with member
+    defaults would be a second declaration."""
+    offenders = [
+        str(p.relative_to(ROOT))
+        for p in sorted((ROOT / "src").rglob("*.h"))
+        if re.search(r"struct \w*Params\b", p.read_text())
+    ]
+    assert not offenders
