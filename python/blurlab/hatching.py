@@ -18,10 +18,11 @@ from pathlib import Path
 
 import numpy as np
 
+from . import _core
 from .tam import TAM, default_tam
 
 SCHEMES = ("six_way", "threshold")
-_CODES = {"six_way": 1, "threshold": 2}  # src/passes/gbuffer.h GBufferMaterial::Hatching
+_CODES = {"six_way": 1, "threshold": 2}  # src/passes/gbuffer.h GBufferHatching::Scheme
 
 
 @dataclass(frozen=True, eq=False)
@@ -33,12 +34,15 @@ class Hatching:
     tam: TAM
     scale: float
 
-    def draw(self, ctx) -> tuple:
-        """The draw's hatching entry for the G-buffer pass (src/bindings/passes_bindings.cpp)."""
+    def draw(self, ctx, entry) -> None:
+        """Fills a G-buffer draw's hatching entry (_core.GBufferHatching, by name)."""
         low, high, thresholds = self.tam.textures(ctx)
+        entry.scheme = _core.GBufferHatching.Scheme(_CODES[self.scheme])
+        entry.scale = float(self.scale)
         if self.scheme == "six_way":
-            return (_CODES["six_way"], float(self.scale), low, high)
-        return (_CODES["threshold"], float(self.scale), thresholds, None)
+            entry.tam_low, entry.tam_high = low, high
+        else:
+            entry.tam_low, entry.tam_high = thresholds, None
 
 
 def hatch(scheme: str, tam, scale: float) -> Hatching:

@@ -180,11 +180,7 @@ def render_targets(
         draw.material.shininess = float(m.shininess)
         draw.material.texture = ctx.gpu_material_texture(m)
         if m.hatch is not None:
-            scheme, scale, tam_low, tam_high = m.hatch.draw(ctx)
-            hatching = draw.material.hatching
-            hatching.scheme = _core.GBufferHatching.Scheme(scheme)
-            hatching.scale = scale
-            hatching.tam_low, hatching.tam_high = tam_low, tam_high
+            m.hatch.draw(ctx, draw.material.hatching)
         draws.append(draw)
     # Every target is fully overwritten (the background pass covers every pixel), so pooled
     # textures need no clearing.
