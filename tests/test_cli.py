@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import json
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -34,3 +36,53 @@ def test_demo_renders_blurs_and_writes(tmp_path, capsys):
 def test_bad_size_is_rejected():
     with pytest.raises(SystemExit):
         cli.main(["demo", "--size", "160by90"])
+
+
+def run_cli(*args, cwd=None):
+    return subprocess.run(
+        [sys.executable, "-m", "blurlab", *args], capture_output=True, text=True, cwd=cwd
+    )
+
+
+def assert_one_line_error(result, *fragments):
+    assert result.returncode == 2, result.stderr
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("blurlab: error: "), result.stderr
+    assert "Traceback" not in result.stderr
+    for fragment in fragments:
+        assert fragment in lines[0], lines[0]
+
+
+@pytest.mark.parametrize(
+    ("config", "fragments"),
+    [
+        ('scenes = ["fan"]\nmethodz = {}\n', ("methodz",)),
+        ('scenes = ["no_such_scene"]\n', ("no_such_scene",)),
+        ('scenes = ["fan"]\nmethods = {no_such_method = {}}\n', ("no_such_method",)),
+        (
+            'scenes = ["fan"]\nmethods = {gather_box = {tap = [3]}}\n',
+            ("gather_box", "tap"),
+        ),
+        ('scenes = ["fan"]\nsize = [0, 90]\n', ("size",)),
+    ],
+    ids=["bad key", "unknown scene", "unknown method", "unknown parameter", "bad size"],
+)
+def test_user_errors_are_one_line_with_status_2(tmp_path, config, fragments):
+    path = tmp_path / "sweep.toml"
+    path.write_text(config)
+    assert_one_line_error(run_cli("--device", "software", "sweep", str(path)), *fragments)
+
+
+def test_a_bad_size_argument_is_one_line_with_status_2():
+    assert_one_line_error(run_cli("demo", "--size", "160by90"), "160by90")
+
+
+def test_a_missing_config_file_is_one_line_with_status_2(tmp_path):
+    assert_one_line_error(run_cli("sweep", str(tmp_path / "missing.toml")), "missing.toml")
+
+
+def test_debug_shows_the_traceback(tmp_path):
+    path = tmp_path / "sweep.toml"
+    path.write_text('scenes = ["no_such_scene"]\n')
+    result = run_cli("--debug", "--device", "software", "sweep", str(path))
+    assert result.returncode != 0 and "Traceback" in result.stderr

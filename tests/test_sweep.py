@@ -182,7 +182,10 @@ def test_sweep_from_a_toml_file(tmp_path, capsys):
     bad = tmp_path / "bad.toml"
     bad.write_text("scenes = ['fan']\nsamples = 3\n")
     with pytest.raises(ValueError, match="unknown keys"):
+        cli.main(["--debug", "sweep", str(bad)])
+    with pytest.raises(SystemExit) as exit_:
         cli.main(["sweep", str(bad)])
+    assert exit_.value.code == 2 and "unknown keys" in capsys.readouterr().err
 
 
 def test_study_writes_the_report(tmp_path):

@@ -1,9 +1,12 @@
-"""The ``blurlab`` command: ``info``, ``demo``, ``study`` and ``sweep``."""
+"""The ``blurlab`` command: ``info``, ``demo``, ``methods``, ``study`` and ``sweep``. User errors
+(bad names, values, sizes, files) print one line ``blurlab: error: ...`` and exit with status 2;
+``--debug`` shows the traceback instead."""
 
 from __future__ import annotations
 
 import argparse
 import json
+import re
 import sys
 from contextlib import contextmanager
 from pathlib import Path
@@ -100,8 +103,8 @@ def _cluster(args):
         yield args.scheduler
     elif args.workers:
         if not isinstance(args.device, str):
-            raise SystemExit(
-                "blurlab: --workers gives each worker its own device; --device must be "
+            raise ValueError(
+                "--workers gives each worker its own device; --device must be "
                 "auto, gpu or software with it"
             )
         with local_cluster(args.workers, args.device) as cluster:
@@ -185,8 +188,23 @@ def _positive_int(text: str) -> int:
     return int(text)
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse, with its errors in the one-line form of every other CLI error."""
+
+    def error(self, message: str):
+        self.exit(2, f"blurlab: error: {message}\n")
+
+
+# What a user can cause: bad values, names, files, sizes, a missing driver. Anything else is a
+# bug and keeps its traceback.
+USER_ERRORS = (ValueError, TypeError, LookupError, OSError, RuntimeError)
+
+
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="blurlab", description=__doc__)
+    parser = _Parser(prog="blurlab", description=__doc__)
+    parser.add_argument(
+        "--debug", action="store_true", help="show the Python traceback of an error"
+    )
     parser.add_argument(
         "--device",
         type=parse_device,
@@ -230,7 +248,15 @@ def main(argv: list[str] | None = None) -> int:
     _add_cluster_options(sweep)
     args = parser.parse_args(argv)
     commands = {"info": _info, "demo": _demo, "methods": _methods, "study": _study, "sweep": _sweep}
-    return commands[args.command](args)
+    try:
+        return commands[args.command](args)
+    except USER_ERRORS as error:
+        if args.debug:
+            raise
+        # One line: a multi-line message (the EGL driver's remedy, say) is joined, not cut.
+        lines = [line.strip() for line in str(error).splitlines() if line.strip()]
+        message = re.sub(r"^blurlab[\w. ]*: ", "", " ".join(lines)) or type(error).__name__
+        parser.exit(2, f"blurlab: error: {message}\n")
 
 
 if __name__ == "__main__":

@@ -23,6 +23,7 @@ import pandas as pd
 from .. import scenes as builtin_scenes
 from ..context import Context
 from ..methods import check_param, check_steps, method, methods
+from ..render import check_size
 from ..scene import Scene
 from . import cluster as dask_cluster
 from .evaluation import Settings, evaluate_scene
@@ -35,6 +36,7 @@ def default_grids() -> dict:
 
 
 METRICS = ("psnr", "ssim", "flip")
+MAX_SIZE = 16384  # the largest GL_MAX_TEXTURE_SIZE of the devices blurlab meets
 
 
 def grid_points(grid) -> list[dict]:
@@ -117,6 +119,9 @@ def sweep(
         raise ValueError(
             f"blurlab.sweep: chunk_size must be None or an integer >= 1, not {chunk_size!r}"
         )
+    # The size now, not when the first scene renders (a cluster's workers check their own
+    # device's limit again).
+    size = check_size(size, ctx.max_texture_size if ctx is not None else MAX_SIZE)
     unknown = set(metrics) - set(METRICS)
     if unknown:
         raise ValueError(f"blurlab.sweep: unknown metrics {sorted(unknown)}; choose from {METRICS}")
