@@ -23,6 +23,7 @@ from .scene import Camera, DirectionalLight, Material, Scene
 # used ones by name.
 from .studies import failures, plots  # noqa: E402
 from .studies.cluster import local_cluster  # noqa: E402
+from .studies.recommend import recommend  # noqa: E402
 from .studies.sweep import sweep  # noqa: E402
 
 __version__ = "0.1.0"
@@ -58,6 +59,7 @@ __all__ = [
     "method_instant",
     "methods",
     "quaternion",
+    "recommend",
     "reference_samples_needed",
     "render_and_blur",
     "render_steps",

@@ -15,6 +15,7 @@ from . import io, scenes
 from .context import Context
 from .methods import blur, method, methods
 from .studies.cluster import local_cluster
+from .studies.recommend import recommend
 from .studies.study import run_study, run_sweep_config
 from .twins.patterns import test_pattern
 
@@ -155,6 +156,29 @@ def _add_cluster_options(parser) -> None:
     )
 
 
+def _recommend(args) -> int:
+    """One line with the answer, then the table it was chosen from (fastest first)."""
+    if args.budget_ms is None and args.target_psnr is None:
+        raise ValueError("recommend needs --budget-ms, --target-psnr or both")
+    if args.scene not in scenes.names() + scenes.names("failure") + scenes.names("benchmark"):
+        raise ValueError(
+            f"no built-in scene {args.scene!r}; choose from {', '.join(scenes.names())} "
+            "(or a failure scene)"
+        )
+    ctx = Context(args.device)
+    answer = recommend(
+        ctx, args.scene, args.size, args.budget_ms, args.target_psnr, args.metric, progress=True
+    )
+    print(f"recommend: {answer}")
+    columns = ["chosen", "method", "params", "total_ms", "psnr", "ssim"]
+    columns += [c for c in answer.table if c.startswith("auto_")]
+    rows = answer.table.sort_values("total_ms")[columns]
+    print(rows.to_string(index=False, float_format=lambda v: f"{v:.4g}"))
+    info = ctx.info()
+    print(f"(times: the methods' GPU passes by {info['timer']} on {info['renderer']})")
+    return 0
+
+
 def _methods(args) -> int:
     """Prints each method's kind, instant, backends and parameter table: the one declaration
     of every parameter, in Markdown."""
@@ -243,11 +267,27 @@ def main(argv: list[str] | None = None) -> int:
     )
     study.add_argument("--metrics", default="psnr,ssim,flip", help="comma-separated")
     _add_cluster_options(study)
+    advice = sub.add_parser(
+        "recommend",
+        help="the cheapest method reaching a PSNR, or the most accurate within a time budget",
+    )
+    advice.add_argument("scene", help="a built-in scene (blurlab.scenes.names())")
+    advice.add_argument("--size", type=parse_size, default=(640, 360), help="WxH (default 640x360)")
+    advice.add_argument("--budget-ms", type=float, default=None, help="GPU ms per frame at most")
+    advice.add_argument("--target-psnr", type=float, default=None, help="PSNR in dB at least")
+    advice.add_argument("--metric", choices=("psnr", "ssim"), default="psnr")
     sweep = sub.add_parser("sweep", help="run the sweep a TOML configuration describes")
     sweep.add_argument("config", help="TOML file: scenes, methods, size, shutter, ...")
     _add_cluster_options(sweep)
     args = parser.parse_args(argv)
-    commands = {"info": _info, "demo": _demo, "methods": _methods, "study": _study, "sweep": _sweep}
+    commands = {
+        "info": _info,
+        "demo": _demo,
+        "methods": _methods,
+        "recommend": _recommend,
+        "study": _study,
+        "sweep": _sweep,
+    }
     try:
         return commands[args.command](args)
     except USER_ERRORS as error:

@@ -405,7 +405,7 @@ class Context:
         scene,
         size=(640, 360),
         shutter=None,
-        samples: int = 256,
+        samples: int | str = 256,
         stratified: bool = True,
         seed: int = 0,
         progress: bool | None = None,
@@ -414,7 +414,8 @@ class Context:
         """The converged reference of `scene` over `shutter`: the mean of `samples` full renders
         at t_i = t0 + (i + u_i)/N·(t1 - t0), u_i = 0.5 or hashed when `stratified`
         (docs/spec.md §1), accumulated in float32 on the GPU; a progress bar for N >= 64.
-        Returns a Reference."""
+        `samples="auto"` takes N from the scene's motion: max(64, 2 x the longest motion in
+        pixels), at most 1024, as sweeps do; the Reference says so (`auto`)."""
         return reference_render(
             self, scene, size, shutter, samples, stratified, seed, progress, guard
         )

@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .frame import Frame
-from .render import check_shutter, check_size, render_targets
+from .render import check_shutter, check_size, render, render_targets
 from .scene import Scene
 from .twins.accumulation import sample_times
 
@@ -26,6 +26,7 @@ class Reference:
     ms_per_subframe: float  # G-buffer pass + accumulation, by the context's clock
     clock: str
     texture: object = field(repr=False)  # the (H, W, 4) float32 sum on the GPU
+    auto: bool = False  # N was chosen from the scene's motion (samples="auto")
     _color: np.ndarray | None = field(default=None, repr=False)
 
     @property
@@ -44,7 +45,7 @@ def reference_render(
     scene: Scene,
     size,
     shutter=None,
-    samples: int = 256,
+    samples: int | str = 256,
     stratified: bool = True,
     seed: int = 0,
     progress: bool | None = None,
@@ -53,9 +54,13 @@ def reference_render(
     """The mean of `samples` renders at t_i = t0 + (i + u_i)/N·(t1 - t0) (docs/spec.md §1)."""
     if not isinstance(scene, Scene):
         raise TypeError(f"blurlab: reference needs a blurlab Scene, not {type(scene).__name__}")
+    auto = isinstance(samples, str) and samples == "auto"
+    if auto:  # N from the motion over the shutter, as sweeps choose it
+        samples = default_reference_samples(render(ctx, scene, size, shutter))
     if isinstance(samples, bool) or not isinstance(samples, int) or not 1 <= samples <= MAX_SAMPLES:
         raise ValueError(
-            f"blurlab: reference samples N must be an integer in 1..{MAX_SAMPLES}, not {samples!r}"
+            f"blurlab: reference samples N must be an integer in 1..{MAX_SAMPLES} or 'auto', "
+            f"not {samples!r}"
         )
     if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed < 2**32:
         raise ValueError(f"blurlab: seed must be an integer in 0..2^32-1, not {seed!r}")
@@ -80,7 +85,9 @@ def reference_render(
         ctx.recycle(*targets.values())
         elapsed += timing.ms + add.ms
         clock = add.clock
-    result = Reference(samples, times, bool(stratified), seed, elapsed / samples, clock, total)
+    result = Reference(
+        samples, times, bool(stratified), seed, elapsed / samples, clock, total, auto
+    )
     weakref.finalize(result, ctx.recycle, total)
     return result
 

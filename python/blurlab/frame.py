@@ -75,6 +75,13 @@ class Frame:
         finite = self.depth[np.isfinite(self.depth) & (self.depth > 0)]
         return (float(finite.min()), float(finite.max())) if finite.size else None
 
+    @functools.cached_property
+    def moving_speeds(self) -> np.ndarray:
+        """|M| in pixels of the pixels that move at least 1 px over the shutter (finite motion
+        only), sorted: what the "auto" parameter rules read. Computed once per frame."""
+        speed = np.linalg.norm(self.motion, axis=-1)
+        return np.sort(speed[np.isfinite(speed) & (speed >= 1.0)])
+
     @property
     def size(self) -> tuple[int, int]:
         """(W, H)."""

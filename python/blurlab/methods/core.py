@@ -35,6 +35,8 @@ class BlurResult:
     backend: str
     timings: dict[str, Timing]
     textures: dict[str, Texture] = field(repr=False)
+    # The parameters given as "auto" and the values their rules chose (also in `params`).
+    auto: dict = field(default_factory=dict)
     _arrays: dict = field(default_factory=dict, repr=False)
 
     @property
@@ -74,6 +76,9 @@ class Param:
     low: float | None = None  # inclusive bounds for int and float parameters
     high: float | None = None
     low_open: bool = False  # True: the value must be > low (e.g. soft_z > 0)
+    # The rule that `"auto"` stands for: auto(frame, values) -> a value, where `values` holds
+    # the call's other parameters (so a rule may read, say, the exposure); None: no "auto".
+    auto: Callable | None = None
 
     def allowed(self) -> str:
         """What values are allowed, in words (for error messages and docs)."""
@@ -227,13 +232,14 @@ def blur(
     if backend not in m.backends:
         raise ValueError(f"blurlab: {name} runs on backends {m.backends}, not {backend!r}")
     values = resolve_params(m, frame, params)
+    automatic = {key: values[key] for key, value in params.items() if _is_auto(value)}
     _check_instant(m, frame, values)
     token = _TIMED.set(timed)
     try:
         outputs, timings = m.run(ctx, frame, frame_textures(ctx, frame), values, backend)
     finally:
         _TIMED.reset(token)
-    result = BlurResult(name, values, backend, timings, outputs)
+    result = BlurResult(name, values, backend, timings, outputs, automatic)
     weakref.finalize(result, ctx.recycle, *outputs.values())
     return result
 
@@ -333,6 +339,7 @@ def blur_steps(
     total = ctx.pooled((height, width, 4))
     total.clear()
     timings: dict[str, Timing] = {}
+    chosen: list[dict] = []
     for frame in frames:
         result = blur(ctx, frame, name, backend, timed, **params)
         add = Timing(math.nan, "untimed")
@@ -345,11 +352,19 @@ def blur_steps(
             before = timings.get(key, Timing(0.0, timing.clock))
             timings[key] = Timing(before.ms + timing.ms, timing.clock)
         values, backend_used = result.params, result.backend
+        chosen.append(result.auto)
         del result  # back to the pool before the next step
     extra = sum(f.timings["gbuffer"].ms for f in frames[1:] if "gbuffer" in f.timings)
     clock = next(iter(timings.values())).clock
     timings["extra_gbuffers"] = Timing(extra, clock)
-    out = BlurResult(name, {**values, "steps": steps}, backend_used, timings, {"color": total})
+    # "auto" chooses per step, each from its own sub-interval's motion: one value where they
+    # agree, else the list.
+    auto = {}
+    for key in chosen[0]:
+        per_step = [c[key] for c in chosen]
+        auto[key] = per_step[0] if len(set(per_step)) == 1 else per_step
+    params = {**values, **auto, "steps": steps}
+    out = BlurResult(name, params, backend_used, timings, {"color": total}, auto)
     weakref.finalize(out, ctx.recycle, total)
     return out
 
@@ -362,8 +377,13 @@ def resolve_params(m: Method, frame: Frame | None, given: dict, frame_free: bool
             + ", ".join(f"{k} (default {_describe(p.default)})" for k, p in m.params.items())
         )
     values = {}
+    automatic = [key for key, value in given.items() if _is_auto(value)]
     for key, p in m.params.items():
         value = given.get(key, None)
+        if key in automatic:
+            if p.auto is None:
+                raise ValueError(f"blurlab: {m.name} parameter {key} has no 'auto' rule")
+            continue  # chosen below, once the other parameters are known
         if value is None and callable(p.default) and frame_free:
             continue  # defaults read from a frame are not needed to know the instant
         if value is None:
@@ -372,7 +392,17 @@ def resolve_params(m: Method, frame: Frame | None, given: dict, frame_free: bool
             values[key] = None
             continue
         values[key] = _typed(m.name, key, value, p)
-    return values
+    if frame_free:
+        return values
+    for key in [key for key in m.params if key in automatic]:  # in declaration order
+        if frame is None:
+            raise ValueError(f"blurlab: {m.name} parameter {key}='auto' reads a frame")
+        values[key] = _typed(m.name, key, m.params[key].auto(frame, values), m.params[key])
+    return {key: values[key] for key in m.params if key in values}
+
+
+def _is_auto(value) -> bool:
+    return isinstance(value, str) and value == "auto"
 
 
 def _describe(default) -> str:
@@ -385,6 +415,8 @@ def check_param(name: str, key: str, value):
     m = method(name)
     if key not in m.params:
         raise ValueError(f"blurlab: {name} has no parameter {key!r}")
+    if _is_auto(value) and m.params[key].auto is not None:
+        return value  # chosen per frame when the method runs
     return _typed(name, key, value, m.params[key])
 
 

@@ -6,6 +6,10 @@ built on it; the tile classification of mcguire2012 plugs into its last step.
 
 from __future__ import annotations
 
+import math
+
+import numpy as np
+
 from ..context import Context, Timing
 from ..frame import Frame
 from . import classification
@@ -21,10 +25,44 @@ def depth_range_soft_z(frame: Frame) -> float:
     return 0.01 * (span if span > 0 else max(abs(far), 1.0))
 
 
+# k="auto" and samples="auto" (docs/spec.md §3.5, docs/recommend.md): the blur radius the
+# frame's motion asks for is a high percentile of |M|·E/2 over its moving pixels; the 95th
+# leaves out the fastest 5 %, whose blur the neighbourhood dilation still spreads.
+AUTO_PERCENTILE = 95
+AUTO_K_STEP = 4  # k is rounded up to a multiple of 4 px (tile grids of whole work groups)
+AUTO_K_SHARE = 1 / 8  # ... and capped at 1/8 of the image's shorter side (the engines' way)
+
+
+def motion_radius(frame: Frame, exposure: float) -> float:
+    """The AUTO_PERCENTILE-th percentile of |M|·E/2 over the pixels moving ≥ 1 px; 0 if none."""
+    speeds = frame.moving_speeds
+    if not speeds.size:
+        return 0.0
+    return float(np.percentile(speeds, AUTO_PERCENTILE)) * exposure / 2
+
+
+def auto_k(frame: Frame, values: dict) -> int:
+    """k from the frame's own motion: motion_radius rounded up to a multiple of AUTO_K_STEP,
+    at least AUTO_K_STEP, at most AUTO_K_SHARE of the shorter image side (and 256), rounded
+    down to a multiple of AUTO_K_STEP."""
+    radius = motion_radius(frame, values["exposure"])
+    share = min(256, int(min(frame.size) * AUTO_K_SHARE))
+    cap = max(AUTO_K_STEP, AUTO_K_STEP * (share // AUTO_K_STEP))
+    k = AUTO_K_STEP * math.ceil(radius / AUTO_K_STEP)
+    return int(min(max(k, AUTO_K_STEP), cap))
+
+
+def auto_samples(frame: Frame, values: dict) -> int:
+    """S from the frame's own motion: about one sample per 2 px of the span 2·radius, odd (the
+    middle sample is X itself), in 5..31."""
+    radius = min(motion_radius(frame, values["exposure"]), values["k"])
+    return int(min(max(2 * math.ceil(radius / 2) + 1, 5), 31))
+
+
 # docs/spec.md §3's parameters, shared by every tile-based filter.
 TILE_FILTER_PARAMS = {
-    "k": Param(20, int, "tile size = largest blur radius, pixels", 1, 256),
-    "samples": Param(15, int, "samples S per pixel", 1, 256),
+    "k": Param(20, int, "tile size = largest blur radius, pixels", 1, 256, auto=auto_k),
+    "samples": Param(15, int, "samples S per pixel", 1, 256, auto=auto_samples),
     "soft_z": Param(
         depth_range_soft_z, float, "soft depth extent, depth units", 0, FLOAT32_MAX, True
     ),

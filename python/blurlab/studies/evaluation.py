@@ -72,6 +72,8 @@ def evaluate_scene(
             "repeats": settings.repeats,
             "clock": clock,
             "psnr": m.psnr_from_mse(m.gpu_mse(ctx, result.textures["color"], reference.texture)),
+            # What the parameters given as "auto" chose on this scene.
+            **{f"auto_{k}": json.dumps(v) for k, v in result.auto.items()},
         }
         # PSNR and SSIM are reduced on the GPU (docs/spec.md §6); only FLIP needs the images.
         if "ssim" in settings.metrics:

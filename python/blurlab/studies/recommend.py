@@ -1,0 +1,143 @@
+"""`bl.recommend`: which method, with which parameters, for this scene at this size and budget.
+
+A small sweep answers it: every sweepable method on its default grid, plus the "auto" point of
+each parameter that has a rule (k and samples of the tile filters), with PSNR and SSIM reduced
+on the GPU. The sweep is cached per scene, device and size, so asking again with another budget
+or target costs nothing. The answer is the cheapest configuration that reaches `target_psnr`,
+or the most accurate one within `budget_ms`, or, with both, the cheapest that reaches the
+target within the budget; the rows behind it come with it. docs/recommend.md.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass, field
+
+import pandas as pd
+
+from .. import scenes
+from ..context import Context
+from ..methods import method
+from ..scene import Scene
+from .sweep import default_grids, sweep
+
+HIGHER_IS_BETTER = {"psnr": True, "ssim": True}
+_CACHE: dict[tuple, pd.DataFrame] = {}
+
+
+@dataclass
+class Recommendation:
+    """The answer: a method and its parameters, the row that measured them, and the table of
+    every configuration the answer was chosen from (`chosen` marks the answer)."""
+
+    method: str | None
+    params: dict
+    row: dict | None
+    table: pd.DataFrame = field(repr=False)
+    question: str = ""
+
+    def __str__(self) -> str:
+        if self.row is None:
+            fastest = self.table.sort_values("total_ms").iloc[0]
+            return (
+                f"nothing meets {self.question}; the fastest is {fastest['method']} "
+                f"{fastest['params']} at {fastest['total_ms']:.3g} ms, "
+                f"PSNR {fastest['psnr']:.2f} dB"
+            )
+        return (
+            f"{self.method} {json.dumps(self.params, sort_keys=True)}: "
+            f"{self.row['total_ms']:.3g} ms, PSNR {self.row['psnr']:.2f} dB, "
+            f"SSIM {self.row['ssim']:.4f} ({self.question})"
+        )
+
+
+def recommendation_grids() -> dict:
+    """The default grids, each extended by the point where every parameter that has an "auto"
+    rule is "auto"."""
+    grids = {}
+    for name, grid in default_grids().items():
+        automatic = [k for k, p in method(name).params.items() if p.auto is not None]
+        parts = [grid] if isinstance(grid, dict) else list(grid)
+        grids[name] = parts + [{k: ["auto"] for k in automatic}] if automatic else grid
+    return grids
+
+
+def recommend(
+    ctx: Context,
+    scene: Scene | str,
+    size=(640, 360),
+    budget_ms: float | None = None,
+    target_psnr: float | None = None,
+    metric: str = "psnr",
+    progress: bool = False,
+) -> Recommendation:
+    """The cheapest method and parameters that reach `target_psnr` (dB), or the most accurate
+    by `metric` ("psnr" or "ssim") within `budget_ms` (the method's GPU time per frame, by the
+    context's clock); with both, the cheapest that reaches the target within the budget.
+    Returns a Recommendation whose `table` holds the rows it was chosen from; `method` is None
+    where no row qualifies (its str() then names the fastest row)."""
+    if budget_ms is None and target_psnr is None:
+        raise ValueError("blurlab.recommend: give budget_ms, target_psnr or both")
+    for name, value in (("budget_ms", budget_ms), ("target_psnr", target_psnr)):
+        if value is not None and (
+            isinstance(value, bool) or not isinstance(value, (int, float)) or not value > 0
+        ):
+            raise ValueError(f"blurlab.recommend: {name} must be a number > 0, not {value!r}")
+    if metric not in HIGHER_IS_BETTER:
+        raise ValueError(f"blurlab.recommend: metric must be one of {tuple(HIGHER_IS_BETTER)}")
+    # A built-in scene is the same scene whenever it is named; another is itself.
+    identity = scene if isinstance(scene, str) else id(scene)
+    scene = scenes.get(scene) if isinstance(scene, str) else scene
+    table = measured(ctx, scene, size, identity, progress)
+    rows = table
+    if budget_ms is not None:
+        rows = rows[rows["total_ms"] <= budget_ms]
+    if target_psnr is not None:
+        rows = rows[rows["psnr"] >= target_psnr]
+    question = " and ".join(
+        text
+        for text in (
+            f"PSNR >= {target_psnr:g} dB" if target_psnr is not None else "",
+            f"<= {budget_ms:g} ms" if budget_ms is not None else "",
+        )
+        if text
+    )
+    if target_psnr is not None:
+        question = f"the cheapest with {question}"
+    else:
+        question = f"the best {metric.upper()} within {budget_ms:g} ms"
+    question += f"; {len(table)} configurations on {scene.name} {size[0]}x{size[1]}"
+    table = table.assign(chosen=False)
+    if rows.empty:
+        return Recommendation(None, {}, None, table, question)
+    if target_psnr is not None:
+        best = rows.sort_values(["total_ms", metric], ascending=[True, False]).index[0]
+    else:
+        best = rows.sort_values([metric, "total_ms"], ascending=[False, True]).index[0]
+    table.loc[best, "chosen"] = True
+    row = table.loc[best].to_dict()
+    params = json.loads(row["params"])
+    for key in params:
+        chosen = row.get(f"auto_{key}")
+        if params[key] == "auto" and isinstance(chosen, str):
+            params[key] = json.loads(chosen)
+    return Recommendation(row["method"], params, row, table, question)
+
+
+def measured(ctx: Context, scene: Scene, size, identity, progress: bool = False) -> pd.DataFrame:
+    """The sweep behind recommend() for this scene (`identity`), device and size, run once and
+    cached."""
+    key = (identity, ctx.info()["renderer"], tuple(int(v) for v in size))
+    if key not in _CACHE:
+        table = sweep(
+            ctx,
+            [scene],
+            recommendation_grids(),
+            size,
+            metrics=("psnr", "ssim"),
+            progress=progress,
+            repeats=3,
+        )
+        _CACHE[key] = table[[math.isfinite(v) for v in table["total_ms"]]].reset_index(drop=True)
+    return _CACHE[key]

@@ -1,0 +1,161 @@
+"""k="auto" and samples="auto" (the rule in blurlab/methods/tile_filter.py), the reference's
+N="auto", and bl.recommend / `blurlab recommend` (docs/recommend.md)."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import blurlab as bl
+from blurlab.converged import default_reference_samples
+from blurlab.studies import recommend as advice
+
+FILTER = "reconstruct_mcguire2012"
+
+
+def uniform_motion_frame(width, height, motion, moving_share=1.0, seed=3):
+    rng = np.random.default_rng(seed)
+    color = rng.random((height, width, 4), dtype=np.float32)
+    depth = np.full((height, width), 5.0, np.float32)
+    field = np.zeros((height, width, 2), np.float32)
+    rows = int(round(height * moving_share))
+    field[:rows] = motion
+    return bl.Frame(color=color, depth=depth, motion=field)
+
+
+def test_auto_k_is_the_documented_rule_on_known_motion(ctx):
+    # |M| = 24 px everywhere: radius 12 -> k 12 (a multiple of 4), samples 2*ceil(6)+1 = 13.
+    frame = uniform_motion_frame(200, 120, (24.0, 0.0))
+    result = bl.blur(ctx, frame, FILTER, k="auto", samples="auto")
+    assert result.auto == {"k": 12, "samples": 13}
+    assert result.params["k"] == 12 and result.params["samples"] == 13
+    # A 25 px motion rounds the radius 12.5 up to 16 (under the cap of 180 / 8 -> 20).
+    frame = uniform_motion_frame(320, 180, (25.0, 0.0))
+    assert bl.blur(ctx, frame, FILTER, k="auto").auto == {"k": 16}
+
+
+def test_auto_k_reads_the_exposure_and_the_95th_percentile(ctx):
+    frame = uniform_motion_frame(200, 120, (24.0, 0.0))
+    assert bl.blur(ctx, frame, FILTER, k="auto", exposure=0.5).params["k"] == 8
+    # 4 % of the pixels move 100 px, the rest 8 px: the 95th percentile ignores the fastest.
+    fast = uniform_motion_frame(200, 120, (8.0, 0.0))
+    fast.motion[:4] = (100.0, 0.0)  # 4 of 120 rows
+    assert bl.blur(ctx, fast, FILTER, k="auto").params["k"] == 4
+
+
+def test_auto_k_is_capped_by_the_image_and_floored_for_a_still_frame(ctx):
+    huge = uniform_motion_frame(200, 120, (400.0, 0.0))
+    assert bl.blur(ctx, huge, FILTER, k="auto").params["k"] == 12  # 120 / 8 = 15 -> 12
+    still = uniform_motion_frame(200, 120, (0.0, 0.0))
+    result = bl.blur(ctx, still, FILTER, k="auto", samples="auto")
+    assert result.auto == {"k": 4, "samples": 5}
+    assert result.color.tobytes() == still.color.tobytes()
+
+
+@pytest.mark.parametrize("name", ["reconstruct_guertin2014", "reconstruct_urho3d"])
+def test_every_tile_filter_takes_auto(ctx, name):
+    frame = uniform_motion_frame(200, 120, (24.0, 0.0))
+    assert bl.blur(ctx, frame, name, k="auto").params["k"] == 12
+
+
+def test_auto_is_refused_where_a_parameter_has_no_rule(ctx):
+    frame = uniform_motion_frame(64, 48, (4.0, 0.0))
+    with pytest.raises(ValueError, match="gather_box parameter taps has no 'auto' rule"):
+        bl.blur(ctx, frame, "gather_box", taps="auto")
+
+
+def test_steps_choose_auto_per_sub_interval(ctx):
+    scene = bl.scenes.get("fan")
+    _, one = bl.render_and_blur(ctx, scene, FILTER, size=(160, 90), k="auto")
+    _, two = bl.render_and_blur(ctx, scene, FILTER, size=(160, 90), steps=2, k="auto")
+    assert one.auto["k"] >= (
+        two.auto["k"] if isinstance(two.auto["k"], int) else max(two.auto["k"])
+    )
+    assert two.params["steps"] == 2
+
+
+def test_sweeps_record_what_auto_chose(ctx):
+    table = bl.sweep(
+        ctx,
+        ["fan"],
+        {FILTER: {"k": ["auto", 8]}},
+        (96, 54),
+        reference_samples=16,
+        metrics=("psnr",),
+        progress=False,
+        repeats=1,
+    )
+    auto = table[table["params"] == json.dumps({"k": "auto"})].iloc[0]
+    assert json.loads(auto["auto_k"]) in range(4, 13, 4)
+
+
+def test_the_reference_reports_an_auto_n(ctx):
+    scene = bl.scenes.get("fan")
+    reference = ctx.reference(scene, (96, 54), samples="auto", progress=False)
+    assert reference.auto
+    assert reference.samples == default_reference_samples(ctx.render(scene, (96, 54)))
+
+
+@pytest.fixture(scope="module")
+def fan_answers(ctx):
+    return advice.measured(ctx, bl.scenes.get("fan"), (64, 36), "fan-test")
+
+
+def test_recommend_for_a_target_is_the_cheapest_row_that_reaches_it(ctx, fan_answers):
+    target = float(fan_answers["psnr"].median())
+    answer = bl.recommend(ctx, "fan", (64, 36), target_psnr=target)
+    assert answer.row["psnr"] >= target
+    reaching = answer.table[answer.table["psnr"] >= target]
+    assert answer.row["total_ms"] == reaching["total_ms"].min()
+    assert answer.table["chosen"].sum() == 1
+
+
+def test_recommend_within_a_budget_is_the_most_accurate_row_in_it(ctx, fan_answers):
+    budget = float(fan_answers["total_ms"].median())
+    answer = bl.recommend(ctx, "fan", (64, 36), budget_ms=budget)
+    within = answer.table[answer.table["total_ms"] <= budget]
+    assert answer.row["total_ms"] <= budget and answer.row["psnr"] == within["psnr"].max()
+    assert "auto" not in json.dumps(answer.params)  # "auto" points report what they chose
+
+
+def test_recommend_says_when_nothing_qualifies(ctx, fan_answers):
+    answer = bl.recommend(ctx, "fan", (64, 36), target_psnr=500.0)
+    assert answer.method is None and "nothing meets" in str(answer)
+    with pytest.raises(ValueError, match="budget_ms, target_psnr or both"):
+        bl.recommend(ctx, "fan", (64, 36))
+    with pytest.raises(ValueError, match="budget_ms must be a number > 0"):
+        bl.recommend(ctx, "fan", (64, 36), budget_ms=-1)
+
+
+def test_the_recommend_command_prints_one_answer_line_and_its_table():
+    result = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "blurlab",
+            "--device",
+            "software",
+            "recommend",
+            "subpixel",
+            "--size",
+            "48x27",
+            "--budget-ms",
+            "1000",
+        ],
+        capture_output=True,
+        text=True,
+    )
+    assert result.returncode == 0, result.stderr
+    lines = result.stdout.splitlines()
+    assert lines[0].startswith("recommend: ") and "ms, PSNR" in lines[0]
+    assert lines[1].split()[:3] == ["chosen", "method", "params"]
+    bad = subprocess.run(
+        [sys.executable, "-m", "blurlab", "recommend", "no_such_scene", "--budget-ms", "1"],
+        capture_output=True,
+        text=True,
+    )
+    assert bad.returncode == 2 and bad.stderr.startswith("blurlab: error: no built-in scene")
