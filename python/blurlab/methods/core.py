@@ -82,6 +82,10 @@ class Param:
 
     def allowed(self) -> str:
         """What values are allowed, in words (for error messages and docs)."""
+        values = self._allowed_values()
+        return values + ', or "auto"' if self.auto is not None else values
+
+    def _allowed_values(self) -> str:
         if isinstance(self.kind, tuple):
             return "one of " + ", ".join(repr(k) for k in self.kind)
         if self.kind is bool:

@@ -25,7 +25,7 @@ def depth_range_soft_z(frame: Frame) -> float:
     return 0.01 * (span if span > 0 else max(abs(far), 1.0))
 
 
-# k="auto" and samples="auto" (docs/spec.md §3.5, docs/recommend.md): the blur radius the
+# k="auto" and samples="auto" (docs/spec.md §14, docs/recommend.md): the blur radius the
 # frame's motion asks for is a high percentile of |M|·E/2 over its moving pixels; the 95th
 # leaves out the fastest 5 %, whose blur the neighbourhood dilation still spreads.
 AUTO_PERCENTILE = 95
