@@ -90,3 +90,17 @@ def test_corrupt_and_missing_files_raise_clearly(tmp_path):
     garbage.write_bytes(b"not a png at all")
     with pytest.raises(OSError):
         bl.io.read(garbage)
+
+
+def test_written_files_get_the_processs_normal_permissions(tmp_path):
+    """Atomic writes go through a 0600 temporary file; the result must still be 0666 less the
+    umask, so a web server or a colleague can read it (issue 20)."""
+    previous = os.umask(0o022)
+    try:
+        png = bl.io.write(tmp_path / "a.png", np.zeros((4, 4, 3), np.float32))
+        text = bl.io.write_text(tmp_path / "a.html", "<p>hi</p>")
+    finally:
+        os.umask(previous)
+    assert png.stat().st_mode & 0o777 == 0o644
+    assert text.stat().st_mode & 0o777 == 0o644 and text.read_text() == "<p>hi</p>"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.html", "a.png"]  # no temporaries

@@ -4,6 +4,8 @@ interrupted, TOML configurations, and the study's report."""
 from __future__ import annotations
 
 import importlib
+import os
+import re
 
 import pandas as pd
 import pytest
@@ -189,8 +191,19 @@ def test_sweep_from_a_toml_file(tmp_path, capsys):
 
 
 def test_study_writes_the_report(tmp_path):
-    assert cli.main(["study", "--size", "160x90", "--out", str(tmp_path)]) == 0
+    previous = os.umask(0o022)
+    try:
+        assert cli.main(["study", "--size", "160x90", "--out", str(tmp_path)]) == 0
+    finally:
+        os.umask(previous)
     report = (tmp_path / "report.html").read_text()
+    # Readable by others under a 022 umask, like any file the process makes (issue 20).
+    for written in ("report.html", "results.csv", "teapot_pass_reference.png"):
+        assert (tmp_path / written).stat().st_mode & 0o777 == 0o644, written
+    # A budget nothing fits says so and names the fastest, instead of printing nan.
+    assert not re.search(r"<td>\s*nan\s*</td>", report, re.IGNORECASE)
+    if (pd.read_csv(tmp_path / "results.csv")["total_ms"] > 0.1).all():
+        assert "nothing within budget (fastest: " in report
     for name in bl.scenes.names():
         assert f"{name}_pareto.png" in report
         assert (tmp_path / f"{name}_pareto.png").stat().st_size > 1000
@@ -224,6 +237,8 @@ def test_pareto_front_and_chart(ctx):
 
 SWEEP_SCRIPT = """
 import importlib
+import os
+import re
 import blurlab as bl
 sw = importlib.import_module("blurlab.studies.sweep")
 sw.sweep(bl.Context(), ["fan"], {{"gather_box": {{"taps": list(range(2, 200))}}}}, (48, 32),

@@ -91,7 +91,32 @@ def write(path: str | os.PathLike, array: np.ndarray) -> Path:
         closed = out.close()
         if not (ok and closed):
             raise OSError(f"blurlab.io.write: writing {path} failed: {_error_text(out)}")
-        os.replace(tmp_name, path)
+        publish(tmp_name, path)
+    except BaseException:
+        Path(tmp_name).unlink(missing_ok=True)
+        raise
+    return path
+
+
+def publish(tmp_name: str | os.PathLike, path: str | os.PathLike) -> None:
+    """Moves a finished temporary file onto `path` in one step, with the permissions a newly
+    created file gets (0666 less the umask: 0644 by default). mkstemp makes its files 0600,
+    which a web server or a colleague could not read."""
+    mask = os.umask(0o022)  # reading the umask means setting it; put it straight back
+    os.umask(mask)
+    os.chmod(tmp_name, 0o666 & ~mask)
+    os.replace(tmp_name, path)
+
+
+def write_text(path: str | os.PathLike, text: str) -> Path:
+    """Writes `text` to `path` atomically (a temporary file in the same folder, then publish):
+    a reader never sees half a file, and an interrupted write leaves the old one."""
+    path = Path(path)
+    fd, tmp_name = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=path.suffix, dir=path.parent)
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as f:
+            f.write(text)
+        publish(tmp_name, path)
     except BaseException:
         Path(tmp_name).unlink(missing_ok=True)
         raise

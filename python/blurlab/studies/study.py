@@ -5,8 +5,6 @@ from __future__ import annotations
 
 import datetime
 import html
-import os
-import tempfile
 from pathlib import Path
 
 import pandas as pd
@@ -56,7 +54,7 @@ def run_study(
     for name in grids:
         curves += _parameter_curves(table, name, method(name).study_curves, out, curves)
     report = _html(info, size, table, sections, curves)
-    return _write_atomically(out / "report.html", report)
+    return io.write_text(out / "report.html", report)
 
 
 # The study's curves fix the other parameter at its usual value where the grid has it.
@@ -112,8 +110,17 @@ def _scene_section(ctx, name, table, size, out: Path, grids) -> dict:
         if len(within):
             top = within.sort_values("psnr", ascending=False).iloc[0]
             best.append((budget, top["method"], top["params"], top["total_ms"], top["psnr"]))
-        else:
-            best.append((budget, "—", "", float("nan"), float("nan")))
+        else:  # say so, and how fast the fastest configuration is, for comparison
+            fastest = rows.sort_values("total_ms").iloc[0]
+            best.append(
+                (
+                    budget,
+                    f"nothing within budget (fastest: {fastest['method']})",
+                    fastest["params"],
+                    fastest["total_ms"],
+                    fastest["psnr"],
+                )
+            )
     return {
         "name": name,
         "rows": rows,
@@ -168,14 +175,6 @@ def _html(info, size, table, sections, curves) -> str:
         "number means.</p>"
     )
     return "\n".join(parts)
-
-
-def _write_atomically(path: Path, text: str) -> Path:
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=".report.", suffix=".html")
-    with os.fdopen(fd, "w") as f:
-        f.write(text)
-    os.replace(tmp, path)
-    return path
 
 
 def load_config(path: str | Path) -> dict:
