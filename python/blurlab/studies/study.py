@@ -12,7 +12,7 @@ import pandas as pd
 from .. import io, scenes
 from ..context import Context
 from ..methods import blur, method, method_instant
-from . import plots
+from . import interactive, plots
 from .sweep import default_grids, middle_point, sweep
 
 BUDGETS_MS = (0.1, 1.0, 10.0, 100.0)
@@ -49,7 +49,7 @@ def run_study(
     info = ctx.info()
     sections = []
     for name in names:
-        sections.append(_scene_section(ctx, name, table, size, out, grids))
+        sections.append(_scene_section(ctx, name, table, size, out, grids, first=not sections))
     curves: list = []
     for name in grids:
         curves += _parameter_curves(table, name, method(name).study_curves, out, curves)
@@ -89,9 +89,12 @@ def _parameter_curves(table, name: str, params: tuple[str, ...], out: Path, earl
     return curves
 
 
-def _scene_section(ctx, name, table, size, out: Path, grids) -> dict:
+def _scene_section(ctx, name, table, size, out: Path, grids, first: bool) -> dict:
     rows = table[table["scene"] == name]
-    plots.save(plots.pareto(rows, name), out / f"{name}_pareto.png")
+    plots.save(plots.pareto(rows, name), out / f"{name}_pareto.png")  # for papers
+    chart = interactive.chart_html(
+        interactive.pareto_chart(rows, f"{name}: time against error"), first, f"pareto-{name}"
+    )
     # Images: each method at the middle of its grid, against the reference.
     scene = scenes.get(name)
     reference = ctx.reference(
@@ -125,6 +128,7 @@ def _scene_section(ctx, name, table, size, out: Path, grids) -> dict:
         "name": name,
         "rows": rows,
         "best": best,
+        "chart": chart,
         "reference_samples": int(rows["reference_samples"].iloc[0]),
     }
 
@@ -161,7 +165,11 @@ def _html(info, size, table, sections, curves) -> str:
                 f"<td>{ms:.3f}</td><td>{value:.2f}</td></tr>"
             )
         parts.append("</table>")
-        parts.append(f"<p><img src='{e(s['name'])}_pareto.png'></p>")
+        parts.append(s["chart"])
+        parts.append(
+            f"<p>The same chart as a picture: <a href='{e(s['name'])}_pareto.png'>"
+            f"{e(s['name'])}_pareto.png</a></p>"
+        )
         parts.append(f"<p><img src='{e(s['name'])}_images.png'></p>")
         columns = ["method", "params", "total_ms", "psnr"] + [
             c for c in ("ssim", "flip") if c in s["rows"]
