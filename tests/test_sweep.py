@@ -212,6 +212,16 @@ def test_study_writes_the_report(tmp_path):
     assert set(table["scene"]) == set(bl.scenes.names())
     assert set(table["method"]) == set(sw.default_grids())
     assert "best method within it" in report and (tmp_path / "curve_k.png").exists()
+    # The images at full size with their error maps and crops, and the per-object table.
+    for method_name in sw.default_grids():
+        assert (tmp_path / f"teapot_pass_{method_name}_error.png").exists()
+        assert f"href='teapot_pass_{method_name}.png'" in report
+    assert (tmp_path / "teapot_pass_crops.png").exists()
+    per_object = pd.read_csv(tmp_path / "per_object.csv")
+    assert len(per_object) == 8 * 3 and per_object[["psnr_accumulation", "psnr_stochastic"]].gt(
+        10
+    ).all(axis=None)
+    assert "OGRE paper's Table 1" in report
 
 
 def test_pareto_front_and_chart(ctx):

@@ -187,6 +187,57 @@ def image_grid(
     return fig
 
 
+def error_figure(reference: np.ndarray, image: np.ndarray, title: str, vmax: float):
+    """|error| of one image against the reference, full size, with a colour bar (0..vmax)."""
+    plt = _pyplot()
+    error = error_map(reference, image)
+    height, width = error.shape[:2]
+    fig, ax = plt.subplots(figsize=(max(4.0, width / 100 + 1.2), max(2.5, height / 100 + 0.6)))
+    shown = ax.imshow(error, cmap="magma", vmin=0.0, vmax=vmax, interpolation="nearest")
+    fig.colorbar(shown, ax=ax, fraction=0.04, pad=0.02, label="|error| (linear)")
+    ax.set_title(title, fontsize=8)
+    ax.axis("off")
+    fig.tight_layout()
+    return fig
+
+
+def worst_window(error: np.ndarray, side: int) -> tuple[int, int]:
+    """(y, x) of the side x side window with the largest mean error (summed-area table)."""
+    height, width = error.shape[:2]
+    side = max(1, min(side, height, width))
+    table = np.zeros((height + 1, width + 1))
+    table[1:, 1:] = np.cumsum(np.cumsum(error, 0), 1)
+    sums = table[side:, side:] - table[:-side, side:] - table[side:, :-side] + table[:-side, :-side]
+    y, x = np.unravel_index(int(np.argmax(sums)), sums.shape)
+    return int(y), int(x)
+
+
+def crops_figure(reference: np.ndarray, images: dict[str, np.ndarray], side: int):
+    """For each method, the window where its error is largest, cut from the reference and
+    from every method's image alike (rows: whose worst window; columns: the images)."""
+    plt = _pyplot()
+    windows: dict[tuple[int, int], str] = {}
+    for name, image in images.items():
+        windows.setdefault(worst_window(error_map(reference, image), side), name)
+    columns = {"reference": reference, **images}
+    fig, axes = plt.subplots(
+        len(windows), len(columns), figsize=(1.3 * len(columns), 1.4 * len(windows)), squeeze=False
+    )
+    show = lambda a: np.clip(linear_to_srgb(a[..., :3]), 0, 1)  # noqa: E731
+    for row, ((y, x), owner) in enumerate(windows.items()):
+        for col, (name, image) in enumerate(columns.items()):
+            ax = axes[row, col]
+            ax.imshow(show(image[y : y + side, x : x + side]), interpolation="nearest")
+            ax.set_xticks([])
+            ax.set_yticks([])
+            if row == 0:
+                ax.set_title(name.replace("reconstruct_", ""), fontsize=6)
+            if col == 0:
+                ax.set_ylabel(f"worst of\n{owner.replace('reconstruct_', '')}", fontsize=6)
+    fig.tight_layout()
+    return fig
+
+
 def save(fig, path: str | Path) -> Path:
     """Writes PNG or SVG (by extension) and closes the figure."""
     path = Path(path)

@@ -7,12 +7,13 @@ import datetime
 import html
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 
-from .. import io, scenes
+from .. import io, metrics, scenes
 from ..context import Context
 from ..methods import blur, method, method_instant
-from . import interactive, plots
+from . import interactive, objects, plots
 from .sweep import default_grids, middle_point, sweep
 
 BUDGETS_MS = (0.1, 1.0, 10.0, 100.0)
@@ -53,7 +54,11 @@ def run_study(
     curves: list = []
     for name in grids:
         curves += _parameter_curves(table, name, method(name).study_curves, out, curves)
-    report = _html(info, size, table, sections, curves)
+    per_object = None
+    if "textured_spin" in names:  # the OGRE paper's test matrix
+        per_object = objects.object_errors(ctx, size, reference_samples=reference_samples)
+        per_object.to_csv(out / "per_object.csv", index=False)
+    report = _html(info, size, table, sections, curves, per_object)
     return io.write_text(out / "report.html", report)
 
 
@@ -107,6 +112,7 @@ def _scene_section(ctx, name, table, size, out: Path, grids, first: bool) -> dic
         images[method_name] = blur(ctx, frame, method_name, **point).color
     plots.save(plots.image_grid(reference.color, images), out / f"{name}_images.png")
     io.write(out / f"{name}_reference.png", reference.color)
+    gallery = _full_size_images(name, reference.color, images, out)
     best = []
     for budget in BUDGETS_MS:
         within = rows[rows["total_ms"] <= budget]
@@ -129,18 +135,49 @@ def _scene_section(ctx, name, table, size, out: Path, grids, first: bool) -> dic
         "rows": rows,
         "best": best,
         "chart": chart,
+        "gallery": gallery,
         "reference_samples": int(rows["reference_samples"].iloc[0]),
     }
 
 
-def _html(info, size, table, sections, curves) -> str:
+def _full_size_images(name: str, reference, images: dict, out: Path) -> str:
+    """Each method's image and its error map (colour bar shared by the scene) at full size,
+    and crops of the windows where each method errs most; returns the HTML that shows them,
+    each thumbnail linking to its full-size file."""
+    errors = [metrics.error_map(reference, image) for image in images.values()]
+    vmax = max(float(np.percentile(np.concatenate([e.ravel() for e in errors]), 99.5)), 1e-3)
+    cells = [
+        f"<figure><a href='{name}_reference.png'><img src='{name}_reference.png'></a>"
+        "<figcaption>reference</figcaption></figure>"
+    ]
+    for method_name, image in images.items():
+        picture, error = f"{name}_{method_name}.png", f"{name}_{method_name}_error.png"
+        io.write(out / picture, image)
+        plots.save(plots.error_figure(reference, image, method_name, vmax), out / error)
+        cells.append(
+            f"<figure><a href='{picture}'><img src='{picture}'></a>"
+            f"<a href='{error}'><img src='{error}'></a><figcaption>{method_name}</figcaption>"
+            "</figure>"
+        )
+    side = max(16, min(reference.shape[:2]) // 4)
+    plots.save(plots.crops_figure(reference, images, side), out / f"{name}_crops.png")
+    return (
+        "<div class='gallery'>" + "".join(cells) + "</div>"
+        f"<p>Where each method errs most ({side}×{side} px windows, the same window cut from "
+        f"every image): <a href='{name}_crops.png'><img src='{name}_crops.png'></a></p>"
+    )
+
+
+def _html(info, size, table, sections, curves, per_object=None) -> str:
     e = html.escape
     when = datetime.datetime.now().strftime("%Y-%m-%d %H:%M")
     parts = [
         "<!doctype html><meta charset='utf-8'><title>blurlab study</title>",
         "<style>body{font:14px sans-serif;max-width:1100px;margin:2em auto;padding:0 1em}"
         "table{border-collapse:collapse;font-size:12px}td,th{border:1px solid #ccc;padding:2px 6px;"
-        "text-align:right}th{background:#eee}img{max-width:100%}</style>",
+        "text-align:right}th{background:#eee}img{max-width:100%}"
+        ".gallery{display:flex;flex-wrap:wrap;gap:8px}.gallery figure{margin:0;width:260px}"
+        ".gallery img{width:260px;display:block}figcaption{font-size:11px}</style>",
         "<h1>blurlab study: speed against accuracy</h1>",
         f"<p>{e(when)} · device <b>{e(info['renderer'])}</b> ({e(info['version'])}) · "
         f"{size[0]}×{size[1]} · times by <code>{e(info['timer'])}</code> · "
@@ -170,12 +207,24 @@ def _html(info, size, table, sections, curves) -> str:
             f"<p>The same chart as a picture: <a href='{e(s['name'])}_pareto.png'>"
             f"{e(s['name'])}_pareto.png</a></p>"
         )
-        parts.append(f"<p><img src='{e(s['name'])}_images.png'></p>")
+        parts.append(
+            "<p>Each image at full size on click, with its error map (the colour bar is "
+            "shared by the scene):</p>" + s["gallery"]
+        )
         columns = ["method", "params", "total_ms", "psnr"] + [
             c for c in ("ssim", "flip") if c in s["rows"]
         ]
         shown = s["rows"][columns].sort_values("total_ms")
         parts.append(shown.to_html(index=False, float_format=lambda v: f"{v:.4g}", border=0))
+    if per_object is not None:
+        parts.append(
+            "<h2>Per object: the OGRE paper's Table 1, with accuracy (textured_spin)</h2>"
+            "<p>Each sphere's PSNR inside its box (its pixels, widened by half its motion) "
+            "against the reference; accumulation of N sub-frames against stochastic blur with "
+            "N/4 time slices (4 jittered renders each: the same N renders). Times are the whole "
+            "frame's. Data: <a href='per_object.csv'>per_object.csv</a>.</p>"
+        )
+        parts.append(per_object.to_html(index=False, float_format=lambda v: f"{v:.2f}", border=0))
     for title, image in curves:
         parts.append(f"<h2>{e(title)}</h2><p><img src='{e(image)}'></p>")
     parts.append(
