@@ -44,6 +44,7 @@ register(
         backends=("compute",),
         run=_run_accumulation,
         default_grid={"samples": [4, 8, 16]},
+        renders_for=lambda n: {"samples": n},
         doc="Haeberli-Akeley accumulation (the OGRE paper): the reference with small N. "
         "docs/spec.md §4.",
     )

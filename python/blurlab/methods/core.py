@@ -148,6 +148,9 @@ class Method:
     study_curves: tuple[str, ...] = ()
     # Shown in the failure suite's image gallery (one or two methods of each kind).
     gallery: bool = False
+    # For a "render" method: the parameters under which it makes n renders, so that studies
+    # compare such methods at equal cost (the per-object table of blurlab.studies.objects).
+    renders_for: Callable[[int], dict] | None = None
 
     def __post_init__(self):
         if self.kind not in KINDS:

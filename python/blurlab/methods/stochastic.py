@@ -60,6 +60,7 @@ register(
         backends=("compute",),
         run=_run_stochastic,
         default_grid={"slices": [2, 4, 8]},
+        renders_for=lambda n: {"slices": max(1, n // len(ROTATED_GRID))},  # 4 renders a slice
         gallery=True,
         doc="The OGRE paper's stochastic blur: K time slices, rotated-grid samples in and "
         "around each pixel, weights 5/32 and 3/32. docs/spec.md §4.",

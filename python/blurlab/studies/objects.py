@@ -2,9 +2,10 @@
 
 `textured_spin` has four textures (low, medium and high contrast, rainbow), each on a sphere
 turning slowly and on one turning fast. For each sphere, accumulation is compared with
-stochastic blur at matched render counts (stochastic renders 4 jittered views per time slice,
-so K slices cost 4K renders, as accumulation of 4K sub-frames does): the PSNR of that sphere
-against the converged reference, and each method's time for the whole frame.
+stochastic blur at matched render counts (each method that renders its own sub-frames says, in
+the registry, which parameters make it render n times: stochastic renders 4 jittered views per
+time slice, so K slices cost 4K renders, as accumulation of 4K sub-frames does): the PSNR of
+that sphere against the converged reference, and each method's time for the whole frame.
 """
 
 from __future__ import annotations
@@ -16,7 +17,7 @@ import pandas as pd
 
 from .. import metrics, scenes
 from ..converged import default_reference_samples
-from ..methods import blur
+from ..methods import blur, method, methods
 
 TEXTURES = ("low contrast", "medium contrast", "high contrast", "rainbow")
 RENDERS = (8, 16, 32)
@@ -49,24 +50,25 @@ def object_errors(ctx, size=(640, 360), renders=RENDERS, reference_samples=None)
     n = reference_samples or default_reference_samples(frame)
     reference = ctx.reference(scene, size, samples=n, progress=False).color
     boxes = object_boxes(frame)
+    # Every method that renders its own sub-frames, each at the same number of renders.
+    compared = [name for name in methods() if method(name).renders_for is not None]
     rows = []
     for count in renders:
-        accumulation = blur(ctx, frame, "accumulation", samples=count)
-        stochastic = blur(ctx, frame, "stochastic", slices=max(1, count // 4))
+        results = {
+            name: blur(ctx, frame, name, **method(name).renders_for(count)) for name in compared
+        }
         for object_id, (y0, y1, x0, x1) in sorted(boxes.items()):
             name = scene.objects[object_id].name
             crop = np.s_[y0:y1, x0:x1]
-            rows.append(
-                {
-                    "object": name,
-                    "texture": TEXTURES[int(name[len("sphere")])],
-                    "rotation": name.rsplit("_", 1)[1],
-                    "renders": count,
-                    "psnr_accumulation": metrics.psnr(reference[crop], accumulation.color[crop]),
-                    "psnr_stochastic": metrics.psnr(reference[crop], stochastic.color[crop]),
-                    "ms_accumulation": accumulation.total_ms,
-                    "ms_stochastic": stochastic.total_ms,
-                    "reference_samples": n,
-                }
-            )
+            row = {
+                "object": name,
+                "texture": TEXTURES[int(name[len("sphere")])],
+                "rotation": name.rsplit("_", 1)[1],
+                "renders": count,
+            }
+            for compared_name, result in results.items():
+                row[f"psnr_{compared_name}"] = metrics.psnr(reference[crop], result.color[crop])
+            for compared_name, result in results.items():
+                row[f"ms_{compared_name}"] = result.total_ms
+            rows.append({**row, "reference_samples": n})
     return pd.DataFrame(rows)
