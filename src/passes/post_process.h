@@ -40,8 +40,8 @@ struct ImageUnitBinding {
   GLenum access;
 };
 
-// The uniform that the tile-list variant of a compute pass reads (common/tile_list.glsl); run()
-// sets it.
+// The uniform that the tile-list variant of a compute pass reads (common/tile_list.glsl); the
+// pass sets it itself.
 inline constexpr char kTileListK[] = "tile_list_k";
 
 class PostProcessPass {
