@@ -15,7 +15,7 @@ import json
 import blurlab as bl
 from blurlab.studies.sweep import sweep
 
-from common import describe, save
+from common import describe, open_context, save
 
 FIXED_K = [4, 8, 12, 16, 20, 24, 32, 40, 48, 64, 80, 96, 128]
 
@@ -26,7 +26,7 @@ def main() -> None:
     parser.add_argument("--size", default="640x360")
     parser.add_argument("--json", default=None)
     args = parser.parse_args()
-    ctx = bl.Context(int(args.device) if args.device.isdigit() else args.device)
+    ctx = open_context(args.device)
     size = tuple(int(v) for v in args.size.split("x"))
     filters = [n for n in bl.methods() if bl.method(n).params.get("k", None) is not None]
     filters = [n for n in filters if bl.method(n).params["k"].auto is not None]

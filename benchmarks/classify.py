@@ -22,7 +22,7 @@ import numpy as np
 import blurlab as bl
 from blurlab.converged import default_reference_samples
 
-from common import describe, save
+from common import describe, open_context, save
 
 FILTER = "reconstruct_mcguire2012"
 SHARED = ("tile_max", "neighbor_max")  # passes both configurations run
@@ -169,7 +169,7 @@ def main() -> None:
     parser.add_argument("--no-steps", action="store_true", help="skip part 2")
     parser.add_argument("--json", default=None)
     args = parser.parse_args()
-    ctx = bl.Context(int(args.device) if args.device.isdigit() else args.device)
+    ctx = open_context(args.device)
     size = tuple(int(v) for v in args.size.split("x"))
     record = {**describe(ctx), "runs": args.runs, "classification": [], "steps": []}
     print(f"\n{record['date']}  {record['renderer']}  (medians of {args.runs} runs, ms)")

@@ -9,6 +9,13 @@ import statistics
 from pathlib import Path
 
 
+def open_context(device: str):
+    """The blurlab Context a benchmark's --device names: auto, gpu, software or an EGL index."""
+    import blurlab as bl
+
+    return bl.Context(int(device) if device.isdigit() else device)
+
+
 def describe(ctx) -> dict:
     """Which device measured: renderer, GL version, timer clock, host."""
     info = ctx.info()

@@ -17,7 +17,7 @@ import time
 import blurlab as bl
 from blurlab import failures
 
-from common import describe, save
+from common import describe, open_context, save
 
 
 def main() -> None:
@@ -29,7 +29,7 @@ def main() -> None:
     parser.add_argument("--json", default=None)
     parser.add_argument("--images", default=None, help="folder for one gallery PNG a scene")
     args = parser.parse_args()
-    ctx = bl.Context(int(args.device) if args.device.isdigit() else args.device)
+    ctx = open_context(args.device)
     width, height = (int(v) for v in args.size.split("x"))
     record = {**describe(ctx), "size": args.size, "frames": args.frames}
     start = time.perf_counter()

@@ -15,7 +15,7 @@ import statistics
 
 import blurlab as bl
 
-from common import describe, save
+from common import describe, open_context, save
 
 
 def main() -> None:
@@ -26,7 +26,7 @@ def main() -> None:
     parser.add_argument("--reference-samples", type=int, default=64)
     parser.add_argument("--json", default=None)
     args = parser.parse_args()
-    ctx = bl.Context(int(args.device) if args.device.isdigit() else args.device)
+    ctx = open_context(args.device)
     width, height = (int(v) for v in args.size.split("x"))
     scene = bl.scenes.teapot_pass()
     record = {**describe(ctx), "size": args.size, "scene": "teapot_pass", "methods": {}}

@@ -19,7 +19,7 @@ import numpy as np
 import blurlab as bl
 from blurlab.render import stored_motion
 
-from common import describe, save
+from common import describe, open_context, save
 
 LENGTHS = [0.1, 0.25, 0.5, 1, 2, 4, 8, 16, 32, 64]
 
@@ -30,7 +30,7 @@ def main() -> None:
     parser.add_argument("--maxlen", type=float, default=math.hypot(1920, 1080))
     parser.add_argument("--json", default=None)
     args = parser.parse_args()
-    ctx = bl.Context(int(args.device) if args.device.isdigit() else args.device)
+    ctx = open_context(args.device)
 
     rng = np.random.default_rng(0)
     angles = np.linspace(0, 2 * np.pi, 4096, endpoint=False) + rng.uniform(0, 1e-3, 4096)

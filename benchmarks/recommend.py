@@ -10,7 +10,7 @@ import argparse
 
 import blurlab as bl
 
-from common import describe, save
+from common import describe, open_context, save
 
 BUDGETS_MS = (0.1, 1.0, 10.0)
 
@@ -21,7 +21,7 @@ def main() -> None:
     parser.add_argument("--size", default="640x360")
     parser.add_argument("--json", default=None)
     args = parser.parse_args()
-    ctx = bl.Context(int(args.device) if args.device.isdigit() else args.device)
+    ctx = open_context(args.device)
     size = tuple(int(v) for v in args.size.split("x"))
     record = {**describe(ctx), "size": args.size, "answers": []}
     print(f"\n{record['date']}  {record['renderer']}  {args.size}")

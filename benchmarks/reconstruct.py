@@ -17,7 +17,7 @@ import time
 
 import blurlab as bl
 
-from common import describe, save
+from common import describe, open_context, save
 
 PASSES = ("tile_max", "neighbor_max", "reconstruct")
 
@@ -51,7 +51,7 @@ def main() -> None:
     parser.add_argument("--numpy", action="store_true", help="also time the NumPy reference")
     parser.add_argument("--json", default=None)
     args = parser.parse_args()
-    ctx = bl.Context(int(args.device) if args.device.isdigit() else args.device)
+    ctx = open_context(args.device)
     record = {**describe(ctx), "runs": args.runs, "sizes": {}}
     print(f"\n{record['date']}  {record['renderer']}  (medians of {args.runs} runs, ms)")
     header = "| {} | tile_max | neighbor_max | reconstruct | total |\n|---|---|---|---|---|"

@@ -23,7 +23,7 @@ from pathlib import Path
 import blurlab as bl
 from blurlab.converged import default_reference_samples
 
-from common import describe, save
+from common import describe, open_context, save
 
 FILTERS = ("reconstruct_mcguire2012", "reconstruct_guertin2014")
 OPTIONS = {
@@ -78,7 +78,7 @@ def main() -> None:
     parser.add_argument("--no-ssim", action="store_true", help="skip SSIM")
     parser.add_argument("--json", default=None)
     args = parser.parse_args()
-    ctx = bl.Context(int(args.device) if args.device.isdigit() else args.device)
+    ctx = open_context(args.device)
     size = tuple(int(v) for v in args.size.split("x"))
     record = {**describe(ctx), "size": args.size, "runs": args.runs, "rows": []}
     failure = bl.scenes.names("failure")

@@ -22,7 +22,7 @@ import time
 import blurlab as bl
 from blurlab import metrics
 
-from common import describe, save, summarize
+from common import describe, open_context, save, summarize
 
 
 def main() -> None:
@@ -33,7 +33,7 @@ def main() -> None:
     parser.add_argument("--ssim-repeats", type=int, default=10)
     parser.add_argument("--json", default=None)
     args = parser.parse_args()
-    ctx = bl.Context(int(args.device) if args.device.isdigit() else args.device)
+    ctx = open_context(args.device)
     width, height = (int(v) for v in args.size.split("x"))
     scene = bl.scenes.teapot_pass()
     frame = ctx.render(scene, (width, height))

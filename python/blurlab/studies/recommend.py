@@ -41,7 +41,7 @@ class Recommendation:
         if self.row is None:
             fastest = self.table.sort_values("total_ms").iloc[0]
             return (
-                f"nothing meets {self.question}; the fastest is {fastest['method']} "
+                f"nothing meets the request ({self.question}); the fastest is {fastest['method']} "
                 f"{fastest['params']} at {fastest['total_ms']:.3g} ms, "
                 f"PSNR {fastest['psnr']:.2f} dB"
             )
