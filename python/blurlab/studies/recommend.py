@@ -22,7 +22,7 @@ from ..methods import method
 from ..scene import Scene
 from .sweep import default_grids, sweep
 
-HIGHER_IS_BETTER = {"psnr": True, "ssim": True}
+METRICS = ("psnr", "ssim")  # the metrics an answer can rank by; higher is better for both
 _CACHE: dict[tuple, pd.DataFrame] = {}
 
 
@@ -84,8 +84,8 @@ def recommend(
             isinstance(value, bool) or not isinstance(value, (int, float)) or not value > 0
         ):
             raise ValueError(f"blurlab.recommend: {name} must be a number > 0, not {value!r}")
-    if metric not in HIGHER_IS_BETTER:
-        raise ValueError(f"blurlab.recommend: metric must be one of {tuple(HIGHER_IS_BETTER)}")
+    if metric not in METRICS:
+        raise ValueError(f"blurlab.recommend: metric must be one of {METRICS}")
     # A built-in scene is the same scene whenever it is named; another is itself.
     identity = scene if isinstance(scene, str) else id(scene)
     scene = scenes.get(scene) if isinstance(scene, str) else scene
@@ -95,16 +95,10 @@ def recommend(
         rows = rows[rows["total_ms"] <= budget_ms]
     if target_psnr is not None:
         rows = rows[rows["psnr"] >= target_psnr]
-    question = " and ".join(
-        text
-        for text in (
-            f"PSNR >= {target_psnr:g} dB" if target_psnr is not None else "",
-            f"<= {budget_ms:g} ms" if budget_ms is not None else "",
-        )
-        if text
-    )
     if target_psnr is not None:
-        question = f"the cheapest with {question}"
+        question = f"the cheapest with PSNR >= {target_psnr:g} dB"
+        if budget_ms is not None:
+            question += f" within {budget_ms:g} ms"
     else:
         question = f"the best {metric.upper()} within {budget_ms:g} ms"
     question += f"; {len(table)} configurations on {scene.name} {size[0]}x{size[1]}"

@@ -62,8 +62,6 @@ def run_study(
     return io.write_text(out / "report.html", report)
 
 
-# The study's curves fix the other parameter at its usual value where the grid has it.
-_USUAL = {"k": 20, "samples": 15}
 _CURVE_TITLES = {
     "samples": "S sweep (the thesis's Table 5.2, with accuracy)",
     "k": "k sweep (the thesis's Table 5.3, with accuracy)",
@@ -84,7 +82,8 @@ def _parameter_curves(table, name: str, params: tuple[str, ...], out: Path, earl
         for other in params:
             if other != param:
                 values = set(rows[f"param_{other}"])
-                usual = _USUAL.get(other)
+                # The other parameter at its declared default where the grid has it.
+                usual = method(name).params[other].default
                 fixed[other] = usual if usual in values else int(rows[f"param_{other}"].iloc[0])
         png = f"curve_{param}.png"
         if png in {file for _, file in earlier}:
