@@ -200,6 +200,7 @@ class Scene:
     shutter: tuple = (0.0, 1.0 / 60.0)
     name: str = "scene"
     objects: list[SceneObject] = field(default_factory=list)
+    source: Path | None = None  # the file a scene was loaded from (blurlab.gltf), for reports
 
     def __post_init__(self):
         b = np.asarray(self.background, dtype=np.float64)

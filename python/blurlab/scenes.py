@@ -1,15 +1,18 @@
 """Built-in scenes. Each is a few lines; motion is in units per second, shutter 1/60 s.
 
-``names()`` lists them, ``get(name)`` builds one.
+``names()`` lists them, ``get(name)`` builds one; ``get`` and ``gltf`` also load scene files.
 """
 
 from __future__ import annotations
 
 import colorsys
 import math
+import os
+from pathlib import Path
 
 import numpy as np
 
+from . import gltf as gltf_files
 from . import mesh
 from .motion import Bone, Motion, Skeleton, quaternion
 from .scene import Camera, DirectionalLight, Material, Scene
@@ -388,7 +391,28 @@ def describe(name: str) -> str:
     return " ".join(builder.__doc__.split("\n\n")[0].split())
 
 
-def get(name: str) -> Scene:
+FILE_SUFFIXES = (".gltf", ".glb")
+
+
+def gltf(path, animation: int | None = 0, camera=None, size_hint=None, shutter=None) -> Scene:
+    """A scene from a glTF 2.0 file (.gltf or .glb), animated: `blurlab.gltf.load`."""
+    return gltf_files.load(path, animation, camera, size_hint, shutter)
+
+
+def is_file(item) -> bool:
+    """Whether `item` names a scene file rather than a built-in scene."""
+    return isinstance(item, os.PathLike) or str(item).lower().endswith(FILE_SUFFIXES)
+
+
+def label(item) -> str:
+    """How tables and reports name a scene: a built-in name, or a file's name."""
+    return Path(item).name if is_file(item) else str(item)
+
+
+def get(name) -> Scene:
+    """A built-in scene by name, or a scene file (.gltf, .glb) by path."""
+    if is_file(name):
+        return gltf(name)
     if name in _SCENES:
         return _SCENES[name]()
     if name in _FAILURES:
@@ -396,7 +420,9 @@ def get(name: str) -> Scene:
     if name in _BENCHMARKS:
         return _BENCHMARKS[name]()
     everything = names() + names("failure") + names("benchmark")
-    raise ValueError(f"blurlab: no built-in scene {name!r}; there are {everything}")
+    raise ValueError(
+        f"blurlab: no built-in scene {name!r}; there are {everything}, or give a .gltf/.glb path"
+    )
 
 
 def _move(x, y, z) -> np.ndarray:
