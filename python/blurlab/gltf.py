@@ -25,7 +25,9 @@ from .mesh import Mesh
 from .motion import Motion
 from .scene import Camera, Material, Scene
 
-MAX_FILE_BYTES = 512 << 20  # a .gltf, .glb or external buffer larger than this is refused
+MAX_FILE_BYTES = 256 << 20  # a .gltf, .glb or external buffer larger than this is refused
+MAX_JSON_VALUES = 100_000  # pygltflib builds an object per JSON value: this bounds its time
+MAX_ACCESSOR_VALUES = 1 << 25  # numbers in one accessor (256 MiB as float64)
 MAX_IMAGE_PIXELS = 1 << 26  # 8192 x 8192: larger base colour textures are refused
 MAX_VERTICES = 1 << 24  # per primitive, after any de-indexing
 MAX_NODES = 1 << 16
@@ -246,7 +248,7 @@ class _Loader:
         data = self.path.read_bytes()
         blob = None
         if data[:4] == b"glTF":
-            self._check_glb(data)
+            self._check_json(self._check_glb(data))
             try:
                 doc = pygltflib.GLTF2.load_from_bytes(data)
             except Exception as error:  # pygltflib reports a bad container in many ways
@@ -257,7 +259,7 @@ class _Loader:
         else:
             try:
                 text = data.decode("utf-8")
-                json.loads(text)  # pygltflib would accept some broken JSON silently
+                self._check_json(text)
                 doc = pygltflib.GLTF2.gltf_from_json(text)
             except (UnicodeDecodeError, ValueError) as error:
                 self.fail(f"not a glTF JSON document or GLB ({error})")
@@ -271,8 +273,8 @@ class _Loader:
             self.fail(f"it requires extensions blurlab does not implement: {sorted(required)}")
         return doc, blob
 
-    def _check_glb(self, data: bytes):
-        """The GLB header and chunk table, checked before pygltflib reads it."""
+    def _check_glb(self, data: bytes) -> str:
+        """The GLB header and chunk table, checked before pygltflib reads it; the JSON text."""
         if len(data) < 20:
             self.fail(f"a GLB needs at least 20 bytes, this one has {len(data)} (truncated?)")
         version, length = np.frombuffer(data[4:12], "<u4")
@@ -291,6 +293,30 @@ class _Loader:
             offset += 8 + int(chunk_length)
         if not kinds or kinds[0] != 0x4E4F534A:  # "JSON" must come first
             self.fail("the first GLB chunk is not JSON")
+        json_length = int(np.frombuffer(data[12:16], "<u4")[0])
+        try:
+            return data[20 : 20 + json_length].decode("utf-8")
+        except UnicodeDecodeError as error:
+            self.fail(f"the GLB's JSON chunk is not UTF-8 ({error})")
+
+    def _check_json(self, text: str):
+        """Valid JSON (pygltflib accepts some broken JSON silently) of a bounded size."""
+        try:
+            document = json.loads(text)
+        except ValueError as error:
+            self.fail(f"not a glTF JSON document or GLB ({error})")
+        count, stack = 0, [document]
+        while stack:
+            value = stack.pop()
+            count += 1
+            if count > MAX_JSON_VALUES:
+                self.fail(f"its JSON holds more than {MAX_JSON_VALUES} values")
+            if isinstance(value, dict):
+                stack.extend(value.values())
+            elif isinstance(value, list):
+                stack.extend(value)
+        if not isinstance(document, dict):
+            self.fail("its JSON is not an object")
 
     def buffer(self, index: int) -> bytes:
         if index not in self._buffers:
@@ -354,7 +380,7 @@ class _Loader:
             self.fail(f"{label} has componentType {a.componentType!r}")
         dtype, divisor = _COMPONENTS[a.componentType]
         width = _WIDTHS[a.type]
-        count = _int(self, a.count, f"{label} count", 1, MAX_VERTICES * 3)
+        count = _int(self, a.count, f"{label} count", 1, MAX_ACCESSOR_VALUES // width)
         if a.bufferView is None:
             values = np.zeros((count, width), dtype=dtype)
         else:
@@ -562,6 +588,8 @@ class _Loader:
         triangles = _triangles(corners, mode)
         if len(triangles) == 0:
             self.fail(f"{label} has no complete triangle")
+        if 3 * len(triangles) > MAX_VERTICES:
+            self.fail(f"{label} has {len(triangles)} triangles; at most {MAX_VERTICES // 3}")
         uvs = np.zeros((n, 2))
         texcoord = getattr(attributes, "TEXCOORD_0", None)
         if texcoord is not None:

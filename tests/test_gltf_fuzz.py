@@ -1,0 +1,154 @@
+"""Fuzzing the glTF reader: 1000 mutated .gltf and 1000 mutated .glb files from a seeded
+mutator. Every file either loads into a scene that renders (or refuses clearly to) or raises
+GltfError naming the file: no other exception, no crash, and none takes longer than 5 s."""
+
+from __future__ import annotations
+
+import io as bytes_io
+import json
+import math
+import random
+import time
+import warnings
+
+import numpy as np
+import pytest
+from gltf_writer import GltfBuilder, box_triangles
+from PIL import Image
+
+import blurlab as bl
+from blurlab.gltf import GltfError
+
+FILES_PER_FORMAT = 1000
+SLOWEST_ALLOWED_S = 5.0
+ODD_VALUES = [
+    -1, 0, 1, 2, 3, 7, 255, 65535, 2**31, 10**9, 10**18, -(10**9), 0.5, -0.0, 1e308, -1e308,
+    "x", "", None, True, [], {}, [1, 2], {"a": 1}, "../../etc/passwd", "http://example.com/a",
+]  # fmt: skip
+
+
+def rich_document() -> GltfBuilder:
+    """Nodes in a hierarchy, a skin, every interpolation, a texture and a camera."""
+    b = GltfBuilder()
+    p, n, i = box_triangles()
+    png = bytes_io.BytesIO()
+    Image.fromarray(np.full((2, 2, 4), 200, np.uint8), "RGBA").save(png, format="PNG")
+    material = b.texture_material(png.getvalue(), factor=(0.9, 0.5, 0.2, 1.0))
+    child = b.node(root=False, mesh=b.mesh(p, i, n, uvs=np.zeros((len(p), 2)), material=material))
+    parent = b.node(children=[child], translation=[0.5, 0, 0])
+    j1 = b.node(root=False, translation=[1, 0, 0])
+    j0 = b.node(children=[j1])
+    skin = b.skin([j0, j1], [np.eye(4), np.eye(4)])
+    joints = np.tile([0, 1, 0, 0], (len(p), 1))
+    weights = np.tile([0.5, 0.5, 0, 0], (len(p), 1))
+    b.node(mesh=b.mesh(p, i, n, joints=joints, weights=weights), skin=skin)
+    b.animate(parent, "translation", [0, 1], [[0, 0, 0], [1, 0, 0]])
+    b.animate(child, "rotation", [0, 1], [[0, 0, 0, 1], [0, 0, 0.7071, 0.7071]], "STEP")
+    b.animate(j1, "scale", [0, 1], [[0, 0, 0], [1, 1, 1], [0, 0, 0]] * 2, "CUBICSPLINE")
+    b.node(camera=b.camera(0.8, 0.1, 100.0), translation=[0, 0, 5])
+    return b
+
+
+def mutate_json(doc: dict, rng: random.Random) -> dict:
+    """Replaces, deletes or duplicates a few values anywhere in the JSON tree."""
+    for _ in range(rng.randint(1, 4)):
+        parents, stack = [], [doc]
+        while stack:  # every (container, key) of the tree
+            node = stack.pop()
+            items = node.items() if isinstance(node, dict) else enumerate(node)
+            for k, v in items:
+                parents.append((node, k))
+                if isinstance(v, (dict, list)):
+                    stack.append(v)
+        container, key = rng.choice(parents)
+        action = rng.random()
+        if action < 0.15 and isinstance(container, dict):
+            del container[key]
+        elif (
+            action < 0.3
+            and isinstance(container[key], (int, float))
+            and not isinstance(container[key], bool)
+        ):
+            container[key] = container[key] + rng.choice([-1, 1, 2**20, -(2**20)])
+        elif action < 0.4 and isinstance(container[key], list):
+            container[key] = container[key] * rng.randint(0, 3)
+        else:
+            container[key] = rng.choice(ODD_VALUES)
+    return doc
+
+
+def mutate_bytes(data: bytes, rng: random.Random) -> bytes:
+    data = bytearray(data)
+    action = rng.random()
+    if action < 0.25:
+        return bytes(data[: rng.randrange(len(data))])  # truncated
+    for _ in range(rng.randint(1, 8)):
+        at = rng.randrange(len(data))
+        if action < 0.6:
+            data[at] = rng.randrange(256)  # a flipped byte, often in the JSON chunk
+        elif action < 0.8:
+            data[at : at + 4] = rng.randrange(2**32).to_bytes(4, "little")
+        else:
+            del data[at : at + rng.randint(1, 16)]
+    return bytes(data)
+
+
+def _load_all(ctx, paths) -> tuple[int, float]:
+    loaded, slowest = 0, 0.0
+    for path in paths:
+        start = time.perf_counter()
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                scene = bl.scenes.gltf(path)
+            loaded += 1
+            try:  # a scene that loads renders, or says clearly why not (a transform overflows)
+                frame = ctx.render(scene, (16, 16))
+                assert np.isfinite(frame.motion).all()
+            except ValueError as error:
+                assert str(error).startswith("blurlab")
+        except GltfError as error:
+            assert path.name in str(error)
+        except Exception as error:  # noqa: BLE001 - the point of the test
+            pytest.fail(f"{path.name}: {type(error).__name__}: {error}")
+        slowest = max(slowest, time.perf_counter() - start)
+    return loaded, slowest
+
+
+def test_mutated_gltf_files_load_or_fail_clearly(ctx, tmp_path):
+    rng = random.Random(20261123)
+    base = json.loads(rich_document().save(tmp_path / "base.gltf").read_text())
+    paths = []
+    for k in range(FILES_PER_FORMAT):
+        doc = mutate_json(json.loads(json.dumps(base)), rng)
+        path = tmp_path / f"m{k}.gltf"
+        try:
+            path.write_text(json.dumps(doc))
+        except ValueError:  # a value JSON cannot hold
+            path.write_text(json.dumps(doc, allow_nan=True))
+        paths.append(path)
+    loaded, slowest = _load_all(ctx, paths)
+    print(f"gltf fuzz: {loaded}/{len(paths)} loaded, the rest refused; slowest {slowest:.3f} s")
+    assert slowest < SLOWEST_ALLOWED_S
+    assert 0 < loaded < len(paths)  # the mutator really makes both kinds
+
+
+def test_mutated_glb_files_load_or_fail_clearly(ctx, tmp_path):
+    rng = random.Random(20261124)
+    base = rich_document().save(tmp_path / "base.glb").read_bytes()
+    paths = []
+    for k in range(FILES_PER_FORMAT):
+        path = tmp_path / f"m{k}.glb"
+        path.write_bytes(mutate_bytes(base, rng))
+        paths.append(path)
+    loaded, slowest = _load_all(ctx, paths)
+    print(f"glb fuzz: {loaded}/{len(paths)} loaded, the rest refused; slowest {slowest:.3f} s")
+    assert slowest < SLOWEST_ALLOWED_S
+    assert 0 < loaded < len(paths)
+
+
+def test_the_unmutated_base_files_load(tmp_path):
+    for suffix in (".gltf", ".glb"):
+        scene = bl.scenes.gltf(rich_document().save(tmp_path / f"base{suffix}"))
+        assert len(scene.objects) == 2
+        assert math.isclose(scene.camera.fov_y, math.degrees(0.8))
