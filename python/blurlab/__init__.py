@@ -1,6 +1,6 @@
 """blurlab: real-time motion-blur methods run headless on the GPU, measured from Python."""
 
-from . import hatching, io, mesh, metrics, scenes, tam, twins
+from . import capture, gltf, hatching, io, mesh, metrics, scenes, tam, twins
 from ._core import GLError, ShaderError
 from .context import ComputeProgram, Context, PendingDownload, Texture, Timing
 from .converged import Reference, reference_samples_needed
@@ -51,6 +51,8 @@ __all__ = [
     "Timing",
     "blur",
     "blur_steps",
+    "capture",
+    "gltf",
     "hatching",
     "io",
     "local_cluster",

@@ -7,6 +7,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from . import capture
+
 MOTION_FORMATS = ("rg32f", "rg16f", "rgba8_offset", "rgba8_polar")
 
 
@@ -66,6 +68,14 @@ class Frame:
             )
         if not isinstance(self.motion_format, str) or self.motion_format not in MOTION_FORMATS:
             raise ValueError(f"blurlab: motion_format must be one of {MOTION_FORMATS}")
+
+    @classmethod
+    def from_exr(cls, path=None, **kwargs) -> Frame:
+        """A frame captured by another renderer, from EXR files (docs/spec.md §16): one
+        multi-layer file, or ``color=``, ``depth=``, ``motion=`` paths; ``convention``,
+        ``shutter_fraction``, ``depth_encoding``, ``near``, ``far``, ``reversed_z`` and
+        ``shutter`` as `blurlab.capture.read_exr` takes them."""
+        return cls(**capture.read_exr(path, **kwargs))
 
     @functools.cached_property
     def depth_range(self) -> tuple[float, float] | None:

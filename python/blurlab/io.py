@@ -34,10 +34,12 @@ def _oiio():
     return oiio
 
 
-def write(path: str | os.PathLike, array: np.ndarray) -> Path:
+def write(path: str | os.PathLike, array: np.ndarray, channel_names=None) -> Path:
     """Writes ``array`` ((H, W) or (H, W, C)) to ``path``; returns the path.
 
     - ``.exr``: float32 stays float32, float16 stays half; uint8 is written as float32 / 255.
+      ``channel_names`` (one per channel, e.g. "motion.X") names the channels of a multi-layer
+      file; by default OpenImageIO names them R, G, B, A.
     - ``.png``: float arrays are linear color, clipped to [0, 1] and sRGB-encoded to 8 bits;
       uint8 arrays are taken as already encoded and written as they are.
     """
@@ -66,15 +68,25 @@ def write(path: str | os.PathLike, array: np.ndarray) -> Path:
     if array.dtype.kind == "f" and not np.isfinite(array).all() and suffix == ".png":
         raise ValueError("blurlab.io.write: array has NaN or inf values, which PNG cannot hold")
     data = _encode(array, suffix)
+    if data.ndim == 2:  # OpenImageIO reads a 2-D array's second axis as channels, not columns
+        data = data[..., None]
     folder = path.parent if str(path.parent) else Path(".")
     if not folder.is_dir():
         raise FileNotFoundError(f"blurlab.io.write: folder {str(folder)!r} does not exist")
 
     oiio = _oiio()
-    channels = 1 if data.ndim == 2 else data.shape[2]
+    channels = data.shape[2]
     spec = oiio.ImageSpec(data.shape[1], data.shape[0], channels, _oiio_type(oiio, data.dtype))
     # Channels are data: OpenImageIO must not (un)premultiply by alpha on the way.
     spec.attribute("oiio:UnassociatedAlpha", 1)
+    if channel_names is not None:
+        names = [str(n) for n in channel_names]
+        if suffix != ".exr" or len(names) != channels or len(set(names)) != channels:
+            raise ValueError(
+                f"blurlab.io.write: channel_names needs {channels} distinct names and an .exr file"
+            )
+        spec.channelnames = tuple(names)
+        spec.alpha_channel = -1  # no channel is alpha unless named so: nothing is premultiplied
     if suffix == ".png":
         spec.attribute("oiio:ColorSpace", "sRGB")
     fd, tmp_name = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=suffix, dir=folder)
@@ -145,6 +157,39 @@ def read(path: str | os.PathLike) -> np.ndarray:
         image.close()
     pixels = np.asarray(pixels)
     return pixels.reshape(spec.height, spec.width, spec.nchannels)
+
+
+MAX_READ_VALUES = 1 << 27  # floats in one image read by read_channels (512 MiB)
+
+
+def read_channels(path: str | os.PathLike) -> tuple[list[str], np.ndarray]:
+    """A float image's channel names and its pixels as (H, W, C) float32, read whole (the first
+    subimage). Files from outside are untrusted: an image of more than MAX_READ_VALUES numbers
+    is refused before it is read."""
+    path = Path(path)
+    if not path.is_file():
+        raise FileNotFoundError(f"blurlab.io.read_channels: no such file: {path}")
+    oiio = _oiio()
+    config = oiio.ImageSpec()
+    config.attribute("oiio:UnassociatedAlpha", 1)
+    image = oiio.ImageInput.open(str(path), config)
+    if image is None:
+        raise OSError(f"blurlab.io.read_channels: cannot read {path}: {_error_text(oiio)}")
+    try:
+        spec = image.spec()
+        values = spec.width * spec.height * spec.nchannels
+        if not 0 < values <= MAX_READ_VALUES:
+            raise OSError(
+                f"blurlab.io.read_channels: {path} is {spec.width}x{spec.height}x"
+                f"{spec.nchannels}; at most {MAX_READ_VALUES} values are read"
+            )
+        pixels = image.read_image(oiio.FLOAT)
+        if pixels is None:
+            raise OSError(f"blurlab.io.read_channels: {path} is corrupt: {_error_text(image)}")
+    finally:
+        image.close()
+    pixels = np.asarray(pixels, dtype=np.float32).reshape(spec.height, spec.width, spec.nchannels)
+    return list(spec.channelnames), pixels
 
 
 def _error_text(source) -> str:

@@ -1,0 +1,192 @@
+"""Captures from other renderers (docs/spec.md §16): EXR colour, depth and motion in each
+documented convention become a bl.Frame that every post-process method accepts."""
+
+from __future__ import annotations
+
+import math
+import subprocess
+import sys
+import textwrap
+
+import numpy as np
+import pytest
+
+import blurlab as bl
+from blurlab import capture
+
+SIZE = (160, 90)
+
+
+@pytest.fixture(scope="module")
+def rendered(ctx):
+    return ctx.render(bl.scenes.get("teapot_pass"), SIZE)
+
+
+def test_uv_capture_of_our_own_gbuffer_round_trips(ctx, rendered, tmp_path):
+    """blurlab's G-buffer written as a Unity-style capture (UV per frame, half-frame shutter,
+    hardware depth) and read back gives the same frame: motion within 1e-3 px, depth within
+    1e-4 relative."""
+    camera = bl.scenes.get("teapot_pass").camera
+    uv = capture.motion_from_blurlab(rendered.motion, "uv", shutter_fraction=0.5)
+    hardware = capture.depth_from_linear(rendered.depth, "hardware", camera.near, camera.far)
+    layers = np.concatenate([rendered.color, hardware[..., None], uv], axis=2)
+    names = ["R", "G", "B", "A", "depth.Z", "motion.R", "motion.G"]
+    path = bl.io.write(tmp_path / "capture.exr", layers.astype(np.float32), channel_names=names)
+    frame = bl.Frame.from_exr(
+        path,
+        convention="uv",
+        shutter_fraction=0.5,
+        depth_encoding="hardware",
+        near=camera.near,
+        far=camera.far,
+    )
+    assert np.abs(frame.motion - rendered.motion).max() <= 1e-3
+    drawn = np.isfinite(rendered.depth)
+    assert np.array_equal(np.isfinite(frame.depth), drawn)
+    relative = np.abs(frame.depth[drawn] / rendered.depth[drawn] - 1)
+    assert relative.max() <= 1e-4
+    assert np.array_equal(frame.color, rendered.color)
+    assert np.abs(rendered.motion).max() > 5  # pixels really move
+    # Every post-process method takes the imported frame and gives what the original gives.
+    for name in ("reconstruct_mcguire2012", "reconstruct_guertin2014", "reconstruct_urho3d"):
+        a = bl.blur(ctx, frame, name).color
+        b = bl.blur(ctx, rendered, name).color
+        assert np.isfinite(a).all()
+        assert np.mean(np.abs(a - b) <= 1e-3) >= 0.999, name
+
+
+@pytest.mark.parametrize(
+    "convention, stored, expected",
+    [
+        ("blurlab", [3.0, -2.0], [3.0, -2.0]),
+        ("blender", [4.0, 2.0, 6.0, 2.0], [2.5, -1.0]),  # (prev + next)/2 · s, y up -> down
+        ("uv", [0.1, 0.1], [0.5 * 0.1 * 40, -0.5 * 0.1 * 20]),
+        ("ndc", [0.1, 0.1], [0.5 * 0.1 * 20, -0.5 * 0.1 * 10]),
+    ],
+)
+def test_each_motion_convention_against_hand_values(convention, stored, expected):
+    image = np.tile(np.asarray(stored, np.float32), (20, 40, 1))  # W = 40, H = 20
+    m = capture.motion_to_blurlab(image, convention, shutter_fraction=0.5)
+    scale = 1.0 if convention == "blurlab" else 1.0  # expected already holds s = 0.5 where due
+    want = np.asarray(expected) * (0.5 if convention == "blurlab" else 1.0) * scale
+    assert np.allclose(m[0, 0], want)
+    back = capture.motion_from_blurlab(m, convention, shutter_fraction=0.5)
+    assert np.allclose(capture.motion_to_blurlab(back, convention, 0.5), m)
+
+
+def test_hardware_depth_against_hand_values():
+    n, f = 1.0, 10.0
+    d = 10 / 9 * (1 - 1 / 2)  # z = 2: d = f/(f-n) (1 - n/z)
+    assert capture.depth_to_linear([d], "hardware", n, f)[0] == pytest.approx(2.0, rel=1e-6)
+    assert capture.depth_to_linear([1 - d], "hardware", n, f, reversed_z=True)[0] == pytest.approx(
+        2.0, rel=1e-6
+    )
+    assert capture.depth_to_linear([0.5], "hardware", n, math.inf)[0] == pytest.approx(2.0)
+    assert capture.depth_to_linear([1.0], "hardware", n, f)[0] == math.inf  # the far plane: nothing
+    assert capture.depth_to_linear([0.0], "hardware", n, f, reversed_z=True)[0] == math.inf
+    assert capture.depth_to_linear([0.0, -1.0, np.nan, 3.0])[:3].tolist() == [math.inf] * 3
+    z = np.array([0.5, 1.0, 7.0, 99.0])
+    for far in (100.0, math.inf):
+        for rev in (False, True):
+            d = capture.depth_from_linear(z, "hardware", 0.5, far, rev)
+            assert np.allclose(capture.depth_to_linear(d, "hardware", 0.5, far, rev), z, rtol=1e-4)
+
+
+def test_blender_multilayer_names_are_found(tmp_path):
+    h, w = 6, 8
+    rng = np.random.default_rng(1)
+    color = rng.random((h, w, 4), dtype=np.float32)
+    depth = rng.uniform(1, 5, (h, w, 1)).astype(np.float32)
+    vector = rng.normal(size=(h, w, 4)).astype(np.float32)
+    names = [f"ViewLayer.Combined.{c}" for c in "RGBA"]
+    names += ["ViewLayer.Depth.Z"] + [f"ViewLayer.Vector.{c}" for c in "XYZW"]
+    path = bl.io.write(
+        tmp_path / "render.exr", np.concatenate([color, depth, vector], axis=2), names
+    )
+    frame = bl.Frame.from_exr(path, convention="blender", shutter_fraction=1.0)
+    assert np.array_equal(frame.color, color)
+    assert np.array_equal(frame.depth, depth[..., 0])
+    expected = 0.5 * (vector[..., :2] + vector[..., 2:]) * [1, -1]
+    assert np.allclose(frame.motion, expected, atol=1e-6)
+
+
+def test_three_separate_files(tmp_path, rendered):
+    color = bl.io.write(tmp_path / "color.exr", rendered.color)
+    depth = bl.io.write(tmp_path / "depth.exr", capture.depth_from_linear(rendered.depth))
+    motion = bl.io.write(tmp_path / "motion.exr", rendered.motion)
+    frame = bl.Frame.from_exr(color=color, depth=depth, motion=motion)
+    assert np.array_equal(frame.motion, rendered.motion)
+    assert np.array_equal(frame.depth, rendered.depth)
+
+
+def test_bad_captures_say_what_is_wrong(tmp_path, rendered):
+    color = bl.io.write(tmp_path / "color.exr", rendered.color)
+    small = bl.io.write(tmp_path / "small.exr", np.zeros((4, 4, 2), np.float32))
+    with pytest.raises(ValueError, match="convention must be one of"):
+        bl.Frame.from_exr(color=color, depth=color, motion=color, convention="unreal")
+    with pytest.raises(ValueError, match="shutter_fraction"):
+        bl.Frame.from_exr(color=color, depth=color, motion=color, shutter_fraction=2)
+    with pytest.raises(ValueError, match="differ in size"):
+        bl.Frame.from_exr(color=color, depth=color, motion=small)
+    with pytest.raises(ValueError, match="needs near and far"):
+        bl.Frame.from_exr(color=color, depth=color, motion=color, depth_encoding="hardware")
+    with pytest.raises(ValueError, match="no depth layer among .* 1 channel; its channels are"):
+        bl.Frame.from_exr(color)
+    with pytest.raises(ValueError, match="no motion layer named 'speed'"):
+        bl.Frame.from_exr(color, depth="R", motion="speed")
+    with pytest.raises(ValueError, match="three EXR paths"):
+        bl.Frame.from_exr(color=color)
+    with pytest.raises(FileNotFoundError):
+        bl.Frame.from_exr(tmp_path / "absent.exr")
+    broken = tmp_path / "broken.exr"
+    broken.write_bytes(color.read_bytes()[:300])
+    with pytest.raises(OSError, match="broken.exr"):
+        bl.Frame.from_exr(broken)
+
+
+def test_mutated_exr_files_never_crash(tmp_path, rendered):
+    """1000 mutated EXRs through the reader in a child process (a crash of the image library
+    would show as a signal, not take the test run down): each is read or refused with an
+    OSError or ValueError; none takes over 5 s."""
+    names = ["R", "G", "B", "A", "depth.Z", "motion.X", "motion.Y"]
+    data = np.concatenate(
+        [rendered.color[:24, :32], rendered.depth[:24, :32, None], rendered.motion[:24, :32]],
+        axis=2,
+    )
+    base = bl.io.write(tmp_path / "base.exr", np.nan_to_num(data, posinf=0.0), names)
+    script = textwrap.dedent(
+        f"""
+        import random, time, sys
+        from pathlib import Path
+        import blurlab as bl
+        rng = random.Random(7)
+        base = Path({str(base)!r}).read_bytes()
+        counts = {{"read": 0, "refused": 0}}
+        slowest = 0.0
+        for k in range(1000):
+            data = bytearray(base)
+            if rng.random() < 0.2:
+                data = data[: rng.randrange(len(data))]
+            else:
+                for _ in range(rng.randint(1, 8)):
+                    data[rng.randrange(len(data))] = rng.randrange(256)
+            path = Path({str(tmp_path)!r}) / "m.exr"
+            path.write_bytes(bytes(data))
+            start = time.perf_counter()
+            try:
+                bl.Frame.from_exr(path)
+                counts["read"] += 1
+            except (OSError, ValueError):
+                counts["refused"] += 1
+            slowest = max(slowest, time.perf_counter() - start)
+        print(counts["read"], counts["refused"], round(slowest, 3))
+        """
+    )
+    result = subprocess.run(
+        [sys.executable, "-c", script], capture_output=True, text=True, timeout=600
+    )
+    assert result.returncode == 0, result.stderr[-2000:]
+    read, refused, slowest = result.stdout.split()
+    print(f"exr fuzz: {read} read, {refused} refused, slowest {slowest} s")
+    assert int(read) + int(refused) == 1000
+    assert float(slowest) < 5.0
