@@ -160,14 +160,10 @@ def _recommend(args) -> int:
     """One line with the answer, then the table it was chosen from (fastest first)."""
     if args.budget_ms is None and args.target_psnr is None:
         raise ValueError("recommend needs --budget-ms, --target-psnr or both")
-    if args.scene not in scenes.names() + scenes.names("failure") + scenes.names("benchmark"):
-        raise ValueError(
-            f"no built-in scene {args.scene!r}; choose from {', '.join(scenes.names())} "
-            "(or a failure scene)"
-        )
+    scene = scenes.get(args.scene)  # a built-in name or a .gltf/.glb file: fails before the GPU
     ctx = Context(args.device)
     answer = recommend(
-        ctx, args.scene, args.size, args.budget_ms, args.target_psnr, args.metric, progress=True
+        ctx, scene, args.size, args.budget_ms, args.target_psnr, args.metric, progress=True
     )
     print(f"recommend: {answer}")
     columns = ["chosen", "method", "params", "total_ms", "psnr", "ssim"]
@@ -256,7 +252,12 @@ def main(argv: list[str] | None = None) -> int:
     study = sub.add_parser(
         "study", help="the main job: every scene x method x grid, report.html + results.csv"
     )
-    study.add_argument("--scenes", nargs="+", default=None, help="built-in scenes (default: all)")
+    study.add_argument(
+        "--scenes",
+        nargs="+",
+        default=None,
+        help="built-in scenes and .gltf/.glb files (default: every built-in scene)",
+    )
     study.add_argument("--size", type=parse_size, default=(640, 360), help="WxH (default 640x360)")
     study.add_argument("--out", default="out/study", help="output folder (default: out/study)")
     study.add_argument(
@@ -271,7 +272,9 @@ def main(argv: list[str] | None = None) -> int:
         "recommend",
         help="the cheapest method reaching a PSNR, or the most accurate within a time budget",
     )
-    advice.add_argument("scene", help="a built-in scene (blurlab.scenes.names())")
+    advice.add_argument(
+        "scene", help="a built-in scene (blurlab.scenes.names()) or a .gltf/.glb file"
+    )
     advice.add_argument("--size", type=parse_size, default=(640, 360), help="WxH (default 640x360)")
     advice.add_argument("--budget-ms", type=float, default=None, help="GPU ms per frame at most")
     advice.add_argument("--target-psnr", type=float, default=None, help="PSNR in dB at least")

@@ -65,7 +65,7 @@ def load(
     has none), the index of one of the file's cameras, or a `bl.Camera`.
     ``size_hint``: (W, H) the scene will mostly be rendered at; the framing camera fits the
     bounds into that aspect ratio. ``shutter``: (t0, t1) in animation seconds; by default
-    1/60 s opening at the middle of the animation's keyed range.
+    1/60 s opening where the animation moves fastest (docs/spec.md §15).
     """
     path = Path(path)
     try:
@@ -527,12 +527,9 @@ class _Loader:
     def scene(self, animation, camera, size_hint, shutter) -> Scene:
         doc = self.doc
         nodes, order = self.nodes(animation)
-        keyed = [ch.times for chans in nodes.channels.values() for ch in chans]
         if shutter is None:
-            start = min(float(k[0]) for k in keyed) if keyed else 0.0
-            end = max(float(k[-1]) for k in keyed) if keyed else 0.0
-            middle = 0.5 * (start + end)
-            shutter = (middle, middle + DEFAULT_SHUTTER_S)
+            start = _busiest_time(nodes)
+            shutter = (start, start + DEFAULT_SHUTTER_S)
         scene = Scene(name=self.path.name, shutter=tuple(float(s) for s in shutter))
         scene.source = self.path
         materials: dict = {}
@@ -788,6 +785,25 @@ class _Loader:
             )
         except ValueError as error:
             self.fail(f"camera {index}: {error}")
+
+
+def _busiest_time(nodes: _Nodes, samples: int = 64) -> float:
+    """Where the default shutter opens: of `samples` times spread over the keyed range, the
+    one at which the nodes' world matrices change fastest (docs/spec.md §15), so that a scene
+    loaded without a shutter shows its motion; 0 for a still file."""
+    keyed = [ch.times for chans in nodes.channels.values() for ch in chans]
+    if not keyed:
+        return 0.0
+    start, end = min(float(k[0]) for k in keyed), max(float(k[-1]) for k in keyed)
+    if end <= start:
+        return start
+    step = DEFAULT_SHUTTER_S
+    times = start + (np.arange(samples) + 0.5) / samples * max(end - start - step, 0.0)
+    change = [
+        sum(np.abs(a - b).sum() for a, b in zip(nodes.world(t), nodes.world(t + step), strict=True))
+        for t in times
+    ]
+    return float(times[int(np.argmax(change))])
 
 
 def _framing_camera(scene: Scene, size_hint) -> Camera:

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 from dataclasses import dataclass, field
 
 import pandas as pd
@@ -65,7 +66,7 @@ def recommendation_grids() -> dict:
 
 def recommend(
     ctx: Context,
-    scene: Scene | str,
+    scene: Scene | str | os.PathLike,
     size=(640, 360),
     budget_ms: float | None = None,
     target_psnr: float | None = None,
@@ -86,9 +87,10 @@ def recommend(
             raise ValueError(f"blurlab.recommend: {name} must be a number > 0, not {value!r}")
     if metric not in METRICS:
         raise ValueError(f"blurlab.recommend: metric must be one of {METRICS}")
-    # A built-in scene is the same scene whenever it is named; another is itself.
-    identity = scene if isinstance(scene, str) else id(scene)
-    scene = scenes.get(scene) if isinstance(scene, str) else scene
+    # A scene named (built-in or file) is the same scene whenever it is named; another is itself.
+    named = isinstance(scene, (str, os.PathLike))
+    identity = str(scene) if named else id(scene)
+    scene = scenes.get(scene) if named else scene
     table = measured(ctx, scene, size, identity, progress)
     rows = table
     if budget_ms is not None:

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import datetime
 import html
+import re
 from pathlib import Path
 
 import numpy as np
@@ -49,8 +50,9 @@ def run_study(
     )
     info = ctx.info()
     sections = []
-    for name in names:
-        sections.append(_scene_section(ctx, name, table, size, out, grids, first=not sections))
+    for item in names:
+        scene = scenes.get(item)
+        sections.append(_scene_section(ctx, scene, table, size, out, grids, first=not sections))
     curves: list = []
     for name in grids:
         curves += _parameter_curves(table, name, method(name).study_curves, out, curves)
@@ -93,14 +95,14 @@ def _parameter_curves(table, name: str, params: tuple[str, ...], out: Path, earl
     return curves
 
 
-def _scene_section(ctx, name, table, size, out: Path, grids, first: bool) -> dict:
-    rows = table[table["scene"] == name]
-    plots.save(plots.pareto(rows, name), out / f"{name}_pareto.png")  # for papers
+def _scene_section(ctx, scene, table, size, out: Path, grids, first: bool) -> dict:
+    rows = table[table["scene"] == scene.name]
+    name = re.sub(r"[^A-Za-z0-9_.-]", "_", scene.name)  # the scene's files: safe in a URL
+    plots.save(plots.pareto(rows, scene.name), out / f"{name}_pareto.png")  # for papers
     chart = interactive.chart_html(
-        interactive.pareto_chart(rows, f"{name}: time against error"), first, f"pareto-{name}"
+        interactive.pareto_chart(rows, f"{scene.name}: time against error"), first, f"pareto-{name}"
     )
     # Images: each method at the middle of its grid, against the reference.
-    scene = scenes.get(name)
     reference = ctx.reference(
         scene, size, samples=int(rows["reference_samples"].iloc[0]), progress=False
     )
@@ -131,6 +133,7 @@ def _scene_section(ctx, name, table, size, out: Path, grids, first: bool) -> dic
             )
     return {
         "name": name,
+        "title": scene.name if scene.source is None else f"{scene.name} (from {scene.source})",
         "rows": rows,
         "best": best,
         "chart": chart,
@@ -189,7 +192,7 @@ def _html(info, size, table, sections, curves, per_object=None) -> str:
     ]
     for s in sections:
         parts.append(
-            f"<h2>{e(s['name'])}</h2><p>reference: N = {s['reference_samples']} sub-frames</p>"
+            f"<h2>{e(s['title'])}</h2><p>reference: N = {s['reference_samples']} sub-frames</p>"
         )
         parts.append(
             "<table><tr><th>budget</th><th>best method within it</th><th>parameters"
