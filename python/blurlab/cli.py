@@ -14,6 +14,7 @@ from pathlib import Path
 from . import io, scenes
 from .context import Context
 from .methods import blur, method, methods
+from .studies import plots
 from .studies.cluster import local_cluster
 from .studies.recommend import recommend
 from .studies.study import run_study, run_sweep_config
@@ -67,7 +68,7 @@ def _demo(args) -> int:
         speed = np.linalg.norm(frame.motion, axis=-1)
         io.write(out / f"{name}_sharp.png", frame.color)
         io.write(out / f"{name}_blurred.png", result.color)
-        io.write(out / f"{name}_motion.png", _motion_picture(frame.motion))
+        io.write(out / f"{name}_motion.png", plots.motion_picture(frame.motion))
         io.write(
             out / f"{name}_gbuffer.exr",
             np.concatenate([frame.color, frame.depth[..., None], frame.motion], axis=-1),
@@ -82,19 +83,6 @@ def _demo(args) -> int:
         f"and G-buffer EXRs (R, G, B, A, Z, Mx, My) to {out}/"
     )
     return 0
-
-
-def _motion_picture(motion):
-    """Motion as color: hue = direction, brightness = length (up to the longest)."""
-    import colorsys
-
-    import numpy as np
-
-    length = np.linalg.norm(motion, axis=-1)
-    hue = (np.arctan2(motion[..., 1], motion[..., 0]) / (2 * np.pi)) % 1.0
-    value = length / max(float(length.max()), 1e-6)
-    rgb = np.vectorize(colorsys.hsv_to_rgb)(hue, np.where(length > 0, 1.0, 0.0), value)
-    return np.stack(rgb, axis=-1).astype(np.float32)
 
 
 @contextmanager

@@ -238,6 +238,18 @@ def crops_figure(reference: np.ndarray, images: dict[str, np.ndarray], side: int
     return fig
 
 
+def motion_picture(motion: np.ndarray) -> np.ndarray:
+    """(H, W, 3) linear colour of a motion field: hue = direction, brightness = length (up to
+    the longest), black where nothing moves."""
+    import colorsys
+
+    length = np.linalg.norm(motion, axis=-1)
+    hue = (np.arctan2(motion[..., 1], motion[..., 0]) / (2 * np.pi)) % 1.0
+    value = length / max(float(length.max()), 1e-6)
+    rgb = np.vectorize(colorsys.hsv_to_rgb)(hue, np.where(length > 0, 1.0, 0.0), value)
+    return np.stack(rgb, axis=-1).astype(np.float32)
+
+
 def save(fig, path: str | Path) -> Path:
     """Writes PNG or SVG (by extension) and closes the figure."""
     path = Path(path)
