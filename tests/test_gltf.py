@@ -437,3 +437,15 @@ def test_scene_names_and_files_resolve_the_same_way(tmp_path):
     assert bl.scenes.get(str(path)).name == "moving box.glb"
     with pytest.raises(ValueError, match="gltf/.glb path"):
         bl.scenes.get("no_such_scene")
+
+
+def test_oversized_json_and_empty_accessors_are_bounded(tmp_path):
+    path = _edit(tmp_path, "big.gltf", lambda b: _set(b.doc, extras={"pad": [0] * 200_000}))
+    with pytest.raises(GltfError, match="more than 100000 values"):
+        bl.scenes.gltf(path)
+    # An accessor without data reads as zeros: its size is bounded before anything is allocated.
+    path = _edit(
+        tmp_path, "zeros.gltf", lambda b: _set(b.doc.accessors[0], bufferView=None, count=2**40)
+    )
+    with pytest.raises(GltfError, match="count is 1099511627776"):
+        bl.scenes.gltf(path)
