@@ -140,17 +140,37 @@ def test_ssim_column_equals_numpy_on_the_same_images(ctx, monkeypatch):
     assert table["ssim"].between(0, 1).all() and table["ssim"].nunique() > 1
 
 
-def test_only_flip_downloads_the_images(ctx, monkeypatch):
+def test_flip_column_equals_flip_evaluator_on_the_same_images(ctx, monkeypatch):
+    # The sweep computes FLIP on the GPU; each value must equal flip-evaluator's (metrics.flip)
+    # on the very images it compared, as the CPU column did before (tests/test_flip_gpu.py).
+    real = evaluation.m.gpu_flip
+    compared = []
+
+    def gpu_and_cpu(ctx_, reference, color):
+        value = real(ctx_, reference, color)
+        compared.append((value, evaluation.m.flip(reference.download(), color.download())))
+        return value
+
+    monkeypatch.setattr(evaluation.m, "gpu_flip", gpu_and_cpu)
+    args = dict(reference_samples=8, metrics=("psnr", "flip"), progress=False, repeats=1)
+    table = sw.sweep(ctx, ["fan"], GRID, SIZE, **args)
+    assert list(table["flip"]) == [gpu for gpu, _ in compared] and len(compared) == 5
+    for gpu, cpu in compared:
+        assert gpu == pytest.approx(cpu, abs=1e-4)
+    assert table["flip"].nunique() > 1
+
+
+def test_no_metric_downloads_the_images(ctx, monkeypatch):
     downloads = []
     real = bl.Texture.download
-    monkeypatch.setattr(bl.Texture, "download", lambda t: downloads.append(t) or real(t))
+    monkeypatch.setattr(bl.Texture, "download", lambda t: downloads.append(t.shape) or real(t))
     ctx.render(bl.scenes.fan(), SIZE)
     render = len(downloads)  # the G-buffer's arrays, which every sweep makes once per scene
     args = dict(reference_samples=8, progress=False, repeats=1)
-    for metrics, images in ((("psnr", "ssim"), 0), (("flip",), 2)):
-        downloads.clear()
-        sw.sweep(ctx, ["fan"], {"gather_box": {"taps": [4]}}, SIZE, metrics=metrics, **args)
-        assert len(downloads) == render + images, metrics  # FLIP: the reference and the output
+    downloads.clear()
+    sw.sweep(ctx, ["fan"], {"gather_box": {"taps": [4]}}, SIZE, metrics=sw.METRICS, **args)
+    # FLIP reads back its partial sums, one per 16 x 16 pixels, and nothing else.
+    assert downloads[render:] == [(-(-SIZE[1] // 16), -(-SIZE[0] // 16))]
 
 
 def test_bad_sweeps_are_rejected(ctx, tmp_path):
