@@ -121,7 +121,7 @@ def gpu_mse(ctx, a, b) -> float:
 
 def gpu_ssim(ctx, a, b) -> float:
     """`ssim` of two (H, W, 4) float32 textures, computed on the GPU (docs/spec.md §6): only partial
-    sums of the SSIM map (one float per 16 x 16 pixels) are read back."""
+    sums of the SSIM map (one float per 32 x 16 pixels) are read back."""
     _same_size(a, b, "gpu_ssim")
     return ctx.cached("ssim", lambda: _core.SsimReductionPass(ctx.native)).mean_ssim(
         a.native, b.native
