@@ -104,6 +104,17 @@ def test_pixels_per_degree_change_the_filters(ctx, rng):
     assert far < near
 
 
+def test_nan_and_infinite_colours_read_as_the_passes_read_them(ctx, rng):
+    a = rng.uniform(0.0, 1.0, (36, 64, 4)).astype(np.float32)
+    b = a.copy()
+    b[5, 7], b[20, 30], b[30, 60] = np.nan, np.inf, -np.inf
+    expected = b.copy()
+    expected[5, 7], expected[20, 30], expected[30, 60] = 0.0, 1.0, 0.0  # NaN as 0, then clipped
+    gpu_map = metrics.gpu_flip_map(ctx, ctx.upload(a), ctx.upload(b))
+    assert np.isfinite(gpu_map).all()
+    assert np.abs(gpu_map - twin.flip_map(a, expected)).max() < 1e-4
+
+
 def test_bad_input_is_rejected(ctx):
     a = ctx.upload(np.zeros((36, 64, 4), np.float32))
     b = ctx.upload(np.zeros((36, 63, 4), np.float32))

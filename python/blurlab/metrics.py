@@ -189,7 +189,8 @@ def gpu_flip(ctx, reference, test, ppd: float = flip_twin.DEFAULT_PPD) -> float:
     """Mean LDR-FLIP error (Andersson et al. 2020; docs/spec.md §6.1) of two (H, W, 4) float32
     textures of linear colour, computed on the GPU: the `flip` of the images, as flip-evaluator
     computes it (tests/test_flip_gpu.py), with only one partial sum per 16 x 16 pixels read
-    back. `ppd`: pixels per degree of visual angle (flip-evaluator's default: 67.02)."""
+    back. `ppd`: pixels per degree of visual angle (flip-evaluator's default: 67.02). NaN
+    colour reads as 0 and infinities clip to [0, 1], as every pass reads colour."""
     error, partials = _gpu_flip_textures(ctx, reference, test, ppd)
     total = float(np.sum(partials.download(), dtype=np.float64))
     ctx.recycle(error, partials)

@@ -14,6 +14,7 @@
 // was 2-4x slower on llvmpipe, where barriers are costly, and the GPU's texture cache serves
 // the neighbours' reads anyway.
 #include "common/flip.glsl"
+#include "common/inputs.glsl"
 
 layout(local_size_x = 16, local_size_y = 16) in;
 layout(binding = 0) uniform sampler2D reference;
@@ -35,8 +36,9 @@ void main() {
     vec3 features_r = vec3(0.0), features_t = vec3(0.0);
     for (int t = -RADIUS; t <= RADIUS; ++t) {
         ivec2 q = ivec2(clamp(p.x + t, 0, size.x - 1), p.y);
-        vec3 r = linear_to_ycxcz(texelFetch(reference, q, 0).rgb);
-        vec3 e = linear_to_ycxcz(texelFetch(test, q, 0).rgb);
+        // NaN reads as 0, as every pass reads colour (common/inputs.glsl).
+        vec3 r = linear_to_ycxcz(sanitize_color(texelFetch(reference, q, 0)).rgb);
+        vec3 e = linear_to_ycxcz(sanitize_color(texelFetch(test, q, 0)).rgb);
         int c = t + CSF_RADIUS;
         if (c >= 0 && c <= 2 * CSF_RADIUS) {
             vec4 k = vec4(K_Y[c], K_CX[c], K_CZ1[c], K_CZ2[c]);
