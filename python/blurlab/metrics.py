@@ -134,7 +134,8 @@ def _glsl_floats(values) -> str:
 
 def _flip_defines(ppd: float) -> dict:
     """The kernels and constants of LDR-FLIP at `ppd` pixels per degree, computed in double
-    (blurlab.twins.flip) and compiled into the shaders."""
+    (blurlab.twins.flip) and compiled into the shaders (about 1 ms of NumPy: made once per
+    context and ppd, with the passes, in _flip_passes)."""
     csf = flip_twin.csf_kernels(ppd)
     g, d, dd = flip_twin.feature_kernels(ppd)
     inverse = flip_twin.XYZ_TO_RGB * flip_twin.WHITE  # undoes RGB_TO_XYZ / white
@@ -163,24 +164,33 @@ def _check_ppd(ppd) -> float:
     return float(ppd)
 
 
+def _flip_passes(ctx, ppd: float):
+    """LDR-FLIP's two passes at `ppd`, compiled once per context and ppd."""
+
+    def make():
+        defines = _flip_defines(ppd)
+        return (
+            ctx.shader_pass("passes/flip_horizontal.comp", defines),
+            ctx.shader_pass("passes/flip_error.comp", defines),
+        )
+
+    return ctx.cached(("gpu_flip", ppd), make)
+
+
 def _gpu_flip_textures(ctx, reference, test, ppd):
     """Runs LDR-FLIP's two passes; returns the (H, W) error map and the per-group partial sums
     as pooled textures (the caller recycles them)."""
     _same_size(reference, test, "gpu_flip")
     if reference.channels < 3 or test.channels < 3:
         raise ValueError("blurlab.metrics.gpu_flip: the images need RGB channels")
-    defines = _flip_defines(_check_ppd(ppd))
+    horizontal, vertical = _flip_passes(ctx, _check_ppd(ppd))
     height, width = reference.shape[:2]
     rows = [ctx.pooled((height, width, 4)) for _ in range(4)]
     names = ("reference_color", "reference_features", "test_color", "test_features")
-    ctx.shader_pass("passes/flip_horizontal.comp", defines).run(
-        {"reference": reference, "test": test}, dict(zip(names, rows, strict=True))
-    )
+    horizontal.run({"reference": reference, "test": test}, dict(zip(names, rows, strict=True)))
     error = ctx.pooled((height, width))
     partials = ctx.pooled((-(-height // 16), -(-width // 16)))
-    ctx.shader_pass("passes/flip_error.comp", defines).run(
-        dict(zip(names, rows, strict=True)), {"error": error, "partials": partials}
-    )
+    vertical.run(dict(zip(names, rows, strict=True)), {"error": error, "partials": partials})
     ctx.recycle(*rows)
     return error, partials
 
