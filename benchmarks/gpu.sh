@@ -5,6 +5,7 @@
 #
 #   device run, carry [".gl", ".whl"]:  bash benchmarks/gpu.sh transfer
 #   GPU_TESTS=0 bash benchmarks/gpu.sh "methods --size 1920x1080"   (no test suite)
+#   GPU_TESTS="tests/test_flip_gpu.py" bash benchmarks/gpu.sh "speed_floor --study"   (some tests)
 #   BASELINE=.before bash benchmarks/gpu.sh "reconstruct ..."   (carry .before too: an older
 #     tree, e.g. `git archive REV | tar -x -C .before`; each benchmark then runs on both,
 #     baseline first, twice in turn, so drift of the GPU's clocks shows as a spread)
@@ -48,10 +49,13 @@ export PYTHONUNBUFFERED=1
 
 python3 -m blurlab --device gpu info | tee "$out/info_gpu.json"
 # The test suite there (the notebooks need a Jupyter kernel, which the device lacks; CI runs
-# them). GPU_TESTS=0 skips it, for a second call that only measures.
-if [ "${GPU_TESTS:-1}" = 1 ]; then
+# them). GPU_TESTS=0 skips it, for a second call that only measures; any other value but 1
+# names the test files to run, e.g. GPU_TESTS="tests/test_flip_gpu.py tests/test_ssim_gpu.py".
+tests="${GPU_TESTS:-1}"
+[ "$tests" = 1 ] && tests="--ignore tests/test_notebooks.py tests"
+if [ "$tests" != 0 ]; then
   start=$SECONDS
-  python3 -m pytest -q -p no:cacheprovider --ignore tests/test_notebooks.py tests >"$out/pytest.log" 2>&1 \
+  python3 -m pytest -q -p no:cacheprovider $tests >"$out/pytest.log" 2>&1 \
     || echo "gpu.sh: tests FAILED (the whole log: pytest.log)"
   tail -n 15 "$out/pytest.log"
   echo "gpu.sh: tests took $((SECONDS - start)) s"

@@ -119,38 +119,41 @@ def test_interrupted_sweep_keeps_finished_rows(ctx, tmp_path, monkeypatch):
     assert len(table) == 5 and len(pd.read_csv(out)) == 5
 
 
-def test_ssim_column_equals_numpy_on_the_same_images(ctx, monkeypatch):
-    # The sweep reduces SSIM on the GPU; each value must equal metrics.ssim of the very images
-    # it compared (downloaded here, not by the sweep), as the CPU column did before.
-    real = evaluation.m.gpu_ssim
+@pytest.mark.parametrize("metric, tolerance", [("ssim", 1e-5), ("flip", 1e-4)])
+def test_gpu_columns_equal_the_cpu_metrics_on_the_same_images(ctx, monkeypatch, metric, tolerance):
+    # The sweep reduces SSIM and FLIP on the GPU; each value must equal metrics.ssim (NumPy) or
+    # metrics.flip (flip-evaluator) of the very images it compared (downloaded here, not by the
+    # sweep), as the CPU columns did before.
+    real = getattr(evaluation.m, f"gpu_{metric}")
+    on_the_cpu = getattr(evaluation.m, metric)
     compared = []
 
-    def gpu_and_numpy(ctx_, reference, color):
+    def gpu_and_cpu(ctx_, reference, color):
         value = real(ctx_, reference, color)
-        compared.append((value, evaluation.m.ssim(reference.download(), color.download())))
+        compared.append((value, on_the_cpu(reference.download(), color.download())))
         return value
 
-    monkeypatch.setattr(evaluation.m, "gpu_ssim", gpu_and_numpy)
-    args = dict(reference_samples=8, metrics=("psnr", "ssim"), progress=False, repeats=1)
+    monkeypatch.setattr(evaluation.m, f"gpu_{metric}", gpu_and_cpu)
+    args = dict(reference_samples=8, metrics=("psnr", metric), progress=False, repeats=1)
     table = sw.sweep(ctx, ["fan"], GRID, SIZE, **args)
     assert len(compared) == len(table) == 5
-    assert list(table["ssim"]) == [gpu for gpu, _ in compared]
-    for gpu, numpy in compared:
-        assert gpu == pytest.approx(numpy, abs=1e-5)
-    assert table["ssim"].between(0, 1).all() and table["ssim"].nunique() > 1
+    assert list(table[metric]) == [gpu for gpu, _ in compared]
+    for gpu, cpu in compared:
+        assert gpu == pytest.approx(cpu, abs=tolerance)
+    assert table[metric].between(0, 1).all() and table[metric].nunique() > 1
 
 
-def test_only_flip_downloads_the_images(ctx, monkeypatch):
+def test_no_metric_downloads_the_images(ctx, monkeypatch):
     downloads = []
     real = bl.Texture.download
-    monkeypatch.setattr(bl.Texture, "download", lambda t: downloads.append(t) or real(t))
+    monkeypatch.setattr(bl.Texture, "download", lambda t: downloads.append(t.shape) or real(t))
     ctx.render(bl.scenes.fan(), SIZE)
     render = len(downloads)  # the G-buffer's arrays, which every sweep makes once per scene
     args = dict(reference_samples=8, progress=False, repeats=1)
-    for metrics, images in ((("psnr", "ssim"), 0), (("flip",), 2)):
-        downloads.clear()
-        sw.sweep(ctx, ["fan"], {"gather_box": {"taps": [4]}}, SIZE, metrics=metrics, **args)
-        assert len(downloads) == render + images, metrics  # FLIP: the reference and the output
+    downloads.clear()
+    sw.sweep(ctx, ["fan"], {"gather_box": {"taps": [4]}}, SIZE, metrics=sw.METRICS, **args)
+    # FLIP reads back its partial sums, one per 16 x 16 pixels, and nothing else.
+    assert downloads[render:] == [(-(-SIZE[1] // 16), -(-SIZE[0] // 16))]
 
 
 def test_bad_sweeps_are_rejected(ctx, tmp_path):

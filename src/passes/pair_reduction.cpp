@@ -28,7 +28,8 @@ double PairReduction::sum(Program& program, const Texture& a, const Texture& b) 
                                 size_of(b));
   if (a.format().channels < 3 || b.format().channels < 3)
     throw std::invalid_argument("blurlab: compared images need RGB channels");
-  const int gx = (a.width() + 15) / 16, gy = (a.height() + 15) / 16;
+  const auto local = program.local_size();
+  const int gx = (a.width() + local[0] - 1) / local[0], gy = (a.height() + local[1] - 1) / local[1];
   const size_t groups = size_t(gx) * gy;
   if (!partials_ || partials_->size() < groups * sizeof(float))
     partials_ = std::make_unique<Buffer>(context_, groups * sizeof(float), Buffer::Usage::storage);

@@ -1,5 +1,5 @@
 // What the error reductions of docs/spec.md §6 share (ErrorReductionPass, SsimReductionPass): a
-// compute program over two images of one size in 16 x 16 work groups, each group writing one
+// compute program over two images of one size in work groups of its local size, each writing one
 // partial sum to a storage buffer, read back and added up in double precision on the CPU.
 #pragma once
 
@@ -18,8 +18,9 @@ class PairReduction {
   explicit PairReduction(Context* context);
   ~PairReduction();
   // Binds a and b to texture units 0 and 1 and the partial sums to storage buffer 0, runs
-  // `program` over ⌈W/16⌉ × ⌈H/16⌉ groups and returns the sum of the partials. Throws
-  // std::invalid_argument, naming both sizes, if a and b differ in size or lack RGB.
+  // `program` over ⌈W/X⌉ × ⌈H/Y⌉ groups of its local size X x Y and returns the sum of the
+  // partials. Throws std::invalid_argument, naming both sizes, if a and b differ in size or lack
+  // RGB.
   double sum(Program& program, const Texture& a, const Texture& b);
 
  private:

@@ -54,17 +54,22 @@ ShaderPass::ShaderPass(std::shared_ptr<Context> context, std::string shader, Def
   whole_tiles_ = whole_tiles;
 }
 
-void ShaderPass::run(const NamedTextures& inputs, const NamedTextures& outputs,
-                     const UniformValues& uniforms, Backend backend, bool group_per_texel) {
-  Program& p = program(backend);
+const ShaderPass::Units& ShaderPass::units(const Program& p, const NamedTextures& inputs,
+                                           const NamedTextures& outputs, Backend backend) {
+  std::string names;
+  for (const auto& [name, texture] : inputs) names += name + ',';
+  names += '|';
+  for (const auto& [name, texture] : outputs) names += name + ',';
+  auto found = units_.find({&p, names});
+  if (found != units_.end()) return found->second;
   if (outputs.empty())
     throw std::invalid_argument("blurlab: " + p.name() + " needs at least one output");
-  const std::vector<TextureUnitBinding> textures = units_of(p, inputs, is_sampler_type, "sampler");
-  std::vector<ImageUnitBinding> images;
+  Units u;
+  for (const TextureUnitBinding& b : units_of(p, inputs, is_sampler_type, "sampler"))
+    u.samplers.push_back(b.unit);
   if (backend == Backend::compute) {
-    // Read-write suits every declaration; see shader_pass.h.
     for (const TextureUnitBinding& b : units_of(p, outputs, is_image_type, "image"))
-      images.push_back({b.unit, b.texture, GL_READ_WRITE});
+      u.images.push_back(b.unit);
   } else {
     std::vector<std::string> known;
     for (const auto& [name, output] : p.outputs()) known.push_back(name);
@@ -72,6 +77,21 @@ void ShaderPass::run(const NamedTextures& inputs, const NamedTextures& outputs,
       throw std::invalid_argument("blurlab: " + p.name() +
                                   " draws one output, its fragment output: " + joined(known));
   }
+  return units_.emplace(std::make_pair(&p, names), std::move(u)).first->second;
+}
+
+void ShaderPass::run(const NamedTextures& inputs, const NamedTextures& outputs,
+                     const UniformValues& uniforms, Backend backend, bool group_per_texel) {
+  Program& p = program(backend);
+  const Units& u = units(p, inputs, outputs, backend);
+  std::vector<TextureUnitBinding> textures;
+  textures.reserve(inputs.size());
+  for (size_t i = 0; i < inputs.size(); ++i) textures.push_back({u.samplers[i], inputs[i].second});
+  std::vector<ImageUnitBinding> images;
+  images.reserve(u.images.size());
+  // Read-write suits every declaration; see shader_pass.h.
+  for (size_t i = 0; i < u.images.size(); ++i)
+    images.push_back({u.images[i], outputs[i].second, GL_READ_WRITE});
   for (const auto& [name, values] : uniforms) p.set_uniform(name, values);
   run_bound(backend, textures, images, *outputs.front().second, group_per_texel);
 }

@@ -65,6 +65,17 @@ class ShaderPass : public PostProcessPass {
   // The program's samplers, images, fragment outputs and uniforms on `backend` (compiling it if
   // need be), leaving out the tile-list uniform that run() sets itself.
   ShaderReflection reflect(Backend backend);
+
+ private:
+  // The units of the textures and images that a run names, in its order, checked once per
+  // program and list of names: a sweep runs each pass thousands of times with the same names.
+  struct Units {
+    std::vector<int> samplers;
+    std::vector<int> images;
+  };
+  const Units& units(const Program& p, const NamedTextures& inputs, const NamedTextures& outputs,
+                     Backend backend);
+  std::map<std::pair<const Program*, std::string>, Units> units_;
 };
 
 }  // namespace blurlab

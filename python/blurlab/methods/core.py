@@ -376,7 +376,52 @@ def blur_steps(
     return out
 
 
+# Validated values of the parameter sets already seen, per method: sweeps and benchmarks call
+# blur with the same few sets thousands of times. The key holds the given values and the
+# defaults read from the frame (soft_z), all of the plain types below ("auto" is never cached,
+# it reads the frame's motion); the cache is bounded.
+_RESOLVED: dict[int, tuple[Method, dict]] = {}
+_RESOLVED_MAX = 4096
+_CACHEABLE_TYPES = (int, float, bool, str)
+
+
+def _key_item(name: str, value) -> tuple | None:
+    """(name, type, value) that tells 1, 1.0, True and -0.0 apart; None for other types."""
+    kind = type(value)
+    if kind not in _CACHEABLE_TYPES or _is_auto(value):
+        return None
+    return (name, kind.__name__, value.hex() if kind is float else value)
+
+
+def _resolved_key(m: Method, frame: Frame | None, given: dict) -> tuple | None:
+    key = []
+    for name, value in given.items():
+        key.append(_key_item(name, value))
+    for name, p in m.params.items():
+        if name not in given and callable(p.default):
+            key.append(_key_item(name, p.default(frame)))
+    return None if None in key else tuple(sorted(key))
+
+
 def resolve_params(m: Method, frame: Frame | None, given: dict, frame_free: bool = False) -> dict:
+    """The validated values of every parameter of `m` from `given` and the defaults (reading
+    `frame` where a default or an "auto" rule needs it)."""
+    key = None if frame_free else _resolved_key(m, frame, given)
+    if key is None:
+        return _resolve_params(m, frame, given, frame_free)
+    entry = _RESOLVED.get(id(m))
+    if entry is None or entry[0] is not m:
+        entry = _RESOLVED[id(m)] = (m, {})
+    seen = entry[1]
+    if key not in seen:
+        values = _resolve_params(m, frame, given, frame_free)
+        if len(seen) >= _RESOLVED_MAX:
+            seen.clear()
+        seen[key] = values
+    return dict(seen[key])
+
+
+def _resolve_params(m: Method, frame: Frame | None, given: dict, frame_free: bool) -> dict:
     unknown = set(given) - set(m.params)
     if unknown:
         raise TypeError(

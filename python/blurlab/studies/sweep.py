@@ -1,8 +1,8 @@
 """Sweeps: scenes × methods × parameter grids → one row per evaluation, in a pandas DataFrame.
 
 Each scene's G-buffer is rendered once per instant its methods need and its reference once;
-each evaluation runs the method, reduces the squared error and, if asked, the SSIM map against
-the reference on the GPU (scalar readbacks), and computes FLIP, if asked, on the CPU. Rows are
+each evaluation runs the method, reduces the squared error and, if asked, the SSIM and FLIP
+maps against the reference on the GPU (scalar readbacks). Rows are
 appended to a CSV file as they are made, so an interrupted sweep keeps every finished row and
 a rerun with the same file skips them. With a Dask cluster the same evaluations run on its
 workers, a scene's configurations split into chunks (blurlab.studies.cluster).

@@ -6,6 +6,7 @@ Each GPU pass has its twin here, and the tests hold the GPU to it.
 from . import (
     accumulation,
     classify,
+    flip,
     gathers,
     guertin2014,
     hatching,
@@ -22,6 +23,7 @@ from .patterns import test_pattern
 __all__ = [
     "accumulation",
     "classify",
+    "flip",
     "gathers",
     "guertin2014",
     "hatching",

@@ -1,0 +1,127 @@
+"""gpu_flip (shaders/passes/flip_horizontal.comp, flip_error.comp; docs/spec.md §6.1) against the
+flip-evaluator package (metrics.flip, on the same images in sRGB) and against its NumPy twin
+blurlab.twins.flip: the study's frames (every built-in scene blurred by four methods, and
+unblurred, against its reference), random and noisy images, and sizes smaller than the filters.
+The issue's bars: the mean within 1e-3 of flip-evaluator on >= 20 pairs, the per-pixel map
+within 1e-2 on >= 99 % of pixels."""
+
+from __future__ import annotations
+
+import flip_evaluator
+import numpy as np
+import pytest
+
+import blurlab as bl
+from blurlab import metrics
+from blurlab.io import linear_to_srgb
+from blurlab.twins import flip as twin
+
+SIZE = (160, 90)
+STUDY_METHODS = ("reconstruct_mcguire2012", "reconstruct_guertin2014", "gather_box", None)
+# Measured on llvmpipe over the 25 pairs below (2026-11-23): means at most 1.7e-5 apart from
+# flip-evaluator (the 1x1 image; study frames 8.4e-6), pixels at most 8.6e-5 (float32 on both
+# sides, sums in another order). The bounds keep a margin of 5-10x.
+MEAN_TOLERANCE = 1e-4
+PIXEL_TOLERANCE = 1e-3
+
+
+def evaluator_map(reference: np.ndarray, test: np.ndarray) -> np.ndarray:
+    """flip-evaluator's LDR map of two linear images (encoded to sRGB, as metrics.flip does)."""
+    srgb = lambda c: np.ascontiguousarray(linear_to_srgb(c[..., :3]), np.float32)  # noqa: E731
+    error, _, _ = flip_evaluator.evaluate(
+        srgb(reference), srgb(test), "LDR", inputsRGB=True, applyMagma=False
+    )
+    return np.squeeze(error)
+
+
+def agree(ctx, reference: np.ndarray, test: np.ndarray) -> float:
+    ref_texture, test_texture = ctx.upload(reference), ctx.upload(test)
+    mean = metrics.gpu_flip(ctx, ref_texture, test_texture)
+    gpu_map = metrics.gpu_flip_map(ctx, ref_texture, test_texture)
+    expected = evaluator_map(reference, test)
+    assert mean == pytest.approx(metrics.flip(reference, test), abs=MEAN_TOLERANCE)
+    assert mean == pytest.approx(float(expected.mean()), abs=MEAN_TOLERANCE)
+    assert np.abs(gpu_map - expected).max() <= PIXEL_TOLERANCE
+    assert mean == pytest.approx(float(gpu_map.astype(np.float64).mean()), abs=1e-6)
+    return mean
+
+
+@pytest.fixture(scope="module")
+def study_frames(ctx):
+    """(scene, method, reference, blurred) for every built-in scene at 160x90."""
+    pairs = []
+    for name in bl.scenes.names():
+        scene = bl.scenes.get(name)
+        reference = ctx.reference(scene, SIZE, samples=32, progress=False).color
+        for method in STUDY_METHODS:
+            frame = ctx.render(scene, SIZE, instant=bl.method_instant(method or "gather_box", {}))
+            test = frame.color if method is None else bl.blur(ctx, frame, method).color
+            pairs.append((name, method, reference, test))
+    return pairs
+
+
+def test_study_frames_equal_flip_evaluator(ctx, study_frames):
+    assert len(study_frames) >= 20
+    means = [agree(ctx, reference, test) for _, _, reference, test in study_frames]
+    assert all(0.0 < m < 1.0 for m in means)
+    # The reconstruction filters bring every scene closer to its reference than the sharp frame.
+    by_pair = {(name, method): m for (name, method, *_), m in zip(study_frames, means, strict=True)}
+    for name, method in by_pair:
+        if method is not None and method.startswith("reconstruct"):
+            assert by_pair[name, method] < by_pair[name, None], (name, method)
+
+
+@pytest.mark.parametrize("size", [(160, 90), (17, 33), (64, 1), (3, 2), (1, 1)])
+def test_random_images_equal_flip_evaluator(ctx, rng, size):
+    a = rng.uniform(-0.2, 1.2, (size[1], size[0], 4)).astype(np.float32)
+    b = (a + rng.normal(0.0, 0.1, a.shape)).astype(np.float32)
+    agree(ctx, a, b)
+
+
+def test_gpu_equals_the_numpy_twin(ctx, rng):
+    a = rng.uniform(0.0, 1.0, (36, 64, 4)).astype(np.float32)
+    b = np.clip(a + rng.normal(0.0, 0.05, a.shape), 0, 1).astype(np.float32)
+    gpu_map = metrics.gpu_flip_map(ctx, ctx.upload(a), ctx.upload(b))
+    assert np.abs(gpu_map - twin.flip_map(a, b)).max() < 1e-4
+
+
+def test_identical_images_give_zero(ctx, rng):
+    a = ctx.upload(rng.uniform(0.0, 1.0, (36, 64, 4)).astype(np.float32))
+    assert metrics.gpu_flip(ctx, a, a) == 0.0
+
+
+def test_black_against_white_is_near_one(ctx):
+    black = np.zeros((36, 64, 4), np.float32)
+    white = np.ones((36, 64, 4), np.float32)
+    assert agree(ctx, black, white) > 0.9
+
+
+def test_pixels_per_degree_change_the_filters(ctx, rng):
+    a = ctx.upload(rng.uniform(0.0, 1.0, (36, 64, 4)).astype(np.float32))
+    b = ctx.upload(rng.uniform(0.0, 1.0, (36, 64, 4)).astype(np.float32))
+    near, far = metrics.gpu_flip(ctx, a, b, ppd=20.0), metrics.gpu_flip(ctx, a, b, ppd=120.0)
+    # Seen from farther away (more pixels per degree) pixel noise blurs together.
+    assert far < near
+
+
+def test_nan_and_infinite_colours_read_as_the_passes_read_them(ctx, rng):
+    a = rng.uniform(0.0, 1.0, (36, 64, 4)).astype(np.float32)
+    b = a.copy()
+    b[5, 7], b[20, 30], b[30, 60] = np.nan, np.inf, -np.inf
+    expected = b.copy()
+    expected[5, 7], expected[20, 30], expected[30, 60] = 0.0, 1.0, 0.0  # NaN as 0, then clipped
+    gpu_map = metrics.gpu_flip_map(ctx, ctx.upload(a), ctx.upload(b))
+    assert np.isfinite(gpu_map).all()
+    assert np.abs(gpu_map - twin.flip_map(a, expected)).max() < 1e-4
+
+
+def test_bad_input_is_rejected(ctx):
+    a = ctx.upload(np.zeros((36, 64, 4), np.float32))
+    b = ctx.upload(np.zeros((36, 63, 4), np.float32))
+    with pytest.raises(ValueError, match=r"\(36, 64, 4\) and \(36, 63, 4\)"):
+        metrics.gpu_flip(ctx, a, b)
+    with pytest.raises(ValueError, match="ppd"):
+        metrics.gpu_flip(ctx, a, a, ppd=0)
+    with pytest.raises(ValueError, match="RGB"):
+        gray = ctx.upload(np.zeros((36, 64), np.float32))
+        metrics.gpu_flip(ctx, gray, gray)
