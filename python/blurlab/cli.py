@@ -125,7 +125,7 @@ def _study(args) -> int:
             args.size,
             args.out,
             args.reference_samples,
-            tuple(args.metrics.split(",")),
+            None if args.metrics == "auto" else tuple(args.metrics.split(",")),
             cluster=cluster,
         )
     print(f"wrote {report} and {Path(args.out) / 'results.csv'}")
@@ -160,7 +160,7 @@ def _recommend(args) -> int:
     """One line with the answer, then the table it was chosen from (fastest first)."""
     if args.budget_ms is None and args.target_psnr is None:
         raise ValueError("recommend needs --budget-ms, --target-psnr or both")
-    if args.scene not in scenes.names() + scenes.names("failure") + scenes.names("benchmark"):
+    if args.scene not in scenes.names() + [n for tag in scenes.TAGS for n in scenes.names(tag)]:
         raise ValueError(
             f"no built-in scene {args.scene!r}; choose from {', '.join(scenes.names())} "
             "(or a failure scene)"
@@ -265,7 +265,12 @@ def main(argv: list[str] | None = None) -> int:
         default=None,
         help="N of each reference (default: max(64, 2 x longest motion))",
     )
-    study.add_argument("--metrics", default="psnr,ssim,flip", help="comma-separated")
+    study.add_argument(
+        "--metrics",
+        default="auto",
+        help="comma-separated names; auto (default): psnr,ssim,flip and, on HDR scenes, "
+        "hdr_flip,psnr_tm,ssim_tm,log_lum_error,energy_ratio",
+    )
     _add_cluster_options(study)
     advice = sub.add_parser(
         "recommend",

@@ -13,7 +13,17 @@ import pandas as pd
 from ..io import linear_to_srgb
 from ..metrics import error_map
 
-HIGHER_IS_BETTER = {"psnr": True, "ssim": True, "flip": False}
+# HDR metrics first: a scene that has them is charted by them (the LDR ones clip its lights).
+# energy_ratio is best at 1, neither higher nor lower, so it is not charted.
+HIGHER_IS_BETTER = {
+    "psnr_tm": True,
+    "ssim_tm": True,
+    "hdr_flip": False,
+    "log_lum_error": False,
+    "psnr": True,
+    "ssim": True,
+    "flip": False,
+}
 
 
 def _pyplot():
@@ -82,7 +92,7 @@ def pareto(table: pd.DataFrame, scene: str, metric: str = "psnr", budget_ms: flo
         metric.upper()
         + (
             " (dB, higher is better)"
-            if metric == "psnr"
+            if metric in ("psnr", "psnr_tm")
             else " (higher is better)"
             if HIGHER_IS_BETTER[metric]
             else " (lower is better)"
