@@ -11,6 +11,7 @@ import pytest
 
 import blurlab as bl
 from blurlab import metrics
+from blurlab.studies import failures
 from blurlab.studies.study import run_study
 from blurlab.studies.sweep import sweep_methods
 
@@ -271,3 +272,16 @@ def test_study_report_shows_hdr_scenes_tone_mapped_with_the_exposure(ctx, tmp_pa
     exposure = float(table["exposure"].iloc[0])
     assert "HDR scene" in text and f"{exposure:.4g}" in text and "PSNR_TM" in text
     assert (tmp_path / "spinning_ring_reference.png").is_file()
+
+
+def test_hdr_scores_names_its_metrics_and_the_exposure():
+    a, b = np.ones((8, 8, 3)), np.full((8, 8, 3), 2.0)
+    scores = metrics.hdr_scores(a, b, ("energy_ratio",))
+    assert scores == {"energy_ratio": pytest.approx(2.0), "exposure": metrics.exposure(a)}
+    with pytest.raises(ValueError, match="unknown HDR metrics"):
+        metrics.hdr_scores(a, b, ("psnr",))
+
+
+def test_the_failure_suite_measures_hdr_scenes_with_the_hdr_metrics(ctx):
+    table = failures.evaluate(ctx, ["spinning_ring"], ["gather_box"], SIZE, 2, 16, False)
+    assert np.isfinite(table[["hdr_flip", "psnr_tm", "energy_ratio", "exposure"]].to_numpy()).all()

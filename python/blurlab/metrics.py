@@ -331,3 +331,16 @@ HDR_METRICS = {
     "log_lum_error": log_luminance_error,
     "energy_ratio": energy_ratio,
 }
+
+
+def hdr_scores(reference, test, names=tuple(HDR_METRICS)) -> dict[str, float]:
+    """{name: value} of the HDR metrics `names` (keys of HDR_METRICS) of `test` against
+    `reference`, and "exposure", the one `psnr_tm` and `ssim_tm` used."""
+    unknown = set(names) - set(HDR_METRICS)
+    if unknown:
+        raise ValueError(
+            f"blurlab.metrics: unknown HDR metrics {sorted(unknown)}; choose from "
+            f"{list(HDR_METRICS)}"
+        )
+    a, b = _hdr_pair(reference, test)
+    return {**{name: HDR_METRICS[name](a, b) for name in names}, "exposure": exposure(a)}

@@ -94,10 +94,8 @@ def evaluate_scene(
         if "flip" in wanted:
             row["flip"] = m.flip(reference.color, result.color)
         hdr = [name for name in wanted if name in m.HDR_METRICS]
-        for name in hdr:
-            row[name] = m.HDR_METRICS[name](reference.color, result.color)
-        if hdr:  # the exposure that psnr_tm, ssim_tm and the report's pictures use
-            row["exposure"] = m.exposure(reference.color)
+        if hdr:  # with "exposure", the one psnr_tm, ssim_tm and the report's pictures use
+            row.update(m.hdr_scores(reference.color, result.color, hdr))
         row.update(
             {
                 "device": info["device"],

@@ -10,8 +10,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ..io import linear_to_srgb
-from ..metrics import error_map
+from ..io import linear_to_srgb, srgb_to_linear
+from ..metrics import error_map, tone_map
 
 # HDR metrics first: a scene that has them is charted by them (the LDR ones clip its lights).
 # energy_ratio is best at 1, neither higher nor lower, so it is not charted.
@@ -246,6 +246,13 @@ def crops_figure(reference: np.ndarray, images: dict[str, np.ndarray], side: int
                 ax.set_ylabel(f"worst of\n{owner.replace('reconstruct_', '')}", fontsize=6)
     fig.tight_layout()
     return fig
+
+
+def tone_mapped(image: np.ndarray, exposure: float) -> np.ndarray:
+    """(H, W, 3) float32 linear colour whose sRGB encoding is `metrics.tone_map(image,
+    exposure)`: written as a PNG or drawn by the functions here, an HDR image shows
+    tone-mapped (docs/spec.md §6.1) instead of clipped."""
+    return srgb_to_linear(tone_map(image, exposure)).astype(np.float32)
 
 
 def save(fig, path: str | Path) -> Path:

@@ -120,8 +120,8 @@ def _scene_section(ctx, name, table, size, out: Path, grids, first: bool) -> dic
     shown_reference, exposure = reference.color, None
     if scene.hdr:  # every picture tone-mapped alike, at the reference's exposure
         exposure = metrics.exposure(reference.color)
-        shown_reference = _display(reference.color, exposure)
-        images = {k: _display(v, exposure) for k, v in images.items()}
+        shown_reference = plots.tone_mapped(reference.color, exposure)
+        images = {k: plots.tone_mapped(v, exposure) for k, v in images.items()}
     plots.save(plots.image_grid(shown_reference, images), out / f"{name}_images.png")
     io.write(out / f"{name}_reference.png", shown_reference)
     gallery = _full_size_images(name, shown_reference, images, out)
@@ -153,11 +153,6 @@ def _scene_section(ctx, name, table, size, out: Path, grids, first: bool) -> dic
         "exposure": exposure,
     }
 
-
-def _display(image, exposure: float):
-    """Linear colour whose sRGB encoding is `metrics.tone_map(image, exposure)`: written as a
-    PNG or drawn in a grid, it shows the tone-mapped picture."""
-    return io.srgb_to_linear(metrics.tone_map(image, exposure)).astype(np.float32)
 
 
 def _full_size_images(name: str, reference, images: dict, out: Path) -> str:
