@@ -455,8 +455,9 @@ def spinning_ring() -> Scene:
 
 
 def neon_pan() -> Scene:
-    """The camera panning fast (6 rad/s) across a row of street lamps of 1000 and neon tubes
-    of 50 on a dark facade: every light streaks with the camera's motion."""
+    """The camera sweeping fast across a row of street lamps of 1000 and neon tubes of 50 on a
+    dark facade, turning at 6 rad/s about a vertical axis 5 units ahead of it: every light
+    streaks with the camera's motion."""
     camera = Camera(
         (0.0, 1.0, 5.0),
         (0.0, 1.0, 0.0),

@@ -154,7 +154,6 @@ def _scene_section(ctx, name, table, size, out: Path, grids, first: bool) -> dic
     }
 
 
-
 def _full_size_images(name: str, reference, images: dict, out: Path) -> str:
     """Each method's image and its error map (colour bar shared by the scene) at full size,
     and crops of the windows where each method errs most; returns the HTML that shows them,
