@@ -57,8 +57,8 @@ def test_a_bright_pixel_passes_every_still_path_unchanged(ctx, name, backend):
     out = bl.blur(ctx, frame, name, backend).color
     kind = bl.method(name).kind
     if kind in ("filter", "gather", "sequence"):
-        # Weighted sums of equal taps: float32 rounding of the weights only (4 ulp).
-        np.testing.assert_allclose(out, color, rtol=5e-7, atol=0)
+        # Weighted means of equal taps: float32 rounding only (2 ulp on llvmpipe; 8 allowed).
+        np.testing.assert_allclose(out, color, rtol=1e-6, atol=0)
     elif name == "accumulation":  # N equal renders times 1/N each: float32 rounding only
         np.testing.assert_allclose(out, color, rtol=1e-5)
     else:
@@ -86,8 +86,8 @@ def test_a_1000x_pixel_in_an_array_frame_comes_back_unchanged(ctx, rng, name):
     color[20, 30, :3] = BRIGHT
     frame = bl.Frame(color, np.full((48, 64), 5.0, np.float32), np.zeros((48, 64, 2), np.float32))
     out = bl.blur(ctx, frame, name).color
-    np.testing.assert_allclose(out, color, rtol=5e-7, atol=0)
-    assert out[20, 30, :3] == pytest.approx(BRIGHT, rel=5e-7)
+    np.testing.assert_allclose(out, color, rtol=1e-6, atol=0)
+    assert out[20, 30, :3] == pytest.approx(BRIGHT, rel=1e-6)
 
 
 def test_the_reference_conserves_radiance_under_pure_translation(ctx):
