@@ -109,7 +109,8 @@ def main() -> None:
     parser.add_argument("--scenes", default=",".join(bl.scenes.names("hdr")))
     parser.add_argument("--methods", default=",".join(sweep_methods()))
     parser.add_argument("--repeats", type=int, default=3)
-    parser.add_argument("--workers", type=int, default=os.cpu_count() or 1)
+    # The cores this process may run on (a container's, not the host's), one metric process each.
+    parser.add_argument("--workers", type=int, default=len(os.sched_getaffinity(0)))
     parser.add_argument(
         "--out",
         default=None,
