@@ -272,14 +272,31 @@ def test_ignored_material_features_are_named_once(tmp_path):
     p, n, i = box_triangles()
     material = b.material()
     b.doc.materials[material].normalTexture = {"index": 0}
-    b.doc.materials[material].emissiveFactor = [1.0, 0.0, 0.0]
+    b.doc.materials[material].alphaMode = "BLEND"
     b.node(mesh=b.mesh(p, i, n, material=material))
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         bl.scenes.gltf(b.save(tmp_path / "features.gltf"))
     messages = [str(w.message) for w in caught if "blurlab.gltf" in str(w.message)]
     assert len(messages) == 1
-    assert "normalTexture" in messages[0] and "emissiveFactor" in messages[0]
+    assert "normalTexture" in messages[0] and "alphaMode BLEND" in messages[0]
+
+
+def test_emissive_factor_and_strength_become_hdr_emission(tmp_path):
+    b = GltfBuilder()
+    p, n, i = box_triangles()
+    material = b.material()
+    b.doc.materials[material].emissiveFactor = [1.0, 0.5, 0.0]
+    b.doc.materials[material].extensions = {
+        "KHR_materials_emissive_strength": {"emissiveStrength": 300.0}
+    }
+    b.node(mesh=b.mesh(p, i, n, material=material))
+    scene = bl.scenes.gltf(b.save(tmp_path / "lamp.gltf"))
+    assert np.allclose(scene.objects[0].material.radiance, [300.0, 150.0, 0.0])
+    assert scene.hdr
+    b.doc.materials[material].emissiveFactor = [2.0, 0.0, 0.0]
+    with pytest.raises(GltfError, match="outside colour"):
+        bl.scenes.gltf(b.save(tmp_path / "too_bright.gltf"))
 
 
 def _edit(tmp_path, name, change):

@@ -113,7 +113,7 @@ def _study(args) -> int:
             args.size,
             args.out,
             args.reference_samples,
-            tuple(args.metrics.split(",")),
+            None if args.metrics == "auto" else tuple(args.metrics.split(",")),
             cluster=cluster,
         )
     print(f"wrote {report} and {Path(args.out) / 'results.csv'}")
@@ -254,7 +254,12 @@ def main(argv: list[str] | None = None) -> int:
         default=None,
         help="N of each reference (default: max(64, 2 x longest motion))",
     )
-    study.add_argument("--metrics", default="psnr,ssim,flip", help="comma-separated")
+    study.add_argument(
+        "--metrics",
+        default="auto",
+        help="comma-separated names; auto (default): psnr,ssim,flip and, on HDR scenes, "
+        "hdr_flip,psnr_tm,ssim_tm,log_lum_error,energy_ratio",
+    )
     _add_cluster_options(study)
     advice = sub.add_parser(
         "recommend",

@@ -23,7 +23,7 @@ import numpy as np
 
 from .mesh import Mesh
 from .motion import Motion
-from .scene import Camera, Material, Scene
+from .scene import MAX_EMISSION_STRENGTH, Camera, Material, Scene
 
 MAX_FILE_BYTES = 256 << 20  # a .gltf, .glb or external buffer larger than this is refused
 MAX_JSON_VALUES = 100_000  # pygltflib builds an object per JSON value: this bounds its time
@@ -705,13 +705,35 @@ class _Loader:
         for feature in ("normalTexture", "occlusionTexture", "emissiveTexture"):
             if getattr(m, feature, None) is not None:
                 self.ignored.add(feature)
-        if m.emissiveFactor and any(float(e) != 0 for e in m.emissiveFactor):
-            self.ignored.add("emissiveFactor")
+        emission = _floats(
+            self, m.emissiveFactor or (0, 0, 0), f"material {index} emissiveFactor", 3
+        )
+        extensions = dict(m.extensions or {})
+        # KHR_materials_emissive_strength scales the factor beyond 1: blurlab's HDR emission.
+        strength_ext = extensions.pop("KHR_materials_emissive_strength", None) or {}
+        strength = 1.0
+        if isinstance(strength_ext, dict) and "emissiveStrength" in strength_ext:
+            strength = _floats(self, [strength_ext["emissiveStrength"]], "emissiveStrength", 1)[0]
+        if (
+            np.any(emission < 0)
+            or np.any(emission > 1)
+            or not 0 <= strength <= MAX_EMISSION_STRENGTH
+        ):
+            self.fail(
+                f"material {index}: emission {emission.tolist()} x {strength} is outside colour "
+                f"[0, 1] x strength [0, {MAX_EMISSION_STRENGTH:g}]"
+            )
         if m.alphaMode not in (None, "OPAQUE"):
             self.ignored.add(f"alphaMode {m.alphaMode}")
-        if m.extensions:
-            self.ignored.add("material extensions " + ", ".join(sorted(m.extensions)))
-        cache[index] = Material(color=tuple(float(c) for c in color[:3]), texture=texture)
+        if extensions:
+            self.ignored.add("material extensions " + ", ".join(sorted(extensions)))
+        lit = bool(np.any(emission > 0))
+        cache[index] = Material(
+            color=tuple(float(c) for c in color[:3]),
+            texture=texture,
+            emission=tuple(float(e) for e in emission),
+            emission_strength=float(strength) if lit else 0.0,
+        )
         return cache[index]
 
     def texture(self, info, material: int) -> np.ndarray:

@@ -2,6 +2,11 @@
 luminance, FLIP (the flip-evaluator package, on sRGB), per-pixel error maps, and flicker for
 sequences. `gpu_mse`, `gpu_ssim` and `gpu_flip` reduce the error on the GPU and read back a
 scalar, for sweeps.
+
+The LDR metrics above clip to [0, 1] on purpose: they measure what an LDR display shows of
+linear colour. HDR scenes (docs/hdr.md, docs/spec.md §6.2) are measured without that clip:
+`hdr_flip`, `psnr_tm` and `ssim_tm` (after `tone_map` at the reference's `exposure`),
+`log_luminance_error` and `energy_ratio`.
 """
 
 from __future__ import annotations
@@ -270,3 +275,160 @@ def tile_border_error(reference, test, k: int, band: int = 1) -> dict:
         "step_ratio": ratio(step_on, step_off),
         "border_pixels": int(border.sum()),
     }
+
+
+# --- HDR metrics (docs/spec.md §6.2): nothing is clipped above 1 --------------------------------
+
+# Reinhard et al. 2002, eq. 1: the log-average luminance uses δ against log(0), and the key
+# 0.18 maps it to middle grey.
+KEY = 0.18
+LOG_DELTA = 1e-4
+# The ACES fit (Narkowicz 2016) that HDR-FLIP assumes, with FLIP's pre-exposure 0.6 folded
+# into the coefficients: t(x) = (a x² + b x) / (c x² + d x + e).
+ACES = (0.6 * 0.6 * 2.51, 0.6 * 0.03, 0.6 * 0.6 * 2.43, 0.6 * 0.59, 0.14)
+FLIP_TARGET = 0.85  # HDR-FLIP's exposure range brings Y_max, then the median Y, to t = 0.85
+
+
+def _hdr_rgb(image, what: str = "image") -> np.ndarray:
+    """RGB of an (H, W, 3|4) linear image as float64, unclipped; refuses NaN and inf."""
+    image = np.asarray(image, np.float64)
+    if image.ndim != 3 or image.shape[2] < 3:
+        raise ValueError(f"blurlab.metrics: expected an (H, W, 3 or 4) image, not {image.shape}")
+    rgb = image[..., :3]
+    if not np.isfinite(rgb).all():
+        raise ValueError(
+            f"blurlab.metrics: the {what} has NaN or inf values; HDR metrics need finite colour"
+        )
+    return rgb
+
+
+def _hdr_pair(reference, test) -> tuple[np.ndarray, np.ndarray]:
+    a, b = _hdr_rgb(reference, "reference"), _hdr_rgb(test, "test image")
+    if a.shape != b.shape:
+        raise ValueError(f"blurlab.metrics: images differ in shape: {a.shape} and {b.shape}")
+    return a, b
+
+
+def luminance(image) -> np.ndarray:
+    """(H, W) Rec. 709 luminance of linear RGB, unclipped."""
+    return _hdr_rgb(image) @ LUMINANCE
+
+
+def exposure(reference) -> float:
+    """The exposure that maps the reference's log-average luminance to middle grey
+    (Reinhard et al. 2002): KEY / exp(mean(log(δ + max(Y, 0)))); the one exposure of
+    `tone_map`, `psnr_tm`, `ssim_tm` and the report's pictures."""
+    y = np.maximum(luminance(reference), 0.0)
+    return float(KEY / np.exp(np.mean(np.log(LOG_DELTA + y))))
+
+
+def _check_exposure(value) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise TypeError(f"blurlab.metrics: exposure must be a number, not {value!r}")
+    if not (math.isfinite(value) and value > 0):
+        raise ValueError(f"blurlab.metrics: exposure must be finite and > 0, not {value}")
+    return float(value)
+
+
+def tone_map(image, exposure: float) -> np.ndarray:
+    """(H, W, 3) display values in [0, 1]: Reinhard's x / (1 + x) per channel on
+    x = exposure · max(rgb, 0), then the sRGB transfer function (docs/spec.md §6.2). Never
+    clips a highlight to a constant: a brighter input always maps to a brighter output."""
+    x = _check_exposure(exposure) * np.maximum(_hdr_rgb(image), 0.0)
+    return linear_to_srgb(x / (1.0 + x))
+
+
+def _tone_mapped_pair(reference, test, exposure_value):
+    a, b = _hdr_pair(reference, test)
+    e = exposure(a) if exposure_value is None else exposure_value
+    return tone_map(a, e), tone_map(b, e)
+
+
+def psnr_tm(reference, test, exposure: float | None = None) -> float:
+    """PSNR (dB, peak 1) of the two images tone-mapped alike (`tone_map`, the reference's
+    exposure unless one is given)."""
+    return psnr(*_tone_mapped_pair(reference, test, exposure))
+
+
+def ssim_tm(reference, test, exposure: float | None = None) -> float:
+    """`ssim` of the luma (Rec. 709 weights on the sRGB-encoded values) of the two images
+    tone-mapped alike (`tone_map`, the reference's exposure unless one is given)."""
+    return ssim(*_tone_mapped_pair(reference, test, exposure))
+
+
+def log_luminance_error(reference, test) -> float:
+    """Mean |log2((δ + Y_test) / (δ + Y_ref))| over pixels: the error in stops, negative
+    luminance taken as 0, δ = LOG_DELTA."""
+    a, b = _hdr_pair(reference, test)
+    ya, yb = np.maximum(a @ LUMINANCE, 0.0), np.maximum(b @ LUMINANCE, 0.0)
+    return float(np.mean(np.abs(np.log2((LOG_DELTA + yb) / (LOG_DELTA + ya)))))
+
+
+def energy_ratio(reference, test) -> float:
+    """Σ test / Σ reference over pixels and RGB: 1 when the output keeps the reference's total
+    radiance, < 1 when it loses light, > 1 when it adds some (+inf if the reference is black
+    and the output is not)."""
+    a, b = _hdr_pair(reference, test)
+    total_a, total_b = float(a.sum()), float(b.sum())
+    if total_a <= 0:
+        return 1.0 if total_b == total_a else math.inf
+    return total_b / total_a
+
+
+def flip_exposure_range(reference) -> tuple[float, float]:
+    """HDR-FLIP's exposure range (Andersson et al. 2021) from the reference, in stops: the
+    start exposure brings the largest luminance, the stop exposure the median luminance (of
+    the pixels with Y > 0, so that a mostly black image has a range), to FLIP_TARGET under
+    the ACES curve."""
+    y = np.maximum(luminance(reference), 0.0)
+    lit = y[y > 0]
+    if lit.size == 0:
+        return 0.0, 0.0
+    a, b, c, d, e = ACES
+    t = FLIP_TARGET  # solve t(x) = t: (a - t c) x² + (b - t d) x - t e = 0, the positive root
+    qa, qb, qc = a - t * c, b - t * d, -t * e
+    x = (-qb + math.sqrt(qb * qb - 4 * qa * qc)) / (2 * qa)
+    start, stop = math.log2(x / float(lit.max())), math.log2(x / float(np.median(lit)))
+    return start, stop
+
+
+def hdr_flip(reference, test) -> float:
+    """Mean HDR-FLIP error (flip-evaluator's "HDR" mode, ACES tone mapper), 0 = identical;
+    its exposure range is `flip_exposure_range(reference)`. Negative values count as 0."""
+    import flip_evaluator
+
+    a, b = _hdr_pair(reference, test)
+    start, stop = flip_exposure_range(a)
+    linear = lambda c: np.ascontiguousarray(np.maximum(c, 0.0), dtype=np.float32)  # noqa: E731
+    _, mean, _ = flip_evaluator.evaluate(
+        linear(a),
+        linear(b),
+        "HDR",
+        inputsRGB=False,
+        applyMagma=False,
+        parameters={"startExposure": start, "stopExposure": stop, "tonemapper": "ACES"},
+    )
+    return float(mean)
+
+
+# The HDR metrics by the names sweeps, the study and benchmarks use; each f(reference, test).
+HDR_METRICS = {
+    "hdr_flip": hdr_flip,
+    "psnr_tm": psnr_tm,
+    "ssim_tm": ssim_tm,
+    "log_lum_error": log_luminance_error,
+    "energy_ratio": energy_ratio,
+}
+
+
+def hdr_scores(reference, test, names=tuple(HDR_METRICS)) -> dict[str, float]:
+    """{name: value} of the HDR metrics `names` (keys of HDR_METRICS) of `test` against
+    `reference`, and "exposure", the one `psnr_tm` and `ssim_tm` used."""
+    unknown = set(names) - set(HDR_METRICS)
+    if unknown:
+        raise ValueError(
+            f"blurlab.metrics: unknown HDR metrics {sorted(unknown)}; choose from "
+            f"{list(HDR_METRICS)}"
+        )
+    a, b = _hdr_pair(reference, test)
+    return {**{name: HDR_METRICS[name](a, b) for name in names}, "exposure": exposure(a)}

@@ -176,6 +176,7 @@ def render_targets(
             draw.bones = f32([obj.skeleton.matrices(t) for t in times])
         draw.object_id = object_id
         draw.material.color = f32(m.color)
+        draw.material.emission = f32(m.radiance)
         draw.material.specular = float(m.specular)
         draw.material.shininess = float(m.shininess)
         draw.material.texture = ctx.gpu_material_texture(m)

@@ -104,17 +104,28 @@ class DirectionalLight:
         self.ambient = _finite(self.ambient, "ambient", 3)
 
 
+# The brightest emission a material may have: 10^4 × a white surface, what the HDR scenes need
+# (headlights, sparks) with room to spare, and far inside float32.
+MAX_EMISSION_STRENGTH = 1.0e4
+
+
 @dataclass(eq=False)
 class Material:
     """Lambert (specular = 0) or Blinn–Phong; `texture` (a path read through OpenImageIO, or an
     array) multiplies `color`. 8-bit textures are taken as sRGB, float ones as linear.
-    ``Material.hatching(...)`` makes a hatched one (`hatch`, docs/spec.md §5)."""
+    ``Material.hatching(...)`` makes a hatched one (`hatch`, docs/spec.md §5).
+
+    Emissive surfaces add the radiance `emission` × `emission_strength` (colour in [0, 1] per
+    channel, strength in [0, 10^4]) to their shading, unclamped (docs/spec.md §12): headlights,
+    neon and sparks in HDR scenes."""
 
     color: tuple = (0.8, 0.8, 0.8)
     texture: str | Path | np.ndarray | None = None
     specular: float = 0.0
     shininess: float = 32.0
     hatch: object = None  # a blurlab.hatching.Hatching, made by Material.hatching
+    emission: tuple = (0.0, 0.0, 0.0)
+    emission_strength: float = 0.0
 
     @classmethod
     def hatching(
@@ -149,12 +160,31 @@ class Material:
             raise ValueError(f"blurlab: shininess must be > 0, not {self.shininess}")
         if isinstance(self.texture, (str, Path)) and not Path(self.texture).is_file():
             raise FileNotFoundError(f"blurlab: material texture not found: {self.texture}")
+        self.emission = _finite(self.emission, "material emission", 3)
+        if not ((self.emission >= 0) & (self.emission <= 1)).all():
+            raise ValueError(
+                f"blurlab: emission is a colour in [0, 1] per channel, not {self.emission}; "
+                "set the brightness with emission_strength"
+            )
+        strength = self.emission_strength
+        if isinstance(strength, bool) or not isinstance(strength, (int, float)):
+            raise TypeError(f"blurlab: emission_strength must be a number, not {strength!r}")
+        if not (math.isfinite(strength) and 0 <= strength <= MAX_EMISSION_STRENGTH):
+            raise ValueError(
+                f"blurlab: emission_strength must be in [0, {MAX_EMISSION_STRENGTH:g}], "
+                f"not {strength}"
+            )
         if self.hatch is not None:
             if not isinstance(self.hatch, Hatching):
                 raise ValueError(
                     "blurlab: material hatch must come from Material.hatching(...), not "
                     f"{type(self.hatch).__name__}"
                 )
+
+    @property
+    def radiance(self) -> np.ndarray:
+        """The emitted linear RGB radiance, emission × emission_strength."""
+        return self.emission * float(self.emission_strength)
 
     def texture_rgba(self) -> np.ndarray | None:
         """The texture as (H, W, 4) linear float16, or None."""
@@ -201,6 +231,12 @@ class Scene:
     name: str = "scene"
     objects: list[SceneObject] = field(default_factory=list)
     source: Path | None = None  # the file a scene was loaded from (blurlab.gltf), for reports
+
+    @property
+    def hdr(self) -> bool:
+        """Whether some material emits more than 1 in a channel: then the image holds values
+        that clipping to [0, 1] would lose, and sweeps add the HDR metrics (docs/hdr.md)."""
+        return any(float(obj.material.radiance.max()) > 1.0 for obj in self.objects)
 
     def __post_init__(self):
         b = np.asarray(self.background, dtype=np.float64)

@@ -1,7 +1,8 @@
 #version 450
 // G-buffer pass, fragment stage (docs/spec.md §1): linear color, linear depth, motion t0→t1 in
 // pixels (+y down), object id. Motion is divided by w here, per fragment. Hatched materials
-// (docs/spec.md §5) replace the shading with color · (1 − ink).
+// (docs/spec.md §5) replace the shading with color · (1 − ink). Emission (§12) is added last and
+// never clamped: HDR scenes rely on radiances up to 10^4 reaching every method.
 
 #include "common/hatching.glsl"
 #include "common/hatching_threshold.glsl"
@@ -33,6 +34,7 @@ uniform vec3 light_direction;  // toward the light
 uniform vec3 light_color;
 uniform vec3 ambient;
 uniform vec4 material_color;
+uniform vec3 material_emission;  // radiance: emission colour x strength
 uniform float material_specular;
 uniform float material_shininess;
 uniform bool has_texture;
@@ -93,6 +95,7 @@ void main() {
         float ink = threshold_ink(tam_low, surface.uv * hatching_scale, 1.0 - intensity);
         out_color = vec4(albedo.rgb * (1.0 - ink), albedo.a);
     }
+    out_color.rgb += material_emission;
     // clip.w is the view depth, and the rasterizer interpolates 1/w for perspective correction
     // anyway: no separate varying is needed.
     out_depth = 1.0 / gl_FragCoord.w;

@@ -152,6 +152,8 @@ void bind_passes(py::module_& m) {
       .def_readwrite("texture", &GBufferMaterial::texture)
       .def_readwrite("hatching", &GBufferMaterial::hatching);
   float_array<GBufferMaterial>(material, "color", [](GBufferMaterial& o) { return o.color; }, {4});
+  float_array<GBufferMaterial>(material, "emission", [](GBufferMaterial& o) { return o.emission; },
+                               {3});
 
   py::class_<GBufferDraw> draw(m, "GBufferDraw");
   draw.def(py::init<>())

@@ -124,6 +124,7 @@ void GBufferPass::render(const GBufferTargets& targets, const GBufferCamera& cam
     glProgramUniformMatrix4fv(id, location("model"), 3, GL_TRUE, &draw.model[0][0]);
     glProgramUniform1i(id, location("bone_count"), draw.bone_count);
     glProgramUniform4fv(id, location("material_color"), 1, draw.material.color);
+    glProgramUniform3fv(id, location("material_emission"), 1, draw.material.emission);
     glProgramUniform1f(id, location("material_specular"), draw.material.specular);
     glProgramUniform1f(id, location("material_shininess"), draw.material.shininess);
     glProgramUniform1i(id, location("has_texture"), draw.material.texture ? 1 : 0);

@@ -1,4 +1,5 @@
-// G-buffer pass, docs/spec.md §1: one raster pass writes linear color (RGBA32F), positive linear
+// G-buffer pass, docs/spec.md §1: one raster pass writes linear color (RGBA32F,
+// unclamped: emissive materials reach 10^4), positive linear
 // view depth (R32F), motion t0→t1 in pixels with +y down (RG32F) and the object id (R32F, −1 for
 // the background) at the G-buffer's instant.
 //
@@ -54,6 +55,7 @@ struct GBufferHatching {
 
 struct GBufferMaterial {
   float color[4] = {1, 1, 1, 1};
+  float emission[3] = {0, 0, 0};  // emitted radiance (colour x strength), added unclamped
   float specular = 0.0f;
   float shininess = 32.0f;
   std::shared_ptr<Texture> texture;  // optional albedo map, multiplied with color

@@ -25,8 +25,20 @@ class Settings:
     size: tuple[int, int]
     shutter: tuple[float, float] | None
     reference_samples: int | None
-    metrics: tuple[str, ...]
+    metrics: tuple[str, ...] | None  # None: scene_metrics(scene) on each scene
     repeats: int
+
+
+LDR_METRICS = ("psnr", "ssim", "flip")
+# Unclipped, for HDR scenes (docs/spec.md §6.2); computed on the CPU from images read back, as
+# FLIP is.
+HDR_METRICS = tuple(m.HDR_METRICS)
+
+
+def scene_metrics(scene: Scene) -> tuple[str, ...]:
+    """The metrics a sweep computes on `scene` when none are named: the LDR ones, and on HDR
+    scenes (`Scene.hdr`) the HDR ones too (docs/spec.md §6.2)."""
+    return LDR_METRICS + (HDR_METRICS if scene.hdr else ())
 
 
 def evaluate_scene(
@@ -37,6 +49,7 @@ def evaluate_scene(
     worker keeps one per scene it has worked on)."""
     size = settings.size
     info = ctx.info()
+    wanted = settings.metrics if settings.metrics is not None else scene_metrics(scene)
     # Timing first, every configuration back to back: the GPU stays busy, so its clocks stay
     # up. Computing SSIM and FLIP between runs left it idle long enough to clock down, and
     # single runs after that were several times slower on the H100. Each method runs once
@@ -75,11 +88,14 @@ def evaluate_scene(
             # What the parameters given as "auto" chose on this scene.
             **{f"auto_{k}": json.dumps(v) for k, v in result.auto.items()},
         }
-        # Every metric is reduced on the GPU (docs/spec.md §6): no image is read back.
-        if "ssim" in settings.metrics:
+        # Every LDR metric is reduced on the GPU (docs/spec.md §6): no image is read back for it.
+        if "ssim" in wanted:
             row["ssim"] = m.gpu_ssim(ctx, reference.texture, result.textures["color"])
-        if "flip" in settings.metrics:
+        if "flip" in wanted:
             row["flip"] = m.gpu_flip(ctx, reference.texture, result.textures["color"])
+        hdr = [name for name in wanted if name in m.HDR_METRICS]
+        if hdr:  # with "exposure", the one psnr_tm, ssim_tm and the report's pictures use
+            row.update(m.hdr_scores(reference.color, result.color, hdr))
         row.update(
             {
                 "device": info["device"],

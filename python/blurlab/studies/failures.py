@@ -48,7 +48,8 @@ def evaluate(
     reference_samples: int | None = None,
     progress: bool = True,
 ) -> pd.DataFrame:
-    """One row per (failure scene, method) at the method's default parameters."""
+    """One row per (failure scene, method) at the method's default parameters; HDR scenes
+    (bl.scenes.names("hdr") may be given too) get the HDR metrics as well."""
     scene_names = list(scene_names or scenes.names("failure"))
     methods = list(methods or sweep_methods())
     rows = []
@@ -87,6 +88,8 @@ def evaluate(
                 "seed_noise": _seed_noise(ctx, instant_frame, name, out) if seeded else 0.0,
                 "reference_samples": n,
             }
+            if scene.hdr:  # clipped PSNR cannot see its lights (docs/spec.md §6.2)
+                row.update(m.hdr_scores(reference.color, out))
             if method(name).kind == "filter":
                 row.update(_sensitivity(ctx, reference.color, frame, name))
             rows.append(row)

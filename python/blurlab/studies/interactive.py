@@ -19,6 +19,10 @@ METRIC_TITLES = {
     "psnr": "PSNR (dB), higher is better",
     "ssim": "SSIM, higher is better",
     "flip": "FLIP, lower is better",
+    "psnr_tm": "PSNR after tone mapping (dB), higher is better",
+    "ssim_tm": "SSIM after tone mapping, higher is better",
+    "hdr_flip": "HDR-FLIP, lower is better",
+    "log_lum_error": "log2-luminance error (stops), lower is better",
 }
 
 

@@ -10,10 +10,20 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ..io import linear_to_srgb
-from ..metrics import error_map
+from ..io import linear_to_srgb, srgb_to_linear
+from ..metrics import error_map, tone_map
 
-HIGHER_IS_BETTER = {"psnr": True, "ssim": True, "flip": False}
+# HDR metrics first: a scene that has them is charted by them (the LDR ones clip its lights).
+# energy_ratio is best at 1, neither higher nor lower, so it is not charted.
+HIGHER_IS_BETTER = {
+    "psnr_tm": True,
+    "ssim_tm": True,
+    "hdr_flip": False,
+    "log_lum_error": False,
+    "psnr": True,
+    "ssim": True,
+    "flip": False,
+}
 
 
 def _pyplot():
@@ -82,7 +92,7 @@ def pareto(table: pd.DataFrame, scene: str, metric: str = "psnr", budget_ms: flo
         metric.upper()
         + (
             " (dB, higher is better)"
-            if metric == "psnr"
+            if metric in ("psnr", "psnr_tm")
             else " (higher is better)"
             if HIGHER_IS_BETTER[metric]
             else " (lower is better)"
@@ -248,6 +258,13 @@ def motion_picture(motion: np.ndarray) -> np.ndarray:
     value = length / max(float(length.max()), 1e-6)
     rgb = np.vectorize(colorsys.hsv_to_rgb)(hue, np.where(length > 0, 1.0, 0.0), value)
     return np.stack(rgb, axis=-1).astype(np.float32)
+
+
+def tone_mapped(image: np.ndarray, exposure: float) -> np.ndarray:
+    """(H, W, 3) float32 linear colour whose sRGB encoding is `metrics.tone_map(image,
+    exposure)`: written as a PNG or drawn by the functions here, an HDR image shows
+    tone-mapped (docs/spec.md §6.2) instead of clipped."""
+    return srgb_to_linear(tone_map(image, exposure)).astype(np.float32)
 
 
 def save(fig, path: str | Path) -> Path:

@@ -15,7 +15,7 @@ from .. import io, metrics, scenes
 from ..context import Context
 from ..methods import blur, method, method_instant
 from . import interactive, objects, plots
-from .sweep import default_grids, middle_point, sweep
+from .sweep import HDR_METRICS, default_grids, middle_point, sweep
 
 BUDGETS_MS = (0.1, 1.0, 10.0, 100.0)
 
@@ -26,13 +26,15 @@ def run_study(
     size=(640, 360),
     out="out/study",
     reference_samples: int | None = None,
-    metrics=("psnr", "ssim", "flip"),
+    metrics=None,
     grids=None,
     progress: bool = True,
     cluster=None,
 ) -> Path:
     """Runs the study and returns the path of report.html. With `cluster` (as bl.sweep takes
-    it) the sweep runs on Dask workers; `ctx` still renders the report's images."""
+    it) the sweep runs on Dask workers; `ctx` still renders the report's images. `metrics`
+    as bl.sweep takes them: None measures HDR scenes (bl.scenes.names("hdr")) with the HDR
+    metrics too, ranks them by psnr_tm and shows their images tone-mapped."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     names = list(scene_names or scenes.names())
@@ -95,10 +97,16 @@ def _parameter_curves(table, name: str, params: tuple[str, ...], out: Path, earl
     return curves
 
 
+def _ranking_metric(rows) -> str:
+    """psnr_tm where the rows have it (HDR scenes: PSNR would clip their lights), else psnr."""
+    return "psnr_tm" if "psnr_tm" in rows and rows["psnr_tm"].notna().any() else "psnr"
+
+
 def _scene_section(ctx, scene, table, size, out: Path, grids, first: bool) -> dict:
     rows = table[table["scene"] == scene.name]
     name = re.sub(r"[^A-Za-z0-9_.-]", "_", scene.name)  # the scene's files: safe in a URL
-    plots.save(plots.pareto(rows, scene.name), out / f"{name}_pareto.png")  # for papers
+    rank = _ranking_metric(rows)
+    plots.save(plots.pareto(rows, scene.name, rank), out / f"{name}_pareto.png")  # for papers
     chart = interactive.chart_html(
         interactive.pareto_chart(rows, f"{scene.name}: time against error"), first, f"pareto-{name}"
     )
@@ -111,15 +119,20 @@ def _scene_section(ctx, scene, table, size, out: Path, grids, first: bool) -> di
         point = middle_point(grid)
         frame = ctx.render(scene, size, instant=method_instant(method_name, point))
         images[method_name] = blur(ctx, frame, method_name, **point).color
-    plots.save(plots.image_grid(reference.color, images), out / f"{name}_images.png")
-    io.write(out / f"{name}_reference.png", reference.color)
-    gallery = _full_size_images(name, reference.color, images, out)
+    shown_reference, exposure = reference.color, None
+    if scene.hdr:  # every picture tone-mapped alike, at the reference's exposure
+        exposure = metrics.exposure(reference.color)
+        shown_reference = plots.tone_mapped(reference.color, exposure)
+        images = {k: plots.tone_mapped(v, exposure) for k, v in images.items()}
+    plots.save(plots.image_grid(shown_reference, images), out / f"{name}_images.png")
+    io.write(out / f"{name}_reference.png", shown_reference)
+    gallery = _full_size_images(name, shown_reference, images, out)
     best = []
     for budget in BUDGETS_MS:
         within = rows[rows["total_ms"] <= budget]
         if len(within):
-            top = within.sort_values("psnr", ascending=False).iloc[0]
-            best.append((budget, top["method"], top["params"], top["total_ms"], top["psnr"]))
+            top = within.sort_values(rank, ascending=False).iloc[0]
+            best.append((budget, top["method"], top["params"], top["total_ms"], top[rank]))
         else:  # say so, and how fast the fastest configuration is, for comparison
             fastest = rows.sort_values("total_ms").iloc[0]
             best.append(
@@ -128,7 +141,7 @@ def _scene_section(ctx, scene, table, size, out: Path, grids, first: bool) -> di
                     f"nothing within budget (fastest: {fastest['method']})",
                     fastest["params"],
                     fastest["total_ms"],
-                    fastest["psnr"],
+                    fastest[rank],
                 )
             )
     return {
@@ -139,6 +152,8 @@ def _scene_section(ctx, scene, table, size, out: Path, grids, first: bool) -> di
         "chart": chart,
         "gallery": gallery,
         "reference_samples": int(rows["reference_samples"].iloc[0]),
+        "rank": rank,
+        "exposure": exposure,
     }
 
 
@@ -194,9 +209,17 @@ def _html(info, size, table, sections, curves, per_object=None) -> str:
         parts.append(
             f"<h2>{e(s['title'])}</h2><p>reference: N = {s['reference_samples']} sub-frames</p>"
         )
+        if s["exposure"] is not None:
+            parts.append(
+                "<p><b>HDR scene</b>: its lights are far brighter than 1, so it is ranked by "
+                "PSNR after tone mapping and every image below is tone-mapped alike: Reinhard's "
+                f"x / (1 + x) per channel of x = {s['exposure']:.4g} × the linear colour (the "
+                "exposure that brings the reference's log-average luminance to 0.18), then "
+                "sRGB. Error maps are of these tone-mapped images; see docs/hdr.md.</p>"
+            )
         parts.append(
             "<table><tr><th>budget</th><th>best method within it</th><th>parameters"
-            "</th><th>ms</th><th>PSNR</th></tr>"
+            f"</th><th>ms</th><th>{s['rank'].upper()}</th></tr>"
         )
         for budget, name, params, ms, value in s["best"]:
             parts.append(
@@ -214,7 +237,9 @@ def _html(info, size, table, sections, curves, per_object=None) -> str:
             "shared by the scene):</p>" + s["gallery"]
         )
         columns = ["method", "params", "total_ms", "psnr"] + [
-            c for c in ("ssim", "flip") if c in s["rows"]
+            c
+            for c in ("ssim", "flip", *HDR_METRICS, "exposure")
+            if c in s["rows"] and s["rows"][c].notna().any()
         ]
         shown = s["rows"][columns].sort_values("total_ms")
         parts.append(shown.to_html(index=False, float_format=lambda v: f"{v:.4g}", border=0))

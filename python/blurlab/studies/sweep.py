@@ -26,7 +26,7 @@ from ..methods import check_param, check_steps, method, methods
 from ..render import check_size
 from ..scene import Scene
 from . import cluster as dask_cluster
-from .evaluation import Settings, evaluate_scene
+from .evaluation import HDR_METRICS, LDR_METRICS, Settings, evaluate_scene
 
 
 def default_grids() -> dict:
@@ -35,7 +35,7 @@ def default_grids() -> dict:
     return {name: method(name).default_grid for name in sweep_methods()}
 
 
-METRICS = ("psnr", "ssim", "flip")
+METRICS = LDR_METRICS + HDR_METRICS
 MAX_SIZE = 16384  # the largest GL_MAX_TEXTURE_SIZE of the devices blurlab meets
 
 
@@ -77,7 +77,7 @@ def sweep(
     size=(640, 360),
     shutter=None,
     reference_samples: int | None = None,
-    metrics: Sequence[str] = METRICS,
+    metrics: Sequence[str] | None = None,
     out: str | Path | None = None,
     progress: bool = True,
     backends: Mapping[str, str] | None = None,
@@ -122,7 +122,9 @@ def sweep(
     # The size now, not when the first scene renders (a cluster's workers check their own
     # device's limit again).
     size = check_size(size, ctx.max_texture_size if ctx is not None else MAX_SIZE)
-    unknown = set(metrics) - set(METRICS)
+    if isinstance(metrics, str):
+        raise TypeError(f"blurlab.sweep: metrics is a list of names, not the string {metrics!r}")
+    unknown = set(metrics or ()) - set(METRICS)
     if unknown:
         raise ValueError(f"blurlab.sweep: unknown metrics {sorted(unknown)}; choose from {METRICS}")
     if methods_and_grids is None:
@@ -152,7 +154,7 @@ def sweep(
         (int(size[0]), int(size[1])),
         None if shutter is None else tuple(shutter),
         reference_samples,
-        tuple(metrics),
+        None if metrics is None else tuple(metrics),
         repeats,
     )
     done = _finished_keys(path)
