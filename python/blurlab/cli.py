@@ -265,7 +265,11 @@ def main(argv: list[str] | None = None) -> int:
         default=None,
         help="N of each reference (default: max(64, 2 x longest motion))",
     )
-    study.add_argument("--metrics", default="psnr,ssim,flip", help="comma-separated")
+    study.add_argument(
+        "--metrics",
+        default="psnr,ssim,flip,psnr_aa",
+        help="comma-separated; psnr_aa is PSNR against the antialiased reference",
+    )
     _add_cluster_options(study)
     advice = sub.add_parser(
         "recommend",

@@ -80,6 +80,11 @@ def evaluate_scene(
             row["ssim"] = m.gpu_ssim(ctx, reference.texture, result.textures["color"])
         if "flip" in settings.metrics:
             row["flip"] = m.flip(reference.color, result.color)
+        if "psnr_aa" in settings.metrics:  # against the antialiased reference (§11)
+            antialiased = _antialiased_reference(ctx, scene, settings, reference.samples, cache)
+            row["psnr_aa"] = m.psnr_from_mse(
+                m.gpu_mse(ctx, result.textures["color"], antialiased.texture)
+            )
         row.update(
             {
                 "device": info["device"],
@@ -92,6 +97,20 @@ def evaluate_scene(
         )
         del result  # its textures go back to the pool before the next evaluation
         yield key, row
+
+
+def _antialiased_reference(ctx, scene, settings: Settings, samples: int, cache: dict):
+    """The scene's antialiased reference, with the temporal one's N, made once."""
+    if "reference_aa" not in cache:
+        cache["reference_aa"] = ctx.reference(
+            scene,
+            settings.size,
+            check_shutter(scene.shutter if settings.shutter is None else settings.shutter),
+            samples=samples,
+            progress=False,
+            antialias=True,
+        )
+    return cache["reference_aa"]
 
 
 def _without_steps(point: dict) -> dict:

@@ -25,7 +25,7 @@ def run_study(
     size=(640, 360),
     out="out/study",
     reference_samples: int | None = None,
-    metrics=("psnr", "ssim", "flip"),
+    metrics=("psnr", "ssim", "flip", "psnr_aa"),
     grids=None,
     progress: bool = True,
     cluster=None,
@@ -184,7 +184,9 @@ def _html(info, size, table, sections, curves, per_object=None) -> str:
         "<p>Each method runs on the G-buffer rendered at the instant it expects; its error is "
         "measured against the converged reference of the same shutter (the mean of N renders). "
         "PSNR of linear color clipped to [0, 1] (higher is better), SSIM of luminance (higher "
-        "is better), FLIP (lower is better). Time is the sum of the method's passes; methods "
+        "is better), FLIP (lower is better); psnr_aa is PSNR against the antialiased reference "
+        "(sub-pixel positions as well as times: what a path tracer converges to), which also "
+        "counts the aliasing of still edges. Time is the sum of the method's passes; methods "
         "that render (accumulation, stochastic) include their renders.</p>",
     ]
     for s in sections:
@@ -211,7 +213,7 @@ def _html(info, size, table, sections, curves, per_object=None) -> str:
             "shared by the scene):</p>" + s["gallery"]
         )
         columns = ["method", "params", "total_ms", "psnr"] + [
-            c for c in ("ssim", "flip") if c in s["rows"]
+            c for c in ("ssim", "flip", "psnr_aa") if c in s["rows"]
         ]
         shown = s["rows"][columns].sort_values("total_ms")
         parts.append(shown.to_html(index=False, float_format=lambda v: f"{v:.4g}", border=0))

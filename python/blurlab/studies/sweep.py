@@ -35,7 +35,9 @@ def default_grids() -> dict:
     return {name: method(name).default_grid for name in sweep_methods()}
 
 
-METRICS = ("psnr", "ssim", "flip")
+# psnr, ssim and flip are against the temporal reference (pixel centers, as the methods sample);
+# psnr_aa against the antialiased one (docs/spec.md §11 "Which reference, for what").
+METRICS = ("psnr", "ssim", "flip", "psnr_aa")
 MAX_SIZE = 16384  # the largest GL_MAX_TEXTURE_SIZE of the devices blurlab meets
 
 
