@@ -1,0 +1,268 @@
+"""A blurlab Scene rendered by Blender (Cycles or EEVEE), headless, for cross-checks
+(docs/crosscheck.md).
+
+The scene is exported here, without Blender: blurlab's own triangles, its transforms sampled
+densely over the shutter, the camera's matrices, materials as emission plus a shadowless sun.
+Blender (the ``bpy`` module of the optional extra ``blender``) then runs in a child process
+(``child.py`` beside this file), so a Blender crash never takes the caller down; its log comes
+back in the exception.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import math
+import os
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from numbers import Real
+
+import numpy as np
+
+from .. import io
+from ..render import check_shutter
+from ..scene import Scene
+
+CHILD = Path(__file__).with_name("child.py")
+ENGINES = {"CYCLES": "CYCLES", "EEVEE": "BLENDER_EEVEE"}
+INSTALL = (
+    "blurlab.blender needs Blender's Python module: pip install 'blurlab[blender]' "
+    "(the bpy package from PyPI, 5.0.x, which runs on Python 3.11 only)"
+)
+# blurlab is y-up, Blender z-up: Blender (x, y, z) = blurlab (x, -z, y).
+Y_UP_TO_Z_UP = np.array([[1, 0, 0, 0], [0, 0, -1, 0], [0, 1, 0, 0], [0, 0, 0, 1.0]])
+LOG_TAIL_LINES = 40
+DEFAULT_SAMPLES = {"CYCLES": 128, "EEVEE": 64}  # EEVEE's is Blender's own default
+DEFAULT_STEPS = {"CYCLES": 7, "EEVEE": 1}
+
+
+class BlenderError(RuntimeError):
+    """Blender failed, crashed or ran out of time; the message ends with its log's tail."""
+
+
+@dataclass
+class BlenderRender:
+    """What Blender rendered: linear float32 (H, W, 4) color, the settings it used, the wall
+    time of the whole child process (start, scene build, shader compile, render, write) and of
+    the render call alone, and the device that rendered."""
+
+    color: np.ndarray
+    settings: dict
+    wall_s: float
+    render_s: float
+    device: str
+    log: str = field(default="", repr=False)
+
+
+def available() -> bool:
+    """Whether `bpy` can be imported by this Python (it is not imported here)."""
+    return importlib.util.find_spec("bpy") is not None
+
+
+def check_reproducible(scene: Scene) -> None:
+    """Raises ValueError naming the first thing of `scene` that Blender cannot match exactly."""
+    if not isinstance(scene, Scene):
+        raise TypeError(f"blurlab.blender needs a blurlab Scene, not {type(scene).__name__}")
+    for obj in scene.objects:
+        m = obj.material
+        what = None
+        if m.hatch is not None:
+            what = "a hatched material (tonal art maps have no Blender counterpart)"
+        elif m.specular > 0:
+            what = (
+                "Blinn-Phong specular (specular > 0): Blender's BSDFs have no Blinn-Phong lobe"
+            )
+        elif m.texture is not None:
+            what = "a textured material (texture filtering is not reproduced yet)"
+        elif obj.skeleton is not None:
+            what = "a skinned mesh (deformation blur is not exported yet)"
+        if what:
+            raise ValueError(
+                f"blurlab.blender: object {obj.name!r} has {what}; Blender cannot render it as "
+                "blurlab does. Allowed: Lambert materials (specular = 0) without texture, "
+                "hatching or skinning, under the directional light and ambient term"
+            )
+
+
+def export(scene: Scene, size, shutter, keys: int) -> tuple[dict, dict]:
+    """The scene as (description, arrays) for child.py: geometry in object space, object and
+    camera transforms in Blender's axes at `keys` + 1 evenly spaced times over the shutter."""
+    check_reproducible(scene)
+    t0, t1 = shutter
+    times = t0 + (t1 - t0) * np.arange(keys + 1) / keys
+    camera = scene.camera
+    light = scene.light
+    objects, arrays = [], {}
+    for i, obj in enumerate(scene.objects):
+        arrays[f"positions{i}"] = obj.mesh.positions
+        arrays[f"normals{i}"] = obj.mesh.normals
+        arrays[f"indices{i}"] = obj.mesh.indices.astype(np.int32)
+        arrays[f"world{i}"] = np.stack([Y_UP_TO_Z_UP @ obj.model(t) for t in times])
+        albedo = np.asarray(obj.material.color[:3], dtype=np.float64)
+        objects.append(
+            {
+                "name": f"{i:03d}_{obj.name}",
+                "emission": (albedo * light.ambient).tolist(),
+                "diffuse": albedo.tolist(),
+            }
+        )
+    arrays["camera"] = np.stack([Y_UP_TO_Z_UP @ camera.world(t) for t in times])
+    direction = light.direction / np.linalg.norm(light.direction)
+    strength = float(np.max(light.color))
+    description = {
+        "size": [int(size[0]), int(size[1])],
+        "shutter": [float(t0), float(t1)],
+        "keys": int(keys),
+        "objects": objects,
+        "camera": {"fov_y": float(camera.fov_y), "near": camera.near, "far": camera.far},
+        # Lambert: albedo · light · cos. Blender's diffuse BSDF is albedo/π, a sun's strength
+        # is irradiance: strength π · max(light) with the colour normalised gives the same.
+        "sun": None
+        if strength <= 0
+        else {
+            "direction": (Y_UP_TO_Z_UP[:3, :3] @ direction).tolist(),
+            "color": (light.color / strength).tolist(),
+            "strength": math.pi * strength,
+        },
+        "background": [float(v) for v in scene.background[:3]],
+    }
+    return description, arrays
+
+
+def render(
+    scene: Scene,
+    size=(640, 360),
+    shutter=None,
+    engine: str = "CYCLES",
+    samples: int | None = None,
+    steps: int | None = None,
+    seed: int = 0,
+    instant: float | None = None,
+    keys: int = 64,
+    timeout: float = 1800.0,
+    python: str | os.PathLike | None = None,
+) -> BlenderRender:
+    """Renders `scene` with Blender's `engine` ("CYCLES" or "EEVEE") in a child process.
+
+    One Blender frame is the shutter: motion blur from the frame's start over the whole frame,
+    transforms keyed at `keys` + 1 times (linear, extrapolated linearly). `samples`: Cycles'
+    samples per pixel (default 128) or EEVEE's render samples (default 64, Blender's).
+    `steps`: Cycles' per-object motion steps (2^(steps - 1) + 1 transform samples, default 7,
+    the most) or EEVEE's motion-blur steps (default 1, Blender's). `instant` = a time in the
+    shutter renders that instant without motion blur. `python`: the interpreter that has bpy
+    (default: this one). Cycles runs on the CPU with a one-pixel box filter, no bounces, no
+    adaptive sampling or denoising; both write a linear 32-bit EXR (view transform Standard).
+    """
+    engine_name = engine.upper() if isinstance(engine, str) else engine
+    if engine_name not in ENGINES:
+        raise ValueError(f"blurlab.blender: engine must be 'CYCLES' or 'EEVEE', not {engine!r}")
+    samples = DEFAULT_SAMPLES[engine_name] if samples is None else samples
+    steps = DEFAULT_STEPS[engine_name] if steps is None else steps
+    top_steps = 7 if engine_name == "CYCLES" else 2048
+    for name, value, low, high in (
+        ("samples", samples, 1, 1 << 24),
+        ("steps", steps, 1, top_steps),
+        ("keys", keys, 1, 4096),
+        ("seed", seed, 0, 2**31 - 1),
+    ):
+        if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
+            raise ValueError(
+                f"blurlab.blender: {name} must be an integer in {low}..{high}, not {value!r}"
+            )
+    if not (isinstance(timeout, Real) and timeout > 0):
+        raise ValueError(f"blurlab.blender: timeout must be > 0 seconds, not {timeout!r}")
+    width, height = (int(v) for v in size)
+    if (width, height) != tuple(size) or not (1 <= width <= 16384 and 1 <= height <= 16384):
+        raise ValueError(f"blurlab.blender: size must be two integers in 1..16384, not {size!r}")
+    if not isinstance(scene, Scene):
+        raise TypeError(f"blurlab.blender needs a blurlab Scene, not {type(scene).__name__}")
+    shutter = check_shutter(scene.shutter if shutter is None else shutter)
+    if shutter[1] <= shutter[0]:
+        raise ValueError("blurlab.blender: the shutter must be longer than 0 (one frame is it)")
+    if instant is not None and not (
+        isinstance(instant, Real) and shutter[0] <= instant <= shutter[1]
+    ):
+        raise ValueError(f"blurlab.blender: instant {instant!r} is outside the shutter {shutter}")
+    if python is None:
+        if not available():
+            raise ImportError(INSTALL)
+        python = sys.executable
+    description, arrays = export(scene, (width, height), shutter, keys)
+    description.update(
+        engine=ENGINES[engine_name],
+        samples=samples,
+        steps=steps,
+        seed=seed,
+        instant=None if instant is None else float(instant),
+    )
+    with tempfile.TemporaryDirectory(prefix="blurlab blender ") as folder:
+        folder = Path(folder)
+        (folder / "job.json").write_text(json.dumps(description))
+        np.savez(folder / "arrays.npz", **arrays)
+        started = time.perf_counter()
+        log = run_child(Path(python), folder, timeout)
+        wall = time.perf_counter() - started
+        result_file, image = folder / "result.json", folder / "render.exr"
+        if not (result_file.is_file() and image.is_file()):
+            raise BlenderError(f"blurlab.blender: Blender wrote no image.\n{tail(log)}")
+        result = json.loads(result_file.read_text())
+        color = io.read(image).astype(np.float32)
+    if color.shape != (height, width, 4):
+        raise BlenderError(f"blurlab.blender: Blender wrote a {color.shape} image.\n{tail(log)}")
+    return BlenderRender(
+        color, result["settings"], wall, result["render_s"], result["device"], log
+    )
+
+
+def run_child(python: Path, folder: Path, timeout: float) -> str:
+    """Runs child.py on the job in `folder` in its own process group; returns its log.
+    Raises BlenderError when it fails, dies or outlives `timeout` (then the group is killed)."""
+    log_path = folder / "blender.log"
+    with open(log_path, "wb") as log_file:
+        process = subprocess.Popen(
+            [str(python), str(CHILD), str(folder)],
+            stdin=subprocess.DEVNULL,
+            stdout=log_file,
+            stderr=subprocess.STDOUT,
+            start_new_session=True,  # its own group, so a kill takes its helpers too
+        )
+        try:
+            code = process.wait(timeout=timeout)
+        except subprocess.TimeoutExpired:
+            os.killpg(process.pid, signal.SIGKILL)
+            process.wait()
+            log = log_path.read_text(errors="replace")
+            raise BlenderError(
+                f"blurlab.blender: Blender did not finish within {timeout:g} s and was "
+                f"killed.\n{tail(log)}"
+            ) from None
+        except BaseException:  # KeyboardInterrupt too: leave no Blender running
+            os.killpg(process.pid, signal.SIGKILL)
+            process.wait()
+            raise
+    log = log_path.read_text(errors="replace")
+    if code < 0:
+        try:
+            name = signal.Signals(-code).name
+        except ValueError:
+            name = str(-code)
+        raise BlenderError(f"blurlab.blender: Blender crashed (signal {name}).\n{tail(log)}")
+    if code != 0:
+        if "No module named 'bpy'" in log:
+            raise ImportError(f"{INSTALL}; {python} has no bpy.\n{tail(log)}")
+        raise BlenderError(f"blurlab.blender: Blender failed (exit code {code}).\n{tail(log)}")
+    return log
+
+
+def tail(log: str) -> str:
+    lines = log.rstrip().splitlines()[-LOG_TAIL_LINES:]
+    return "Blender's log, last lines:\n" + "\n".join(lines) if lines else "Blender's log is empty."
+
+
+__all__ = ["BlenderError", "BlenderRender", "available", "check_reproducible", "export", "render"]
