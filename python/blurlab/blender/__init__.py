@@ -20,8 +20,8 @@ import sys
 import tempfile
 import time
 from dataclasses import dataclass, field
-from pathlib import Path
 from numbers import Real
+from pathlib import Path
 
 import numpy as np
 
@@ -75,9 +75,7 @@ def check_reproducible(scene: Scene) -> None:
         if m.hatch is not None:
             what = "a hatched material (tonal art maps have no Blender counterpart)"
         elif m.specular > 0:
-            what = (
-                "Blinn-Phong specular (specular > 0): Blender's BSDFs have no Blinn-Phong lobe"
-            )
+            what = "Blinn-Phong specular (specular > 0): Blender's BSDFs have no Blinn-Phong lobe"
         elif m.texture is not None:
             what = "a textured material (texture filtering is not reproduced yet)"
         elif obj.skeleton is not None:
@@ -88,6 +86,19 @@ def check_reproducible(scene: Scene) -> None:
                 "blurlab does. Allowed: Lambert materials (specular = 0) without texture, "
                 "hatching or skinning, under the directional light and ambient term"
             )
+
+
+def check_keyable(matrices: np.ndarray, name: str) -> None:
+    """Blender keys location, rotation and scale: a sheared transform (scale along axes that
+    are not the rotated ones) has no such keys."""
+    linear = matrices[:, :3, :3]
+    gram = np.einsum("kji,kjl->kil", linear, linear)  # A^T A: diagonal without shear
+    off = gram - np.einsum("kii->ki", gram)[:, :, None] * np.eye(3)
+    if np.abs(off).max() > 1e-6 * max(1.0, np.abs(gram).max()):
+        raise ValueError(
+            f"blurlab.blender: object {name!r} has a sheared transform (non-uniform scale under "
+            "a rotation), which Blender's location/rotation/scale keys cannot hold"
+        )
 
 
 def export(scene: Scene, size, shutter, keys: int) -> tuple[dict, dict]:
@@ -104,6 +115,7 @@ def export(scene: Scene, size, shutter, keys: int) -> tuple[dict, dict]:
         arrays[f"normals{i}"] = obj.mesh.normals
         arrays[f"indices{i}"] = obj.mesh.indices.astype(np.int32)
         arrays[f"world{i}"] = np.stack([Y_UP_TO_Z_UP @ obj.model(t) for t in times])
+        check_keyable(arrays[f"world{i}"], obj.name)
         albedo = np.asarray(obj.material.color[:3], dtype=np.float64)
         objects.append(
             {
@@ -215,9 +227,7 @@ def render(
         color = io.read(image).astype(np.float32)
     if color.shape != (height, width, 4):
         raise BlenderError(f"blurlab.blender: Blender wrote a {color.shape} image.\n{tail(log)}")
-    return BlenderRender(
-        color, result["settings"], wall, result["render_s"], result["device"], log
-    )
+    return BlenderRender(color, result["settings"], wall, result["render_s"], result["device"], log)
 
 
 def run_child(python: Path, folder: Path, timeout: float) -> str:

@@ -194,10 +194,7 @@ def animate(obj, matrices, frames) -> None:
     previous = None
     for matrix, frame in zip(matrices, frames, strict=True):
         m = mathutils.Matrix(matrix.tolist())
-        location, rotation, scale = m.decompose()
-        rebuilt = mathutils.Matrix.LocRotScale(location, rotation, scale)
-        if max(abs(a - b) for r1, r2 in zip(m, rebuilt) for a, b in zip(r1, r2)) > 1e-4:
-            raise ValueError(f"{obj.name}: a transform with shear cannot be keyed in Blender")
+        location, rotation, scale = m.decompose()  # no shear: blurlab.blender checked
         if previous is not None and previous.dot(rotation) < 0:
             rotation.negate()
         previous = rotation
@@ -224,9 +221,17 @@ def linear_keys(obj) -> None:
 def device(job) -> str:
     if job["engine"] == "CYCLES":
         return f"Cycles on the CPU ({os.cpu_count()} threads)"
-    return "EEVEE on the GPU that Blender's EGL found (" + os.environ.get(
-        "BLURLAB_GPU_NAME", "not reported in background mode"
-    ) + ")"
+    # Background mode hides the GL renderer string; the GL driver loaded into this process
+    # says which device EEVEE ran on.
+    try:
+        maps = Path("/proc/self/maps").read_text()
+    except OSError:
+        maps = ""
+    if "nvidia" in maps.lower():
+        return "EEVEE on an NVIDIA GPU (EGL)"
+    if "swrast" in maps or "gallium" in maps or "llvmpipe" in maps:
+        return "EEVEE on Mesa's software rasterizer (llvmpipe, CPU)"
+    return "EEVEE on the GPU that Blender's EGL found"
 
 
 def settings(bpy, scene, job) -> dict:
