@@ -241,6 +241,7 @@ def run_child(python: Path, folder: Path, timeout: float) -> str:
             stdout=log_file,
             stderr=subprocess.STDOUT,
             start_new_session=True,  # its own group, so a kill takes its helpers too
+            preexec_fn=die_with_parent,
         )
         try:
             code = process.wait(timeout=timeout)
@@ -268,6 +269,15 @@ def run_child(python: Path, folder: Path, timeout: float) -> str:
             raise ImportError(f"{INSTALL}; {python} has no bpy.\n{tail(log)}")
         raise BlenderError(f"blurlab.blender: Blender failed (exit code {code}).\n{tail(log)}")
     return log
+
+
+def die_with_parent() -> None:
+    """In the child, before Blender starts: Linux kills it if the caller dies first (even by
+    SIGKILL), so no Blender outlives the process that wanted its image."""
+    if sys.platform.startswith("linux"):
+        import ctypes  # noqa: PLC0415 (only in the forked child)
+
+        ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG
 
 
 def tail(log: str) -> str:
