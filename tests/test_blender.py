@@ -9,10 +9,13 @@ import tempfile
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 import pytest
 from test_reference import square_scene
 
 import blurlab as bl
+from blurlab.studies.peers import EEVEE_ROWS, check_peers
+from blurlab.studies.study import run_study
 
 SIZE = (80, 45)
 needs_bpy = pytest.mark.skipif(
@@ -156,3 +159,35 @@ def test_bad_arguments(kwargs, match):
     args = {"size": SIZE, **kwargs}
     with pytest.raises(ValueError, match=match):
         bl.blender.render(square_scene(10.0), **args)
+
+
+@needs_bpy
+def test_study_scores_eevee_as_a_peer(ctx, tmp_path):
+    report = run_study(
+        ctx,
+        ["fan", "skinned_arm"],
+        SIZE,
+        tmp_path,
+        reference_samples=16,
+        metrics=("psnr", "psnr_aa"),
+        grids={"gather_box": {"taps": [4]}},
+        progress=False,
+        peer_names=("eevee",),
+    )
+    peers = pd.read_csv(tmp_path / "peers.csv")
+    fan = peers[peers["scene"] == "fan"]
+    assert list(fan["method"]) == [label for label, *_ in EEVEE_ROWS]
+    assert fan["psnr"].between(15, 80).all() and fan["psnr_aa"].between(15, 80).all()
+    assert fan["time"].str.contains("s Blender wall time").all()
+    assert fan["time"].str.contains("EEVEE on ").all()
+    arm = peers[peers["scene"] == "skinned_arm"]
+    assert arm["note"].str.contains("skinned mesh").all() and arm["psnr"].isna().all()
+    assert "Peers: Blender's EEVEE" in report.read_text()
+
+
+def test_unknown_or_unavailable_peers_fail_before_any_work(monkeypatch):
+    with pytest.raises(ValueError, match="unknown peers"):
+        check_peers(("cycles_x",))
+    monkeypatch.setattr(bl.blender, "available", lambda: False)
+    with pytest.raises(ImportError, match=r"blurlab\[blender\]"):
+        check_peers(("eevee",))

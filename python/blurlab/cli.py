@@ -127,6 +127,7 @@ def _study(args) -> int:
             args.reference_samples,
             tuple(args.metrics.split(",")),
             cluster=cluster,
+            peer_names=tuple(args.peers.split(",")) if args.peers else (),
         )
     print(f"wrote {report} and {Path(args.out) / 'results.csv'}")
     return 0
@@ -269,6 +270,12 @@ def main(argv: list[str] | None = None) -> int:
         "--metrics",
         default="psnr,ssim,flip,psnr_aa",
         help="comma-separated; psnr_aa is PSNR against the antialiased reference",
+    )
+    study.add_argument(
+        "--peers",
+        default="",
+        help="comma-separated peers rendered by Blender and scored alike: eevee "
+        "(needs pip install 'blurlab[blender]')",
     )
     _add_cluster_options(study)
     advice = sub.add_parser(

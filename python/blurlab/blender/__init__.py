@@ -66,7 +66,9 @@ def available() -> bool:
 
 
 def check_reproducible(scene: Scene) -> None:
-    """Raises ValueError naming the first thing of `scene` that Blender cannot match exactly."""
+    """Raises ValueError naming the first thing of `scene` that Blender cannot match.
+    Textures are exported (linear, repeating, bilinear without mipmaps in Blender, whose
+    samples per pixel do the filtering), so minified textures differ a little."""
     if not isinstance(scene, Scene):
         raise TypeError(f"blurlab.blender needs a blurlab Scene, not {type(scene).__name__}")
     for obj in scene.objects:
@@ -76,14 +78,12 @@ def check_reproducible(scene: Scene) -> None:
             what = "a hatched material (tonal art maps have no Blender counterpart)"
         elif m.specular > 0:
             what = "Blinn-Phong specular (specular > 0): Blender's BSDFs have no Blinn-Phong lobe"
-        elif m.texture is not None:
-            what = "a textured material (texture filtering is not reproduced yet)"
         elif obj.skeleton is not None:
             what = "a skinned mesh (deformation blur is not exported yet)"
         if what:
             raise ValueError(
                 f"blurlab.blender: object {obj.name!r} has {what}; Blender cannot render it as "
-                "blurlab does. Allowed: Lambert materials (specular = 0) without texture, "
+                "blurlab does. Allowed: Lambert materials (specular = 0, textured or not) without "
                 "hatching or skinning, under the directional light and ambient term"
             )
 
@@ -117,11 +117,16 @@ def export(scene: Scene, size, shutter, keys: int) -> tuple[dict, dict]:
         arrays[f"world{i}"] = np.stack([Y_UP_TO_Z_UP @ obj.model(t) for t in times])
         check_keyable(arrays[f"world{i}"], obj.name)
         albedo = np.asarray(obj.material.color[:3], dtype=np.float64)
+        texture = obj.material.texture_rgba()  # linear, row 0 at v = 0 as blurlab uploads it
+        if texture is not None:
+            arrays[f"texture{i}"] = texture.astype(np.float32)
+            arrays[f"uvs{i}"] = obj.mesh.uvs
         objects.append(
             {
                 "name": f"{i:03d}_{obj.name}",
                 "emission": (albedo * light.ambient).tolist(),
                 "diffuse": albedo.tolist(),
+                "textured": texture is not None,
             }
         )
     arrays["camera"] = np.stack([Y_UP_TO_Z_UP @ camera.world(t) for t in times])

@@ -145,22 +145,54 @@ def mesh_object(bpy, description, arrays, i):
     mesh.update()
     normals = arrays[f"normals{i}"].astype(np.float64)
     mesh.normals_split_custom_set_from_vertices([tuple(n) for n in normals])
-    mesh.materials.append(material(bpy, description))
+    texture = None
+    if description["textured"]:
+        uvs = arrays[f"uvs{i}"].astype(np.float32)
+        layer = mesh.uv_layers.new(name="uv")
+        layer.data.foreach_set("uv", uvs[indices.ravel()].ravel())
+        texture = image(bpy, description["name"], arrays[f"texture{i}"])
+    mesh.materials.append(material(bpy, description, texture))
     return bpy.data.objects.new(description["name"], mesh)
 
 
-def material(bpy, description):
-    """Emission (albedo · ambient) plus a diffuse BSDF lit by the sun: blurlab's Lambert."""
+def image(bpy, name, rgba):
+    """A float image from blurlab's linear texture; Blender's row 0 is v = 0, as blurlab's."""
+    height, width = rgba.shape[:2]
+    result = bpy.data.images.new(name, width, height, alpha=True, float_buffer=True)
+    result.colorspace_settings.name = "Linear Rec.709"
+    result.pixels.foreach_set(np.ascontiguousarray(rgba, dtype=np.float32).ravel())
+    result.update()
+    return result
+
+
+def material(bpy, description, texture=None):
+    """Emission (albedo · ambient) plus a diffuse BSDF lit by the sun: blurlab's Lambert;
+    albedo = colour × texture, sampled at the mesh's UVs, repeating."""
     mat = bpy.data.materials.new(description["name"])
     mat.use_nodes = True
     nodes, links = mat.node_tree.nodes, mat.node_tree.links
     nodes.clear()
     emission = nodes.new("ShaderNodeEmission")
-    emission.inputs["Color"].default_value = (*description["emission"], 1.0)
     emission.inputs["Strength"].default_value = 1.0
     diffuse = nodes.new("ShaderNodeBsdfDiffuse")
-    diffuse.inputs["Color"].default_value = (*description["diffuse"], 1.0)
     diffuse.inputs["Roughness"].default_value = 0.0
+    if texture is None:
+        emission.inputs["Color"].default_value = (*description["emission"], 1.0)
+        diffuse.inputs["Color"].default_value = (*description["diffuse"], 1.0)
+    else:
+        sampled = nodes.new("ShaderNodeTexImage")
+        sampled.image = texture
+        sampled.interpolation = "Linear"
+        sampled.extension = "REPEAT"
+        coordinates = nodes.new("ShaderNodeUVMap")
+        coordinates.uv_map = "uv"
+        links.new(coordinates.outputs["UV"], sampled.inputs["Vector"])
+        for target, factor in ((emission, "emission"), (diffuse, "diffuse")):
+            scaled = nodes.new("ShaderNodeVectorMath")
+            scaled.operation = "MULTIPLY"
+            links.new(sampled.outputs["Color"], scaled.inputs[0])
+            scaled.inputs[1].default_value = description[factor]
+            links.new(scaled.outputs["Vector"], target.inputs["Color"])
     add = nodes.new("ShaderNodeAddShader")
     links.new(emission.outputs["Emission"], add.inputs[0])
     links.new(diffuse.outputs["BSDF"], add.inputs[1])

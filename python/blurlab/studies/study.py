@@ -13,7 +13,7 @@ import pandas as pd
 from .. import io, metrics, scenes
 from ..context import Context
 from ..methods import blur, method, method_instant
-from . import interactive, objects, plots
+from . import interactive, objects, peers, plots
 from .sweep import default_grids, middle_point, sweep
 
 BUDGETS_MS = (0.1, 1.0, 10.0, 100.0)
@@ -29,9 +29,12 @@ def run_study(
     grids=None,
     progress: bool = True,
     cluster=None,
+    peer_names=(),
 ) -> Path:
     """Runs the study and returns the path of report.html. With `cluster` (as bl.sweep takes
-    it) the sweep runs on Dask workers; `ctx` still renders the report's images."""
+    it) the sweep runs on Dask workers; `ctx` still renders the report's images. `peer_names`
+    ("eevee") adds Blender's EEVEE as rows scored against the same references (peers.csv)."""
+    peer_names = peers.check_peers(peer_names)
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     names = list(scene_names or scenes.names())
@@ -58,7 +61,17 @@ def run_study(
     if "textured_spin" in names:  # the OGRE paper's test matrix
         per_object = objects.object_errors(ctx, size, reference_samples=reference_samples)
         per_object.to_csv(out / "per_object.csv", index=False)
-    report = _html(info, size, table, sections, curves, per_object)
+    peer_rows = None
+    if peer_names:
+        peer_rows = peers.peer_table(
+            ctx,
+            {name: scenes.get(name) for name in names},
+            size,
+            {s["name"]: s["reference_samples"] for s in sections},
+            tuple(metrics),
+        )
+        peer_rows.to_csv(out / "peers.csv", index=False)
+    report = _html(info, size, table, sections, curves, per_object, peer_rows)
     return io.write_text(out / "report.html", report)
 
 
@@ -167,7 +180,7 @@ def _full_size_images(name: str, reference, images: dict, out: Path) -> str:
     )
 
 
-def _html(info, size, table, sections, curves, per_object=None) -> str:
+def _html(info, size, table, sections, curves, per_object=None, peer_rows=None) -> str:
     e = html.escape
     when = datetime.datetime.now().strftime("%Y-%m-%d %H:%M")
     parts = [
@@ -226,6 +239,19 @@ def _html(info, size, table, sections, curves, per_object=None) -> str:
             "frame's. Data: <a href='per_object.csv'>per_object.csv</a>.</p>"
         )
         parts.append(per_object.to_html(index=False, float_format=lambda v: f"{v:.2f}", border=0))
+    if peer_rows is not None:
+        parts.append(
+            "<h2>Peers: Blender's EEVEE</h2><p>The same scenes rendered by EEVEE, scored "
+            "against the same references. Their time is Blender's wall time for the whole "
+            "render (start, scene, shader compilation, rendering) on the device named, not a "
+            "GPU pass time: do not read it against the methods' milliseconds. Data: "
+            "<a href='peers.csv'>peers.csv</a>.</p>"
+        )
+        columns = ("scene", "method", "psnr", "ssim", "flip", "psnr_aa", "time", "note")
+        shown = [c for c in columns if c in peer_rows]
+        parts.append(
+            peer_rows[shown].to_html(index=False, float_format=lambda v: f"{v:.4g}", border=0)
+        )
     for title, image in curves:
         parts.append(f"<h2>{e(title)}</h2><p><img src='{e(image)}'></p>")
     parts.append(
