@@ -152,7 +152,12 @@ def mesh_object(bpy, description, arrays, i):
         layer.data.foreach_set("uv", uvs[indices.ravel()].ravel())
         texture = image(bpy, description["name"], arrays[f"texture{i}"])
     mesh.materials.append(material(bpy, description, texture))
-    return bpy.data.objects.new(description["name"], mesh)
+    obj = bpy.data.objects.new(description["name"], mesh)
+    # blurlab shades locally: no surface lights, shadows or reflects another. Emissive
+    # meshes would otherwise light their neighbours even with zero bounces (direct light).
+    obj.visible_diffuse = obj.visible_glossy = obj.visible_transmission = False
+    obj.visible_volume_scatter = obj.visible_shadow = False
+    return obj
 
 
 def image(bpy, name, rgba):
@@ -170,6 +175,7 @@ def material(bpy, description, texture=None):
     albedo = colour × texture, sampled at the mesh's UVs, repeating."""
     mat = bpy.data.materials.new(description["name"])
     mat.use_nodes = True
+    mat.cycles.emission_sampling = "NONE"  # not a light source for other surfaces
     nodes, links = mat.node_tree.nodes, mat.node_tree.links
     nodes.clear()
     emission = nodes.new("ShaderNodeEmission")

@@ -81,7 +81,7 @@ def evaluate_scene(
         if "flip" in settings.metrics:
             row["flip"] = m.flip(reference.color, result.color)
         if "psnr_aa" in settings.metrics:  # against the antialiased reference (§11)
-            antialiased = _antialiased_reference(ctx, scene, settings, reference.samples, cache)
+            antialiased = _reference(ctx, scene, settings, reference.samples, cache, True)
             row["psnr_aa"] = m.psnr_from_mse(
                 m.gpu_mse(ctx, result.textures["color"], antialiased.texture)
             )
@@ -99,18 +99,19 @@ def evaluate_scene(
         yield key, row
 
 
-def _antialiased_reference(ctx, scene, settings: Settings, samples: int, cache: dict):
-    """The scene's antialiased reference, with the temporal one's N, made once."""
-    if "reference_aa" not in cache:
-        cache["reference_aa"] = ctx.reference(
+def _reference(ctx, scene, settings: Settings, samples: int, cache: dict, antialias=False):
+    """The scene's temporal (or antialiased) reference with `samples` sub-frames, made once."""
+    key = "reference_aa" if antialias else "reference"
+    if key not in cache:
+        cache[key] = ctx.reference(
             scene,
             settings.size,
             check_shutter(scene.shutter if settings.shutter is None else settings.shutter),
             samples=samples,
             progress=False,
-            antialias=True,
+            antialias=antialias,
         )
-    return cache["reference_aa"]
+    return cache[key]
 
 
 def _without_steps(point: dict) -> dict:
@@ -130,16 +131,7 @@ def _scene_inputs(ctx, scene, name, point, settings: Settings, cache: dict):
         frames[(instant, steps)] = render_steps(
             ctx, scene, name, steps, settings.size, settings.shutter, **params
         )
-    frame = frames[(instant, 1)][0]
-    if "reference" not in cache:
-        n = settings.reference_samples
-        if n is None:
-            n = default_reference_samples(frame)
-        cache["reference"] = ctx.reference(
-            scene,
-            settings.size,
-            check_shutter(scene.shutter if settings.shutter is None else settings.shutter),
-            samples=n,
-            progress=False,
-        )
-    return frames[(instant, steps)], cache["reference"]
+    n = settings.reference_samples
+    if n is None:
+        n = default_reference_samples(frames[(instant, 1)][0])
+    return frames[(instant, steps)], _reference(ctx, scene, settings, n, cache)
