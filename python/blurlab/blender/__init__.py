@@ -170,7 +170,7 @@ def render(
     One Blender frame is the shutter: motion blur from the frame's start over the whole frame,
     transforms keyed at `keys` + 1 times (linear, extrapolated linearly). `samples`: Cycles'
     samples per pixel (default 128) or EEVEE's render samples (default 64, Blender's).
-    `steps`: Cycles' per-object motion steps (2^(steps - 1) + 1 transform samples, default 7,
+    `steps`: Cycles' per-object motion steps (2^(steps - 1) transform samples, default 7,
     the most) or EEVEE's motion-blur steps (default 1, Blender's). `instant` = a time in the
     shutter renders that instant without motion blur. `python`: the interpreter that has bpy
     (default: this one). Cycles runs on the CPU with a one-pixel box filter, no bounces, no
