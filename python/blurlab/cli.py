@@ -222,7 +222,8 @@ class _Parser(argparse.ArgumentParser):
 
 # What a user can cause: bad values, names, files, sizes, a missing driver. Anything else is a
 # bug and keeps its traceback.
-USER_ERRORS = (ValueError, TypeError, LookupError, OSError, RuntimeError)
+# ImportError: an optional extra that is not installed (blurlab study --peers eevee without bpy).
+USER_ERRORS = (ValueError, TypeError, LookupError, OSError, RuntimeError, ImportError)
 
 
 def main(argv: list[str] | None = None) -> int:
