@@ -78,14 +78,22 @@ def check_reproducible(scene: Scene) -> None:
             what = "a hatched material (tonal art maps have no Blender counterpart)"
         elif m.specular > 0:
             what = "Blinn-Phong specular (specular > 0): Blender's BSDFs have no Blinn-Phong lobe"
-        elif obj.skeleton is not None:
-            what = "a skinned mesh (deformation blur is not exported yet)"
         if what:
             raise ValueError(
                 f"blurlab.blender: object {obj.name!r} has {what}; Blender cannot render it as "
-                "blurlab does. Allowed: Lambert materials (specular = 0, textured or not) without "
-                "hatching or skinning, under the directional light and ambient term"
+                "blurlab does. Allowed: Lambert materials (specular = 0, textured or not, rigid or "
+                "skinned) without hatching, under the directional light and ambient term"
             )
+
+
+def skinned_positions(obj, t: float) -> np.ndarray:
+    """Object-space positions of a skinned mesh at time t: linear blend skinning with the
+    G-buffer's weights and bone matrices (shaders/passes/gbuffer.vert)."""
+    mesh = obj.mesh
+    bones = obj.skeleton.matrices(t)[mesh.bone_indices]  # (V, 4, 4, 4)
+    blend = np.einsum("vk,vkij->vij", mesh.bone_weights.astype(np.float64), bones)
+    p = np.concatenate([mesh.positions, np.ones((len(mesh.positions), 1))], axis=1)
+    return np.einsum("vij,vj->vi", blend, p)[:, :3].astype(np.float32)
 
 
 def check_keyable(matrices: np.ndarray, name: str) -> None:
@@ -112,6 +120,8 @@ def export(scene: Scene, size, shutter, keys: int) -> tuple[dict, dict]:
     objects, arrays = [], {}
     for i, obj in enumerate(scene.objects):
         arrays[f"positions{i}"] = obj.mesh.positions
+        if obj.skeleton is not None:  # baked: the skinned positions at every key time
+            arrays[f"skinned{i}"] = np.stack([skinned_positions(obj, t) for t in times])
         arrays[f"normals{i}"] = obj.mesh.normals
         arrays[f"indices{i}"] = obj.mesh.indices.astype(np.int32)
         arrays[f"world{i}"] = np.stack([Y_UP_TO_Z_UP @ obj.model(t) for t in times])
@@ -127,6 +137,7 @@ def export(scene: Scene, size, shutter, keys: int) -> tuple[dict, dict]:
                 "emission": (albedo * light.ambient).tolist(),
                 "diffuse": albedo.tolist(),
                 "textured": texture is not None,
+                "skinned": obj.skeleton is not None,
             }
         )
     arrays["camera"] = np.stack([Y_UP_TO_Z_UP @ camera.world(t) for t in times])

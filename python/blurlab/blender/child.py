@@ -38,6 +38,7 @@ def main(folder: Path) -> None:
     for obj in scene.objects:
         if job["engine"] == "CYCLES":
             obj.cycles.use_motion_blur = True
+            obj.cycles.use_deform_motion = True
             obj.cycles.motion_steps = job["steps"]
         linear_keys(obj)
     if job["instant"] is None:
@@ -133,6 +134,8 @@ def camera_object(bpy, job):
 
 def mesh_object(bpy, description, arrays, i):
     positions = arrays[f"positions{i}"].astype(np.float32)
+    if description.get("skinned"):
+        positions = arrays[f"skinned{i}"][0].astype(np.float32)  # the shape keys' basis
     indices = arrays[f"indices{i}"].astype(np.int32)
     mesh = bpy.data.meshes.new(description["name"])
     mesh.vertices.add(len(positions))
@@ -143,8 +146,9 @@ def mesh_object(bpy, description, arrays, i):
     mesh.polygons.foreach_set("loop_start", np.arange(0, indices.size, 3, dtype=np.int32))
     mesh.polygons.foreach_set("use_smooth", np.ones(len(indices), dtype=bool))
     mesh.update()
-    normals = arrays[f"normals{i}"].astype(np.float64)
-    mesh.normals_split_custom_set_from_vertices([tuple(n) for n in normals])
+    if not description.get("skinned"):  # a deforming mesh keeps Blender's own smooth normals
+        normals = arrays[f"normals{i}"].astype(np.float64)
+        mesh.normals_split_custom_set_from_vertices([tuple(n) for n in normals])
     texture = None
     if description["textured"]:
         uvs = arrays[f"uvs{i}"].astype(np.float32)
@@ -153,11 +157,33 @@ def mesh_object(bpy, description, arrays, i):
         texture = image(bpy, description["name"], arrays[f"texture{i}"])
     mesh.materials.append(material(bpy, description, texture))
     obj = bpy.data.objects.new(description["name"], mesh)
+    if description.get("skinned"):
+        deform(obj, arrays[f"skinned{i}"])
     # blurlab shades locally: no surface lights, shadows or reflects another. Emissive
     # meshes would otherwise light their neighbours even with zero bounces (direct light).
     obj.visible_diffuse = obj.visible_glossy = obj.visible_transmission = False
     obj.visible_volume_scatter = obj.visible_shadow = False
     return obj
+
+
+def deform(obj, positions) -> None:
+    """Baked skinning as shape keys: key k holds the positions at frame 1 + k/K and its value
+    is a tent over the neighbouring frames, so the mesh moves linearly from one baked step to
+    the next (Cycles' and EEVEE's deformation blur sample it)."""
+    keys = len(positions) - 1
+    obj.shape_key_add(name="t0", from_mix=False).data.foreach_set("co", positions[0].ravel())
+    for k in range(1, keys + 1):
+        shape = obj.shape_key_add(name=f"t{k}", from_mix=False)
+        shape.data.foreach_set("co", positions[k].ravel())
+        frame = 1.0 + k / keys
+        for value, at in ((0.0, frame - 1.0 / keys), (1.0, frame), (0.0, frame + 1.0 / keys)):
+            shape.value = value
+            shape.keyframe_insert("value", frame=at)
+    shape_keys = obj.data.shape_keys
+    for curve in fcurves(shape_keys.animation_data.action):
+        curve.extrapolation = "CONSTANT"  # 0 outside its tent
+        for point in curve.keyframe_points:
+            point.interpolation = "LINEAR"
 
 
 def image(bpy, name, rgba):
@@ -242,18 +268,22 @@ def animate(obj, matrices, frames) -> None:
 
 
 def linear_keys(obj) -> None:
-    """Linear interpolation and extrapolation on every F-curve of the object's action.
-    Blender 5 keeps F-curves in layered actions: layers -> strips -> channel bags."""
+    """Linear interpolation and extrapolation on every F-curve of the object's action."""
     animation = obj.animation_data
     if animation is None or animation.action is None:
         return
-    for layer in animation.action.layers:
+    for curve in fcurves(animation.action):
+        curve.extrapolation = "LINEAR"
+        for point in curve.keyframe_points:
+            point.interpolation = "LINEAR"
+
+
+def fcurves(action):
+    """Every F-curve of a Blender 5 layered action: layers -> strips -> channel bags."""
+    for layer in action.layers:
         for strip in layer.strips:
             for bag in strip.channelbags:
-                for curve in bag.fcurves:
-                    curve.extrapolation = "LINEAR"
-                    for point in curve.keyframe_points:
-                        point.interpolation = "LINEAR"
+                yield from bag.fcurves
 
 
 def device(job) -> str:
