@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import io
-from ..render import check_shutter
+from ..render import check_shutter, check_size
 from ..scene import Scene
 
 CHILD = Path(__file__).with_name("child.py")
@@ -38,6 +38,7 @@ INSTALL = (
 # blurlab is y-up, Blender z-up: Blender (x, y, z) = blurlab (x, -z, y).
 Y_UP_TO_Z_UP = np.array([[1, 0, 0, 0], [0, 0, -1, 0], [0, 1, 0, 0], [0, 0, 0, 1.0]])
 LOG_TAIL_LINES = 40
+MAX_SIZE = 16384  # Blender's largest render resolution is larger; blurlab's textures are not
 DEFAULT_SAMPLES = {"CYCLES": 128, "EEVEE": 64}  # EEVEE's is Blender's own default
 DEFAULT_STEPS = {"CYCLES": 7, "EEVEE": 1}
 
@@ -192,7 +193,7 @@ def render(
         raise ValueError(f"blurlab.blender: engine must be 'CYCLES' or 'EEVEE', not {engine!r}")
     samples = DEFAULT_SAMPLES[engine_name] if samples is None else samples
     steps = DEFAULT_STEPS[engine_name] if steps is None else steps
-    top_steps = 7 if engine_name == "CYCLES" else 2048
+    top_steps = 7 if engine_name == "CYCLES" else 4096  # EEVEE's: a practical bound
     for name, value, low, high in (
         ("samples", samples, 1, 1 << 24),
         ("steps", steps, 1, top_steps),
@@ -205,9 +206,7 @@ def render(
             )
     if not (isinstance(timeout, Real) and timeout > 0):
         raise ValueError(f"blurlab.blender: timeout must be > 0 seconds, not {timeout!r}")
-    width, height = (int(v) for v in size)
-    if (width, height) != tuple(size) or not (1 <= width <= 16384 and 1 <= height <= 16384):
-        raise ValueError(f"blurlab.blender: size must be two integers in 1..16384, not {size!r}")
+    width, height = check_size(size, MAX_SIZE)
     if not isinstance(scene, Scene):
         raise TypeError(f"blurlab.blender needs a blurlab Scene, not {type(scene).__name__}")
     shutter = check_shutter(scene.shutter if shutter is None else shutter)
