@@ -37,7 +37,7 @@ def main(folder: Path) -> None:
             config = folder / "partial.toml"
             config.write_text(
                 f"scenes = {json.dumps(SCENES[:1])}\nsize = [64, 36]\nreference_samples = 16\n"
-                'metrics = ["psnr", "ssim", "flip"]\n'
+                'metrics = ["psnr", "ssim", "flip", "psnr_aa"]\n'
                 f'out = "{(folder / "resumed.csv").as_posix()}"\n'
                 "[methods.gather_box]\ntaps = [4]\n"
             )

@@ -86,3 +86,9 @@ def test_debug_shows_the_traceback(tmp_path):
     path.write_text('scenes = ["no_such_scene"]\n')
     result = run_cli("--debug", "--device", "software", "sweep", str(path))
     assert result.returncode != 0 and "Traceback" in result.stderr
+
+
+def test_an_unknown_peer_is_one_line_with_status_2(tmp_path):
+    result = run_cli("--device", "software", "study", "--peers", "nope", "--out", str(tmp_path))
+    assert_one_line_error(result, "unknown peers", "eevee")
+    assert not (tmp_path / "results.csv").exists()  # refused before any work

@@ -352,3 +352,25 @@ def test_default_grids_show_each_filter_option_on_both_filters():
         for option, on in (("jitter_tiles", 1), ("adaptive_samples", 1), ("early_exit", 2.0)):
             assert {"k": 20, "samples": 15, option: on} in points, (name, option)
         assert {"k": 20, "samples": 15} in points
+
+
+def test_psnr_aa_is_against_the_antialiased_reference(ctx):
+    table = sw.sweep(
+        ctx,
+        ["fan"],
+        {"gather_box": {"taps": [4]}},
+        SIZE,
+        reference_samples=8,
+        metrics=("psnr", "psnr_aa"),
+        progress=False,
+        repeats=1,
+    )
+    scene = bl.scenes.fan()
+    frame = ctx.render(scene, SIZE, instant=bl.method_instant("gather_box", {"taps": 4}))
+    out = bl.blur(ctx, frame, "gather_box", taps=4).color
+    antialiased = ctx.reference(scene, SIZE, samples=8, antialias=True).color
+    temporal = ctx.reference(scene, SIZE, samples=8).color
+    row = table.iloc[0]
+    assert abs(row["psnr_aa"] - bl.metrics.psnr(antialiased, out)) < 0.01
+    assert abs(row["psnr"] - bl.metrics.psnr(temporal, out)) < 0.01
+    assert abs(row["psnr_aa"] - row["psnr"]) > 0.1  # two references, two numbers

@@ -1,6 +1,6 @@
 """blurlab: real-time motion-blur methods run headless on the GPU, measured from Python."""
 
-from . import capture, gltf, hatching, io, mesh, metrics, scenes, tam, twins
+from . import blender, capture, gltf, hatching, io, mesh, metrics, scenes, tam, twins
 from ._core import GLError, ShaderError
 from .context import ComputeProgram, Context, PendingDownload, Texture, Timing
 from .converged import Reference, reference_samples_needed
@@ -50,6 +50,7 @@ __all__ = [
     "Texture",
     "Timing",
     "blur",
+    "blender",
     "blur_steps",
     "capture",
     "gltf",

@@ -115,6 +115,7 @@ def _study(args) -> int:
             args.reference_samples,
             None if args.metrics == "auto" else tuple(args.metrics.split(",")),
             cluster=cluster,
+            peer_names=tuple(args.peers.split(",")) if args.peers else (),
         )
     print(f"wrote {report} and {Path(args.out) / 'results.csv'}")
     return 0
@@ -205,7 +206,8 @@ class _Parser(argparse.ArgumentParser):
 
 # What a user can cause: bad values, names, files, sizes, a missing driver. Anything else is a
 # bug and keeps its traceback.
-USER_ERRORS = (ValueError, TypeError, LookupError, OSError, RuntimeError)
+# ImportError: an optional extra that is not installed (blurlab study --peers eevee without bpy).
+USER_ERRORS = (ValueError, TypeError, LookupError, OSError, RuntimeError, ImportError)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -257,8 +259,15 @@ def main(argv: list[str] | None = None) -> int:
     study.add_argument(
         "--metrics",
         default="auto",
-        help="comma-separated names; auto (default): psnr,ssim,flip and, on HDR scenes, "
-        "hdr_flip,psnr_tm,ssim_tm,log_lum_error,energy_ratio",
+        help="comma-separated names; auto (default): psnr,ssim,flip,psnr_aa and, on HDR "
+        "scenes, hdr_flip,psnr_tm,ssim_tm,log_lum_error,energy_ratio; psnr_aa is PSNR against "
+        "the antialiased reference",
+    )
+    study.add_argument(
+        "--peers",
+        default="",
+        help="comma-separated peers rendered by Blender and scored alike: eevee "
+        "(needs pip install 'blurlab[blender]')",
     )
     _add_cluster_options(study)
     advice = sub.add_parser(

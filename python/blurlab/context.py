@@ -389,6 +389,7 @@ class Context:
         instant="center",
         motion_format="rg32f",
         maxlen=None,
+        jitter=(0.0, 0.0),
     ):
         """Renders the G-buffer of `scene` at `size` = (W, H) and returns a ``bl.Frame``.
 
@@ -396,9 +397,11 @@ class Context:
         reconstruction filters' choice), "close", "open" or a time in [t0, t1]. Motion is always
         t0 -> t1. ``motion_format`` stores motion as rg32f, rg16f, rgba8_offset or rgba8_polar
         (docs/spec.md §2, ``maxlen`` pixels, default the image diagonal) and returns what a method
-        reading that format would decode.
+        reading that format would decode. ``jitter`` = (dx, dy) pixels shifts the projection so
+        that pixel centers show the unshifted image at (x + 0.5 - dx, y + 0.5 - dy), +y down
+        (docs/spec.md §12): sub-pixel sample positions; motion is unchanged.
         """
-        return render(self, scene, size, shutter, instant, motion_format, maxlen)
+        return render(self, scene, size, shutter, instant, motion_format, maxlen, jitter=jitter)
 
     def reference(
         self,
@@ -410,14 +413,21 @@ class Context:
         seed: int = 0,
         progress: bool | None = None,
         guard: int = 0,
+        antialias: bool = False,
     ):
         """The converged reference of `scene` over `shutter`: the mean of `samples` full renders
         at t_i = t0 + (i + u_i)/N·(t1 - t0), u_i = 0.5 or hashed when `stratified`
         (docs/spec.md §1), accumulated in float32 on the GPU; a progress bar for N >= 64.
         `samples="auto"` takes N from the scene's motion: max(64, 2 x the longest motion in
-        pixels), at most 1024, as sweeps do; the Reference says so (`auto`)."""
+        pixels), at most 1024, as sweeps do; the Reference says so (`auto`).
+
+        ``antialias=True`` also gives each sub-frame a sub-pixel position: (time, x, y) from an
+        Owen-scrambled Sobol sequence (`seed` picks the scramble), so the mean is the one-pixel
+        box-filtered image a path tracer converges to. ``antialias=False`` (the default)
+        samples pixel centers as the methods' G-buffers do, isolating motion-blur error from
+        aliasing (docs/spec.md §11)."""
         return reference_render(
-            self, scene, size, shutter, samples, stratified, seed, progress, guard
+            self, scene, size, shutter, samples, stratified, seed, progress, guard, antialias
         )
 
     @property

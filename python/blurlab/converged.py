@@ -11,6 +11,7 @@ import numpy as np
 
 from .frame import Frame
 from .render import check_shutter, check_size, render, render_targets
+from .sampling import shutter_samples
 from .scene import Scene
 from .twins.accumulation import sample_times
 
@@ -27,6 +28,8 @@ class Reference:
     clock: str
     texture: object = field(repr=False)  # the (H, W, 4) float32 sum on the GPU
     auto: bool = False  # N was chosen from the scene's motion (samples="auto")
+    antialias: bool = False  # sub-frames at sub-pixel positions (docs/spec.md §11)
+    positions: np.ndarray | None = None  # (N, 2) in the pixel from its top-left, antialias
     _color: np.ndarray | None = field(default=None, repr=False)
 
     @property
@@ -50,8 +53,10 @@ def reference_render(
     seed: int = 0,
     progress: bool | None = None,
     guard: int = 0,
+    antialias: bool = False,
 ) -> Reference:  # noqa: E501
-    """The mean of `samples` renders at t_i = t0 + (i + u_i)/N·(t1 - t0) (docs/spec.md §1)."""
+    """The mean of `samples` renders at t_i = t0 + (i + u_i)/N·(t1 - t0) (docs/spec.md §1);
+    with `antialias`, at scrambled Sobol (time, x, y): time and sub-pixel position together."""
     if not isinstance(scene, Scene):
         raise TypeError(f"blurlab: reference needs a blurlab Scene, not {type(scene).__name__}")
     auto = isinstance(samples, str) and samples == "auto"
@@ -64,9 +69,21 @@ def reference_render(
         )
     if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed < 2**32:
         raise ValueError(f"blurlab: seed must be an integer in 0..2^32-1, not {seed!r}")
+    if not isinstance(antialias, bool):
+        raise ValueError(f"blurlab: antialias must be True or False, not {antialias!r}")
+    if antialias and not stratified:
+        raise ValueError(
+            "blurlab: antialias=True draws (time, x, y) together from a scrambled Sobol "
+            "sequence; stratified=False (pixel-center times at stratum centers) is for the "
+            "temporal reference only"
+        )
     size = check_size(size, ctx.max_texture_size)
     shutter = check_shutter(scene.shutter if shutter is None else shutter)
-    times = sample_times(shutter, samples, bool(stratified), seed)
+    positions = None
+    if antialias:
+        times, positions = shutter_samples(shutter, samples, seed)
+    else:
+        times = sample_times(shutter, samples, bool(stratified), seed)
     width, height = size[0] + 2 * guard, size[1] + 2 * guard
     total = ctx.pooled((height, width, 4))
     total.clear()
@@ -78,15 +95,25 @@ def reference_render(
         iterator = tqdm(times, desc=f"reference N={samples}", unit="sub-frame", leave=False)
     elapsed = 0.0
     clock = ""
-    for t in iterator:
-        targets, _, timing = render_targets(ctx, scene, size, shutter, float(t), guard)
+    for i, t in enumerate(iterator):
+        jitter = (0.0, 0.0) if positions is None else tuple(0.5 - positions[i])
+        targets, _, timing = render_targets(ctx, scene, size, shutter, float(t), guard, jitter)
         with ctx.timer() as add:
             accumulate(ctx, targets["color"], total, 1.0 / samples)
         ctx.recycle(*targets.values())
         elapsed += timing.ms + add.ms
         clock = add.clock
     result = Reference(
-        samples, times, bool(stratified), seed, elapsed / samples, clock, total, auto
+        samples,
+        times,
+        bool(stratified),
+        seed,
+        elapsed / samples,
+        clock,
+        total,
+        auto,
+        antialias,
+        positions,
     )
     weakref.finalize(result, ctx.recycle, total)
     return result

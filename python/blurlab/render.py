@@ -54,6 +54,18 @@ def check_shutter(shutter) -> tuple[float, float]:
     return t0, t1
 
 
+def check_jitter(jitter) -> tuple[float, float]:
+    try:
+        dx, dy = jitter
+    except (TypeError, ValueError):
+        raise ValueError(f"blurlab: jitter must be (dx, dy) pixels, not {jitter!r}") from None
+    if not all(
+        isinstance(v, Real) and not isinstance(v, bool) and math.isfinite(v) for v in (dx, dy)
+    ):
+        raise ValueError(f"blurlab: jitter (dx, dy) must be two finite numbers, not {jitter!r}")
+    return float(dx), float(dy)
+
+
 def camera_matrices(scene: Scene, size, times, guard: int = 0, jitter=(0.0, 0.0)) -> dict:
     """View and (y-flipped) projection matrices at open, close and the instant, float64.
 
@@ -97,6 +109,7 @@ def render(
     motion_format: str = "rg32f",
     maxlen: float | None = None,
     guard: int = 0,
+    jitter=(0.0, 0.0),
 ) -> Frame:
     """Renders the G-buffer of `scene`; see Context.render."""
     if not isinstance(scene, Scene):
@@ -112,7 +125,8 @@ def render(
         maxlen = math.hypot(*size)  # docs/spec.md §2: the image diagonal
     if not (isinstance(maxlen, Real) and math.isfinite(maxlen) and maxlen > 0):
         raise ValueError(f"blurlab: maxlen must be a finite number of pixels > 0, not {maxlen!r}")
-    targets, camera, timing = render_targets(ctx, scene, size, shutter, time, guard)
+    jitter = check_jitter(jitter)
+    targets, camera, timing = render_targets(ctx, scene, size, shutter, time, guard, jitter)
     timings = {"gbuffer": timing}
     if motion_format != "rg32f":
         exact = targets["motion"]

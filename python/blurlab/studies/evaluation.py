@@ -29,7 +29,7 @@ class Settings:
     repeats: int
 
 
-LDR_METRICS = ("psnr", "ssim", "flip")
+LDR_METRICS = ("psnr", "ssim", "flip", "psnr_aa")  # psnr_aa: against the antialiased reference
 # Unclipped, for HDR scenes (docs/spec.md §6.2); computed on the CPU from images read back, as
 # FLIP is.
 HDR_METRICS = tuple(m.HDR_METRICS)
@@ -93,6 +93,11 @@ def evaluate_scene(
             row["ssim"] = m.gpu_ssim(ctx, reference.texture, result.textures["color"])
         if "flip" in wanted:
             row["flip"] = m.gpu_flip(ctx, reference.texture, result.textures["color"])
+        if "psnr_aa" in wanted:  # against the antialiased reference (§11)
+            antialiased = _reference(ctx, scene, settings, reference.samples, cache, True)
+            row["psnr_aa"] = m.psnr_from_mse(
+                m.gpu_mse(ctx, result.textures["color"], antialiased.texture)
+            )
         hdr = [name for name in wanted if name in m.HDR_METRICS]
         if hdr:  # with "exposure", the one psnr_tm, ssim_tm and the report's pictures use
             row.update(m.hdr_scores(reference.color, result.color, hdr))
@@ -108,6 +113,21 @@ def evaluate_scene(
         )
         del result  # its textures go back to the pool before the next evaluation
         yield key, row
+
+
+def _reference(ctx, scene, settings: Settings, samples: int, cache: dict, antialias=False):
+    """The scene's temporal (or antialiased) reference with `samples` sub-frames, made once."""
+    key = "reference_aa" if antialias else "reference"
+    if key not in cache:
+        cache[key] = ctx.reference(
+            scene,
+            settings.size,
+            check_shutter(scene.shutter if settings.shutter is None else settings.shutter),
+            samples=samples,
+            progress=False,
+            antialias=antialias,
+        )
+    return cache[key]
 
 
 def _without_steps(point: dict) -> dict:
@@ -127,16 +147,7 @@ def _scene_inputs(ctx, scene, name, point, settings: Settings, cache: dict):
         frames[(instant, steps)] = render_steps(
             ctx, scene, name, steps, settings.size, settings.shutter, **params
         )
-    frame = frames[(instant, 1)][0]
-    if "reference" not in cache:
-        n = settings.reference_samples
-        if n is None:
-            n = default_reference_samples(frame)
-        cache["reference"] = ctx.reference(
-            scene,
-            settings.size,
-            check_shutter(scene.shutter if settings.shutter is None else settings.shutter),
-            samples=n,
-            progress=False,
-        )
-    return frames[(instant, steps)], cache["reference"]
+    n = settings.reference_samples
+    if n is None:
+        n = default_reference_samples(frames[(instant, 1)][0])
+    return frames[(instant, steps)], _reference(ctx, scene, settings, n, cache)

@@ -14,7 +14,7 @@ import pandas as pd
 from .. import io, metrics, scenes
 from ..context import Context
 from ..methods import blur, method, method_instant
-from . import interactive, objects, plots
+from . import interactive, objects, peers, plots
 from .sweep import HDR_METRICS, default_grids, middle_point, sweep
 
 BUDGETS_MS = (0.1, 1.0, 10.0, 100.0)
@@ -30,11 +30,14 @@ def run_study(
     grids=None,
     progress: bool = True,
     cluster=None,
+    peer_names=(),
 ) -> Path:
     """Runs the study and returns the path of report.html. With `cluster` (as bl.sweep takes
     it) the sweep runs on Dask workers; `ctx` still renders the report's images. `metrics`
     as bl.sweep takes them: None measures HDR scenes (bl.scenes.names("hdr")) with the HDR
-    metrics too, ranks them by psnr_tm and shows their images tone-mapped."""
+    metrics too, ranks them by psnr_tm and shows their images tone-mapped. `peer_names`
+    ("eevee") adds Blender's EEVEE as rows scored against the same references (peers.csv)."""
+    peer_names = peers.check_peers(peer_names)
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     names = list(scene_names or scenes.names())
@@ -62,7 +65,17 @@ def run_study(
     if "textured_spin" in names:  # the OGRE paper's test matrix
         per_object = objects.object_errors(ctx, size, reference_samples=reference_samples)
         per_object.to_csv(out / "per_object.csv", index=False)
-    report = _html(info, size, table, sections, curves, per_object)
+    peer_rows = None
+    if peer_names:
+        peer_rows = peers.peer_table(
+            ctx,
+            {name: scenes.get(name) for name in names},
+            size,
+            {s["name"]: s["reference_samples"] for s in sections},
+            tuple(metrics),
+        )
+        peer_rows.to_csv(out / "peers.csv", index=False)
+    report = _html(info, size, table, sections, curves, per_object, peer_rows)
     return io.write_text(out / "report.html", report)
 
 
@@ -185,7 +198,7 @@ def _full_size_images(name: str, reference, images: dict, out: Path) -> str:
     )
 
 
-def _html(info, size, table, sections, curves, per_object=None) -> str:
+def _html(info, size, table, sections, curves, per_object=None, peer_rows=None) -> str:
     e = html.escape
     when = datetime.datetime.now().strftime("%Y-%m-%d %H:%M")
     parts = [
@@ -202,7 +215,9 @@ def _html(info, size, table, sections, curves, per_object=None) -> str:
         "<p>Each method runs on the G-buffer rendered at the instant it expects; its error is "
         "measured against the converged reference of the same shutter (the mean of N renders). "
         "PSNR of linear color clipped to [0, 1] (higher is better), SSIM of luminance (higher "
-        "is better), FLIP (lower is better). Time is the sum of the method's passes; methods "
+        "is better), FLIP (lower is better); psnr_aa is PSNR against the antialiased reference "
+        "(sub-pixel positions as well as times: what a path tracer converges to), which also "
+        "counts the aliasing of still edges. Time is the sum of the method's passes; methods "
         "that render (accumulation, stochastic) include their renders.</p>",
     ]
     for s in sections:
@@ -238,7 +253,7 @@ def _html(info, size, table, sections, curves, per_object=None) -> str:
         )
         columns = ["method", "params", "total_ms", "psnr"] + [
             c
-            for c in ("ssim", "flip", *HDR_METRICS, "exposure")
+            for c in ("ssim", "flip", "psnr_aa", *HDR_METRICS, "exposure")
             if c in s["rows"] and s["rows"][c].notna().any()
         ]
         shown = s["rows"][columns].sort_values("total_ms")
@@ -252,6 +267,19 @@ def _html(info, size, table, sections, curves, per_object=None) -> str:
             "frame's. Data: <a href='per_object.csv'>per_object.csv</a>.</p>"
         )
         parts.append(per_object.to_html(index=False, float_format=lambda v: f"{v:.2f}", border=0))
+    if peer_rows is not None:
+        parts.append(
+            "<h2>Peers: Blender's EEVEE</h2><p>The same scenes rendered by EEVEE, scored "
+            "against the same references. Their time is Blender's wall time for the whole "
+            "render (start, scene, shader compilation, rendering) on the device named, not a "
+            "GPU pass time: do not read it against the methods' milliseconds. Data: "
+            "<a href='peers.csv'>peers.csv</a>.</p>"
+        )
+        columns = ("scene", "method", "psnr", "ssim", "flip", "psnr_aa", "time", "note")
+        shown = [c for c in columns if c in peer_rows]
+        parts.append(
+            peer_rows[shown].to_html(index=False, float_format=lambda v: f"{v:.4g}", border=0)
+        )
     for title, image in curves:
         parts.append(f"<h2>{e(title)}</h2><p><img src='{e(image)}'></p>")
     parts.append(

@@ -35,6 +35,8 @@ def default_grids() -> dict:
     return {name: method(name).default_grid for name in sweep_methods()}
 
 
+# psnr, ssim and flip are against the temporal reference (pixel centers, as the methods sample);
+# psnr_aa against the antialiased one (docs/spec.md §11 "Which reference, for what").
 METRICS = LDR_METRICS + HDR_METRICS
 MAX_SIZE = 16384  # the largest GL_MAX_TEXTURE_SIZE of the devices blurlab meets
 
