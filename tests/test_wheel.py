@@ -115,7 +115,8 @@ def test_wheel_is_manylinux_with_system_libraries_only(wheel, tmp_path, timings)
 def test_wheel_carries_the_shaders(wheel):
     with zipfile.ZipFile(wheel) as archive:
         names = archive.namelist()
-    shaders = {Path(n).relative_to("blurlab/shaders").as_posix() for n in names if "/shaders/" in n}
+    files = [n for n in names if "/shaders/" in n and not n.endswith("/")]
+    shaders = {Path(n).relative_to("blurlab/shaders").as_posix() for n in files}
     in_tree = {p.relative_to(ROOT / "shaders").as_posix() for p in (ROOT / "shaders").rglob("*")}
     in_tree = {p for p in in_tree if (ROOT / "shaders" / p).is_file()}
     assert shaders == in_tree
@@ -146,6 +147,11 @@ def test_installed_wheel_runs_outside_the_source_tree(wheel, tmp_path, timings):
     assert "llvmpipe" in result["renderer"]
     assert result["psnr_blurred"] > result["psnr_still"], result
     assert all(not Path(p).is_relative_to(venv) for p in result["libEGL"]), result
+    # The dynamic linker's view: libEGL is opened at run time, so it is no dependency at all.
+    ldd = run(["ldd", result["core"]]).stdout
+    (ROOT / "build" / "wheel-ldd.txt").write_text(ldd)
+    assert "not found" not in ldd and "epoxy" not in ldd and "libEGL" not in ldd, ldd
+    assert "libstdc++" not in ldd, ldd
 
     info = run([venv / "bin" / "blurlab", "--device", "software", "info"], cwd=tmp_path, env=env)
     assert json.loads(info.stdout)["context"]["device"] == "software"
