@@ -112,14 +112,25 @@ def test_wheel_is_manylinux_with_system_libraries_only(wheel, tmp_path, timings)
     assert wheel.stat().st_size <= SIZE_LIMIT
 
 
-def test_wheel_carries_the_shaders(wheel):
+def test_wheel_carries_the_shaders_and_data_files(wheel):
     with zipfile.ZipFile(wheel) as archive:
-        names = archive.namelist()
-    files = [n for n in names if "/shaders/" in n and not n.endswith("/")]
-    shaders = {Path(n).relative_to("blurlab/shaders").as_posix() for n in files}
-    in_tree = {p.relative_to(ROOT / "shaders").as_posix() for p in (ROOT / "shaders").rglob("*")}
-    in_tree = {p for p in in_tree if (ROOT / "shaders" / p).is_file()}
-    assert shaders == in_tree
+        names = {n for n in archive.namelist() if not n.endswith("/")}
+    shaders = {
+        "blurlab/shaders/" + p.relative_to(ROOT / "shaders").as_posix()
+        for p in (ROOT / "shaders").rglob("*")
+        if p.is_file()
+    }
+    package = ROOT / "python" / "blurlab"
+    data = {
+        "blurlab/" + p.relative_to(package).as_posix()
+        for p in package.rglob("*")
+        if p.is_file() and p.suffix not in (".py", ".pyc") and "__pycache__" not in p.parts
+    }
+    assert data, "the package's data files were not found in the tree"
+    assert shaders <= names, sorted(shaders - names)
+    assert data <= names, sorted(data - names)
+    in_wheel = {n for n in names if n.startswith("blurlab/shaders/")}
+    assert in_wheel == shaders, sorted(in_wheel ^ shaders)
 
 
 def test_installed_wheel_runs_outside_the_source_tree(wheel, tmp_path, timings):
