@@ -58,8 +58,11 @@ def main() -> None:
     libraries = loaded_libraries()
     egl = [p for p in libraries if p.name.startswith("libEGL.so")]
     assert egl, "libEGL.so.1 is not loaded after creating a context"
-    prefix = Path(sys.prefix).resolve()
-    assert not any(inside(p.resolve(), prefix) for p in egl), f"libEGL from the venv: {egl}"
+    # Not from where blurlab was installed, nor from a venv's own folder (a system Python's
+    # prefix, /usr, is where the system's libEGL lives).
+    shipped = [package.parent] + ([Path(sys.prefix)] if sys.prefix != sys.base_prefix else [])
+    from_python = [p for p in egl if any(inside(p.resolve(), r.resolve()) for r in shipped)]
+    assert not from_python, f"libEGL comes with the Python install, not the system: {from_python}"
     epoxy = [p for p in libraries if "epoxy" in p.name]
     assert not epoxy, f"libepoxy is loaded: {epoxy}"
     result["libEGL"] = [str(p) for p in egl]
