@@ -32,7 +32,7 @@ isolation=()
 build_isolation=()
 if [ "${NO_ISOLATION:-0}" = 1 ]; then
   isolation=(--no-build-isolation)
-  build_isolation=(--no-isolation)
+  build_isolation=(--no-isolation --skip-dependency-check)
 fi
 
 mkdir -p dist
