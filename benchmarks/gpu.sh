@@ -13,7 +13,7 @@
 # runtime of .gl/ stands for the system's driver stack.
 #   WHEEL=dist/blurlab-V-cp312-cp312-manylinux_2_28_x86_64.whl bash benchmarks/gpu.sh ...
 #     (carry [".gl", ".whl", "dist"]): installs that wheel, as a user would, and tests it.
-#   WHEEL=build bash benchmarks/gpu.sh ...   (carry [".gl", ".whl", "dist"]): the device's
+#   WHEEL=build bash benchmarks/gpu.sh ...   (carry [".gl", ".whl", "dist/tools"]): the device's
 #     Python is 3.12 and this project's machines have no 3.12 headers, so the cp312 wheel is
 #     built there first, by packaging/build-wheel.sh with the image's g++ (TOOLCHAIN=system;
 #     zig, 100 MB, is too big to carry) from the tools that `bash packaging/fetch-gpu-tools.sh`
