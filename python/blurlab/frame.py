@@ -20,6 +20,10 @@ class Frame:
     depth      (H, W) positive linear view distance, +inf where nothing was drawn
     motion     (H, W, 2) pixels from shutter open to close, +x right, +y down
     object_id  (H, W) int32, -1 for the background
+    motion_prev, motion_next  (H, W, 2) the two-sided motion of docs/spec.md §17.1: pixels
+               from shutter open to the instant, and from the instant to close. Rendered
+               frames carry the G-buffer's; where both are None they are derived from motion
+               as constant velocity: f·M and (1 − f)·M, f the instant's place in the shutter.
 
     Arrays of any real dtype are converted to float32. Non-finite values are kept as given;
     every method reads them as docs/reliability.md says (NaN color as 0, NaN or non-positive
@@ -38,6 +42,8 @@ class Frame:
     # GPU copies where rendered; they return to the context's pool when the frame is freed.
     textures: dict = field(default_factory=dict, repr=False)
     scene: object = field(default=None, repr=False)  # the Scene a rendered frame came from
+    motion_prev: np.ndarray | None = field(default=None, repr=False)
+    motion_next: np.ndarray | None = field(default=None, repr=False)
 
     def __post_init__(self):
         self.color = _float_image(self.color, "color", (3, 4))
@@ -68,6 +74,35 @@ class Frame:
             )
         if not isinstance(self.motion_format, str) or self.motion_format not in MOTION_FORMATS:
             raise ValueError(f"blurlab: motion_format must be one of {MOTION_FORMATS}")
+        self._two_sided_motion()
+
+    def _two_sided_motion(self):
+        """docs/spec.md §17.1: checks the given halves, or derives both from M."""
+        given = (self.motion_prev is not None, self.motion_next is not None)
+        if given == (False, False):
+            f = self.instant_fraction
+            with np.errstate(invalid="ignore", over="ignore"):  # inf * 0 in non-finite input
+                self.motion_prev = (self.motion * np.float32(f)).astype(np.float32)
+                self.motion_next = (self.motion * np.float32(1.0 - f)).astype(np.float32)
+            return
+        if given != (True, True):
+            raise ValueError("blurlab: give both motion_prev and motion_next, or neither")
+        for name in ("motion_prev", "motion_next"):
+            half = _float_image(getattr(self, name), name, (2,))
+            if half.shape != self.motion.shape:
+                raise ValueError(
+                    f"blurlab: {name} has shape {half.shape}, motion is {self.motion.shape}"
+                )
+            setattr(self, name, half)
+
+    @property
+    def instant_fraction(self) -> float:
+        """Where the instant lies in the shutter, 0 (open) to 1 (close); 0.5 where the frame
+        has no instant or the shutter has no length."""
+        t0, t1 = self.shutter
+        if self.time is None or not t1 > t0:
+            return 0.5
+        return min(max((self.time - t0) / (t1 - t0), 0.0), 1.0)
 
     @classmethod
     def from_exr(cls, path=None, **kwargs) -> Frame:

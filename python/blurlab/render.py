@@ -112,7 +112,7 @@ def render(
         maxlen = math.hypot(*size)  # docs/spec.md §2: the image diagonal
     if not (isinstance(maxlen, Real) and math.isfinite(maxlen) and maxlen > 0):
         raise ValueError(f"blurlab: maxlen must be a finite number of pixels > 0, not {maxlen!r}")
-    targets, camera, timing = render_targets(ctx, scene, size, shutter, time, guard)
+    targets, camera, timing = render_targets(ctx, scene, size, shutter, time, guard, sides=True)
     timings = {"gbuffer": timing}
     if motion_format != "rg32f":
         exact = targets["motion"]
@@ -120,11 +120,14 @@ def render(
             ctx, exact, motion_format, maxlen
         )
         ctx.recycle(exact)
+    sides = targets["motion_sides"].download()
     frame = Frame(
         color=targets["color"].download(),
         depth=targets["depth"].download(),
         motion=targets["motion"].download(),
         object_id=targets["object_id"].download(),
+        motion_prev=sides[..., :2],
+        motion_next=sides[..., 2:],
         shutter=shutter,
         time=time,
         motion_format=motion_format,
@@ -140,9 +143,17 @@ def render(
 
 
 def render_targets(
-    ctx, scene: Scene, size, shutter, time: float, guard: int = 0, jitter=(0.0, 0.0)
+    ctx,
+    scene: Scene,
+    size,
+    shutter,
+    time: float,
+    guard: int = 0,
+    jitter=(0.0, 0.0),
+    sides: bool = False,
 ):
     """Runs the G-buffer pass into pooled textures: (targets, camera matrices, Timing).
+    `sides` adds the target "motion_sides": M_prev in RG, M_next in BA (docs/spec.md §17.1).
 
     `guard` > 0 renders a margin of that many pixels around the image (the frustum widened to
     match), for methods whose taps leave the image ("Blurry things": guard band). `jitter`
@@ -190,9 +201,18 @@ def render_targets(
         "motion": ctx.pooled((height, width, 2)),
         "object_id": ctx.pooled((height, width)),
     }
+    natives = [t.native for t in targets.values()]
+    if sides:
+        targets["motion_sides"] = ctx.pooled((height, width, 4))
     gbuffer = ctx.cached("gbuffer", lambda: _core.GBufferPass(ctx.native))
     with ctx.timer() as timing:
-        gbuffer.render(*(t.native for t in targets.values()), camera_uniforms, light, draws)
+        gbuffer.render(
+            *natives,
+            camera_uniforms,
+            light,
+            draws,
+            motion_sides=targets["motion_sides"].native if sides else None,
+        )
     return targets, camera, timing
 
 
