@@ -104,3 +104,9 @@ def test_non_finite_motion_derives_without_warnings():
     with np.errstate(all="raise"):
         frame = bl.Frame(np.ones((1, 2, 4)), np.ones((1, 2)), motion)
     assert frame.motion_prev.shape == (1, 2, 2)
+
+
+def test_derived_halves_follow_later_changes_to_the_motion(rng):
+    frame = bl.Frame(np.ones((3, 4, 4)), np.ones((3, 4)), np.zeros((3, 4, 2)))
+    frame.motion[:] = 6.0  # as the suites that build a frame and then set its motion do
+    assert (frame.motion_prev == 3.0).all() and (frame.motion_next == 3.0).all()

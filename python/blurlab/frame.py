@@ -23,7 +23,8 @@ class Frame:
     motion_prev, motion_next  (H, W, 2) the two-sided motion of docs/spec.md §17.1: pixels
                from shutter open to the instant, and from the instant to close. Rendered
                frames carry the G-buffer's; where both are None they are derived from motion
-               as constant velocity: f·M and (1 − f)·M, f the instant's place in the shutter.
+               (as it is when read) as constant velocity: f·M and (1 − f)·M, f the instant's
+               place in the shutter.
 
     Arrays of any real dtype are converted to float32. Non-finite values are kept as given;
     every method reads them as docs/reliability.md says (NaN color as 0, NaN or non-positive
@@ -77,23 +78,28 @@ class Frame:
         self._two_sided_motion()
 
     def _two_sided_motion(self):
-        """docs/spec.md §17.1: checks the given halves, or derives both from M."""
-        given = (self.motion_prev is not None, self.motion_next is not None)
-        if given == (False, False):
-            f = self.instant_fraction
-            with np.errstate(invalid="ignore", over="ignore"):  # inf * 0 in non-finite input
-                self.motion_prev = (self.motion * np.float32(f)).astype(np.float32)
-                self.motion_next = (self.motion * np.float32(1.0 - f)).astype(np.float32)
+        """docs/spec.md §17.1: checks the given halves (both or neither)."""
+        given = [self.__dict__.get(f"_{name}") for name in TWO_SIDED]
+        missing = [half is None for half in given]
+        if all(missing):
             return
-        if given != (True, True):
+        if any(missing):
             raise ValueError("blurlab: give both motion_prev and motion_next, or neither")
-        for name in ("motion_prev", "motion_next"):
-            half = _float_image(getattr(self, name), name, (2,))
+        for name, half in zip(TWO_SIDED, given, strict=True):
+            half = _float_image(half, name, (2,))
             if half.shape != self.motion.shape:
                 raise ValueError(
                     f"blurlab: {name} has shape {half.shape}, motion is {self.motion.shape}"
                 )
-            setattr(self, name, half)
+            self.__dict__[f"_{name}"] = half
+
+    def _derived_half(self, name: str) -> np.ndarray:
+        """Constant velocity around the instant (§17.1): f·M before it, (1 − f)·M after it,
+        from the frame's motion as it is now."""
+        f = self.instant_fraction
+        share = f if name == "motion_prev" else 1.0 - f
+        with np.errstate(invalid="ignore", over="ignore"):  # inf · 0 in non-finite input
+            return (self.motion * np.float32(share)).astype(np.float32)
 
     @property
     def instant_fraction(self) -> float:
@@ -131,6 +137,28 @@ class Frame:
     def size(self) -> tuple[int, int]:
         """(W, H)."""
         return self.color.shape[1], self.color.shape[0]
+
+
+TWO_SIDED = ("motion_prev", "motion_next")
+
+
+def _two_sided_property(name: str) -> property:
+    """frame.motion_prev / motion_next: the given half, or the one derived from motion now."""
+
+    def get(self) -> np.ndarray:
+        given = self.__dict__.get(f"_{name}")
+        return given if given is not None else self._derived_half(name)
+
+    def set_(self, value) -> None:
+        self.__dict__[f"_{name}"] = value
+
+    return property(get, set_, doc=f"(H, W, 2) {name} of docs/spec.md §17.1")
+
+
+# The dataclass's __init__ takes them as arguments; the properties then keep the derived
+# halves in step with `motion` when no half was given.
+for _name in TWO_SIDED:
+    setattr(Frame, _name, _two_sided_property(_name))
 
 
 def _float_image(array, what: str, channels: tuple[int, ...]) -> np.ndarray:
