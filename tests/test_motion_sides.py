@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from test_gbuffer import SHUTTER, SIZE, _apply, one_object_scene
+from test_gbuffer import SHUTTER, SIZE, _apply, one_object_scene, sky_positions
 
 import blurlab as bl
 from blurlab.twins import projection
@@ -65,13 +65,7 @@ def test_background_halves_follow_the_camera_rotation(ctx):
     )
     scene = one_object_scene(bl.mesh.sphere(0.5), None, camera)
     frame = ctx.render(scene, SIZE, SHUTTER)
-    sky = frame.object_id == -1
-    centers = projection.pixel_centers(*SIZE)[sky]
-    eye = lambda t: camera.world(t)[:3, 3]  # noqa: E731
-    direction = projection.unproject(centers, np.ones(len(centers)), camera, frame.time, SIZE)
-    direction -= eye(frame.time)
-    p0, _ = projection.project(eye(0.0) + direction, camera, 0.0, SIZE)
-    p1, _ = projection.project(eye(SHUTTER[1]) + direction, camera, SHUTTER[1], SIZE)
+    sky, centers, p0, p1 = sky_positions(frame, camera)
     assert np.abs(frame.motion_prev[sky] - (centers - p0)).max() <= 0.01
     assert np.abs(frame.motion_next[sky] - (p1 - centers)).max() <= 0.01
     assert np.abs(p1 - p0).max() > 1.0
