@@ -6,7 +6,13 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import assert_inside_input_range, random_frame
+from conftest import random_frame
+from filter_promises import (
+    assert_finite_for_motion_scale,
+    assert_inside_the_input_range,
+    assert_seeded,
+    assert_still_frame_unchanged,
+)
 
 import blurlab as bl
 from blurlab.twins import eevee as ref
@@ -90,10 +96,7 @@ def test_dilation_follows_each_tile_motion_not_a_3x3_block():
 
 
 def test_still_image_comes_back_unchanged(ctx, rng):
-    frame = random_frame(rng, 64, 48)
-    frame.motion[:] = 0
-    result = bl.blur(ctx, frame, METHOD)
-    assert result.color.tobytes() == frame.color.tobytes()
+    assert_still_frame_unchanged(ctx, rng, METHOD)
 
 
 def test_motion_under_half_a_pixel_exits_early(ctx, rng):
@@ -104,27 +107,16 @@ def test_motion_under_half_a_pixel_exits_early(ctx, rng):
 
 
 def test_output_stays_inside_the_input_range(ctx, rng):
-    frame = two_sided_frame(rng, 120, 80)
-    frame.color[..., :3] = frame.color[..., :3] * 0.5 + 0.25  # inputs in [0.25, 0.75]
-    out = bl.blur(ctx, frame, METHOD, tile_size=16).color
-    assert_inside_input_range(out, frame.color)
+    assert_inside_the_input_range(ctx, two_sided_frame(rng, 120, 80), METHOD, tile_size=16)
 
 
 @pytest.mark.parametrize("scale", [0.0, 1e-3, 1e30])
 def test_zero_tiny_and_huge_motion_give_no_nan(ctx, rng, scale):
-    frame = random_frame(rng, 80, 60)
-    frame.motion[:] = np.float32(scale) * np.sign(frame.motion)
-    result = bl.blur(ctx, frame, METHOD, max_blur=1e6, tile_size=16)
-    assert np.isfinite(result.color).all()
+    assert_finite_for_motion_scale(ctx, rng, METHOD, scale, max_blur=1e6, tile_size=16)
 
 
 def test_same_seed_same_bits_other_seed_other_noise(ctx, rng):
-    frame = two_sided_frame(rng, 80, 60)
-    a = bl.blur(ctx, frame, METHOD, seed=3).color
-    b = bl.blur(ctx, frame, METHOD, seed=3).color
-    c = bl.blur(ctx, frame, METHOD, seed=4).color
-    assert a.tobytes() == b.tobytes()
-    assert a.tobytes() != c.tobytes()
+    assert_seeded(ctx, two_sided_frame(rng, 80, 60), METHOD)
 
 
 def test_two_sided_motion_is_what_it_reads(ctx, rng):

@@ -6,7 +6,13 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import assert_inside_input_range, random_frame
+from conftest import random_frame
+from filter_promises import (
+    assert_finite_for_motion_scale,
+    assert_inside_the_input_range,
+    assert_seeded,
+    assert_still_frame_unchanged,
+)
 
 import blurlab as bl
 from blurlab.twins import unity as ref
@@ -75,34 +81,20 @@ def test_neighbor_max_prefers_the_center_within_one_percent():
 
 
 def test_still_image_comes_back_unchanged(ctx, rng):
-    frame = random_frame(rng, 64, 48)
-    frame.motion[:] = 0
-    result = bl.blur(ctx, frame, METHOD)
-    assert result.color.tobytes() == frame.color.tobytes()
+    assert_still_frame_unchanged(ctx, rng, METHOD)
 
 
 def test_output_stays_inside_the_input_range(ctx, rng):
-    frame = random_frame(rng, 120, 80)
-    frame.color[..., :3] = frame.color[..., :3] * 0.5 + 0.25  # inputs in [0.25, 0.75]
-    out = bl.blur(ctx, frame, METHOD, max_radius=15.0).color
-    assert_inside_input_range(out, frame.color)
+    assert_inside_the_input_range(ctx, random_frame(rng, 120, 80), METHOD, max_radius=15.0)
 
 
 @pytest.mark.parametrize("scale", [0.0, 1e-3, 1e30])
 def test_zero_tiny_and_huge_motion_give_no_nan(ctx, rng, scale):
-    frame = random_frame(rng, 80, 60)
-    frame.motion[:] = np.float32(scale) * np.sign(frame.motion)
-    result = bl.blur(ctx, frame, METHOD, max_radius=50.0)
-    assert np.isfinite(result.color).all()
+    assert_finite_for_motion_scale(ctx, rng, METHOD, scale, max_radius=50.0)
 
 
 def test_same_seed_same_bits_other_seed_other_noise(ctx, rng):
-    frame = random_frame(rng, 80, 60)
-    a = bl.blur(ctx, frame, METHOD, seed=3).color
-    b = bl.blur(ctx, frame, METHOD, seed=3).color
-    c = bl.blur(ctx, frame, METHOD, seed=4).color
-    assert a.tobytes() == b.tobytes()
-    assert a.tobytes() != c.tobytes()
+    assert_seeded(ctx, random_frame(rng, 80, 60), METHOD)
 
 
 @pytest.mark.parametrize(

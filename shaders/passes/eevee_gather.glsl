@@ -9,6 +9,7 @@
 #include "common/eevee.glsl"
 #include "common/mcguire2012.glsl"
 #include "common/random.glsl"
+#include "common/jittered_tile.glsl"
 
 layout(binding = 0) uniform sampler2D color;
 layout(binding = 1) uniform sampler2D depth;
@@ -21,17 +22,13 @@ uniform float depth_scale;
 uniform float exposure;
 uniform uint seed;
 
-const uint JITTER_SALT_X = 0x3C6EF372u;
-const uint JITTER_SALT_Y = 0xA54FF53Au;
+const uvec2 JITTER_SALTS = uvec2(0x3C6EF372u, 0xA54FF53Au);
 
 vec4 gather_at(ivec2 x) {
     ivec2 size = textureSize(color, 0);
     vec4 cx = sanitize_color(texelFetch(color, x, 0));
     float s = float(tile_size);
-    vec2 offset = (vec2(rand(uint(x.x), uint(x.y), seed ^ JITTER_SALT_X),
-                        rand(uint(x.x), uint(x.y), seed ^ JITTER_SALT_Y)) - 0.5) * 0.5 * s;
-    ivec2 grid = textureSize(dilated, 0);
-    ivec2 tile = clamp(ivec2(floor((vec2(x) + 0.5 + offset) / s)), ivec2(0), grid - 1);
+    ivec2 tile = jittered_tile(x, s, seed, JITTER_SALTS, textureSize(dilated, 0));
     vec4 tile_motion = texelFetch(dilated, tile, 0);
     vec4 reach = vec4(clamp_length(tile_motion.xy, max_blur), clamp_length(tile_motion.zw, max_blur));
     if (max(length(reach.xy), length(reach.zw)) < EARLY_EXIT) return cx;

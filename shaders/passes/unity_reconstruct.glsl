@@ -9,6 +9,7 @@
 #include "common/inputs.glsl"
 #include "common/mcguire2012.glsl"
 #include "common/random.glsl"
+#include "common/jittered_tile.glsl"
 #include "common/unity.glsl"
 
 layout(binding = 0) uniform sampler2D color;
@@ -21,17 +22,13 @@ uniform int tile;      // T, pixels
 uniform uint seed;
 
 const float EARLY_EXIT = 2.0;
-const uint JITTER_SALT_X = 0x1B873593u;
-const uint JITTER_SALT_Y = 0xCC9E2D51u;
+const uvec2 JITTER_SALTS = uvec2(0x1B873593u, 0xCC9E2D51u);
 
 vec4 reconstruct_at(ivec2 x) {
     ivec2 size = textureSize(color, 0);
     vec4 cx = sanitize_color(texelFetch(color, x, 0));
     float s = float(tile);
-    vec2 offset = (vec2(rand(uint(x.x), uint(x.y), seed ^ JITTER_SALT_X),
-                        rand(uint(x.x), uint(x.y), seed ^ JITTER_SALT_Y)) - 0.5) * 0.5 * s;
-    ivec2 grid = textureSize(neighbor_max, 0);
-    ivec2 t_lookup = clamp(ivec2(floor((vec2(x) + 0.5 + offset) / s)), ivec2(0), grid - 1);
+    ivec2 t_lookup = jittered_tile(x, s, seed, JITTER_SALTS, textureSize(neighbor_max, 0));
     vec2 vmax = decode_velocity(texelFetch(neighbor_max, t_lookup, 0).xy, radius);
     float l_max = length(vmax);
     if (l_max < EARLY_EXIT) return cx;

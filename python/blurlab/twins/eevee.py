@@ -16,8 +16,7 @@ from .mcguire2012 import cone, cylinder, soft_depth_compare, tile_max
 
 EARLY_EXIT = 0.5  # px: a neighbourhood whose longest half-motion is shorter keeps C
 REACH_MARGIN = 0.01  # tiles added around a tile's reach: conservative against rounding
-JITTER_SALT_X = 0x3C6EF372
-JITTER_SALT_Y = 0xA54FF53A
+JITTER_SALTS = (0x3C6EF372, 0xA54FF53A)  # shaders/passes/eevee_gather.glsl
 
 
 def scaled_motion(motion, exposure: float) -> np.ndarray:
@@ -95,12 +94,13 @@ def tile_dilate(tiles: np.ndarray, tile_size: int, max_blur: float) -> np.ndarra
     return out
 
 
-def lookup_tile(x, y, tile_size: int, seed: int, grid) -> tuple[np.ndarray, np.ndarray]:
+def lookup_tile(x, y, tile_size: int, seed: int, grid, salts=JITTER_SALTS):
     """§17.2: (tile row, tile column) that pixel (x, y) reads: the tile containing its center
-    moved by up to ±1/4 tile per axis, (rand - 1/2)·s/2, clamped to the grid."""
+    moved by up to ±1/4 tile per axis, (rand - 1/2)·s/2, clamped to the grid. engine_unity
+    reads its NeighborMax the same way with its own `salts` (§17.3)."""
     seed = np.uint32(seed)
-    ox = (rand(x, y, seed ^ np.uint32(JITTER_SALT_X)) - 0.5) * 0.5 * tile_size
-    oy = (rand(x, y, seed ^ np.uint32(JITTER_SALT_Y)) - 0.5) * 0.5 * tile_size
+    ox = (rand(x, y, seed ^ np.uint32(salts[0])) - 0.5) * 0.5 * tile_size
+    oy = (rand(x, y, seed ^ np.uint32(salts[1])) - 0.5) * 0.5 * tile_size
     tx = np.clip(np.floor((x + 0.5 + ox) / tile_size).astype(np.int64), 0, grid[1] - 1)
     ty = np.clip(np.floor((y + 0.5 + oy) / tile_size).astype(np.int64), 0, grid[0] - 1)
     return ty, tx

@@ -13,6 +13,7 @@ import math
 
 import numpy as np
 
+from .eevee import lookup_tile
 from .hashing import rand
 from .inputs import sanitize_color, sanitize_depth, sanitize_motion
 from .mcguire2012 import cone
@@ -20,8 +21,7 @@ from .mcguire2012 import cone
 CODE_MAX = 1023
 EARLY_EXIT = 2.0  # px: a neighbourhood whose NeighborMax is shorter keeps C
 CENTER_BIAS = np.float32(1.0201)  # NeighborMax: 1.01 on the center's length, squared
-JITTER_SALT_X = 0x1B873593
-JITTER_SALT_Y = 0xCC9E2D51
+JITTER_SALTS = (0x1B873593, 0xCC9E2D51)  # shaders/passes/unity_reconstruct.glsl
 
 
 def max_radius_px(height: int, max_radius: float) -> float:
@@ -130,11 +130,7 @@ def engine_unity(
     z = codes[..., 2] / CODE_MAX
 
     y, x = np.mgrid[0:h, 0:w]
-    seed = np.uint32(seed)
-    ox = (rand(x, y, seed ^ np.uint32(JITTER_SALT_X)) - 0.5) * 0.5 * tile
-    oy = (rand(x, y, seed ^ np.uint32(JITTER_SALT_Y)) - 0.5) * 0.5 * tile
-    tx = np.clip(np.floor((x + 0.5 + ox) / tile).astype(np.int64), 0, neighbors.shape[1] - 1)
-    ty = np.clip(np.floor((y + 0.5 + oy) / tile).astype(np.int64), 0, neighbors.shape[0] - 1)
+    ty, tx = lookup_tile(x, y, tile, seed, neighbors.shape[:2], JITTER_SALTS)
     vmax = decode(neighbors[ty, tx], radius)
     l_max = np.linalg.norm(vmax, axis=-1)
     moving = l_max >= EARLY_EXIT
