@@ -22,7 +22,8 @@ class Frame:
     object_id  (H, W) int32, -1 for the background
     motion_prev, motion_next  (H, W, 2) the two-sided motion of docs/spec.md §17.1: pixels
                from shutter open to the instant, and from the instant to close. Rendered
-               frames carry the G-buffer's; where both are None they are derived from motion
+               frames carry the G-buffer's (downloaded from textures["motion_sides"] when first
+               read); where both are None otherwise, they are derived from motion
                (as it is when read) as constant velocity: f·M and (1 − f)·M, f the instant's
                place in the shutter.
 
@@ -147,6 +148,12 @@ def _two_sided_property(name: str) -> property:
 
     def get(self) -> np.ndarray:
         given = self.__dict__.get(f"_{name}")
+        if given is None and self.textures.get("motion_sides") is not None:
+            # A rendered frame: the G-buffer's halves, downloaded on first use only.
+            sides = self.textures["motion_sides"].download()
+            self.__dict__["_motion_prev"] = np.ascontiguousarray(sides[..., :2])
+            self.__dict__["_motion_next"] = np.ascontiguousarray(sides[..., 2:])
+            given = self.__dict__[f"_{name}"]
         return given if given is not None else self._derived_half(name)
 
     def set_(self, value) -> None:

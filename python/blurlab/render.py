@@ -120,14 +120,11 @@ def render(
             ctx, exact, motion_format, maxlen
         )
         ctx.recycle(exact)
-    sides = targets["motion_sides"].download()
     frame = Frame(
         color=targets["color"].download(),
         depth=targets["depth"].download(),
         motion=targets["motion"].download(),
         object_id=targets["object_id"].download(),
-        motion_prev=sides[..., :2],
-        motion_next=sides[..., 2:],
         shutter=shutter,
         time=time,
         motion_format=motion_format,
