@@ -2,11 +2,11 @@
 reconstruct_guertin2014 and reconstruct_mcguire2012 at their defaults, on every built-in and
 failure scene. PSNR, SSIM and FLIP against the converged reference, and ms per pass (median
 of --runs timed runs after one warm-up; on llvmpipe glFinish and a wall clock, on a GPU timer
-queries). Prints the table, writes it as JSON (--json) and as Markdown (--markdown; by default
-beside the JSON).
+queries). Prints the table, writes it as JSON (--json), as Markdown (--markdown) and as a Pareto
+chart of median ms against median PSNR (--chart); the last two by default beside the JSON.
 
     python benchmarks/engines.py [--device gpu] [--size 640x360] [--runs 5] [--json PATH]
-        [--markdown PATH] [--scenes a,b,...] [--methods a,b,...]
+        [--markdown PATH] [--chart PATH] [--scenes a,b,...] [--methods a,b,...]
 """
 
 from __future__ import annotations
@@ -81,6 +81,16 @@ def markdown(table: pd.DataFrame) -> str:
     return "\n".join(lines) + "\n"
 
 
+def pareto_chart(table: pd.DataFrame, renderer: str, clock: str, size):
+    """Median ms against median PSNR over the scenes, one point per method, front marked."""
+    medians = table.groupby("method", sort=False)[["psnr", "ms"]].median().reset_index()
+    medians = medians.rename(columns={"ms": "total_ms"})
+    medians = medians.assign(
+        scene="median over scenes", renderer=renderer, clock=clock, width=size[0], height=size[1]
+    )
+    return bl.plots.pareto(medians, "median over scenes")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--device", default="auto")
@@ -90,6 +100,7 @@ def main() -> None:
     parser.add_argument("--methods", default=None, help="comma-separated; default: all")
     parser.add_argument("--json", default=None)
     parser.add_argument("--markdown", default=None)
+    parser.add_argument("--chart", default=None, help="PNG or SVG: median ms against PSNR")
     args = parser.parse_args()
     ctx = open_context(args.device)
     size = tuple(int(v) for v in args.size.split("x"))
@@ -109,11 +120,15 @@ def main() -> None:
     for metric in ("psnr", "ssim", "flip", "ms"):
         print(f"\n{metric}")
         print(table.pivot(index="scene", columns="method", values=metric).round(3).to_string())
-    if args.markdown is None and args.json:  # benchmarks/gpu.sh passes --json only
-        args.markdown = args.json.removesuffix(".json") + ".md"
+    if args.json:  # benchmarks/gpu.sh passes --json only: the table and chart go beside it
+        args.markdown = args.markdown or args.json.removesuffix(".json") + ".md"
+        args.chart = args.chart or args.json.removesuffix(".json") + "_pareto.png"
     if args.markdown:
         with open(args.markdown, "w") as f:
             f.write(markdown(table))
+    if args.chart:
+        clock = bl.blur(ctx, ctx.render(bl.scenes.get(scenes[0]), (8, 8)), methods[0]).clock
+        bl.plots.save(pareto_chart(table, record["renderer"], clock, size), args.chart)
     record["rows"] = rows
     save(args.json, record)
 
