@@ -79,16 +79,24 @@ def test_camera_motion_moves_still_objects_and_the_background(ctx):
     frame = ctx.render(scene, SIZE, SHUTTER)
     assert_motion_matches(frame, scene, 0)
     # Background: points at infinity move with the camera's rotation only.
-    sky = frame.object_id == -1
-    centers = projection.pixel_centers(*SIZE)[sky]
-    eye = lambda t: camera.world(t)[:3, 3]  # noqa: E731
-    direction = projection.unproject(centers, np.ones(len(centers)), camera, frame.time, SIZE)
-    direction -= eye(frame.time)
-    p0, _ = projection.project(eye(0.0) + direction, camera, 0.0, SIZE)
-    p1, _ = projection.project(eye(SHUTTER[1]) + direction, camera, SHUTTER[1], SIZE)
+    sky, _, p0, p1 = sky_positions(frame, camera)
     error = np.abs(frame.motion[sky] - (p1 - p0)).max()
     assert error <= 0.01
     assert np.abs(p1 - p0).max() > 1.0
+
+
+def sky_positions(frame, camera):
+    """(mask, centers, p0, p1) on the background: each pixel center's direction at the
+    instant, projected at t0 and t1 from the eye of those times."""
+    sky = frame.object_id == -1
+    centers = projection.pixel_centers(*frame.size)[sky]
+    eye = lambda t: camera.world(t)[:3, 3]  # noqa: E731
+    t0, t1 = frame.shutter
+    direction = projection.unproject(centers, np.ones(len(centers)), camera, frame.time, frame.size)
+    direction -= eye(frame.time)
+    p0, _ = projection.project(eye(t0) + direction, camera, t0, frame.size)
+    p1, _ = projection.project(eye(t1) + direction, camera, t1, frame.size)
+    return sky, centers, p0, p1
 
 
 def test_triangle_crossing_the_near_plane(ctx):

@@ -20,6 +20,12 @@ class Frame:
     depth      (H, W) positive linear view distance, +inf where nothing was drawn
     motion     (H, W, 2) pixels from shutter open to close, +x right, +y down
     object_id  (H, W) int32, -1 for the background
+    motion_prev, motion_next  (H, W, 2) the two-sided motion of docs/spec.md §17.1: pixels
+               from shutter open to the instant, and from the instant to close. Rendered
+               frames carry the G-buffer's (downloaded from textures["motion_sides"] when first
+               read); where both are None otherwise, they are derived from motion
+               (as it is when read) as constant velocity: f·M and (1 − f)·M, f the instant's
+               place in the shutter.
 
     Arrays of any real dtype are converted to float32. Non-finite values are kept as given;
     every method reads them as docs/reliability.md says (NaN color as 0, NaN or non-positive
@@ -38,6 +44,8 @@ class Frame:
     # GPU copies where rendered; they return to the context's pool when the frame is freed.
     textures: dict = field(default_factory=dict, repr=False)
     scene: object = field(default=None, repr=False)  # the Scene a rendered frame came from
+    motion_prev: np.ndarray | None = field(default=None, repr=False)
+    motion_next: np.ndarray | None = field(default=None, repr=False)
 
     def __post_init__(self):
         self.color = _float_image(self.color, "color", (3, 4))
@@ -68,6 +76,40 @@ class Frame:
             )
         if not isinstance(self.motion_format, str) or self.motion_format not in MOTION_FORMATS:
             raise ValueError(f"blurlab: motion_format must be one of {MOTION_FORMATS}")
+        self._two_sided_motion()
+
+    def _two_sided_motion(self):
+        """docs/spec.md §17.1: checks the given halves (both or neither)."""
+        given = [self.__dict__.get(f"_{name}") for name in TWO_SIDED]
+        missing = [half is None for half in given]
+        if all(missing):
+            return
+        if any(missing):
+            raise ValueError("blurlab: give both motion_prev and motion_next, or neither")
+        for name, half in zip(TWO_SIDED, given, strict=True):
+            half = _float_image(half, name, (2,))
+            if half.shape != self.motion.shape:
+                raise ValueError(
+                    f"blurlab: {name} has shape {half.shape}, motion is {self.motion.shape}"
+                )
+            self.__dict__[f"_{name}"] = half
+
+    def _derived_half(self, name: str) -> np.ndarray:
+        """Constant velocity around the instant (§17.1): f·M before it, (1 − f)·M after it,
+        from the frame's motion as it is now."""
+        f = self.instant_fraction
+        share = f if name == "motion_prev" else 1.0 - f
+        with np.errstate(invalid="ignore", over="ignore"):  # inf · 0 in non-finite input
+            return (self.motion * np.float32(share)).astype(np.float32)
+
+    @property
+    def instant_fraction(self) -> float:
+        """Where the instant lies in the shutter, 0 (open) to 1 (close); 0.5 where the frame
+        has no instant or the shutter has no length."""
+        t0, t1 = self.shutter
+        if self.time is None or not t1 > t0:
+            return 0.5
+        return min(max((self.time - t0) / (t1 - t0), 0.0), 1.0)
 
     @classmethod
     def from_exr(cls, path=None, **kwargs) -> Frame:
@@ -96,6 +138,34 @@ class Frame:
     def size(self) -> tuple[int, int]:
         """(W, H)."""
         return self.color.shape[1], self.color.shape[0]
+
+
+TWO_SIDED = ("motion_prev", "motion_next")
+
+
+def _two_sided_property(name: str) -> property:
+    """frame.motion_prev / motion_next: the given half, or the one derived from motion now."""
+
+    def get(self) -> np.ndarray:
+        given = self.__dict__.get(f"_{name}")
+        if given is None and self.textures.get("motion_sides") is not None:
+            # A rendered frame: the G-buffer's halves, downloaded on first use only.
+            sides = self.textures["motion_sides"].download()
+            self.__dict__["_motion_prev"] = np.ascontiguousarray(sides[..., :2])
+            self.__dict__["_motion_next"] = np.ascontiguousarray(sides[..., 2:])
+            given = self.__dict__[f"_{name}"]
+        return given if given is not None else self._derived_half(name)
+
+    def set_(self, value) -> None:
+        self.__dict__[f"_{name}"] = value
+
+    return property(get, set_, doc=f"(H, W, 2) {name} of docs/spec.md §17.1")
+
+
+# The dataclass's __init__ takes them as arguments; the properties then keep the derived
+# halves in step with `motion` when no half was given.
+for _name in TWO_SIDED:
+    setattr(Frame, _name, _two_sided_property(_name))
 
 
 def _float_image(array, what: str, channels: tuple[int, ...]) -> np.ndarray:

@@ -126,7 +126,9 @@ def render(
     if not (isinstance(maxlen, Real) and math.isfinite(maxlen) and maxlen > 0):
         raise ValueError(f"blurlab: maxlen must be a finite number of pixels > 0, not {maxlen!r}")
     jitter = check_jitter(jitter)
-    targets, camera, timing = render_targets(ctx, scene, size, shutter, time, guard, jitter)
+    targets, camera, timing = render_targets(
+        ctx, scene, size, shutter, time, guard, jitter, sides=True
+    )
     timings = {"gbuffer": timing}
     if motion_format != "rg32f":
         exact = targets["motion"]
@@ -154,9 +156,17 @@ def render(
 
 
 def render_targets(
-    ctx, scene: Scene, size, shutter, time: float, guard: int = 0, jitter=(0.0, 0.0)
+    ctx,
+    scene: Scene,
+    size,
+    shutter,
+    time: float,
+    guard: int = 0,
+    jitter=(0.0, 0.0),
+    sides: bool = False,
 ):
     """Runs the G-buffer pass into pooled textures: (targets, camera matrices, Timing).
+    `sides` adds the target "motion_sides": M_prev in RG, M_next in BA (docs/spec.md §17.1).
 
     `guard` > 0 renders a margin of that many pixels around the image (the frustum widened to
     match), for methods whose taps leave the image ("Blurry things": guard band). `jitter`
@@ -205,9 +215,18 @@ def render_targets(
         "motion": ctx.pooled((height, width, 2)),
         "object_id": ctx.pooled((height, width)),
     }
+    natives = [t.native for t in targets.values()]
+    if sides:
+        targets["motion_sides"] = ctx.pooled((height, width, 4))
     gbuffer = ctx.cached("gbuffer", lambda: _core.GBufferPass(ctx.native))
     with ctx.timer() as timing:
-        gbuffer.render(*(t.native for t in targets.values()), camera_uniforms, light, draws)
+        gbuffer.render(
+            *natives,
+            camera_uniforms,
+            light,
+            draws,
+            motion_sides=targets["motion_sides"].native if sides else None,
+        )
     return targets, camera, timing
 
 

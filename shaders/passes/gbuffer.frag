@@ -1,8 +1,9 @@
 #version 450
 // G-buffer pass, fragment stage (docs/spec.md §1): linear color, linear depth, motion t0→t1 in
-// pixels (+y down), object id. Motion is divided by w here, per fragment. Hatched materials
-// (docs/spec.md §5) replace the shading with color · (1 − ink). Emission (§12) is added last and
-// never clamped: HDR scenes rely on radiances up to 10^4 reaching every method.
+// pixels (+y down), object id, and the two-sided motion M_prev = instant − t0 (RG) and
+// M_next = t1 − instant (BA), docs/spec.md §17.1. Motion is divided by w here, per fragment.
+// Hatched materials (docs/spec.md §5) replace the shading with color · (1 − ink). Emission (§12)
+// is added last and never clamped: HDR scenes rely on radiances up to 10^4 reaching every method.
 
 #include "common/hatching.glsl"
 #include "common/hatching_threshold.glsl"
@@ -21,6 +22,7 @@ layout(location = 0) out vec4 out_color;
 layout(location = 1) out float out_depth;
 layout(location = 2) out vec2 out_motion;
 layout(location = 3) out float out_object_id;
+layout(location = 4) out vec4 out_motion_sides;  // discarded where no target is attached
 
 uniform vec2 size;
 uniform float near;
@@ -70,6 +72,8 @@ void main() {
         out_depth = uintBitsToFloat(0x7F800000u);  // +inf
         out_motion = seen ? (close - open) * 0.5 * size : vec2(0.0);
         out_object_id = -1.0;
+        // The instant's own image position is the pixel center (ndc above).
+        out_motion_sides = seen ? vec4(ndc - open, close - ndc) * 0.5 * size.xyxy : vec4(0.0);
         return;
     }
     vec4 albedo = material_color;
@@ -99,6 +103,10 @@ void main() {
     // clip.w is the view depth, and the rasterizer interpolates 1/w for perspective correction
     // anyway: no separate varying is needed.
     out_depth = 1.0 / gl_FragCoord.w;
-    out_motion = to_pixels(surface.clip_close) - to_pixels(surface.clip_open);
+    vec2 open = to_pixels(surface.clip_open), close = to_pixels(surface.clip_close);
+    out_motion = close - open;
     out_object_id = float(object_id);
+    // The surface point seen at this pixel center at the instant is at gl_FragCoord.xy then
+    // (its instant clip position, divided): the two halves of its motion meet there.
+    out_motion_sides = vec4(gl_FragCoord.xy - open, close - gl_FragCoord.xy);
 }

@@ -187,7 +187,8 @@ void bind_passes(py::module_& m) {
           "render",
           [](GBufferPass& pass, std::shared_ptr<Texture> color, std::shared_ptr<Texture> depth,
              std::shared_ptr<Texture> motion, std::shared_ptr<Texture> object_id,
-             const py::dict& camera, const py::dict& light, const std::vector<GBufferDraw>& draws) {
+             const py::dict& camera, const py::dict& light, const std::vector<GBufferDraw>& draws,
+             std::shared_ptr<Texture> motion_sides) {
             GBufferCamera c;
             copy_floats(&c.view_projection[0][0], camera["view_projection"].cast<Floats>(), 48,
                         "view_projection");
@@ -202,10 +203,11 @@ void bind_passes(py::module_& m) {
             copy_floats(l.color, light["color"].cast<Floats>(), 3, "light color");
             copy_floats(l.ambient, light["ambient"].cast<Floats>(), 3, "ambient");
             copy_floats(l.background, light["background"].cast<Floats>(), 4, "background");
-            pass.render({color, depth, motion, object_id}, c, l, draws);
+            pass.render({color, depth, motion, object_id, motion_sides}, c, l, draws);
           },
           py::arg("color"), py::arg("depth"), py::arg("motion"), py::arg("object_id"),
-          py::arg("camera"), py::arg("light"), py::arg("draws"));
+          py::arg("camera"), py::arg("light"), py::arg("draws"),
+          py::arg("motion_sides") = py::none());
 
   py::class_<PostProcessPass, std::shared_ptr<PostProcessPass>>(m, "PostProcessPass")
       .def(

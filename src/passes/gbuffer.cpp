@@ -53,13 +53,20 @@ void GBufferPass::render(const GBufferTargets& targets, const GBufferCamera& cam
     if (t->width() != width || t->height() != height)
       throw std::invalid_argument("blurlab: G-buffer targets differ in size");
 
+  const Texture* sides = targets.motion_sides.get();
+  if (sides && (sides->width() != width || sides->height() != height))
+    throw std::invalid_argument("blurlab: G-buffer targets differ in size");
+
   context_->make_current();
   resize_depth(width, height);
   for (int i = 0; i < 4; ++i)
     glNamedFramebufferTexture(framebuffer_, GL_COLOR_ATTACHMENT0 + i, outputs[i]->id(), 0);
-  const GLenum attachments[4] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2,
-                                 GL_COLOR_ATTACHMENT3};
-  glNamedFramebufferDrawBuffers(framebuffer_, 4, attachments);
+  // The two-sided motion is written only where asked for; a texture left attached from an
+  // earlier call is detached.
+  glNamedFramebufferTexture(framebuffer_, GL_COLOR_ATTACHMENT4, sides ? sides->id() : 0, 0);
+  const GLenum attachments[5] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2,
+                                 GL_COLOR_ATTACHMENT3, GL_COLOR_ATTACHMENT4};
+  glNamedFramebufferDrawBuffers(framebuffer_, sides ? 5 : 4, attachments);
   if (glCheckNamedFramebufferStatus(framebuffer_, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
     throw GLError("blurlab: the G-buffer framebuffer is incomplete");
 

@@ -1,7 +1,9 @@
 // G-buffer pass, docs/spec.md §1: one raster pass writes linear color (RGBA32F,
 // unclamped: emissive materials reach 10^4), positive linear
 // view depth (R32F), motion t0→t1 in pixels with +y down (RG32F) and the object id (R32F, −1 for
-// the background) at the G-buffer's instant.
+// the background) at the G-buffer's instant; where a `motion_sides` target is given, also the
+// two-sided motion (RGBA32F): M_prev = instant − t0 in RG, M_next = t1 − instant in BA, pixels,
+// +y down (docs/spec.md §17.1).
 //
 // Motion is divided per fragment: the vertex shader hands the clip positions at t0 and t1 to
 // the rasterizer, which interpolates them perspective-correctly, and the fragment shader divides
@@ -73,6 +75,7 @@ struct GBufferDraw {
 
 struct GBufferTargets {
   std::shared_ptr<Texture> color, depth, motion, object_id;
+  std::shared_ptr<Texture> motion_sides;  // optional: two-sided motion (docs/spec.md §17.1)
 };
 
 class GBufferPass {

@@ -1,0 +1,113 @@
+"""engine_unity: the motion blur of Unity's PostProcessing v2 (the KinoMotion lineage, after
+McGuire et al. 2012), written from the algorithm as issue 17 describes it, not from Unity's
+sources: docs/spec.md §17.3. Velocity setup with 10-bit velocity and depth
+(shaders/passes/unity_velocity_setup.glsl), TileMax by three 2 x 2 reductions and one of
+tile/8 (unity_tile_reduce.glsl), NeighborMax with a 1.01 bias toward the center
+(unity_neighbor_max.glsl), reconstruction along NeighborMax and v_alt (unity_reconstruct.glsl).
+NumPy twin: blurlab.twins.unity.engine_unity. Parameters below, at the engine's defaults.
+
+What it leaves out: the engine's shutter angle (blurlab's shutter is the exposure interval
+itself; `exposure` scales it), its frame blending, the real 10:10:10:2 texture format (the
+codes are kept exactly in RGBA32F) and the engine's exact sample weights, which its
+description does not give: the weights here are §3.4's cones with the engine's depth factor.
+"""
+
+from __future__ import annotations
+
+from ..context import Context
+from ..frame import Frame
+from ..twins import unity as twin
+from .core import FLOAT32_MAX, SEED, Method, Param, Pass, register, run_pass
+from .tile_filter import TILE_FILTER_PARAMS
+from .urho3d import PARAMS as URHO3D_PARAMS
+
+PARAMS = {
+    "samples": Param(10, int, "sample count (quality); fewer where NeighborMax is short", 4, 32),
+    "max_radius": Param(5.0, float, "largest blur radius, % of the image height", 0, 50, True),
+    "depth_factor": Param(
+        20.0, float, "soft depth comparison factor on the 10-bit linear depth", 0, FLOAT32_MAX
+    ),
+    "exposure": TILE_FILTER_PARAMS["exposure"],
+    "far": URHO3D_PARAMS["far"],  # depth = Z / far, as the Urho3D pass reads depth
+    "seed": SEED,
+}
+SETUP = Pass("velocity_setup", "passes/unity_velocity_setup.glsl", ("exposure", "far"))
+REDUCTIONS = tuple(Pass(f"tile_max_{i}", "passes/unity_tile_reduce.glsl") for i in (2, 4, 8))
+TILE_MAX = Pass("tile_max", "passes/unity_tile_reduce.glsl")
+NEIGHBOR_MAX = Pass("neighbor_max", "passes/unity_neighbor_max.glsl")
+RECONSTRUCT = Pass(
+    "reconstruct", "passes/unity_reconstruct.glsl", ("samples", "depth_factor", "seed")
+)
+
+
+def _run_unity(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
+    height, width = inputs["color"].shape[:2]
+    radius = twin.max_radius_px(height, values["max_radius"])
+    tile = twin.tile_size(height, values["max_radius"])
+    timings: dict = {}
+    velocity = ctx.pooled((height, width, 4))
+    run_pass(
+        ctx,
+        timings,
+        SETUP,
+        PARAMS,
+        values,
+        {"depth": inputs["depth"], "motion": inputs["motion"]},
+        {"velocity": velocity},
+        uniforms={"radius": radius},
+    )
+    level, made = velocity, []
+    for step, block in [*((r, 2) for r in REDUCTIONS), (TILE_MAX, tile // 8)]:
+        h, w = level.shape[:2]
+        reduced = ctx.pooled((-(-h // block), -(-w // block), 4))
+        run_pass(
+            ctx,
+            timings,
+            step,
+            PARAMS,
+            values,
+            {"codes": level},
+            {"reduced": reduced},
+            uniforms={"block": block},
+        )
+        made.append(reduced)
+        level = reduced
+    neighbors = ctx.pooled(level.shape[:2] + (4,))
+    run_pass(
+        ctx, timings, NEIGHBOR_MAX, PARAMS, values, {"tiles": level}, {"neighbor_max": neighbors}
+    )
+    result = ctx.pooled((height, width, 4))
+    textures = {"color": inputs["color"], "velocity": velocity, "neighbor_max": neighbors}
+    uniforms = {"radius": radius, "tile": tile}
+    run_pass(
+        ctx,
+        timings,
+        RECONSTRUCT,
+        PARAMS,
+        values,
+        textures,
+        {"result": result},
+        backend,
+        uniforms=uniforms,
+    )
+    for texture in made[:-1]:
+        ctx.recycle(texture)
+    outputs = {"color": result, "velocity": velocity, "tile_max": level, "neighbor_max": neighbors}
+    return outputs, timings
+
+
+register(
+    Method(
+        name="engine_unity",
+        kind="gather",
+        instant="center",
+        params=PARAMS,
+        backends=("compute",),
+        run=_run_unity,
+        default_grid={"samples": [4, 10, 32]},
+        twin=twin.engine_unity,
+        doc="Unity PostProcessing v2 / KinoMotion motion blur, from its described algorithm: "
+        "10-bit velocity and depth, tiles of 5 % of the height by 2x reductions, NeighborMax "
+        "biased to the center, mirrored pairs along NeighborMax and v_alt. docs/spec.md §17.3.",
+    )
+)

@@ -1,0 +1,166 @@
+"""engine_eevee, docs/spec.md §17.2, in NumPy float64: the post-process motion blur of Blender
+EEVEE-Next as its algorithm is described (issue 17, Blender's user manual), on the two-sided
+motion of §17.1. One function per pass; the GPU passes (shaders/passes/eevee_tile_flatten.glsl,
+eevee_tile_dilate.glsl, eevee_gather.glsl) must match them.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .hashing import rand
+from .inputs import sanitize_color, sanitize_depth, sanitize_motion
+from .mcguire2012 import cone, cylinder, soft_depth_compare, tile_max
+
+EARLY_EXIT = 0.5  # px: a neighbourhood whose longest half-motion is shorter keeps C
+REACH_MARGIN = 0.01  # tiles added around a tile's reach: conservative against rounding
+JITTER_SALTS = (0x3C6EF372, 0xA54FF53A)  # shaders/passes/eevee_gather.glsl
+
+
+def scaled_motion(motion, exposure: float) -> np.ndarray:
+    """§17.2: E·m (non-finite vectors are zero). Tiles are chosen by this length, before the
+    clamp: clamped lengths tie at max_blur."""
+    return sanitize_motion(motion) * exposure
+
+
+def clamp_length(v: np.ndarray, max_len: float) -> np.ndarray:
+    """v with its length clamped to max_len pixels (Blender's Max Blur)."""
+    n = np.linalg.norm(v, axis=-1, keepdims=True)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return v * np.where(n > max_len, max_len / n, 1.0)
+
+
+def tile_flatten(prev: np.ndarray, next_: np.ndarray, tile_size: int) -> np.ndarray:
+    """§17.2 step 1: (ceil(H/s), ceil(W/s), 4): per tile the longest E·M_prev (xy) and the
+    longest E·M_next (zw), unclamped; the first in row-major order among equal lengths."""
+    return np.concatenate([tile_max(prev, tile_size), tile_max(next_, tile_size)], axis=-1)
+
+
+def dilation_radius(max_blur: float, tile_size: int, grid) -> int:
+    """How many tiles away a tile's motion can reach: ceil(max_blur / s) + 1, at most the
+    grid's longer side."""
+    return min(math.ceil(max_blur / tile_size) + 1, max(grid))
+
+
+def segment_meets_box(start, direction, low: float, high: float) -> np.ndarray:
+    """Whether the segment start + t·direction, t in [0, 1], meets the square [low, high]²
+    (the slab test; a zero component must lie inside its slab)."""
+    t_min = np.zeros(start.shape[:-1])
+    t_max = np.ones(start.shape[:-1])
+    inside = np.ones(start.shape[:-1], bool)
+    for axis in (0, 1):
+        p, d = start[..., axis], direction[..., axis]
+        flat = d == 0
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t1 = (low - p) / d
+            t2 = (high - p) / d
+        t_min = np.where(flat, t_min, np.maximum(t_min, np.minimum(t1, t2)))
+        t_max = np.where(flat, t_max, np.minimum(t_max, np.maximum(t1, t2)))
+        inside &= ~flat | ((p >= low) & (p <= high))
+    return inside & (t_min <= t_max)
+
+
+def tile_dilate(tiles: np.ndarray, tile_size: int, max_blur: float) -> np.ndarray:
+    """§17.2 step 2: for each tile D, the longest prev (xy) and next (zw) half-motion among the
+    tiles whose reach meets D: the segment from a tile's center along -prev (toward the
+    positions at t0) or +next, clamped to max_blur, in tile units, meets D's square widened by
+    h + REACH_MARGIN,
+    h = 1/2 - 1/(2s) (how far a tile's pixel centers lie from its center). Among equal lengths
+    the first source tile in row-major order wins."""
+    th, tw = tiles.shape[:2]
+    radius = dilation_radius(max_blur, tile_size, (th, tw))
+    widen = 0.5 - 0.5 / tile_size + REACH_MARGIN
+    out = np.zeros((th, tw, 4))
+    best = np.full((th, tw, 2), -1.0)
+    dy_, dx_ = np.mgrid[0:th, 0:tw]
+    for oy in range(-radius, radius + 1):
+        for ox in range(-radius, radius + 1):
+            sy, sx = dy_ + oy, dx_ + ox
+            valid = (sy >= 0) & (sy < th) & (sx >= 0) & (sx < tw)
+            source = tiles[np.clip(sy, 0, th - 1), np.clip(sx, 0, tw - 1)]
+            start = np.stack([ox + 0.5 + 0 * sx, oy + 0.5 + 0 * sy], -1).astype(np.float64)
+            for side, sign in ((0, -1.0), (1, 1.0)):
+                v = source[..., 2 * side : 2 * side + 2]
+                length = np.linalg.norm(v, axis=-1)
+                line = sign * clamp_length(v, max_blur) / tile_size
+                reach = segment_meets_box(start, line, -widen, 1 + widen)
+                better = valid & reach & (length > best[..., side])
+                best[..., side] = np.where(better, length, best[..., side])
+                out[..., 2 * side : 2 * side + 2] = np.where(
+                    better[..., None], v, out[..., 2 * side : 2 * side + 2]
+                )
+    return out
+
+
+def lookup_tile(x, y, tile_size: int, seed: int, grid, salts=JITTER_SALTS):
+    """§17.2: (tile row, tile column) that pixel (x, y) reads: the tile containing its center
+    moved by up to ±1/4 tile per axis, (rand - 1/2)·s/2, clamped to the grid. engine_unity
+    reads its NeighborMax the same way with its own `salts` (§17.3)."""
+    seed = np.uint32(seed)
+    ox = (rand(x, y, seed ^ np.uint32(salts[0])) - 0.5) * 0.5 * tile_size
+    oy = (rand(x, y, seed ^ np.uint32(salts[1])) - 0.5) * 0.5 * tile_size
+    tx = np.clip(np.floor((x + 0.5 + ox) / tile_size).astype(np.int64), 0, grid[1] - 1)
+    ty = np.clip(np.floor((y + 0.5 + oy) / tile_size).astype(np.int64), 0, grid[0] - 1)
+    return ty, tx
+
+
+def engine_eevee(
+    color,
+    depth,
+    motion_prev,
+    motion_next,
+    *,
+    tile_size: int,
+    samples: int,
+    max_blur: float,
+    depth_scale: float,
+    exposure: float,
+    seed: int,
+    dilated: np.ndarray | None = None,
+) -> np.ndarray:
+    """§17.2 step 3: (H, W, C) float64 blurred color. `dilated` is step 2's grid if already
+    computed."""
+    color = sanitize_color(color)
+    depth = sanitize_depth(depth)
+    h, w = depth.shape
+    prev = scaled_motion(motion_prev, exposure)
+    next_ = scaled_motion(motion_next, exposure)
+    if dilated is None:
+        dilated = tile_dilate(tile_flatten(prev, next_, tile_size), tile_size, max_blur)
+    prev, next_ = clamp_length(prev, max_blur), clamp_length(next_, max_blur)
+    y, x = np.mgrid[0:h, 0:w]
+    ty, tx = lookup_tile(x, y, tile_size, seed, dilated.shape[:2])
+    reach = np.concatenate(
+        [clamp_length(dilated[ty, tx, :2], max_blur), clamp_length(dilated[ty, tx, 2:], max_blur)],
+        axis=-1,
+    )
+    longest = np.maximum(
+        np.linalg.norm(reach[..., :2], axis=-1), np.linalg.norm(reach[..., 2:], axis=-1)
+    )
+    moving = longest >= EARLY_EXIT
+
+    soft_z = 1.0 / depth_scale
+    own = np.maximum(np.linalg.norm(prev, axis=-1), np.linalg.norm(next_, axis=-1))
+    weight = 1.0 / np.maximum(own, 0.5)
+    total = color * weight[..., None]
+    j = rand(x, y, seed)
+    center = np.stack([x, y], -1) + 0.5
+    # Prev side: look along +prev for the pixels whose way back to t0 crosses X; next side:
+    # along -next for those whose way on to t1 crosses it.
+    for direction, mine in ((reach[..., :2], prev), (-reach[..., 2:], next_)):
+        for i in range(samples):
+            t = (i + j) / samples
+            p = np.floor(center + direction * t[..., None]).astype(np.int64)
+            py, px = np.clip(p[..., 1], 0, h - 1), np.clip(p[..., 0], 0, w - 1)
+            dist = np.hypot(px - x, py - y)
+            vy, vx = mine[py, px], mine
+            zx, zy = depth, depth[py, px]
+            f = soft_depth_compare(zx, zy, soft_z)
+            b = soft_depth_compare(zy, zx, soft_z)
+            both = cylinder(dist, vy) * cylinder(dist, vx) * 2
+            a = f * cone(dist, vy) + b * cone(dist, vx) + both
+            weight = weight + a
+            total = total + a[..., None] * color[py, px]
+    return np.where(moving[..., None], total / weight[..., None], color)

@@ -1,0 +1,32 @@
+#version 450
+// engine_unity step 2, docs/spec.md §17.3: one reduction of TileMax, the longest coded velocity
+// of each block x block region (the last ones may be partial), the first in row-major order among
+// equal keys. Run with block 2 three times, then once with block tile/8. Compute, one thread per
+// output texel. NumPy twin: blurlab.twins.unity.reduce_max.
+#include "common/unity.glsl"
+
+layout(binding = 0) uniform sampler2D codes;
+uniform int block;  // block side, texels
+
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(binding = 0, rgba32f) uniform writeonly image2D reduced;
+
+void main() {
+    ivec2 out_texel = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(out_texel, imageSize(reduced)))) return;
+    ivec2 origin = out_texel * block;
+    ivec2 end = min(origin + block, textureSize(codes, 0));
+    vec2 best = vec2(0.0);
+    float best_key = -1.0;
+    for (int y = origin.y; y < end.y; ++y) {
+        for (int x = origin.x; x < end.x; ++x) {
+            vec2 c = texelFetch(codes, ivec2(x, y), 0).xy;
+            float k = code_key(c);
+            if (k > best_key) {
+                best = c;
+                best_key = k;
+            }
+        }
+    }
+    imageStore(reduced, out_texel, vec4(best, 0.0, 0.0));
+}

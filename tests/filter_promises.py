@@ -1,0 +1,45 @@
+"""The promises every motion-blur filter keeps, as checks the engines' test files share: the
+GPU matches the NumPy twin (docs/spec.md §13), a still frame comes back unchanged, the output
+stays inside the input range, zero, tiny and huge motion give no NaN, and the same seed gives
+the same bits (another seed, other noise)."""
+
+from __future__ import annotations
+
+import numpy as np
+from conftest import assert_inside_input_range, random_frame
+
+import blurlab as bl
+
+
+def assert_matches_twin(result, frame) -> None:
+    """>= 99.9 % of pixels within 1e-3 of the twin, mean absolute error <= 1e-4."""
+    expected = bl.method(result.method).twin_output(frame, **result.params)
+    error = np.abs(result.color - expected)
+    within = (error.max(axis=-1) <= 1e-3).mean()
+    assert within >= 0.999, f"{within:.5f} of pixels within 1e-3"
+    assert error.mean() <= 1e-4, f"mean absolute error {error.mean():.2e}"
+
+
+def assert_still_frame_unchanged(ctx, rng, method: str) -> None:
+    frame = random_frame(rng, 64, 48)
+    frame.motion[:] = 0
+    assert bl.blur(ctx, frame, method).color.tobytes() == frame.color.tobytes()
+
+
+def assert_inside_the_input_range(ctx, frame, method: str, **params) -> None:
+    frame.color[..., :3] = frame.color[..., :3] * 0.5 + 0.25  # inputs in [0.25, 0.75]
+    assert_inside_input_range(bl.blur(ctx, frame, method, **params).color, frame.color)
+
+
+def assert_finite_for_motion_scale(ctx, rng, method: str, scale: float, **params) -> None:
+    frame = random_frame(rng, 80, 60)
+    frame.motion[:] = np.float32(scale) * np.sign(frame.motion)
+    assert np.isfinite(bl.blur(ctx, frame, method, **params).color).all()
+
+
+def assert_seeded(ctx, frame, method: str) -> None:
+    a = bl.blur(ctx, frame, method, seed=3).color
+    b = bl.blur(ctx, frame, method, seed=3).color
+    c = bl.blur(ctx, frame, method, seed=4).color
+    assert a.tobytes() == b.tobytes()
+    assert a.tobytes() != c.tobytes()

@@ -1,0 +1,142 @@
+"""engine_eevee (docs/spec.md §17.2) on the GPU against bl.twins.eevee: each pass, the
+dilation along each tile's motion, and the filter's promises: still images unchanged, output
+inside the input range, no NaN, same seed same bits."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from conftest import random_frame
+from filter_promises import (
+    assert_finite_for_motion_scale,
+    assert_inside_the_input_range,
+    assert_matches_twin,
+    assert_seeded,
+    assert_still_frame_unchanged,
+)
+
+import blurlab as bl
+from blurlab.twins import eevee as ref
+
+METHOD = "engine_eevee"
+
+
+def two_sided_frame(rng, width, height, reach=20.0):
+    """A random frame whose halves differ (not constant velocity): each half its own random
+    direction and length up to `reach` px."""
+    frame = random_frame(rng, width, height, k=10)
+    halves = []
+    for _ in range(2):
+        angle = rng.uniform(0, 2 * np.pi, (height, width))
+        length = rng.uniform(0, reach, (height, width))
+        halves.append(np.stack([np.cos(angle), np.sin(angle)], -1) * length[..., None])
+    return bl.Frame(
+        frame.color,
+        frame.depth,
+        halves[0] + halves[1],
+        motion_prev=halves[0],
+        motion_next=halves[1],
+    )
+
+
+@pytest.mark.parametrize(
+    ("size", "params"),
+    [
+        ((160, 90), {}),
+        ((97, 61), {"tile_size": 8, "samples": 5, "max_blur": 40.0, "depth_scale": 2.0}),
+        ((130, 70), {"tile_size": 16, "samples": 1, "exposure": 2.5, "seed": 9}),
+        ((40, 30), {"tile_size": 4, "samples": 12, "max_blur": 6.0, "depth_scale": 0.5}),
+    ],
+)
+def test_random_frames_match_reference(ctx, rng, size, params):
+    frame = two_sided_frame(rng, *size)
+    result = bl.blur(ctx, frame, METHOD, **params)
+    assert params.items() <= result.params.items()
+    assert_matches_twin(result, frame)
+
+
+@pytest.mark.parametrize("scene", ["teapot_pass", "fan", "skinned_arm", "crossing"])
+def test_rendered_frames_match_reference(ctx, scene):
+    frame = ctx.render(bl.scenes.get(scene), (160, 90))
+    result = bl.blur(ctx, frame, METHOD, tile_size=16)
+    assert_matches_twin(result, frame)
+    assert np.abs(result.color - frame.color).max() > 0.05  # it really blurred
+
+
+def test_tile_passes_equal_their_twins(ctx, rng):
+    frame = two_sided_frame(rng, 150, 90, reach=60.0)
+    params = {"tile_size": 8, "max_blur": 50.0, "exposure": 0.8}
+    result = bl.blur(ctx, frame, METHOD, **params)
+    prev = ref.scaled_motion(frame.motion_prev, 0.8)
+    next_ = ref.scaled_motion(frame.motion_next, 0.8)
+    tiles = ref.tile_flatten(prev, next_, 8)
+    np.testing.assert_allclose(result.buffers["tiles"], tiles, rtol=1e-6, atol=1e-5)
+    dilated = ref.tile_dilate(result.buffers["tiles"].astype(np.float64), 8, 50.0)
+    np.testing.assert_allclose(result.buffers["dilated"], dilated, rtol=1e-6, atol=1e-5)
+
+
+def test_dilation_follows_each_tile_motion_not_a_3x3_block():
+    tiles = np.zeros((9, 9, 4))
+    tiles[4, 4, 2:] = (3 * 16.0, 0.0)  # next half: 3 tiles to the right (16 px tiles)
+    tiles[4, 4, :2] = (0.0, 2 * 16.0)  # prev half: spread against it, 2 tiles up
+    dilated = ref.tile_dilate(tiles, 16, 64.0)
+    reached_next = np.linalg.norm(dilated[..., 2:], axis=-1) > 0
+    reached_prev = np.linalg.norm(dilated[..., :2], axis=-1) > 0
+    assert reached_next[4, 4:8].all() and not reached_next[4, 8]  # 3 tiles on and its end
+    assert not reached_next[4, 3] and not reached_next[3, 4] and not reached_next[5, 4]
+    assert reached_prev[2:5, 4].all() and not reached_prev[1, 4] and not reached_prev[5, 4]
+    assert reached_next.sum() == 4 and reached_prev.sum() == 3
+
+
+def test_still_image_comes_back_unchanged(ctx, rng):
+    assert_still_frame_unchanged(ctx, rng, METHOD)
+
+
+def test_motion_under_half_a_pixel_exits_early(ctx, rng):
+    frame = random_frame(rng, 64, 48)
+    frame.motion[:] = 0.45 * 2 * np.array([0.6, 0.8], np.float32)  # each half 0.45 px
+    result = bl.blur(ctx, frame, METHOD)
+    assert result.color.tobytes() == frame.color.tobytes()
+
+
+def test_output_stays_inside_the_input_range(ctx, rng):
+    assert_inside_the_input_range(ctx, two_sided_frame(rng, 120, 80), METHOD, tile_size=16)
+
+
+@pytest.mark.parametrize("scale", [0.0, 1e-3, 1e30])
+def test_zero_tiny_and_huge_motion_give_no_nan(ctx, rng, scale):
+    assert_finite_for_motion_scale(ctx, rng, METHOD, scale, max_blur=1e6, tile_size=16)
+
+
+def test_same_seed_same_bits_other_seed_other_noise(ctx, rng):
+    assert_seeded(ctx, two_sided_frame(rng, 80, 60), METHOD)
+
+
+def test_two_sided_motion_is_what_it_reads(ctx, rng):
+    """Frames with the same M but other halves blur differently: the halves are its input."""
+    frame = two_sided_frame(rng, 80, 60)
+    derived = bl.Frame(frame.color, frame.depth, frame.motion)
+    a = bl.blur(ctx, frame, METHOD, tile_size=16).color
+    b = bl.blur(ctx, derived, METHOD, tile_size=16).color
+    assert np.abs(a - b).max() > 0.05
+
+
+@pytest.mark.parametrize(
+    ("params", "error", "message"),
+    [
+        ({"tile_size": 2}, ValueError, r"tile_size = 2 is outside 4\.\.256"),
+        ({"samples": 0}, ValueError, r"samples = 0 is outside 1\.\.64"),
+        ({"depth_scale": 0.0}, ValueError, "depth_scale = 0.0 is outside"),
+        ({"max_blur": -1.0}, ValueError, "max_blur = -1.0 is outside"),
+        ({"k": 3}, TypeError, "no parameter.*k.*depth_scale"),
+    ],
+)
+def test_bad_parameters_name_the_range(ctx, rng, params, error, message):
+    with pytest.raises(error, match=message):
+        bl.blur(ctx, random_frame(rng, 16, 16), METHOD, **params)
+
+
+def test_timings_name_every_pass(ctx, rng):
+    result = bl.blur(ctx, random_frame(rng, 64, 36), METHOD)
+    assert list(result.timings) == ["tile_flatten", "tile_dilate", "gather"]
+    assert result.total_ms > 0

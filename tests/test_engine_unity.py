@@ -1,0 +1,118 @@
+"""engine_unity (docs/spec.md §17.3) on the GPU against bl.twins.unity: the 10-bit velocity
+setup, TileMax by reductions, the centre-biased NeighborMax, and the filter's promises: still
+images unchanged, output inside the input range, no NaN, same seed same bits."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from conftest import random_frame
+from filter_promises import (
+    assert_finite_for_motion_scale,
+    assert_inside_the_input_range,
+    assert_matches_twin,
+    assert_seeded,
+    assert_still_frame_unchanged,
+)
+
+import blurlab as bl
+from blurlab.twins import unity as ref
+
+METHOD = "engine_unity"
+
+
+@pytest.mark.parametrize(
+    ("size", "params"),
+    [
+        ((160, 90), {}),
+        ((97, 61), {"samples": 4, "max_radius": 12.0, "depth_factor": 3.0}),
+        ((130, 70), {"samples": 32, "max_radius": 40.0, "exposure": 2.5, "seed": 9}),
+        ((40, 30), {"samples": 7, "max_radius": 1.0, "far": 4.0}),
+    ],
+)
+def test_random_frames_match_reference(ctx, rng, size, params):
+    frame = random_frame(rng, *size, k=10)
+    result = bl.blur(ctx, frame, METHOD, **params)
+    assert params.items() <= result.params.items()
+    assert_matches_twin(result, frame)
+
+
+@pytest.mark.parametrize("scene", ["teapot_pass", "fan", "skinned_arm", "crossing"])
+def test_rendered_frames_match_reference(ctx, scene):
+    frame = ctx.render(bl.scenes.get(scene), (160, 90))
+    result = bl.blur(ctx, frame, METHOD)
+    assert_matches_twin(result, frame)
+    assert np.abs(result.color - frame.color).max() > 0.05  # it really blurred
+
+
+def test_velocity_and_tile_passes_equal_their_twins(ctx, rng):
+    frame = random_frame(rng, 150, 90, k=10)
+    result = bl.blur(ctx, frame, METHOD, max_radius=20.0)
+    radius = ref.max_radius_px(90, 20.0)
+    far = result.params["far"]
+    codes = ref.velocity_setup(frame.depth, frame.motion, exposure=1.0, radius=radius, far=far)
+    gpu_codes = result.buffers["velocity"][..., :3]
+    assert (gpu_codes == codes).mean() >= 0.999  # float32 rounding may move a code by one
+    tiles = ref.tile_max(gpu_codes.astype(np.float64), ref.tile_size(90, 20.0))
+    np.testing.assert_array_equal(result.buffers["tile_max"][..., :2], tiles)
+    np.testing.assert_array_equal(result.buffers["neighbor_max"][..., :2], ref.neighbor_max(tiles))
+
+
+def test_tile_size_is_five_percent_of_the_height_rounded_up_to_eight():
+    assert ref.tile_size(360, 5.0) == 24  # R = 18 px
+    assert ref.tile_size(1080, 5.0) == 56  # R = 54 px
+    assert ref.tile_size(90, 5.0) == 8
+
+
+def test_neighbor_max_prefers_the_center_within_one_percent():
+    codes = np.full((3, 3, 2), 511.5)  # (2c - 1023) = 0: no motion
+    codes[1, 1] = (611.5, 511.5)  # center: 200 units long
+    codes[0, 0] = (511.5, 612.0)  # 201 units: within 1 % of the center's length
+    assert (ref.neighbor_max(codes)[1, 1] == (611.5, 511.5)).all()
+    codes[0, 0] = (511.5, 614.0)  # 205 units: beyond it
+    assert (ref.neighbor_max(codes)[1, 1] == (511.5, 614.0)).all()
+
+
+def test_still_image_comes_back_unchanged(ctx, rng):
+    assert_still_frame_unchanged(ctx, rng, METHOD)
+
+
+def test_output_stays_inside_the_input_range(ctx, rng):
+    assert_inside_the_input_range(ctx, random_frame(rng, 120, 80), METHOD, max_radius=15.0)
+
+
+@pytest.mark.parametrize("scale", [0.0, 1e-3, 1e30])
+def test_zero_tiny_and_huge_motion_give_no_nan(ctx, rng, scale):
+    assert_finite_for_motion_scale(ctx, rng, METHOD, scale, max_radius=50.0)
+
+
+def test_same_seed_same_bits_other_seed_other_noise(ctx, rng):
+    assert_seeded(ctx, random_frame(rng, 80, 60), METHOD)
+
+
+@pytest.mark.parametrize(
+    ("params", "error", "message"),
+    [
+        ({"samples": 3}, ValueError, r"samples = 3 is outside 4\.\.32"),
+        ({"max_radius": 0.0}, ValueError, "max_radius = 0.0 must be"),
+        ({"depth_factor": -1.0}, ValueError, r"depth_factor = -1.0 is outside"),
+        ({"k": 3}, TypeError, "no parameter.*k.*depth_factor"),
+    ],
+)
+def test_bad_parameters_name_the_range(ctx, rng, params, error, message):
+    with pytest.raises(error, match=message):
+        bl.blur(ctx, random_frame(rng, 16, 16), METHOD, **params)
+
+
+def test_timings_name_every_pass(ctx, rng):
+    result = bl.blur(ctx, random_frame(rng, 64, 36), METHOD)
+    assert list(result.timings) == [
+        "velocity_setup",
+        "tile_max_2",
+        "tile_max_4",
+        "tile_max_8",
+        "tile_max",
+        "neighbor_max",
+        "reconstruct",
+    ]
+    assert result.total_ms > 0
