@@ -37,6 +37,11 @@ def pytest_terminal_summary(terminalreporter):
         terminalreporter.write_line(f"hypothesis: {EXAMPLES['count']} examples run")
 
 
+# The device CLI tests name: llvmpipe where there is one (CI, for stable output), else the GPU
+# (the lent NVIDIA machine has no software EGL device).
+CLI_DEVICE = "software" if any(d["kind"] == "software" for d in bl.Context.devices()) else "auto"
+
+
 @pytest.fixture(scope="session")
 def ctx() -> bl.Context:
     """The default context: the GPU where EGL finds one, llvmpipe otherwise (CI)."""

@@ -8,6 +8,7 @@ import sys
 
 import numpy as np
 import pytest
+from conftest import CLI_DEVICE
 
 import blurlab as bl
 from blurlab import cli
@@ -70,7 +71,7 @@ def assert_one_line_error(result, *fragments):
 def test_user_errors_are_one_line_with_status_2(tmp_path, config, fragments):
     path = tmp_path / "sweep.toml"
     path.write_text(config)
-    assert_one_line_error(run_cli("--device", "software", "sweep", str(path)), *fragments)
+    assert_one_line_error(run_cli("--device", CLI_DEVICE, "sweep", str(path)), *fragments)
 
 
 def test_a_bad_size_argument_is_one_line_with_status_2():
@@ -84,11 +85,11 @@ def test_a_missing_config_file_is_one_line_with_status_2(tmp_path):
 def test_debug_shows_the_traceback(tmp_path):
     path = tmp_path / "sweep.toml"
     path.write_text('scenes = ["no_such_scene"]\n')
-    result = run_cli("--debug", "--device", "software", "sweep", str(path))
+    result = run_cli("--debug", "--device", CLI_DEVICE, "sweep", str(path))
     assert result.returncode != 0 and "Traceback" in result.stderr
 
 
 def test_an_unknown_peer_is_one_line_with_status_2(tmp_path):
-    result = run_cli("--device", "software", "study", "--peers", "nope", "--out", str(tmp_path))
+    result = run_cli("--device", CLI_DEVICE, "study", "--peers", "nope", "--out", str(tmp_path))
     assert_one_line_error(result, "unknown peers", "eevee")
     assert not (tmp_path / "results.csv").exists()  # refused before any work

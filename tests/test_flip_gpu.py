@@ -87,7 +87,9 @@ def test_gpu_equals_the_numpy_twin(ctx, rng):
 
 def test_identical_images_give_zero(ctx, rng):
     a = ctx.upload(rng.uniform(0.0, 1.0, (36, 64, 4)).astype(np.float32))
-    assert metrics.gpu_flip(ctx, a, a) == 0.0
+    # Exactly 0 on llvmpipe; NVIDIA's compiler may contract the two images' identical
+    # arithmetic differently (8.2e-7 measured on the H100), far below what FLIP resolves.
+    assert metrics.gpu_flip(ctx, a, a) <= 1e-5
 
 
 def test_black_against_white_is_near_one(ctx):

@@ -53,7 +53,10 @@ def test_a_bright_pixel_passes_every_still_path_unchanged(ctx, name, backend):
     color = frame.color
     assert color.max() == BRIGHT  # the G-buffer keeps 1000 exactly: no clamp, no 8-bit target
     assert (color[..., :3] == BRIGHT).all(axis=-1).sum() >= 1
-    assert not frame.motion.any()
+    # Still: exactly 0 on llvmpipe; NVIDIA's per-fragment divide leaves up to half an ulp of
+    # the pixel position (7.6e-6 px at 160 px). The test is about the methods' still path.
+    assert np.abs(frame.motion).max() < 1e-4
+    frame.motion[...] = 0.0
     out = bl.blur(ctx, frame, name, backend).color
     kind = bl.method(name).kind
     if kind in ("filter", "gather", "sequence"):

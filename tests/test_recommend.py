@@ -9,6 +9,7 @@ import sys
 
 import numpy as np
 import pytest
+from conftest import CLI_DEVICE
 
 import blurlab as bl
 from blurlab.converged import default_reference_samples
@@ -138,7 +139,7 @@ def test_the_recommend_command_prints_one_answer_line_and_its_table():
             "-m",
             "blurlab",
             "--device",
-            "software",
+            CLI_DEVICE,
             "recommend",
             "subpixel",
             "--size",

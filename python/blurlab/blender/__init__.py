@@ -216,11 +216,12 @@ def render(
         isinstance(instant, Real) and shutter[0] <= instant <= shutter[1]
     ):
         raise ValueError(f"blurlab.blender: instant {instant!r} is outside the shutter {shutter}")
+    # What Blender cannot reproduce is refused first: that needs no bpy.
+    description, arrays = export(scene, (width, height), shutter, keys)
     if python is None:
         if not available():
             raise ImportError(INSTALL)
         python = sys.executable
-    description, arrays = export(scene, (width, height), shutter, keys)
     description.update(
         engine=ENGINES[engine_name],
         samples=samples,
