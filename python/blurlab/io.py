@@ -135,61 +135,50 @@ def write_text(path: str | os.PathLike, text: str) -> Path:
     return path
 
 
+MAX_READ_VALUES = 1 << 28  # numbers in one image read (an 8192 x 8192 RGBA image, 1 GiB)
+
+
 def read(path: str | os.PathLike) -> np.ndarray:
     """Reads an image: (H, W, C) float32 for float files (EXR), uint8 for 8-bit files (PNG)."""
-    path = Path(path)
-    if not path.is_file():
-        raise FileNotFoundError(f"blurlab.io.read: no such file: {path}")
-    oiio = _oiio()
-    config = oiio.ImageSpec()
-    config.attribute("oiio:UnassociatedAlpha", 1)
-    image = oiio.ImageInput.open(str(path), config)
-    if image is None:
-        raise OSError(f"blurlab.io.read: cannot read {path}: {_error_text(oiio)}")
-    try:
-        spec = image.spec()
-        base = spec.format.basetype
-        want = oiio.UINT8 if base == oiio.UINT8 else oiio.FLOAT
-        pixels = image.read_image(want)
-        if pixels is None:
-            raise OSError(f"blurlab.io.read: {path} is corrupt or truncated: {_error_text(image)}")
-    finally:
-        image.close()
-    pixels = np.asarray(pixels)
-    return pixels.reshape(spec.height, spec.width, spec.nchannels)
-
-
-MAX_READ_VALUES = 1 << 27  # floats in one image read by read_channels (512 MiB)
+    return _read(path, "read", keep_uint8=True)[1]
 
 
 def read_channels(path: str | os.PathLike) -> tuple[list[str], np.ndarray]:
     """A float image's channel names and its pixels as (H, W, C) float32, read whole (the first
-    subimage). Files from outside are untrusted: an image of more than MAX_READ_VALUES numbers
-    is refused before it is read."""
+    subimage)."""
+    return _read(path, "read_channels", keep_uint8=False)
+
+
+def _read(path, caller: str, keep_uint8: bool) -> tuple[list[str], np.ndarray]:
+    """Channel names and pixels. Files from outside are untrusted: an image of more than
+    MAX_READ_VALUES numbers is refused before its pixels are read."""
     path = Path(path)
     if not path.is_file():
-        raise FileNotFoundError(f"blurlab.io.read_channels: no such file: {path}")
+        raise FileNotFoundError(f"blurlab.io.{caller}: no such file: {path}")
     oiio = _oiio()
     config = oiio.ImageSpec()
     config.attribute("oiio:UnassociatedAlpha", 1)
     image = oiio.ImageInput.open(str(path), config)
     if image is None:
-        raise OSError(f"blurlab.io.read_channels: cannot read {path}: {_error_text(oiio)}")
+        raise OSError(f"blurlab.io.{caller}: cannot read {path}: {_error_text(oiio)}")
     try:
         spec = image.spec()
         values = spec.width * spec.height * spec.nchannels
         if not 0 < values <= MAX_READ_VALUES:
             raise OSError(
-                f"blurlab.io.read_channels: {path} is {spec.width}x{spec.height}x"
-                f"{spec.nchannels}; at most {MAX_READ_VALUES} values are read"
+                f"blurlab.io.{caller}: {path} is {spec.width}x{spec.height}x{spec.nchannels}; "
+                f"at most {MAX_READ_VALUES} values are read"
             )
-        pixels = image.read_image(oiio.FLOAT)
+        uint8 = keep_uint8 and spec.format.basetype == oiio.UINT8
+        pixels = image.read_image(oiio.UINT8 if uint8 else oiio.FLOAT)
         if pixels is None:
-            raise OSError(f"blurlab.io.read_channels: {path} is corrupt: {_error_text(image)}")
+            raise OSError(
+                f"blurlab.io.{caller}: {path} is corrupt or truncated: {_error_text(image)}"
+            )
     finally:
         image.close()
-    pixels = np.asarray(pixels, dtype=np.float32).reshape(spec.height, spec.width, spec.nchannels)
-    return list(spec.channelnames), pixels
+    pixels = np.asarray(pixels, dtype=np.uint8 if uint8 else np.float32)
+    return list(spec.channelnames), pixels.reshape(spec.height, spec.width, spec.nchannels)
 
 
 def _error_text(source) -> str:
