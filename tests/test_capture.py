@@ -59,7 +59,8 @@ def test_uv_capture_of_our_own_gbuffer_round_trips(ctx, rendered, tmp_path):
     "convention, stored, expected",
     [
         ("blurlab", [3.0, -2.0], [3.0, -2.0]),
-        ("blender", [4.0, 2.0, 6.0, 2.0], [2.5, -1.0]),  # (prev + next)/2 · s, y up -> down
+        # Blender's vectors point back in time, y up: M = -(s/2)(a + c), +(s/2)(b + d).
+        ("blender", [4.0, 2.0, 6.0, 2.0], [-2.5, 1.0]),
         ("uv", [0.1, 0.1], [0.5 * 0.1 * 40, -0.5 * 0.1 * 20]),
         ("ndc", [0.1, 0.1], [0.5 * 0.1 * 20, -0.5 * 0.1 * 10]),
     ],
@@ -106,8 +107,41 @@ def test_blender_multilayer_names_are_found(tmp_path):
     frame = bl.Frame.from_exr(path, convention="blender", shutter_fraction=1.0)
     assert np.array_equal(frame.color, color)
     assert np.array_equal(frame.depth, depth[..., 0])
-    expected = 0.5 * (vector[..., :2] + vector[..., 2:]) * [1, -1]
+    expected = 0.5 * (vector[..., :2] + vector[..., 2:]) * [-1, 1]
     assert np.allclose(frame.motion, expected, atol=1e-6)
+
+
+def test_a_multi_part_exr_is_read_whole(tmp_path):
+    """Blender 5 writes each pass of a multi-layer EXR as its own part: all parts of the first
+    one's size are read, channels in file order."""
+    import OpenImageIO as oiio  # noqa: PLC0415 (blurlab.io's reader, a dependency)
+
+    h, w = 4, 6
+    parts = {
+        ("ViewLayer.Combined.R", "ViewLayer.Combined.G", "ViewLayer.Combined.B"): 3,
+        ("ViewLayer.Depth.Z",): 1,
+        ("ViewLayer.Vector.X", "ViewLayer.Vector.Y", "ViewLayer.Vector.Z", "ViewLayer.Vector.W"): 4,
+    }
+    rng = np.random.default_rng(2)
+    specs, data = [], []
+    for names, count in parts.items():
+        spec = oiio.ImageSpec(w, h, count, oiio.FLOAT)
+        spec.channelnames = names
+        specs.append(spec)
+        data.append(rng.random((h, w, count), dtype=np.float32))
+    path = tmp_path / "parts.exr"
+    out = oiio.ImageOutput.create(str(path))
+    assert out.open(str(path), specs)
+    for k, (spec, pixels) in enumerate(zip(specs, data, strict=True)):
+        if k:
+            assert out.open(str(path), spec, "AppendSubimage")
+        assert out.write_image(pixels)
+    out.close()
+    names, pixels = bl.io.read_channels(path)
+    assert names == [n for group in parts for n in group]
+    assert np.array_equal(pixels, np.concatenate(data, axis=2))
+    frame = bl.Frame.from_exr(path, convention="blender")
+    assert np.array_equal(frame.depth, data[1][..., 0])
 
 
 def test_three_separate_files(tmp_path, rendered):

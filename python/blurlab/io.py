@@ -144,14 +144,19 @@ def read(path: str | os.PathLike) -> np.ndarray:
 
 
 def read_channels(path: str | os.PathLike) -> tuple[list[str], np.ndarray]:
-    """A float image's channel names and its pixels as (H, W, C) float32, read whole (the first
-    subimage)."""
-    return _read(path, "read_channels", keep_uint8=False)
+    """A float image's channel names and its pixels as (H, W, C) float32, read whole: every
+    subimage of the first one's size, channels in file order. A multi-part EXR (Blender 5
+    writes each pass of a multi-layer file as its own part) is one image of all its layers;
+    parts of another size are not read."""
+    return _read(path, "read_channels", keep_uint8=False, every_part=True)
 
 
-def _read(path, caller: str, keep_uint8: bool) -> tuple[list[str], np.ndarray]:
-    """Channel names and pixels. Files from outside are untrusted: an image of more than
-    MAX_READ_VALUES numbers is refused before its pixels are read."""
+def _read(
+    path, caller: str, keep_uint8: bool, every_part: bool = False
+) -> tuple[list[str], np.ndarray]:
+    """Channel names and pixels (of the first subimage, or of every one of its size). Files
+    from outside are untrusted: an image of more than MAX_READ_VALUES numbers is refused
+    before its pixels are read."""
     path = Path(path)
     if not path.is_file():
         raise FileNotFoundError(f"blurlab.io.{caller}: no such file: {path}")
@@ -170,15 +175,33 @@ def _read(path, caller: str, keep_uint8: bool) -> tuple[list[str], np.ndarray]:
                 f"at most {MAX_READ_VALUES} values are read"
             )
         uint8 = keep_uint8 and spec.format.basetype == oiio.UINT8
-        pixels = image.read_image(oiio.UINT8 if uint8 else oiio.FLOAT)
-        if pixels is None:
-            raise OSError(
-                f"blurlab.io.{caller}: {path} is corrupt or truncated: {_error_text(image)}"
+        names, parts = [], []
+        part = 0
+        while part == 0 or (every_part and image.seek_subimage(part, 0)):
+            here = image.spec()
+            part += 1
+            if (here.width, here.height) != (spec.width, spec.height):
+                continue
+            values += 0 if part == 1 else here.width * here.height * here.nchannels
+            if values > MAX_READ_VALUES:
+                raise OSError(
+                    f"blurlab.io.{caller}: {path}'s parts hold more than {MAX_READ_VALUES} "
+                    "values, the most that are read"
+                )
+            pixels = image.read_image(oiio.UINT8 if uint8 else oiio.FLOAT)
+            if pixels is None:
+                raise OSError(
+                    f"blurlab.io.{caller}: {path} is corrupt or truncated: {_error_text(image)}"
+                )
+            names += list(here.channelnames)
+            parts.append(
+                np.asarray(pixels, dtype=np.uint8 if uint8 else np.float32).reshape(
+                    spec.height, spec.width, here.nchannels
+                )
             )
     finally:
         image.close()
-    pixels = np.asarray(pixels, dtype=np.uint8 if uint8 else np.float32)
-    return list(spec.channelnames), pixels.reshape(spec.height, spec.width, spec.nchannels)
+    return names, np.concatenate(parts, axis=2)
 
 
 def _error_text(source) -> str:
