@@ -84,6 +84,57 @@ def test_lambert_and_a_moving_camera_match(ctx):
     assert bl.metrics.psnr(antialiased, cycles) > 38
 
 
+def interior(object_id: np.ndarray, count: int) -> np.ndarray:
+    """Pixels whose 3x3 neighbourhood is all one object: no pass value there mixes surfaces."""
+    h, w = object_id.shape
+    padded = np.pad(object_id, 1, constant_values=-2)
+    same = np.ones((h, w), bool)
+    for dy in range(3):
+        for dx in range(3):
+            same &= padded[dy : dy + h, dx : dx + w] == object_id
+    return same & (object_id >= 0) & (object_id < count)
+
+
+@needs_bpy
+def test_blenders_vector_and_depth_passes_match_the_gbuffer(ctx, tmp_path):
+    """Blender's own Vector and Depth passes, imported with the "blender" convention, give
+    blurlab's G-buffer: a box translating across the view and one spinning slowly (so both
+    half-frames move alike), instant at the shutter's centre, which is Blender's frame."""
+    size = (160, 90)
+    camera = bl.Camera((0, 1.8, 5.0), (0, 0, 0), fov_y=40)
+    light = bl.DirectionalLight((0.4, 1.0, 0.6), (0.8, 0.8, 0.8), (0.2, 0.2, 0.2))
+    scene = bl.Scene(camera, light, background=(0.1, 0.1, 0.2, 1), shutter=(0.0, 0.2))
+    scene.add(
+        bl.mesh.box((1.0, 1.0, 1.0)),
+        bl.Material((0.9, 0.5, 0.2)),
+        bl.Motion.linear(start=(-1.4, 0, 0.3), velocity=(5.0, 0, 0)),
+    )
+    scene.add(
+        bl.mesh.box((1.2, 0.8, 1.0)),
+        bl.Material((0.2, 0.6, 0.9)),
+        bl.Motion.linear(start=(1.3, 0.1, 0), spin_axis=(0.3, 1.0, 0.2), spin_rate=0.8),
+    )
+    path = tmp_path / "passes.exr"
+    blender = bl.blender.render(scene, size, passes=path)
+    assert blender.settings["instant"] == pytest.approx(0.1) and blender.settings["samples"] == 1
+    assert not blender.settings["use_motion_blur"]
+    imported = bl.Frame.from_exr(path, convention="blender", shutter_fraction=1.0)
+    ours = ctx.render(scene, size)  # instant "center" = 0.1, motion over the shutter
+    assert imported.color.shape == ours.color.shape
+    inside = interior(ours.object_id, len(scene.objects))
+    for i in range(len(scene.objects)):
+        assert (inside & (ours.object_id == i)).sum() >= 400  # both boxes are compared
+    motion_error = np.abs(imported.motion - ours.motion)[inside].max()
+    depth_error = np.abs(imported.depth / ours.depth - 1)[inside].max()
+    print(f"Blender passes vs G-buffer: {motion_error:.4f} px, {depth_error:.2e} relative depth")
+    assert np.abs(ours.motion[inside]).max() > 20  # the translation is seen
+    assert motion_error < 0.05
+    assert depth_error < 1e-4
+    # The opposite sign would be far off: the test tells the two apart.
+    flipped = np.abs(-imported.motion - ours.motion)[inside].max()
+    assert flipped > 10
+
+
 @needs_bpy
 def test_textures_match(ctx):
     scene = bl.scenes.textured_spin()
@@ -181,6 +232,9 @@ def test_a_child_that_hangs_is_killed(tmp_path):
         ({"shutter": (1.0, 1.0)}, "longer than 0"),
         ({"instant": 2.0}, "outside the shutter"),
         ({"timeout": 0}, "timeout"),
+        ({"engine": "EEVEE", "passes": "passes.exr"}, "Cycles only"),
+        ({"passes": "no such folder/passes.exr"}, "existing folder"),
+        ({"passes": 3}, "file path"),
     ],
 )
 def test_bad_arguments(kwargs, match):

@@ -17,8 +17,8 @@ from . import io
 
 MOTION_CONVENTIONS = {
     "blurlab": "pixels from shutter open to close, +x right, +y down; already over the shutter",
-    "blender": "the Vector pass: X, Y = current - previous and Z, W = next - current position, "
-    "pixels, +y up; the shutter is centred on the frame",
+    "blender": "the Vector pass: X, Y = previous - current and Z, W = current - next position "
+    "(both point back in time), pixels, +y up; the shutter is centred on the frame",
     "uv": "UV units per frame (Unity style): current - previous, +v up, 1 = the image's width "
     "(u) or height (v)",
     "ndc": "NDC units per frame: current - previous, +y up, 2 = the image's width or height",
@@ -52,8 +52,9 @@ def motion_to_blurlab(stored: np.ndarray, convention: str, shutter_fraction: flo
     if convention == "blurlab":
         m = s * stored[..., :2]
     elif convention == "blender":
-        # A shutter of s frames centred on the frame spans half of each neighbouring interval.
-        m = 0.5 * s * (stored[..., 0:2] + stored[..., 2:4]) * [1.0, -1.0]
+        # A shutter of s frames centred on the frame spans half of each neighbouring interval;
+        # Blender's vectors point back in time (measured, tests/test_blender.py).
+        m = 0.5 * s * (stored[..., 0:2] + stored[..., 2:4]) * [-1.0, 1.0]
     elif convention == "uv":
         m = s * stored[..., :2] * [w, -h]
     else:  # ndc
@@ -71,7 +72,7 @@ def motion_from_blurlab(motion: np.ndarray, convention: str, shutter_fraction: f
     if convention == "blurlab":
         out = m / s
     elif convention == "blender":
-        half = m / s * [1.0, -1.0]
+        half = m / s * [-1.0, 1.0]
         out = np.concatenate([half, half], axis=-1)
     elif convention == "uv":
         out = m / s / [w, -h]

@@ -14,6 +14,7 @@ import importlib.util
 import json
 import math
 import os
+import shutil
 import signal
 import subprocess
 import sys
@@ -25,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import io
+from .. import capture, io
 from ..render import check_shutter, check_size
 from ..scene import Scene
 
@@ -176,6 +177,7 @@ def render(
     keys: int = 64,
     timeout: float = 1800.0,
     python: str | os.PathLike | None = None,
+    passes: str | os.PathLike | None = None,
 ) -> BlenderRender:
     """Renders `scene` with Blender's `engine` ("CYCLES" or "EEVEE") in a child process.
 
@@ -187,10 +189,24 @@ def render(
     shutter renders that instant without motion blur. `python`: the interpreter that has bpy
     (default: this one). Cycles runs on the CPU with a one-pixel box filter, no bounces, no
     adaptive sampling or denoising; both write a linear 32-bit EXR (view transform Standard).
+
+    `passes` = a file path: Cycles renders the G-buffer of `instant` (default: the shutter's
+    centre) with motion blur off, one sample and a 0.01 px pixel filter, so every pass is
+    sampled at the pixel centres, and writes Blender's Combined, Depth and Vector passes there
+    as one multi-layer EXR. ``bl.Frame.from_exr(passes, convention="blender")`` reads it back:
+    the Vector pass spans one frame = the shutter (docs/spec.md §16.1).
     """
     engine_name = engine.upper() if isinstance(engine, str) else engine
     if engine_name not in ENGINES:
         raise ValueError(f"blurlab.blender: engine must be 'CYCLES' or 'EEVEE', not {engine!r}")
+    if passes is not None:
+        if engine_name != "CYCLES":
+            raise ValueError("blurlab.blender: passes= are rendered by Cycles only")
+        if not isinstance(passes, (str, os.PathLike)) or not Path(passes).parent.is_dir():
+            raise ValueError(
+                f"blurlab.blender: passes must be a file path in an existing folder, not {passes!r}"
+            )
+        samples = 1 if samples is None else samples
     samples = DEFAULT_SAMPLES[engine_name] if samples is None else samples
     steps = DEFAULT_STEPS[engine_name] if steps is None else steps
     top_steps = 7 if engine_name == "CYCLES" else 4096  # EEVEE's: a practical bound
@@ -212,6 +228,8 @@ def render(
     shutter = check_shutter(scene.shutter if shutter is None else shutter)
     if shutter[1] <= shutter[0]:
         raise ValueError("blurlab.blender: the shutter must be longer than 0 (one frame is it)")
+    if passes is not None and instant is None:
+        instant = 0.5 * (shutter[0] + shutter[1])
     if instant is not None and not (
         isinstance(instant, Real) and shutter[0] <= instant <= shutter[1]
     ):
@@ -228,6 +246,7 @@ def render(
         steps=steps,
         seed=seed,
         instant=None if instant is None else float(instant),
+        passes=passes is not None,
     )
     with tempfile.TemporaryDirectory(prefix="blurlab blender ") as folder:
         folder = Path(folder)
@@ -240,7 +259,13 @@ def render(
         if not (result_file.is_file() and image.is_file()):
             raise BlenderError(f"blurlab.blender: Blender wrote no image.\n{tail(log)}")
         result = json.loads(result_file.read_text())
-        color = io.read(image).astype(np.float32)
+        if passes is None:
+            color = io.read(image).astype(np.float32)
+        else:  # the caller's file is whole or absent: copied only once Blender has finished
+            partial = Path(passes).with_name(Path(passes).name + ".partial")
+            shutil.copyfile(image, partial)
+            os.replace(partial, passes)
+            color = capture.read_exr(passes, convention="blender")["color"]
     if color.shape != (height, width, 4):
         raise BlenderError(f"blurlab.blender: Blender wrote a {color.shape} image.\n{tail(log)}")
     return BlenderRender(color, result["settings"], wall, result["render_s"], result["device"], log)
