@@ -22,7 +22,7 @@ from urllib.parse import unquote, urlsplit
 import numpy as np
 
 from .mesh import Mesh
-from .motion import Motion
+from .motion import Motion, compose, slerp
 from .scene import MAX_EMISSION_STRENGTH, Camera, Material, Scene
 
 MAX_FILE_BYTES = 256 << 20  # a .gltf, .glb or external buffer larger than this is refused
@@ -152,7 +152,7 @@ class _Channel:
             )
             return self._unit(v)
         if self.path == "rotation":
-            return _slerp_xyzw(values[i], values[i + 1], s)
+            return slerp(values[i], values[i + 1], s)  # slerp is blind to component order
         return (1 - s) * values[i] + s * values[i + 1]
 
     def _unit(self, v: np.ndarray) -> np.ndarray:
@@ -160,33 +160,6 @@ class _Channel:
             return v
         norm = np.linalg.norm(v)
         return v / norm if norm > 0 else np.array([0.0, 0.0, 0.0, 1.0])
-
-
-def _slerp_xyzw(q0: np.ndarray, q1: np.ndarray, s: float) -> np.ndarray:
-    d = float(np.dot(q0, q1))
-    if d < 0:
-        q1, d = -q1, -d
-    if d > 0.9995:
-        q = q0 + s * (q1 - q0)
-    else:
-        theta = math.acos(min(d, 1.0))
-        q = (math.sin((1 - s) * theta) * q0 + math.sin(s * theta) * q1) / math.sin(theta)
-    return q / np.linalg.norm(q)
-
-
-def _trs(translation, rotation_xyzw, scale) -> np.ndarray:
-    x, y, z, w = rotation_xyzw
-    rotation = np.array(
-        [
-            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
-        ]
-    )
-    m = np.eye(4)
-    m[:3, :3] = rotation * np.asarray(scale, dtype=np.float64)
-    m[:3, 3] = translation
-    return m
 
 
 class _Nodes:
@@ -218,7 +191,8 @@ class _Nodes:
         trs = dict(rest)
         for channel in self.channels.get(i, ()):
             trs[channel.path] = channel.sample(t)
-        return _trs(trs["translation"], trs["rotation"], trs["scale"])
+        x, y, z, w = trs["rotation"]  # glTF stores (x, y, z, w); blurlab's are (w, x, y, z)
+        return compose(trs["translation"], (w, x, y, z), trs["scale"])
 
 
 # --- The loader -------------------------------------------------------------------------------
