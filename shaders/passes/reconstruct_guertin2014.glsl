@@ -10,6 +10,7 @@
 // Compute (16 x 16 threads per group, one per pixel) or fragment (one fragment per pixel).
 // NumPy twin: blurlab.twins.guertin2014.reconstruct_guertin2014.
 #include "common/tile_filter.glsl"
+#include "common/mirrored_pair.glsl"
 
 uniform float gamma;  // the paper's γ: speed over 0.5 px at which wc is V[X]'s own direction
 uniform float kappa;  // the paper's κ: the center weight is S / (κ len(V[X]))
@@ -72,11 +73,7 @@ vec4 reconstruct_at(ivec2 x) {
         vec2 v2 = half_velocity(sanitize_motion(texelFetch(motion, y2, 0).xy), exposure, kf);
         float a1 = sample_weight(length(vec2(y1 - x)), z1, v1, zx, vx, wc, d);
         float a2 = sample_weight(length(vec2(y2 - x)), z2, v2, zx, vx, wc, d);
-        // Mirror: the pair takes the weight of its sample that is nearer and moves farther.
-        bool behind = z1 > z2;
-        bool slower = length(v2) > length(v1);
-        if (behind && slower) a1 = a2;
-        else if (!behind && !slower) a2 = a1;
+        mirror_pair(a1, a2, z1, z2, length(v1), length(v2));
         weight += a1 + a2;
         sum += a1 * sanitize_color(texelFetch(color, y1, 0))
              + a2 * sanitize_color(texelFetch(color, y2, 0));

@@ -11,6 +11,7 @@
 #include "common/random.glsl"
 #include "common/jittered_tile.glsl"
 #include "common/unity.glsl"
+#include "common/mirrored_pair.glsl"
 
 layout(binding = 0) uniform sampler2D color;
 layout(binding = 1) uniform sampler2D velocity;
@@ -58,11 +59,7 @@ vec4 reconstruct_at(ivec2 x) {
         float f2 = clamp(0.5 + depth_factor * (zc - z2), 0.0, 1.0);
         float a1 = f1 * cone(length(vec2(y1 - x)), v1) + (1.0 - f1) * cone(length(vec2(y1 - x)), vc);
         float a2 = f2 * cone(length(vec2(y2 - x)), v2) + (1.0 - f2) * cone(length(vec2(y2 - x)), vc);
-        // Mirror: the pair takes the weight of its sample that is nearer and moves farther.
-        bool behind = z1 > z2;
-        bool slower = length(v2) > length(v1);
-        if (behind && slower) a1 = a2;
-        else if (!behind && !slower) a2 = a1;
+        mirror_pair(a1, a2, z1, z2, length(v1), length(v2));
         weight += a1 + a2;
         sum += a1 * sanitize_color(texelFetch(color, y1, 0))
              + a2 * sanitize_color(texelFetch(color, y2, 0));

@@ -60,6 +60,13 @@ def sample_weight(x, y, px, py, depth, v, vx, wc, d, soft_z) -> np.ndarray:
     )
 
 
+def mirror_pair(a1, a2, z1, z2, s1, s2):
+    """The mirrored pair (docs/spec.md §7.2): the pair takes the weight of its sample that is
+    nearer and moves farther (sample 1's where neither is both); z depths, s speeds."""
+    behind, slower = z1 > z2, s2 > s1
+    return np.where(behind & slower, a2, a1), np.where(~behind & ~slower, a1, a2)
+
+
 def reconstruct_guertin2014(
     color,
     depth,
@@ -111,12 +118,10 @@ def reconstruct_guertin2014(
         (py1, px1), (py2, px2) = ends
         a1 = sample_weight(x, y, px1, py1, depth, v, vx, wc, d, soft_z)
         a2 = sample_weight(x, y, px2, py2, depth, v, vx, wc, d, soft_z)
-        # Step 5, the mirror: the pair takes the weight of its sample that is nearer and
-        # moves farther (sample 1 where neither is both).
-        behind = depth[py1, px1] > depth[py2, px2]
-        slower = speed[py2, px2] > speed[py1, px1]
-        a1 = np.where(behind & slower, a2, a1)
-        a2 = np.where(~behind & ~slower, a1, a2)
+        # Step 5, the mirror.
+        a1, a2 = mirror_pair(
+            a1, a2, depth[py1, px1], depth[py2, px2], speed[py1, px1], speed[py2, px2]
+        )
         a1, a2 = np.where(active, a1, 0.0), np.where(active, a2, 0.0)
         weight = weight + a1 + a2
         total = total + a1[..., None] * color[py1, px1] + a2[..., None] * color[py2, px2]

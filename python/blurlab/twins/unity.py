@@ -14,6 +14,7 @@ import math
 import numpy as np
 
 from .eevee import lookup_tile
+from .guertin2014 import mirror_pair
 from .hashing import rand
 from .inputs import sanitize_color, sanitize_depth, sanitize_motion
 from .mcguire2012 import cone
@@ -159,12 +160,7 @@ def engine_unity(
             a = front * cone(dist, v[py, px]) + (1 - front) * cone(dist, vc)
             pair.append((a, z[py, px], np.linalg.norm(v[py, px], axis=-1), py, px))
         (a1, z1, s1, py1, px1), (a2, z2, s2, py2, px2) = pair
-        # Mirror: the pair takes the weight of its sample that is nearer and moves farther.
-        behind, slower = z1 > z2, s2 > s1
-        a1, a2 = (
-            np.where(behind & slower, a2, a1),
-            np.where(~behind & ~slower, a1, a2),
-        )
+        a1, a2 = mirror_pair(a1, a2, z1, z2, s1, s2)
         a1, a2 = np.where(active, a1, 0.0), np.where(active, a2, 0.0)
         weight = weight + a1 + a2
         total = total + a1[..., None] * color[py1, px1] + a2[..., None] * color[py2, px2]
