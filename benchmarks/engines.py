@@ -4,9 +4,14 @@ failure scene. PSNR, SSIM and FLIP against the converged reference, and ms per p
 of --runs timed runs after one warm-up; on llvmpipe glFinish and a wall clock, on a GPU timer
 queries). Prints the table, writes it as JSON (--json), as Markdown (--markdown) and as a Pareto
 chart of median ms against median PSNR (--chart); the last two by default beside the JSON.
+With --peers eevee, Blender's EEVEE post-process blur (1 sample, 1 step, through
+blurlab.blender; needs the `blender` extra) joins on every scene Blender can reproduce, scored
+against the same reference; its time is Blender's wall time, not a pass time, so it stays out of
+the ms columns and the chart.
 
     python benchmarks/engines.py [--device gpu] [--size 640x360] [--runs 5] [--json PATH]
         [--markdown PATH] [--chart PATH] [--scenes a,b,...] [--methods a,b,...]
+        [--peers eevee]
 """
 
 from __future__ import annotations
@@ -18,10 +23,14 @@ import time
 import pandas as pd
 
 import blurlab as bl
+from blurlab.studies import peers
 
 from common import describe, open_context, save
 
 BASELINES = ("reconstruct_guertin2014", "reconstruct_mcguire2012")
+EEVEE = "eevee (Blender)"
+# EEVEE's real-time filter alone: one render sample, one motion-blur step.
+EEVEE_POST_PROCESS = ((EEVEE, 1, 1),)
 
 
 def engine_methods() -> list[str]:
@@ -29,7 +38,7 @@ def engine_methods() -> list[str]:
     return [name for name in bl.methods() if name.startswith("engine_")] + list(BASELINES)
 
 
-def measure(ctx, scene_name: str, size, runs: int, methods) -> list[dict]:
+def measure(ctx, scene_name: str, size, runs: int, methods, with_eevee: bool) -> list[dict]:
     scene = bl.scenes.get(scene_name)
     frame = ctx.render(scene, size)
     reference = ctx.reference(scene, size, samples="auto", progress=False)
@@ -54,11 +63,22 @@ def measure(ctx, scene_name: str, size, runs: int, methods) -> list[dict]:
                 "reference_samples": reference.samples,
             }
         )
+    if with_eevee:
+        eevee = peers.peer_table(
+            ctx,
+            {scene_name: scene},
+            size,
+            {scene_name: reference.samples},
+            ("ssim", "flip"),
+            EEVEE_POST_PROCESS,
+        )
+        rows += eevee.to_dict("records")
     return rows
 
 
 def markdown(table: pd.DataFrame) -> str:
-    """One row per scene: PSNR / SSIM / FLIP per method, then the median ms per method."""
+    """One row per scene: PSNR / SSIM / FLIP per method, then the median PSNR and ms per method;
+    with EEVEE, the medians over the scenes it renders and how many of them each method wins."""
     methods = list(dict.fromkeys(table["method"]))
     lines = [
         "| scene | " + " | ".join(methods) + " |",
@@ -67,23 +87,43 @@ def markdown(table: pd.DataFrame) -> str:
     for scene, rows in table.groupby("scene", sort=False):
         by = rows.set_index("method")
         cells = [
-            f"{by.psnr[m]:.2f} / {by.ssim[m]:.3f} / {by.flip[m]:.3f}" if m in by.index else "–"
+            f"{by.psnr[m]:.2f} / {by.ssim[m]:.3f} / {by.flip[m]:.3f}"
+            if m in by.index and pd.notna(by.psnr[m])
+            else "–"
             for m in methods
         ]
         lines.append(f"| {scene} | " + " | ".join(cells) + " |")
+
+    def line(label, values, fmt):
+        cells = [f"**{fmt(values[m])}**" if pd.notna(values.get(m)) else "–" for m in methods]
+        return f"| **{label}** | " + " | ".join(cells) + " |"
+
     medians = table.groupby("method", sort=False)[["psnr", "ms"]].median()
-    lines.append(
-        "| **median PSNR** | " + " | ".join(f"**{medians.psnr[m]:.2f}**" for m in methods) + " |"
-    )
-    lines.append(
-        "| **median ms** | " + " | ".join(f"**{medians.ms[m]:.2f}**" for m in methods) + " |"
-    )
+    lines.append(line("median PSNR", medians.psnr, "{:.2f}".format))
+    lines.append(line("median ms", medians.ms, "{:.2f}".format))
+    eevee = table[(table.method == EEVEE) & table.psnr.notna()].set_index("scene").psnr
+    if len(eevee):
+        shared = table[table.scene.isin(eevee.index)]
+        lines.append(
+            line(
+                f"median PSNR, the {len(eevee)} scenes EEVEE renders",
+                shared.groupby("method").psnr.median(),
+                "{:.2f}".format,
+            )
+        )
+        wins = {
+            m: int((rows.set_index("scene").psnr > eevee).reindex(eevee.index).sum())
+            for m, rows in shared.groupby("method")
+            if m != EEVEE
+        }
+        lines.append(line("scenes better than EEVEE", wins, f"{{}} of {len(eevee)}".format))
     return "\n".join(lines) + "\n"
 
 
 def pareto_chart(table: pd.DataFrame, renderer: str, clock: str, size):
     """Median ms against median PSNR over the scenes, one point per method, front marked."""
-    medians = table.groupby("method", sort=False)[["psnr", "ms"]].median().reset_index()
+    timed = table[table.method != EEVEE]  # Blender's wall time is not a pass time
+    medians = timed.groupby("method", sort=False)[["psnr", "ms"]].median().reset_index()
     medians = medians.rename(columns={"ms": "total_ms"})
     medians = medians.assign(
         scene="median over scenes", renderer=renderer, clock=clock, width=size[0], height=size[1]
@@ -98,6 +138,7 @@ def main() -> None:
     parser.add_argument("--runs", type=int, default=5)
     parser.add_argument("--scenes", default=None, help="comma-separated; default: all")
     parser.add_argument("--methods", default=None, help="comma-separated; default: all")
+    parser.add_argument("--peers", choices=peers.PEERS, default=None, help="Blender's EEVEE too")
     parser.add_argument("--json", default=None)
     parser.add_argument("--markdown", default=None)
     parser.add_argument("--chart", default=None, help="PNG or SVG: median ms against PSNR")
@@ -108,11 +149,13 @@ def main() -> None:
         args.scenes.split(",") if args.scenes else bl.scenes.names() + bl.scenes.names("failure")
     )
     methods = args.methods.split(",") if args.methods else engine_methods()
+    if args.peers:
+        peers.check_peers([args.peers])
     record = {**describe(ctx), "size": args.size, "runs": args.runs, "methods": methods}
     start = time.perf_counter()
     rows = []
     for scene_name in scenes:
-        rows += measure(ctx, scene_name, size, args.runs, methods)
+        rows += measure(ctx, scene_name, size, args.runs, methods, bool(args.peers))
         print(f"{scene_name}: done", flush=True)
     record["seconds"] = round(time.perf_counter() - start, 1)
     table = pd.DataFrame(rows)

@@ -30,11 +30,17 @@ def check_peers(peers) -> tuple[str, ...]:
 
 
 def peer_table(
-    ctx: Context, scenes: dict, size, reference_samples: dict, wanted: tuple[str, ...]
+    ctx: Context,
+    scenes: dict,
+    size,
+    reference_samples: dict,
+    wanted: tuple[str, ...],
+    configurations=EEVEE_ROWS,
 ) -> pd.DataFrame:
-    """One row per peer configuration and scene: PSNR (and SSIM, FLIP, psnr_aa if `wanted`)
-    against the scene's temporal reference with the sweep's N, Blender's wall time and device.
-    A scene Blender cannot reproduce gets a row that says why instead of numbers."""
+    """One row per peer configuration (label, samples, steps) and scene: PSNR (and SSIM, FLIP,
+    psnr_aa if `wanted`) against the scene's temporal reference with the sweep's N, Blender's
+    wall time and device. A scene Blender cannot reproduce gets a row that says why instead of
+    numbers."""
     rows = []
     for name, scene in scenes.items():
         n = reference_samples[name]
@@ -42,14 +48,14 @@ def peer_table(
             blender.check_reproducible(scene)
         except ValueError as error:
             rows += [
-                {"scene": name, "method": label, "note": str(error)} for label, *_ in EEVEE_ROWS
+                {"scene": name, "method": label, "note": str(error)} for label, *_ in configurations
             ]
             continue
         temporal = ctx.reference(scene, size, samples=n, progress=False).color
         antialiased = None
         if "psnr_aa" in wanted:
             antialiased = ctx.reference(scene, size, samples=n, antialias=True, progress=False)
-        for label, samples, steps in EEVEE_ROWS:
+        for label, samples, steps in configurations:
             result = blender.render(scene, size, engine="EEVEE", samples=samples, steps=steps)
             row = {
                 "scene": name,
