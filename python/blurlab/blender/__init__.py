@@ -42,6 +42,9 @@ LOG_TAIL_LINES = 40
 MAX_SIZE = 16384  # Blender's largest render resolution is larger; blurlab's textures are not
 DEFAULT_SAMPLES = {"CYCLES": 128, "EEVEE": 64}  # EEVEE's is Blender's own default
 DEFAULT_STEPS = {"CYCLES": 7, "EEVEE": 1}
+# Cycles draws each path's time through a table of this many entries (its SHUTTER_TABLE_SIZE),
+# which is why its shutter is a little shorter than the one it is given: cycles_shutter.
+CYCLES_SHUTTER_TABLE = 256
 
 
 class BlenderError(RuntimeError):
@@ -86,6 +89,23 @@ def check_reproducible(scene: Scene) -> None:
                 "blurlab does. Allowed: Lambert materials (specular = 0, textured or not, rigid or "
                 "skinned) without hatching, under the directional light and ambient term"
             )
+
+
+def cycles_shutter(shutter) -> tuple[float, float]:
+    """The part of `shutter` that Cycles' motion blur actually spans (docs/spec.md §16.4).
+
+    Cycles maps a uniform number u to a time through the inverted CDF of its shutter curve,
+    tabulated at CYCLES_SHUTTER_TABLE = n points. For the flat curve every blurlab scene is given,
+    entry i holds (i + 1/2)(n - 1)/n^2 and the lookup interpolates linearly, so the time is
+    ((n - 1)/n)^2 u + (n - 1)/(2 n^2), still uniform but over
+    [0.00195, 0.99415] of the shutter: 0.78 % shorter, its middle 0.2 % early.
+    ``ctx.reference(scene, size, cycles_shutter(scene.shutter), antialias=True)`` is therefore
+    what Cycles converges to; ``scene.shutter`` is what blurlab's methods blur over."""
+    t0, t1 = check_shutter(shutter)
+    n = CYCLES_SHUTTER_TABLE
+    start = 0.5 * (n - 1) / n**2
+    end = start + ((n - 1) / n) ** 2
+    return t0 + start * (t1 - t0), t0 + end * (t1 - t0)
 
 
 def skinned_positions(obj, t: float) -> np.ndarray:
@@ -268,7 +288,10 @@ def render(
             color = capture.read_exr(passes, convention="blender")["color"]
     if color.shape != (height, width, 4):
         raise BlenderError(f"blurlab.blender: Blender wrote a {color.shape} image.\n{tail(log)}")
-    return BlenderRender(color, result["settings"], wall, result["render_s"], result["device"], log)
+    settings = result["settings"]
+    if engine_name == "CYCLES" and instant is None:
+        settings["shutter_spanned"] = cycles_shutter(shutter)  # what the image integrates
+    return BlenderRender(color, settings, wall, result["render_s"], result["device"], log)
 
 
 def run_child(python: Path, folder: Path, timeout: float) -> str:
