@@ -3,7 +3,6 @@
 #include "common/inputs.glsl"
 
 const float EARLY_EXIT = 0.5;      // px: a neighbourhood whose longest half-motion is shorter keeps C
-const float REACH_MARGIN = 0.01;   // tiles added around a tile's reach, against rounding
 
 // E·m (non-finite vectors are zero). Tiles are chosen by this length, before the clamp below:
 // clamped lengths tie at max_blur, and float32 rounding would then pick among them at random.

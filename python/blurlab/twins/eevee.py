@@ -13,9 +13,9 @@ import numpy as np
 from .hashing import rand
 from .inputs import sanitize_color, sanitize_depth, sanitize_motion
 from .mcguire2012 import cone, cylinder, soft_depth_compare, tile_max
+from .tile_reach import reach_widening, segment_meets_box
 
 EARLY_EXIT = 0.5  # px: a neighbourhood whose longest half-motion is shorter keeps C
-REACH_MARGIN = 0.01  # tiles added around a tile's reach: conservative against rounding
 JITTER_SALTS = (0x3C6EF372, 0xA54FF53A)  # shaders/passes/eevee_gather.glsl
 
 
@@ -44,24 +44,6 @@ def dilation_radius(max_blur: float, tile_size: int, grid) -> int:
     return min(math.ceil(max_blur / tile_size) + 1, max(grid))
 
 
-def segment_meets_box(start, direction, low: float, high: float) -> np.ndarray:
-    """Whether the segment start + t·direction, t in [0, 1], meets the square [low, high]²
-    (the slab test; a zero component must lie inside its slab)."""
-    t_min = np.zeros(start.shape[:-1])
-    t_max = np.ones(start.shape[:-1])
-    inside = np.ones(start.shape[:-1], bool)
-    for axis in (0, 1):
-        p, d = start[..., axis], direction[..., axis]
-        flat = d == 0
-        with np.errstate(divide="ignore", invalid="ignore"):
-            t1 = (low - p) / d
-            t2 = (high - p) / d
-        t_min = np.where(flat, t_min, np.maximum(t_min, np.minimum(t1, t2)))
-        t_max = np.where(flat, t_max, np.minimum(t_max, np.maximum(t1, t2)))
-        inside &= ~flat | ((p >= low) & (p <= high))
-    return inside & (t_min <= t_max)
-
-
 def tile_dilate(tiles: np.ndarray, tile_size: int, max_blur: float) -> np.ndarray:
     """§17.2 step 2: for each tile D, the longest prev (xy) and next (zw) half-motion among the
     tiles whose reach meets D: the segment from a tile's center along -prev (toward the
@@ -71,7 +53,7 @@ def tile_dilate(tiles: np.ndarray, tile_size: int, max_blur: float) -> np.ndarra
     the first source tile in row-major order wins."""
     th, tw = tiles.shape[:2]
     radius = dilation_radius(max_blur, tile_size, (th, tw))
-    widen = 0.5 - 0.5 / tile_size + REACH_MARGIN
+    widen = reach_widening(tile_size)
     out = np.zeros((th, tw, 4))
     best = np.full((th, tw, 2), -1.0)
     dy_, dx_ = np.mgrid[0:th, 0:tw]

@@ -1,0 +1,72 @@
+#version 450
+// engine_unreal step 4, docs/spec.md §17.5: the path chosen per 16 x 16 tile by its class
+// (one compute work group is one tile, so the branch is the same across a group). Skip: C.
+// Otherwise taps/2 mirrored pairs at X ± t·v_max, t = (i + j)/(taps/2), v_max the tile's
+// longest reaching velocity. Fast: every tap weighs 1. Slow: a tap weighs the soft depth
+// split (extent depth_extent) of whether X's own blur or the tap's reaches it
+// (spread = clamp(1 + length - distance, 0, 1)), at most 1, and each pair takes the weight of
+// its nearer and faster tap; the weight the taps do not take goes to C.
+// Compute, one invocation per pixel. NumPy twin: blurlab.twins.unreal.engine_unreal.
+#include "common/inputs.glsl"
+#include "common/random.glsl"
+#include "common/polar_velocity.glsl"
+#include "common/mirrored_pair.glsl"
+#include "common/unreal.glsl"
+
+layout(binding = 0) uniform sampler2D color;
+layout(binding = 1) uniform sampler2D velocity;
+layout(binding = 2) uniform sampler2D neighbors;
+uniform int taps;  // the quality level's sample count
+uniform float depth_extent;
+uniform float radius;  // R, pixels
+uniform uint seed;
+
+// 1 where a blur of radius `len` reaches `dist` pixels, falling to 0 over its last pixel.
+float spread(float dist, float len) {
+    return clamp(1.0 + len - dist, 0.0, 1.0);
+}
+
+// Tap texel s (codes, depth) at `dist` pixels from X, whose depth is z_x and blur radius len_x.
+float tap_weight(vec4 s, float dist, float z_x, float len_x) {
+    float d = s.z == z_x ? 0.0 : (s.z - z_x) / depth_extent;
+    float behind = clamp(0.5 + d, 0.0, 1.0);
+    float len_y = s.x / LENGTH_CODE_MAX * radius;
+    return min(behind * spread(dist, len_x) + (1.0 - behind) * spread(dist, len_y), 1.0);
+}
+
+vec4 reconstruct_at(ivec2 x) {
+    ivec2 size = textureSize(color, 0);
+    vec4 cx = sanitize_color(texelFetch(color, x, 0));
+    vec4 tile = texelFetch(neighbors, x / TILE, 0);
+    if (tile.w == TILE_SKIP) return cx;
+    bool slow = tile.w == TILE_SLOW;
+    vec2 vmax = decode_polar(tile.xy, radius);
+    vec4 own = texelFetch(velocity, x, 0);
+    float len_x = own.x / LENGTH_CODE_MAX * radius;
+    int pairs = taps / 2;
+    float j = rand(uint(x.x), uint(x.y), seed);
+    vec2 center = vec2(x) + 0.5;
+    vec4 sum = vec4(0.0);
+    float weight = 0.0;
+    for (int i = 0; i < pairs; ++i) {
+        float t = (float(i) + j) / float(pairs);
+        ivec2 y1 = clamp(ivec2(floor(center + t * vmax)), ivec2(0), size - 1);
+        ivec2 y2 = clamp(ivec2(floor(center - t * vmax)), ivec2(0), size - 1);
+        float a1 = 1.0, a2 = 1.0;
+        if (slow) {
+            vec4 s1 = texelFetch(velocity, y1, 0);
+            vec4 s2 = texelFetch(velocity, y2, 0);
+            a1 = tap_weight(s1, length(vec2(y1 - x)), own.z, len_x);
+            a2 = tap_weight(s2, length(vec2(y2 - x)), own.z, len_x);
+            mirror_pair(a1, a2, s1.z, s2.z, s1.x, s2.x);
+        }
+        weight += a1 + a2;
+        sum += a1 * sanitize_color(texelFetch(color, y1, 0))
+             + a2 * sanitize_color(texelFetch(color, y2, 0));
+    }
+    float n = float(2 * pairs);
+    return (sum + (n - weight) * cx) / n;
+}
+
+#define PASS_AT reconstruct_at
+#include "common/pass_main.glsl"
