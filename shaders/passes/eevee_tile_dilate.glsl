@@ -7,6 +7,7 @@
 // widened by h + REACH_MARGIN, h = 1/2 - 1/(2 tile_size). Compute, one thread per tile.
 // NumPy twin: blurlab.twins.eevee.tile_dilate.
 #include "common/eevee.glsl"
+#include "common/segment_box.glsl"
 
 layout(binding = 0) uniform sampler2D tiles;
 uniform int tile_size;
@@ -14,23 +15,6 @@ uniform float max_blur;
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(binding = 0, rgba32f) uniform writeonly image2D dilated;
-
-// Whether start + t·d, t in [0, 1], meets the square [low, high]² (the slab test).
-bool segment_meets_box(vec2 start, vec2 d, float low, float high) {
-    float t_min = 0.0, t_max = 1.0;
-    for (int axis = 0; axis < 2; ++axis) {
-        float p = start[axis];
-        if (d[axis] == 0.0) {
-            if (p < low || p > high) return false;
-            continue;
-        }
-        float t1 = (low - p) / d[axis];
-        float t2 = (high - p) / d[axis];
-        t_min = max(t_min, min(t1, t2));
-        t_max = min(t_max, max(t1, t2));
-    }
-    return t_min <= t_max;
-}
 
 void main() {
     ivec2 tile = ivec2(gl_GlobalInvocationID.xy);
