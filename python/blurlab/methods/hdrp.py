@@ -52,19 +52,7 @@ PARAMS = {
     ),
     "seed": SEED,
 }
-SETUP = Pass(
-    "velocity_setup",
-    "passes/hdrp_velocity_setup.glsl",
-    (
-        "intensity",
-        "maximum_velocity",
-        "camera_motion_blur",
-        "camera_clamp_mode",
-        "rotation_clamp",
-        "translation_clamp",
-        "motion_vector_clamp",
-    ),
-)
+SETUP = Pass("velocity_setup", "passes/hdrp_velocity_setup.glsl", twin.SETUP_PARAMS)
 TILE_MIN_MAX = Pass("tile_min_max", "passes/hdrp_tile_min_max.glsl")
 NEIGHBORHOOD = Pass(
     "neighborhood",

@@ -25,6 +25,16 @@ EARLY_OUT, FAST, SLOW = 0, 1, 2
 CLASS_NAMES = ("early_out", "fast", "slow")
 GATHER_TILE, SCATTER_TILE = 32, 16  # px: the tile side without and with scattering
 REACH_MARGIN = 0.01  # tiles added around a scattered tile's reach, against rounding
+# The parameters of step 1, the velocity setup.
+SETUP_PARAMS = (
+    "intensity",
+    "maximum_velocity",
+    "camera_motion_blur",
+    "camera_clamp_mode",
+    "rotation_clamp",
+    "translation_clamp",
+    "motion_vector_clamp",
+)
 # Camera clamp modes whose clamp applies to the rotation, the translation, the whole camera.
 ROTATION_CLAMPED = ("rotation", "separate")
 TRANSLATION_CLAMPED = ("translation", "separate")
