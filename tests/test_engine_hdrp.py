@@ -111,7 +111,7 @@ def test_small_floats_round_as_hand_values_say():
     assert list(uf11) == [1.0, 1.0, 1.03125, 200.0, 65024.0, 65024.0, np.inf]
     assert largest_finite(UF11_MANTISSA) == 65024.0 and largest_finite(UF10_MANTISSA) == 64512.0
     uf10 = quantize([3.3, 0.0, -2.0, np.nan, 2.0**-16 * 1.3], UF10_MANTISSA)
-    # 3.3 = 2·1.65, step 2/32: 3.3125 = 2·(1 + 21/32) is nearest; 1.3·2^-16 is a denormal, step 2^-19
+    # 3.3 = 2·1.65, step 2/32: 3.3125 = 2·(1 + 21/32) is nearest; 1.3·2^-16: a denormal, step 2^-19
     assert list(uf10) == [3.3125, 0.0, 0.0, 0.0, 2.0**-16 * 1.25]
 
 
