@@ -21,18 +21,22 @@ import numpy as np
 from ..context import Context
 from ..frame import Frame
 from ..twins import hdrp as twin
+from ..twins.small_float import UF11_MANTISSA, largest_finite
 from .camera_only import camera_motion_uniforms
 from .core import FLOAT32_MAX, SEED, Method, Param, Pass, register, run_pass
 from .gathers import BOX_PARAMS
+
+# Lengths are stored as unsigned 11-bit floats (§17.4): longer ones would all read as this.
+LONGEST_STORED = largest_finite(UF11_MANTISSA)
 
 PARAMS = {
     "samples": Param(8, int, "Sample Count: most taps per pixel (presets 4 / 8 / 12)", 2, 64),
     "intensity": BOX_PARAMS["intensity"],
     "maximum_velocity": Param(
-        200.0, float, "Maximum Velocity: longest non-camera-clamped velocity, px", 0, 65024
+        200.0, float, "Maximum Velocity: longest non-camera-clamped velocity, px", 0, LONGEST_STORED
     ),
     "minimum_velocity": Param(
-        2.0, float, "Minimum Velocity: tiles whose neighbourhood moves less keep C, px", 0, 65024
+        2.0, float, "Minimum Velocity: slower neighbourhoods keep C, px", 0, LONGEST_STORED
     ),
     "depth_comparison_extent": Param(
         1.0, float, "Depth Comparison Extent: soft depth extent, depth units", 0, FLOAT32_MAX, True
