@@ -17,7 +17,7 @@ from filter_promises import (
 )
 
 import blurlab as bl
-from blurlab.twins import polar_velocity as polar
+from blurlab.twins import polar_fixed_point as polar
 from blurlab.twins import unreal as ref
 
 METHOD = "engine_unreal"

@@ -6,7 +6,7 @@
 // among equal codes) and their smallest length, and is classified: skip under SKIP_BELOW px,
 // fast where min > 0.4·max (5·min > 2·max in codes), else slow. Compute, one thread per tile.
 // NumPy twin: blurlab.twins.unreal.neighbor_dilate.
-#include "common/polar_velocity.glsl"
+#include "common/polar_fixed_point.glsl"
 #include "common/tile_reach.glsl"
 #include "common/unreal.glsl"
 

@@ -9,7 +9,7 @@
 // Compute, one invocation per pixel. NumPy twin: blurlab.twins.unreal.engine_unreal.
 #include "common/inputs.glsl"
 #include "common/random.glsl"
-#include "common/polar_velocity.glsl"
+#include "common/polar_fixed_point.glsl"
 #include "common/mirrored_pair.glsl"
 #include "common/unreal.glsl"
 

@@ -1,10 +1,10 @@
 #version 450
 // engine_unreal step 1, docs/spec.md §17.5: the half-vector E·M/2, its length clamped to R, in
-// polar 11-bit codes, and the depth as a 10-bit float (common/polar_velocity.glsl), the engine's
+// polar 11-bit codes, and the depth as a 10-bit float (common/polar_fixed_point.glsl), the engine's
 // 11:11:10 texel kept exactly in RGBA32F. Compute, one invocation per pixel.
 // NumPy twin: blurlab.twins.unreal.velocity_flatten.
 #include "common/inputs.glsl"
-#include "common/polar_velocity.glsl"
+#include "common/polar_fixed_point.glsl"
 
 layout(binding = 0) uniform sampler2D depth;
 layout(binding = 1) uniform sampler2D motion;

@@ -10,7 +10,7 @@ module here, its shader, its NumPy twin and its test (docs/adding_a_method.md).
 from . import mcguire2012, guertin2014, urho3d, gathers, camera_only, trail  # noqa: F401
 from . import accumulation, stochastic  # noqa: F401
 from . import gather_gaussian  # noqa: F401
-from . import eevee, unity, unreal  # noqa: F401
+from . import eevee, unity, hdrp, unreal  # noqa: F401
 
 # isort: on
 from .core import (

@@ -15,7 +15,7 @@ from .core import Method, Pass, register, run_pass
 from .gathers import BOX_PARAMS, GATHER_BOX, box_reach, with_edge
 
 
-def _camera_matrices(camera: dict) -> dict:
+def camera_motion_uniforms(camera: dict) -> dict:
     """The uniforms of the camera-motion pass from a rendered frame's camera matrices."""
     return {
         "view_from_clip": np.linalg.inv(camera["projection"]).astype(np.float32),
@@ -53,7 +53,7 @@ def _run_camera_only(ctx: Context, frame: Frame, inputs: dict, values: dict, bac
             values,
             {"depth": textures["depth"]},
             {"motion": motion},
-            uniforms=_camera_matrices(camera),
+            uniforms=camera_motion_uniforms(camera),
         )
         gathered = {"color": textures["color"], "motion": motion}
         run_pass(

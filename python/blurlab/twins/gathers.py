@@ -66,16 +66,37 @@ def gather_gaussian(color, motion, *, taps: int, sigma: float, edge: str) -> np.
     return _gather(color, [center - si * m for si in s], list(weights), edge)
 
 
+def _pixel_clip(size) -> np.ndarray:
+    """(H, W, 4): each pixel center in clip space at depth 1 (ndc x, y, 1, 1)."""
+    width, height = size
+    ndc = _centers(height, width) / np.array([width, height]) * 2 - 1
+    ones = np.ones(ndc.shape[:2])
+    return np.stack([ndc[..., 0], ndc[..., 1], ones, ones], -1)
+
+
+def camera_rotation_motion(camera: dict, size) -> np.ndarray:
+    """The part of camera_motion due to the camera's rotation alone (its position held still),
+    the same at every depth: the motion of points at infinity (docs/spec.md §17.4)."""
+    width, height = size
+    clip = _pixel_clip(size)
+    far = clip @ camera["sky_from_clip"].T
+    direction = np.concatenate([far[..., :3] / far[..., 3:], np.zeros(far.shape[:2] + (1,))], -1)
+    s0 = direction @ camera["sky_projection"][0].T
+    s1 = direction @ camera["sky_projection"][1].T
+    seen = (s0[..., 3] > 0) & (s1[..., 3] > 0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        sky = (s1[..., :2] / s1[..., 3:] - s0[..., :2] / s0[..., 3:]) * 0.5 * [width, height]
+    return np.where(seen[..., None], sky, 0.0)
+
+
 def camera_motion(depth, camera: dict, size) -> np.ndarray:
     """Motion from depth and the camera alone (Urho3D thesis §2.3.2): reproject each pixel's
     point to t0 and t1 with the matrices of a rendered frame's `camera` dict. Points at
     infinity move with the camera's rotation only."""
     width, height = size
     depth = sanitize_depth(depth)
-    center = _centers(height, width)
-    ndc = center / np.array([width, height]) * 2 - 1
+    clip = _pixel_clip(size)
     ones = np.ones(depth.shape)
-    clip = np.stack([ndc[..., 0], ndc[..., 1], ones, ones], -1)
     ray = clip @ np.linalg.inv(camera["projection"]).T
     view = ray[..., :3] / ray[..., 3:]
     finite = np.isfinite(depth)
@@ -86,15 +107,7 @@ def camera_motion(depth, camera: dict, size) -> np.ndarray:
     def pixels(c):
         return (c[..., :2] / np.maximum(c[..., 3:], camera["near"]) * 0.5 + 0.5) * [width, height]
 
-    a = pixels(world @ camera["view_projection"][0].T)
-    b = pixels(world @ camera["view_projection"][1].T)
-    motion = b - a
-    far = clip @ camera["sky_from_clip"].T
-    direction = np.concatenate([far[..., :3] / far[..., 3:], 0 * ones[..., None]], -1)
-    s0 = direction @ camera["sky_projection"][0].T
-    s1 = direction @ camera["sky_projection"][1].T
-    seen = (s0[..., 3] > 0) & (s1[..., 3] > 0)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        sky = (s1[..., :2] / s1[..., 3:] - s0[..., :2] / s0[..., 3:]) * 0.5 * [width, height]
-    sky = np.where(seen[..., None], sky, 0.0)
-    return np.where(finite[..., None], motion, sky)
+    motion = pixels(world @ camera["view_projection"][1].T) - pixels(
+        world @ camera["view_projection"][0].T
+    )
+    return np.where(finite[..., None], motion, camera_rotation_motion(camera, size))

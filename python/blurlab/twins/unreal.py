@@ -2,7 +2,7 @@
 its algorithm is described (issue 17; Jimenez 2014, which it follows). One function per pass;
 the GPU passes (shaders/passes/unreal_*.glsl) must match them.
 
-Velocities travel as polar 11-bit codes and depths as 10-bit floats (twins.polar_velocity).
+Velocities travel as polar 11-bit codes and depths as 10-bit floats (twins.polar_fixed_point).
 Tiles compare length codes, exact integers, so the GPU and this twin choose the same tiles.
 """
 
@@ -13,7 +13,7 @@ import numpy as np
 from .guertin2014 import mirror_pair
 from .hashing import rand
 from .inputs import sanitize_color, sanitize_depth, sanitize_motion
-from .polar_velocity import LENGTH_CODE_MAX, decode_polar, float10, polar_codes
+from .polar_fixed_point import LENGTH_CODE_MAX, decode_polar, float10, polar_codes
 from .tile_reach import reach_widening, segment_meets_box
 
 TILE = 16  # tile side, pixels

@@ -1,6 +1,6 @@
 """A velocity in polar form with 11-bit codes and a depth rounded to a 10-bit float: the
 11:11:10 texel of docs/spec.md §17.5 step 1 (engine_unreal), in NumPy. GPU twin:
-shaders/common/polar_velocity.glsl, whose header gives the formulas.
+shaders/common/polar_fixed_point.glsl, whose header gives the formulas.
 """
 
 from __future__ import annotations

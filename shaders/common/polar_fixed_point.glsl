@@ -5,7 +5,7 @@
 //           c_a·2π/2048 (0 for v = 0)
 //   depth   the unsigned 10-bit float of R11G11B10F's blue channel (5 exponent, 5 mantissa
 //           bits): rounded to nearest even, below 2^-14 read as 2^-14, above 64512 as +inf
-// NumPy twin: blurlab.twins.polar_velocity.
+// NumPy twin: blurlab.twins.polar_fixed_point.
 
 const float LENGTH_CODE_MAX = 2047.0;
 const float ANGLE_CODES = 2048.0;

@@ -1,0 +1,166 @@
+"""engine_hdrp: the motion blur of Unity's High Definition Render Pipeline, written from the
+algorithm as issue 17 describes it and from HDRP's public manual (the Motion Blur volume
+override), not from Unity's sources: docs/spec.md §17.4. Four passes: velocity setup with the
+camera clamp modes, polar velocity and linear depth in B10G11R11 codes
+(shaders/passes/hdrp_velocity_setup.glsl); per-tile min and max (hdrp_tile_min_max.glsl); the
+3 x 3 neighbourhood, or the scatter variant, and the tile classes early-out / fast / slow
+(hdrp_neighborhood.glsl); the reconstruction, its path chosen per tile (hdrp_reconstruct.glsl).
+NumPy twin: blurlab.twins.hdrp.engine_hdrp. Parameters below, at the engine's defaults.
+
+What it leaves out: the real packed texture format (the codes are kept exactly in RGBA32F), the
+engine's exact sample weights and sample placement, its fast-path test and tile jitter, which
+the manual does not give (blurlab's choices are named in §17.4: §3.4's cones and cylinders on
+the slow path, a `fast_ratio` test on the neighbourhood's lengths, no jitter), and the scatter's
+atomics (a gather gives the same maxima).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..context import Context
+from ..frame import Frame
+from ..twins import hdrp as twin
+from ..twins.small_float import UF11_MANTISSA, largest_finite
+from .camera_only import camera_motion_uniforms
+from .core import FLOAT32_MAX, SEED, Method, Param, Pass, register, run_pass
+from .gathers import BOX_PARAMS
+
+# Lengths are stored as unsigned 11-bit floats (§17.4): longer ones would all read as this.
+LONGEST_STORED = largest_finite(UF11_MANTISSA)
+
+PARAMS = {
+    "samples": Param(8, int, "Sample Count: most taps per pixel (presets 4 / 8 / 12)", 2, 64),
+    "intensity": BOX_PARAMS["intensity"],
+    "maximum_velocity": Param(
+        200.0, float, "Maximum Velocity: longest non-camera-clamped velocity, px", 0, LONGEST_STORED
+    ),
+    "minimum_velocity": Param(
+        2.0, float, "Minimum Velocity: slower neighbourhoods keep C, px", 0, LONGEST_STORED
+    ),
+    "depth_comparison_extent": Param(
+        1.0, float, "Depth Comparison Extent: soft depth extent, depth units", 0, FLOAT32_MAX, True
+    ),
+    "camera_motion_blur": Param(True, bool, "Camera Motion Blur: False leaves camera motion out"),
+    "camera_clamp_mode": Param(
+        "none",
+        ("none", "rotation", "translation", "separate", "full"),
+        "Camera Clamp Mode: which camera motion gets its own clamp",
+    ),
+    "rotation_clamp": Param(0.03, float, "camera rotation clamp, screen fraction", 0, 1),
+    "translation_clamp": Param(0.05, float, "camera translation clamp, screen fraction", 0, 1),
+    "motion_vector_clamp": Param(0.05, float, "full camera motion clamp, screen fraction", 0, 1),
+    "scatter": Param(False, bool, "16 px tiles whose velocity scatters into the tiles it reaches"),
+    "fast_ratio": Param(
+        0.5, float, "fast path where the shortest neighbourhood velocity is >= this x longest", 0, 1
+    ),
+    "seed": SEED,
+}
+SETUP = Pass("velocity_setup", "passes/hdrp_velocity_setup.glsl", twin.SETUP_PARAMS)
+TILE_MIN_MAX = Pass("tile_min_max", "passes/hdrp_tile_min_max.glsl")
+NEIGHBORHOOD = Pass(
+    "neighborhood",
+    "passes/hdrp_neighborhood.glsl",
+    ("scatter", "minimum_velocity", "fast_ratio"),
+)
+RECONSTRUCT = Pass(
+    "reconstruct",
+    "passes/hdrp_reconstruct.glsl",
+    ("samples", "depth_comparison_extent", "seed"),
+)
+
+# A frame made from arrays has no camera: the setup pass then splits nothing off
+# (has_camera = False) and reads none of these matrices, which GL still wants set.
+_NO_CAMERA = {
+    "view_from_clip": np.eye(4, dtype=np.float32),
+    "world_from_view": np.eye(4, dtype=np.float32),
+    "clip_from_world": np.stack([np.eye(4, dtype=np.float32)] * 2),
+    "sky_from_clip": np.eye(4, dtype=np.float32),
+    "sky_projection": np.stack([np.eye(4, dtype=np.float32)] * 2),
+    "near": 1.0,
+    "has_camera": False,
+}
+
+
+def _run_hdrp(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
+    height, width = inputs["color"].shape[:2]
+    tile = twin.tile_size(values["scatter"])
+    timings: dict = {}
+    velocity = ctx.pooled((height, width, 4))
+    if frame.camera is None:
+        camera = _NO_CAMERA
+    else:
+        camera = {**camera_motion_uniforms(frame.camera), "has_camera": True}
+    run_pass(
+        ctx,
+        timings,
+        SETUP,
+        PARAMS,
+        values,
+        {"depth": inputs["depth"], "motion": inputs["motion"]},
+        {"velocity": velocity},
+        uniforms=camera,
+    )
+    grid = (-(-height // tile), -(-width // tile))
+    tiles = ctx.pooled((*grid, 4))
+    run_pass(
+        ctx,
+        timings,
+        TILE_MIN_MAX,
+        PARAMS,
+        values,
+        {"velocity": velocity},
+        {"tiles": tiles},
+        uniforms={"tile": tile},
+    )
+    neighborhood = ctx.pooled((*grid, 4))
+    radius = twin.scatter_radius(tile, twin.reach_px((width, height), values), grid)
+    run_pass(
+        ctx,
+        timings,
+        NEIGHBORHOOD,
+        PARAMS,
+        values,
+        {"tiles": tiles},
+        {"neighborhood": neighborhood},
+        uniforms={"tile": tile, "radius": radius},
+    )
+    result = ctx.pooled((height, width, 4))
+    textures = {"color": inputs["color"], "velocity": velocity, "neighborhood": neighborhood}
+    run_pass(
+        ctx,
+        timings,
+        RECONSTRUCT,
+        PARAMS,
+        values,
+        textures,
+        {"result": result},
+        backend,
+        uniforms={"tile": tile},
+    )
+    outputs = {
+        "color": result,
+        "velocity": velocity,
+        "tiles": tiles,
+        "neighborhood": neighborhood,
+    }
+    return outputs, timings
+
+
+register(
+    Method(
+        name="engine_hdrp",
+        kind="gather",
+        instant="center",
+        params=PARAMS,
+        backends=("compute",),
+        run=_run_hdrp,
+        default_grid=[{"samples": [4, 8, 12]}, {"scatter": [True]}],
+        twin=twin.engine_hdrp,
+        twin_inputs=("color", "depth", "motion", "camera"),
+        doc="Unity HDRP's motion blur, from its described algorithm and manual: velocity polar "
+        "with linear depth in B10G11R11 codes, camera clamp modes, 32 px min/max tiles (16 px "
+        "scattered), 3 x 3 neighbourhood, early-out / fast / slow path per tile. "
+        "docs/spec.md §17.4.",
+    )
+)
