@@ -191,6 +191,11 @@ class ShaderPass:
     def shader(self) -> str:
         return self._core.shader
 
+    @property
+    def native(self) -> _core.ShaderPass:
+        """The C++ pass, for blurlab's own code (recorded dispatch plans)."""
+        return self._core
+
     def run(
         self,
         inputs: Mapping[str, Texture],
