@@ -62,6 +62,8 @@ CASES = [
     ("gather_box", "compute", {}),
     ("gather_gaussian", "compute", {}),
     ("engine_unity", "compute", {}),
+    ("engine_eevee", "compute", {}),
+    ("camera_only", "compute", {}),
 ]
 
 
