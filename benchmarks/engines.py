@@ -39,27 +39,34 @@ def engine_methods() -> list[str]:
 
 
 def measure(ctx, scene_name: str, size, runs: int, methods, with_eevee: bool) -> list[dict]:
+    """Every method's pass times first, back to back, then every method's errors: the CPU
+    metrics (FLIP takes seconds at 1080p) leave the GPU idle, and a GPU that idles clocks
+    down, so timing a method right after them measured it about 3x slower on the H100 than a
+    busy GPU runs it (docs/benchmarks.md, "engines.py and speed_floor.py")."""
     scene = bl.scenes.get(scene_name)
     frame = ctx.render(scene, size)
     reference = ctx.reference(scene, size, samples="auto", progress=False)
-    rows = []
+    outputs, times, passes = {}, {}, {}
     for name in methods:
-        out = bl.blur(ctx, frame, name)  # warm-up: shaders compiled, textures pooled
-        times = []
+        outputs[name] = bl.blur(ctx, frame, name)  # warm-up: shaders compiled, textures pooled
+        times[name] = []
         for _ in range(runs):
             timed = bl.blur(ctx, frame, name)
-            times.append(timed.total_ms)
-            passes = {key: t.ms for key, t in timed.timings.items()}
+            times[name].append(timed.total_ms)
+            passes[name] = {key: t.ms for key, t in timed.timings.items()}
             del timed
+    rows = []
+    for name in methods:
+        color = outputs.pop(name).color
         rows.append(
             {
                 "scene": scene_name,
                 "method": name,
-                "psnr": bl.metrics.psnr(reference.color, out.color),
-                "ssim": bl.metrics.ssim(reference.color, out.color),
-                "flip": bl.metrics.flip(reference.color, out.color),
-                "ms": statistics.median(times),
-                "passes": passes,
+                "psnr": bl.metrics.psnr(reference.color, color),
+                "ssim": bl.metrics.ssim(reference.color, color),
+                "flip": bl.metrics.flip(reference.color, color),
+                "ms": statistics.median(times[name]),
+                "passes": passes[name],
                 "reference_samples": reference.samples,
             }
         )

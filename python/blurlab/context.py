@@ -191,6 +191,11 @@ class ShaderPass:
     def shader(self) -> str:
         return self._core.shader
 
+    @property
+    def native(self) -> _core.ShaderPass:
+        """The C++ pass, for blurlab's own code (recorded dispatch plans)."""
+        return self._core
+
     def run(
         self,
         inputs: Mapping[str, Texture],
@@ -222,6 +227,33 @@ class ShaderPass:
             yield self
         finally:
             self._core.restrict_to_tiles(None, 0)
+
+
+class DeferredTimers:
+    """Timers whose results are read together (Context.deferred_timers)."""
+
+    def __init__(self, context: Context):
+        self._context = context
+        self._pending: list[tuple[_core.Timer, Timing]] = []
+
+    @contextmanager
+    def timer(self):
+        """Times the GPU work issued inside the block: yields a Timing, filled when the
+        deferred_timers block ends."""
+        core = _core.Timer(self._context.native)
+        timing = Timing(clock=core.clock)
+        core.start()
+        try:
+            yield timing
+        finally:
+            core.end()
+            self._pending.append((core, timing))
+
+    def read(self) -> None:
+        """Fills every Timing of the timers that have ended (one wait for the GPU)."""
+        pending, self._pending = self._pending, []
+        for core, timing in pending:
+            timing.ms = core.result()
 
 
 class Context:
@@ -343,6 +375,19 @@ class Context:
             yield timing
         finally:
             timing.ms = core.stop()
+
+    @contextmanager
+    def deferred_timers(self):
+        """Yields a DeferredTimers: its ``timer()`` blocks time GPU work as ``timer()`` does,
+        but no block waits for its result; every Timing is filled when this block ends, after
+        one wait. For loops of many short timed passes (reference sub-frames), which would
+        otherwise stop the CPU until the GPU catches up once per pass (a GPU clock; the wall
+        clock of llvmpipe waits at each block regardless, glFinish being its measurement)."""
+        timers = DeferredTimers(self)
+        try:
+            yield timers
+        finally:
+            timers.read()
 
     def finish(self) -> None:
         """Waits until the GPU has finished all work issued so far."""

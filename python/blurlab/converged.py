@@ -93,16 +93,21 @@ def reference_render(
         from tqdm.auto import tqdm
 
         iterator = tqdm(times, desc=f"reference N={samples}", unit="sub-frame", leave=False)
-    elapsed = 0.0
-    clock = ""
-    for i, t in enumerate(iterator):
-        jitter = (0.0, 0.0) if positions is None else tuple(0.5 - positions[i])
-        targets, _, timing = render_targets(ctx, scene, size, shutter, float(t), guard, jitter)
-        with ctx.timer() as add:
-            accumulate(ctx, targets["color"], total, 1.0 / samples)
-        ctx.recycle(*targets.values())
-        elapsed += timing.ms + add.ms
-        clock = add.clock
+    # One wait for all the timers at the end, not two per sub-frame: a GPU clock's result
+    # read at once stalls the CPU until the GPU has caught up (issue 19).
+    timings = []
+    with ctx.deferred_timers() as timers:
+        for i, t in enumerate(iterator):
+            jitter = (0.0, 0.0) if positions is None else tuple(0.5 - positions[i])
+            targets, _, timing = render_targets(
+                ctx, scene, size, shutter, float(t), guard, jitter, timers=timers
+            )
+            with timers.timer() as add:
+                accumulate(ctx, targets["color"], total, 1.0 / samples)
+            ctx.recycle(*targets.values())
+            timings += [timing, add]
+    elapsed = sum(timing.ms for timing in timings)
+    clock = timings[-1].clock
     result = Reference(
         samples,
         times,

@@ -46,6 +46,9 @@ class Frame:
     scene: object = field(default=None, repr=False)  # the Scene a rendered frame came from
     motion_prev: np.ndarray | None = field(default=None, repr=False)
     motion_next: np.ndarray | None = field(default=None, repr=False)
+    # Recorded dispatch plans of the methods run on this frame (blurlab.methods.plans), by
+    # method, backend and given parameters: set by blur, never by a constructor or a copy.
+    plans: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
     def __post_init__(self):
         self.color = _float_image(self.color, "color", (3, 4))

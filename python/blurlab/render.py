@@ -164,9 +164,12 @@ def render_targets(
     guard: int = 0,
     jitter=(0.0, 0.0),
     sides: bool = False,
+    timers=None,
 ):
     """Runs the G-buffer pass into pooled textures: (targets, camera matrices, Timing).
     `sides` adds the target "motion_sides": M_prev in RG, M_next in BA (docs/spec.md §17.1).
+    `timers`: a Context.deferred_timers() batch that times the pass (the Timing is filled when
+    the batch ends); None waits for the time here.
 
     `guard` > 0 renders a margin of that many pixels around the image (the frustum widened to
     match), for methods whose taps leave the image ("Blurry things": guard band). `jitter`
@@ -219,7 +222,7 @@ def render_targets(
     if sides:
         targets["motion_sides"] = ctx.pooled((height, width, 4))
     gbuffer = ctx.cached("gbuffer", lambda: _core.GBufferPass(ctx.native))
-    with ctx.timer() as timing:
+    with ctx.timer() if timers is None else timers.timer() as timing:
         gbuffer.render(
             *natives,
             camera_uniforms,

@@ -219,6 +219,8 @@ void bind_gl(py::module_& m) {
       .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))
       .def("start", &Timer::start)
       .def("stop", &Timer::stop, py::call_guard<py::gil_scoped_release>())
+      .def("end", &Timer::end)
+      .def("result", &Timer::result, py::call_guard<py::gil_scoped_release>())
       .def_property_readonly("clock", &Timer::clock);
 
   m.def("translate_shader_log", &translate_shader_log, py::arg("log"), py::arg("files"));

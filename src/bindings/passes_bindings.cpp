@@ -11,6 +11,7 @@
 #include "gl/mesh.h"
 #include "gl/texture.h"
 #include "passes/classify_tiles.h"
+#include "passes/dispatch_plan.h"
 #include "passes/error_reduction.h"
 #include "passes/gbuffer.h"
 #include "passes/motion_encoding.h"
@@ -250,6 +251,24 @@ void bind_passes(py::module_& m) {
             return d;
           },
           py::arg("backend") = "compute");
+
+  // Recorded ShaderPass runs replayed by one call (dispatch_plan.h; blurlab.methods.core).
+  py::class_<DispatchPlan, std::shared_ptr<DispatchPlan>>(m, "DispatchPlan")
+      .def(py::init<std::shared_ptr<Context>, const std::vector<const Texture*>&>(),
+           py::arg("context"), py::arg("textures"))
+      .def(
+          "add",
+          [](DispatchPlan& plan, std::shared_ptr<ShaderPass> pass, const py::dict& inputs,
+             const py::dict& outputs, const py::dict& uniforms, const std::string& backend,
+             bool group_per_texel) {
+            plan.add(pass, named_textures(inputs, *pass, "input"),
+                     named_textures(outputs, *pass, "output"), uniform_values(uniforms, *pass),
+                     parse_backend(backend), group_per_texel);
+          },
+          py::arg("shader_pass"), py::arg("inputs"), py::arg("outputs"), py::arg("uniforms"),
+          py::arg("backend"), py::arg("group_per_texel"))
+      .def("run", &DispatchPlan::run, py::arg("textures"))
+      .def_property_readonly("steps", &DispatchPlan::steps);
 
   py::class_<TileLists, std::shared_ptr<TileLists>>(m, "TileLists")
       .def(py::init<std::shared_ptr<Context>, int, int, int>(), py::arg("context"),

@@ -403,6 +403,14 @@ Program::~Program() {
 }
 
 void Program::set_uniform(const std::string& name, const std::vector<double>& v) {
+  const PreparedUniform u = prepare_uniform(name, v);
+  context_->make_current();
+  apply_uniform(u);
+  check_gl(("setting uniform " + name).c_str());
+}
+
+PreparedUniform Program::prepare_uniform(const std::string& name,
+                                         const std::vector<double>& v) const {
   auto it = uniforms_.find(name);
   if (it == uniforms_.end()) {
     std::string known;
@@ -430,50 +438,70 @@ void Program::set_uniform(const std::string& name, const std::vector<double>& v)
                                   ", got " + std::to_string(x));
     return x;
   };
-  context_->make_current();
-  const GLint loc = u.location;
-  const GLsizei n = u.array_size;
+  PreparedUniform p;
+  p.location = u.location;
+  p.count = u.array_size;
+  p.components = components;
   switch (u.type) {
     case GL_FLOAT:
     case GL_FLOAT_VEC2:
     case GL_FLOAT_VEC3:
     case GL_FLOAT_VEC4:
-    case GL_FLOAT_MAT4: {
-      const std::vector<float> f(v.begin(), v.end());
-      if (components == 1) glProgramUniform1fv(id_, loc, n, f.data());
-      if (components == 2) glProgramUniform2fv(id_, loc, n, f.data());
-      if (components == 3) glProgramUniform3fv(id_, loc, n, f.data());
-      if (components == 4) glProgramUniform4fv(id_, loc, n, f.data());
-      // Row by row, as NumPy holds matrices; GL's default is column by column.
-      if (components == 16) glProgramUniformMatrix4fv(id_, loc, n, GL_TRUE, f.data());
+    case GL_FLOAT_MAT4:
+      p.kind = PreparedUniform::Kind::floats;
+      p.floats.assign(v.begin(), v.end());
       break;
-    }
     case GL_UNSIGNED_INT:
     case GL_UNSIGNED_INT_VEC2:
     case GL_UNSIGNED_INT_VEC3:
-    case GL_UNSIGNED_INT_VEC4: {
-      std::vector<GLuint> w;
+    case GL_UNSIGNED_INT_VEC4:
+      p.kind = PreparedUniform::Kind::uints;
       for (double x : v)
-        w.push_back(static_cast<GLuint>(whole(x, 0.0, 4294967295.0, "integers in 0..2^32-1")));
-      if (components == 1) glProgramUniform1uiv(id_, loc, n, w.data());
-      if (components == 2) glProgramUniform2uiv(id_, loc, n, w.data());
-      if (components == 3) glProgramUniform3uiv(id_, loc, n, w.data());
-      if (components == 4) glProgramUniform4uiv(id_, loc, n, w.data());
+        p.uints.push_back(
+            static_cast<GLuint>(whole(x, 0.0, 4294967295.0, "integers in 0..2^32-1")));
+      break;
+    default:  // int and bool, which GL sets through the int calls
+      p.kind = PreparedUniform::Kind::ints;
+      for (double x : v)
+        p.ints.push_back(
+            static_cast<GLint>(whole(x, -2147483648.0, 2147483647.0, "integers in -2^31..2^31-1")));
+      break;
+  }
+  return p;
+}
+
+void Program::apply_uniform(const PreparedUniform& u) const {
+  const GLint loc = u.location;
+  const GLsizei n = u.count;
+  const int c = u.components;
+  switch (u.kind) {
+    case PreparedUniform::Kind::floats: {
+      const float* f = u.floats.data();
+      if (c == 1) glProgramUniform1fv(id_, loc, n, f);
+      if (c == 2) glProgramUniform2fv(id_, loc, n, f);
+      if (c == 3) glProgramUniform3fv(id_, loc, n, f);
+      if (c == 4) glProgramUniform4fv(id_, loc, n, f);
+      // Row by row, as NumPy holds matrices; GL's default is column by column.
+      if (c == 16) glProgramUniformMatrix4fv(id_, loc, n, GL_TRUE, f);
       break;
     }
-    default: {  // int and bool, which GL sets through the int calls
-      std::vector<GLint> w;
-      for (double x : v)
-        w.push_back(
-            static_cast<GLint>(whole(x, -2147483648.0, 2147483647.0, "integers in -2^31..2^31-1")));
-      if (components == 1) glProgramUniform1iv(id_, loc, n, w.data());
-      if (components == 2) glProgramUniform2iv(id_, loc, n, w.data());
-      if (components == 3) glProgramUniform3iv(id_, loc, n, w.data());
-      if (components == 4) glProgramUniform4iv(id_, loc, n, w.data());
+    case PreparedUniform::Kind::uints: {
+      const GLuint* w = u.uints.data();
+      if (c == 1) glProgramUniform1uiv(id_, loc, n, w);
+      if (c == 2) glProgramUniform2uiv(id_, loc, n, w);
+      if (c == 3) glProgramUniform3uiv(id_, loc, n, w);
+      if (c == 4) glProgramUniform4uiv(id_, loc, n, w);
+      break;
+    }
+    case PreparedUniform::Kind::ints: {
+      const GLint* w = u.ints.data();
+      if (c == 1) glProgramUniform1iv(id_, loc, n, w);
+      if (c == 2) glProgramUniform2iv(id_, loc, n, w);
+      if (c == 3) glProgramUniform3iv(id_, loc, n, w);
+      if (c == 4) glProgramUniform4iv(id_, loc, n, w);
       break;
     }
   }
-  check_gl(("setting uniform " + name).c_str());
 }
 
 void Program::bind_image(int unit, const Texture& texture, GLenum access) {

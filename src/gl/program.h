@@ -59,6 +59,19 @@ std::string glsl_type_name(GLenum type);
 // mat4; 0 for the types it does not set.
 int uniform_components(GLenum type);
 
+// A uniform's value checked and converted to the type GL takes, ready to upload: what
+// Program::set_uniform sends, kept so that a DispatchPlan uploads it again without the checks.
+struct PreparedUniform {
+  enum class Kind { floats, ints, uints };
+  Kind kind = Kind::floats;
+  GLint location = -1;
+  GLsizei count = 1;   // array elements
+  int components = 1;  // per element: 1..4, 16 for mat4
+  std::vector<float> floats;
+  std::vector<GLint> ints;
+  std::vector<GLuint> uints;
+};
+
 class Program {
  public:
   // A compute program from one file.
@@ -88,6 +101,10 @@ class Program {
   // if it does not exist or the count does not match. Integers must be whole and in range, as
   // converting others is undefined behaviour.
   void set_uniform(const std::string& name, const std::vector<double>& values);
+  // set_uniform in two steps: the checks and conversion (throwing as set_uniform does), and the
+  // upload alone (the context current; GL errors left for the caller to check).
+  PreparedUniform prepare_uniform(const std::string& name, const std::vector<double>& values) const;
+  void apply_uniform(const PreparedUniform& uniform) const;
   void bind_image(int unit, const Texture& texture, GLenum access);
   void bind_texture(int unit, const Texture& texture);
   // Runs the compute program over groups.x × groups.y × groups.z work groups.

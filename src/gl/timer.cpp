@@ -36,23 +36,39 @@ void Timer::start() {
     start_ = std::chrono::steady_clock::now();
   }
   running_ = true;
+  ended_ = false;
   check_gl("starting a timer");
 }
 
 double Timer::stop() {
+  end();
+  return result();
+}
+
+void Timer::end() {
   if (!running_) throw std::logic_error("blurlab: Timer.stop() called before start()");
   context_->make_current();
   running_ = false;
+  ended_ = true;
   if (gpu_clock_) {
     glEndQuery(GL_TIME_ELAPSED);
+    check_gl("ending a timer query");
+    return;
+  }
+  glFinish();
+  end_ = std::chrono::steady_clock::now();
+}
+
+double Timer::result() {
+  if (!ended_) throw std::logic_error("blurlab: Timer.result() called before the timer ended");
+  if (gpu_clock_) {
+    context_->make_current();
     GLuint64 ns = 0;
     glGetQueryObjectui64v(query_, GL_QUERY_RESULT, &ns);
     check_gl("reading a timer query");
     return static_cast<double>(ns) * 1e-6;
   }
-  glFinish();
-  const auto end = std::chrono::steady_clock::now();
-  return std::chrono::duration<double, std::milli>(end - start_).count();
+  return std::chrono::duration<double, std::milli>(end_ - start_).count();
 }
 
 }  // namespace blurlab

@@ -74,6 +74,9 @@ class PostProcessPass {
                  const std::vector<ImageUnitBinding>& images, const Texture& target,
                  bool group_per_texel);
 
+  // True while restrict_to_tiles holds a tile class.
+  bool restricted() const { return tile_lists_ != nullptr; }
+
   // Compiles the shader with `defines` for the program() and run() calls made while the
   // returned guard lives (e.g. TileMax's TILE_BOUNDS output).
   class Variant {

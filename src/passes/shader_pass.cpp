@@ -96,6 +96,49 @@ void ShaderPass::run(const NamedTextures& inputs, const NamedTextures& outputs,
   run_bound(backend, textures, images, *outputs.front().second, group_per_texel);
 }
 
+ResolvedRun ShaderPass::resolve(const NamedTextures& inputs, const NamedTextures& outputs,
+                                const UniformValues& uniforms, Backend backend,
+                                bool group_per_texel, const std::vector<const Texture*>& textures) {
+  if (restricted())
+    throw std::invalid_argument("blurlab: " + shader() +
+                                ": a run restricted to a tile class cannot be replayed");
+  ResolvedRun r;
+  Program& p = program(backend);
+  const Units& u = units(p, inputs, outputs, backend);
+  auto index_of = [&](const Texture* t) {
+    for (size_t i = 0; i < textures.size(); ++i)
+      if (textures[i] == t) return i;
+    throw std::invalid_argument("blurlab: " + shader() +
+                                ": a texture of the run is not among the plan's textures");
+  };
+  r.program = &p;
+  r.backend = backend;
+  for (size_t i = 0; i < inputs.size(); ++i)
+    r.textures.emplace_back(u.samplers[i], index_of(inputs[i].second));
+  for (size_t i = 0; i < u.images.size(); ++i) {
+    if (outputs[i].second->format().image_layout.empty())
+      throw std::invalid_argument(
+          "blurlab: a 3-channel texture cannot be bound as an image "
+          "(image load/store has formats of 1, 2 and 4 channels)");
+    r.images.emplace_back(u.images[i], index_of(outputs[i].second));
+  }
+  r.target = index_of(outputs.front().second);
+  for (const auto& [name, values] : uniforms) r.uniforms.push_back(p.prepare_uniform(name, values));
+  if (backend == Backend::compute) {
+    const Texture& target = *outputs.front().second;
+    const auto local = p.local_size();
+    r.groups = group_per_texel ? std::array<int, 3>{target.width(), target.height(), 1}
+                               : std::array<int, 3>{(target.width() + local[0] - 1) / local[0],
+                                                    (target.height() + local[1] - 1) / local[1], 1};
+    for (int i = 0; i < 3; ++i)
+      if (r.groups[i] < 1 || r.groups[i] > p.max_groups()[i])
+        throw std::invalid_argument("blurlab: work-group count " + std::to_string(r.groups[i]) +
+                                    " along axis " + std::to_string(i) + " is outside 1.." +
+                                    std::to_string(p.max_groups()[i]));
+  }
+  return r;
+}
+
 ShaderReflection ShaderPass::reflect(Backend backend) {
   const Program& p = program(backend);
   ShaderReflection r;

@@ -12,6 +12,7 @@
 // clamp to edge); the post-process shaders read them with texelFetch, which ignores it.
 #pragma once
 
+#include <array>
 #include <map>
 #include <memory>
 #include <string>
@@ -26,6 +27,19 @@ namespace blurlab {
 using NamedTextures = std::vector<std::pair<std::string, const Texture*>>;
 // Uniform values by name, as Program::set_uniform takes them (a mat4 row by row).
 using UniformValues = std::map<std::string, std::vector<double>>;
+
+// One run of a ShaderPass resolved to what GL needs: the program, the units its textures and
+// images go to (indices into the caller's list of textures), its uniforms converted, and the
+// work-group counts. DispatchPlan replays it.
+struct ResolvedRun {
+  Program* program = nullptr;
+  Backend backend = Backend::compute;
+  std::vector<std::pair<int, size_t>> textures;  // (texture unit, texture index)
+  std::vector<std::pair<int, size_t>> images;    // (image unit, texture index)
+  size_t target = 0;                             // texture index of the first output
+  std::vector<PreparedUniform> uniforms;
+  std::array<int, 3> groups{1, 1, 1};  // compute work groups
+};
 
 // What a ShaderPass takes on one backend, by name.
 struct ShaderReflection {
@@ -61,6 +75,14 @@ class ShaderPass : public PostProcessPass {
   // count is wrong.
   void run(const NamedTextures& inputs, const NamedTextures& outputs, const UniformValues& uniforms,
            Backend backend, bool group_per_texel = false);
+
+  // What run() would do with these arguments, checked as run() checks them, without running it:
+  // every texture named must be one of `textures`, and the result refers to them by index.
+  // Throws std::invalid_argument while restricted to a tile class (an indirect dispatch reads
+  // counts that change from run to run).
+  ResolvedRun resolve(const NamedTextures& inputs, const NamedTextures& outputs,
+                      const UniformValues& uniforms, Backend backend, bool group_per_texel,
+                      const std::vector<const Texture*>& textures);
 
   // The program's samplers, images, fragment outputs and uniforms on `backend` (compiling it if
   // need be), leaving out the tile-list uniform that run() sets itself.

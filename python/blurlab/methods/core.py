@@ -23,6 +23,7 @@ from ..context import Context, Texture, Timing
 from ..converged import accumulate
 from ..frame import Frame
 from ..render import check_shutter, instant_time
+from . import plans
 
 
 @dataclass
@@ -229,32 +230,97 @@ def blur(
 ) -> BlurResult:
     """Runs method `name` on `frame` (rendered, or built from your arrays) with `params`
     (unknown names are an error); returns a BlurResult. `timed=False` skips the per-pass
-    timers (their waits for the GPU), for sweeps that only want the error."""
+    timers (their waits for the GPU), for sweeps that only want the error; an untimed call
+    made a third time on the same frame with the same parameters replays a plan recorded by
+    the second (docs/spec.md §18), same bits at a fraction of the CPU cost."""
     if not isinstance(ctx, Context):
         raise TypeError(f"blurlab: blur needs a blurlab Context, not {type(ctx).__name__}")
     if not isinstance(frame, Frame):
         raise TypeError(f"blurlab: blur needs a blurlab Frame, not {type(frame).__name__}")
+    planned = not timed and plans.enabled()
+    if planned:
+        replayed = _replay(ctx, frame, name, backend, params)
+        if replayed is not None:
+            return replayed
     m = method(name)
+    given_backend = backend
     backend = backend or m.backends[0]
     if backend not in m.backends:
         raise ValueError(f"blurlab: {name} runs on backends {m.backends}, not {backend!r}")
     values = resolve_params(m, frame, params)
     automatic = {key: values[key] for key, value in params.items() if _is_auto(value)}
-    _check_instant(m, frame, values)
+    warned = _check_instant(m, frame, values)
+    plan_key = (
+        None
+        if not planned or warned or m.kind not in PLANNED_KINDS
+        else _plan_key(name, given_backend, params)
+    )
+    if plan_key is not None and plan_key not in frame.plans:
+        # A first sighting is only remembered: recording costs more than a call, and a sweep
+        # makes most untimed calls once.
+        if len(frame.plans) >= PLANS_PER_FRAME:
+            frame.plans.clear()
+        frame.plans[plan_key] = None
+        plan_key = None
+    recorder = plans.Recorder() if plan_key is not None else None
+    inputs = frame_textures(ctx, frame)
     token = _TIMED.set(timed)
     try:
-        outputs, timings = m.run(ctx, frame, frame_textures(ctx, frame), values, backend)
+        with plans.recording(recorder):
+            outputs, timings = m.run(ctx, frame, inputs, values, backend)
     finally:
         _TIMED.reset(token)
+    if recorder is not None:
+        plan = plans.make_plan(ctx, recorder, inputs, outputs, values, backend)
+        if plan is not None:
+            frame.plans[plan_key] = plan
     result = BlurResult(name, values, backend, timings, outputs, automatic)
     weakref.finalize(result, ctx.recycle, *outputs.values())
     return result
 
 
-def _check_instant(m: Method, frame: Frame, values: dict) -> None:
-    """Warns when a rendered frame was not rendered at the instant the method expects."""
+# Kinds whose runs may be recorded and replayed (blurlab.methods.plans): their outputs depend
+# on the frame's textures and the parameters alone.
+PLANNED_KINDS = ("filter", "gather")
+PLANS_PER_FRAME = 256  # keys seen and plans, per frame; beyond it all are dropped
+
+
+def _plan_key(name: str, backend: str | None, given: dict) -> tuple | None:
+    """The key of a call's plan: method, backend as given, and the given parameters in the
+    order given, by type and value (as the validation cache keys them); None where a value is
+    "auto" or not a plain number, bool or string."""
+    key = [name, backend]
+    for item in given.items():
+        entry = _key_item(*item)
+        if entry is None:
+            return None
+        key.append(entry)
+    return tuple(key)
+
+
+def _replay(
+    ctx: Context, frame: Frame, name: str, backend: str | None, given: dict
+) -> BlurResult | None:
+    """The BlurResult of replaying the plan recorded for this call, or None where none is (the
+    call is new, unfit for a plan, or the frame's textures are no longer the recorded ones,
+    e.g. uploaded to another context)."""
+    if not frame.plans:
+        return None
+    key = _plan_key(name, backend, given)
+    plan = frame.plans.get(key) if key is not None else None
+    if plan is None or not plan.matches(ctx, frame.textures):
+        return None
+    outputs, timings = plan.run()
+    result = BlurResult(name, dict(plan.values), plan.backend, timings, outputs)
+    weakref.finalize(result, ctx.recycle, *outputs.values())
+    return result
+
+
+def _check_instant(m: Method, frame: Frame, values: dict) -> bool:
+    """Warns when a rendered frame was not rendered at the instant the method expects; True
+    when it warned."""
     if frame.time is None or frame.camera is None:
-        return
+        return False
     expected = m.instant(values) if callable(m.instant) else m.instant
     if abs(instant_time(expected, frame.shutter) - frame.time) > 1e-12:
         warnings.warn(
@@ -263,6 +329,8 @@ def _check_instant(m: Method, frame: Frame, values: dict) -> None:
             f"render with instant=bl.method_instant({m.name!r}, params) or use bl.render_and_blur",
             stacklevel=3,
         )
+        return True
+    return False
 
 
 def render_and_blur(
@@ -608,11 +676,20 @@ def run_pass(
     def run():
         shader.run(inputs, outputs, all_uniforms, backend, group_per_texel)
 
+    recorder = plans.active_recorder()
+    if recorder is not None:
+        if tiles is None:
+            recorder.runs.append(
+                plans.RecordedRun(shader, inputs, outputs, all_uniforms, backend, group_per_texel)
+            )
+            recorder.timing_names.append(step.name)
+        else:  # an indirect dispatch over counts that change from frame to frame
+            recorder.unfit()
     if tiles is None:
-        timed(ctx, timings, step.name, run)
+        _timed(ctx, timings, step.name, run)
         return
     with shader.restricted_to(*tiles):
-        timed(ctx, timings, step.name, run)
+        _timed(ctx, timings, step.name, run)
 
 
 _TIMED: contextvars.ContextVar[bool] = contextvars.ContextVar("blurlab_timed", default=True)
@@ -620,7 +697,15 @@ _TIMED: contextvars.ContextVar[bool] = contextvars.ContextVar("blurlab_timed", d
 
 def timed(ctx: Context, timings: dict, name: str, fn: Callable) -> None:
     """Runs one pass, timed by the context's clock unless blur(timed=False) asked otherwise
-    (the Timing then says clock "untimed" and NaN ms)."""
+    (the Timing then says clock "untimed" and NaN ms). GPU work run this way, outside run_pass,
+    is not recorded: a method run that has any is never replayed (blurlab.methods.plans)."""
+    recorder = plans.active_recorder()
+    if recorder is not None:
+        recorder.unfit()
+    _timed(ctx, timings, name, fn)
+
+
+def _timed(ctx: Context, timings: dict, name: str, fn: Callable) -> None:
     if not _TIMED.get():
         fn()
         timings[name] = Timing(math.nan, "untimed")
