@@ -3,12 +3,16 @@
 // sampler2D `color` of the output's size. Compute (STAGE_COMPUTE): one invocation per pixel,
 // or per pixel of the listed tiles with TILE_LIST (common/tile_list.glsl), written to image
 // `result`; fragment (STAGE_FRAGMENT): one fragment per pixel of the framebuffer, written to
-// output `result`.
+// output `result`. A pass may define PASS_PROLOGUE to a function that every invocation of a
+// compute work group runs before its bounds test (one with a barrier, common/tile_filter.glsl).
 #ifdef STAGE_COMPUTE
 #include "common/tile_list.glsl"
 layout(binding = 0, rgba32f) uniform writeonly image2D result;
 
 void main() {
+#ifdef PASS_PROLOGUE
+    PASS_PROLOGUE();
+#endif
     ivec2 x = invocation_pixel();
     if (any(greaterThanEqual(x, textureSize(color, 0)))) return;
     imageStore(result, x, PASS_AT(x));

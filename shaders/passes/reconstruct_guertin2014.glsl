@@ -37,8 +37,8 @@ float sample_weight(float dist, float zy, vec2 vy, float zx, vec2 vx, vec2 wc, v
 vec4 reconstruct_at(ivec2 x) {
     ivec2 size = textureSize(color, 0);
     vec4 cx = sanitize_color(texelFetch(color, x, 0));
-    ivec2 tile = lookup_tile(x, k, seed, jitter_tiles, textureSize(neighbor_max, 0));
-    vec2 vn = texelFetch(neighbor_max, tile, 0).xy;
+    ivec2 tile = lookup_tile(x, k, seed, jitter_tiles, tile_grid());
+    vec2 vn = neighbor_max_of(tile);
     float vn_length = length(vn);
     if (exits_early(vn_length, early_exit)) return cx;  // nothing moves near here
     int n = sample_count(vn_length, samples, adaptive_samples);

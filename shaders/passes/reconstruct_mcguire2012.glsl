@@ -8,8 +8,8 @@
 vec4 reconstruct_at(ivec2 x) {
     ivec2 size = textureSize(color, 0);
     vec4 cx = sanitize_color(texelFetch(color, x, 0));
-    ivec2 tile = lookup_tile(x, k, seed, jitter_tiles, textureSize(neighbor_max, 0));
-    vec2 vn = texelFetch(neighbor_max, tile, 0).xy;
+    ivec2 tile = lookup_tile(x, k, seed, jitter_tiles, tile_grid());
+    vec2 vn = neighbor_max_of(tile);
     if (exits_early(length(vn), early_exit)) return cx;  // nothing moves near here
     int n = sample_count(length(vn), samples, adaptive_samples);
 

@@ -108,10 +108,13 @@ def tile_passes(
     backend: str,
     diagonal_reach=False,
     with_bounds=False,
+    neighbor_max_pass=True,
 ):
     """TileMax (§3.2) and NeighborMax (§3.3, or the direction-keeping dilation of
     docs/guertin2014.md): (tiles, neighbors, timings, bounds). `with_bounds` has TileMax also
-    write each tile's motion bounds for classification (docs/classify_and_steps.md)."""
+    write each tile's motion bounds for classification (docs/classify_and_steps.md). Without
+    `neighbor_max_pass` NeighborMax is not run: `neighbors` is the grid the reconstruct pass
+    that computes it in its prologue writes (§3.6)."""
     height, width = motion.shape[:2]
     k = values["k"]
     grid = (-(-height // k), -(-width // k), 2)
@@ -138,39 +141,49 @@ def tile_passes(
         defines=defines,
         group_per_texel=group_per_tile,
     )
-    run_pass(
-        ctx,
-        timings,
-        NEIGHBOR_MAX,
-        params,
-        values,
-        {"tile_max": tiles},
-        {"neighbor_max": neighbors},
-        backend,
-        uniforms={"diagonal_reach": diagonal_reach},
-    )
+    if neighbor_max_pass:
+        run_pass(
+            ctx,
+            timings,
+            NEIGHBOR_MAX,
+            params,
+            values,
+            {"tile_max": tiles},
+            {"neighbor_max": neighbors},
+            backend,
+            uniforms={"diagonal_reach": diagonal_reach},
+        )
     return tiles, neighbors, timings, bounds
 
 
 def run_filter(name: str, params: dict[str, Param], reconstruct: Pass, diagonal_reach: bool):
     """TileMax → NeighborMax → the method's `reconstruct` pass (docs/spec.md §3,
     docs/guertin2014.md), the last one tile class by tile class where the method offers
-    classify=True; `params` are the method's parameter declarations."""
+    classify=True; `params` are the method's parameter declarations. On the compute backend
+    without classification the reconstruct pass computes NeighborMax in its prologue
+    (§3.6): two dispatches instead of three."""
 
     def run(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
         classified = values.get("classify", False)
         if classified:
             classification.check_request(name, values, backend, FILTER_OPTIONS)
+        fused = backend == "compute" and not classified
         tiles, neighbors, timings, bounds = tile_passes(
-            ctx, inputs["motion"], params, values, backend, diagonal_reach, classified
+            ctx, inputs["motion"], params, values, backend, diagonal_reach, classified, not fused
         )
         result = ctx.pooled(inputs["color"].shape[:2] + (4,))
-        textures = {
-            "color": inputs["color"],
-            "depth": inputs["depth"],
-            "motion": inputs["motion"],
-            "neighbor_max": neighbors,
-        }
+        textures = {"color": inputs["color"], "depth": inputs["depth"], "motion": inputs["motion"]}
+        outputs = {"result": result}
+        fusion = {}
+        if fused:
+            textures["tile_max"] = tiles
+            outputs["neighbor_max"] = neighbors
+            fusion = {
+                "uniforms": {"diagonal_reach": diagonal_reach},
+                "defines": {"FUSED_NEIGHBOR_MAX": 1},
+            }
+        else:
+            textures["neighbor_max"] = neighbors
 
         def run_reconstruct(tiles_of_class=None):
             run_pass(
@@ -180,9 +193,10 @@ def run_filter(name: str, params: dict[str, Param], reconstruct: Pass, diagonal_
                 params,
                 values,
                 textures,
-                {"result": result},
+                outputs,
                 backend,
                 tiles=tiles_of_class,
+                **fusion,
             )
 
         extra = {}
