@@ -11,6 +11,7 @@ from conftest import random_frame
 import blurlab as bl
 from blurlab.methods import guertin2014, mcguire2012
 from blurlab.methods.core import choice_defines, pass_uniforms
+from blurlab.methods.tile_filter import folds_neighbor_max
 from blurlab.twins import mcguire2012 as ref
 
 
@@ -39,17 +40,45 @@ FILTERS = {"reconstruct_mcguire2012": mcguire2012, "reconstruct_guertin2014": gu
 
 
 @pytest.mark.parametrize(
-    ("name", "backend", "params", "passes"),
-    [  # docs/spec.md §3.6: compute folds NeighborMax into reconstruct, the others keep three
-        ("reconstruct_mcguire2012", "compute", {}, ["tile_max", "reconstruct"]),
-        ("reconstruct_guertin2014", "compute", {}, ["tile_max", "reconstruct"]),
-        ("reconstruct_guertin2014", "fragment", {}, ["tile_max", "neighbor_max", "reconstruct"]),
-        ("reconstruct_mcguire2012", "compute", {"classify": True}, ["tile_max", "neighbor_max"]),
+    ("name", "backend", "params", "folds"),
+    [  # docs/spec.md §3.6: only the compute backend over the whole image folds it
+        ("reconstruct_mcguire2012", "compute", {}, True),
+        ("reconstruct_guertin2014", "compute", {}, True),
+        ("reconstruct_guertin2014", "fragment", {}, False),
+        ("reconstruct_mcguire2012", "compute", {"classify": True}, False),
+        ("reconstruct_urho3d", "fragment", {}, False),
     ],
 )
-def test_where_neighbor_max_runs(ctx, rng, name, backend, params, passes):
+def test_where_neighbor_max_runs(ctx, rng, name, backend, params, folds):
     result = bl.blur(ctx, random_frame(rng, 64, 36), name, backend=backend, **params)
-    assert list(result.timings)[: len(passes)] == passes
+    if folds and folds_neighbor_max(ctx):
+        assert list(result.timings) == ["tile_max", "reconstruct"]
+    else:
+        assert list(result.timings)[:2] == ["tile_max", "neighbor_max"]
+
+
+def run_reconstruct(ctx, name, frame, values, tiles, fused):
+    """The method's compute reconstruct pass on `frame`: reading the NeighborMax grid of the
+    separate pass, or (`fused`) computing it from `tiles` in its prologue. (color, grid)."""
+    method, step = bl.method(name), FILTERS[name].RECONSTRUCT
+    defines = choice_defines(method.params, step.params)
+    uniforms = pass_uniforms(method.params, values, step.params)
+    height, width = frame.color.shape[:2]
+    inputs = {"color": frame.color, "depth": frame.depth, "motion": frame.motion}
+    inputs = {key: ctx.upload(value) for key, value in inputs.items()}
+    color, grid = ctx.empty((height, width, 4)), ctx.empty(tiles.shape)
+    diagonal_reach = name == "reconstruct_guertin2014"
+    if fused:
+        defines["FUSED_NEIGHBOR_MAX"] = 1
+        inputs["tile_max"] = ctx.upload(tiles)
+        outputs = {"result": color, "neighbor_max": grid}
+        uniforms["diagonal_reach"] = diagonal_reach
+    else:
+        separate = ref.neighbor_max(tiles.astype(np.float64), diagonal_reach=diagonal_reach)
+        inputs["neighbor_max"] = ctx.upload(separate.astype(np.float32))
+        outputs = {"result": color}
+    ctx.shader_pass(step.shader, defines).run(inputs, outputs, uniforms)
+    return color.download(), grid.download()
 
 
 @pytest.mark.parametrize("name", FILTERS)
@@ -59,27 +88,24 @@ def test_where_neighbor_max_runs(ctx, rng, name, backend, params, passes):
 )
 def test_the_fused_prologue_gives_the_separate_bits(ctx, rng, name, k, size, jitter):
     """The compute reconstruct with NeighborMax in its prologue against the same shader reading
-    the grid of the separate pass, bit for bit (k = 1: the most tiles a work group reaches)."""
+    the grid of the separate pass, bit for bit (k = 1: the most tiles a work group reaches),
+    and the grid it writes against the NumPy twin."""
     frame = random_frame(rng, *size, k=k)
-    fused = bl.blur(ctx, frame, name, k=k, samples=9, jitter_tiles=jitter)
-    tiles = fused.buffers["tile_max"].astype(np.float64)
-    separate = ref.neighbor_max(tiles, diagonal_reach=name == "reconstruct_guertin2014")
-    np.testing.assert_array_equal(fused.buffers["neighbor_max"], separate.astype(np.float32))
-    method, step = bl.method(name), FILTERS[name].RECONSTRUCT
-    shader = ctx.shader_pass(step.shader, choice_defines(method.params, step.params))
-    out = ctx.empty((size[1], size[0], 4))
-    inputs = {"color": frame.color, "depth": frame.depth, "motion": frame.motion}
-    inputs = {key: ctx.upload(value) for key, value in inputs.items()}
-    inputs["neighbor_max"] = ctx.upload(fused.buffers["neighbor_max"])
-    shader.run(inputs, {"result": out}, pass_uniforms(method.params, fused.params, step.params))
-    assert fused.color.tobytes() == out.download().tobytes()
+    result = bl.blur(ctx, frame, name, k=k, samples=9, jitter_tiles=jitter)
+    tiles = result.buffers["tile_max"]
+    color, grid = run_reconstruct(ctx, name, frame, result.params, tiles, fused=True)
+    separate, _ = run_reconstruct(ctx, name, frame, result.params, tiles, fused=False)
+    assert color.tobytes() == separate.tobytes() == result.color.tobytes()
+    np.testing.assert_array_equal(grid, result.buffers["neighbor_max"])
 
 
-def test_the_fused_grid_is_written_anew_each_call(ctx, rng):
-    """Every tile of the neighbor_max buffer is written by exactly one work group: a second
-    frame of the same size (the same pooled texture) leaves nothing of the first."""
-    for seed in (1, 2):
-        frame = random_frame(np.random.default_rng(seed), 90, 50, k=6)
-        result = bl.blur(ctx, frame, "reconstruct_mcguire2012", k=6, jitter_tiles=1)
-        expected = ref.neighbor_max(result.buffers["tile_max"].astype(np.float64))
-        np.testing.assert_array_equal(result.buffers["neighbor_max"], expected.astype(np.float32))
+def test_the_fused_grid_is_written_whole(ctx, rng):
+    """Every tile of the fused pass's neighbor_max grid is written by one work group, also
+    where k does not divide the image or the work group."""
+    frame = random_frame(rng, 90, 50, k=6)
+    result = bl.blur(ctx, frame, "reconstruct_mcguire2012", k=6, jitter_tiles=1)
+    tiles = result.buffers["tile_max"]
+    _, grid = run_reconstruct(ctx, "reconstruct_mcguire2012", frame, result.params, tiles, True)
+    expected = ref.neighbor_max(tiles.astype(np.float64)).astype(np.float32)
+    assert np.linalg.norm(expected, axis=-1).min() > 0  # an unwritten (zero) tile would show
+    np.testing.assert_array_equal(grid, expected)

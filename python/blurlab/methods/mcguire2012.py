@@ -1,8 +1,8 @@
 """reconstruct_mcguire2012: the reconstruction filter of McGuire, Hennessy, Bukowski and Osman,
 "A Reconstruction Filter for Plausible Motion Blur" (I3D 2012), docs/spec.md §3.
 
-TileMax → NeighborMax → reconstruct (shaders/passes/reconstruct_mcguire2012.glsl; on the compute
-backend NeighborMax runs in reconstruct's prologue, docs/spec.md §3.6), with the
+TileMax → NeighborMax → reconstruct (shaders/passes/reconstruct_mcguire2012.glsl; on a GPU's
+compute backend NeighborMax runs in reconstruct's prologue, docs/spec.md §3.6), with the
 engines' options of docs/guertin2014.md and, with classify=True, the tile classification of
 docs/classify_and_steps.md. NumPy twin: blurlab.twins.classify.reconstruct (the filter of
 blurlab.twins.mcguire2012, classified when asked). Parameters: TILE_FILTER_PARAMS,

@@ -100,6 +100,15 @@ def largest_tile_for_one_thread(ctx: Context) -> int:
     return 32 if ctx.software else 8
 
 
+def folds_neighbor_max(ctx: Context) -> bool:
+    """Whether the compute filters compute NeighborMax in the reconstruct pass's prologue
+    (docs/spec.md §3.6) instead of in a pass of its own. On a GPU that saves a dispatch. On
+    llvmpipe the fused pass's barrier costs far more than the separate pass (about 0.2 ms at
+    640 x 360): fused took 1.4-1.6 times as long (benchmarks/fused_neighbor_max.py), so
+    there the filter keeps three passes."""
+    return not ctx.software
+
+
 def tile_passes(
     ctx: Context,
     motion,
@@ -160,14 +169,14 @@ def run_filter(name: str, params: dict[str, Param], reconstruct: Pass, diagonal_
     """TileMax → NeighborMax → the method's `reconstruct` pass (docs/spec.md §3,
     docs/guertin2014.md), the last one tile class by tile class where the method offers
     classify=True; `params` are the method's parameter declarations. On the compute backend
-    without classification the reconstruct pass computes NeighborMax in its prologue
-    (§3.6): two dispatches instead of three."""
+    of a GPU without classification the reconstruct pass computes NeighborMax in its
+    prologue (§3.6): two dispatches instead of three."""
 
     def run(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
         classified = values.get("classify", False)
         if classified:
             classification.check_request(name, values, backend, FILTER_OPTIONS)
-        fused = backend == "compute" and not classified
+        fused = backend == "compute" and not classified and folds_neighbor_max(ctx)
         tiles, neighbors, timings, bounds = tile_passes(
             ctx, inputs["motion"], params, values, backend, diagonal_reach, classified, not fused
         )
