@@ -1,9 +1,10 @@
 """The engines' motion blur side by side (issue 17): every engine method (engine_*),
-reconstruct_guertin2014 and reconstruct_mcguire2012 at their defaults, on every built-in and
-failure scene. PSNR, SSIM and FLIP against the converged reference, and ms per pass (median
-of --runs timed runs after one warm-up; on llvmpipe glFinish and a wall clock, on a GPU timer
-queries). Prints the table, writes it as JSON (--json), as Markdown (--markdown) and as a Pareto
-chart of median ms against median PSNR (--chart); the last two by default beside the JSON.
+gather_coverage, reconstruct_guertin2014 and reconstruct_mcguire2012 at their defaults, on
+every built-in and failure scene. PSNR, SSIM and FLIP against the converged reference, and ms
+per pass (median of --runs timed runs after one warm-up; on llvmpipe glFinish and a wall clock,
+on a GPU timer queries). Prints the table, writes it as JSON (--json), as Markdown (--markdown)
+and as a Pareto chart of median ms against median PSNR (--chart); the last two by default
+beside the JSON.
 
     python benchmarks/engines.py [--device gpu] [--size 640x360] [--runs 5] [--json PATH]
         [--markdown PATH] [--chart PATH] [--scenes a,b,...] [--methods a,b,...]
@@ -22,11 +23,14 @@ import blurlab as bl
 from common import describe, open_context, save
 
 BASELINES = ("reconstruct_guertin2014", "reconstruct_mcguire2012")
+COMBINED = ("gather_coverage",)  # the filter built from the engines' best parts (spec §17.6)
 
 
 def engine_methods() -> list[str]:
-    """The engines' methods from the registry, then the filters they are measured against."""
-    return [name for name in bl.methods() if name.startswith("engine_")] + list(BASELINES)
+    """The engines' methods from the registry, the filter that combines them, then the filters
+    they are measured against."""
+    engines = [name for name in bl.methods() if name.startswith("engine_")]
+    return engines + list(COMBINED) + list(BASELINES)
 
 
 def measure(ctx, scene_name: str, size, runs: int, methods) -> list[dict]:
