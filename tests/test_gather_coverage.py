@@ -76,8 +76,9 @@ def test_trail_reach_on_hand_values():
         (4.0, 0.0): 1.0,  # on the trail
         (10.5, 0.0): 0.5,  # half a pixel past its end: 10 + 1 - 10.5
         (12.0, 0.0): 0.0,  # beyond it
-        (4.0, 0.5): 1.0,  # half a pixel across: still over X
-        (4.0, 1.0): 0.5,  # one pixel across: half
+        (4.0, 1.0): 1.0,  # one pixel across: still over X (rounded trails of turning pixels)
+        (4.0, 1.5): 0.5,  # 1.5 px across: half
+        (4.0, 2.5): 0.0,  # beyond ACROSS
         (-1.0, 0.0): 0.0,  # behind the trail's start
     }
     for d, expected in cases.items():
@@ -88,12 +89,20 @@ def test_trail_reach_on_hand_values():
 
 
 def test_family_overlap_on_hand_values():
-    assert ref.family_overlap(np.array([10.0, 0.0]), np.array([-3.0, 0.0])) == pytest.approx(1)
+    assert ref.family_overlap(np.array([10.0, 0.0]), np.array([3.0, 0.0])) == pytest.approx(1)
+    # opposite lines sample opposite sides of X: no trail twice
+    assert ref.family_overlap(np.array([10.0, 0.0]), np.array([-3.0, 0.0])) == 0.0
     assert ref.family_overlap(np.array([10.0, 0.0]), np.array([0.0, 4.0])) == pytest.approx(0)
     assert ref.family_overlap(np.array([3.0, 3.0]), np.array([2.0, 0.0])) == pytest.approx(
         np.sqrt(0.5)
     )
-    assert ref.family_overlap(np.array([10.0, 0.0]), np.array([0.5, 0.0])) == 0.0  # X still
+    # X still: both families sample the tile's line
+    assert ref.family_overlap(np.array([10.0, 0.0]), np.array([0.5, 0.0])) == 1.0
+
+
+def test_tap_offsets_interleave_families_and_sides():
+    offsets = [ref.tap_offset(0.1, family, side) for side in (0, 1) for family in (0, 1)]
+    assert offsets == pytest.approx([0.1, 0.6, 0.35, 0.85])
 
 
 def test_tap_layout_alternates_families():
@@ -110,6 +119,22 @@ def bar_frame(width=96, bar=(40, 48), speed=32.0):
     depth[:, bar[0] : bar[1]] = 5.0
     motion[:, bar[0] : bar[1], 0] = speed
     return bl.Frame(color, depth, motion)
+
+
+def test_a_still_post_in_front_does_not_thin_the_object_moving_behind_it(ctx):
+    # A wide box (32 px) moving 16 px behind a still post (4 px): beside the post the box
+    # covers its pixels all the shutter, so they keep the box's color; the taps that land on
+    # the post are left out of the coverage estimate instead of counting as uncovered.
+    color = np.full((48, 96, 4), 0.2, np.float32)
+    color[..., 3] = 1
+    depth = np.full((48, 96), 10.0, np.float32)
+    motion = np.zeros((48, 96, 2), np.float32)
+    color[:, 24:56, :3], depth[:, 24:56], motion[:, 24:56, 0] = 0.6, 5.0, 16.0
+    color[:, 44:48, :3], depth[:, 44:48], motion[:, 44:48] = 1.0, 2.0, 0.0
+    out = bl.blur(ctx, bl.Frame(color, depth, motion), METHOD, samples=16, max_blur=100.0)
+    beside = out.color[:, [38, 39, 40, 41, 50, 51], 0]
+    assert beside.mean() == pytest.approx(0.6, abs=0.03)
+    assert out.color[:, 44:48, 0].min() == pytest.approx(1.0)  # the post stays sharp
 
 
 def test_a_bar_covers_its_trail_by_its_width_over_its_motion(ctx):

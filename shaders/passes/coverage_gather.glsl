@@ -23,7 +23,9 @@ uniform float exposure;
 uniform uint seed;
 
 const uvec2 JITTER_SALTS = uvec2(0x510E527Fu, 0x9B05688Cu);
-const float MOVING = 1.0;  // px: shorter half-motions count as still
+const float MOVING = 1.0;        // px: shorter half-motions count as still
+const float ACROSS = 2.0;        // px: how far across a trail it still passes over X
+const float MOVING_DEPTH = 0.3;  // in-front extent where X moves, fraction of X's depth
 
 // How far (0..1) the trail of a pixel at offset d, moving by v towards X, passes over X.
 float trail_reaches(vec2 d, vec2 v) {
@@ -33,14 +35,15 @@ float trail_reaches(vec2 d, vec2 v) {
     float along = len > 0.0 ? dot(d, unit) : dist;
     float across = len > 0.0 ? abs(d.x * unit.y - d.y * unit.x) : dist;
     float ahead = along > -0.5 ? 1.0 : 0.0;
-    return clamp(len + 1.0 - along, 0.0, 1.0) * ahead * clamp(1.5 - across, 0.0, 1.0);
+    return clamp(len + 1.0 - along, 0.0, 1.0) * ahead * clamp(ACROSS - across, 0.0, 1.0);
 }
 
-// |cos| between the tile's line and X's own motion; 0 where X is still.
+// cos between the tile's line and X's own motion, at least 0; 1 where X is still (both
+// families then sample the tile's line).
 float family_overlap(vec2 line, vec2 own) {
     float lo = length(own);
-    if (lo < MOVING) return 0.0;
-    return min(abs(dot(line, own)) / max(length(line) * lo, 1e-12), 1.0);
+    if (lo < MOVING) return 1.0;
+    return clamp(dot(line, own) / max(length(line) * lo, 1e-12), 0.0, 1.0);
 }
 
 vec2 trail_at(ivec2 y, int side) {
@@ -61,44 +64,54 @@ vec4 gather_at(ivec2 x) {
     float zx = sanitize_depth(texelFetch(depth, x, 0).x);
     vec2 owns[2] = vec2[2](trail_at(x, 0), trail_at(x, 1));
     bool x_moves = max(length(owns[0]), length(owns[1])) >= MOVING;
+    // Where X moves, taps within MOVING_DEPTH of its depth count as in front (its own object
+    // turns and tilts); where X is still, soft_z.
+    float front_extent = (x_moves && !isinf(zx)) ? max(soft_z, MOVING_DEPTH * zx) : soft_z;
     float j = rand(uint(x.x), uint(x.y), seed);
     vec2 center = vec2(x) + 0.5;
     int counts[2] = int[2]((samples + 1) / 2, samples / 2);
     vec4 behind_sum = vec4(0.0);
     float behind_weight = 0.0;
     vec4 cover_sums[2];
-    float covers[2];
+    float covers[2], seen_shares[2];
     for (int side = 0; side < 2; ++side) {
-        float share = 1.0 / (1.0 + family_overlap(lines[side], owns[side]));
+        vec2 own = owns[side];
+        bool own_moves = length(own) >= MOVING;
+        float share = 1.0 / (1.0 + family_overlap(lines[side], own));
         cover_sums[side] = vec4(0.0);
-        covers[side] = 0.0;
+        float cover = 0.0, spaced = 0.0, seen = 0.0;
         for (int i = 0; i < samples; ++i) {
             int family = i % 2;
-            vec2 along = family == 1 ? owns[side] : lines[side];
-            float len = length(along);
-            float spacing = (family == 1 && len < MOVING) ? 0.0 : len / float(counts[family]);
-            spacing *= share;
-            float t = (float(i / 2) + j) / float(counts[family]);
+            vec2 along = (family == 1 && own_moves) ? own : lines[side];
+            float count = float(counts[family]);
+            float spacing = length(along) / count * share;
+            float t = (float(i / 2) + fract(j + 0.5 * float(family) + 0.25 * float(side))) / count;
             ivec2 y = clamp(ivec2(floor(center + along * t)), ivec2(0), size - 1);
             vec2 vy = trail_at(y, side);
             float speed = length(vy);
+            float moving = clamp(speed - 0.5, 0.0, 1.0);
             float zy = sanitize_depth(texelFetch(depth, y, 0).x);
             vec4 cy = sanitize_color(texelFetch(color, y, 0));
             float reaches = trail_reaches(vec2(y - x), vy);
-            float in_front = x_moves ? 1.0 : soft_depth_compare(zx, zy, soft_z);
-            float a = in_front * reaches * clamp(speed - 0.5, 0.0, 1.0) * spacing / max(speed, 1.0);
-            covers[side] += a;
+            float a = soft_depth_compare(zx, zy, front_extent) * reaches * moving * spacing
+                    / max(speed, 1.0);
+            cover += a;
             cover_sums[side] += a * cy;
-            float behind = soft_depth_compare(zy, zx, soft_z) * (1.0 - soft_depth_compare(zx, zy, soft_z));
-            float b = behind * (1.0 - reaches);
+            // A still tap in front of a moving X hides the part of X's line behind it.
+            float nearer = 1.0 - soft_depth_compare(zy, zx, soft_z);
+            spaced += spacing;
+            seen += spacing * (1.0 - (x_moves ? 1.0 : 0.0) * nearer * (1.0 - moving));
+            float b = (1.0 - nearer) * (1.0 - soft_depth_compare(zx, zy, soft_z)) * (1.0 - reaches);
             behind_weight += b;
             behind_sum += b * cy;
         }
+        covers[side] = cover;
+        seen_shares[side] = seen > 0.0 ? spaced / seen : 1.0;
     }
     vec4 background = (x_moves && behind_weight > 0.0) ? behind_sum / behind_weight : cx;
     vec4 result = vec4(0.0);
     for (int side = 0; side < 2; ++side) {
-        float alpha = min(covers[side], 1.0);
+        float alpha = min(covers[side] * seen_shares[side], 1.0);
         vec4 covering = cover_sums[side] / max(covers[side], 1e-12);
         result += 0.5 * (alpha * covering + (1.0 - alpha) * background);
     }

@@ -17,6 +17,8 @@ from .mcguire2012 import soft_depth_compare
 JITTER_SALTS = (0x510E527F, 0x9B05688C)  # shaders/passes/coverage_gather.glsl
 MOVING = 1.0  # px: a half-motion at least this long moves; shorter ones count as still
 SMALLEST_TILE = 8  # px
+ACROSS = 2.0  # px
+MOVING_DEPTH = 0.3  # soft depth extent, fraction of X's depth, where X moves
 
 
 def tile_size(height: int, percent: float) -> int:
@@ -41,15 +43,15 @@ def trail_reaches(d: np.ndarray, v: np.ndarray) -> np.ndarray:
     along = np.where(moving, np.sum(d * unit, -1), dist)
     across = np.where(moving, np.abs(d[..., 0] * unit[..., 1] - d[..., 1] * unit[..., 0]), dist)
     ahead = along > -0.5
-    return np.clip(length + 1 - along, 0, 1) * ahead * np.clip(1.5 - across, 0, 1)
+    return np.clip(length + 1 - along, 0, 1) * ahead * np.clip(ACROSS - across, 0, 1)
 
 
 def family_overlap(line: np.ndarray, own: np.ndarray) -> np.ndarray:
     """§17.6: |cos| of the angle between the tile's line and X's own motion, 0 where X is
     still: the share of the two tap families that sample the same trails."""
     lt, lo = np.linalg.norm(line, axis=-1), np.linalg.norm(own, axis=-1)
-    cos = np.abs(np.sum(line * own, -1)) / np.maximum(lt * lo, 1e-12)
-    return np.where(lo < MOVING, 0.0, np.minimum(cos, 1.0))
+    cos = np.sum(line * own, -1) / np.maximum(lt * lo, 1e-12)
+    return np.where(lo < MOVING, 1.0, np.clip(cos, 0.0, 1.0))
 
 
 def tap_layout(samples: int) -> list[tuple[int, int, int]]:
@@ -57,6 +59,12 @@ def tap_layout(samples: int) -> list[tuple[int, int, int]]:
     side: even taps along the tile's line (family 0), odd ones along X's own motion (1)."""
     counts = ((samples + 1) // 2, samples // 2)
     return [(i % 2, i // 2, counts[i % 2]) for i in range(samples)]
+
+
+def tap_offset(j, family: int, side: int):
+    """§17.6: the jitter of a tap family, j shifted by 1/2 for the second family and by 1/4 on
+    the next side, so that the families' and sides' taps interleave."""
+    return np.mod(j + 0.5 * family + 0.25 * side, 1.0)
 
 
 def gather_coverage(
@@ -93,46 +101,57 @@ def gather_coverage(
     )
     longest = np.maximum(*(np.linalg.norm(line, axis=-1) for line in lines))
     x_moves = np.maximum(np.linalg.norm(prev, axis=-1), np.linalg.norm(next_, axis=-1)) >= MOVING
+    # Where X moves, a tap counts as in front within MOVING_DEPTH of X's depth: the surface of
+    # X's own object turns and tilts; where X is still, §3's soft_z.
+    finite = np.isfinite(depth)
+    front_extent = np.where(
+        x_moves & finite, np.maximum(soft_z, MOVING_DEPTH * np.where(finite, depth, 0)), soft_z
+    )
     j = rand(x, y, seed)
     center = np.stack([x, y], -1) + 0.5
     behind_sum, behind_weight = np.zeros_like(color), np.zeros((h, w))
     sides = []
     # Prev side: the pixels whose way back to t0 crosses X lie at +τ·prev; next side: those
     # whose way on to t1 crosses X at -τ·next. Each is read as a trail towards X.
-    for trails in (prev, -next_):
-        line, own = lines[len(sides)], trails
+    for side, trails in enumerate((prev, -next_)):
+        line, own = lines[side], trails
+        own_moves = np.linalg.norm(own, axis=-1) >= MOVING
         share = 1 / (1 + family_overlap(line, own))
         cover_sum, cover = np.zeros_like(color), np.zeros((h, w))
+        spaced, seen = np.zeros((h, w)), np.zeros((h, w))
         for family, i, count in tap_layout(samples):
-            along = own if family else line
-            length = np.linalg.norm(along, axis=-1)
-            spacing = np.where(family & (length < MOVING), 0.0, length / count) * share
-            t = (i + j) / count
+            along = np.where((family & own_moves)[..., None], own, line)
+            spacing = np.linalg.norm(along, axis=-1) / count * share
+            t = (i + tap_offset(j, family, side)) / count
             p = np.floor(center + along * t[..., None]).astype(np.int64)
             py, px = np.clip(p[..., 1], 0, h - 1), np.clip(p[..., 0], 0, w - 1)
             d = np.stack([px - x, py - y], -1).astype(np.float64)
-            vy = trails[py, px]
-            speed = np.linalg.norm(vy, axis=-1)
+            speed = np.linalg.norm(trails[py, px], axis=-1)
+            moving = np.clip(speed - 0.5, 0, 1)
             zy = depth[py, px]
-            reaches = trail_reaches(d, vy)
-            in_front = np.where(x_moves, 1.0, soft_depth_compare(depth, zy, soft_z))
-            a = in_front * reaches * np.clip(speed - 0.5, 0, 1) * spacing / np.maximum(speed, 1)
+            reaches = trail_reaches(d, trails[py, px])
+            in_front = soft_depth_compare(depth, zy, front_extent)
+            a = in_front * reaches * moving * spacing / np.maximum(speed, 1)
             cover = cover + a
             cover_sum = cover_sum + a[..., None] * color[py, px]
-            behind = soft_depth_compare(zy, depth, soft_z) * (
-                1 - soft_depth_compare(depth, zy, soft_z)
-            )
-            b = behind * (1 - reaches)
+            # A still tap in front of a moving X hides the part of X's line behind it: the
+            # coverage is estimated from the part that is seen.
+            nearer = 1 - soft_depth_compare(zy, depth, soft_z)
+            spaced = spaced + spacing
+            seen = seen + spacing * (1 - x_moves * nearer * (1 - moving))
+            b = (1 - nearer) * (1 - soft_depth_compare(depth, zy, soft_z)) * (1 - reaches)
             behind_weight = behind_weight + b
             behind_sum = behind_sum + b[..., None] * color[py, px]
-        sides.append((cover_sum, cover))
-    seen = (behind_weight > 0) & x_moves
+        sides.append(
+            (cover_sum, cover, np.where(seen > 0, spaced / np.where(seen > 0, seen, 1), 1))
+        )
+    known = (behind_weight > 0) & x_moves
     background = np.where(
-        seen[..., None], behind_sum / np.where(seen, behind_weight, 1.0)[..., None], color
+        known[..., None], behind_sum / np.where(known, behind_weight, 1.0)[..., None], color
     )
     out = np.zeros_like(color)
-    for cover_sum, cover in sides:
-        alpha = np.minimum(cover, 1.0)[..., None]
+    for cover_sum, cover, scale in sides:
+        alpha = np.minimum(cover * scale, 1.0)[..., None]
         covering = cover_sum / np.maximum(cover, 1e-12)[..., None]
         out = out + 0.5 * (alpha * covering + (1 - alpha) * background)
     return np.where((longest >= EARLY_EXIT)[..., None], out, color)
