@@ -20,6 +20,7 @@ from test_engine_eevee import two_sided_frame
 
 import blurlab as bl
 from blurlab.twins import coverage as ref
+from blurlab.twins import eevee as eevee_twin
 
 METHOD = "gather_coverage"
 
@@ -53,12 +54,12 @@ def test_tile_passes_are_engine_eevees_at_this_methods_sizes(ctx, rng):
     result = bl.blur(ctx, frame, METHOD, tile_percent=10.0, max_blur=40.0, exposure=0.8)
     s, limit = ref.tile_size(90, 10.0), ref.max_blur_px(90, 40.0)
     assert (s, limit) == (9, 36.0)
-    prev = ref.scaled_motion(frame.motion_prev, 0.8)
-    next_ = ref.scaled_motion(frame.motion_next, 0.8)
+    prev = eevee_twin.scaled_motion(frame.motion_prev, 0.8)
+    next_ = eevee_twin.scaled_motion(frame.motion_next, 0.8)
     np.testing.assert_allclose(
-        result.buffers["tiles"], ref.tile_flatten(prev, next_, s), rtol=1e-6, atol=1e-5
+        result.buffers["tiles"], eevee_twin.tile_flatten(prev, next_, s), rtol=1e-6, atol=1e-5
     )
-    dilated = ref.tile_dilate(result.buffers["tiles"].astype(np.float64), s, limit)
+    dilated = eevee_twin.tile_dilate(result.buffers["tiles"].astype(np.float64), s, limit)
     np.testing.assert_allclose(result.buffers["dilated"], dilated, rtol=1e-6, atol=1e-5)
 
 

@@ -5,7 +5,7 @@ engine_unity's, taps along the neighbourhood's and X's own motion (Guertin 2014'
 directions, Unity's v_alt), and weights that estimate what share of each half-shutter a moving
 pixel spends over X, with what lies behind X filling the rest. Passes: engine_eevee's tile
 flatten and tile dilation (shaders/passes/eevee_tile_*.glsl) at this method's tile size and
-limit, then shaders/passes/coverage_gather.glsl. NumPy twin:
+limit (methods.eevee.dilated_tiles), then shaders/passes/coverage_gather.glsl. NumPy twin:
 blurlab.twins.coverage.gather_coverage.
 """
 
@@ -15,7 +15,7 @@ from ..context import Context
 from ..frame import Frame
 from ..twins import coverage as twin
 from .core import SEED, Method, Param, Pass, register, run_pass
-from .eevee import motion_sides_texture
+from .eevee import dilated_tiles
 from .tile_filter import TILE_FILTER_PARAMS
 
 PARAMS = {
@@ -30,48 +30,23 @@ PARAMS = {
     "exposure": TILE_FILTER_PARAMS["exposure"],
     "seed": SEED,
 }
-FLATTEN = Pass("tile_flatten", "passes/eevee_tile_flatten.glsl", ("exposure",))
-DILATE = Pass("tile_dilate", "passes/eevee_tile_dilate.glsl")
 GATHER = Pass("gather", "passes/coverage_gather.glsl", ("samples", "soft_z", "exposure", "seed"))
 
 
 def _run_coverage(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
-    height, width = inputs["color"].shape[:2]
-    s = twin.tile_size(height, values["tile_percent"])
-    reach_limit = twin.max_blur_px(height, values["max_blur"])
-    grid = (-(-height // s), -(-width // s), 4)
-    tiles, dilated = ctx.pooled(grid), ctx.pooled(grid)
-    result = ctx.pooled((height, width, 4))
-    sides = motion_sides_texture(ctx, frame)
+    size = inputs["color"].shape[:2]
+    s = twin.tile_size(size[0], values["tile_percent"])
+    reach_limit = twin.max_blur_px(size[0], values["max_blur"])
     timings: dict = {}
-    sized = {"tile_size": s}
-    run_pass(
-        ctx,
-        timings,
-        FLATTEN,
-        PARAMS,
-        values,
-        {"motion_sides": sides},
-        {"tiles": tiles},
-        uniforms=sized,
-    )
-    run_pass(
-        ctx,
-        timings,
-        DILATE,
-        PARAMS,
-        values,
-        {"tiles": tiles},
-        {"dilated": dilated},
-        uniforms={**sized, "max_blur": reach_limit},
-    )
+    sides, tiles, dilated = dilated_tiles(ctx, frame, timings, PARAMS, values, size, s, reach_limit)
+    result = ctx.pooled((*size, 4))
     textures = {
         "color": inputs["color"],
         "depth": inputs["depth"],
         "motion_sides": sides,
         "dilated": dilated,
     }
-    uniforms = {**sized, "reach_limit": reach_limit}
+    uniforms = {"tile_size": s, "reach_limit": reach_limit}
     run_pass(
         ctx,
         timings,

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .eevee import EARLY_EXIT, clamp_length, lookup_tile, scaled_motion, tile_dilate, tile_flatten
+from .eevee import EARLY_EXIT, clamp_length, dilated_half_motions, lookup_tile
 from .hashing import rand
 from .inputs import sanitize_color, sanitize_depth
 from .mcguire2012 import soft_depth_compare
@@ -88,11 +88,9 @@ def gather_coverage(
     h, w = depth.shape
     s = tile_size(h, tile_percent)
     reach_limit = max_blur_px(h, max_blur)
-    prev = scaled_motion(motion_prev, exposure)
-    next_ = scaled_motion(motion_next, exposure)
-    if dilated is None:
-        dilated = tile_dilate(tile_flatten(prev, next_, s), s, reach_limit)
-    prev, next_ = clamp_length(prev, reach_limit), clamp_length(next_, reach_limit)
+    prev, next_, dilated = dilated_half_motions(
+        motion_prev, motion_next, exposure, s, reach_limit, dilated
+    )
     y, x = np.mgrid[0:h, 0:w]
     ty, tx = lookup_tile(x, y, s, seed, dilated.shape[:2], JITTER_SALTS)
     lines = (
