@@ -77,13 +77,16 @@ def test_trail_reach_on_hand_values():
         (4.0, 0.0): 1.0,  # on the trail
         (10.5, 0.0): 0.5,  # half a pixel past its end: 10 + 1 - 10.5
         (12.0, 0.0): 0.0,  # beyond it
-        (4.0, 1.0): 1.0,  # one pixel across: still over X (rounded trails of turning pixels)
-        (4.0, 1.5): 0.5,  # 1.5 px across: half
-        (4.0, 2.5): 0.0,  # beyond ACROSS
+        (4.0, 2.0): 1.0,  # 2 px across: still over X (ACROSS + 0.1 * 10 = 3 px wide)
+        (4.0, 2.5): 0.5,  # 2.5 px across: half
+        (4.0, 3.5): 0.0,  # beyond it
         (-1.0, 0.0): 0.0,  # behind the trail's start
     }
     for d, expected in cases.items():
         assert ref.trail_reaches(np.array(d), v) == pytest.approx(expected)
+    long_trail = np.array([40.0, 0.0])  # 6 px wide: the chord of an arc strays further
+    assert ref.trail_reaches(np.array([20.0, 5.0]), long_trail) == pytest.approx(1.0)
+    assert ref.trail_reaches(np.array([20.0, 6.5]), long_trail) == pytest.approx(0.0)
     still = np.zeros(2)
     assert ref.trail_reaches(np.array([0.0, 0.0]), still) == pytest.approx(1.0)
     assert ref.trail_reaches(np.array([2.0, 0.0]), still) == 0.0

@@ -24,7 +24,8 @@ uniform uint seed;
 
 const uvec2 JITTER_SALTS = uvec2(0x510E527Fu, 0x9B05688Cu);
 const float MOVING = 1.0;        // px: shorter half-motions count as still
-const float ACROSS = 2.0;        // px: how far across a trail it still passes over X
+const float ACROSS = 2.0;        // px: how far across a trail it still passes over X,
+const float ACROSS_SHARE = 0.1;  // ... plus this share of its length (chords of turning motion)
 const float MOVING_DEPTH = 0.3;  // in-front extent where X moves, fraction of X's depth
 
 // How far (0..1) the trail of a pixel at offset d, moving by v towards X, passes over X.
@@ -35,7 +36,8 @@ float trail_reaches(vec2 d, vec2 v) {
     float along = len > 0.0 ? dot(d, unit) : dist;
     float across = len > 0.0 ? abs(d.x * unit.y - d.y * unit.x) : dist;
     float ahead = along > -0.5 ? 1.0 : 0.0;
-    return clamp(len + 1.0 - along, 0.0, 1.0) * ahead * clamp(ACROSS - across, 0.0, 1.0);
+    float widest = ACROSS + ACROSS_SHARE * len;
+    return clamp(len + 1.0 - along, 0.0, 1.0) * ahead * clamp(widest - across, 0.0, 1.0);
 }
 
 // cos between the tile's line and X's own motion, at least 0; 1 where X is still (both

@@ -18,6 +18,7 @@ JITTER_SALTS = (0x510E527F, 0x9B05688C)  # shaders/passes/coverage_gather.glsl
 MOVING = 1.0  # px: a half-motion at least this long moves; shorter ones count as still
 SMALLEST_TILE = 8  # px
 ACROSS = 2.0  # px
+ACROSS_SHARE = 0.1  # ... plus this share of the trail's length (chords of turning motion)
 MOVING_DEPTH = 0.3  # soft depth extent, fraction of X's depth, where X moves
 
 
@@ -34,8 +35,9 @@ def max_blur_px(height: int, percent: float) -> float:
 def trail_reaches(d: np.ndarray, v: np.ndarray) -> np.ndarray:
     """§17.6: how far (0..1) the trail of a pixel at offset d from X, moving by v over the
     half-shutter towards X (the pixel lies at +τ·v from X, τ in [0, 1], where it crosses X),
-    passes over X: 1 up to one pixel beyond |v| along v and within half a pixel across it,
-    falling to 0 one pixel further. A still pixel (v = 0) reaches only within a pixel."""
+    passes over X: 1 up to |v| along v and within ACROSS + ACROSS_SHARE·|v| − 1 px across it,
+    each falling to 0 one pixel further (wider for longer trails: the motion of a turning
+    pixel is the chord of its arc). A still pixel (v = 0) reaches within ACROSS px."""
     length = np.linalg.norm(v, axis=-1)
     unit = v / np.where(length > 0, length, 1.0)[..., None]
     dist = np.linalg.norm(d, axis=-1)
@@ -43,7 +45,8 @@ def trail_reaches(d: np.ndarray, v: np.ndarray) -> np.ndarray:
     along = np.where(moving, np.sum(d * unit, -1), dist)
     across = np.where(moving, np.abs(d[..., 0] * unit[..., 1] - d[..., 1] * unit[..., 0]), dist)
     ahead = along > -0.5
-    return np.clip(length + 1 - along, 0, 1) * ahead * np.clip(ACROSS - across, 0, 1)
+    widest = ACROSS + ACROSS_SHARE * length
+    return np.clip(length + 1 - along, 0, 1) * ahead * np.clip(widest - across, 0, 1)
 
 
 def family_overlap(line: np.ndarray, own: np.ndarray) -> np.ndarray:
