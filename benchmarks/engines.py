@@ -1,13 +1,13 @@
 """The engines' motion blur side by side (issue 17): every engine method (engine_*),
-reconstruct_guertin2014 and reconstruct_mcguire2012 at their defaults, on every built-in and
-failure scene. PSNR, SSIM and FLIP against the converged reference, and ms per pass (median
-of --runs timed runs after one warm-up; on llvmpipe glFinish and a wall clock, on a GPU timer
-queries). Prints the table, writes it as JSON (--json), as Markdown (--markdown) and as a Pareto
-chart of median ms against median PSNR (--chart); the last two by default beside the JSON.
-With --peers eevee, Blender's EEVEE post-process blur (1 sample, 1 step, through
-blurlab.blender; needs the `blender` extra) joins on every scene Blender can reproduce, scored
-against the same reference; its time is Blender's wall time, not a pass time, so it stays out of
-the ms columns and the chart.
+gather_coverage, reconstruct_guertin2014 and reconstruct_mcguire2012 at their defaults, on
+every built-in and failure scene. PSNR, SSIM and FLIP against the converged reference, and ms
+per pass (median of --runs timed runs after one warm-up; on llvmpipe glFinish and a wall clock,
+on a GPU timer queries). Prints the table, writes it as JSON (--json), as Markdown (--markdown)
+and as a Pareto chart of median ms against median PSNR (--chart); the last two by default
+beside the JSON. With --peers eevee, Blender's EEVEE post-process blur (1 sample, 1 step,
+through blurlab.blender; needs the `blender` extra) joins on every scene Blender can reproduce,
+scored against the same reference; its time is Blender's wall time, not a pass time, so it
+stays out of the ms columns and the chart.
 
     python benchmarks/engines.py [--device gpu] [--size 640x360] [--runs 5] [--json PATH]
         [--markdown PATH] [--chart PATH] [--scenes a,b,...] [--methods a,b,...]
@@ -31,11 +31,14 @@ BASELINES = ("reconstruct_guertin2014", "reconstruct_mcguire2012")
 EEVEE = "eevee (Blender)"
 # EEVEE's real-time filter alone: one render sample, one motion-blur step.
 EEVEE_POST_PROCESS = ((EEVEE, 1, 1),)
+COMBINED = ("gather_coverage",)  # the filter built from the engines' best parts (spec §17.6)
 
 
 def engine_methods() -> list[str]:
-    """The engines' methods from the registry, then the filters they are measured against."""
-    return [name for name in bl.methods() if name.startswith("engine_")] + list(BASELINES)
+    """The engines' methods from the registry, the filter that combines them, then the filters
+    they are measured against."""
+    engines = [name for name in bl.methods() if name.startswith("engine_")]
+    return engines + list(COMBINED) + list(BASELINES)
 
 
 def measure(ctx, scene_name: str, size, runs: int, methods, with_eevee: bool) -> list[dict]:

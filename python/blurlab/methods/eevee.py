@@ -31,8 +31,10 @@ PARAMS = {
     "exposure": TILE_FILTER_PARAMS["exposure"],
     "seed": SEED,
 }
-FLATTEN = Pass("tile_flatten", "passes/eevee_tile_flatten.glsl", ("tile_size", "exposure"))
-DILATE = Pass("tile_dilate", "passes/eevee_tile_dilate.glsl", ("tile_size", "max_blur"))
+# Tile size and limit come as uniforms in pixels (dilated_tiles): gather_coverage runs the same
+# passes with sizes of its own.
+FLATTEN = Pass("tile_flatten", "passes/eevee_tile_flatten.glsl", ("exposure",))
+DILATE = Pass("tile_dilate", "passes/eevee_tile_dilate.glsl")
 GATHER = Pass("gather", "passes/eevee_gather.glsl", tuple(PARAMS))
 
 
@@ -46,16 +48,47 @@ def motion_sides_texture(ctx: Context, frame: Frame):
     return texture
 
 
-def _run_eevee(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
-    height, width = inputs["color"].shape[:2]
-    s = values["tile_size"]
-    grid = (-(-height // s), -(-width // s), 4)
+def dilated_tiles(
+    ctx: Context, frame: Frame, timings: dict, params: dict, values: dict, size, tile_size, max_blur
+):
+    """§17.2 steps 1-2 on the frame's two-sided motion for an image of `size` (H, W): tile
+    flatten and dilation at `tile_size` px and `max_blur` px (a method's params and values give
+    the exposure). Returns (two-sided motion texture, tiles, dilated tiles)."""
+    height, width = size
+    grid = (-(-height // tile_size), -(-width // tile_size), 4)
     tiles, dilated = ctx.pooled(grid), ctx.pooled(grid)
-    result = ctx.pooled((height, width, 4))
     sides = motion_sides_texture(ctx, frame)
+    sized = {"tile_size": tile_size}
+    run_pass(
+        ctx,
+        timings,
+        FLATTEN,
+        params,
+        values,
+        {"motion_sides": sides},
+        {"tiles": tiles},
+        uniforms=sized,
+    )
+    run_pass(
+        ctx,
+        timings,
+        DILATE,
+        params,
+        values,
+        {"tiles": tiles},
+        {"dilated": dilated},
+        uniforms={**sized, "max_blur": max_blur},
+    )
+    return sides, tiles, dilated
+
+
+def _run_eevee(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
+    size = inputs["color"].shape[:2]
     timings: dict = {}
-    run_pass(ctx, timings, FLATTEN, PARAMS, values, {"motion_sides": sides}, {"tiles": tiles})
-    run_pass(ctx, timings, DILATE, PARAMS, values, {"tiles": tiles}, {"dilated": dilated})
+    sides, tiles, dilated = dilated_tiles(
+        ctx, frame, timings, PARAMS, values, size, values["tile_size"], values["max_blur"]
+    )
+    result = ctx.pooled((*size, 4))
     textures = {
         "color": inputs["color"],
         "depth": inputs["depth"],

@@ -88,6 +88,16 @@ def lookup_tile(x, y, tile_size: int, seed: int, grid, salts=JITTER_SALTS):
     return ty, tx
 
 
+def dilated_half_motions(motion_prev, motion_next, exposure, tile_size, max_blur, dilated=None):
+    """§17.2 steps 1-2: (E·M_prev, E·M_next, each clamped to max_blur px, and the dilated
+    tile grid of tile_size px tiles; `dilated` if already computed)."""
+    prev = scaled_motion(motion_prev, exposure)
+    next_ = scaled_motion(motion_next, exposure)
+    if dilated is None:
+        dilated = tile_dilate(tile_flatten(prev, next_, tile_size), tile_size, max_blur)
+    return clamp_length(prev, max_blur), clamp_length(next_, max_blur), dilated
+
+
 def engine_eevee(
     color,
     depth,
@@ -107,11 +117,9 @@ def engine_eevee(
     color = sanitize_color(color)
     depth = sanitize_depth(depth)
     h, w = depth.shape
-    prev = scaled_motion(motion_prev, exposure)
-    next_ = scaled_motion(motion_next, exposure)
-    if dilated is None:
-        dilated = tile_dilate(tile_flatten(prev, next_, tile_size), tile_size, max_blur)
-    prev, next_ = clamp_length(prev, max_blur), clamp_length(next_, max_blur)
+    prev, next_, dilated = dilated_half_motions(
+        motion_prev, motion_next, exposure, tile_size, max_blur, dilated
+    )
     y, x = np.mgrid[0:h, 0:w]
     ty, tx = lookup_tile(x, y, tile_size, seed, dilated.shape[:2])
     reach = np.concatenate(

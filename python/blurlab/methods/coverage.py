@@ -1,0 +1,80 @@
+"""gather_coverage: a post-process filter built from what measured best among the engines' and
+the papers' filters (docs/spec.md §17.6): the two-sided motion and the dilation along each
+tile's motion of engine_eevee, tile size and blur limit relative to the image height as
+engine_unity's, taps along the neighbourhood's and X's own motion (Guertin 2014's two
+directions, Unity's v_alt), and weights that estimate what share of each half-shutter a moving
+pixel spends over X, with what lies behind X filling the rest. Passes: engine_eevee's tile
+flatten and tile dilation (shaders/passes/eevee_tile_*.glsl) at this method's tile size and
+limit (methods.eevee.dilated_tiles), then shaders/passes/coverage_gather.glsl. NumPy twin:
+blurlab.twins.coverage.gather_coverage.
+"""
+
+from __future__ import annotations
+
+from ..context import Context
+from ..frame import Frame
+from ..twins import coverage as twin
+from .core import SEED, Method, Param, Pass, register, run_pass
+from .eevee import dilated_tiles
+from .tile_filter import TILE_FILTER_PARAMS
+
+PARAMS = {
+    "tile_percent": Param(
+        3.0, float, "tile side, % of the image height (at least 8 px)", 0, 100, True
+    ),
+    "samples": Param(
+        8, int, "taps on each half-shutter (half along the tile, half along X)", 2, 32
+    ),
+    "max_blur": Param(30.0, float, "longest half-motion, % of the image height", 0, 100, True),
+    "soft_z": TILE_FILTER_PARAMS["soft_z"],
+    "exposure": TILE_FILTER_PARAMS["exposure"],
+    "seed": SEED,
+}
+GATHER = Pass("gather", "passes/coverage_gather.glsl", ("samples", "soft_z", "exposure", "seed"))
+
+
+def _run_coverage(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
+    size = inputs["color"].shape[:2]
+    s = twin.tile_size(size[0], values["tile_percent"])
+    reach_limit = twin.max_blur_px(size[0], values["max_blur"])
+    timings: dict = {}
+    sides, tiles, dilated = dilated_tiles(ctx, frame, timings, PARAMS, values, size, s, reach_limit)
+    result = ctx.pooled((*size, 4))
+    textures = {
+        "color": inputs["color"],
+        "depth": inputs["depth"],
+        "motion_sides": sides,
+        "dilated": dilated,
+    }
+    uniforms = {"tile_size": s, "reach_limit": reach_limit}
+    run_pass(
+        ctx,
+        timings,
+        GATHER,
+        PARAMS,
+        values,
+        textures,
+        {"result": result},
+        backend,
+        uniforms=uniforms,
+    )
+    return {"color": result, "tiles": tiles, "dilated": dilated}, timings
+
+
+register(
+    Method(
+        name="gather_coverage",
+        kind="gather",
+        instant="center",
+        params=PARAMS,
+        backends=("compute",),
+        run=_run_coverage,
+        default_grid={"samples": [4, 8, 16], "max_blur": [15.0, 30.0]},
+        twin=twin.gather_coverage,
+        twin_inputs=("color", "depth", "motion_prev", "motion_next"),
+        doc="The engines' best parts combined: two-sided motion, dilation along each tile's "
+        "motion, tiles and limit relative to the height, taps along the tile's and X's own "
+        "motion, weighted by the share of each half-shutter a trail spends over X, the "
+        "background behind filling the rest. docs/spec.md §17.6.",
+    )
+)

@@ -1,0 +1,158 @@
+"""gather_coverage, docs/spec.md §17.6, in NumPy float64: on each half-shutter of the two-sided
+motion (§17.1), the share of the half-shutter during which moving pixels cover X (their trails
+gathered along the dilated tile motion and along X's own motion), the rest filled by what lies
+behind X. Tiles: engine_eevee's flatten and dilation (blurlab.twins.eevee). GPU twin:
+shaders/passes/coverage_gather.glsl.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .eevee import EARLY_EXIT, clamp_length, dilated_half_motions, lookup_tile
+from .hashing import rand
+from .inputs import sanitize_color, sanitize_depth
+from .mcguire2012 import soft_depth_compare
+
+JITTER_SALTS = (0x510E527F, 0x9B05688C)  # shaders/passes/coverage_gather.glsl
+MOVING = 1.0  # px: a half-motion at least this long moves; shorter ones count as still
+SMALLEST_TILE = 8  # px
+ACROSS = 2.0  # px
+ACROSS_SHARE = 0.1  # ... plus this share of the trail's length (chords of turning motion)
+MOVING_DEPTH = 0.3  # soft depth extent, fraction of X's depth, where X moves
+
+
+def tile_size(height: int, percent: float) -> int:
+    """§17.6: the tile side, `percent` of the image height rounded, at least SMALLEST_TILE."""
+    return max(SMALLEST_TILE, round(height * percent / 100))
+
+
+def max_blur_px(height: int, percent: float) -> float:
+    """§17.6: the longest half-motion, `percent` of the image height, in pixels."""
+    return height * percent / 100
+
+
+def trail_reaches(d: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """§17.6: how far (0..1) the trail of a pixel at offset d from X, moving by v over the
+    half-shutter towards X (the pixel lies at +τ·v from X, τ in [0, 1], where it crosses X),
+    passes over X: 1 up to |v| along v and within ACROSS + ACROSS_SHARE·|v| − 1 px across it,
+    each falling to 0 one pixel further (wider for longer trails: the motion of a turning
+    pixel is the chord of its arc). A still pixel (v = 0) reaches within ACROSS px."""
+    length = np.linalg.norm(v, axis=-1)
+    unit = v / np.where(length > 0, length, 1.0)[..., None]
+    dist = np.linalg.norm(d, axis=-1)
+    moving = length > 0
+    along = np.where(moving, np.sum(d * unit, -1), dist)
+    across = np.where(moving, np.abs(d[..., 0] * unit[..., 1] - d[..., 1] * unit[..., 0]), dist)
+    ahead = along > -0.5
+    widest = ACROSS + ACROSS_SHARE * length
+    return np.clip(length + 1 - along, 0, 1) * ahead * np.clip(widest - across, 0, 1)
+
+
+def family_overlap(line: np.ndarray, own: np.ndarray) -> np.ndarray:
+    """§17.6: |cos| of the angle between the tile's line and X's own motion, 0 where X is
+    still: the share of the two tap families that sample the same trails."""
+    lt, lo = np.linalg.norm(line, axis=-1), np.linalg.norm(own, axis=-1)
+    cos = np.sum(line * own, -1) / np.maximum(lt * lo, 1e-12)
+    return np.where(lo < MOVING, 1.0, np.clip(cos, 0.0, 1.0))
+
+
+def tap_layout(samples: int) -> list[tuple[int, int, int]]:
+    """§17.6: (family, index in family, taps in family) of each of the `samples` taps of one
+    side: even taps along the tile's line (family 0), odd ones along X's own motion (1)."""
+    counts = ((samples + 1) // 2, samples // 2)
+    return [(i % 2, i // 2, counts[i % 2]) for i in range(samples)]
+
+
+def tap_offset(j, family: int, side: int):
+    """§17.6: the jitter of a tap family, j shifted by 1/2 for the second family and by 1/4 on
+    the next side, so that the families' and sides' taps interleave."""
+    return np.mod(j + 0.5 * family + 0.25 * side, 1.0)
+
+
+def gather_coverage(
+    color,
+    depth,
+    motion_prev,
+    motion_next,
+    *,
+    tile_percent: float,
+    samples: int,
+    max_blur: float,
+    soft_z: float,
+    exposure: float,
+    seed: int,
+    dilated: np.ndarray | None = None,
+) -> np.ndarray:
+    """§17.6: (H, W, C) float64 blurred color. `max_blur` is a percentage of the height;
+    `dilated` is the dilated tile grid if already computed."""
+    color = sanitize_color(color)
+    depth = sanitize_depth(depth)
+    h, w = depth.shape
+    s = tile_size(h, tile_percent)
+    reach_limit = max_blur_px(h, max_blur)
+    prev, next_, dilated = dilated_half_motions(
+        motion_prev, motion_next, exposure, s, reach_limit, dilated
+    )
+    y, x = np.mgrid[0:h, 0:w]
+    ty, tx = lookup_tile(x, y, s, seed, dilated.shape[:2], JITTER_SALTS)
+    lines = (
+        clamp_length(dilated[ty, tx, :2], reach_limit),
+        -clamp_length(dilated[ty, tx, 2:], reach_limit),
+    )
+    longest = np.maximum(*(np.linalg.norm(line, axis=-1) for line in lines))
+    x_moves = np.maximum(np.linalg.norm(prev, axis=-1), np.linalg.norm(next_, axis=-1)) >= MOVING
+    # Where X moves, a tap counts as in front within MOVING_DEPTH of X's depth: the surface of
+    # X's own object turns and tilts; where X is still, §3's soft_z.
+    finite = np.isfinite(depth)
+    front_extent = np.where(
+        x_moves & finite, np.maximum(soft_z, MOVING_DEPTH * np.where(finite, depth, 0)), soft_z
+    )
+    j = rand(x, y, seed)
+    center = np.stack([x, y], -1) + 0.5
+    behind_sum, behind_weight = np.zeros_like(color), np.zeros((h, w))
+    sides = []
+    # Prev side: the pixels whose way back to t0 crosses X lie at +τ·prev; next side: those
+    # whose way on to t1 crosses X at -τ·next. Each is read as a trail towards X.
+    for side, trails in enumerate((prev, -next_)):
+        line, own = lines[side], trails
+        own_moves = np.linalg.norm(own, axis=-1) >= MOVING
+        share = 1 / (1 + family_overlap(line, own))
+        cover_sum, cover = np.zeros_like(color), np.zeros((h, w))
+        spaced, seen = np.zeros((h, w)), np.zeros((h, w))
+        for family, i, count in tap_layout(samples):
+            along = np.where((family & own_moves)[..., None], own, line)
+            spacing = np.linalg.norm(along, axis=-1) / count * share
+            t = (i + tap_offset(j, family, side)) / count
+            p = np.floor(center + along * t[..., None]).astype(np.int64)
+            py, px = np.clip(p[..., 1], 0, h - 1), np.clip(p[..., 0], 0, w - 1)
+            d = np.stack([px - x, py - y], -1).astype(np.float64)
+            speed = np.linalg.norm(trails[py, px], axis=-1)
+            moving = np.clip(speed - 0.5, 0, 1)
+            zy = depth[py, px]
+            reaches = trail_reaches(d, trails[py, px])
+            in_front = soft_depth_compare(depth, zy, front_extent)
+            a = in_front * reaches * moving * spacing / np.maximum(speed, 1)
+            cover = cover + a
+            cover_sum = cover_sum + a[..., None] * color[py, px]
+            # A still tap in front of a moving X hides the part of X's line behind it: the
+            # coverage is estimated from the part that is seen.
+            nearer = 1 - soft_depth_compare(zy, depth, soft_z)
+            spaced = spaced + spacing
+            seen = seen + spacing * (1 - x_moves * nearer * (1 - moving))
+            b = (1 - nearer) * (1 - soft_depth_compare(depth, zy, soft_z)) * (1 - reaches)
+            behind_weight = behind_weight + b
+            behind_sum = behind_sum + b[..., None] * color[py, px]
+        sides.append(
+            (cover_sum, cover, np.where(seen > 0, spaced / np.where(seen > 0, seen, 1), 1))
+        )
+    known = (behind_weight > 0) & x_moves
+    background = np.where(
+        known[..., None], behind_sum / np.where(known, behind_weight, 1.0)[..., None], color
+    )
+    out = np.zeros_like(color)
+    for cover_sum, cover, scale in sides:
+        alpha = np.minimum(cover * scale, 1.0)[..., None]
+        covering = cover_sum / np.maximum(cover, 1e-12)[..., None]
+        out = out + 0.5 * (alpha * covering + (1 - alpha) * background)
+    return np.where((longest >= EARLY_EXIT)[..., None], out, color)

@@ -1,0 +1,124 @@
+#version 450
+// gather_coverage step 3, docs/spec.md §17.6. Per half-shutter of the two-sided motion, taps
+// alternately along the dilated tile's line and along X's own half-motion; a tap whose trail
+// passes over X adds spacing / max(|v|, 1) of coverage (the share of the half-shutter it
+// spends on X), the families' weights divided by 1 + their overlap. Each side is its coverage
+// times the covering color plus the rest times what lies behind X: the mean of the taps behind
+// X that do not reach it where X moves, X itself where it is still. Compute, one invocation
+// per pixel. NumPy twin: blurlab.twins.coverage.gather_coverage.
+#include "common/eevee.glsl"
+#include "common/mcguire2012.glsl"
+#include "common/random.glsl"
+#include "common/jittered_tile.glsl"
+
+layout(binding = 0) uniform sampler2D color;
+layout(binding = 1) uniform sampler2D depth;
+layout(binding = 2) uniform sampler2D motion_sides;
+layout(binding = 3) uniform sampler2D dilated;
+uniform int tile_size;     // px, from tile_percent
+uniform float reach_limit;  // px, from max_blur
+uniform int samples;
+uniform float soft_z;
+uniform float exposure;
+uniform uint seed;
+
+const uvec2 JITTER_SALTS = uvec2(0x510E527Fu, 0x9B05688Cu);
+const float MOVING = 1.0;        // px: shorter half-motions count as still
+const float ACROSS = 2.0;        // px: how far across a trail it still passes over X,
+const float ACROSS_SHARE = 0.1;  // ... plus this share of its length (chords of turning motion)
+const float MOVING_DEPTH = 0.3;  // in-front extent where X moves, fraction of X's depth
+
+// How far (0..1) the trail of a pixel at offset d, moving by v towards X, passes over X.
+float trail_reaches(vec2 d, vec2 v) {
+    float len = length(v);
+    float dist = length(d);
+    vec2 unit = len > 0.0 ? v / len : vec2(0.0);
+    float along = len > 0.0 ? dot(d, unit) : dist;
+    float across = len > 0.0 ? abs(d.x * unit.y - d.y * unit.x) : dist;
+    float ahead = along > -0.5 ? 1.0 : 0.0;
+    float widest = ACROSS + ACROSS_SHARE * len;
+    return clamp(len + 1.0 - along, 0.0, 1.0) * ahead * clamp(widest - across, 0.0, 1.0);
+}
+
+// cos between the tile's line and X's own motion, at least 0; 1 where X is still (both
+// families then sample the tile's line).
+float family_overlap(vec2 line, vec2 own) {
+    float lo = length(own);
+    if (lo < MOVING) return 1.0;
+    return clamp(dot(line, own) / max(length(line) * lo, 1e-12), 0.0, 1.0);
+}
+
+vec2 trail_at(ivec2 y, int side) {
+    vec4 m = texelFetch(motion_sides, y, 0);
+    return side == 0 ? clamp_length(scaled_motion(m.xy, exposure), reach_limit)
+                     : -clamp_length(scaled_motion(m.zw, exposure), reach_limit);
+}
+
+vec4 gather_at(ivec2 x) {
+    ivec2 size = textureSize(color, 0);
+    vec4 cx = sanitize_color(texelFetch(color, x, 0));
+    ivec2 tile = jittered_tile(x, float(tile_size), seed, JITTER_SALTS, textureSize(dilated, 0));
+    vec4 tile_motion = texelFetch(dilated, tile, 0);
+    vec2 lines[2] = vec2[2](clamp_length(tile_motion.xy, reach_limit),
+                            -clamp_length(tile_motion.zw, reach_limit));
+    if (max(length(lines[0]), length(lines[1])) < EARLY_EXIT) return cx;
+
+    float zx = sanitize_depth(texelFetch(depth, x, 0).x);
+    vec2 owns[2] = vec2[2](trail_at(x, 0), trail_at(x, 1));
+    bool x_moves = max(length(owns[0]), length(owns[1])) >= MOVING;
+    // Where X moves, taps within MOVING_DEPTH of its depth count as in front (its own object
+    // turns and tilts); where X is still, soft_z.
+    float front_extent = (x_moves && !isinf(zx)) ? max(soft_z, MOVING_DEPTH * zx) : soft_z;
+    float j = rand(uint(x.x), uint(x.y), seed);
+    vec2 center = vec2(x) + 0.5;
+    int counts[2] = int[2]((samples + 1) / 2, samples / 2);
+    vec4 behind_sum = vec4(0.0);
+    float behind_weight = 0.0;
+    vec4 cover_sums[2];
+    float covers[2], seen_shares[2];
+    for (int side = 0; side < 2; ++side) {
+        vec2 own = owns[side];
+        bool own_moves = length(own) >= MOVING;
+        float share = 1.0 / (1.0 + family_overlap(lines[side], own));
+        cover_sums[side] = vec4(0.0);
+        float cover = 0.0, spaced = 0.0, seen = 0.0;
+        for (int i = 0; i < samples; ++i) {
+            int family = i % 2;
+            vec2 along = (family == 1 && own_moves) ? own : lines[side];
+            float count = float(counts[family]);
+            float spacing = length(along) / count * share;
+            float t = (float(i / 2) + fract(j + 0.5 * float(family) + 0.25 * float(side))) / count;
+            ivec2 y = clamp(ivec2(floor(center + along * t)), ivec2(0), size - 1);
+            vec2 vy = trail_at(y, side);
+            float speed = length(vy);
+            float moving = clamp(speed - 0.5, 0.0, 1.0);
+            float zy = sanitize_depth(texelFetch(depth, y, 0).x);
+            vec4 cy = sanitize_color(texelFetch(color, y, 0));
+            float reaches = trail_reaches(vec2(y - x), vy);
+            float a = soft_depth_compare(zx, zy, front_extent) * reaches * moving * spacing
+                    / max(speed, 1.0);
+            cover += a;
+            cover_sums[side] += a * cy;
+            // A still tap in front of a moving X hides the part of X's line behind it.
+            float nearer = 1.0 - soft_depth_compare(zy, zx, soft_z);
+            spaced += spacing;
+            seen += spacing * (1.0 - (x_moves ? 1.0 : 0.0) * nearer * (1.0 - moving));
+            float b = (1.0 - nearer) * (1.0 - soft_depth_compare(zx, zy, soft_z)) * (1.0 - reaches);
+            behind_weight += b;
+            behind_sum += b * cy;
+        }
+        covers[side] = cover;
+        seen_shares[side] = seen > 0.0 ? spaced / seen : 1.0;
+    }
+    vec4 background = (x_moves && behind_weight > 0.0) ? behind_sum / behind_weight : cx;
+    vec4 result = vec4(0.0);
+    for (int side = 0; side < 2; ++side) {
+        float alpha = min(covers[side] * seen_shares[side], 1.0);
+        vec4 covering = cover_sums[side] / max(covers[side], 1e-12);
+        result += 0.5 * (alpha * covering + (1.0 - alpha) * background);
+    }
+    return result;
+}
+
+#define PASS_AT gather_at
+#include "common/pass_main.glsl"

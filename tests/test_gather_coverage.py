@@ -1,0 +1,190 @@
+"""gather_coverage (docs/spec.md §17.6) on the GPU against bl.twins.coverage: the whole filter
+on random and rendered frames, its parts on hand values (trail reach, family overlap, tap
+layout, sizes relative to the height, coverage of a bar over a still background), and the
+filter's promises: still images unchanged, output inside the input range, no NaN, same seed
+same bits."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from conftest import random_frame
+from filter_promises import (
+    assert_finite_for_motion_scale,
+    assert_inside_the_input_range,
+    assert_matches_twin,
+    assert_seeded,
+    assert_still_frame_unchanged,
+)
+from test_engine_eevee import two_sided_frame
+
+import blurlab as bl
+from blurlab.twins import coverage as ref
+from blurlab.twins import eevee as eevee_twin
+
+METHOD = "gather_coverage"
+
+
+@pytest.mark.parametrize(
+    ("size", "params"),
+    [
+        ((160, 90), {}),
+        ((97, 61), {"tile_percent": 20.0, "samples": 5, "max_blur": 60.0, "soft_z": 2.0}),
+        ((130, 70), {"samples": 2, "exposure": 2.5, "seed": 9}),
+        ((40, 30), {"tile_percent": 1.0, "samples": 16, "max_blur": 10.0, "soft_z": 0.01}),
+    ],
+)
+def test_random_frames_match_reference(ctx, rng, size, params):
+    frame = two_sided_frame(rng, *size)
+    result = bl.blur(ctx, frame, METHOD, **params)
+    assert params.items() <= result.params.items()
+    assert_matches_twin(result, frame)
+
+
+@pytest.mark.parametrize("scene", ["teapot_pass", "fan", "skinned_arm", "crossing", "occluder"])
+def test_rendered_frames_match_reference(ctx, scene):
+    frame = ctx.render(bl.scenes.get(scene), (160, 90))
+    result = bl.blur(ctx, frame, METHOD)
+    assert_matches_twin(result, frame)
+    assert np.abs(result.color - frame.color).max() > 0.05  # it really blurred
+
+
+def test_tile_passes_are_engine_eevees_at_this_methods_sizes(ctx, rng):
+    frame = two_sided_frame(rng, 150, 90, reach=60.0)
+    result = bl.blur(ctx, frame, METHOD, tile_percent=10.0, max_blur=40.0, exposure=0.8)
+    s, limit = ref.tile_size(90, 10.0), ref.max_blur_px(90, 40.0)
+    assert (s, limit) == (9, 36.0)
+    prev = eevee_twin.scaled_motion(frame.motion_prev, 0.8)
+    next_ = eevee_twin.scaled_motion(frame.motion_next, 0.8)
+    np.testing.assert_allclose(
+        result.buffers["tiles"], eevee_twin.tile_flatten(prev, next_, s), rtol=1e-6, atol=1e-5
+    )
+    dilated = eevee_twin.tile_dilate(result.buffers["tiles"].astype(np.float64), s, limit)
+    np.testing.assert_allclose(result.buffers["dilated"], dilated, rtol=1e-6, atol=1e-5)
+
+
+def test_sizes_follow_the_image_height():
+    assert ref.tile_size(1080, 3.0) == 32  # 32.4 px: EEVEE's 32 px tile at 1080p
+    assert ref.tile_size(360, 3.0) == 11
+    assert ref.tile_size(90, 3.0) == 8  # 2.7 px, raised to the smallest tile
+    assert ref.max_blur_px(1080, 30.0) == 324.0
+    assert ref.max_blur_px(90, 30.0) == 27.0
+
+
+def test_trail_reach_on_hand_values():
+    v = np.array([10.0, 0.0])  # moving 10 px towards X from +x
+    cases = {
+        (4.0, 0.0): 1.0,  # on the trail
+        (10.5, 0.0): 0.5,  # half a pixel past its end: 10 + 1 - 10.5
+        (12.0, 0.0): 0.0,  # beyond it
+        (4.0, 2.0): 1.0,  # 2 px across: still over X (ACROSS + 0.1 * 10 = 3 px wide)
+        (4.0, 2.5): 0.5,  # 2.5 px across: half
+        (4.0, 3.5): 0.0,  # beyond it
+        (-1.0, 0.0): 0.0,  # behind the trail's start
+    }
+    for d, expected in cases.items():
+        assert ref.trail_reaches(np.array(d), v) == pytest.approx(expected)
+    long_trail = np.array([40.0, 0.0])  # 6 px wide: the chord of an arc strays further
+    assert ref.trail_reaches(np.array([20.0, 5.0]), long_trail) == pytest.approx(1.0)
+    assert ref.trail_reaches(np.array([20.0, 6.5]), long_trail) == pytest.approx(0.0)
+    still = np.zeros(2)
+    assert ref.trail_reaches(np.array([0.0, 0.0]), still) == pytest.approx(1.0)
+    assert ref.trail_reaches(np.array([2.0, 0.0]), still) == 0.0
+
+
+def test_family_overlap_on_hand_values():
+    assert ref.family_overlap(np.array([10.0, 0.0]), np.array([3.0, 0.0])) == pytest.approx(1)
+    # opposite lines sample opposite sides of X: no trail twice
+    assert ref.family_overlap(np.array([10.0, 0.0]), np.array([-3.0, 0.0])) == 0.0
+    assert ref.family_overlap(np.array([10.0, 0.0]), np.array([0.0, 4.0])) == pytest.approx(0)
+    assert ref.family_overlap(np.array([3.0, 3.0]), np.array([2.0, 0.0])) == pytest.approx(
+        np.sqrt(0.5)
+    )
+    # X still: both families sample the tile's line
+    assert ref.family_overlap(np.array([10.0, 0.0]), np.array([0.5, 0.0])) == 1.0
+
+
+def test_tap_offsets_interleave_families_and_sides():
+    offsets = [ref.tap_offset(0.1, family, side) for side in (0, 1) for family in (0, 1)]
+    assert offsets == pytest.approx([0.1, 0.6, 0.35, 0.85])
+
+
+def test_tap_layout_alternates_families():
+    assert ref.tap_layout(5) == [(0, 0, 3), (1, 0, 2), (0, 1, 3), (1, 1, 2), (0, 2, 3)]
+
+
+def bar_frame(width=96, bar=(40, 48), speed=32.0):
+    """A white bar `speed` px/shutter to the right over a still grey wall, 48 rows alike."""
+    color = np.full((48, width, 4), 0.2, np.float32)
+    color[..., 3] = 1
+    depth = np.full((48, width), 10.0, np.float32)
+    motion = np.zeros((48, width, 2), np.float32)
+    color[:, bar[0] : bar[1], :3] = 1.0
+    depth[:, bar[0] : bar[1]] = 5.0
+    motion[:, bar[0] : bar[1], 0] = speed
+    return bl.Frame(color, depth, motion)
+
+
+def test_a_still_post_in_front_does_not_thin_the_object_moving_behind_it(ctx):
+    # A wide box (32 px) moving 16 px behind a still post (4 px): beside the post the box
+    # covers its pixels all the shutter, so they keep the box's color; the taps that land on
+    # the post are left out of the coverage estimate instead of counting as uncovered.
+    color = np.full((48, 96, 4), 0.2, np.float32)
+    color[..., 3] = 1
+    depth = np.full((48, 96), 10.0, np.float32)
+    motion = np.zeros((48, 96, 2), np.float32)
+    color[:, 24:56, :3], depth[:, 24:56], motion[:, 24:56, 0] = 0.6, 5.0, 16.0
+    color[:, 44:48, :3], depth[:, 44:48], motion[:, 44:48] = 1.0, 2.0, 0.0
+    out = bl.blur(ctx, bl.Frame(color, depth, motion), METHOD, samples=16, max_blur=100.0)
+    beside = out.color[:, [38, 39, 40, 41, 50, 51], 0]
+    assert beside.mean() == pytest.approx(0.6, abs=0.03)
+    assert out.color[:, 44:48, 0].min() == pytest.approx(1.0)  # the post stays sharp
+
+
+def test_a_bar_covers_its_trail_by_its_width_over_its_motion(ctx):
+    # A bar 8 px wide moving 32 px: a pixel its trail crosses is covered 8/32 of the shutter,
+    # its own pixels too (the wall behind shows the rest). The box-shutter truth is 0.2 +
+    # 0.8 * 1/4 = 0.4 in the middle of the trail.
+    frame = bar_frame()
+    out = bl.blur(ctx, frame, METHOD, samples=32, max_blur=100.0).color[..., 0]
+    middle = out[:, 36:52].mean()  # within 12 px of the bar's center at mid-shutter
+    assert middle == pytest.approx(0.4, abs=0.05)
+    assert out[:, 44].mean() < 0.55  # the bar's own pixels: not left sharp (1.0)
+    assert out[:, :10].max() == pytest.approx(0.2)  # beyond the trail: the wall untouched
+
+
+def test_still_image_comes_back_unchanged(ctx, rng):
+    assert_still_frame_unchanged(ctx, rng, METHOD)
+
+
+def test_output_stays_inside_the_input_range(ctx, rng):
+    assert_inside_the_input_range(ctx, random_frame(rng, 120, 80), METHOD, max_blur=40.0)
+
+
+@pytest.mark.parametrize("scale", [0.0, 1e-3, 1e30])
+def test_zero_tiny_and_huge_motion_give_no_nan(ctx, rng, scale):
+    assert_finite_for_motion_scale(ctx, rng, METHOD, scale, max_blur=50.0)
+
+
+def test_same_seed_same_bits_other_seed_other_noise(ctx, rng):
+    assert_seeded(ctx, random_frame(rng, 80, 60), METHOD)
+
+
+@pytest.mark.parametrize(
+    ("params", "error", "message"),
+    [
+        ({"samples": 1}, ValueError, r"samples = 1 is outside 2\.\.32"),
+        ({"max_blur": 0.0}, ValueError, "max_blur = 0.0 must be"),
+        ({"tile_percent": 101.0}, ValueError, "tile_percent = 101.0"),
+        ({"k": 3}, TypeError, "no parameter.*k.*tile_percent"),
+    ],
+)
+def test_bad_parameters_name_the_range(ctx, rng, params, error, message):
+    with pytest.raises(error, match=message):
+        bl.blur(ctx, random_frame(rng, 16, 16), METHOD, **params)
+
+
+def test_timings_name_every_pass(ctx, rng):
+    result = bl.blur(ctx, random_frame(rng, 64, 36), METHOD)
+    assert list(result.timings) == ["tile_flatten", "tile_dilate", "gather"]
+    assert result.total_ms > 0
