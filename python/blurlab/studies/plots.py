@@ -5,6 +5,8 @@ Every function returns a matplotlib Figure; `save(fig, path)` writes PNG or SVG.
 
 from __future__ import annotations
 
+import os
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -29,7 +31,10 @@ HIGHER_IS_BETTER = {
 def _pyplot():
     import matplotlib
 
-    matplotlib.use("Agg", force=False)  # headless: no display is needed
+    # Headless (no display is needed), except in a Jupyter kernel, whose inline backend shows
+    # the figures a notebook cell returns.
+    if "ipykernel" not in sys.modules and "MPLBACKEND" not in os.environ:
+        matplotlib.use("Agg", force=False)
     import matplotlib.pyplot as plt
 
     return plt
