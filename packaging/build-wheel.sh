@@ -64,12 +64,33 @@ mkdir -p dist
 version="$("$python" -c 'import tomllib; print(tomllib.load(open("pyproject.toml", "rb"))["project"]["version"])')"
 rm -f "dist/blurlab-$version.tar.gz"
 "$python" -m build --sdist "${build_isolation[@]}" --outdir dist . >/dev/null
-# Unpacked at a fixed place, with the files' own dates, so that the CMake build folder below
-# stays valid and a second build recompiles only what changed.
+# Unpacked at a fixed place, so that the CMake build folder below stays valid and a second
+# build recompiles only what changed. The sdist stamps every file with one fixed date, so only
+# files whose content changed are copied over the last unpacking (and get today's date), and
+# files gone from the sdist are removed: otherwise ninja would see nothing newer than its
+# objects and keep the old module.
 sources="build/sdist"
-rm -rf "$sources"
-mkdir -p "$sources"
-tar -xzf "dist/blurlab-$version.tar.gz" -C "$sources"
+unpacked="build/sdist-unpacked"
+rm -rf "$unpacked"
+mkdir -p "$unpacked" "$sources"
+tar -xzf "dist/blurlab-$version.tar.gz" -C "$unpacked"
+"$python" - "$unpacked" "$sources" <<'EOF2'
+import filecmp
+import shutil
+import sys
+from pathlib import Path
+
+new, old = (Path(a) for a in sys.argv[1:])
+for source in new.rglob("*"):
+    target = old / source.relative_to(new)
+    if source.is_file() and not (target.is_file() and filecmp.cmp(source, target, shallow=False)):
+        target.parent.mkdir(parents=True, exist_ok=True)
+        shutil.copyfile(source, target)
+for target in sorted(old.rglob("*"), reverse=True):
+    if not (new / target.relative_to(old)).exists():
+        target.unlink() if target.is_file() or target.is_symlink() else target.rmdir()
+EOF2
+rm -rf "$unpacked"
 
 raw="build/wheel-unrepaired"
 rm -rf "$raw"
