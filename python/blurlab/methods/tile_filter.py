@@ -102,11 +102,14 @@ def largest_tile_for_one_thread(ctx: Context) -> int:
 
 def folds_neighbor_max(ctx: Context) -> bool:
     """Whether the compute filters compute NeighborMax in the reconstruct pass's prologue
-    (docs/spec.md §3.6) instead of in a pass of its own. On a GPU that saves a dispatch. On
-    llvmpipe the fused pass's barrier costs far more than the separate pass (about 0.2 ms at
-    640 x 360): fused took 1.4-1.6 times as long (benchmarks/fused_neighbor_max.py), so
-    there the filter keeps three passes."""
-    return not ctx.software
+    (docs/spec.md §3.6) instead of in a pass of its own. Measured, it saves a dispatch but
+    costs more than the dispatch did, on both devices: on the H100 at 1920 x 1080 the fused
+    reconstruct took 1.05x (McGuire 2012) and 1.31x (Guertin 2014) as long as the separate
+    NeighborMax pass plus reconstruct, on llvmpipe at 640 x 360 1.4-1.6x
+    (benchmarks/fused_neighbor_max.py, 2026-11-23). So no device folds it; the fused shader
+    stays, tested bit for bit against the separate one, for that benchmark to re-measure."""
+    del ctx  # the choice was made per device; both measured devices now say no
+    return False
 
 
 def tile_passes(
