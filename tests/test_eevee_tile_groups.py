@@ -24,7 +24,9 @@ TIED = np.array(
 def tied_frame(rng, width: int, height: int, scale: float) -> bl.Frame:
     """A frame whose two half-motions are drawn from TIED · scale: most tiles hold several
     candidates of the longest length, and most tiles' sources tie too."""
-    halves = [TIED[rng.integers(0, len(TIED), (height, width))] * np.float32(scale) for _ in "pn"]
+    halves = [
+        TIED[rng.integers(0, len(TIED), (height, width))] * np.float32(scale) for _ in range(2)
+    ]
     color = rng.random((height, width, 4), dtype=np.float32)
     depth = rng.uniform(1.0, 10.0, (height, width)).astype(np.float32)
     return bl.Frame(

@@ -52,7 +52,7 @@ def tile_groups(ctx: Context) -> bool:
     """Whether the tile flatten and dilation run a work group per tile (its threads share the
     tile's pixels or sources, then reduce) rather than one thread per tile: on a GPU one thread
     per tile leaves it mostly idle (about 2000 threads at 1080p). llvmpipe runs a group's
-    threads as SIMD lanes and its barriers are costly: there groups took 4 to 21 times as long
+    threads as SIMD lanes and its barriers are costly: there groups took 4 to 34 times as long
     (benchmarks/tile_groups.py at 640 x 360), so it keeps one thread per tile."""
     return not ctx.software
 
