@@ -4,46 +4,52 @@
 // same result: each tile D looks at every tile S within reach and keeps, per side, the longest
 // half-motion whose line (from S's center along -prev, or +next, clamped to max_blur, in tile
 // units) meets D's square
-// widened by h + REACH_MARGIN, h = 1/2 - 1/(2 tile_size). Compute, one thread per tile.
-// NumPy twin: blurlab.twins.eevee.tile_dilate.
+// widened by h + REACH_MARGIN, h = 1/2 - 1/(2 tile_size); the first S in row-major order among
+// equal lengths. Compute, two modes (uniform group_per_tile): one 8 x 8 work group per tile,
+// each invocation looking at every 8th S of every 8th row of the reach, the picks merged in
+// shared memory (common/tile_pick.glsl); or one invocation per tile looking at them all. Both
+// give the same bits. NumPy twin: blurlab.twins.eevee.tile_dilate.
 #include "common/eevee.glsl"
 #include "common/tile_reach.glsl"
+#include "common/tile_pick.glsl"
 
 layout(binding = 0) uniform sampler2D tiles;
 uniform int tile_size;
 uniform float max_blur;
 
-layout(local_size_x = 8, local_size_y = 8) in;
 layout(binding = 0, rgba32f) uniform writeonly image2D dilated;
 
-void main() {
-    ivec2 tile = ivec2(gl_GlobalInvocationID.xy);
+// Offers the sources at offsets first + step * (i, j) from -radius to radius, in row-major order.
+void scan(ivec2 tile, ivec2 first, int step) {
     ivec2 grid = textureSize(tiles, 0);
-    if (any(greaterThanEqual(tile, grid))) return;
     int radius = min(int(ceil(max_blur / float(tile_size))) + 1, max(grid.x, grid.y));
     float widen = reach_widening(tile_size);
-    vec4 best = vec4(0.0);
-    vec2 best_length = vec2(-1.0);
-    for (int oy = -radius; oy <= radius; ++oy) {
-        for (int ox = -radius; ox <= radius; ++ox) {
+    for (int oy = -radius + first.y; oy <= radius; oy += step) {
+        for (int ox = -radius + first.x; ox <= radius; ox += step) {
             ivec2 source = tile + ivec2(ox, oy);
             if (any(lessThan(source, ivec2(0))) || any(greaterThanEqual(source, grid))) continue;
             vec4 v = texelFetch(tiles, source, 0);
             vec2 start = vec2(ox, oy) + 0.5;  // S's center, in D's tile coordinates
             float lp = length(v.xy), ln = length(v.zw);
-            if (lp > best_length.x &&
+            int index = (oy + radius) * (2 * radius + 1) + (ox + radius);
+            if (lp > picked_length.x &&
                 segment_meets_box(start, -clamp_length(v.xy, max_blur) / float(tile_size), -widen,
                                   1.0 + widen)) {
-                best.xy = v.xy;
-                best_length.x = lp;
+                pick_prev(v.xy, lp, index);
             }
-            if (ln > best_length.y &&
+            if (ln > picked_length.y &&
                 segment_meets_box(start, clamp_length(v.zw, max_blur) / float(tile_size), -widen,
                                   1.0 + widen)) {
-                best.zw = v.zw;
-                best_length.y = ln;
+                pick_next(v.zw, ln, index);
             }
         }
     }
-    imageStore(dilated, tile, best);
+}
+
+void store_pick(ivec2 tile, vec4 pick) {
+    imageStore(dilated, tile, pick);
+}
+
+void main() {
+    pick_tiles(textureSize(tiles, 0));
 }

@@ -48,17 +48,38 @@ def motion_sides_texture(ctx: Context, frame: Frame):
     return texture
 
 
+def tile_groups(ctx: Context) -> bool:
+    """Whether the tile flatten and dilation run a work group per tile (its threads share the
+    tile's pixels or sources, then reduce) rather than one thread per tile: on a GPU one thread
+    per tile leaves it mostly idle (about 2000 threads at 1080p). llvmpipe runs a group's
+    threads as SIMD lanes and its barriers are costly: there groups took 4 to 34 times as long
+    (benchmarks/tile_groups.py at 640 x 360), so it keeps one thread per tile."""
+    return not ctx.software
+
+
 def dilated_tiles(
-    ctx: Context, frame: Frame, timings: dict, params: dict, values: dict, size, tile_size, max_blur
+    ctx: Context,
+    frame: Frame,
+    timings: dict,
+    params: dict,
+    values: dict,
+    size,
+    tile_size,
+    max_blur,
+    group_per_tile: bool | None = None,
 ):
     """§17.2 steps 1-2 on the frame's two-sided motion for an image of `size` (H, W): tile
     flatten and dilation at `tile_size` px and `max_blur` px (a method's params and values give
-    the exposure). Returns (two-sided motion texture, tiles, dilated tiles)."""
+    the exposure). `group_per_tile`: both passes run a work group per tile, else one thread per
+    tile (same bits either way); None: as tile_groups(ctx) says. Returns (two-sided motion
+    texture, tiles, dilated tiles)."""
     height, width = size
     grid = (-(-height // tile_size), -(-width // tile_size), 4)
     tiles, dilated = ctx.pooled(grid), ctx.pooled(grid)
     sides = motion_sides_texture(ctx, frame)
-    sized = {"tile_size": tile_size}
+    if group_per_tile is None:
+        group_per_tile = tile_groups(ctx)
+    sized = {"tile_size": tile_size, "group_per_tile": group_per_tile}
     run_pass(
         ctx,
         timings,
@@ -68,6 +89,7 @@ def dilated_tiles(
         {"motion_sides": sides},
         {"tiles": tiles},
         uniforms=sized,
+        group_per_texel=group_per_tile,
     )
     run_pass(
         ctx,
@@ -78,6 +100,7 @@ def dilated_tiles(
         {"tiles": tiles},
         {"dilated": dilated},
         uniforms={**sized, "max_blur": max_blur},
+        group_per_texel=group_per_tile,
     )
     return sides, tiles, dilated
 

@@ -1,0 +1,93 @@
+"""engine_eevee's tile flatten and dilation (docs/spec.md §17.2 steps 1-2, shared by
+gather_coverage) run a work group per tile on a GPU and one thread per tile on llvmpipe
+(methods.eevee.tile_groups): both modes give the same bits, ties (equal lengths) go to the
+first candidate in row-major order as the NumPy twin says, and a tile whose first pixel moves
+by a signed zero keeps that zero's sign."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import blurlab as bl
+from blurlab.methods import eevee
+from blurlab.twins import eevee as twin
+
+# Half-motions whose squared lengths are exact in float32, so that equal lengths are equal on
+# any device however it rounds sqrt: 0, 5 and 10 px (scaled by the test), in several directions.
+TIED = np.array(
+    [(0, 0), (-0.0, 0), (0, -0.0), (3, 4), (4, -3), (-5, 0), (0, 5), (6, 8), (-8, 6), (10, 0)],
+    np.float32,
+)
+
+
+def tied_frame(rng, width: int, height: int, scale: float) -> bl.Frame:
+    """A frame whose two half-motions are drawn from TIED · scale: most tiles hold several
+    candidates of the longest length, and most tiles' sources tie too."""
+    halves = [
+        TIED[rng.integers(0, len(TIED), (height, width))] * np.float32(scale) for _ in range(2)
+    ]
+    color = rng.random((height, width, 4), dtype=np.float32)
+    depth = rng.uniform(1.0, 10.0, (height, width)).astype(np.float32)
+    return bl.Frame(
+        color, depth, halves[0] + halves[1], motion_prev=halves[0], motion_next=halves[1]
+    )
+
+
+def tile_buffers(ctx, frame, tile_size, max_blur, group_per_tile):
+    """(tiles, dilated) as the method's passes make them in the given mode, exposure 1."""
+    values = {"exposure": 1.0}
+    size = frame.color.shape[:2]
+    _, tiles, dilated = eevee.dilated_tiles(
+        ctx, frame, {}, eevee.PARAMS, values, size, tile_size, max_blur, group_per_tile
+    )
+    arrays = tiles.download(), dilated.download()
+    ctx.recycle(tiles, dilated)
+    return arrays
+
+
+# Sizes the tile side does not divide; tiles smaller than a work group (4 px: 16 pixels for 64
+# threads) and larger (11 and 32 px); reaches of a few sources and of many per thread (r = 11).
+CASES = [
+    ((100, 60), 8, 40.0, 4.0),
+    ((97, 61), 11, 60.0, 3.0),
+    ((45, 30), 4, 40.0, 1.0),
+    ((150, 90), 32, 64.0, 6.0),
+]
+
+
+@pytest.mark.parametrize(("size", "tile_size", "max_blur", "scale"), CASES)
+def test_both_modes_give_the_same_bits(ctx, rng, size, tile_size, max_blur, scale):
+    frame = tied_frame(rng, *size, scale)
+    threads = tile_buffers(ctx, frame, tile_size, max_blur, group_per_tile=False)
+    groups = tile_buffers(ctx, frame, tile_size, max_blur, group_per_tile=True)
+    for one, other in zip(threads, groups, strict=True):
+        assert one.tobytes() == other.tobytes()
+
+
+@pytest.mark.parametrize("group_per_tile", [False, True])
+@pytest.mark.parametrize(("size", "tile_size", "max_blur", "scale"), CASES)
+def test_ties_go_to_the_first_candidate_as_the_twin_says(
+    ctx, rng, size, tile_size, max_blur, scale, group_per_tile
+):
+    frame = tied_frame(rng, *size, scale)
+    tiles, dilated = tile_buffers(ctx, frame, tile_size, max_blur, group_per_tile)
+    expected = twin.tile_flatten(frame.motion_prev, frame.motion_next, tile_size)
+    assert tiles.tobytes() == expected.astype(np.float32).tobytes()
+    # The frame really has ties: most tiles' longest is 10 · scale, reached in several directions.
+    longest = np.linalg.norm(tiles[..., :2], axis=-1) == 10 * scale
+    assert longest.mean() > 0.9 and len(np.unique(tiles[longest][:, :2], axis=0)) > 1
+    expected = twin.tile_dilate(tiles.astype(np.float64), tile_size, max_blur)
+    assert dilated.tobytes() == expected.astype(np.float32).tobytes()
+
+
+@pytest.mark.parametrize("group_per_tile", [False, True])
+def test_a_first_pixel_moving_by_minus_zero_keeps_its_sign(ctx, rng, group_per_tile):
+    frame = tied_frame(rng, 40, 24, 1.0)
+    for half in (frame.motion_prev, frame.motion_next):
+        half[:] = 0.0
+        half[0:8:8, 0:40:8] = (-0.0, 0.0)  # each 8 px tile's first pixel, top row of tiles
+    tiles, dilated = tile_buffers(ctx, frame, 8, 16.0, group_per_tile)
+    for grid in (tiles, dilated):
+        assert np.signbit(grid[0, :, 0::2]).all()  # x of both sides: -0, from the first pixel
+        assert not np.signbit(grid[1:]).any() and not grid.any()
