@@ -6,9 +6,9 @@
 // same candidate as one invocation scanning them all. pick_tiles() runs either mode for the
 // including pass, which defines scan() and store_pick(). NumPy twin: blurlab.twins.eevee.
 
-// A work group of 8 x 8 invocations serves one tile; one invocation per tile uses the same
+// A work group of 16 x 16 invocations serves one tile; one invocation per tile uses the same
 // group shape.
-const int PICK_GROUP_SIDE = 8;
+const int PICK_GROUP_SIDE = 16;
 const uint PICK_GROUP_SIZE = uint(PICK_GROUP_SIDE * PICK_GROUP_SIDE);
 layout(local_size_x = PICK_GROUP_SIDE, local_size_y = PICK_GROUP_SIDE) in;
 

@@ -5,8 +5,8 @@
 // half-motion whose line (from S's center along -prev, or +next, clamped to max_blur, in tile
 // units) meets D's square
 // widened by h + REACH_MARGIN, h = 1/2 - 1/(2 tile_size); the first S in row-major order among
-// equal lengths. Compute, two modes (uniform group_per_tile): one 8 x 8 work group per tile,
-// each invocation looking at every 8th S of every 8th row of the reach, the picks merged in
+// equal lengths. Compute, two modes (uniform group_per_tile): one 16 x 16 work group per tile,
+// each invocation looking at every 16th S of every 16th row of the reach, the picks merged in
 // shared memory (common/tile_pick.glsl); or one invocation per tile looking at them all. Both
 // give the same bits. NumPy twin: blurlab.twins.eevee.tile_dilate.
 #include "common/eevee.glsl"

@@ -2,8 +2,8 @@
 // engine_eevee step 1, docs/spec.md §17.2: for each tile_size² tile, the longest prev half-motion
 // E·M_prev (xy) and the longest E·M_next (zw) among its pixels, unclamped; the first in row-major order
 // among equal lengths (the order-independent result of EEVEE's atomic max). Compute, two modes
-// (uniform group_per_tile): one 8 x 8 work group per tile, each invocation scanning every 8th
-// pixel of every 8th row, the picks merged in shared memory (common/tile_pick.glsl); or one
+// (uniform group_per_tile): one 16 x 16 work group per tile, each invocation scanning every 16th
+// pixel of every 16th row, the picks merged in shared memory (common/tile_pick.glsl); or one
 // invocation per tile scanning it all. Both give the same bits. NumPy twin:
 // blurlab.twins.eevee.tile_flatten.
 #include "common/eevee.glsl"
