@@ -11,6 +11,24 @@ from conftest import assert_inside_input_range, random_frame
 import blurlab as bl
 
 
+def two_sided_frame(rng, width, height, reach=20.0):
+    """A random frame whose halves differ (not constant velocity): each half its own random
+    direction and length up to `reach` px."""
+    frame = random_frame(rng, width, height, k=10)
+    halves = []
+    for _ in range(2):
+        angle = rng.uniform(0, 2 * np.pi, (height, width))
+        length = rng.uniform(0, reach, (height, width))
+        halves.append(np.stack([np.cos(angle), np.sin(angle)], -1) * length[..., None])
+    return bl.Frame(
+        frame.color,
+        frame.depth,
+        halves[0] + halves[1],
+        motion_prev=halves[0],
+        motion_next=halves[1],
+    )
+
+
 def assert_matches_twin(result, frame) -> None:
     """>= 99.9 % of pixels within 1e-3 of the twin, mean absolute error <= 1e-4."""
     expected = bl.method(result.method).twin_output(frame, **result.params)
