@@ -4,8 +4,8 @@ k = 20, S = 15 on one G-buffer of teapot_pass. Both ways run on the same texture
 (rounds of separate, fused), so a drifting clock or a busy machine hits both alike; each
 round's time covers the NeighborMax pass and the reconstruct pass, or the fused pass alone.
 TileMax is the same either way and left out. Medians and minima over --rounds; GL timer
-queries on a GPU, glFinish + wall clock on llvmpipe. The filter itself folds NeighborMax
-where tile_filter.folds_neighbor_max says so (on a GPU).
+queries on a GPU, glFinish + wall clock on llvmpipe. The filters themselves keep NeighborMax a
+pass of its own: fused measured slower on the H100 and on llvmpipe (docs/benchmarks.md).
 
     python benchmarks/fused_neighbor_max.py [--device software] [--size 640x360] [--rounds 15]
 """

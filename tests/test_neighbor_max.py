@@ -11,7 +11,6 @@ from conftest import random_frame
 import blurlab as bl
 from blurlab.methods import guertin2014, mcguire2012
 from blurlab.methods.core import choice_defines, pass_uniforms
-from blurlab.methods.tile_filter import folds_neighbor_max
 from blurlab.twins import mcguire2012 as ref
 
 
@@ -40,21 +39,18 @@ FILTERS = {"reconstruct_mcguire2012": mcguire2012, "reconstruct_guertin2014": gu
 
 
 @pytest.mark.parametrize(
-    ("name", "backend", "params", "folds"),
-    [  # docs/spec.md §3.6: only the compute backend over the whole image folds it
-        ("reconstruct_mcguire2012", "compute", {}, True),
-        ("reconstruct_guertin2014", "compute", {}, True),
-        ("reconstruct_guertin2014", "fragment", {}, False),
-        ("reconstruct_mcguire2012", "compute", {"classify": True}, False),
-        ("reconstruct_urho3d", "fragment", {}, False),
+    ("name", "backend", "params"),
+    [  # docs/spec.md §3.6: a pass of its own on every backend and device
+        ("reconstruct_mcguire2012", "compute", {}),
+        ("reconstruct_guertin2014", "compute", {}),
+        ("reconstruct_guertin2014", "fragment", {}),
+        ("reconstruct_mcguire2012", "compute", {"classify": True}),
+        ("reconstruct_urho3d", "fragment", {}),
     ],
 )
-def test_where_neighbor_max_runs(ctx, rng, name, backend, params, folds):
+def test_where_neighbor_max_runs(ctx, rng, name, backend, params):
     result = bl.blur(ctx, random_frame(rng, 64, 36), name, backend=backend, **params)
-    if folds and folds_neighbor_max(ctx):
-        assert list(result.timings) == ["tile_max", "reconstruct"]
-    else:
-        assert list(result.timings)[:2] == ["tile_max", "neighbor_max"]
+    assert list(result.timings)[:2] == ["tile_max", "neighbor_max"]
 
 
 def run_reconstruct(ctx, name, frame, values, tiles, fused):

@@ -12,7 +12,6 @@ import pytest
 
 import blurlab as bl
 from blurlab import cli
-from blurlab.methods.tile_filter import folds_neighbor_max
 
 sw = importlib.import_module("blurlab.studies.sweep")  # the module; bl.sweep is the function
 evaluation = importlib.import_module("blurlab.studies.evaluation")
@@ -53,8 +52,7 @@ def test_table_has_one_row_per_evaluation_and_every_column(ctx, tmp_path):
         "reference_samples",
     ):
         assert column in table.columns, column
-    # a pass of its own unless the compute reconstruct folds it in (docs/spec.md §3.6)
-    assert ("ms_neighbor_max" in table.columns) != folds_neighbor_max(ctx)
+    assert "ms_neighbor_max" in table.columns  # a pass of its own (docs/spec.md §3.6)
     assert (table["reference_samples"] == 16).all()
     assert table["psnr"].between(10, 80).all() and table["flip"].between(0, 1).all()
     assert len(pd.read_csv(tmp_path / "r.csv")) == len(table)

@@ -100,18 +100,6 @@ def largest_tile_for_one_thread(ctx: Context) -> int:
     return 32 if ctx.software else 8
 
 
-def folds_neighbor_max(ctx: Context) -> bool:
-    """Whether the compute filters compute NeighborMax in the reconstruct pass's prologue
-    (docs/spec.md §3.6) instead of in a pass of its own. Measured, it saves a dispatch but
-    costs more than the dispatch did, on both devices: on the H100 at 1920 x 1080 the fused
-    reconstruct took 1.05x (McGuire 2012) and 1.31x (Guertin 2014) as long as the separate
-    NeighborMax pass plus reconstruct, on llvmpipe at 640 x 360 1.4-1.6x
-    (benchmarks/fused_neighbor_max.py, 2026-11-23). So no device folds it; the fused shader
-    stays, tested bit for bit against the separate one, for that benchmark to re-measure."""
-    del ctx  # the choice was made per device; both measured devices now say no
-    return False
-
-
 def tile_passes(
     ctx: Context,
     motion,
@@ -120,13 +108,10 @@ def tile_passes(
     backend: str,
     diagonal_reach=False,
     with_bounds=False,
-    neighbor_max_pass=True,
 ):
     """TileMax (§3.2) and NeighborMax (§3.3, or the direction-keeping dilation of
     docs/guertin2014.md): (tiles, neighbors, timings, bounds). `with_bounds` has TileMax also
-    write each tile's motion bounds for classification (docs/classify_and_steps.md). Without
-    `neighbor_max_pass` NeighborMax is not run: `neighbors` is the grid the reconstruct pass
-    that computes it in its prologue writes (§3.6)."""
+    write each tile's motion bounds for classification (docs/classify_and_steps.md)."""
     height, width = motion.shape[:2]
     k = values["k"]
     grid = (-(-height // k), -(-width // k), 2)
@@ -153,49 +138,40 @@ def tile_passes(
         defines=defines,
         group_per_texel=group_per_tile,
     )
-    if neighbor_max_pass:
-        run_pass(
-            ctx,
-            timings,
-            NEIGHBOR_MAX,
-            params,
-            values,
-            {"tile_max": tiles},
-            {"neighbor_max": neighbors},
-            backend,
-            uniforms={"diagonal_reach": diagonal_reach},
-        )
+    run_pass(
+        ctx,
+        timings,
+        NEIGHBOR_MAX,
+        params,
+        values,
+        {"tile_max": tiles},
+        {"neighbor_max": neighbors},
+        backend,
+        uniforms={"diagonal_reach": diagonal_reach},
+    )
     return tiles, neighbors, timings, bounds
 
 
 def run_filter(name: str, params: dict[str, Param], reconstruct: Pass, diagonal_reach: bool):
     """TileMax → NeighborMax → the method's `reconstruct` pass (docs/spec.md §3,
     docs/guertin2014.md), the last one tile class by tile class where the method offers
-    classify=True; `params` are the method's parameter declarations. On the compute backend
-    of a GPU without classification the reconstruct pass computes NeighborMax in its
-    prologue (§3.6): two dispatches instead of three."""
+    classify=True; `params` are the method's parameter declarations. NeighborMax keeps a pass
+    of its own: computing it in the reconstruct pass's prologue measured slower (§3.6)."""
 
     def run(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
         classified = values.get("classify", False)
         if classified:
             classification.check_request(name, values, backend, FILTER_OPTIONS)
-        fused = backend == "compute" and not classified and folds_neighbor_max(ctx)
         tiles, neighbors, timings, bounds = tile_passes(
-            ctx, inputs["motion"], params, values, backend, diagonal_reach, classified, not fused
+            ctx, inputs["motion"], params, values, backend, diagonal_reach, classified
         )
         result = ctx.pooled(inputs["color"].shape[:2] + (4,))
-        textures = {"color": inputs["color"], "depth": inputs["depth"], "motion": inputs["motion"]}
-        outputs = {"result": result}
-        fusion = {}
-        if fused:
-            textures["tile_max"] = tiles
-            outputs["neighbor_max"] = neighbors
-            fusion = {
-                "uniforms": {"diagonal_reach": diagonal_reach},
-                "defines": {"FUSED_NEIGHBOR_MAX": 1},
-            }
-        else:
-            textures["neighbor_max"] = neighbors
+        textures = {
+            "color": inputs["color"],
+            "depth": inputs["depth"],
+            "motion": inputs["motion"],
+            "neighbor_max": neighbors,
+        }
 
         def run_reconstruct(tiles_of_class=None):
             run_pass(
@@ -205,10 +181,9 @@ def run_filter(name: str, params: dict[str, Param], reconstruct: Pass, diagonal_
                 params,
                 values,
                 textures,
-                outputs,
+                {"result": result},
                 backend,
                 tiles=tiles_of_class,
-                **fusion,
             )
 
         extra = {}
