@@ -123,7 +123,6 @@ def test_bad_parameters_still_raise_after_a_recording(ctx, frame):
 @pytest.mark.parametrize(
     ("name", "params", "timed"),
     [
-        ("reconstruct_mcguire2012", {"classify": True}, False),  # tile classes: indirect
         ("reconstruct_mcguire2012", {"k": "auto"}, False),  # chosen from the frame each call
         ("reconstruct_mcguire2012", {"k": np.int64(20)}, False),  # not a plain int
         ("reconstruct_mcguire2012", {}, True),  # timed calls time each pass

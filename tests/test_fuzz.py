@@ -23,7 +23,6 @@ from hypothesis.extra import numpy as hnp
 
 import blurlab as bl
 from blurlab.methods import method
-from blurlab.methods.tile_filter import FILTER_OPTIONS
 
 SIZE = (16, 12)  # rendered frames: tiny, so a few thousand examples fit in CI
 
@@ -156,13 +155,6 @@ def test_every_method_takes_any_parameters(ctx, frames, call, backend):
     name, params, invalid = call
     count_example()
     m = method(name)
-    if params.get("classify") is True and backend == "fragment":
-        invalid = invalid | {"classify"}  # tile classification runs on the compute backend
-    options = {k: v for k, v in params.items() if k in FILTER_OPTIONS and k not in invalid}
-    if params.get("classify") is True and any(
-        v != FILTER_OPTIONS[k].default for k, v in options.items()
-    ):
-        invalid = invalid | {"classify"}  # classification takes no filter option yet
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # instant mismatches are warned about, not errors
         instant = bl.method_instant(name, {}) if not callable(m.instant) else "center"

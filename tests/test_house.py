@@ -236,8 +236,7 @@ def test_no_function_local_import_of_a_blurlab_module():
 
 def test_cpp_layers_have_no_include_cycle():
     """Headers include no cycle, and no X.cpp includes a header that itself (through headers)
-    includes X.h: X's implementation would depend on something built on X (the cycle the
-    classification once made between post_process.cpp and classify_tiles.h)."""
+    includes X.h: X's implementation would depend on something built on X."""
     include = re.compile(r'#include "([^"]+)"')
     src = ROOT / "src"
     includes = {

@@ -44,7 +44,6 @@ FILTERS = {"reconstruct_mcguire2012": mcguire2012, "reconstruct_guertin2014": gu
         ("reconstruct_mcguire2012", "compute", {}),
         ("reconstruct_guertin2014", "compute", {}),
         ("reconstruct_guertin2014", "fragment", {}),
-        ("reconstruct_mcguire2012", "compute", {"classify": True}),
         ("reconstruct_urho3d", "fragment", {}),
     ],
 )

@@ -10,7 +10,6 @@ import numpy as np
 import pytest
 
 import blurlab as bl
-from blurlab import _core
 from blurlab.methods import mcguire2012
 from blurlab.methods.core import choice_defines, pass_uniforms
 
@@ -45,9 +44,6 @@ def test_reflect_lists_what_a_pass_takes(ctx):
     camera = ctx.shader_pass("passes/camera_motion.glsl").reflect()
     assert camera["uniforms"]["clip_from_world"] == {"type": "mat4", "count": 32}
     assert camera["images"]["motion"]["format"] == "rg32f"
-    # The tile-list uniform is the pass's own business.
-    with p.restricted_to(_core.TileLists(ctx.native, GRID[1], GRID[0], K), 2):
-        assert "tile_list_k" not in p.reflect()["uniforms"]
 
 
 def test_a_method_pass_takes_its_parameters_under_their_own_names(ctx):

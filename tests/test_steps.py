@@ -75,7 +75,7 @@ def test_sweeps_vary_steps(ctx):
     table = bl.sweep(
         ctx,
         ["fan"],
-        {"gather_box": {"steps": [1, 2]}, FILTER: {"classify": [False, True]}},
+        {"gather_box": {"steps": [1, 2]}, FILTER: {}},
         size=(48, 32),
         reference_samples=64,
         metrics=("psnr",),
@@ -85,8 +85,8 @@ def test_sweeps_vary_steps(ctx):
     boxes = table[table["method"] == "gather_box"].set_index("param_steps")
     assert boxes.loc[2, "psnr"] > boxes.loc[1, "psnr"]
     assert "ms_extra_gbuffers" in table.columns
-    filters = table[table["method"] == FILTER].set_index("param_classify")
-    assert filters.loc[True, "psnr"] == pytest.approx(filters.loc[False, "psnr"], abs=0.1)
+    filters = table[table["method"] == FILTER]
+    assert len(filters) == 1 and np.isfinite(filters["psnr"]).all()
     plain = bl.sweep(
         ctx,
         ["fan"],

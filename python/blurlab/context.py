@@ -218,16 +218,6 @@ class ShaderPass:
         """The shader's samplers, images, fragment outputs and uniforms on `backend`."""
         return self._core.reflect(backend)
 
-    @contextmanager
-    def restricted_to(self, lists: _core.TileLists, tile_class: int):
-        """Inside the block, compute runs cover only the tiles of `tile_class` in `lists` (a
-        tile classification's lists), by an indirect dispatch."""
-        self._core.restrict_to_tiles(lists, tile_class)
-        try:
-            yield self
-        finally:
-            self._core.restrict_to_tiles(None, 0)
-
 
 class DeferredTimers:
     """Timers whose results are read together (Context.deferred_timers)."""
@@ -487,16 +477,13 @@ class Context:
             self._cache[key] = make()
         return self._cache[key]
 
-    def shader_pass(
-        self, shader: str, defines: Mapping[str, object] | None = None, whole_tiles: bool = False
-    ) -> ShaderPass:
+    def shader_pass(self, shader: str, defines: Mapping[str, object] | None = None) -> ShaderPass:
         """The pass of `shader` (a path under the shader folder) compiled with `defines`, made
-        once per context (its programs compile on first use per backend). `whole_tiles`: when
-        restricted to a tile class, one work group per listed tile (cheap passes)."""
+        once per context (its programs compile on first use per backend)."""
         pairs = tuple((str(k), _glsl_literal(v)) for k, v in (defines or {}).items())
         return self.cached(
-            ("shader_pass", shader, pairs, whole_tiles),
-            lambda: ShaderPass(_core.ShaderPass(self._core, shader, list(pairs), whole_tiles)),
+            ("shader_pass", shader, pairs),
+            lambda: ShaderPass(_core.ShaderPass(self._core, shader, list(pairs))),
         )
 
     def pooled(self, shape, dtype: str = "float32") -> Texture:

@@ -325,13 +325,13 @@ def fast_fan() -> Scene:
     return scene
 
 
-# --- benchmark scenes: built for one measurement each (docs/classify_and_steps.md) ---------
+# --- benchmark scenes: built for one measurement each ---------------------------------------
 
 
 def mostly_still() -> Scene:
     """A still room (checkered wall, a box and a sphere) with one small textured card sliding
     across it: most tiles are still, the card's inside moves uniformly, its edges do not. The
-    scene tile classification is measured on (benchmarks/classify.py)."""
+    scene the removed tile classification was measured on (docs/classify_and_steps.md)."""
     scene = _flat("mostly_still")
     _wall(scene)
     scene.add(

@@ -1,19 +1,18 @@
 // The entry points every post-process pass with one RGBA32F output shares. Before including
 // this file a pass defines PASS_AT to its per-pixel function (vec4 f(ivec2 x)) and declares a
 // sampler2D `color` of the output's size. Compute (STAGE_COMPUTE): one invocation per pixel,
-// or per pixel of the listed tiles with TILE_LIST (common/tile_list.glsl), written to image
-// `result`; fragment (STAGE_FRAGMENT): one fragment per pixel of the framebuffer, written to
+// 16 x 16 per work group, written to image `result`; fragment (STAGE_FRAGMENT): one fragment per pixel of the framebuffer, written to
 // output `result`. A pass may define PASS_PROLOGUE to a function that every invocation of a
 // compute work group runs before its bounds test (one with a barrier, common/tile_filter.glsl).
 #ifdef STAGE_COMPUTE
-#include "common/tile_list.glsl"
+layout(local_size_x = 16, local_size_y = 16) in;
 layout(binding = 0, rgba32f) uniform writeonly image2D result;
 
 void main() {
 #ifdef PASS_PROLOGUE
     PASS_PROLOGUE();
 #endif
-    ivec2 x = invocation_pixel();
+    ivec2 x = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(x, textureSize(color, 0)))) return;
     imageStore(result, x, PASS_AT(x));
 }

@@ -34,7 +34,7 @@ vec2 neighbor_max_of(ivec2 tile) {
 // can reach into shared memory (the same function as passes/neighbor_max.glsl, so the same
 // bits), and writes to the neighbor_max image the tiles whose first pixel is its own, so that
 // each tile is written once.
-#if !defined(STAGE_COMPUTE) || defined(TILE_LIST)
+#ifndef STAGE_COMPUTE
 #error "FUSED_NEIGHBOR_MAX is for the compute backend over the whole image"
 #endif
 #include "common/neighbor_max.glsl"
@@ -46,7 +46,7 @@ uniform bool diagonal_reach;
 // A jittered lookup moves by at most k/4 px from a pixel's center, so a group's lookups reach
 // (16 + 2 (k/4 + 2)) / k + 1 tiles per axis at most: 20 at k = 1, fewer for larger k.
 const int GROUP_TILES_SIDE = 20;
-const ivec2 GROUP_SIZE = ivec2(16);  // common/tile_list.glsl's, declared after this file
+const ivec2 GROUP_SIZE = ivec2(16);  // common/pass_main.glsl's, declared after this file
 shared vec2 group_neighbor_max[GROUP_TILES_SIDE * GROUP_TILES_SIDE];
 ivec2 group_first_tile;
 ivec2 group_tiles;

@@ -7,24 +7,12 @@
 // per tile, since a group per 4 x 4 tile leaves most threads idle and barriers cost llvmpipe
 // dearly.
 // NumPy twin: blurlab.twins.mcguire2012.tile_max.
-// With TILE_BOUNDS (compute only) it also writes each tile's component-wise bounds of V
-// (min V.x, min V.y, max V.x, max V.y) for the tile classification (classify_tiles.glsl);
-// NumPy twin blurlab.twins.classify.tile_bounds.
 #include "common/inputs.glsl"
 #include "common/mcguire2012.glsl"
 
 layout(binding = 0) uniform sampler2D motion;
 uniform int k;
 uniform float exposure;
-
-#ifdef TILE_BOUNDS
-const vec4 EMPTY_BOUNDS = vec4(vec2(3.4e38), vec2(-3.4e38));
-vec4 scanned_bounds = EMPTY_BOUNDS;  // of every V that scan() has seen
-
-vec4 union_bounds(vec4 a, vec4 b) {
-    return vec4(min(a.xy, b.xy), max(a.zw, b.zw));
-}
-#endif
 
 // Largest-length half-vector over pixels origin + first + step * (i, j) inside tile and image.
 vec2 scan(ivec2 tile, ivec2 first, int step) {
@@ -37,9 +25,6 @@ vec2 scan(ivec2 tile, ivec2 first, int step) {
         for (int x = origin.x + first.x; x < end.x; x += step) {
             vec2 v = half_velocity(sanitize_motion(texelFetch(motion, ivec2(x, y), 0).xy), exposure, float(k));
             float l = length(v);
-#ifdef TILE_BOUNDS
-            scanned_bounds = union_bounds(scanned_bounds, vec4(v, v));
-#endif
             if (l > best_length) {
                 best = v;
                 best_length = l;
@@ -54,19 +39,12 @@ layout(local_size_x = 8, local_size_y = 8) in;
 layout(binding = 0, rg32f) uniform writeonly image2D tile_max;
 uniform bool group_per_tile;
 shared vec3 candidates[64];  // xy: half-vector, z: its length
-#ifdef TILE_BOUNDS
-layout(binding = 1, rgba32f) uniform writeonly image2D tile_bounds;
-shared vec4 bounds[64];
-#endif
 
 void main() {
     if (!group_per_tile) {
         ivec2 tile = ivec2(gl_GlobalInvocationID.xy);
         if (any(greaterThanEqual(tile, imageSize(tile_max)))) return;
         imageStore(tile_max, tile, vec4(scan(tile, ivec2(0), 1), 0.0, 0.0));
-#ifdef TILE_BOUNDS
-        imageStore(tile_bounds, tile, scanned_bounds);
-#endif
         return;
     }
     // group_per_tile is a uniform: the barriers below stay in uniform control flow.
@@ -74,21 +52,12 @@ void main() {
     uint i = gl_LocalInvocationIndex;
     vec2 v = scan(tile, ivec2(gl_LocalInvocationID.xy), 8);
     candidates[i] = vec3(v, length(v));
-#ifdef TILE_BOUNDS
-    bounds[i] = scanned_bounds;
-#endif
     barrier();
     for (uint stride = 32u; stride > 0u; stride >>= 1u) {
         if (i < stride && candidates[i + stride].z > candidates[i].z) candidates[i] = candidates[i + stride];
-#ifdef TILE_BOUNDS
-        if (i < stride) bounds[i] = union_bounds(bounds[i], bounds[i + stride]);
-#endif
         barrier();
     }
     if (i == 0u) imageStore(tile_max, tile, vec4(candidates[0].xy, 0.0, 0.0));
-#ifdef TILE_BOUNDS
-    if (i == 0u) imageStore(tile_bounds, tile, bounds[0]);
-#endif
 }
 #endif
 

@@ -10,14 +10,12 @@
 #include "gl/context.h"
 #include "gl/mesh.h"
 #include "gl/texture.h"
-#include "passes/classify_tiles.h"
 #include "passes/dispatch_plan.h"
 #include "passes/error_reduction.h"
 #include "passes/gbuffer.h"
 #include "passes/motion_encoding.h"
 #include "passes/shader_pass.h"
 #include "passes/ssim_reduction.h"
-#include "passes/tile_lists.h"
 
 namespace py = pybind11;
 
@@ -210,18 +208,12 @@ void bind_passes(py::module_& m) {
           py::arg("camera"), py::arg("light"), py::arg("draws"),
           py::arg("motion_sides") = py::none());
 
-  py::class_<PostProcessPass, std::shared_ptr<PostProcessPass>>(m, "PostProcessPass")
-      .def(
-          "restrict_to_tiles",
-          [](PostProcessPass& pass, std::shared_ptr<TileLists> lists, int tile_class) {
-            pass.restrict_to_tiles(std::move(lists), tile_class);
-          },
-          py::arg("lists"), py::arg("tile_class"));
+  py::class_<PostProcessPass, std::shared_ptr<PostProcessPass>>(m, "PostProcessPass");
 
   // Runs issue GL commands and do not wait for the GPU, so they keep the GIL.
   py::class_<ShaderPass, PostProcessPass, std::shared_ptr<ShaderPass>>(m, "ShaderPass")
-      .def(py::init<std::shared_ptr<Context>, std::string, Defines, bool>(), py::arg("context"),
-           py::arg("shader"), py::arg("defines") = Defines{}, py::arg("whole_tiles") = false)
+      .def(py::init<std::shared_ptr<Context>, std::string, Defines>(), py::arg("context"),
+           py::arg("shader"), py::arg("defines") = Defines{})
       .def_property_readonly("shader", &ShaderPass::shader)
       .def(
           "run",
@@ -269,21 +261,6 @@ void bind_passes(py::module_& m) {
           py::arg("backend"), py::arg("group_per_texel"))
       .def("run", &DispatchPlan::run, py::arg("textures"))
       .def_property_readonly("steps", &DispatchPlan::steps);
-
-  py::class_<TileLists, std::shared_ptr<TileLists>>(m, "TileLists")
-      .def(py::init<std::shared_ptr<Context>, int, int, int>(), py::arg("context"),
-           py::arg("grid_width"), py::arg("grid_height"), py::arg("k"))
-      .def("counts", &TileLists::counts)
-      .def("tiles", &TileLists::tiles, py::arg("tile_class"))
-      .def_property_readonly("k", &TileLists::k)
-      .def_property_readonly("grid_width", &TileLists::grid_width)
-      .def_property_readonly("grid_height", &TileLists::grid_height);
-
-  py::class_<ClassifyTilesPass, std::shared_ptr<ClassifyTilesPass>>(m, "ClassifyTilesPass")
-      .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))
-      .def("run", &ClassifyTilesPass::run, py::arg("tile_bounds"), py::arg("neighbor_max"),
-           py::arg("tile_class"), py::arg("lists"), py::arg("still_threshold"),
-           py::arg("uniform_spread"));
 
   py::class_<ErrorReductionPass, std::shared_ptr<ErrorReductionPass>>(m, "ErrorReductionPass")
       .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))

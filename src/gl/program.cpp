@@ -537,18 +537,4 @@ void Program::dispatch(int groups_x, int groups_y, int groups_z) {
   check_gl(("dispatching " + name_).c_str());
 }
 
-void Program::dispatch_indirect(GLuint buffer, GLintptr offset) {
-  if (local_size_[0] == 0)
-    throw std::invalid_argument("blurlab: " + name_ + " is not a compute program");
-  if (offset % 4 != 0)
-    throw std::invalid_argument("blurlab: an indirect dispatch offset must be a multiple of 4");
-  context_->make_current();
-  glUseProgram(id_);
-  glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, buffer);
-  glDispatchComputeIndirect(offset);
-  glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
-  glMemoryBarrier(GL_ALL_BARRIER_BITS);
-  check_gl(("dispatching " + name_ + " indirectly").c_str());
-}
-
 }  // namespace blurlab

@@ -3,7 +3,6 @@
 #include "gl/context.h"
 #include "gl/fullscreen.h"
 #include "gl/texture.h"
-#include "passes/tile_lists.h"
 
 namespace blurlab {
 
@@ -20,31 +19,9 @@ PostProcessPass::PostProcessPass(std::shared_ptr<Context> context, std::string s
 
 PostProcessPass::~PostProcessPass() = default;
 
-PostProcessPass::Variant::Variant(PostProcessPass& pass, Defines defines)
-    : pass_(pass), previous_(std::move(pass.variant_)) {
-  pass_.variant_ = std::move(defines);
-}
-
-PostProcessPass::Variant::~Variant() {
-  pass_.variant_ = std::move(previous_);
-}
-
-void PostProcessPass::restrict_to_tiles(std::shared_ptr<const TileLists> lists, int tile_class) {
-  if (lists && (tile_class < 0 || tile_class >= TileLists::kClasses))
-    throw std::invalid_argument("blurlab: tile class " + std::to_string(tile_class) +
-                                " is outside 0.." + std::to_string(TileLists::kClasses - 1));
-  tile_lists_ = std::move(lists);
-  tile_class_ = tile_class;
-}
-
 Defines PostProcessPass::defines(Backend backend) const {
   Defines d{{backend == Backend::compute ? "STAGE_COMPUTE" : "STAGE_FRAGMENT", "1"}};
   d.insert(d.end(), defines_.begin(), defines_.end());
-  d.insert(d.end(), variant_.begin(), variant_.end());
-  if (tile_lists_ && backend == Backend::compute) {
-    d.emplace_back("TILE_LIST", "1");
-    if (whole_tiles_) d.emplace_back("WHOLE_TILES", "1");
-  }
   return d;
 }
 
@@ -73,21 +50,11 @@ void PostProcessPass::run(Backend backend, const std::vector<const Texture*>& in
 void PostProcessPass::run_bound(Backend backend, const std::vector<TextureUnitBinding>& textures,
                                 const std::vector<ImageUnitBinding>& images, const Texture& target,
                                 bool group_per_texel) {
-  if (tile_lists_ && backend != Backend::compute)
-    throw std::invalid_argument("blurlab: tile lists run on the compute backend only");
   Program& p = program(backend);
   for (const TextureUnitBinding& t : textures) p.bind_texture(t.unit, *t.texture);
   for (const ImageUnitBinding& i : images) p.bind_image(i.unit, *i.texture, i.access);
   if (backend == Backend::compute) {
-    if (tile_lists_) {
-      const TileLists& lists = *tile_lists_;
-      if (lists.grid_width() != (target.width() + lists.k() - 1) / lists.k() ||
-          lists.grid_height() != (target.height() + lists.k() - 1) / lists.k())
-        throw std::invalid_argument("blurlab: the tile lists were made for another image size");
-      p.set_uniform(kTileListK, {double(lists.k())});
-      lists.bind_list(0, tile_class_);
-      p.dispatch_indirect(lists.buffer(), lists.command_offset(tile_class_, whole_tiles_));
-    } else if (group_per_texel) {
+    if (group_per_texel) {
       p.dispatch(target.width(), target.height(), 1);
     } else {
       const auto local = p.local_size();

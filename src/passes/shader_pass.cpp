@@ -48,11 +48,8 @@ std::vector<TextureUnitBinding> units_of(const Program& p, const NamedTextures& 
 
 }  // namespace
 
-ShaderPass::ShaderPass(std::shared_ptr<Context> context, std::string shader, Defines defines,
-                       bool whole_tiles)
-    : PostProcessPass(std::move(context), std::move(shader), std::move(defines)) {
-  whole_tiles_ = whole_tiles;
-}
+ShaderPass::ShaderPass(std::shared_ptr<Context> context, std::string shader, Defines defines)
+    : PostProcessPass(std::move(context), std::move(shader), std::move(defines)) {}
 
 const ShaderPass::Units& ShaderPass::units(const Program& p, const NamedTextures& inputs,
                                            const NamedTextures& outputs, Backend backend) {
@@ -99,9 +96,6 @@ void ShaderPass::run(const NamedTextures& inputs, const NamedTextures& outputs,
 ResolvedRun ShaderPass::resolve(const NamedTextures& inputs, const NamedTextures& outputs,
                                 const UniformValues& uniforms, Backend backend,
                                 bool group_per_texel, const std::vector<const Texture*>& textures) {
-  if (restricted())
-    throw std::invalid_argument("blurlab: " + shader() +
-                                ": a run restricted to a tile class cannot be replayed");
   ResolvedRun r;
   Program& p = program(backend);
   const Units& u = units(p, inputs, outputs, backend);
@@ -148,7 +142,7 @@ ShaderReflection ShaderPass::reflect(Backend backend) {
       r.samplers[name] = {type, u.unit, ""};
     else if (is_image_type(u.type))
       r.images[name] = {type, u.unit, u.format};
-    else if (name != kTileListK)
+    else
       r.uniforms[name] = {type, uniform_components(u.type) * u.array_size};
   }
   for (const auto& [name, output] : p.outputs())

@@ -62,11 +62,7 @@ class ShaderPass : public PostProcessPass {
  public:
   // `shader`: relative to the shader folder, compiled with STAGE_COMPUTE or STAGE_FRAGMENT and
   // `defines`.
-  // `whole_tiles`: restricted to a tile class, one work group takes a whole listed tile
-  // (WHOLE_TILES in common/tile_list.glsl), for passes too cheap per pixel to pay for a group
-  // per 8 x 8 block.
-  ShaderPass(std::shared_ptr<Context> context, std::string shader, Defines defines = {},
-             bool whole_tiles = false);
+  ShaderPass(std::shared_ptr<Context> context, std::string shader, Defines defines = {});
 
   // Runs the shader once per texel of the first output. `inputs` must name every sampler of the
   // program; `outputs` every image (compute), or the one fragment output (fragment: drawn as the
@@ -78,14 +74,12 @@ class ShaderPass : public PostProcessPass {
 
   // What run() would do with these arguments, checked as run() checks them, without running it:
   // every texture named must be one of `textures`, and the result refers to them by index.
-  // Throws std::invalid_argument while restricted to a tile class (an indirect dispatch reads
-  // counts that change from run to run).
   ResolvedRun resolve(const NamedTextures& inputs, const NamedTextures& outputs,
                       const UniformValues& uniforms, Backend backend, bool group_per_texel,
                       const std::vector<const Texture*>& textures);
 
   // The program's samplers, images, fragment outputs and uniforms on `backend` (compiling it if
-  // need be), leaving out the tile-list uniform that run() sets itself.
+  // need be).
   ShaderReflection reflect(Backend backend);
 
  private:

@@ -622,7 +622,6 @@ class Pass:
     name: str
     shader: str  # under shaders/
     params: tuple[str, ...] = ()
-    whole_tiles: bool = False  # restricted to a tile class: a work group per tile (cheap passes)
 
 
 def pass_uniforms(params: dict[str, Param], values: dict, names) -> dict:
@@ -659,16 +658,14 @@ def run_pass(
     uniforms: dict | None = None,
     defines: dict | None = None,
     group_per_texel: bool = False,
-    tiles=None,
 ) -> None:
     """Runs `step` with the method's validated `values` (and any pass-level `uniforms`), timed
-    under step.name; `tiles` = (lists, tile_class) restricts it to one class of a tile
-    classification."""
+    under step.name."""
     extra = tuple(sorted(defines.items())) if defines else ()
 
     def make():
         all_defines = {**choice_defines(params, step.params), **dict(extra)}
-        return ctx.shader_pass(step.shader, all_defines, step.whole_tiles)
+        return ctx.shader_pass(step.shader, all_defines)
 
     shader = ctx.cached(("run_pass", step, id(params), extra), make)
     all_uniforms = {**pass_uniforms(params, values, step.params), **(uniforms or {})}
@@ -678,18 +675,11 @@ def run_pass(
 
     recorder = plans.active_recorder()
     if recorder is not None:
-        if tiles is None:
-            recorder.runs.append(
-                plans.RecordedRun(shader, inputs, outputs, all_uniforms, backend, group_per_texel)
-            )
-            recorder.timing_names.append(step.name)
-        else:  # an indirect dispatch over counts that change from frame to frame
-            recorder.unfit()
-    if tiles is None:
-        _timed(ctx, timings, step.name, run)
-        return
-    with shader.restricted_to(*tiles):
-        _timed(ctx, timings, step.name, run)
+        recorder.runs.append(
+            plans.RecordedRun(shader, inputs, outputs, all_uniforms, backend, group_per_texel)
+        )
+        recorder.timing_names.append(step.name)
+    _timed(ctx, timings, step.name, run)
 
 
 _TIMED: contextvars.ContextVar[bool] = contextvars.ContextVar("blurlab_timed", default=True)

@@ -32,7 +32,7 @@ register(
         instant="center",
         params=PARAMS,
         backends=("compute", "fragment"),
-        run=run_filter("reconstruct_guertin2014", PARAMS, RECONSTRUCT, diagonal_reach=True),
+        run=run_filter(PARAMS, RECONSTRUCT, diagonal_reach=True),
         default_grid=[{"k": [20], "samples": [9, 15, 25]}, *OPTIONS_AT_DEFAULT],
         twin=twin.reconstruct_guertin2014,
         doc="Guertin, McGuire, Nowrouzezahrai: A Fast and Stable Feature-Aware Motion Blur "

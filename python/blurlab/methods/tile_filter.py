@@ -1,7 +1,7 @@
 """The shared core of the tile-based reconstruction filters (docs/spec.md §3): their common
 parameters, TileMax → NeighborMax, and the filter pipeline that ends in a method's own
 reconstruct pass. reconstruct_mcguire2012, reconstruct_guertin2014 and reconstruct_urho3d are
-built on it; the tile classification of mcguire2012 plugs into its last step.
+built on it.
 """
 
 from __future__ import annotations
@@ -12,7 +12,6 @@ import numpy as np
 
 from ..context import Context, Timing
 from ..frame import Frame
-from . import classification
 from .core import FLOAT32_MAX, PARAM_SCALE_MAX, SEED, Param, Pass, run_pass
 
 
@@ -107,24 +106,15 @@ def tile_passes(
     values: dict,
     backend: str,
     diagonal_reach=False,
-    with_bounds=False,
 ):
     """TileMax (§3.2) and NeighborMax (§3.3, or the direction-keeping dilation of
-    docs/guertin2014.md): (tiles, neighbors, timings, bounds). `with_bounds` has TileMax also
-    write each tile's motion bounds for classification (docs/classify_and_steps.md)."""
+    docs/guertin2014.md): (tiles, neighbors, timings)."""
     height, width = motion.shape[:2]
     k = values["k"]
     grid = (-(-height // k), -(-width // k), 2)
     tiles, neighbors = ctx.pooled(grid), ctx.pooled(grid)
     timings: dict[str, Timing] = {}
     group_per_tile = k > largest_tile_for_one_thread(ctx)
-    outputs = {"tile_max": tiles}
-    defines = {}
-    bounds = None
-    if with_bounds:
-        bounds = ctx.pooled((*grid[:2], 4))
-        outputs["tile_bounds"] = bounds
-        defines["TILE_BOUNDS"] = 1
     run_pass(
         ctx,
         timings,
@@ -132,10 +122,9 @@ def tile_passes(
         params,
         values,
         {"motion": motion},
-        outputs,
+        {"tile_max": tiles},
         backend,
         uniforms={"group_per_tile": group_per_tile} if backend == "compute" else {},
-        defines=defines,
         group_per_texel=group_per_tile,
     )
     run_pass(
@@ -149,21 +138,17 @@ def tile_passes(
         backend,
         uniforms={"diagonal_reach": diagonal_reach},
     )
-    return tiles, neighbors, timings, bounds
+    return tiles, neighbors, timings
 
 
-def run_filter(name: str, params: dict[str, Param], reconstruct: Pass, diagonal_reach: bool):
+def run_filter(params: dict[str, Param], reconstruct: Pass, diagonal_reach: bool):
     """TileMax → NeighborMax → the method's `reconstruct` pass (docs/spec.md §3,
-    docs/guertin2014.md), the last one tile class by tile class where the method offers
-    classify=True; `params` are the method's parameter declarations. NeighborMax keeps a pass
-    of its own: computing it in the reconstruct pass's prologue measured slower (§3.6)."""
+    docs/guertin2014.md); `params` are the method's parameter declarations. NeighborMax keeps a
+    pass of its own: computing it in the reconstruct pass's prologue measured slower (§3.6)."""
 
     def run(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
-        classified = values.get("classify", False)
-        if classified:
-            classification.check_request(name, values, backend, FILTER_OPTIONS)
-        tiles, neighbors, timings, bounds = tile_passes(
-            ctx, inputs["motion"], params, values, backend, diagonal_reach, classified
+        tiles, neighbors, timings = tile_passes(
+            ctx, inputs["motion"], params, values, backend, diagonal_reach
         )
         result = ctx.pooled(inputs["color"].shape[:2] + (4,))
         textures = {
@@ -172,30 +157,7 @@ def run_filter(name: str, params: dict[str, Param], reconstruct: Pass, diagonal_
             "motion": inputs["motion"],
             "neighbor_max": neighbors,
         }
-
-        def run_reconstruct(tiles_of_class=None):
-            run_pass(
-                ctx,
-                timings,
-                reconstruct,
-                params,
-                values,
-                textures,
-                {"result": result},
-                backend,
-                tiles=tiles_of_class,
-            )
-
-        extra = {}
-        if classified:
-            extra["tile_bounds"] = bounds
-            extra.update(
-                classification.run_classified(
-                    ctx, timings, params, values, inputs, neighbors, bounds, result, run_reconstruct
-                )
-            )
-        else:
-            run_reconstruct()
-        return {"color": result, "tile_max": tiles, "neighbor_max": neighbors, **extra}, timings
+        run_pass(ctx, timings, reconstruct, params, values, textures, {"result": result}, backend)
+        return {"color": result, "tile_max": tiles, "neighbor_max": neighbors}, timings
 
     return run

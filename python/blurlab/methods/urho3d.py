@@ -37,7 +37,7 @@ RECONSTRUCT = Pass(
 
 
 def _run_urho3d(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
-    tiles, neighbors, timings, _ = tile_passes(ctx, inputs["motion"], PARAMS, values, backend)
+    tiles, neighbors, timings = tile_passes(ctx, inputs["motion"], PARAMS, values, backend)
     result = ctx.pooled(inputs["color"].shape[:2] + (4,))
     seed = values["seed"]
     jitter = ctx.cached(("urho3d_jitter", seed), lambda: ctx.upload(twin.jitter_texture(seed)))

@@ -5,7 +5,6 @@ Each GPU pass has its twin here, and the tests hold the GPU to it.
 
 from . import (
     accumulation,
-    classify,
     flip,
     gathers,
     guertin2014,
@@ -22,7 +21,6 @@ from .patterns import test_pattern
 
 __all__ = [
     "accumulation",
-    "classify",
     "flip",
     "gathers",
     "guertin2014",

@@ -156,7 +156,7 @@ def reconstruct_mcguire2012(
 ) -> np.ndarray:
     """§3.4: (H, W, C) float64 blurred color, with the options of docs/guertin2014.md
     (jitter_tiles, adaptive_samples, early_exit; 0 is off). `neighbor` is NeighborMax if
-    already computed. The tile-classified filter is blurlab.twins.classify.reconstruct."""
+    already computed."""
     color = sanitize_color(color)
     depth = sanitize_depth(depth)
     h, w = depth.shape
