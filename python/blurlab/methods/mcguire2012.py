@@ -14,13 +14,19 @@ from __future__ import annotations
 from ..twins import classify as twin
 from .classification import CLASSIFY_PARAMS
 from .core import Method, Pass, register
-from .tile_filter import FILTER_OPTIONS, OPTIONS_AT_DEFAULT, TILE_FILTER_PARAMS, run_filter
+from .tile_filter import (
+    FILTER_OPTIONS,
+    OPTIONS_AT_DEFAULT,
+    TILE_FILTER_PARAMS,
+    run_filter,
+    uniform_names,
+)
 
 PARAMS = {**TILE_FILTER_PARAMS, **FILTER_OPTIONS, **CLASSIFY_PARAMS}
 RECONSTRUCT = Pass(
     "reconstruct",
     "passes/reconstruct_mcguire2012.glsl",
-    (*TILE_FILTER_PARAMS, *FILTER_OPTIONS),
+    uniform_names({**TILE_FILTER_PARAMS, **FILTER_OPTIONS}),
 )
 
 register(

@@ -7,6 +7,7 @@ built on it; the tile classification of mcguire2012 plugs into its last step.
 from __future__ import annotations
 
 import math
+import weakref
 
 import numpy as np
 
@@ -75,7 +76,18 @@ FILTER_OPTIONS = {
     "jitter_tiles": Param(0, int, "1: jittered NeighborMax lookup against tile blockiness", 0, 1),
     "adaptive_samples": Param(0, int, "1: S scaled with the neighborhood's motion length", 0, 1),
     "early_exit": Param(0.0, float, "pixels whose neighborhood moves < this many px keep C", 0),
+    "packed_inputs": Param(
+        False, bool, "read colour, motion and depth as half floats packed once per frame"
+    ),
 }
+# Options that pick a shader variant (a #define), not a uniform of the same name.
+VARIANT_OPTIONS = ("packed_inputs",)
+
+
+def uniform_names(params) -> tuple[str, ...]:
+    """The parameters among `params` that a reconstruct pass takes as uniforms."""
+    return tuple(key for key in params if key not in VARIANT_OPTIONS)
+
 
 # The sweep grid every filter shares: each option gets one point beside the default
 # configuration instead of multiplying the k × S product.
@@ -152,6 +164,30 @@ def tile_passes(
     return tiles, neighbors, timings, bounds
 
 
+PACK_INPUTS = "passes/pack_inputs.comp"
+
+
+def packed_inputs(ctx: Context, frame: Frame, inputs: dict) -> dict:
+    """docs/spec.md §19: the frame's colour and its motion + depth as two RGBA16F textures
+    ({"color", "motion_depth"}), packed by the first call that asks and kept beside the frame's
+    own textures in `inputs` (the frame's dict, frame_textures), so a sweep packs once per
+    frame; the packing's time goes to frame.timings["pack_inputs"]. Not part of a recorded
+    plan: a replay reads the kept textures."""
+    if "packed_color" not in inputs:
+        height, width = inputs["color"].shape[:2]
+        color = ctx.empty((height, width, 4), "float16")
+        motion_depth = ctx.empty((height, width, 4), "float16")
+        sources = {name: inputs[name] for name in ("color", "depth", "motion")}
+        with ctx.timer() as timing:
+            ctx.shader_pass(PACK_INPUTS).run(
+                sources, {"packed_color": color, "packed_motion_depth": motion_depth}
+            )
+        frame.timings["pack_inputs"] = timing
+        inputs["packed_color"], inputs["packed_motion_depth"] = color, motion_depth
+        weakref.finalize(frame, ctx.recycle, color, motion_depth)
+    return {"color": inputs["packed_color"], "motion_depth": inputs["packed_motion_depth"]}
+
+
 def run_filter(name: str, params: dict[str, Param], reconstruct: Pass, diagonal_reach: bool):
     """TileMax → NeighborMax → the method's `reconstruct` pass (docs/spec.md §3,
     docs/guertin2014.md), the last one tile class by tile class where the method offers
@@ -162,16 +198,19 @@ def run_filter(name: str, params: dict[str, Param], reconstruct: Pass, diagonal_
         classified = values.get("classify", False)
         if classified:
             classification.check_request(name, values, backend, FILTER_OPTIONS)
+        packed = values["packed_inputs"]
+        if packed:
+            textures = packed_inputs(ctx, frame, inputs)
+            motion = textures["motion_depth"]  # TileMax reads its xy
+        else:
+            textures = {key: inputs[key] for key in ("color", "depth", "motion")}
+            motion = inputs["motion"]
         tiles, neighbors, timings, bounds = tile_passes(
-            ctx, inputs["motion"], params, values, backend, diagonal_reach, classified
+            ctx, motion, params, values, backend, diagonal_reach, classified
         )
         result = ctx.pooled(inputs["color"].shape[:2] + (4,))
-        textures = {
-            "color": inputs["color"],
-            "depth": inputs["depth"],
-            "motion": inputs["motion"],
-            "neighbor_max": neighbors,
-        }
+        textures["neighbor_max"] = neighbors
+        defines = {"PACKED_INPUTS": 1} if packed else None
 
         def run_reconstruct(tiles_of_class=None):
             run_pass(
@@ -183,6 +222,7 @@ def run_filter(name: str, params: dict[str, Param], reconstruct: Pass, diagonal_
                 textures,
                 {"result": result},
                 backend,
+                defines=defines,
                 tiles=tiles_of_class,
             )
 
