@@ -6,6 +6,8 @@ built on it; the tile classification of mcguire2012 plugs into its last step.
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import math
 import weakref
 
@@ -13,7 +15,7 @@ import numpy as np
 
 from ..context import Context, Timing
 from ..frame import Frame
-from . import classification
+from . import classification, plans
 from .core import FLOAT32_MAX, PARAM_SCALE_MAX, SEED, Param, Pass, run_pass
 
 
@@ -104,6 +106,38 @@ TILE_MAX = Pass("tile_max", "passes/tile_max.glsl", ("k", "exposure"))
 NEIGHBOR_MAX = Pass("neighbor_max", "passes/neighbor_max.glsl")
 
 
+# The layouts of TileMax's work group per tile (shaders/passes/tile_max.glsl's header; docs/spec.md
+# §3.2): the #defines of each. All give the same bits; benchmarks/speed_floor.py times them.
+TILE_MAX_VARIANTS = {
+    "strided_8x8": {},
+    "strided_8x8_subgroup": {"TILE_MAX_SUBGROUP": 1},
+    "rows_32": {"TILE_MAX_THREADS": 32},
+    "rows_64": {"TILE_MAX_THREADS": 64},
+    "rows_128": {"TILE_MAX_THREADS": 128},
+    "rows_64_subgroup": {"TILE_MAX_THREADS": 64, "TILE_MAX_SUBGROUP": 1},
+    "rows_128_subgroup": {"TILE_MAX_THREADS": 128, "TILE_MAX_SUBGROUP": 1},
+}
+DEFAULT_TILE_MAX_VARIANT = "strided_8x8"
+_TILE_MAX_VARIANT = contextvars.ContextVar("blurlab_tile_max_variant", default=None)
+
+
+@contextlib.contextmanager
+def tile_max_variant(name: str):
+    """Inside the block, TileMax's work group per tile takes layout `name` of
+    TILE_MAX_VARIANTS (for benchmarks and tests; tile classification keeps the default), and
+    no dispatch plan is recorded or replayed, as plans do not know the layout."""
+    if name not in TILE_MAX_VARIANTS:
+        raise ValueError(
+            f"blurlab: no TileMax variant {name!r}; the variants are {list(TILE_MAX_VARIANTS)}"
+        )
+    token = _TILE_MAX_VARIANT.set(name)
+    try:
+        with plans.disabled():
+            yield
+    finally:
+        _TILE_MAX_VARIANT.reset(token)
+
+
 def largest_tile_for_one_thread(ctx: Context) -> int:
     """Largest tile side that one thread of TileMax scans. On a GPU a work group per tile pays
     off above 8 x 8 pixels; llvmpipe runs a group's threads as SIMD lanes and its barriers are
@@ -137,6 +171,8 @@ def tile_passes(
         bounds = ctx.pooled((*grid[:2], 4))
         outputs["tile_bounds"] = bounds
         defines["TILE_BOUNDS"] = 1
+    elif backend == "compute" and group_per_tile:
+        defines.update(TILE_MAX_VARIANTS[_TILE_MAX_VARIANT.get() or DEFAULT_TILE_MAX_VARIANT])
     run_pass(
         ctx,
         timings,
