@@ -1,7 +1,10 @@
 """The shared core of the tile-based reconstruction filters (docs/spec.md §3): their common
 parameters, TileMax → NeighborMax, and the filter pipeline that ends in a method's own
 reconstruct pass. reconstruct_mcguire2012, reconstruct_guertin2014 and reconstruct_urho3d are
-built on it; the tile classification of mcguire2012 plugs into its last step.
+built on it; the tile classification of mcguire2012 plugs into its last step. With the option
+packed_inputs (mcguire2012 and guertin2014) TileMax and reconstruct read the half-float textures
+that packed_inputs() makes once per frame (docs/spec.md §19). TileMax's work-group layout is
+one of TILE_MAX_VARIANTS, chosen for benchmarks by tile_max_variant().
 """
 
 from __future__ import annotations

@@ -86,7 +86,8 @@ def reconstruct_guertin2014(
     neighbor: np.ndarray | None = None,
 ) -> np.ndarray:
     """(H, W, C) float64 blurred color. `neighbor`: NeighborMax (with diagonal_reach) if
-    already computed; the options (0 is off) are those of docs/guertin2014.md."""
+    already computed; the options (0 is off) are those of docs/guertin2014.md, and
+    packed_inputs reads the inputs as docs/spec.md §19 packs them."""
     if packed_inputs:  # docs/spec.md §19: what the packed textures hold
         color, depth, motion = pack_half(color, depth, motion)
     color = sanitize_color(color)

@@ -156,7 +156,8 @@ def reconstruct_mcguire2012(
     neighbor: np.ndarray | None = None,
 ) -> np.ndarray:
     """§3.4: (H, W, C) float64 blurred color, with the options of docs/guertin2014.md
-    (jitter_tiles, adaptive_samples, early_exit; 0 is off). `neighbor` is NeighborMax if
+    (jitter_tiles, adaptive_samples, early_exit; 0 is off) and packed_inputs (docs/spec.md
+    §19: the inputs rounded as the packed textures hold them). `neighbor` is NeighborMax if
     already computed. The tile-classified filter is blurlab.twins.classify.reconstruct."""
     if packed_inputs:  # docs/spec.md §19: what the packed textures hold
         color, depth, motion = pack_half(color, depth, motion)
