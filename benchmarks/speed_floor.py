@@ -1,10 +1,12 @@
 """Issue 19's figures in one run ("speed to the floor"), on one G-buffer of teapot_pass:
 
 1. filters: McGuire 2012 (k = 20, S = 15) and Guertin 2014 per pass, compute and fragment
-   (fragment / compute), and a Python call (wall clock per bl.blur over a loop, finished once)
-   against its GPU time;
+   (fragment / compute), each with the stored and the packed inputs (packed_inputs, docs/spec.md
+   §19; the packing pass timed once), and a Python call (wall clock per bl.blur over a loop,
+   finished once) against its GPU time; then TileMax's work-group layouts (TILE_MAX_VARIANTS)
+   at each --tile-max-k, on stored and packed motion, and whether they give the same bits;
 2. bytes per pixel the filter cannot avoid (read colour, depth and motion once, write colour
-   once, as the textures are stored) and the share of the DRAM floor: those bytes at the
+   once), as stored and packed, and the share of the DRAM floor: those bytes at the
    bandwidth of a streaming pass (accumulate.comp over --bandwidth-size, 48 B per pixel)
    against the filter's GPU time;
 3. sweep evaluations per second (blur + metrics reduced on the GPU, untimed, parameters
@@ -32,6 +34,7 @@ import time
 
 import blurlab as bl
 from blurlab import metrics
+from blurlab.methods.tile_filter import TILE_MAX_VARIANTS, tile_max_variant
 
 from common import describe, open_context, save
 
@@ -63,12 +66,17 @@ def wall_ms(fn, runs: int) -> float:
 
 
 def filters(ctx, frame, runs: int) -> dict:
+    """Each filter per backend with the stored inputs ("compute", "fragment") and with packed
+    inputs ("compute packed", "fragment packed"; the frame is packed once, before timing)."""
     out = {}
     print("\n| filter / backend | per pass, ms | GPU total, ms | Python call, ms | call / GPU |")
     print("|---|---|---|---|---|")
-    for name, params in FILTERS.items():
+    for name, stored_params in FILTERS.items():
         out[name] = {}
-        for backend in bl.method(name).backends:
+        ways = itertools.product(bl.method(name).backends, (False, True))
+        for backend, packed in ways:
+            params = {**stored_params, "packed_inputs": packed}
+            label = backend + (" packed" if packed else "")
             for _ in range(2):
                 bl.blur(ctx, frame, name, backend=backend, **params)
             per_pass: dict = {}
@@ -87,18 +95,63 @@ def filters(ctx, frame, runs: int) -> dict:
                 bl.blur(ctx, frame, name, backend=backend, timed=False, **params)
             ctx.finish()
             call = 1e3 * (time.perf_counter() - start) / calls
-            out[name][backend] = {"passes_ms": medians, "total_ms": total, "call_ms": call}
+            out[name][label] = {"passes_ms": medians, "total_ms": total, "call_ms": call}
             passes = ", ".join(f"{p} {v:.4f}" for p, v in medians.items())
-            print(
-                f"| {name} / {backend} | {passes} | {total:.4f} | {call:.4f} | {call / total:.2f} |"
-            )
+            ratio = call / total
+            print(f"| {name} / {label} | {passes} | {total:.4f} | {call:.4f} | {ratio:.2f} |")
         both = out[name]
-        if "fragment" in both:
-            both["fragment_over_compute"] = (
-                both["fragment"]["total_ms"] / both["compute"]["total_ms"]
-            )
-            print(f"| {name}: fragment / compute | | {both['fragment_over_compute']:.1f}x | | |")
+        for suffix in ("", " packed"):
+            if "fragment" + suffix in both:
+                ratio = both["fragment" + suffix]["total_ms"] / both["compute" + suffix]["total_ms"]
+                both["fragment_over_compute" + suffix.replace(" ", "_")] = ratio
+                print(f"| {name}: fragment / compute{suffix} | | {ratio:.1f}x | | |")
+        packing = both["compute"]["total_ms"] / both["compute packed"]["total_ms"]
+        both["stored_over_packed"] = packing
+        print(f"| {name}: compute stored / packed | | {packing:.2f}x | | |")
+    out["pack_inputs_ms"] = frame.timings["pack_inputs"].ms  # once per frame, first call
+    print(f"| packing pass (once per frame) | | {out['pack_inputs_ms']:.4f} | | |")
     return out
+
+
+def tile_max_variants(ctx, frame, runs: int, ks) -> dict:
+    """TileMax's pass time for each work-group layout (TILE_MAX_VARIANTS) at each k, reading the
+    stored motion (RG32F) and the packed motion + depth (RGBA16F), and whether each gives the
+    default layout's bits. A layout only applies where a work group scans a tile: k > 8 px on a
+    GPU, k > 32 px on llvmpipe (tile_filter.largest_tile_for_one_thread)."""
+    record = {}
+    print("\n| TileMax variant | k | stored motion, ms | packed motion, ms | same bits |")
+    print("|---|---|---|---|---|")
+    first_bits = {}  # (k, packed) -> the tiles of the first variant, the default
+    for k in ks:
+        for variant in TILE_MAX_VARIANTS:
+            row = {"same_bits": True}
+            for packed in (False, True):
+                params = {"k": k, "samples": 15, "packed_inputs": packed}
+                with tile_max_variant(variant):
+                    times = []
+                    for _ in range(runs + 2):
+                        result = bl.blur(ctx, frame, "reconstruct_mcguire2012", **params)
+                        times.append(result.timings["tile_max"].ms)
+                    tiles = result.buffers["tile_max"]
+                row["packed_ms" if packed else "stored_ms"] = statistics.median(times[2:])
+                expected = first_bits.setdefault((k, packed), tiles)
+                row["same_bits"] &= bool((tiles == expected).all())
+            record[f"{variant} k={k}"] = row
+            print(
+                f"| {variant} | {k} | {row['stored_ms']:.4f} | {row['packed_ms']:.4f} | "
+                f"{row['same_bits']} |"
+            )
+    return record
+
+
+def subgroup_extensions(ctx) -> list[str] | None:
+    """The GL extensions whose names mention subgroups (the TileMax variants *_subgroup fall
+    back to the shared-memory reduction without GL_KHR_shader_subgroup); None without
+    moderngl to ask."""
+    try:
+        return sorted(e for e in ctx.moderngl().extensions if "subgroup" in e.lower())
+    except ImportError:
+        return None
 
 
 def streaming_bandwidth(ctx, size: tuple[int, int], runs: int) -> dict:
@@ -113,36 +166,55 @@ def streaming_bandwidth(ctx, size: tuple[int, int], runs: int) -> dict:
     return {"size": f"{width}x{height}", "ms": ms, "gb_per_s": 48 * width * height / ms / 1e6}
 
 
+def texel_bytes(texture) -> int:
+    return texture.dtype.itemsize * texture.channels
+
+
 def dram_floor(ctx, frame, filter_results: dict, bandwidth: dict, nominal_gbs) -> dict:
+    """Bytes per pixel the filter cannot avoid (read its inputs once, write colour once), as
+    stored and packed, and that traffic at the streaming and nominal bandwidths against the
+    filters' compute GPU time."""
     textures = frame.textures
-    stored = {
-        k: textures[k].dtype.itemsize * textures[k].channels for k in ("color", "depth", "motion")
-    }
     result = bl.blur(ctx, frame, "reconstruct_mcguire2012", timed=False)
-    out_texture = result.textures["color"]
-    stored["output colour"] = out_texture.dtype.itemsize * out_texture.channels
-    per_pixel = sum(stored.values())
+    output = {"output colour": texel_bytes(result.textures["color"])}
+    layouts = {
+        "": {k: texel_bytes(textures[k]) for k in ("color", "depth", "motion")} | output,
+        " packed": {k: texel_bytes(textures[f"packed_{k}"]) for k in ("color", "motion_depth")}
+        | output,
+    }
     pixels = frame.color.shape[0] * frame.color.shape[1]
-    record = {"bytes_per_pixel": stored, "total_bytes_per_pixel": per_pixel, "filters": {}}
+    record = {"bytes_per_pixel": {}, "total_bytes_per_pixel": {}, "filters": {}}
     rates = {"measured streaming": bandwidth["gb_per_s"]}
     if nominal_gbs:
         rates["nominal"] = nominal_gbs
-    print(f"\nBytes per pixel the filter cannot avoid, as stored: {stored} = {per_pixel} B")
-    print(f"Streaming pass: {bandwidth['gb_per_s']:.0f} GB/s over {bandwidth['size']}\n")
-    print("| filter | bandwidth | DRAM floor, ms | filter GPU, ms | floor / filter |")
-    print("|---|---|---|---|---|")
+    print(f"\nStreaming pass: {bandwidth['gb_per_s']:.0f} GB/s over {bandwidth['size']}")
+    for suffix, layout in layouts.items():
+        per_pixel = sum(layout.values())
+        inputs = "packed" if suffix else "stored"
+        record["bytes_per_pixel"][inputs] = layout
+        record["total_bytes_per_pixel"][inputs] = per_pixel
+        print(f"Bytes per pixel the filter cannot avoid, inputs {inputs}: {layout} = {per_pixel} B")
+    print("\n| filter | inputs | bandwidth | DRAM floor, ms | filter GPU, ms | floor / filter |")
+    print("|---|---|---|---|---|---|")
     for name, backends in filter_results.items():
-        gpu = backends["compute"]["total_ms"]
-        for label, gbs in rates.items():
-            floor = per_pixel * pixels / (gbs * 1e6)
-            record["filters"][f"{name} ({label})"] = {
-                "floor_ms": floor,
-                "filter_ms": gpu,
-                "share": floor / gpu,
-            }
-            print(
-                f"| {name} | {label} {gbs:.0f} GB/s | {floor:.4f} | {gpu:.4f} | {floor / gpu:.0%} |"
-            )
+        if not isinstance(backends, dict):
+            continue  # pack_inputs_ms
+        for suffix, layout in layouts.items():
+            gpu = backends["compute" + suffix]["total_ms"]
+            per_pixel = sum(layout.values())
+            for label, gbs in rates.items():
+                floor = per_pixel * pixels / (gbs * 1e6)
+                record["filters"][f"{name}{suffix} ({label})"] = {
+                    "bytes_per_pixel": per_pixel,
+                    "floor_ms": floor,
+                    "filter_ms": gpu,
+                    "share": floor / gpu,
+                }
+                inputs = "packed" if suffix else "stored"
+                print(
+                    f"| {name} | {inputs} | {label} {gbs:.0f} GB/s | {floor:.4f} | {gpu:.4f} | "
+                    f"{floor / gpu:.0%} |"
+                )
     return record
 
 
@@ -318,6 +390,9 @@ def main() -> None:
     parser.add_argument("--bandwidth-size", default="4096x4096")
     parser.add_argument("--nominal-gbs", type=float, default=None, help="e.g. 3350 (H100 SXM)")
     parser.add_argument("--study", action="store_true", help="also time blurlab study")
+    parser.add_argument(
+        "--tile-max-k", default="20", help="comma-separated k at which to time TileMax's variants"
+    )
     parser.add_argument("--json", default=None)
     args = parser.parse_args()
     ctx = open_context(args.device)
@@ -328,6 +403,8 @@ def main() -> None:
     record = {**describe(ctx), "size": args.size, "runs": args.runs}
     print(f"\n{record['date']}  {record['renderer']}  {args.size}, medians of {args.runs} runs")
     record["filters"] = filters(ctx, frame, args.runs)
+    ks = [int(k) for k in args.tile_max_k.split(",")]
+    record["tile_max_variants"] = tile_max_variants(ctx, frame, args.runs, ks)
     bandwidth_size = tuple(int(v) for v in args.bandwidth_size.split("x"))
     record["bandwidth"] = streaming_bandwidth(ctx, bandwidth_size, args.runs)
     record["dram_floor"] = dram_floor(
@@ -342,6 +419,8 @@ def main() -> None:
         record["raster"] = raster_floor(ctx, scene, size, args.runs)
     except ImportError as error:  # moderngl is not on every machine that measures
         print(f"\nrasterization floor left out: {error}")
+    record["subgroup_extensions"] = subgroup_extensions(ctx)
+    print(f"\nsubgroup extensions (TileMax *_subgroup variants): {record['subgroup_extensions']}")
     save(args.json, record)
 
 

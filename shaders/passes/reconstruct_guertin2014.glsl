@@ -36,7 +36,7 @@ float sample_weight(float dist, float zy, vec2 vy, float zx, vec2 vx, vec2 wc, v
 
 vec4 reconstruct_at(ivec2 x) {
     ivec2 size = textureSize(color, 0);
-    vec4 cx = sanitize_color(texelFetch(color, x, 0));
+    vec4 cx = color_at(x);
     ivec2 tile = lookup_tile(x, k, seed, jitter_tiles, tile_grid());
     vec2 vn = neighbor_max_of(tile);
     float vn_length = length(vn);
@@ -44,8 +44,10 @@ vec4 reconstruct_at(ivec2 x) {
     int n = sample_count(vn_length, samples, adaptive_samples);
 
     float kf = float(k);
-    float zx = sanitize_depth(texelFetch(depth, x, 0).x);
-    vec2 vx = half_velocity(sanitize_motion(texelFetch(motion, x, 0).xy), exposure, kf);
+    float zx;
+    vec2 mx;
+    depth_motion_at(x, zx, mx);
+    vec2 vx = half_velocity(mx, exposure, kf);
     // Eq. 1: wc from vN's perpendicular (on V[X]'s side) to V[X]'s own direction. Where V[X]
     // is parallel to vN (within 1e-3 rad; float rounding would pick the side at random) wp is
     // the left perpendicular (-wn.y, wn.x).
@@ -67,16 +69,17 @@ vec4 reconstruct_at(ivec2 x) {
         vec2 step = d * vn_length * t;
         ivec2 y1 = clamp(ivec2(floor(center + step)), ivec2(0), size - 1);
         ivec2 y2 = clamp(ivec2(floor(center - step)), ivec2(0), size - 1);
-        float z1 = sanitize_depth(texelFetch(depth, y1, 0).x);
-        float z2 = sanitize_depth(texelFetch(depth, y2, 0).x);
-        vec2 v1 = half_velocity(sanitize_motion(texelFetch(motion, y1, 0).xy), exposure, kf);
-        vec2 v2 = half_velocity(sanitize_motion(texelFetch(motion, y2, 0).xy), exposure, kf);
+        float z1, z2;
+        vec2 m1, m2;
+        depth_motion_at(y1, z1, m1);
+        depth_motion_at(y2, z2, m2);
+        vec2 v1 = half_velocity(m1, exposure, kf);
+        vec2 v2 = half_velocity(m2, exposure, kf);
         float a1 = sample_weight(length(vec2(y1 - x)), z1, v1, zx, vx, wc, d);
         float a2 = sample_weight(length(vec2(y2 - x)), z2, v2, zx, vx, wc, d);
         mirror_pair(a1, a2, z1, z2, length(v1), length(v2));
         weight += a1 + a2;
-        sum += a1 * sanitize_color(texelFetch(color, y1, 0))
-             + a2 * sanitize_color(texelFetch(color, y2, 0));
+        sum += a1 * color_at(y1) + a2 * color_at(y2);
     }
     return sum / weight;
 }

@@ -10,7 +10,13 @@ from __future__ import annotations
 
 from ..twins import guertin2014 as twin
 from .core import FLOAT32_MAX, Method, Param, Pass, register
-from .tile_filter import FILTER_OPTIONS, OPTIONS_AT_DEFAULT, TILE_FILTER_PARAMS, run_filter
+from .tile_filter import (
+    FILTER_OPTIONS,
+    OPTIONS_AT_DEFAULT,
+    TILE_FILTER_PARAMS,
+    run_filter,
+    uniform_names,
+)
 
 PARAMS = {
     **TILE_FILTER_PARAMS,
@@ -22,7 +28,7 @@ PARAMS = {
 }
 
 
-RECONSTRUCT = Pass("reconstruct", "passes/reconstruct_guertin2014.glsl", tuple(PARAMS))
+RECONSTRUCT = Pass("reconstruct", "passes/reconstruct_guertin2014.glsl", uniform_names(PARAMS))
 
 
 register(

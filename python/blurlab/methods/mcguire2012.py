@@ -12,13 +12,19 @@ from __future__ import annotations
 
 from ..twins import mcguire2012 as twin
 from .core import Method, Pass, register
-from .tile_filter import FILTER_OPTIONS, OPTIONS_AT_DEFAULT, TILE_FILTER_PARAMS, run_filter
+from .tile_filter import (
+    FILTER_OPTIONS,
+    OPTIONS_AT_DEFAULT,
+    TILE_FILTER_PARAMS,
+    run_filter,
+    uniform_names,
+)
 
 PARAMS = {**TILE_FILTER_PARAMS, **FILTER_OPTIONS}
 RECONSTRUCT = Pass(
     "reconstruct",
     "passes/reconstruct_mcguire2012.glsl",
-    (*TILE_FILTER_PARAMS, *FILTER_OPTIONS),
+    uniform_names({**TILE_FILTER_PARAMS, **FILTER_OPTIONS}),
 )
 
 register(

@@ -1,17 +1,24 @@
 """The shared core of the tile-based reconstruction filters (docs/spec.md §3): their common
 parameters, TileMax → NeighborMax, and the filter pipeline that ends in a method's own
 reconstruct pass. reconstruct_mcguire2012, reconstruct_guertin2014 and reconstruct_urho3d are
-built on it.
+built on it. With the option packed_inputs (mcguire2012 and guertin2014) TileMax and
+reconstruct read the half-float textures that packed_inputs() makes once per frame (docs/spec.md
+§19). TileMax's work-group layout is one of TILE_MAX_VARIANTS, chosen for benchmarks by
+tile_max_variant().
 """
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import math
+import weakref
 
 import numpy as np
 
 from ..context import Context, Timing
 from ..frame import Frame
+from . import plans
 from .core import FLOAT32_MAX, PARAM_SCALE_MAX, SEED, Param, Pass, run_pass
 
 
@@ -74,7 +81,18 @@ FILTER_OPTIONS = {
     "jitter_tiles": Param(0, int, "1: jittered NeighborMax lookup against tile blockiness", 0, 1),
     "adaptive_samples": Param(0, int, "1: S scaled with the neighborhood's motion length", 0, 1),
     "early_exit": Param(0.0, float, "pixels whose neighborhood moves < this many px keep C", 0),
+    "packed_inputs": Param(
+        False, bool, "read colour, motion and depth as half floats packed once per frame"
+    ),
 }
+# Options that pick a shader variant (a #define), not a uniform of the same name.
+VARIANT_OPTIONS = ("packed_inputs",)
+
+
+def uniform_names(params) -> tuple[str, ...]:
+    """The parameters among `params` that a reconstruct pass takes as uniforms."""
+    return tuple(key for key in params if key not in VARIANT_OPTIONS)
+
 
 # The sweep grid every filter shares: each option gets one point beside the default
 # configuration instead of multiplying the k × S product.
@@ -89,6 +107,38 @@ OPTIONS_AT_DEFAULT = [
 # direction-keeping dilation of docs/guertin2014.md: a property of the filter, not a parameter.
 TILE_MAX = Pass("tile_max", "passes/tile_max.glsl", ("k", "exposure"))
 NEIGHBOR_MAX = Pass("neighbor_max", "passes/neighbor_max.glsl")
+
+
+# The layouts of TileMax's work group per tile (shaders/passes/tile_max.glsl's header; docs/spec.md
+# §3.2): the #defines of each. All give the same bits; benchmarks/speed_floor.py times them.
+TILE_MAX_VARIANTS = {
+    "strided_8x8": {},
+    "strided_8x8_subgroup": {"TILE_MAX_SUBGROUP": 1},
+    "rows_32": {"TILE_MAX_THREADS": 32},
+    "rows_64": {"TILE_MAX_THREADS": 64},
+    "rows_128": {"TILE_MAX_THREADS": 128},
+    "rows_64_subgroup": {"TILE_MAX_THREADS": 64, "TILE_MAX_SUBGROUP": 1},
+    "rows_128_subgroup": {"TILE_MAX_THREADS": 128, "TILE_MAX_SUBGROUP": 1},
+}
+DEFAULT_TILE_MAX_VARIANT = "strided_8x8"
+_TILE_MAX_VARIANT = contextvars.ContextVar("blurlab_tile_max_variant", default=None)
+
+
+@contextlib.contextmanager
+def tile_max_variant(name: str):
+    """Inside the block, TileMax's work group per tile takes layout `name` of
+    TILE_MAX_VARIANTS (for benchmarks and tests), and
+    no dispatch plan is recorded or replayed, as plans do not know the layout."""
+    if name not in TILE_MAX_VARIANTS:
+        raise ValueError(
+            f"blurlab: no TileMax variant {name!r}; the variants are {list(TILE_MAX_VARIANTS)}"
+        )
+    token = _TILE_MAX_VARIANT.set(name)
+    try:
+        with plans.disabled():
+            yield
+    finally:
+        _TILE_MAX_VARIANT.reset(token)
 
 
 def largest_tile_for_one_thread(ctx: Context) -> int:
@@ -115,6 +165,9 @@ def tile_passes(
     tiles, neighbors = ctx.pooled(grid), ctx.pooled(grid)
     timings: dict[str, Timing] = {}
     group_per_tile = k > largest_tile_for_one_thread(ctx)
+    defines = {}
+    if backend == "compute" and group_per_tile:
+        defines.update(TILE_MAX_VARIANTS[_TILE_MAX_VARIANT.get() or DEFAULT_TILE_MAX_VARIANT])
     run_pass(
         ctx,
         timings,
@@ -125,6 +178,7 @@ def tile_passes(
         {"tile_max": tiles},
         backend,
         uniforms={"group_per_tile": group_per_tile} if backend == "compute" else {},
+        defines=defines,
         group_per_texel=group_per_tile,
     )
     run_pass(
@@ -141,23 +195,60 @@ def tile_passes(
     return tiles, neighbors, timings
 
 
+PACK_INPUTS = "passes/pack_inputs.comp"
+
+
+def packed_inputs(ctx: Context, frame: Frame, inputs: dict) -> dict:
+    """docs/spec.md §19: the frame's colour and its motion + depth as two RGBA16F textures
+    ({"color", "motion_depth"}), packed by the first call that asks and kept beside the frame's
+    own textures in `inputs` (the frame's dict, frame_textures), so a sweep packs once per
+    frame; the packing's time goes to frame.timings["pack_inputs"]. Not part of a recorded
+    plan: a replay reads the kept textures."""
+    if "packed_color" not in inputs:
+        height, width = inputs["color"].shape[:2]
+        color = ctx.empty((height, width, 4), "float16")
+        motion_depth = ctx.empty((height, width, 4), "float16")
+        sources = {name: inputs[name] for name in ("color", "depth", "motion")}
+        with ctx.timer() as timing:
+            ctx.shader_pass(PACK_INPUTS).run(
+                sources, {"packed_color": color, "packed_motion_depth": motion_depth}
+            )
+        frame.timings["pack_inputs"] = timing
+        inputs["packed_color"], inputs["packed_motion_depth"] = color, motion_depth
+        weakref.finalize(frame, ctx.recycle, color, motion_depth)
+    return {"color": inputs["packed_color"], "motion_depth": inputs["packed_motion_depth"]}
+
+
 def run_filter(params: dict[str, Param], reconstruct: Pass, diagonal_reach: bool):
     """TileMax → NeighborMax → the method's `reconstruct` pass (docs/spec.md §3,
     docs/guertin2014.md); `params` are the method's parameter declarations. NeighborMax keeps a
     pass of its own: computing it in the reconstruct pass's prologue measured slower (§3.6)."""
 
     def run(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
+        packed = values["packed_inputs"]
+        if packed:
+            textures = packed_inputs(ctx, frame, inputs)
+            motion = textures["motion_depth"]  # TileMax reads its xy
+        else:
+            textures = {key: inputs[key] for key in ("color", "depth", "motion")}
+            motion = inputs["motion"]
         tiles, neighbors, timings = tile_passes(
-            ctx, inputs["motion"], params, values, backend, diagonal_reach
+            ctx, motion, params, values, backend, diagonal_reach
         )
         result = ctx.pooled(inputs["color"].shape[:2] + (4,))
-        textures = {
-            "color": inputs["color"],
-            "depth": inputs["depth"],
-            "motion": inputs["motion"],
-            "neighbor_max": neighbors,
-        }
-        run_pass(ctx, timings, reconstruct, params, values, textures, {"result": result}, backend)
+        textures["neighbor_max"] = neighbors
+        defines = {"PACKED_INPUTS": 1} if packed else None
+        run_pass(
+            ctx,
+            timings,
+            reconstruct,
+            params,
+            values,
+            textures,
+            {"result": result},
+            backend,
+            defines=defines,
+        )
         return {"color": result, "tile_max": tiles, "neighbor_max": neighbors}, timings
 
     return run

@@ -13,6 +13,7 @@ import numpy as np
 import pandas as pd
 
 from ..io import linear_to_srgb, srgb_to_linear
+from ..methods.tile_filter import FILTER_OPTIONS
 from ..metrics import error_map, tone_map
 
 # HDR metrics first: a scene that has them is charted by them (the LDR ones clip its lights).
@@ -113,9 +114,14 @@ def pareto(table: pd.DataFrame, scene: str, metric: str = "psnr", budget_ms: flo
     return fig
 
 
-# The filters' options (docs/guertin2014.md), each its own marker on the Pareto chart.
-FILTER_OPTIONS = ("jitter_tiles", "adaptive_samples", "early_exit")
-OPTION_MARKERS = {"jitter_tiles": "^", "adaptive_samples": "s", "early_exit": "D"}
+# The filters' options (declared in blurlab.methods.tile_filter), each its own marker on the
+# Pareto chart.
+OPTION_MARKERS = {
+    "jitter_tiles": "^",
+    "adaptive_samples": "s",
+    "early_exit": "D",
+    "packed_inputs": "P",
+}
 
 
 def _variant(row) -> str:

@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from .hashing import rand
-from .inputs import sanitize_color, sanitize_depth
+from .inputs import pack_half, sanitize_color, sanitize_depth
 from .mcguire2012 import (
     cone,
     cylinder,
@@ -82,10 +82,14 @@ def reconstruct_guertin2014(
     jitter_tiles: int,
     adaptive_samples: int,
     early_exit: float,
+    packed_inputs: bool,
     neighbor: np.ndarray | None = None,
 ) -> np.ndarray:
     """(H, W, C) float64 blurred color. `neighbor`: NeighborMax (with diagonal_reach) if
-    already computed; the options (0 is off) are those of docs/guertin2014.md."""
+    already computed; the options (0 is off) are those of docs/guertin2014.md, and
+    packed_inputs reads the inputs as docs/spec.md §19 packs them."""
+    if packed_inputs:  # docs/spec.md §19: what the packed textures hold
+        color, depth, motion = pack_half(color, depth, motion)
     color = sanitize_color(color)
     depth = sanitize_depth(depth)
     h, w = depth.shape

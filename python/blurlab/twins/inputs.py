@@ -30,3 +30,24 @@ def sanitize_motion(motion) -> np.ndarray:
     m = np.asarray(motion, np.float64)
     finite = np.isfinite(m).all(axis=-1, keepdims=True)
     return np.where(finite, np.clip(np.where(finite, m, 0.0), -MOTION_LIMIT, MOTION_LIMIT), 0.0)
+
+
+# Packed filter inputs (docs/spec.md §19; GLSL twin shaders/passes/pack_inputs.comp): the
+# values above, clamped into half-float range and rounded to half floats (nearest even).
+HALF_MAX = 65504.0
+HALF_MIN_NORMAL = 2.0**-14  # the smallest normal half: a finite depth never becomes 0
+
+
+def _half(x: np.ndarray) -> np.ndarray:
+    return np.asarray(x, np.float32).astype(np.float16).astype(np.float64)
+
+
+def pack_half(color, depth, motion) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(color, depth, motion) as the packed textures hold them: sanitized, clamped to
+    ±HALF_MAX (depth to [HALF_MIN_NORMAL, HALF_MAX] where finite, +inf kept), in float16."""
+    c = np.clip(sanitize_color(color), -HALF_MAX, HALF_MAX)
+    m = np.clip(sanitize_motion(motion), -HALF_MAX, HALF_MAX)
+    z = sanitize_depth(depth)
+    z = np.where(np.isfinite(z), np.clip(z, HALF_MIN_NORMAL, HALF_MAX), z)
+    # Frame arrays are float32 and the clamps' bounds are exact there: one rounding, to half.
+    return _half(c), _half(z), _half(m)

@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 
 from .hashing import rand
-from .inputs import sanitize_color, sanitize_depth, sanitize_motion
+from .inputs import pack_half, sanitize_color, sanitize_depth, sanitize_motion
 
 
 def half_velocity(motion: np.ndarray, exposure: float, k: float) -> np.ndarray:
@@ -152,11 +152,15 @@ def reconstruct_mcguire2012(
     jitter_tiles: int,
     adaptive_samples: int,
     early_exit: float,
+    packed_inputs: bool,
     neighbor: np.ndarray | None = None,
 ) -> np.ndarray:
     """§3.4: (H, W, C) float64 blurred color, with the options of docs/guertin2014.md
-    (jitter_tiles, adaptive_samples, early_exit; 0 is off). `neighbor` is NeighborMax if
+    (jitter_tiles, adaptive_samples, early_exit; 0 is off) and packed_inputs (docs/spec.md
+    §19: the inputs rounded as the packed textures hold them). `neighbor` is NeighborMax if
     already computed."""
+    if packed_inputs:  # docs/spec.md §19: what the packed textures hold
+        color, depth, motion = pack_half(color, depth, motion)
     color = sanitize_color(color)
     depth = sanitize_depth(depth)
     h, w = depth.shape
