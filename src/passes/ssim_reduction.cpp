@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -34,17 +35,43 @@ std::string gaussian_weights(double sigma, int radius) {
 
 }  // namespace
 
-SsimReductionPass::SsimReductionPass(std::shared_ptr<Context> context)
+SsimReductionPass::SsimReductionPass(std::shared_ptr<Context> context, int tile_rows,
+                                     int rows_per_thread)
     : context_(std::move(context)),
-      program_(Program::compute(
-          context_, "passes/ssim.comp",
-          {{"RADIUS", std::to_string(radius)}, {"WEIGHTS", gaussian_weights(sigma, radius)}})),
-      reduction_(std::make_unique<PairReduction>(context_.get())) {}
+      tile_rows_(tile_rows),
+      rows_per_thread_(rows_per_thread),
+      reduction_(std::make_unique<PairReduction>(context_.get())) {
+  const bool tile_ok = tile_rows == 8 || tile_rows == 16 || tile_rows == 32;
+  const bool rows_ok =
+      rows_per_thread == 1 || rows_per_thread == 2 || rows_per_thread == 4 || rows_per_thread == 8;
+  if (!tile_ok || !rows_ok || rows_per_thread > tile_rows)
+    throw std::invalid_argument(
+        "blurlab.SsimReductionPass: tile_rows must be 8, 16 or 32 and rows_per_thread 1, 2, 4 or "
+        "8, at most tile_rows; got " +
+        std::to_string(tile_rows) + " and " + std::to_string(rows_per_thread));
+  ssim_ = compile(false);
+}
 
 SsimReductionPass::~SsimReductionPass() = default;
 
+std::shared_ptr<Program> SsimReductionPass::compile(bool squared_error) const {
+  return Program::compute(context_, "passes/ssim.comp",
+                          {{"RADIUS", std::to_string(radius)},
+                           {"WEIGHTS", gaussian_weights(sigma, radius)},
+                           {"TILE_Y", std::to_string(tile_rows_)},
+                           {"ROWS", std::to_string(rows_per_thread_)},
+                           {"SQUARED_ERROR", squared_error ? "1" : "0"}});
+}
+
 double SsimReductionPass::mean_ssim(const Texture& a, const Texture& b) {
-  return reduction_->sum(*program_, a, b) / (double(a.width()) * a.height());
+  const double total = reduction_->sums(*ssim_, a, b, {32, tile_rows_}, 1)[0];
+  return total / (double(a.width()) * a.height());
+}
+
+std::pair<double, double> SsimReductionPass::mse_ssim(const Texture& a, const Texture& b) {
+  if (!fused_) fused_ = compile(true);
+  const auto totals = reduction_->sums(*fused_, a, b, {32, tile_rows_}, 2);
+  return {totals[1], totals[0] / (double(a.width()) * a.height())};
 }
 
 }  // namespace blurlab
