@@ -74,6 +74,10 @@ def evaluate_scene(
         frames, reference = _scene_inputs(ctx, scene, name, point, settings, cache)
         runs, clock = timings[key]
         result = blur_steps(ctx, frames, name, backend, timed=False, **_without_steps(point))
+        if "ssim" in wanted:  # PSNR and SSIM from one pass
+            mse, ssim = m.gpu_mse_ssim(ctx, reference.texture, result.textures["color"])
+        else:
+            mse = m.gpu_mse(ctx, result.textures["color"], reference.texture)
         row = {
             "scene": scene.name,
             "method": name,
@@ -84,13 +88,13 @@ def evaluate_scene(
             "total_ms": statistics.median(sum(r.values()) for r in runs),
             "repeats": settings.repeats,
             "clock": clock,
-            "psnr": m.psnr_from_mse(m.gpu_mse(ctx, result.textures["color"], reference.texture)),
+            "psnr": m.psnr_from_mse(mse),
             # What the parameters given as "auto" chose on this scene.
             **{f"auto_{k}": json.dumps(v) for k, v in result.auto.items()},
         }
         # Every LDR metric is reduced on the GPU (docs/spec.md §6): no image is read back for it.
         if "ssim" in wanted:
-            row["ssim"] = m.gpu_ssim(ctx, reference.texture, result.textures["color"])
+            row["ssim"] = ssim
         if "flip" in wanted:
             row["flip"] = m.gpu_flip(ctx, reference.texture, result.textures["color"])
         if "psnr_aa" in wanted:  # against the antialiased reference (§11)
