@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import blurlab as bl
-from blurlab import metrics
+from blurlab import _core, metrics
 
 # Measured on llvmpipe: at most 5.4e-7 apart on every image below with 16 x 16 work groups,
 # 2.4e-7 with today's 32 x 16 (float32 sums of 121 taps against float64; the rendered frame's
@@ -75,13 +75,6 @@ def test_identical_images_give_one(ctx, rng):
     assert metrics.gpu_ssim(ctx, texture, texture) == pytest.approx(1.0, abs=1e-6)
 
 
-def test_textures_of_different_shapes_are_rejected(ctx):
-    a = ctx.upload(np.zeros((36, 64, 4), np.float32))
-    b = ctx.upload(np.zeros((36, 63, 4), np.float32))
-    with pytest.raises(ValueError, match=r"\(36, 64, 4\) and \(36, 63, 4\)"):
-        metrics.gpu_ssim(ctx, a, b)
-
-
 # The squared error: float32 sums of at most 32 x 32 pixels per work group (each term < 3),
 # added in double, against NumPy's float64. Measured on llvmpipe at most 8.8e-8 relative on the
 # images below and a 640 x 360 pair, every layout; the SSIM of the fused call is bit for bit
@@ -137,13 +130,20 @@ def test_nan_and_infinite_colours_read_as_the_passes_read_them(ctx, rng):
     assert metrics.gpu_ssim(ctx, ta, tb) == pytest.approx(ssim, abs=TOLERANCE)
 
 
-def test_fused_call_rejects_what_the_separate_ones_reject(ctx):
-    a = ctx.upload(np.zeros((36, 64, 4), np.float32))
-    b = ctx.upload(np.zeros((36, 63, 4), np.float32))
-    with pytest.raises(ValueError, match=r"gpu_mse_ssim: .*\(36, 64, 4\) and \(36, 63, 4\)"):
-        metrics.gpu_mse_ssim(ctx, a, b)
-    with pytest.raises(ValueError, match="RGB"):
-        gray = ctx.upload(np.zeros((36, 64), np.float32))
-        metrics.gpu_mse_ssim(ctx, gray, gray)
+@pytest.mark.parametrize("name", ["gpu_ssim", "gpu_mse_ssim"])
+def test_bad_textures_and_layouts_are_rejected(ctx, name):
+    measure = getattr(metrics, name)
+    wide, narrow = (ctx.upload(np.zeros((36, w, 4), np.float32)) for w in (64, 63))
+    with pytest.raises(ValueError, match=rf"{name}: .*\(36, 64, 4\) and \(36, 63, 4\)"):
+        measure(ctx, wide, narrow)
+    gray = ctx.upload(np.zeros((36, 64), np.float32))
+    with pytest.raises(ValueError, match="need RGB"):
+        measure(ctx, gray, gray)
     with pytest.raises(ValueError, match="unknown SSIM layout 'square'; choose from"):
-        metrics.gpu_mse_ssim(ctx, a, a, layout="square")
+        measure(ctx, wide, wide, layout="square")
+
+
+@pytest.mark.parametrize("tile_rows, rows", [(12, 4), (16, 3), (8, 16), (0, 1)])
+def test_the_pass_refuses_layouts_its_shader_cannot_tile(ctx, tile_rows, rows):
+    with pytest.raises(ValueError, match="tile_rows must be 8, 16 or 32"):
+        _core.SsimReductionPass(ctx.native, tile_rows, rows)
