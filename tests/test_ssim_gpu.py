@@ -147,3 +147,36 @@ def test_bad_textures_and_layouts_are_rejected(ctx, name):
 def test_the_pass_refuses_layouts_its_shader_cannot_tile(ctx, tile_rows, rows):
     with pytest.raises(ValueError, match="tile_rows must be 8, 16 or 32"):
         _core.SsimReductionPass(ctx.native, tile_rows, rows)
+
+
+@pytest.mark.parametrize("size", [(160, 90), (17, 33), (33, 1), (1, 1), (11, 11)])
+def test_a_prepared_reference_gives_the_values_of_the_pair(ctx, rng, size):
+    # Every layout: the prepare pass and the three-moment pass tile alike.
+    a, b = noisy_pair(rng, size[1], size[0])
+    a[2 % size[1], 0, 1] = np.nan  # read as 0, as the unprepared pass reads it
+    ta, tb = ctx.upload(a), ctx.upload(b)
+    clean = np.nan_to_num(a, nan=0.0)
+    for layout in metrics.SSIM_LAYOUTS:
+        prepared = metrics.prepare_reference(ctx, ta, layout)
+        mse, ssim = metrics.gpu_mse_ssim(ctx, prepared, tb)
+        assert mse == pytest.approx(metrics.mse(clean, b), rel=MSE_REL)
+        assert ssim == pytest.approx(metrics.ssim(clean, b), abs=TOLERANCE)
+        assert (mse, ssim) == pytest.approx(metrics.gpu_mse_ssim(ctx, ta, tb, layout=layout))
+        # It holds copies: overwriting the reference's texture does not change its values.
+        ta.upload(b)
+        assert metrics.gpu_mse_ssim(ctx, prepared, tb) == (mse, ssim)
+        ta.upload(a)
+        prepared.release()
+    with pytest.raises(ValueError, match="after release"):
+        metrics.gpu_mse_ssim(ctx, prepared, tb)
+
+
+def test_a_prepared_reference_refuses_another_size_and_no_colour(ctx, rng):
+    a, b = noisy_pair(rng, 36, 64)
+    prepared = metrics.prepare_reference(ctx, ctx.upload(a))
+    with pytest.raises(ValueError, match=r"gpu_mse_ssim: .*\(36, 64, 4\) and \(36, 63, 4\)"):
+        metrics.gpu_mse_ssim(ctx, prepared, ctx.upload(b[:, :63]))
+    with pytest.raises(ValueError, match="RGB"):
+        metrics.prepare_reference(ctx, ctx.upload(np.zeros((36, 64), np.float32)))
+    with pytest.raises(ValueError, match="unknown SSIM layout"):
+        metrics.prepare_reference(ctx, ctx.upload(a), layout="square")

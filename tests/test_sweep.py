@@ -121,26 +121,33 @@ def test_interrupted_sweep_keeps_finished_rows(ctx, tmp_path, monkeypatch):
 
 def test_psnr_and_ssim_come_from_one_gpu_pass_equal_to_numpy(ctx, monkeypatch):
     # With SSIM asked for, the sweep takes PSNR and SSIM from gpu_mse_ssim alone (one dispatch,
-    # one read-back); each value must equal metrics.mse and metrics.ssim (NumPy) of the very
-    # images it compared (downloaded here, not by the sweep).
-    real = evaluation.m.gpu_mse_ssim
-    compared = []
+    # one read-back) against the scene's reference, prepared once; each value must equal
+    # metrics.mse and metrics.ssim (NumPy) of the reference and the very image it compared
+    # (downloaded here, not by the sweep).
+    real, real_prepare = evaluation.m.gpu_mse_ssim, evaluation.m.prepare_reference
+    compared, prepared = [], []
 
     def gpu_and_cpu(ctx_, reference, color):
+        assert isinstance(reference, evaluation.m.PreparedReference)
         values = real(ctx_, reference, color)
-        a, b = reference.download(), color.download()
+        a, b = prepared[0], color.download()  # the reference as it was prepared
         compared.append((values, (evaluation.m.mse(a, b), evaluation.m.ssim(a, b))))
         return values
+
+    def prepare(ctx_, reference):
+        prepared.append(reference.download())
+        return real_prepare(ctx_, reference)
 
     def separate(*args):
         raise AssertionError("the sweep ran a separate PSNR or SSIM pass")
 
     monkeypatch.setattr(evaluation.m, "gpu_mse_ssim", gpu_and_cpu)
+    monkeypatch.setattr(evaluation.m, "prepare_reference", prepare)
     monkeypatch.setattr(evaluation.m, "gpu_mse", separate)
     monkeypatch.setattr(evaluation.m, "gpu_ssim", separate)
     args = dict(reference_samples=8, metrics=("psnr", "ssim"), progress=False, repeats=1)
     table = sw.sweep(ctx, ["fan"], GRID, SIZE, **args)
-    assert len(compared) == len(table) == 5
+    assert len(compared) == len(table) == 5 and len(prepared) == 1
     assert list(table["ssim"]) == [gpu[1] for gpu, _ in compared]
     assert list(table["psnr"]) == [evaluation.m.psnr_from_mse(gpu[0]) for gpu, _ in compared]
     for (mse, ssim), (cpu_mse, cpu_ssim) in compared:

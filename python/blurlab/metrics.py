@@ -156,11 +156,58 @@ def gpu_mse_ssim(ctx, a, b, layout: str | None = None) -> tuple[float, float]:
     """(`mse`, `ssim`) of two (H, W, 4) float32 textures from one GPU dispatch and one read-back
     (docs/spec.md §6): the SSIM pass also sums the squared error of the texels it loads, so a
     sweep that wants PSNR and SSIM pays for one pass. Equal to (`gpu_mse`, `gpu_ssim`) up to
-    float rounding (tests/test_ssim_gpu.py). `layout` as in `gpu_ssim`."""
+    float rounding (tests/test_ssim_gpu.py). `layout` as in `gpu_ssim`. `a` may be a
+    `PreparedReference` (`prepare_reference`) of a reference compared many times: then only
+    three moments of the pair are blurred, in the layout it was prepared with."""
+    if isinstance(a, PreparedReference):
+        return a.mse_ssim(b)
     _same_size(a, b, "gpu_mse_ssim")
     squared_error, mean_ssim = _ssim_pass(ctx, layout).mse_ssim(a.native, b.native)
     height, width = a.shape[:2]
     return squared_error / (height * width * 3), mean_ssim
+
+
+class PreparedReference:
+    """A reference prepared once for many `gpu_mse_ssim` calls against it (a sweep's scene): its
+    clipped colour and luminance, and the Gaussian mean and variance of its luminance, computed
+    once on the GPU, so each evaluation blurs three moments of the pair instead of five. It
+    holds copies: later changes to the reference texture do not reach it. Make it with
+    `prepare_reference`; its textures go back to the pool with `release()`."""
+
+    def __init__(self, ctx, reference, layout: str | None = None):
+        if reference.channels < 3:
+            raise ValueError("blurlab.metrics.prepare_reference: the reference needs RGB channels")
+        self.layout = SSIM_LAYOUT if layout is None else layout
+        self.shape = reference.shape
+        height, width = reference.shape[:2]
+        self.colour_luminance = ctx.pooled((height, width, 4))
+        self.moments = ctx.pooled((height, width, 2))
+        native = (self.colour_luminance.native, self.moments.native)
+        _ssim_pass(ctx, self.layout).prepare(reference.native, *native)
+        self._ctx = ctx
+
+    def mse_ssim(self, test) -> tuple[float, float]:
+        """(`mse`, `ssim`) of the reference and `test`, as `gpu_mse_ssim` computes them."""
+        if self.colour_luminance is None:
+            raise ValueError("blurlab.metrics.PreparedReference: used after release()")
+        _same_size(self.colour_luminance, test, "gpu_mse_ssim")
+        squared_error, mean_ssim = _ssim_pass(self._ctx, self.layout).mse_ssim_prepared(
+            self.colour_luminance.native, self.moments.native, test.native
+        )
+        height, width = test.shape[:2]
+        return squared_error / (height * width * 3), mean_ssim
+
+    def release(self) -> None:
+        """Returns the textures to the context's pool; the object cannot be used after."""
+        if self.colour_luminance is not None:
+            self._ctx.recycle(self.colour_luminance, self.moments)
+            self.colour_luminance = self.moments = None
+
+
+def prepare_reference(ctx, reference, layout: str | None = None) -> PreparedReference:
+    """`reference` (an (H, W, 4) float32 texture) prepared for `gpu_mse_ssim(ctx, prepared,
+    test)`: for a caller that compares many images with one fixed reference."""
+    return PreparedReference(ctx, reference, layout)
 
 
 def _glsl_floats(values) -> str:

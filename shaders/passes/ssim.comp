@@ -1,16 +1,23 @@
 #version 450
 // SSIM reduction for sweeps, docs/spec.md §6: the sum over pixels of the SSIM map (Wang et al. 2004)
 // of the luminance of two images clipped to [0, 1] (NaN read as 0, as every pass reads colour:
-// common/inputs.glsl), Gaussian window of RADIUS = 5 (11 taps,
-// σ = 1.5; WEIGHTS computed in double on the CPU and injected as a define), C1 = 0.01²,
-// C2 = 0.03², one partial sum per 32 x TILE_Y work group (added up in double on the CPU).
-// With SQUARED_ERROR = 1 the same dispatch also sums the squared error of blurlab.metrics.mse
-// (RGB clipped to [0, 1]) over the tile's pixels, from the texels it loads for the luminance
-// anyway: each group then writes two partials, (SSIM, squared error).
+// common/inputs.glsl), Gaussian window of RADIUS = 5 (11 taps, σ = 1.5; WEIGHTS computed in double
+// on the CPU and injected as a define), C1 = 0.01², C2 = 0.03², one partial sum per 32 x TILE_Y
+// work group (added up in double on the CPU).
 // NumPy twins: blurlab.metrics.ssim and mse; C++: SsimReductionPass; tests: tests/test_ssim_gpu.py.
 //
-// One dispatch, no intermediate textures: each work group loads the luminance pair of its
-// 32 x TILE_Y tile plus a RADIUS border into shared memory once, with the border mirrored as
+// Variants (defines, 0 or 1):
+//   SQUARED_ERROR  the same dispatch also sums the squared error of blurlab.metrics.mse (RGB
+//                  clipped to [0, 1]) over the tile's pixels, from the texels it loads for the
+//                  luminance anyway: each group writes two partials, (SSIM, squared error).
+//   PREPARE        no reduction: from one image (a reference) writes, per pixel, its clipped
+//                  colour and luminance (colour_luminance) and the Gaussian mean and variance of
+//                  its luminance (reference_moments), for PREPARED.
+//   PREPARED       with SQUARED_ERROR: image_a is a PREPARE'd colour_luminance and binding 2
+//                  its reference_moments, so a pair blurs three moments (y, y², xy), not five.
+//
+// One dispatch, no intermediate textures: each work group loads the luminance of its 32 x TILE_Y
+// tile plus a RADIUS border into shared memory once, with the border mirrored as
 // np.pad(mode="reflect") does (the edge texel is not repeated; the mirror repeats with period
 // 2(n - 1), so images smaller than the window are handled as NumPy handles them; tiles away from
 // the edges skip the mirror's integer divisions), blurs horizontally into shared memory, then
@@ -28,8 +35,20 @@
 const int TILE_X = 32, THREADS_Y = TILE_Y / ROWS, INVOCATIONS = TILE_X * THREADS_Y;
 layout(local_size_x = TILE_X, local_size_y = THREADS_Y) in;
 layout(binding = 0) uniform sampler2D image_a;
+#if PREPARE
+const int LUMS = 1, MOMENTS = 2;  // planes: x; row moments x, x²
+layout(rgba32f, binding = 0) writeonly uniform image2D colour_luminance;
+layout(rg32f, binding = 1) writeonly uniform image2D reference_moments;
+#else
 layout(binding = 1) uniform sampler2D image_b;
 layout(std430, binding = 0) writeonly buffer Partials { float partials[]; };
+#if PREPARED
+const int LUMS = 2, MOMENTS = 3;  // planes: x, y; row moments y, y², xy
+layout(binding = 2) uniform sampler2D reference_moments;
+#else
+const int LUMS = 2, MOMENTS = 5;  // planes: x, y; row moments x, y, x², y², xy
+#endif
+#endif
 
 const int SPAN_X = TILE_X + 2 * RADIUS, SPAN_Y = TILE_Y + 2 * RADIUS;  // tile and border
 const float WEIGHT[2 * RADIUS + 1] = WEIGHTS;
@@ -43,15 +62,29 @@ const vec3 LUMINANCE = vec3(0.2126, 0.7152, 0.0722);  // Rec. 709, as blurlab.me
 #define Sums float
 #endif
 
-// One pool of shared memory, used twice: first the luminance of the two images over the tile and
-// its border (planes x, y), then the horizontal Gaussian of x, y, x², y² and xy (five planes,
-// SPAN_Y rows by TILE_X columns). Sharing it keeps a 32 x 32 tile within 32 KiB (llvmpipe's
-// limit; the two arrays side by side took 41 KiB). Planes keep neighbouring invocations on
-// neighbouring banks.
+// One pool of shared memory, used twice: first the luminance over the tile and its border (LUMS
+// planes), then the horizontal Gaussian of the MOMENTS products (planes of SPAN_Y rows by TILE_X
+// columns). Sharing it keeps a 32 x 32 tile within 32 KiB (llvmpipe's limit; the two arrays side
+// by side took 41 KiB). Planes keep neighbouring invocations on neighbouring banks.
 const int LUM_PLANE = SPAN_Y * SPAN_X, ROW_PLANE = SPAN_Y * TILE_X;
-const int POOL = 2 * LUM_PLANE > 5 * ROW_PLANE ? 2 * LUM_PLANE : 5 * ROW_PLANE;
+const int POOL = LUMS * LUM_PLANE > MOMENTS * ROW_PLANE ? LUMS * LUM_PLANE : MOMENTS * ROW_PLANE;
 shared float pool[POOL];
 shared Sums sums[INVOCATIONS];
+
+// The products whose Gaussian means the SSIM needs, of the shifted luminance pair v.
+float[MOMENTS] products(vec2 v) {
+#if PREPARE
+    return float[MOMENTS](v.x, v.x * v.x);
+#elif PREPARED
+    return float[MOMENTS](v.y, v.y * v.y, v.x * v.y);
+#else
+    return float[MOMENTS](v.x, v.y, v.x * v.x, v.y * v.y, v.x * v.y);
+#endif
+}
+
+vec2 shifted_luminance(int i, vec2 c) {
+    return vec2(pool[i], LUMS == 2 ? pool[LUM_PLANE + i] : 0.0) - c;
+}
 
 // np.pad(mode="reflect") index: mirror about 0 and n - 1 without repeating the edge.
 int reflect_index(int i, int n) {
@@ -59,6 +92,10 @@ int reflect_index(int i, int n) {
     int period = 2 * (n - 1);
     i = abs(i) % period;
     return i < n ? i : period - i;
+}
+
+vec3 clipped_colour(sampler2D image, ivec2 p) {
+    return clamp(sanitize_color(texelFetch(image, p, 0)).rgb, 0.0, 1.0);
 }
 
 void main() {
@@ -80,10 +117,18 @@ void main() {
         bool owned = all(greaterThanEqual(p, tile)) && all(lessThan(p, owned_end));
 #endif
         if (!inside) p = ivec2(reflect_index(p.x, size.x), reflect_index(p.y, size.y));
-        vec3 a = clamp(sanitize_color(texelFetch(image_a, p, 0)).rgb, 0.0, 1.0);
-        vec3 b = clamp(sanitize_color(texelFetch(image_b, p, 0)).rgb, 0.0, 1.0);
+#if PREPARED  // colour and luminance were clipped when the reference was prepared
+        vec4 prepared = texelFetch(image_a, p, 0);
+        vec3 a = prepared.rgb;
+        pool[i] = prepared.a;
+#else
+        vec3 a = clipped_colour(image_a, p);
         pool[i] = dot(a, LUMINANCE);
+#endif
+#if !PREPARE
+        vec3 b = clipped_colour(image_b, p);
         pool[LUM_PLANE + i] = dot(b, LUMINANCE);
+#endif
 #if SQUARED_ERROR
         if (owned) squared_error += dot(a - b, a - b);
 #endif
@@ -91,23 +136,19 @@ void main() {
     barrier();
 
     const int center = (RADIUS + TILE_Y / 2) * SPAN_X + RADIUS + TILE_X / 2;
-    const vec2 c = vec2(pool[center], pool[LUM_PLANE + center]);
+    const vec2 c = shifted_luminance(center, vec2(0.0));
     // Each invocation blurs up to ITEMS row positions into registers, then, once every
     // invocation has read the luminance, writes them over it.
     const int ITEMS = (ROW_PLANE + INVOCATIONS - 1) / INVOCATIONS;
-    vec4 row_m[ITEMS];
-    float row_xy[ITEMS];
+    float row[ITEMS][MOMENTS];
     for (int k = 0; k < ITEMS; ++k) {
         int i = int(local) + k * INVOCATIONS;
-        row_m[k] = vec4(0.0);
-        row_xy[k] = 0.0;
+        for (int j = 0; j < MOMENTS; ++j) row[k][j] = 0.0;
         if (i < ROW_PLANE) {
             int start = (i / TILE_X) * SPAN_X + i % TILE_X;
             for (int t = 0; t <= 2 * RADIUS; ++t) {
-                vec2 v = vec2(pool[start + t], pool[LUM_PLANE + start + t]) - c;
-                float w = WEIGHT[t];
-                row_m[k] += w * vec4(v, v * v);
-                row_xy[k] += w * v.x * v.y;
+                float[MOMENTS] v = products(shifted_luminance(start + t, c));
+                for (int j = 0; j < MOMENTS; ++j) row[k][j] += WEIGHT[t] * v[j];
             }
         }
     }
@@ -115,38 +156,52 @@ void main() {
     for (int k = 0; k < ITEMS; ++k) {
         int i = int(local) + k * INVOCATIONS;
         if (i < ROW_PLANE) {
-            for (int j = 0; j < 4; ++j) pool[j * ROW_PLANE + i] = row_m[k][j];
-            pool[4 * ROW_PLANE + i] = row_xy[k];
+            for (int j = 0; j < MOMENTS; ++j) pool[j * ROW_PLANE + i] = row[k][j];
         }
     }
     barrier();
 
     // Rows first_row .. first_row + ROWS - 1 of column x of the tile.
     int x = int(gl_LocalInvocationID.x), first_row = int(gl_LocalInvocationID.y) * ROWS;
-    vec4 m[ROWS];
-    float exy[ROWS];
+    float m[ROWS][MOMENTS];
     for (int o = 0; o < ROWS; ++o) {
-        m[o] = vec4(0.0);
-        exy[o] = 0.0;
+        for (int j = 0; j < MOMENTS; ++j) m[o][j] = 0.0;
     }
     for (int r = 0; r < ROWS + 2 * RADIUS; ++r) {
         int i = (first_row + r) * TILE_X + x;
-        vec4 moments = vec4(pool[i], pool[ROW_PLANE + i], pool[2 * ROW_PLANE + i],
-                            pool[3 * ROW_PLANE + i]);
-        float xy = pool[4 * ROW_PLANE + i];
+        float moments[MOMENTS];
+        for (int j = 0; j < MOMENTS; ++j) moments[j] = pool[j * ROW_PLANE + i];
         for (int o = 0; o < ROWS; ++o) {
             int t = r - o;  // this row's tap for output row first_row + o
             if (t >= 0 && t <= 2 * RADIUS) {
-                m[o] += WEIGHT[t] * moments;
-                exy[o] += WEIGHT[t] * xy;
+                for (int j = 0; j < MOMENTS; ++j) m[o][j] += WEIGHT[t] * moments[j];
             }
         }
     }
+#if PREPARE
+    for (int o = 0; o < ROWS; ++o) {
+        ivec2 p = tile + ivec2(x, first_row + o);
+        if (all(lessThan(p, size))) {
+            float d = m[o][0];
+            imageStore(reference_moments, p, vec4(c.x + d, m[o][1] - d * d, 0.0, 0.0));
+            vec3 a = clipped_colour(image_a, p);
+            imageStore(colour_luminance, p, vec4(a, dot(a, LUMINANCE)));
+        }
+    }
+#else
     float s = 0.0;
     for (int o = 0; o < ROWS; ++o) {
-        if (all(lessThan(tile + ivec2(x, first_row + o), size))) {
-            vec2 d = m[o].xy, mean = c + d;
-            float vx = m[o].z - d.x * d.x, vy = m[o].w - d.y * d.y, cov = exy[o] - d.x * d.y;
+        ivec2 p = tile + ivec2(x, first_row + o);
+        if (all(lessThan(p, size))) {
+#if PREPARED
+            vec2 reference = texelFetch(reference_moments, p, 0).xy;  // (mean, variance)
+            vec2 d = vec2(reference.x - c.x, m[o][0]);
+            float vx = reference.y, vy = m[o][1] - d.y * d.y, cov = m[o][2] - d.x * d.y;
+#else
+            vec2 d = vec2(m[o][0], m[o][1]);
+            float vx = m[o][2] - d.x * d.x, vy = m[o][3] - d.y * d.y, cov = m[o][4] - d.x * d.y;
+#endif
+            vec2 mean = c + d;
             s += ((2.0 * mean.x * mean.y + C1) * (2.0 * cov + C2)) /
                  ((mean.x * mean.x + mean.y * mean.y + C1) * (vx + vy + C2));
         }
@@ -169,5 +224,6 @@ void main() {
     }
 #else
     if (local == 0u) partials[group] = sums[0];
+#endif
 #endif
 }

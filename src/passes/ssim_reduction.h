@@ -31,13 +31,21 @@ class SsimReductionPass {
   double mean_ssim(const Texture& a, const Texture& b);
   // (Σ over pixels and RGB of (clamp(a) - clamp(b))², mean SSIM) from one dispatch.
   std::pair<double, double> mse_ssim(const Texture& a, const Texture& b);
+  // Prepares a reference that many tests are compared with: writes its clipped colour and
+  // luminance to colour_luminance (RGBA32F) and the Gaussian mean and variance of its luminance
+  // to moments (RG32F), both of the reference's size.
+  void prepare(const Texture& reference, const Texture& colour_luminance, const Texture& moments);
+  // mse_ssim(reference, test) of a reference prepared by `prepare`: blurs three moments, not five.
+  std::pair<double, double> mse_ssim_prepared(const Texture& colour_luminance,
+                                              const Texture& moments, const Texture& test);
 
  private:
-  std::shared_ptr<Program> compile(bool squared_error) const;
+  enum class Variant { ssim, fused, prepare, prepared };
+  Program& program(Variant variant);  // compiled on first use
 
   std::shared_ptr<Context> context_;
   int tile_rows_, rows_per_thread_;
-  std::shared_ptr<Program> ssim_, fused_;  // fused_ compiled on first use
+  std::shared_ptr<Program> programs_[4];
   std::unique_ptr<PairReduction> reduction_;
 };
 

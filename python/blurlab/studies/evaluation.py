@@ -74,8 +74,9 @@ def evaluate_scene(
         frames, reference = _scene_inputs(ctx, scene, name, point, settings, cache)
         runs, clock = timings[key]
         result = blur_steps(ctx, frames, name, backend, timed=False, **_without_steps(point))
-        if "ssim" in wanted:  # PSNR and SSIM from one pass
-            mse, ssim = m.gpu_mse_ssim(ctx, reference.texture, result.textures["color"])
+        if "ssim" in wanted:  # PSNR and SSIM from one pass against the prepared reference
+            prepared = _prepared_reference(ctx, reference, cache)
+            mse, ssim = m.gpu_mse_ssim(ctx, prepared, result.textures["color"])
         else:
             mse = m.gpu_mse(ctx, result.textures["color"], reference.texture)
         row = {
@@ -132,6 +133,20 @@ def _reference(ctx, scene, settings: Settings, samples: int, cache: dict, antial
             antialias=antialias,
         )
     return cache[key]
+
+
+def _prepared_reference(ctx, reference, cache: dict) -> m.PreparedReference:
+    """`reference` prepared for gpu_mse_ssim, once per reference the scene's cache holds (kept
+    beside it, so that a new reference is prepared anew)."""
+    held = cache.get("prepared_reference")
+    if held is None or held[0] is not reference:
+        if held is not None:
+            held[1].release()
+        held = cache["prepared_reference"] = (
+            reference,
+            m.prepare_reference(ctx, reference.texture),
+        )
+    return held[1]
 
 
 def _without_steps(point: dict) -> dict:
