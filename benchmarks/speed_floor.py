@@ -199,7 +199,10 @@ def sweep_rate(ctx, frame, reference, evaluations: int) -> dict:
 def metric_times(ctx, frame, reference, runs: int, layouts) -> dict:
     """Wall clock per call (scalar read back) and GPU time of each metric on one image pair;
     gpu_ssim and gpu_mse_ssim in each SSIM work-group layout (metrics.SSIM_LAYOUTS)."""
-    color = bl.blur(ctx, frame, "reconstruct_mcguire2012", timed=False).textures["color"]
+    # `result` stays referenced to the end: dropped, its textures would go back to the pool,
+    # and prepare_reference's pooled textures could be the very one `color` names.
+    result = bl.blur(ctx, frame, "reconstruct_mcguire2012", timed=False)
+    color = result.textures["color"]
     ways = {"gpu_mse": lambda: metrics.gpu_mse(ctx, color, reference.texture)}
     for layout in layouts:
         default = " (default)" if layout == metrics.SSIM_LAYOUT else ""
@@ -226,6 +229,7 @@ def metric_times(ctx, frame, reference, runs: int, layouts) -> dict:
         values = value if isinstance(value, tuple) else () if value is None else (value,)
         shown = ", ".join(f"{v:.6f}" for v in values)
         print(f"| {name} | {r['wall_ms']:.4f} | {r['gpu_ms']:.4f} | {shown} |")
+    del result
     return record
 
 
