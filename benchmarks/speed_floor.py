@@ -10,8 +10,12 @@
    bandwidth of a streaming pass (accumulate.comp over --bandwidth-size, 48 B per pixel)
    against the filter's GPU time;
 3. sweep evaluations per second (blur + metrics reduced on the GPU, untimed, parameters
-   cycling through k and S) with PSNR + SSIM and with PSNR + SSIM + FLIP;
-4. gpu_ssim, gpu_flip and gpu_mse: wall clock per call (with the scalar read back) and GPU time;
+   cycling through k and S) with PSNR + SSIM (one gpu_mse_ssim pass against the prepared
+   reference, as sweeps run), with PSNR + SSIM + FLIP, and with PSNR + SSIM from gpu_mse_ssim
+   of the two textures and from separate gpu_mse + gpu_ssim passes;
+4. gpu_mse, gpu_ssim, gpu_mse_ssim and gpu_mse_ssim against a prepared reference (in each SSIM
+   work-group layout, --ssim-layouts), prepare_reference, and gpu_flip: wall clock per call
+   (with the scalar read back) and GPU time;
 5. the G-buffer pass against the rasterization floor on the same four float targets and depth
    buffer (moderngl on blurlab's context): a draw that makes no fragment, and a full-screen
    triangle writing constants;
@@ -21,6 +25,7 @@
 Medians over --runs; GL timer queries on a GPU, glFinish + wall clock on llvmpipe.
 
     python benchmarks/speed_floor.py [--device gpu] [--size 1920x1080] [--study] [--json f]
+        [--parts filters,sweep,metrics,raster] [--ssim-layouts pixel16,column4,...]
 """
 
 from __future__ import annotations
@@ -38,6 +43,7 @@ from blurlab.methods.tile_filter import TILE_MAX_VARIANTS, tile_max_variant
 
 from common import describe, open_context, save
 
+PARTS = ("filters", "sweep", "metrics", "raster")  # what --parts can choose
 FILTERS = {
     "reconstruct_mcguire2012": {"k": 20, "samples": 15},
     "reconstruct_guertin2014": {},
@@ -219,19 +225,34 @@ def dram_floor(ctx, frame, filter_results: dict, bandwidth: dict, nominal_gbs) -
 
 
 def sweep_rate(ctx, frame, reference, evaluations: int) -> dict:
+    """Evaluations per second as bl.sweep makes them (PSNR and SSIM from gpu_mse_ssim against the
+    prepared reference), and for comparison from gpu_mse_ssim of the two textures and from the
+    separate gpu_mse + gpu_ssim passes of before."""
     grid = list(itertools.product([10, 20, 40], [5, 9, 15, 25]))
+    ways = {
+        "PSNR + SSIM (prepared reference, as sweeps run)": ("prepared",),
+        "PSNR + SSIM + FLIP (prepared reference)": ("prepared", "flip"),
+        "PSNR + SSIM, one pass, reference not prepared": ("fused",),
+        "PSNR + SSIM, separate passes": ("separate",),
+    }
+    prepared = metrics.prepare_reference(ctx, reference.texture)
     record = {}
     print("\n| sweep, untimed, reconstruct_mcguire2012 | evaluations / s | ms per evaluation |")
     print("|---|---|---|")
-    for label, chosen in (("PSNR + SSIM", ("ssim",)), ("PSNR + SSIM + FLIP", ("ssim", "flip"))):
+    for label, chosen in ways.items():
 
         def evaluate(i, chosen=chosen):
             k, s = grid[i % len(grid)]
             result = bl.blur(ctx, frame, "reconstruct_mcguire2012", k=k, samples=s, timed=False)
             color = result.textures["color"]
-            row = {"psnr": metrics.psnr_from_mse(metrics.gpu_mse(ctx, color, reference.texture))}
-            if "ssim" in chosen:
-                row["ssim"] = metrics.gpu_ssim(ctx, reference.texture, color)
+            if "prepared" in chosen:
+                mse, ssim = metrics.gpu_mse_ssim(ctx, prepared, color)
+            elif "fused" in chosen:
+                mse, ssim = metrics.gpu_mse_ssim(ctx, reference.texture, color)
+            else:
+                mse = metrics.gpu_mse(ctx, color, reference.texture)
+                ssim = metrics.gpu_ssim(ctx, reference.texture, color)
+            row = {"psnr": metrics.psnr_from_mse(mse), "ssim": ssim}
             if "flip" in chosen:
                 row["flip"] = metrics.gpu_flip(ctx, reference.texture, color)
             return row
@@ -247,13 +268,29 @@ def sweep_rate(ctx, frame, reference, evaluations: int) -> dict:
     return record
 
 
-def metric_times(ctx, frame, reference, runs: int) -> dict:
-    color = bl.blur(ctx, frame, "reconstruct_mcguire2012", timed=False).textures["color"]
-    ways = {
-        "gpu_mse": lambda: metrics.gpu_mse(ctx, color, reference.texture),
-        "gpu_ssim": lambda: metrics.gpu_ssim(ctx, reference.texture, color),
-        "gpu_flip": lambda: metrics.gpu_flip(ctx, reference.texture, color),
-    }
+def metric_times(ctx, frame, reference, runs: int, layouts) -> dict:
+    """Wall clock per call (scalar read back) and GPU time of each metric on one image pair;
+    gpu_ssim and gpu_mse_ssim in each SSIM work-group layout (metrics.SSIM_LAYOUTS)."""
+    # `result` stays referenced to the end: dropped, its textures would go back to the pool,
+    # and prepare_reference's pooled textures could be the very one `color` names.
+    result = bl.blur(ctx, frame, "reconstruct_mcguire2012", timed=False)
+    color = result.textures["color"]
+    ways = {"gpu_mse": lambda: metrics.gpu_mse(ctx, color, reference.texture)}
+    for layout in layouts:
+        default = " (default)" if layout == metrics.SSIM_LAYOUT else ""
+        ways[f"gpu_ssim {layout}{default}"] = lambda layout=layout: metrics.gpu_ssim(
+            ctx, reference.texture, color, layout=layout
+        )
+        ways[f"gpu_mse_ssim {layout}{default}"] = lambda layout=layout: metrics.gpu_mse_ssim(
+            ctx, reference.texture, color, layout=layout
+        )
+        prepared = metrics.prepare_reference(ctx, reference.texture, layout)
+        ways[f"gpu_mse_ssim, prepared reference, {layout}{default}"] = lambda prepared=prepared: (
+            metrics.gpu_mse_ssim(ctx, prepared, color)
+        )
+    ways["gpu_flip"] = lambda: metrics.gpu_flip(ctx, reference.texture, color)
+    prepare = lambda: metrics.prepare_reference(ctx, reference.texture).release()  # noqa: E731
+    ways[f"prepare_reference (once per reference), {metrics.SSIM_LAYOUT}"] = prepare
     record = {}
     print("\n| metric, one image pair | wall ms per call | GPU ms | value |\n|---|---|---|---|")
     for name, fn in ways.items():
@@ -261,7 +298,10 @@ def metric_times(ctx, frame, reference, runs: int) -> dict:
         record[name] = {"wall_ms": wall_ms(fn, runs), "gpu_ms": gpu_ms(ctx, fn, runs)}
         record[name]["value"] = value
         r = record[name]
-        print(f"| {name} | {r['wall_ms']:.4f} | {r['gpu_ms']:.4f} | {value:.6f} |")
+        values = value if isinstance(value, tuple) else () if value is None else (value,)
+        shown = ", ".join(f"{v:.6f}" for v in values)
+        print(f"| {name} | {r['wall_ms']:.4f} | {r['gpu_ms']:.4f} | {shown} |")
+    del result
     return record
 
 
@@ -393,8 +433,24 @@ def main() -> None:
     parser.add_argument(
         "--tile-max-k", default="20", help="comma-separated k at which to time TileMax's variants"
     )
+    parser.add_argument(
+        "--parts",
+        default=",".join(PARTS),
+        help=f"comma-separated subset of {','.join(PARTS)} (default: all; --study adds the study)",
+    )
+    parser.add_argument(
+        "--ssim-layouts",
+        default=",".join(metrics.SSIM_LAYOUTS),
+        help="SSIM work-group layouts to time (keys of blurlab.metrics.SSIM_LAYOUTS)",
+    )
     parser.add_argument("--json", default=None)
     args = parser.parse_args()
+    parts = set(args.parts.split(","))
+    if parts - set(PARTS):
+        parser.error(f"unknown parts {sorted(parts - set(PARTS))}; choose from {PARTS}")
+    layouts = args.ssim_layouts.split(",")
+    if set(layouts) - set(metrics.SSIM_LAYOUTS):
+        parser.error(f"unknown SSIM layouts; choose from {list(metrics.SSIM_LAYOUTS)}")
     ctx = open_context(args.device)
     size = tuple(int(v) for v in args.size.split("x"))
     scene = bl.scenes.teapot_pass()
@@ -402,23 +458,27 @@ def main() -> None:
     reference = ctx.reference(scene, size, samples=64, progress=False)
     record = {**describe(ctx), "size": args.size, "runs": args.runs}
     print(f"\n{record['date']}  {record['renderer']}  {args.size}, medians of {args.runs} runs")
-    record["filters"] = filters(ctx, frame, args.runs)
-    ks = [int(k) for k in args.tile_max_k.split(",")]
-    record["tile_max_variants"] = tile_max_variants(ctx, frame, args.runs, ks)
-    bandwidth_size = tuple(int(v) for v in args.bandwidth_size.split("x"))
-    record["bandwidth"] = streaming_bandwidth(ctx, bandwidth_size, args.runs)
-    record["dram_floor"] = dram_floor(
-        ctx, frame, record["filters"], record["bandwidth"], args.nominal_gbs
-    )
-    record["sweep"] = sweep_rate(ctx, frame, reference, args.evaluations)
-    record["metrics"] = metric_times(ctx, frame, reference, args.runs)
+    if "filters" in parts:
+        record["filters"] = filters(ctx, frame, args.runs)
+        ks = [int(k) for k in args.tile_max_k.split(",")]
+        record["tile_max_variants"] = tile_max_variants(ctx, frame, args.runs, ks)
+        bandwidth_size = tuple(int(v) for v in args.bandwidth_size.split("x"))
+        record["bandwidth"] = streaming_bandwidth(ctx, bandwidth_size, args.runs)
+        record["dram_floor"] = dram_floor(
+            ctx, frame, record["filters"], record["bandwidth"], args.nominal_gbs
+        )
+    if "sweep" in parts:
+        record["sweep"] = sweep_rate(ctx, frame, reference, args.evaluations)
+    if "metrics" in parts:
+        record["metrics"] = metric_times(ctx, frame, reference, args.runs, layouts)
     if args.study:
         record["study"] = study_phases(ctx, size)
     save(args.json, record)  # before the moderngl part, which shares the GL context
-    try:
-        record["raster"] = raster_floor(ctx, scene, size, args.runs)
-    except ImportError as error:  # moderngl is not on every machine that measures
-        print(f"\nrasterization floor left out: {error}")
+    if "raster" in parts:
+        try:
+            record["raster"] = raster_floor(ctx, scene, size, args.runs)
+        except ImportError as error:  # moderngl is not on every machine that measures
+            print(f"\nrasterization floor left out: {error}")
     record["subgroup_extensions"] = subgroup_extensions(ctx)
     print(f"\nsubgroup extensions (TileMax *_subgroup variants): {record['subgroup_extensions']}")
     save(args.json, record)

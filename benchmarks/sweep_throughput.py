@@ -5,7 +5,7 @@ One evaluation = bl.blur(reconstruct_mcguire2012) on a G-buffer kept on the GPU 
 squared-error reduction against the reference + reading back its partial sums (PSNR).
 Parameters cycle through a grid of k and S so that no two consecutive evaluations are alike.
 Wall clock over the whole loop, with and without per-pass timer queries, and untimed with SSIM
-also reduced on the GPU (metrics.gpu_ssim) as sweeps do.
+also reduced on the GPU (metrics.gpu_mse_ssim: PSNR and SSIM from one pass) as sweeps do.
 
 Then SSIM alone, median of --ssim-repeats calls on one blurred image: metrics.ssim in NumPy
 (after downloading both images, as sweeps did before) against metrics.gpu_ssim.
@@ -52,9 +52,11 @@ def main() -> None:
             k, s = grid[i % len(grid)]
             result = bl.blur(ctx, frame, "reconstruct_mcguire2012", k=k, samples=s, timed=timed)
             color = result.textures["color"]
-            psnr = metrics.psnr_from_mse(metrics.gpu_mse(ctx, color, reference.texture))
-            if ssim:
-                metrics.gpu_ssim(ctx, reference.texture, color)
+            if ssim:  # both from one pass, as sweeps do
+                mse, _ = metrics.gpu_mse_ssim(ctx, reference.texture, color)
+            else:
+                mse = metrics.gpu_mse(ctx, color, reference.texture)
+            psnr = metrics.psnr_from_mse(mse)
             del result, color
         elapsed = time.perf_counter() - start
         rate = args.evaluations / elapsed

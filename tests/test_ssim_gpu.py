@@ -1,7 +1,8 @@
-"""SsimReductionPass (shaders/passes/ssim.comp) against its NumPy twin metrics.ssim (docs/spec.md
-§6):
-random images, rendered frames, near-flat images (where float32 variances cancel), sizes that are
-not multiples of the 16 x 16 work group and sizes smaller than the 11-tap window."""
+"""SsimReductionPass (shaders/passes/ssim.comp) against its NumPy twins metrics.ssim and mse
+(docs/spec.md §6): random images, rendered frames, near-flat images (where float32 variances
+cancel), sizes that are not multiples of any work-group tile and sizes smaller than the 11-tap
+window; gpu_mse_ssim (SSIM and squared error from one dispatch) against gpu_mse and gpu_ssim,
+in every work-group layout, with NaN and infinite colours."""
 
 from __future__ import annotations
 
@@ -9,7 +10,7 @@ import numpy as np
 import pytest
 
 import blurlab as bl
-from blurlab import metrics
+from blurlab import _core, metrics
 
 # Measured on llvmpipe: at most 5.4e-7 apart on every image below with 16 x 16 work groups,
 # 2.4e-7 with today's 32 x 16 (float32 sums of 121 taps against float64; the rendered frame's
@@ -74,8 +75,108 @@ def test_identical_images_give_one(ctx, rng):
     assert metrics.gpu_ssim(ctx, texture, texture) == pytest.approx(1.0, abs=1e-6)
 
 
-def test_textures_of_different_shapes_are_rejected(ctx):
-    a = ctx.upload(np.zeros((36, 64, 4), np.float32))
-    b = ctx.upload(np.zeros((36, 63, 4), np.float32))
-    with pytest.raises(ValueError, match=r"\(36, 64, 4\) and \(36, 63, 4\)"):
-        metrics.gpu_ssim(ctx, a, b)
+# The squared error: float32 sums of at most 32 x 32 pixels per work group (each term < 3),
+# added in double, against NumPy's float64. Measured on llvmpipe at most 8.8e-8 relative on the
+# images below and a 640 x 360 pair, every layout; the SSIM of the fused call is bit for bit
+# that of gpu_ssim (the same shader less the squared error) and within 1.8e-7 of NumPy. The
+# bound keeps a margin of 100x, as tests/test_metrics.py holds gpu_mse.
+MSE_REL = 1e-5
+
+
+def fused_agrees(ctx, a: np.ndarray, b: np.ndarray, layout: str | None = None) -> tuple:
+    """gpu_mse_ssim of a and b equals gpu_mse, gpu_ssim and the NumPy mse and ssim."""
+    ta, tb = ctx.upload(a), ctx.upload(b)
+    mse, ssim = metrics.gpu_mse_ssim(ctx, ta, tb, layout=layout)
+    assert mse == pytest.approx(metrics.gpu_mse(ctx, ta, tb), rel=MSE_REL)
+    assert mse == pytest.approx(metrics.mse(a, b), rel=MSE_REL)
+    assert ssim == pytest.approx(metrics.gpu_ssim(ctx, ta, tb, layout=layout), abs=TOLERANCE)
+    assert ssim == pytest.approx(metrics.ssim(a, b), abs=TOLERANCE)
+    return mse, ssim
+
+
+@pytest.mark.parametrize("size", [(160, 90), (17, 33), (33, 1), (1, 1), (2, 3), (11, 11)])
+def test_fused_mse_and_ssim_equal_the_separate_calls_and_numpy(ctx, rng, size):
+    a, b = noisy_pair(rng, size[1], size[0])
+    mse, ssim = fused_agrees(ctx, a, b)
+    assert mse > 0 and ssim < 1.0
+
+
+@pytest.mark.parametrize("layout", list(metrics.SSIM_LAYOUTS))
+def test_every_work_group_layout_gives_the_numpy_values(ctx, rng, layout):
+    # 70 x 45: no layout's tile divides it, so every layout has cut tiles on two edges.
+    a, b = noisy_pair(rng, 45, 70)
+    fused_agrees(ctx, a, b, layout)
+
+
+def test_identical_images_give_zero_error_and_ssim_one(ctx, rng):
+    a, _ = noisy_pair(rng, 36, 64)
+    texture = ctx.upload(a)
+    mse, ssim = metrics.gpu_mse_ssim(ctx, texture, texture)
+    assert mse == 0.0 and ssim == pytest.approx(1.0, abs=1e-6)
+
+
+def test_nan_and_infinite_colours_read_as_the_passes_read_them(ctx, rng):
+    # NaN reads as 0 (common/inputs.glsl), then colour clips to [0, 1]: +inf as 1, -inf as 0.
+    a, b = noisy_pair(rng, 36, 64)
+    b[5, 7, 0], b[20, 30, 1], b[30, 60] = np.nan, np.inf, -np.inf
+    a[10, 3, 2] = np.nan
+    clean = lambda image: np.nan_to_num(image, nan=0.0, posinf=1.0, neginf=0.0)  # noqa: E731
+    ta, tb = ctx.upload(a), ctx.upload(b)
+    mse, ssim = metrics.gpu_mse_ssim(ctx, ta, tb)
+    assert np.isfinite([mse, ssim]).all()
+    assert mse == pytest.approx(metrics.mse(clean(a), clean(b)), rel=MSE_REL)
+    assert ssim == pytest.approx(metrics.ssim(clean(a), clean(b)), abs=TOLERANCE)
+    assert metrics.gpu_mse(ctx, ta, tb) == pytest.approx(mse, rel=MSE_REL)
+    assert metrics.gpu_ssim(ctx, ta, tb) == pytest.approx(ssim, abs=TOLERANCE)
+
+
+@pytest.mark.parametrize("name", ["gpu_ssim", "gpu_mse_ssim"])
+def test_bad_textures_and_layouts_are_rejected(ctx, name):
+    measure = getattr(metrics, name)
+    wide, narrow = (ctx.upload(np.zeros((36, w, 4), np.float32)) for w in (64, 63))
+    with pytest.raises(ValueError, match=rf"{name}: .*\(36, 64, 4\) and \(36, 63, 4\)"):
+        measure(ctx, wide, narrow)
+    gray = ctx.upload(np.zeros((36, 64), np.float32))
+    with pytest.raises(ValueError, match="need RGB"):
+        measure(ctx, gray, gray)
+    with pytest.raises(ValueError, match="unknown SSIM layout 'square'; choose from"):
+        measure(ctx, wide, wide, layout="square")
+
+
+@pytest.mark.parametrize("tile_rows, rows", [(12, 4), (16, 3), (8, 16), (0, 1)])
+def test_the_pass_refuses_layouts_its_shader_cannot_tile(ctx, tile_rows, rows):
+    with pytest.raises(ValueError, match="tile_rows must be 8, 16 or 32"):
+        _core.SsimReductionPass(ctx.native, tile_rows, rows)
+
+
+@pytest.mark.parametrize("size", [(160, 90), (17, 33), (33, 1), (1, 1), (11, 11)])
+def test_a_prepared_reference_gives_the_values_of_the_pair(ctx, rng, size):
+    # Every layout: the prepare pass and the three-moment pass tile alike.
+    a, b = noisy_pair(rng, size[1], size[0])
+    a[2 % size[1], 0, 1] = np.nan  # read as 0, as the unprepared pass reads it
+    ta, tb = ctx.upload(a), ctx.upload(b)
+    clean = np.nan_to_num(a, nan=0.0)
+    for layout in metrics.SSIM_LAYOUTS:
+        prepared = metrics.prepare_reference(ctx, ta, layout)
+        mse, ssim = metrics.gpu_mse_ssim(ctx, prepared, tb)
+        assert mse == pytest.approx(metrics.mse(clean, b), rel=MSE_REL)
+        assert ssim == pytest.approx(metrics.ssim(clean, b), abs=TOLERANCE)
+        assert (mse, ssim) == pytest.approx(metrics.gpu_mse_ssim(ctx, ta, tb, layout=layout))
+        # It holds copies: overwriting the reference's texture does not change its values.
+        ta.upload(b)
+        assert metrics.gpu_mse_ssim(ctx, prepared, tb) == (mse, ssim)
+        ta.upload(a)
+        prepared.release()
+    with pytest.raises(ValueError, match="after release"):
+        metrics.gpu_mse_ssim(ctx, prepared, tb)
+
+
+def test_a_prepared_reference_refuses_another_size_and_no_colour(ctx, rng):
+    a, b = noisy_pair(rng, 36, 64)
+    prepared = metrics.prepare_reference(ctx, ctx.upload(a))
+    with pytest.raises(ValueError, match=r"gpu_mse_ssim: .*\(36, 64, 4\) and \(36, 63, 4\)"):
+        metrics.gpu_mse_ssim(ctx, prepared, ctx.upload(b[:, :63]))
+    with pytest.raises(ValueError, match="RGB"):
+        metrics.prepare_reference(ctx, ctx.upload(np.zeros((36, 64), np.float32)))
+    with pytest.raises(ValueError, match="unknown SSIM layout"):
+        metrics.prepare_reference(ctx, ctx.upload(a), layout="square")

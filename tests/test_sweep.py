@@ -119,28 +119,62 @@ def test_interrupted_sweep_keeps_finished_rows(ctx, tmp_path, monkeypatch):
     assert len(table) == 5 and len(pd.read_csv(out)) == 5
 
 
-@pytest.mark.parametrize("metric, tolerance", [("ssim", 1e-5), ("flip", 1e-4)])
-def test_gpu_columns_equal_the_cpu_metrics_on_the_same_images(ctx, monkeypatch, metric, tolerance):
-    # The sweep reduces SSIM and FLIP on the GPU; each value must equal metrics.ssim (NumPy) or
-    # metrics.flip (flip-evaluator) of the very images it compared (downloaded here, not by the
-    # sweep), as the CPU columns did before.
-    real = getattr(evaluation.m, f"gpu_{metric}")
-    on_the_cpu = getattr(evaluation.m, metric)
+def test_psnr_and_ssim_come_from_one_gpu_pass_equal_to_numpy(ctx, monkeypatch):
+    # With SSIM asked for, the sweep takes PSNR and SSIM from gpu_mse_ssim alone (one dispatch,
+    # one read-back) against the scene's reference, prepared once; each value must equal
+    # metrics.mse and metrics.ssim (NumPy) of the reference and the very image it compared
+    # (downloaded here, not by the sweep).
+    real, real_prepare = evaluation.m.gpu_mse_ssim, evaluation.m.prepare_reference
+    compared, prepared = [], []
+
+    def gpu_and_cpu(ctx_, reference, color):
+        assert isinstance(reference, evaluation.m.PreparedReference)
+        values = real(ctx_, reference, color)
+        a, b = prepared[0], color.download()  # the reference as it was prepared
+        compared.append((values, (evaluation.m.mse(a, b), evaluation.m.ssim(a, b))))
+        return values
+
+    def prepare(ctx_, reference):
+        prepared.append(reference.download())
+        return real_prepare(ctx_, reference)
+
+    def separate(*args):
+        raise AssertionError("the sweep ran a separate PSNR or SSIM pass")
+
+    monkeypatch.setattr(evaluation.m, "gpu_mse_ssim", gpu_and_cpu)
+    monkeypatch.setattr(evaluation.m, "prepare_reference", prepare)
+    monkeypatch.setattr(evaluation.m, "gpu_mse", separate)
+    monkeypatch.setattr(evaluation.m, "gpu_ssim", separate)
+    args = dict(reference_samples=8, metrics=("psnr", "ssim"), progress=False, repeats=1)
+    table = sw.sweep(ctx, ["fan"], GRID, SIZE, **args)
+    assert len(compared) == len(table) == 5 and len(prepared) == 1
+    assert list(table["ssim"]) == [gpu[1] for gpu, _ in compared]
+    assert list(table["psnr"]) == [evaluation.m.psnr_from_mse(gpu[0]) for gpu, _ in compared]
+    for (mse, ssim), (cpu_mse, cpu_ssim) in compared:
+        assert mse == pytest.approx(cpu_mse, rel=1e-5)
+        assert ssim == pytest.approx(cpu_ssim, abs=1e-5)
+    assert table["ssim"].between(0, 1).all() and table["ssim"].nunique() > 1
+
+
+def test_gpu_flip_column_equals_the_cpu_metric_on_the_same_images(ctx, monkeypatch):
+    # The sweep reduces FLIP on the GPU; each value must equal metrics.flip (flip-evaluator) of
+    # the very images it compared (downloaded here, not by the sweep), as the CPU column did.
+    real = evaluation.m.gpu_flip
     compared = []
 
     def gpu_and_cpu(ctx_, reference, color):
         value = real(ctx_, reference, color)
-        compared.append((value, on_the_cpu(reference.download(), color.download())))
+        compared.append((value, evaluation.m.flip(reference.download(), color.download())))
         return value
 
-    monkeypatch.setattr(evaluation.m, f"gpu_{metric}", gpu_and_cpu)
-    args = dict(reference_samples=8, metrics=("psnr", metric), progress=False, repeats=1)
+    monkeypatch.setattr(evaluation.m, "gpu_flip", gpu_and_cpu)
+    args = dict(reference_samples=8, metrics=("psnr", "flip"), progress=False, repeats=1)
     table = sw.sweep(ctx, ["fan"], GRID, SIZE, **args)
     assert len(compared) == len(table) == 5
-    assert list(table[metric]) == [gpu for gpu, _ in compared]
+    assert list(table["flip"]) == [gpu for gpu, _ in compared]
     for gpu, cpu in compared:
-        assert gpu == pytest.approx(cpu, abs=tolerance)
-    assert table[metric].between(0, 1).all() and table[metric].nunique() > 1
+        assert gpu == pytest.approx(cpu, abs=1e-4)
+    assert table["flip"].between(0, 1).all() and table["flip"].nunique() > 1
 
 
 def test_no_metric_downloads_the_images(ctx, monkeypatch):

@@ -1,7 +1,7 @@
 """Error against a reference, docs/spec.md §6: PSNR (linear color clipped to [0, 1]), SSIM on
 luminance, FLIP (the flip-evaluator package, on sRGB), per-pixel error maps, and flicker for
-sequences. `gpu_mse`, `gpu_ssim` and `gpu_flip` reduce the error on the GPU and read back a
-scalar, for sweeps.
+sequences. `gpu_mse`, `gpu_ssim`, `gpu_mse_ssim` (both from one pass) and `gpu_flip` reduce
+the error on the GPU and read back a scalar, for sweeps.
 
 The LDR metrics above clip to [0, 1] on purpose: they measure what an LDR display shows of
 linear colour. HDR scenes (docs/hdr.md, docs/spec.md §6.2) are measured without that clip:
@@ -117,20 +117,97 @@ def _same_size(a, b, name: str) -> None:
 
 def gpu_mse(ctx, a, b) -> float:
     """`mse` of two (H, W, 4) float32 textures, reduced on the GPU: only partial sums (one
-    float per 16 x 16 pixels) are read back."""
+    float per 32 x 32 pixels) are read back. NaN reads as 0."""
     _same_size(a, b, "gpu_mse")
     reduction = ctx.cached("squared_error", lambda: _core.ErrorReductionPass(ctx.native))
     height, width = a.shape[:2]
     return reduction.squared_error(a.native, b.native) / (height * width * 3)
 
 
-def gpu_ssim(ctx, a, b) -> float:
+# Work-group layouts of shaders/passes/ssim.comp, (tile rows, output rows per invocation): the
+# tile is 32 pixels wide; every layout gives the same value up to float rounding. "column4"
+# computes four pixels down a column per invocation (the vertical blur reads each row's moments
+# once for up to four outputs); "pixel16" is the one-pixel-per-invocation layout measured in
+# docs/benchmarks.md before it. benchmarks/speed_floor.py times them all.
+SSIM_LAYOUTS = {"pixel16": (16, 1), "column2": (16, 2), "column4": (32, 4), "column8": (32, 8)}
+SSIM_LAYOUT = "column4"
+
+
+def _ssim_pass(ctx, layout: str | None):
+    layout = SSIM_LAYOUT if layout is None else layout
+    if layout not in SSIM_LAYOUTS:
+        raise ValueError(
+            f"blurlab.metrics: unknown SSIM layout {layout!r}; choose from {list(SSIM_LAYOUTS)}"
+        )
+    tile_rows, rows = SSIM_LAYOUTS[layout]
+    make = lambda: _core.SsimReductionPass(ctx.native, tile_rows, rows)  # noqa: E731
+    return ctx.cached(("ssim", layout), make)
+
+
+def gpu_ssim(ctx, a, b, layout: str | None = None) -> float:
     """`ssim` of two (H, W, 4) float32 textures, computed on the GPU (docs/spec.md §6): only partial
-    sums of the SSIM map (one float per 32 x 16 pixels) are read back."""
+    sums of the SSIM map (one float per work group of 32 x 16 or 32 x 32 pixels) are read back.
+    `layout`: a key of SSIM_LAYOUTS (default SSIM_LAYOUT), for benchmarks that compare them."""
     _same_size(a, b, "gpu_ssim")
-    return ctx.cached("ssim", lambda: _core.SsimReductionPass(ctx.native)).mean_ssim(
-        a.native, b.native
-    )
+    return _ssim_pass(ctx, layout).mean_ssim(a.native, b.native)
+
+
+def gpu_mse_ssim(ctx, a, b, layout: str | None = None) -> tuple[float, float]:
+    """(`mse`, `ssim`) of two (H, W, 4) float32 textures from one GPU dispatch and one read-back
+    (docs/spec.md §6): the SSIM pass also sums the squared error of the texels it loads, so a
+    sweep that wants PSNR and SSIM pays for one pass. Equal to (`gpu_mse`, `gpu_ssim`) up to
+    float rounding (tests/test_ssim_gpu.py). `layout` as in `gpu_ssim`. `a` may be a
+    `PreparedReference` (`prepare_reference`) of a reference compared many times: then only
+    three moments of the pair are blurred, in the layout it was prepared with."""
+    if isinstance(a, PreparedReference):
+        return a.mse_ssim(b)
+    _same_size(a, b, "gpu_mse_ssim")
+    squared_error, mean_ssim = _ssim_pass(ctx, layout).mse_ssim(a.native, b.native)
+    height, width = a.shape[:2]
+    return squared_error / (height * width * 3), mean_ssim
+
+
+class PreparedReference:
+    """A reference prepared once for many `gpu_mse_ssim` calls against it (a sweep's scene): its
+    clipped colour and luminance, and the Gaussian mean and variance of its luminance, computed
+    once on the GPU, so each evaluation blurs three moments of the pair instead of five. It
+    holds copies: later changes to the reference texture do not reach it. Make it with
+    `prepare_reference`; its textures go back to the pool with `release()`."""
+
+    def __init__(self, ctx, reference, layout: str | None = None):
+        if reference.channels < 3:
+            raise ValueError("blurlab.metrics.prepare_reference: the reference needs RGB channels")
+        self.layout = SSIM_LAYOUT if layout is None else layout
+        self.shape = reference.shape
+        height, width = reference.shape[:2]
+        self.colour_luminance = ctx.pooled((height, width, 4))
+        self.moments = ctx.pooled((height, width, 2))
+        native = (self.colour_luminance.native, self.moments.native)
+        _ssim_pass(ctx, self.layout).prepare(reference.native, *native)
+        self._ctx = ctx
+
+    def mse_ssim(self, test) -> tuple[float, float]:
+        """(`mse`, `ssim`) of the reference and `test`, as `gpu_mse_ssim` computes them."""
+        if self.colour_luminance is None:
+            raise ValueError("blurlab.metrics.PreparedReference: used after release()")
+        _same_size(self.colour_luminance, test, "gpu_mse_ssim")
+        squared_error, mean_ssim = _ssim_pass(self._ctx, self.layout).mse_ssim_prepared(
+            self.colour_luminance.native, self.moments.native, test.native
+        )
+        height, width = test.shape[:2]
+        return squared_error / (height * width * 3), mean_ssim
+
+    def release(self) -> None:
+        """Returns the textures to the context's pool; the object cannot be used after."""
+        if self.colour_luminance is not None:
+            self._ctx.recycle(self.colour_luminance, self.moments)
+            self.colour_luminance = self.moments = None
+
+
+def prepare_reference(ctx, reference, layout: str | None = None) -> PreparedReference:
+    """`reference` (an (H, W, 4) float32 texture) prepared for `gpu_mse_ssim(ctx, prepared,
+    test)`: for a caller that compares many images with one fixed reference."""
+    return PreparedReference(ctx, reference, layout)
 
 
 def _glsl_floats(values) -> str:

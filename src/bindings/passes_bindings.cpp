@@ -268,9 +268,17 @@ void bind_passes(py::module_& m) {
            py::call_guard<py::gil_scoped_release>());
 
   py::class_<SsimReductionPass, std::shared_ptr<SsimReductionPass>>(m, "SsimReductionPass")
-      .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))
+      .def(py::init<std::shared_ptr<Context>, int, int>(), py::arg("context"),
+           py::arg("tile_rows") = 32, py::arg("rows_per_thread") = 4)
       .def("mean_ssim", &SsimReductionPass::mean_ssim, py::arg("a"), py::arg("b"),
-           py::call_guard<py::gil_scoped_release>());
+           py::call_guard<py::gil_scoped_release>())
+      .def("mse_ssim", &SsimReductionPass::mse_ssim, py::arg("a"), py::arg("b"),
+           py::call_guard<py::gil_scoped_release>())
+      .def("prepare", &SsimReductionPass::prepare, py::arg("reference"),
+           py::arg("colour_luminance"), py::arg("moments"),
+           py::call_guard<py::gil_scoped_release>())
+      .def("mse_ssim_prepared", &SsimReductionPass::mse_ssim_prepared, py::arg("colour_luminance"),
+           py::arg("moments"), py::arg("test"), py::call_guard<py::gil_scoped_release>());
 
   py::class_<MotionEncodingPass, std::shared_ptr<MotionEncodingPass>>(m, "MotionEncodingPass")
       .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))

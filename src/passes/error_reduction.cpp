@@ -14,7 +14,7 @@ ErrorReductionPass::ErrorReductionPass(std::shared_ptr<Context> context)
 ErrorReductionPass::~ErrorReductionPass() = default;
 
 double ErrorReductionPass::squared_error(const Texture& a, const Texture& b) {
-  return reduction_->sum(*program_, a, b);
+  return reduction_->sums(*program_, a, b, {32, 32}, 1)[0];  // squared_error.comp's tile
 }
 
 }  // namespace blurlab

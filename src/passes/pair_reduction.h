@@ -1,8 +1,9 @@
 // What the error reductions of docs/spec.md §6 share (ErrorReductionPass, SsimReductionPass): a
-// compute program over two images of one size in work groups of its local size, each writing one
-// partial sum to a storage buffer, read back and added up in double precision on the CPU.
+// compute program over two images of one size in work groups of one tile each, each writing its
+// partial sums to a storage buffer, read back and added up in double precision on the CPU.
 #pragma once
 
+#include <array>
 #include <memory>
 #include <vector>
 
@@ -18,10 +19,11 @@ class PairReduction {
   explicit PairReduction(Context* context);
   ~PairReduction();
   // Binds a and b to texture units 0 and 1 and the partial sums to storage buffer 0, runs
-  // `program` over ⌈W/X⌉ × ⌈H/Y⌉ groups of its local size X x Y and returns the sum of the
-  // partials. Throws std::invalid_argument, naming both sizes, if a and b differ in size or lack
-  // RGB.
-  double sum(Program& program, const Texture& a, const Texture& b);
+  // `program` over ⌈W/X⌉ × ⌈H/Y⌉ groups, each covering `tile` (X, Y) pixels and writing
+  // `components` partials (interleaved), and returns the sum of each component's partials.
+  // Throws std::invalid_argument, naming both sizes, if a and b differ in size or lack RGB.
+  std::vector<double> sums(Program& program, const Texture& a, const Texture& b,
+                           std::array<int, 2> tile, int components);
 
  private:
   Context* context_;

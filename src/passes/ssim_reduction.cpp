@@ -2,10 +2,12 @@
 
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "gl/context.h"
+#include "gl/gl.h"
 #include "gl/program.h"
 #include "gl/texture.h"
 #include "passes/pair_reduction.h"
@@ -34,17 +36,90 @@ std::string gaussian_weights(double sigma, int radius) {
 
 }  // namespace
 
-SsimReductionPass::SsimReductionPass(std::shared_ptr<Context> context)
+SsimReductionPass::SsimReductionPass(std::shared_ptr<Context> context, int tile_rows,
+                                     int rows_per_thread)
     : context_(std::move(context)),
-      program_(Program::compute(
-          context_, "passes/ssim.comp",
-          {{"RADIUS", std::to_string(radius)}, {"WEIGHTS", gaussian_weights(sigma, radius)}})),
-      reduction_(std::make_unique<PairReduction>(context_.get())) {}
+      tile_rows_(tile_rows),
+      rows_per_thread_(rows_per_thread),
+      reduction_(std::make_unique<PairReduction>(context_.get())) {
+  const bool tile_ok = tile_rows == 8 || tile_rows == 16 || tile_rows == 32;
+  const bool rows_ok =
+      rows_per_thread == 1 || rows_per_thread == 2 || rows_per_thread == 4 || rows_per_thread == 8;
+  if (!tile_ok || !rows_ok || rows_per_thread > tile_rows)
+    throw std::invalid_argument(
+        "blurlab.SsimReductionPass: tile_rows must be 8, 16 or 32 and rows_per_thread 1, 2, 4 or "
+        "8, at most tile_rows; got " +
+        std::to_string(tile_rows) + " and " + std::to_string(rows_per_thread));
+  program(Variant::ssim);  // a layout the shader cannot tile fails here
+}
 
 SsimReductionPass::~SsimReductionPass() = default;
 
+Program& SsimReductionPass::program(Variant variant) {
+  auto& slot = programs_[static_cast<int>(variant)];
+  if (!slot) {
+    auto flag = [&](bool on) { return std::string(on ? "1" : "0"); };
+    slot = Program::compute(
+        context_, "passes/ssim.comp",
+        {{"RADIUS", std::to_string(radius)},
+         {"WEIGHTS", gaussian_weights(sigma, radius)},
+         {"TILE_Y", std::to_string(tile_rows_)},
+         {"ROWS", std::to_string(rows_per_thread_)},
+         {"SQUARED_ERROR", flag(variant == Variant::fused || variant == Variant::prepared)},
+         {"PREPARE", flag(variant == Variant::prepare)},
+         {"PREPARED", flag(variant == Variant::prepared)}});
+  }
+  return *slot;
+}
+
 double SsimReductionPass::mean_ssim(const Texture& a, const Texture& b) {
-  return reduction_->sum(*program_, a, b) / (double(a.width()) * a.height());
+  const double total = reduction_->sums(program(Variant::ssim), a, b, {32, tile_rows_}, 1)[0];
+  return total / (double(a.width()) * a.height());
+}
+
+std::pair<double, double> SsimReductionPass::mse_ssim(const Texture& a, const Texture& b) {
+  const auto totals = reduction_->sums(program(Variant::fused), a, b, {32, tile_rows_}, 2);
+  return {totals[1], totals[0] / (double(a.width()) * a.height())};
+}
+
+namespace {
+
+void check_prepared(const Texture& reference, const Texture& colour_luminance,
+                    const Texture& moments) {
+  const bool sizes = colour_luminance.width() == reference.width() &&
+                     colour_luminance.height() == reference.height() &&
+                     moments.width() == reference.width() && moments.height() == reference.height();
+  if (!sizes)
+    throw std::invalid_argument(
+        "blurlab: a prepared SSIM reference's textures must have the reference's size");
+  if (colour_luminance.format().internal != GL_RGBA32F || moments.format().internal != GL_RG32F)
+    throw std::invalid_argument(
+        "blurlab: a prepared SSIM reference needs an RGBA32F colour_luminance and RG32F moments");
+}
+
+}  // namespace
+
+void SsimReductionPass::prepare(const Texture& reference, const Texture& colour_luminance,
+                                const Texture& moments) {
+  if (reference.format().channels < 3)
+    throw std::invalid_argument("blurlab: compared images need RGB channels");
+  check_prepared(reference, colour_luminance, moments);
+  Program& prepare = program(Variant::prepare);
+  prepare.bind_texture(0, reference);
+  prepare.bind_image(0, colour_luminance, GL_WRITE_ONLY);
+  prepare.bind_image(1, moments, GL_WRITE_ONLY);
+  prepare.dispatch((reference.width() + 31) / 32,
+                   (reference.height() + tile_rows_ - 1) / tile_rows_, 1);
+}
+
+std::pair<double, double> SsimReductionPass::mse_ssim_prepared(const Texture& colour_luminance,
+                                                               const Texture& moments,
+                                                               const Texture& test) {
+  check_prepared(colour_luminance, colour_luminance, moments);
+  Program& prepared = program(Variant::prepared);
+  prepared.bind_texture(2, moments);
+  const auto totals = reduction_->sums(prepared, colour_luminance, test, {32, tile_rows_}, 2);
+  return {totals[1], totals[0] / (double(test.width()) * test.height())};
 }
 
 }  // namespace blurlab

@@ -1,12 +1,14 @@
-// SSIM reduction for sweeps (docs/spec.md §6) — shaders/passes/ssim.comp, NumPy twin
-// blurlab.metrics.ssim, tests/test_ssim_gpu.py.
+// SSIM reduction for sweeps (docs/spec.md §6) — shaders/passes/ssim.comp, NumPy twins
+// blurlab.metrics.ssim and mse, tests/test_ssim_gpu.py.
 //
 // Mean SSIM (Wang et al. 2004) of the luminance of two images clipped to [0, 1]: Gaussian window
 // σ = 1.5 with 11 taps (radius 5), reflect padding as np.pad(mode="reflect"), C1 = 0.01²,
 // C2 = 0.03². No parameters: the window is fixed so that the GPU value equals the NumPy one.
+// `mse_ssim` also returns the squared error of the same dispatch (one pass, one read-back).
 #pragma once
 
 #include <memory>
+#include <utility>
 
 namespace blurlab {
 
@@ -20,14 +22,30 @@ class SsimReductionPass {
   static constexpr double sigma = 1.5;
   static constexpr int radius = 5;
 
-  explicit SsimReductionPass(std::shared_ptr<Context> context);
+  // Work groups cover 32 x tile_rows pixels; each invocation computes rows_per_thread pixels of
+  // one column (the layouts give the same value up to float rounding: benchmarks compare their
+  // speed). tile_rows in {8, 16, 32}, rows_per_thread in {1, 2, 4, 8} dividing tile_rows.
+  SsimReductionPass(std::shared_ptr<Context> context, int tile_rows = 32, int rows_per_thread = 4);
   ~SsimReductionPass();
   // Mean over pixels of the SSIM map of a and b, both RGB(A) float textures of one size.
   double mean_ssim(const Texture& a, const Texture& b);
+  // (Σ over pixels and RGB of (clamp(a) - clamp(b))², mean SSIM) from one dispatch.
+  std::pair<double, double> mse_ssim(const Texture& a, const Texture& b);
+  // Prepares a reference that many tests are compared with: writes its clipped colour and
+  // luminance to colour_luminance (RGBA32F) and the Gaussian mean and variance of its luminance
+  // to moments (RG32F), both of the reference's size.
+  void prepare(const Texture& reference, const Texture& colour_luminance, const Texture& moments);
+  // mse_ssim(reference, test) of a reference prepared by `prepare`: blurs three moments, not five.
+  std::pair<double, double> mse_ssim_prepared(const Texture& colour_luminance,
+                                              const Texture& moments, const Texture& test);
 
  private:
+  enum class Variant { ssim, fused, prepare, prepared };
+  Program& program(Variant variant);  // compiled on first use
+
   std::shared_ptr<Context> context_;
-  std::shared_ptr<Program> program_;
+  int tile_rows_, rows_per_thread_;
+  std::shared_ptr<Program> programs_[4];
   std::unique_ptr<PairReduction> reduction_;
 };
 
