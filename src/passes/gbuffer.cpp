@@ -16,6 +16,27 @@ GBufferPass::GBufferPass(std::shared_ptr<Context> context) : context_(std::move(
   context_->make_current();
   glCreateFramebuffers(1, &framebuffer_);
   glCreateVertexArrays(1, &empty_vao_);
+  locations_.view_projection = location("view_projection");
+  locations_.sky_from_clip = location("sky_from_clip");
+  locations_.sky_projection = location("sky_projection");
+  locations_.eye = location("eye");
+  locations_.near = location("near");
+  locations_.size = location("size");
+  locations_.light_direction = location("light_direction");
+  locations_.light_color = location("light_color");
+  locations_.ambient = location("ambient");
+  locations_.background_color = location("background_color");
+  locations_.background = location("background");
+  locations_.model = location("model");
+  locations_.bone_count = location("bone_count");
+  locations_.material_color = location("material_color");
+  locations_.material_emission = location("material_emission");
+  locations_.material_specular = location("material_specular");
+  locations_.material_shininess = location("material_shininess");
+  locations_.has_texture = location("has_texture");
+  locations_.object_id = location("object_id");
+  locations_.hatching = location("hatching");
+  locations_.hatching_scale = location("hatching_scale");
   check_gl("creating the G-buffer pass");
 }
 
@@ -40,6 +61,19 @@ void GBufferPass::resize_depth(int width, int height) {
   glNamedFramebufferRenderbuffer(framebuffer_, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_buffer_);
   depth_width_ = width;
   depth_height_ = height;
+}
+
+void GBufferPass::draw_background() {
+  // One triangle over the whole image at the far plane, drawn last: it passes the depth test
+  // (LEQUAL against the cleared 1.0) only where no geometry was drawn, so the pixels under
+  // geometry are neither shaded twice nor written twice. Geometry at depth 1.0 fails GL_LESS
+  // against the clear, so the same pixels are background as when it was drawn first.
+  glDepthFunc(GL_LEQUAL);
+  glDepthMask(GL_FALSE);
+  glProgramUniform1i(program_->id(), locations_.background, 1);
+  glBindVertexArray(empty_vao_);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glDepthMask(GL_TRUE);
 }
 
 void GBufferPass::render(const GBufferTargets& targets, const GBufferCamera& camera,
@@ -85,29 +119,22 @@ void GBufferPass::render(const GBufferTargets& targets, const GBufferCamera& cam
 
   const GLuint id = program_->id();
   glUseProgram(id);
-  glProgramUniformMatrix4fv(id, location("view_projection"), 3, GL_TRUE,
+  glProgramUniformMatrix4fv(id, locations_.view_projection, 3, GL_TRUE,
                             &camera.view_projection[0][0]);
-  glProgramUniformMatrix4fv(id, location("sky_from_clip"), 1, GL_TRUE, camera.sky_from_clip);
-  glProgramUniformMatrix4fv(id, location("sky_projection"), 2, GL_TRUE,
+  glProgramUniformMatrix4fv(id, locations_.sky_from_clip, 1, GL_TRUE, camera.sky_from_clip);
+  glProgramUniformMatrix4fv(id, locations_.sky_projection, 2, GL_TRUE,
                             &camera.sky_projection[0][0]);
-  glProgramUniform3fv(id, location("eye"), 1, camera.eye);
-  glProgramUniform1f(id, location("near"), camera.near);
-  glProgramUniform2f(id, location("size"), float(width), float(height));
-  glProgramUniform3fv(id, location("light_direction"), 1, light.direction);
-  glProgramUniform3fv(id, location("light_color"), 1, light.color);
-  glProgramUniform3fv(id, location("ambient"), 1, light.ambient);
-  glProgramUniform4fv(id, location("background_color"), 1, light.background);
-
-  // The background: one triangle over the whole image, no depth test, so every pixel starts as
-  // a point at infinity; geometry then overwrites it where it is drawn.
-  glDisable(GL_DEPTH_TEST);
-  glProgramUniform1i(id, location("background"), 1);
-  glBindVertexArray(empty_vao_);
-  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glProgramUniform3fv(id, locations_.eye, 1, camera.eye);
+  glProgramUniform1f(id, locations_.near, camera.near);
+  glProgramUniform2f(id, locations_.size, float(width), float(height));
+  glProgramUniform3fv(id, locations_.light_direction, 1, light.direction);
+  glProgramUniform3fv(id, locations_.light_color, 1, light.color);
+  glProgramUniform3fv(id, locations_.ambient, 1, light.ambient);
+  glProgramUniform4fv(id, locations_.background_color, 1, light.background);
 
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
-  glProgramUniform1i(id, location("background"), 0);
+  glProgramUniform1i(id, locations_.background, 0);
   for (const GBufferDraw& draw : draws) {
     if (!draw.mesh) throw std::invalid_argument("blurlab: a draw has no mesh");
     const size_t bone_floats = size_t(draw.bone_count) * 3 * 16;
@@ -128,14 +155,14 @@ void GBufferPass::render(const GBufferTargets& targets, const GBufferCamera& cam
       glNamedBufferSubData(bones_->id(), 0, static_cast<GLsizeiptr>(bytes), draw.bones.data());
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, bones_->id());
     }
-    glProgramUniformMatrix4fv(id, location("model"), 3, GL_TRUE, &draw.model[0][0]);
-    glProgramUniform1i(id, location("bone_count"), draw.bone_count);
-    glProgramUniform4fv(id, location("material_color"), 1, draw.material.color);
-    glProgramUniform3fv(id, location("material_emission"), 1, draw.material.emission);
-    glProgramUniform1f(id, location("material_specular"), draw.material.specular);
-    glProgramUniform1f(id, location("material_shininess"), draw.material.shininess);
-    glProgramUniform1i(id, location("has_texture"), draw.material.texture ? 1 : 0);
-    glProgramUniform1i(id, location("object_id"), draw.object_id);
+    glProgramUniformMatrix4fv(id, locations_.model, 3, GL_TRUE, &draw.model[0][0]);
+    glProgramUniform1i(id, locations_.bone_count, draw.bone_count);
+    glProgramUniform4fv(id, locations_.material_color, 1, draw.material.color);
+    glProgramUniform3fv(id, locations_.material_emission, 1, draw.material.emission);
+    glProgramUniform1f(id, locations_.material_specular, draw.material.specular);
+    glProgramUniform1f(id, locations_.material_shininess, draw.material.shininess);
+    glProgramUniform1i(id, locations_.has_texture, draw.material.texture ? 1 : 0);
+    glProgramUniform1i(id, locations_.object_id, draw.object_id);
     if (draw.material.texture) glBindTextureUnit(0, draw.material.texture->id());
     const GBufferHatching& hatching = draw.material.hatching;
     // Python can make the enum from any int.
@@ -150,10 +177,11 @@ void GBufferPass::render(const GBufferTargets& targets, const GBufferCamera& cam
       glBindTextureUnit(1, hatching.tam_low->id());
       if (six_way) glBindTextureUnit(2, hatching.tam_high->id());
     }
-    glProgramUniform1i(id, location("hatching"), static_cast<int>(hatching.scheme));
-    glProgramUniform1f(id, location("hatching_scale"), hatching.scale);
+    glProgramUniform1i(id, locations_.hatching, static_cast<int>(hatching.scheme));
+    glProgramUniform1f(id, locations_.hatching_scale, hatching.scale);
     draw.mesh->draw();
   }
+  draw_background();
   glBindVertexArray(0);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   glMemoryBarrier(GL_ALL_BARRIER_BITS);

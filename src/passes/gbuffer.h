@@ -89,14 +89,23 @@ class GBufferPass {
               const std::vector<GBufferDraw>& draws);
 
  private:
+  // The program's uniform locations, looked up once: a draw sets ten of them.
+  struct Locations {
+    GLint view_projection, sky_from_clip, sky_projection, eye, near, size, light_direction,
+        light_color, ambient, background_color, background, model, bone_count, material_color,
+        material_emission, material_specular, material_shininess, has_texture, object_id, hatching,
+        hatching_scale;
+  };
   GLint location(const char* name) const;
   void resize_depth(int width, int height);
+  void draw_background();
   std::shared_ptr<Context> context_;
   std::shared_ptr<Program> program_;
   std::unique_ptr<Buffer> bones_;
   size_t bones_capacity_ = 0;
   GLuint framebuffer_ = 0, depth_buffer_ = 0, empty_vao_ = 0;
   int depth_width_ = 0, depth_height_ = 0;
+  Locations locations_{};
 };
 
 }  // namespace blurlab
