@@ -15,7 +15,7 @@ uniform mat4 model[3];
 uniform mat4 view_projection[3];  // y flipped: see src/passes/gbuffer.h
 uniform int bone_count;
 uniform bool background;
-uniform int hatching;  // 0 none, 1 six_way, 2 threshold
+const int hatching = HATCHING;  // 0 none, 1 six_way, 2 threshold: one program each
 uniform vec3 eye;
 uniform vec3 light_direction;
 uniform vec3 light_color;

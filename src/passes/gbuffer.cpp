@@ -12,31 +12,10 @@
 namespace blurlab {
 
 GBufferPass::GBufferPass(std::shared_ptr<Context> context) : context_(std::move(context)) {
-  program_ = Program::graphics(context_, "passes/gbuffer.vert", "passes/gbuffer.frag", {});
   context_->make_current();
+  variant(GBufferHatching::Scheme::none);
   glCreateFramebuffers(1, &framebuffer_);
   glCreateVertexArrays(1, &empty_vao_);
-  locations_.view_projection = location("view_projection");
-  locations_.sky_from_clip = location("sky_from_clip");
-  locations_.sky_projection = location("sky_projection");
-  locations_.eye = location("eye");
-  locations_.near = location("near");
-  locations_.size = location("size");
-  locations_.light_direction = location("light_direction");
-  locations_.light_color = location("light_color");
-  locations_.ambient = location("ambient");
-  locations_.background_color = location("background_color");
-  locations_.background = location("background");
-  locations_.model = location("model");
-  locations_.bone_count = location("bone_count");
-  locations_.material_color = location("material_color");
-  locations_.material_emission = location("material_emission");
-  locations_.material_specular = location("material_specular");
-  locations_.material_shininess = location("material_shininess");
-  locations_.has_texture = location("has_texture");
-  locations_.object_id = location("object_id");
-  locations_.hatching = location("hatching");
-  locations_.hatching_scale = location("hatching_scale");
   check_gl("creating the G-buffer pass");
 }
 
@@ -49,8 +28,37 @@ GBufferPass::~GBufferPass() {
   });
 }
 
-GLint GBufferPass::location(const char* name) const {
-  return glGetUniformLocation(program_->id(), name);
+const GBufferPass::Variant& GBufferPass::variant(GBufferHatching::Scheme scheme) {
+  // Python can make the enum from any int.
+  if (scheme < GBufferHatching::Scheme::none || scheme > GBufferHatching::Scheme::threshold)
+    throw std::invalid_argument(
+        "blurlab: a draw's hatching scheme is not a GBufferHatching.Scheme");
+  Variant& made = variants_[static_cast<int>(scheme)];
+  if (made.program) return made;
+  made.program = Program::graphics(context_, "passes/gbuffer.vert", "passes/gbuffer.frag",
+                                   {{"HATCHING", std::to_string(static_cast<int>(scheme))}});
+  const GLuint id = made.program->id();
+  made.locations.view_projection = glGetUniformLocation(id, "view_projection");
+  made.locations.sky_from_clip = glGetUniformLocation(id, "sky_from_clip");
+  made.locations.sky_projection = glGetUniformLocation(id, "sky_projection");
+  made.locations.eye = glGetUniformLocation(id, "eye");
+  made.locations.near = glGetUniformLocation(id, "near");
+  made.locations.size = glGetUniformLocation(id, "size");
+  made.locations.light_direction = glGetUniformLocation(id, "light_direction");
+  made.locations.light_color = glGetUniformLocation(id, "light_color");
+  made.locations.ambient = glGetUniformLocation(id, "ambient");
+  made.locations.background_color = glGetUniformLocation(id, "background_color");
+  made.locations.background = glGetUniformLocation(id, "background");
+  made.locations.model = glGetUniformLocation(id, "model");
+  made.locations.bone_count = glGetUniformLocation(id, "bone_count");
+  made.locations.material_color = glGetUniformLocation(id, "material_color");
+  made.locations.material_emission = glGetUniformLocation(id, "material_emission");
+  made.locations.material_specular = glGetUniformLocation(id, "material_specular");
+  made.locations.material_shininess = glGetUniformLocation(id, "material_shininess");
+  made.locations.has_texture = glGetUniformLocation(id, "has_texture");
+  made.locations.object_id = glGetUniformLocation(id, "object_id");
+  made.locations.hatching_scale = glGetUniformLocation(id, "hatching_scale");
+  return made;
 }
 
 void GBufferPass::resize_depth(int width, int height) {
@@ -63,17 +71,35 @@ void GBufferPass::resize_depth(int width, int height) {
   depth_height_ = height;
 }
 
-void GBufferPass::draw_background() {
+void GBufferPass::draw_background(const Variant& variant) {
   // One triangle over the whole image at the far plane, drawn last: it passes the depth test
   // (LEQUAL against the cleared 1.0) only where no geometry was drawn, so the pixels under
   // geometry are neither shaded twice nor written twice. Geometry at depth 1.0 fails GL_LESS
   // against the clear, so the same pixels are background as when it was drawn first.
   glDepthFunc(GL_LEQUAL);
   glDepthMask(GL_FALSE);
-  glProgramUniform1i(program_->id(), locations_.background, 1);
+  glUseProgram(variant.program->id());
+  glProgramUniform1i(variant.program->id(), variant.locations.background, 1);
   glBindVertexArray(empty_vao_);
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glDepthMask(GL_TRUE);
+}
+
+void GBufferPass::set_frame_uniforms(const Variant& variant, const GBufferCamera& camera,
+                                     const GBufferLight& light, int width, int height) {
+  const GLuint id = variant.program->id();
+  const Locations& at = variant.locations;
+  glProgramUniformMatrix4fv(id, at.view_projection, 3, GL_TRUE, &camera.view_projection[0][0]);
+  glProgramUniformMatrix4fv(id, at.sky_from_clip, 1, GL_TRUE, camera.sky_from_clip);
+  glProgramUniformMatrix4fv(id, at.sky_projection, 2, GL_TRUE, &camera.sky_projection[0][0]);
+  glProgramUniform3fv(id, at.eye, 1, camera.eye);
+  glProgramUniform1f(id, at.near, camera.near);
+  glProgramUniform2f(id, at.size, float(width), float(height));
+  glProgramUniform3fv(id, at.light_direction, 1, light.direction);
+  glProgramUniform3fv(id, at.light_color, 1, light.color);
+  glProgramUniform3fv(id, at.ambient, 1, light.ambient);
+  glProgramUniform4fv(id, at.background_color, 1, light.background);
+  glProgramUniform1i(id, at.background, 0);
 }
 
 void GBufferPass::render(const GBufferTargets& targets, const GBufferCamera& camera,
@@ -117,24 +143,19 @@ void GBufferPass::render(const GBufferTargets& targets, const GBufferCamera& cam
   glClearDepth(1.0);
   glClear(GL_DEPTH_BUFFER_BIT);
 
-  const GLuint id = program_->id();
-  glUseProgram(id);
-  glProgramUniformMatrix4fv(id, locations_.view_projection, 3, GL_TRUE,
-                            &camera.view_projection[0][0]);
-  glProgramUniformMatrix4fv(id, locations_.sky_from_clip, 1, GL_TRUE, camera.sky_from_clip);
-  glProgramUniformMatrix4fv(id, locations_.sky_projection, 2, GL_TRUE,
-                            &camera.sky_projection[0][0]);
-  glProgramUniform3fv(id, locations_.eye, 1, camera.eye);
-  glProgramUniform1f(id, locations_.near, camera.near);
-  glProgramUniform2f(id, locations_.size, float(width), float(height));
-  glProgramUniform3fv(id, locations_.light_direction, 1, light.direction);
-  glProgramUniform3fv(id, locations_.light_color, 1, light.color);
-  glProgramUniform3fv(id, locations_.ambient, 1, light.ambient);
-  glProgramUniform4fv(id, locations_.background_color, 1, light.background);
+  // Each variant a draw uses gets this frame's uniforms once, when the first draw needs it.
+  bool framed[3] = {false, false, false};
+  auto use = [&](GBufferHatching::Scheme scheme) -> const Variant& {
+    const Variant& chosen = variant(scheme);
+    const int index = static_cast<int>(scheme);
+    if (!framed[index]) set_frame_uniforms(chosen, camera, light, width, height);
+    framed[index] = true;
+    glUseProgram(chosen.program->id());
+    return chosen;
+  };
 
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
-  glProgramUniform1i(id, locations_.background, 0);
   for (const GBufferDraw& draw : draws) {
     if (!draw.mesh) throw std::invalid_argument("blurlab: a draw has no mesh");
     const size_t bone_floats = size_t(draw.bone_count) * 3 * 16;
@@ -144,6 +165,10 @@ void GBufferPass::render(const GBufferTargets& targets, const GBufferCamera& cam
                                   " x 16");
     if (draw.mesh->skinned() != (draw.bone_count > 0))
       throw std::invalid_argument("blurlab: skinned meshes need bones, others none");
+    const GBufferHatching& hatching = draw.material.hatching;
+    const Variant& drawn = use(hatching.scheme);
+    const GLuint id = drawn.program->id();
+    const Locations& at = drawn.locations;
     if (draw.bone_count > 0) {
       const size_t bytes = bone_floats * sizeof(float);
       if (bytes > bones_capacity_) {
@@ -155,21 +180,15 @@ void GBufferPass::render(const GBufferTargets& targets, const GBufferCamera& cam
       glNamedBufferSubData(bones_->id(), 0, static_cast<GLsizeiptr>(bytes), draw.bones.data());
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, bones_->id());
     }
-    glProgramUniformMatrix4fv(id, locations_.model, 3, GL_TRUE, &draw.model[0][0]);
-    glProgramUniform1i(id, locations_.bone_count, draw.bone_count);
-    glProgramUniform4fv(id, locations_.material_color, 1, draw.material.color);
-    glProgramUniform3fv(id, locations_.material_emission, 1, draw.material.emission);
-    glProgramUniform1f(id, locations_.material_specular, draw.material.specular);
-    glProgramUniform1f(id, locations_.material_shininess, draw.material.shininess);
-    glProgramUniform1i(id, locations_.has_texture, draw.material.texture ? 1 : 0);
-    glProgramUniform1i(id, locations_.object_id, draw.object_id);
+    glProgramUniformMatrix4fv(id, at.model, 3, GL_TRUE, &draw.model[0][0]);
+    glProgramUniform1i(id, at.bone_count, draw.bone_count);
+    glProgramUniform4fv(id, at.material_color, 1, draw.material.color);
+    glProgramUniform3fv(id, at.material_emission, 1, draw.material.emission);
+    glProgramUniform1f(id, at.material_specular, draw.material.specular);
+    glProgramUniform1f(id, at.material_shininess, draw.material.shininess);
+    glProgramUniform1i(id, at.has_texture, draw.material.texture ? 1 : 0);
+    glProgramUniform1i(id, at.object_id, draw.object_id);
     if (draw.material.texture) glBindTextureUnit(0, draw.material.texture->id());
-    const GBufferHatching& hatching = draw.material.hatching;
-    // Python can make the enum from any int.
-    if (hatching.scheme < GBufferHatching::Scheme::none ||
-        hatching.scheme > GBufferHatching::Scheme::threshold)
-      throw std::invalid_argument(
-          "blurlab: a draw's hatching scheme is not a GBufferHatching.Scheme");
     if (hatching.scheme != GBufferHatching::Scheme::none) {
       const bool six_way = hatching.scheme == GBufferHatching::Scheme::six_way;
       if (!hatching.tam_low || (six_way && !hatching.tam_high))
@@ -177,11 +196,10 @@ void GBufferPass::render(const GBufferTargets& targets, const GBufferCamera& cam
       glBindTextureUnit(1, hatching.tam_low->id());
       if (six_way) glBindTextureUnit(2, hatching.tam_high->id());
     }
-    glProgramUniform1i(id, locations_.hatching, static_cast<int>(hatching.scheme));
-    glProgramUniform1f(id, locations_.hatching_scale, hatching.scale);
+    glProgramUniform1f(id, at.hatching_scale, hatching.scale);
     draw.mesh->draw();
   }
-  draw_background();
+  draw_background(use(GBufferHatching::Scheme::none));
   glBindVertexArray(0);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   glMemoryBarrier(GL_ALL_BARRIER_BITS);
