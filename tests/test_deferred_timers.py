@@ -82,8 +82,8 @@ def test_waits_counts_the_cpu_stopping_for_the_gpu(ctx):
 
 
 def test_the_reference_waits_for_the_gpu_the_same_number_of_times_for_any_n(ctx):
-    """No wait per sub-frame: 4 and 12 sub-frames stop the CPU equally often, and hold the same
-    textures (the targets come from the pool, once)."""
+    """No wait per sub-frame: 4 and 12 sub-frames stop the CPU at most twice each, and hold the
+    same textures (the targets come from the pool, once)."""
     scene = bl.scenes.teapot_pass()
     ctx.reference(scene, (32, 18), samples=2, progress=False)  # shaders built, pool filled
     waits, textures = [], []
@@ -94,5 +94,9 @@ def test_the_reference_waits_for_the_gpu_the_same_number_of_times_for_any_n(ctx)
         textures.append(ctx.live_objects().get("texture", 0) - live)
         assert math.isfinite(reference.ms_per_subframe) and reference.ms_per_subframe > 0
         del reference
-    assert waits[0] == waits[1] <= 2, waits
+    # At most the loop's own: on llvmpipe the spanning timer's two glFinish, on a GPU one read of
+    # the last timer (none when the GPU was already done, so the counts may differ by one there).
+    assert max(waits) <= 2, waits
+    if ctx.software:
+        assert waits == [2, 2]
     assert textures[0] == textures[1], textures
