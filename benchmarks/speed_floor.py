@@ -16,9 +16,13 @@
 4. gpu_mse, gpu_ssim, gpu_mse_ssim and gpu_mse_ssim against a prepared reference (in each SSIM
    work-group layout, --ssim-layouts), prepare_reference, and gpu_flip: wall clock per call
    (with the scalar read back) and GPU time;
-5. the G-buffer pass against the rasterization floor on the same four float targets and depth
-   buffer (moderngl on blurlab's context): a draw that makes no fragment, and a full-screen
-   triangle writing constants;
+5. the G-buffer pass in steady state (after warm-up, targets from the context's pool) for each
+   of --raster-scenes, against its rasterization floor on the same four float targets and a
+   depth buffer (moderngl on blurlab's context): a clear + a draw that makes no fragment, a
+   clear + a full-screen triangle writing constants, and the scene without shading (its
+   geometry, transform only, constant outputs, then the background triangle); with triangle
+   and fragment counts, and the first call on a fresh context split into shader build, mesh
+   uploads, material textures, target allocation, first pass, second pass;
 6. with --study, `blurlab study` (run_study, default scenes and grids, all three metrics) at
    --size, its phases timed: references, evaluations, report (charts, images, tables).
 
@@ -26,6 +30,7 @@ Medians over --runs; GL timer queries on a GPU, glFinish + wall clock on llvmpip
 
     python benchmarks/speed_floor.py [--device gpu] [--size 1920x1080] [--study] [--json f]
         [--parts filters,sweep,metrics,raster] [--ssim-layouts pixel16,column4,...]
+        [--raster-scenes teapot_pass,textured_spin,vehicle]
 """
 
 from __future__ import annotations
@@ -37,9 +42,18 @@ import statistics
 import tempfile
 import time
 
+import numpy as np
+
 import blurlab as bl
 from blurlab import metrics
 from blurlab.methods.tile_filter import TILE_MAX_VARIANTS, tile_max_variant
+from blurlab.render import (
+    camera_matrices,
+    gbuffer_pass,
+    instant_time,
+    render_targets,
+    target_shapes,
+)
 
 from common import describe, open_context, save
 
@@ -305,16 +319,7 @@ def metric_times(ctx, frame, reference, runs: int, layouts) -> dict:
     return record
 
 
-RASTER_VERTEX = """
-#version 450
-uniform float depth;
-void main() {
-    // A triangle that covers the viewport (gl_VertexID 0, 1, 2), or one point (depth < 0).
-    vec2 p = vec2((gl_VertexID << 1) & 2, gl_VertexID & 2) * 2.0 - 1.0;
-    gl_Position = depth < 0.0 ? vec4(2.0, 2.0, 0.5, 1.0) : vec4(p, depth, 1.0);
-}
-"""
-RASTER_FRAGMENT = """
+CONSTANT_FRAGMENT = """
 #version 450
 layout(location = 0) out vec4 color;
 layout(location = 1) out float depth_out;
@@ -327,47 +332,230 @@ void main() {
     object_id = 1.0;
 }
 """
+TRIANGLE_VERTEX = """
+#version 450
+uniform bool inside;
+void main() {
+    // A triangle that covers the viewport at the far plane (gl_VertexID 0, 1, 2), as the
+    // G-buffer's background, or one that lies outside it and makes no fragment.
+    vec2 p = vec2((gl_VertexID << 1) & 2, gl_VertexID & 2) * 2.0 - 1.0;
+    gl_Position = inside ? vec4(p, 1.0, 1.0) : vec4(p + 4.0, 1.0, 1.0);
+}
+"""
+GEOMETRY_VERTEX = """
+#version 450
+in vec3 position;
+uniform mat4 clip_from_object;
+void main() { gl_Position = clip_from_object * vec4(position, 1.0); }
+"""
 
 
-def raster_floor(ctx, scene, size: tuple[int, int], runs: int) -> dict:
-    """The G-buffer pass against draws on the same targets (RGBA32F colour, R32F depth, RG32F
-    motion, R32F object id, a depth buffer): one that makes no fragment, and a full-screen
-    triangle that writes constants."""
+def posed_positions(obj, time: float) -> np.ndarray:
+    """The object's vertices at `time` in object space: skinned on the CPU where it has a
+    skeleton (the bone matrices' weighted sum, as gbuffer.vert does), as they are otherwise."""
+    mesh = obj.mesh
+    if obj.skeleton is None:
+        return mesh.positions
+    bones = np.asarray(obj.skeleton.matrices(time), dtype=np.float64)  # (B, 4, 4)
+    blend = np.einsum("vi,vixy->vxy", mesh.bone_weights, bones[mesh.bone_indices])
+    p = np.concatenate([mesh.positions, np.ones((len(mesh.positions), 1))], axis=1)
+    return np.einsum("vxy,vy->vx", blend, p)[:, :3].astype(np.float32)
+
+
+def gbuffer_floor(ctx, scene, size: tuple[int, int], runs: int) -> dict:
+    """One scene's G-buffer pass in steady state (after warm-up, targets from the pool) against
+    its rasterization floor on the same four float targets and a depth buffer (moderngl on
+    blurlab's context): a clear + a draw that makes no fragment; a clear + a full-screen
+    triangle writing constants; the scene without shading (its geometry at the instant, drawn
+    as the pass draws it but with a transform-only vertex and a constant fragment shader, then
+    the background triangle where no geometry is). With triangle and fragment counts."""
     width, height = size
-    frames = [ctx.render(scene, size) for _ in range(runs + 1)][1:]
-    gbuffer = statistics.median(f.timings["gbuffer"].ms for f in frames)
+    shutter = scene.shutter
+    instant = instant_time("center", shutter)
+
+    def gbuffer(sides: bool):
+        targets, _, timing = render_targets(ctx, scene, size, shutter, instant, sides=sides)
+        ctx.recycle(*targets.values())
+        return timing.ms
+
+    record = {"scene": scene.name, "size": f"{width}x{height}"}
+    for label, sides in (("gbuffer_pass_ms", False), ("gbuffer_pass_with_sides_ms", True)):
+        for _ in range(3):
+            gbuffer(sides)
+        record[label] = statistics.median(gbuffer(sides) for _ in range(runs))
+
     mgl = ctx.moderngl()
-    targets = [
-        mgl.texture(size, 4, dtype="f4"),
-        mgl.texture(size, 1, dtype="f4"),
-        mgl.texture(size, 2, dtype="f4"),
-        mgl.texture(size, 1, dtype="f4"),
-    ]
-    fbo = mgl.framebuffer(targets, mgl.depth_renderbuffer(size))
-    program = mgl.program(vertex_shader=RASTER_VERTEX, fragment_shader=RASTER_FRAGMENT)
-    vao = mgl.vertex_array(program, [])
+    shapes = target_shapes(size)
+    textures = [ctx.pooled(shape) for shape in shapes.values()]
+    attachments = [mgl.external_texture(t.glo, size, t.channels, 0, "f4") for t in textures]
+    depth = mgl.depth_renderbuffer(size)
+    fbo = mgl.framebuffer(attachments, depth)
+    depth_only = mgl.framebuffer(depth_attachment=depth)  # clears depth, not the targets
+    triangle = mgl.program(vertex_shader=TRIANGLE_VERTEX, fragment_shader=CONSTANT_FRAGMENT)
+    empty = mgl.vertex_array(triangle, [])
+    shape_program = mgl.program(vertex_shader=GEOMETRY_VERTEX, fragment_shader=CONSTANT_FRAGMENT)
+    camera = camera_matrices(scene, size, (shutter[0], shutter[1], instant))
+    objects = []
+    for obj in scene.objects:
+        vbo = mgl.buffer(np.ascontiguousarray(posed_positions(obj, instant)).tobytes())
+        ibo = mgl.buffer(obj.mesh.indices.tobytes())
+        vao = mgl.vertex_array(
+            shape_program, [(vbo, "3f", "position")], index_buffer=ibo, index_element_size=4
+        )
+        clip = camera["view_projection"][2] @ obj.model(instant)
+        objects.append((vao, np.ascontiguousarray(clip.T, dtype=np.float32).tobytes()))
 
-    def draw(depth: float):
+    def clear():
+        depth_only.use()
+        depth_only.clear(depth=1.0)
         fbo.use()
-        mgl.enable(mgl.DEPTH_TEST)
-        fbo.clear(depth=1.0)
-        program["depth"].value = depth
-        vao.render(vertices=3)
 
-    record = {
-        "gbuffer_pass_ms": gbuffer,
-        "clear_and_empty_draw_ms": gpu_ms(ctx, lambda: draw(-1.0), runs),
-        "clear_and_fullscreen_triangle_ms": gpu_ms(ctx, lambda: draw(0.0), runs),
-    }
+    def background(inside: bool):
+        mgl.depth_func = "<="
+        triangle["inside"].value = inside
+        empty.render(vertices=3)
+
+    def scene_geometry():
+        mgl.depth_func = "<"
+        for vao, clip in objects:
+            shape_program["clip_from_object"].write(clip)
+            vao.render()
+
+    def draw(what: str):
+        clear()
+        mgl.enable(mgl.DEPTH_TEST)
+        if what == "scene":
+            scene_geometry()
+        background(what != "empty")
+
+    for what, key in (
+        ("empty", "clear_and_empty_draw_ms"),
+        ("triangle", "clear_and_fullscreen_triangle_ms"),
+        ("scene", "scene_without_shading_ms"),
+    ):
+        record[key] = gpu_ms(ctx, lambda what=what: draw(what), runs)
+
+    # Counts: fragments the geometry rasterizes (no depth test), those that pass the depth test
+    # in the pass's draw order (shaded and written where early depth testing culls the rest),
+    # and the background's (the pixels no geometry covers).
+    query = mgl.query(samples=True, primitives=True)
+    clear()
+    mgl.disable(mgl.DEPTH_TEST)
+    with query:
+        scene_geometry()
+    record["triangles"] = sum(len(obj.mesh.indices) for obj in scene.objects)
+    record["primitives_generated"] = query.primitives
+    record["fragments_rasterized"] = query.samples
+    clear()
+    mgl.enable(mgl.DEPTH_TEST)
+    with query:
+        scene_geometry()
+    record["fragments_depth_passed"] = query.samples
+    with query:
+        background(True)
+    record["background_fragments"] = query.samples
+    record["pixels"] = width * height
     mgl.enable(0)
-    for texture in targets:
-        texture.release()
-    fbo.release()
-    floor = record["clear_and_fullscreen_triangle_ms"]
-    record["gbuffer_over_fullscreen"] = gbuffer / floor
-    print(f"\n| rasterization, {width}x{height}, 4 float targets + depth | ms |\n|---|---|")
-    for key, value in record.items():
-        print(f"| {key} | {value:.4f} |")
+    mgl.depth_func = "<"
+    # Not released: the attachments wrap blurlab's pooled textures (moderngl would delete
+    # them), and moderngl rebinds the last framebuffer it used when it makes the next one (a
+    # deleted one is a GL_INVALID_OPERATION there). They go with the context.
+    for item in [triangle, empty, shape_program]:
+        item.release()
+    for vao, _ in objects:
+        vao.release()
+    ctx.recycle(*textures)
+    ctx.make_current()
+    for key in ("clear_and_empty_draw_ms", "clear_and_fullscreen_triangle_ms"):
+        record[f"gbuffer_over_{key[:-3]}"] = record["gbuffer_pass_ms"] / record[key]
+    record["gbuffer_over_scene_without_shading"] = (
+        record["gbuffer_pass_ms"] / record["scene_without_shading_ms"]
+    )
+    return record
+
+
+def first_call(device: str, scene, size: tuple[int, int], runs: int) -> dict:
+    """Where a first G-buffer pass on a fresh context spends its time, step by step (wall clock,
+    the GPU finished before and after each step): the pass's shader build (compile and link;
+    llvmpipe compiles a draw's code at the first draw), the scene's mesh uploads, its material
+    textures (decoded, uploaded, mip-mapped), the allocation (and first clear) of the targets,
+    the first pass (by the GPU clock too), the same pass again, and the steady state; beside
+    it, the whole first ctx.render on another fresh context."""
+    record = {}
+    whole = open_context(device)
+    whole.finish()
+    start = time.perf_counter()
+    frame = whole.render(scene, size)
+    record["first_render_call_wall_ms"] = 1e3 * (time.perf_counter() - start)
+    record["first_render_call_gbuffer_ms"] = frame.timings["gbuffer"].ms
+    del frame, whole
+
+    ctx = open_context(device)
+    shutter = scene.shutter
+    instant = instant_time("center", shutter)
+
+    def step(fn):
+        ctx.finish()
+        begin = time.perf_counter()
+        result = fn()
+        ctx.finish()
+        return 1e3 * (time.perf_counter() - begin), result
+
+    record["shader_build_ms"], _ = step(lambda: gbuffer_pass(ctx))
+    record["mesh_upload_ms"], _ = step(lambda: [ctx.gpu_mesh(o.mesh) for o in scene.objects])
+    record["material_texture_upload_ms"], _ = step(
+        lambda: [ctx.gpu_material_texture(o.material) for o in scene.objects]
+    )
+    shapes = target_shapes(size, sides=True)
+    record["target_allocation_ms"], textures = step(
+        lambda: [ctx.pooled(shape) for shape in shapes.values()]
+    )
+    ctx.recycle(*textures)
+    for label in ("first_pass", "second_pass"):
+        wall, (targets, _, timing) = step(
+            lambda: render_targets(ctx, scene, size, shutter, instant, sides=True)
+        )
+        ctx.recycle(*targets.values())
+        record[f"{label}_wall_ms"], record[f"{label}_gbuffer_ms"] = wall, timing.ms
+    steady = []
+    for _ in range(runs):
+        targets, _, timing = render_targets(ctx, scene, size, shutter, instant, sides=True)
+        ctx.recycle(*targets.values())
+        steady.append(timing.ms)
+    record["steady_gbuffer_ms"] = statistics.median(steady)
+    return record
+
+
+def raster_floor(device: str, ctx, scene_names, size: tuple[int, int], runs: int) -> dict:
+    """gbuffer_floor and first_call for each of `scene_names`, printed as two tables."""
+    record = {name: {} for name in scene_names}
+    for name in scene_names:
+        record[name]["steady"] = gbuffer_floor(ctx, bl.scenes.get(name), size, runs)
+    for name in scene_names:
+        record[name]["first_call"] = first_call(device, bl.scenes.get(name), size, runs)
+    w, h = size
+    print(f"\n| G-buffer at {w}x{h}, ms | " + " | ".join(scene_names) + " |")
+    print("|---|" + "---|" * len(scene_names))
+    rows = [
+        ("triangles", "triangles", "{:d}"),
+        ("fragments rasterized (geometry)", "fragments_rasterized", "{:d}"),
+        ("fragments passing depth (geometry)", "fragments_depth_passed", "{:d}"),
+        ("background fragments", "background_fragments", "{:d}"),
+        ("G-buffer pass, 4 targets (as references)", "gbuffer_pass_ms", "{:.4f}"),
+        ("G-buffer pass, 5 targets (as ctx.render)", "gbuffer_pass_with_sides_ms", "{:.4f}"),
+        ("clear + empty draw", "clear_and_empty_draw_ms", "{:.4f}"),
+        ("clear + full-screen triangle", "clear_and_fullscreen_triangle_ms", "{:.4f}"),
+        ("scene without shading", "scene_without_shading_ms", "{:.4f}"),
+        ("G-buffer / scene without shading", "gbuffer_over_scene_without_shading", "{:.2f}x"),
+    ]
+    for label, key, fmt in rows:
+        cells = [fmt.format(record[n]["steady"][key]) for n in scene_names]
+        print(f"| {label} | " + " | ".join(cells) + " |")
+    print(f"\n| first G-buffer pass on a fresh context, {w}x{h}, ms | " + " | ".join(scene_names))
+    print("|---|" + "---|" * len(scene_names))
+    for key in record[scene_names[0]]["first_call"]:
+        cells = [f"{record[n]['first_call'][key]:.3f}" for n in scene_names]
+        print(f"| {key} | " + " | ".join(cells) + " |")
     return record
 
 
@@ -443,6 +631,11 @@ def main() -> None:
         default=",".join(metrics.SSIM_LAYOUTS),
         help="SSIM work-group layouts to time (keys of blurlab.metrics.SSIM_LAYOUTS)",
     )
+    parser.add_argument(
+        "--raster-scenes",
+        default="teapot_pass,textured_spin,vehicle",
+        help="scenes of the G-buffer floor (comma-separated)",
+    )
     parser.add_argument("--json", default=None)
     args = parser.parse_args()
     parts = set(args.parts.split(","))
@@ -453,11 +646,30 @@ def main() -> None:
         parser.error(f"unknown SSIM layouts; choose from {list(metrics.SSIM_LAYOUTS)}")
     ctx = open_context(args.device)
     size = tuple(int(v) for v in args.size.split("x"))
+    record = {**describe(ctx), "size": args.size, "runs": args.runs}
+    print(f"\n{record['date']}  {record['renderer']}  {args.size}, medians of {args.runs} runs")
+    if parts - {"raster"} or args.study:
+        measure_filters_and_metrics(ctx, size, args, parts, layouts, record)
+    record["subgroup_extensions"] = subgroup_extensions(ctx)
+    print(f"\nsubgroup extensions (TileMax *_subgroup variants): {record['subgroup_extensions']}")
+    save(args.json, record)  # before the moderngl part, which shares the GL context
+    if "raster" in parts:
+        try:
+            record["raster"] = raster_floor(
+                args.device, ctx, args.raster_scenes.split(","), size, args.runs
+            )
+        except ImportError as error:  # moderngl is not on every machine that measures
+            print(f"\nrasterization floor left out: {error}")
+    save(args.json, record)
+
+
+def measure_filters_and_metrics(
+    ctx, size: tuple[int, int], args, parts: set, layouts: list, record: dict
+) -> None:
+    """Items 1 to 4 (those in `parts`) and 6 of the module's list, on teapot_pass."""
     scene = bl.scenes.teapot_pass()
     frame = ctx.render(scene, size)
     reference = ctx.reference(scene, size, samples=64, progress=False)
-    record = {**describe(ctx), "size": args.size, "runs": args.runs}
-    print(f"\n{record['date']}  {record['renderer']}  {args.size}, medians of {args.runs} runs")
     if "filters" in parts:
         record["filters"] = filters(ctx, frame, args.runs)
         ks = [int(k) for k in args.tile_max_k.split(",")]
@@ -473,15 +685,6 @@ def main() -> None:
         record["metrics"] = metric_times(ctx, frame, reference, args.runs, layouts)
     if args.study:
         record["study"] = study_phases(ctx, size)
-    save(args.json, record)  # before the moderngl part, which shares the GL context
-    if "raster" in parts:
-        try:
-            record["raster"] = raster_floor(ctx, scene, size, args.runs)
-        except ImportError as error:  # moderngl is not on every machine that measures
-            print(f"\nrasterization floor left out: {error}")
-    record["subgroup_extensions"] = subgroup_extensions(ctx)
-    print(f"\nsubgroup extensions (TileMax *_subgroup variants): {record['subgroup_extensions']}")
-    save(args.json, record)
 
 
 if __name__ == "__main__":

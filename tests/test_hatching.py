@@ -219,3 +219,31 @@ def test_an_obj_with_texture_coordinates_is_hatched(ctx, tam, tmp_path):
     ink = hatching.ink_of(ctx.render(scene, (64, 64), shutter=(0, 0)))
     assert ink.mean() == pytest.approx(0.5, abs=0.03)  # one whole tile at darkness 0.5
     assert (ink > 0.99).mean() > 0.3 and (ink < 0.01).mean() > 0.3  # strokes, not grey
+
+
+def test_one_pass_draws_each_scheme_with_its_own_program(ctx, tam):
+    """Plain, six_way and threshold objects in one G-buffer pass (one program per scheme, each
+    given the frame's uniforms when first used): every object's pixels equal those of a pass
+    in which all three objects share its scheme."""
+
+    def scene(schemes):
+        s = bl.Scene(bl.Camera(position=(0, 0.5, 4), look_at=(0, 0.3, 0)), background=(1, 1, 1))
+        for x, scheme in zip((-1.2, 0.0, 1.2), schemes, strict=True):
+            material = bl.Material() if scheme is None else bl.Material.hatching(scheme, tam)
+            motion = bl.Motion.linear(start=(x, 0, 0), velocity=(4, 0, 0), spin_axis=(0, 1, 0))
+            s.add(bl.mesh.teapot(6), material, motion)
+        return s
+
+    schemes = (None, *bl.hatching.SCHEMES)
+    mixed = ctx.render(scene(schemes), (120, 48))
+    shared = {scheme: ctx.render(scene((scheme,) * 3), (120, 48)) for scheme in schemes}
+    for index, scheme in enumerate(schemes):
+        alone = shared[scheme]
+        np.testing.assert_array_equal(alone.object_id, mixed.object_id)
+        drawn = mixed.object_id == index
+        assert drawn.sum() > 100
+        np.testing.assert_array_equal(mixed.color[drawn], alone.color[drawn])
+        np.testing.assert_array_equal(mixed.motion[drawn], alone.motion[drawn])
+        for other in schemes:  # the schemes do differ there, so the check above has teeth
+            if other != scheme:
+                assert np.abs(shared[other].color[drawn] - alone.color[drawn]).max() > 0.1

@@ -242,7 +242,8 @@ class DeferredTimers:
     def read(self) -> None:
         """Fills every Timing of the timers that have ended (one wait for the GPU)."""
         pending, self._pending = self._pending, []
-        for core, timing in pending:
+        # The last timer first: once the GPU has finished it, the earlier ones are there too.
+        for core, timing in reversed(pending):
             timing.ms = core.result()
 
 
@@ -382,6 +383,12 @@ class Context:
     def finish(self) -> None:
         """Waits until the GPU has finished all work issued so far."""
         self._core.finish()
+
+    def waits(self) -> int:
+        """How many times blurlab has stopped the CPU until the GPU caught up on this context
+        (glFinish, a timer result not yet there, a texture download, an asynchronous download's
+        fence): a counter for checking that a loop issues no wait per step."""
+        return self._core.waits
 
     def live_objects(self) -> dict[str, int]:
         """Counts of live GL objects blurlab made, by kind (texture, buffer, program, query)."""

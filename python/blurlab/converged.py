@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 import weakref
+from contextlib import nullcontext
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -24,7 +25,9 @@ class Reference:
     times: np.ndarray
     stratified: bool
     seed: int
-    ms_per_subframe: float  # G-buffer pass + accumulation, by the context's clock
+    # G-buffer pass + accumulation by GL timer queries; with a wall clock (software contexts)
+    # the whole loop, its Python work included, over N.
+    ms_per_subframe: float
     clock: str
     texture: object = field(repr=False)  # the (H, W, 4) float32 sum on the GPU
     auto: bool = False  # N was chosen from the scene's motion (samples="auto")
@@ -93,21 +96,26 @@ def reference_render(
         from tqdm.auto import tqdm
 
         iterator = tqdm(times, desc=f"reference N={samples}", unit="sub-frame", leave=False)
-    # One wait for all the timers at the end, not two per sub-frame: a GPU clock's result
-    # read at once stalls the CPU until the GPU has caught up (issue 19).
+    # No wait for the GPU per sub-frame (issue 19): GL timer queries time each sub-frame and are
+    # read once after the loop; a wall clock (software contexts) can only time by waiting
+    # (glFinish), so there one timer spans the whole loop instead.
+    per_subframe = not ctx.software
     timings = []
-    with ctx.deferred_timers() as timers:
+    with nullcontext() if per_subframe else ctx.timer() as whole, ctx.deferred_timers() as timers:
         for i, t in enumerate(iterator):
             jitter = (0.0, 0.0) if positions is None else tuple(0.5 - positions[i])
+            sub_frame_timers = timers if per_subframe else False
             targets, _, timing = render_targets(
-                ctx, scene, size, shutter, float(t), guard, jitter, timers=timers
+                ctx, scene, size, shutter, float(t), guard, jitter, timers=sub_frame_timers
             )
-            with timers.timer() as add:
+            with timers.timer() if per_subframe else nullcontext() as add:
                 accumulate(ctx, targets["color"], total, 1.0 / samples)
             ctx.recycle(*targets.values())
             timings += [timing, add]
-    elapsed = sum(timing.ms for timing in timings)
-    clock = timings[-1].clock
+    if per_subframe:
+        elapsed, clock = sum(timing.ms for timing in timings), timings[-1].clock
+    else:
+        elapsed, clock = whole.ms, whole.clock
     result = Reference(
         samples,
         times,

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 import weakref
+from contextlib import nullcontext
 from numbers import Real
 
 import numpy as np
@@ -169,7 +170,7 @@ def render_targets(
     """Runs the G-buffer pass into pooled textures: (targets, camera matrices, Timing).
     `sides` adds the target "motion_sides": M_prev in RG, M_next in BA (docs/spec.md §17.1).
     `timers`: a Context.deferred_timers() batch that times the pass (the Timing is filled when
-    the batch ends); None waits for the time here.
+    the batch ends); None waits for the time here; False leaves the pass untimed (Timing None).
 
     `guard` > 0 renders a margin of that many pixels around the image (the frustum widened to
     match), for methods whose taps leave the image ("Blurry things": guard band). `jitter`
@@ -213,16 +214,15 @@ def render_targets(
     # Every target is fully overwritten (the background pass covers every pixel), so pooled
     # textures need no clearing.
     targets = {
-        "color": ctx.pooled((height, width, 4)),
-        "depth": ctx.pooled((height, width)),
-        "motion": ctx.pooled((height, width, 2)),
-        "object_id": ctx.pooled((height, width)),
+        name: ctx.pooled(shape) for name, shape in target_shapes((width, height), sides).items()
     }
-    natives = [t.native for t in targets.values()]
-    if sides:
-        targets["motion_sides"] = ctx.pooled((height, width, 4))
-    gbuffer = ctx.cached("gbuffer", lambda: _core.GBufferPass(ctx.native))
-    with ctx.timer() if timers is None else timers.timer() as timing:
+    natives = [targets[name].native for name in ("color", "depth", "motion", "object_id")]
+    gbuffer = gbuffer_pass(ctx)
+    if timers is False:
+        clock = nullcontext()
+    else:
+        clock = ctx.timer() if timers is None else timers.timer()
+    with clock as timing:
         gbuffer.render(
             *natives,
             camera_uniforms,
@@ -231,6 +231,26 @@ def render_targets(
             motion_sides=targets["motion_sides"].native if sides else None,
         )
     return targets, camera, timing
+
+
+def target_shapes(size, sides: bool = False) -> dict[str, tuple[int, ...]]:
+    """The G-buffer pass's float32 targets at `size` = (W, H), guard band included: colour,
+    depth, motion, object id, and with `sides` the two-sided motion."""
+    width, height = size
+    shapes = {
+        "color": (height, width, 4),
+        "depth": (height, width),
+        "motion": (height, width, 2),
+        "object_id": (height, width),
+    }
+    if sides:
+        shapes["motion_sides"] = (height, width, 4)
+    return shapes
+
+
+def gbuffer_pass(ctx) -> _core.GBufferPass:
+    """The context's G-buffer pass (its program compiles on first use)."""
+    return ctx.cached("gbuffer", lambda: _core.GBufferPass(ctx.native))
 
 
 def encode_motion(ctx, motion, motion_format: str, maxlen: float):

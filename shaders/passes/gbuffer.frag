@@ -42,7 +42,7 @@ uniform float material_shininess;
 uniform bool has_texture;
 uniform int object_id;
 layout(binding = 0) uniform sampler2D albedo_map;
-uniform int hatching;  // 0 none, 1 six_way, 2 threshold
+const int hatching = HATCHING;  // 0 none, 1 six_way, 2 threshold: one program each
 uniform float hatching_scale;
 layout(binding = 1) uniform sampler2D tam_low;   // six_way: tones 1–3; threshold: thresholds
 layout(binding = 2) uniform sampler2D tam_high;  // six_way: tones 4–6

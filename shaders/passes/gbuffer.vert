@@ -15,7 +15,7 @@ uniform mat4 model[3];
 uniform mat4 view_projection[3];  // y flipped: see src/passes/gbuffer.h
 uniform int bone_count;
 uniform bool background;
-uniform int hatching;  // 0 none, 1 six_way, 2 threshold
+const int hatching = HATCHING;  // 0 none, 1 six_way, 2 threshold: one program each
 uniform vec3 eye;
 uniform vec3 light_direction;
 uniform vec3 light_color;
@@ -36,11 +36,14 @@ out Surface {
     vec3 tone_high;  // and of tones 4–6
 } surface;
 
-mat4 skinning(int time) {
-    if (bone_count == 0) return mat4(1.0);
+// Object to world at `time` (0, 1, 2 as model[]). Unskinned meshes take the model matrix
+// as it is: the same bits as model times an identity skinning matrix, without three 4x4
+// products per vertex.
+mat4 placement(int time) {
+    if (bone_count == 0) return model[time];
     mat4 m = mat4(0.0);
     for (int i = 0; i < 4; ++i) m += bone_weight[i] * bones[time * bone_count + int(bone_index[i])];
-    return m;
+    return model[time] * m;
 }
 
 void main() {
@@ -51,10 +54,10 @@ void main() {
         return;
     }
     vec4 p = vec4(position, 1.0);
-    mat4 at_instant = model[2] * skinning(2);
+    mat4 at_instant = placement(2);
     vec4 world = at_instant * p;
-    surface.clip_open = view_projection[0] * (model[0] * skinning(0) * p);
-    surface.clip_close = view_projection[1] * (model[1] * skinning(1) * p);
+    surface.clip_open = view_projection[0] * (placement(0) * p);
+    surface.clip_close = view_projection[1] * (placement(1) * p);
     surface.world = world.xyz;
     surface.normal = transpose(inverse(mat3(at_instant))) * normal;
     surface.uv = texcoord;

@@ -335,6 +335,7 @@ std::map<std::string, long long> Context::memory() {
 
 void Context::finish() {
   make_current();
+  count_wait();
   glFinish();
 }
 

@@ -68,6 +68,11 @@ class Context : public std::enable_shared_from_this<Context> {
   int max_texture_size() const { return max_texture_size_; }
   void finish();
 
+  // CPU waits for the GPU (glFinish, a timer query's result, a texture download, an
+  // asynchronous download's fence), counted so that tests can show a loop issues none per step.
+  void count_wait() { ++waits_; }
+  long long waits() const { return waits_; }
+
   // Live GL objects by kind ("texture", "buffer", "program", "query"), so tests can show that
   // freeing objects returns the count to where it was.
   void track(const char* kind, int delta);
@@ -95,6 +100,7 @@ class Context : public std::enable_shared_from_this<Context> {
   // Guards live_, deferred_ and spare_pack_buffers_ (destructors may run on any thread).
   mutable std::mutex mutex_;
   std::map<std::string, int> live_;
+  long long waits_ = 0;  // the owner thread's: every wait runs there
   // Declared before spare_pack_buffers_: a spare buffer destroyed with the context queues its
   // release here, so this must still exist then.
   std::vector<std::pair<std::string, std::function<void()>>> deferred_;

@@ -44,6 +44,7 @@ bool PendingDownload::done() {
 void PendingDownload::wait() {
   if (!fence_) return;
   context_->make_current();
+  context_->count_wait();
   GLenum r = glClientWaitSync(fence_, GL_SYNC_FLUSH_COMMANDS_BIT, GL_TIMEOUT_IGNORED);
   glDeleteSync(fence_);
   fence_ = nullptr;

@@ -96,6 +96,7 @@ void Texture::download(void* data, size_t bytes) const {
     throw std::invalid_argument("blurlab: download of a texture of " + std::to_string(byte_size()) +
                                 " bytes into " + std::to_string(bytes));
   context_->make_current();
+  context_->count_wait();
   glGetTextureImage(id_, 0, format_.pixel_format, format_.pixel_type, static_cast<GLsizei>(bytes),
                     data);
   check_gl("texture download");

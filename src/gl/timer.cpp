@@ -32,6 +32,7 @@ void Timer::start() {
   if (gpu_clock_) {
     glBeginQuery(GL_TIME_ELAPSED, query_);
   } else {
+    context_->count_wait();
     glFinish();  // earlier work must not be counted
     start_ = std::chrono::steady_clock::now();
   }
@@ -55,6 +56,7 @@ void Timer::end() {
     check_gl("ending a timer query");
     return;
   }
+  context_->count_wait();
   glFinish();
   end_ = std::chrono::steady_clock::now();
 }
@@ -64,6 +66,10 @@ double Timer::result() {
   if (gpu_clock_) {
     context_->make_current();
     GLuint64 ns = 0;
+    // Reading a result that is already there does not stop the CPU.
+    GLuint available = GL_FALSE;
+    glGetQueryObjectuiv(query_, GL_QUERY_RESULT_AVAILABLE, &available);
+    if (!available) context_->count_wait();
     glGetQueryObjectui64v(query_, GL_QUERY_RESULT, &ns);
     check_gl("reading a timer query");
     return static_cast<double>(ns) * 1e-6;

@@ -12,8 +12,8 @@
 namespace blurlab {
 
 GBufferPass::GBufferPass(std::shared_ptr<Context> context) : context_(std::move(context)) {
-  program_ = Program::graphics(context_, "passes/gbuffer.vert", "passes/gbuffer.frag", {});
   context_->make_current();
+  variant(GBufferHatching::Scheme::none);
   glCreateFramebuffers(1, &framebuffer_);
   glCreateVertexArrays(1, &empty_vao_);
   check_gl("creating the G-buffer pass");
@@ -28,8 +28,37 @@ GBufferPass::~GBufferPass() {
   });
 }
 
-GLint GBufferPass::location(const char* name) const {
-  return glGetUniformLocation(program_->id(), name);
+const GBufferPass::Variant& GBufferPass::variant(GBufferHatching::Scheme scheme) {
+  // Python can make the enum from any int.
+  if (scheme < GBufferHatching::Scheme::none || scheme > GBufferHatching::Scheme::threshold)
+    throw std::invalid_argument(
+        "blurlab: a draw's hatching scheme is not a GBufferHatching.Scheme");
+  Variant& made = variants_[static_cast<int>(scheme)];
+  if (made.program) return made;
+  made.program = Program::graphics(context_, "passes/gbuffer.vert", "passes/gbuffer.frag",
+                                   {{"HATCHING", std::to_string(static_cast<int>(scheme))}});
+  const GLuint id = made.program->id();
+  made.locations.view_projection = glGetUniformLocation(id, "view_projection");
+  made.locations.sky_from_clip = glGetUniformLocation(id, "sky_from_clip");
+  made.locations.sky_projection = glGetUniformLocation(id, "sky_projection");
+  made.locations.eye = glGetUniformLocation(id, "eye");
+  made.locations.near = glGetUniformLocation(id, "near");
+  made.locations.size = glGetUniformLocation(id, "size");
+  made.locations.light_direction = glGetUniformLocation(id, "light_direction");
+  made.locations.light_color = glGetUniformLocation(id, "light_color");
+  made.locations.ambient = glGetUniformLocation(id, "ambient");
+  made.locations.background_color = glGetUniformLocation(id, "background_color");
+  made.locations.background = glGetUniformLocation(id, "background");
+  made.locations.model = glGetUniformLocation(id, "model");
+  made.locations.bone_count = glGetUniformLocation(id, "bone_count");
+  made.locations.material_color = glGetUniformLocation(id, "material_color");
+  made.locations.material_emission = glGetUniformLocation(id, "material_emission");
+  made.locations.material_specular = glGetUniformLocation(id, "material_specular");
+  made.locations.material_shininess = glGetUniformLocation(id, "material_shininess");
+  made.locations.has_texture = glGetUniformLocation(id, "has_texture");
+  made.locations.object_id = glGetUniformLocation(id, "object_id");
+  made.locations.hatching_scale = glGetUniformLocation(id, "hatching_scale");
+  return made;
 }
 
 void GBufferPass::resize_depth(int width, int height) {
@@ -40,6 +69,37 @@ void GBufferPass::resize_depth(int width, int height) {
   glNamedFramebufferRenderbuffer(framebuffer_, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_buffer_);
   depth_width_ = width;
   depth_height_ = height;
+}
+
+void GBufferPass::draw_background(const Variant& variant) {
+  // One triangle over the whole image at the far plane, drawn last: it passes the depth test
+  // (LEQUAL against the cleared 1.0) only where no geometry was drawn, so the pixels under
+  // geometry are neither shaded twice nor written twice. Geometry at depth 1.0 fails GL_LESS
+  // against the clear, so the same pixels are background as when it was drawn first.
+  glDepthFunc(GL_LEQUAL);
+  glDepthMask(GL_FALSE);
+  glUseProgram(variant.program->id());
+  glProgramUniform1i(variant.program->id(), variant.locations.background, 1);
+  glBindVertexArray(empty_vao_);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glDepthMask(GL_TRUE);
+}
+
+void GBufferPass::set_frame_uniforms(const Variant& variant, const GBufferCamera& camera,
+                                     const GBufferLight& light, int width, int height) {
+  const GLuint id = variant.program->id();
+  const Locations& at = variant.locations;
+  glProgramUniformMatrix4fv(id, at.view_projection, 3, GL_TRUE, &camera.view_projection[0][0]);
+  glProgramUniformMatrix4fv(id, at.sky_from_clip, 1, GL_TRUE, camera.sky_from_clip);
+  glProgramUniformMatrix4fv(id, at.sky_projection, 2, GL_TRUE, &camera.sky_projection[0][0]);
+  glProgramUniform3fv(id, at.eye, 1, camera.eye);
+  glProgramUniform1f(id, at.near, camera.near);
+  glProgramUniform2f(id, at.size, float(width), float(height));
+  glProgramUniform3fv(id, at.light_direction, 1, light.direction);
+  glProgramUniform3fv(id, at.light_color, 1, light.color);
+  glProgramUniform3fv(id, at.ambient, 1, light.ambient);
+  glProgramUniform4fv(id, at.background_color, 1, light.background);
+  glProgramUniform1i(id, at.background, 0);
 }
 
 void GBufferPass::render(const GBufferTargets& targets, const GBufferCamera& camera,
@@ -83,31 +143,19 @@ void GBufferPass::render(const GBufferTargets& targets, const GBufferCamera& cam
   glClearDepth(1.0);
   glClear(GL_DEPTH_BUFFER_BIT);
 
-  const GLuint id = program_->id();
-  glUseProgram(id);
-  glProgramUniformMatrix4fv(id, location("view_projection"), 3, GL_TRUE,
-                            &camera.view_projection[0][0]);
-  glProgramUniformMatrix4fv(id, location("sky_from_clip"), 1, GL_TRUE, camera.sky_from_clip);
-  glProgramUniformMatrix4fv(id, location("sky_projection"), 2, GL_TRUE,
-                            &camera.sky_projection[0][0]);
-  glProgramUniform3fv(id, location("eye"), 1, camera.eye);
-  glProgramUniform1f(id, location("near"), camera.near);
-  glProgramUniform2f(id, location("size"), float(width), float(height));
-  glProgramUniform3fv(id, location("light_direction"), 1, light.direction);
-  glProgramUniform3fv(id, location("light_color"), 1, light.color);
-  glProgramUniform3fv(id, location("ambient"), 1, light.ambient);
-  glProgramUniform4fv(id, location("background_color"), 1, light.background);
-
-  // The background: one triangle over the whole image, no depth test, so every pixel starts as
-  // a point at infinity; geometry then overwrites it where it is drawn.
-  glDisable(GL_DEPTH_TEST);
-  glProgramUniform1i(id, location("background"), 1);
-  glBindVertexArray(empty_vao_);
-  glDrawArrays(GL_TRIANGLES, 0, 3);
+  // Each variant a draw uses gets this frame's uniforms once, when the first draw needs it.
+  bool framed[3] = {false, false, false};
+  auto use = [&](GBufferHatching::Scheme scheme) -> const Variant& {
+    const Variant& chosen = variant(scheme);
+    const int index = static_cast<int>(scheme);
+    if (!framed[index]) set_frame_uniforms(chosen, camera, light, width, height);
+    framed[index] = true;
+    glUseProgram(chosen.program->id());
+    return chosen;
+  };
 
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
-  glProgramUniform1i(id, location("background"), 0);
   for (const GBufferDraw& draw : draws) {
     if (!draw.mesh) throw std::invalid_argument("blurlab: a draw has no mesh");
     const size_t bone_floats = size_t(draw.bone_count) * 3 * 16;
@@ -117,6 +165,10 @@ void GBufferPass::render(const GBufferTargets& targets, const GBufferCamera& cam
                                   " x 16");
     if (draw.mesh->skinned() != (draw.bone_count > 0))
       throw std::invalid_argument("blurlab: skinned meshes need bones, others none");
+    const GBufferHatching& hatching = draw.material.hatching;
+    const Variant& drawn = use(hatching.scheme);
+    const GLuint id = drawn.program->id();
+    const Locations& at = drawn.locations;
     if (draw.bone_count > 0) {
       const size_t bytes = bone_floats * sizeof(float);
       if (bytes > bones_capacity_) {
@@ -128,21 +180,15 @@ void GBufferPass::render(const GBufferTargets& targets, const GBufferCamera& cam
       glNamedBufferSubData(bones_->id(), 0, static_cast<GLsizeiptr>(bytes), draw.bones.data());
       glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, bones_->id());
     }
-    glProgramUniformMatrix4fv(id, location("model"), 3, GL_TRUE, &draw.model[0][0]);
-    glProgramUniform1i(id, location("bone_count"), draw.bone_count);
-    glProgramUniform4fv(id, location("material_color"), 1, draw.material.color);
-    glProgramUniform3fv(id, location("material_emission"), 1, draw.material.emission);
-    glProgramUniform1f(id, location("material_specular"), draw.material.specular);
-    glProgramUniform1f(id, location("material_shininess"), draw.material.shininess);
-    glProgramUniform1i(id, location("has_texture"), draw.material.texture ? 1 : 0);
-    glProgramUniform1i(id, location("object_id"), draw.object_id);
+    glProgramUniformMatrix4fv(id, at.model, 3, GL_TRUE, &draw.model[0][0]);
+    glProgramUniform1i(id, at.bone_count, draw.bone_count);
+    glProgramUniform4fv(id, at.material_color, 1, draw.material.color);
+    glProgramUniform3fv(id, at.material_emission, 1, draw.material.emission);
+    glProgramUniform1f(id, at.material_specular, draw.material.specular);
+    glProgramUniform1f(id, at.material_shininess, draw.material.shininess);
+    glProgramUniform1i(id, at.has_texture, draw.material.texture ? 1 : 0);
+    glProgramUniform1i(id, at.object_id, draw.object_id);
     if (draw.material.texture) glBindTextureUnit(0, draw.material.texture->id());
-    const GBufferHatching& hatching = draw.material.hatching;
-    // Python can make the enum from any int.
-    if (hatching.scheme < GBufferHatching::Scheme::none ||
-        hatching.scheme > GBufferHatching::Scheme::threshold)
-      throw std::invalid_argument(
-          "blurlab: a draw's hatching scheme is not a GBufferHatching.Scheme");
     if (hatching.scheme != GBufferHatching::Scheme::none) {
       const bool six_way = hatching.scheme == GBufferHatching::Scheme::six_way;
       if (!hatching.tam_low || (six_way && !hatching.tam_high))
@@ -150,10 +196,10 @@ void GBufferPass::render(const GBufferTargets& targets, const GBufferCamera& cam
       glBindTextureUnit(1, hatching.tam_low->id());
       if (six_way) glBindTextureUnit(2, hatching.tam_high->id());
     }
-    glProgramUniform1i(id, location("hatching"), static_cast<int>(hatching.scheme));
-    glProgramUniform1f(id, location("hatching_scale"), hatching.scale);
+    glProgramUniform1f(id, at.hatching_scale, hatching.scale);
     draw.mesh->draw();
   }
+  draw_background(use(GBufferHatching::Scheme::none));
   glBindVertexArray(0);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   glMemoryBarrier(GL_ALL_BARRIER_BITS);

@@ -89,10 +89,26 @@ class GBufferPass {
               const std::vector<GBufferDraw>& draws);
 
  private:
-  GLint location(const char* name) const;
+  // The program's uniform locations, looked up once: a draw sets ten of them.
+  struct Locations {
+    GLint view_projection, sky_from_clip, sky_projection, eye, near, size, light_direction,
+        light_color, ambient, background_color, background, model, bone_count, material_color,
+        material_emission, material_specular, material_shininess, has_texture, object_id,
+        hatching_scale;
+  };
+  // One program per hatching scheme (HATCHING = 0, 1, 2), each with only its scheme's code:
+  // llvmpipe runs every branch of a shader, taken or not. Built on first use.
+  struct Variant {
+    std::shared_ptr<Program> program;
+    Locations locations{};
+  };
+  const Variant& variant(GBufferHatching::Scheme scheme);
   void resize_depth(int width, int height);
+  void set_frame_uniforms(const Variant& variant, const GBufferCamera& camera,
+                          const GBufferLight& light, int width, int height);
+  void draw_background(const Variant& variant);
   std::shared_ptr<Context> context_;
-  std::shared_ptr<Program> program_;
+  Variant variants_[3];
   std::unique_ptr<Buffer> bones_;
   size_t bones_capacity_ = 0;
   GLuint framebuffer_ = 0, depth_buffer_ = 0, empty_vao_ = 0;
