@@ -41,3 +41,14 @@ def save(path: str | None, record: dict) -> None:
     if path:
         Path(path).parent.mkdir(parents=True, exist_ok=True)
         Path(path).write_text(json.dumps(record, indent=2))
+
+
+def method_runs(names: list[str], film_filter: float = 0.0) -> list[tuple[str, str, dict]]:
+    """(label, method, parameters) for each method at its defaults, and with film_filter > 0
+    gather_coverage once more with its Gaussian film filter of that σ (docs/spec.md §17.6),
+    labelled with it: the row to compare against an antialiased reference."""
+    runs = [(name, name, {}) for name in names]
+    if film_filter > 0:
+        label = f"gather_coverage, film_filter={film_filter:g}"
+        runs.append((label, "gather_coverage", {"film_filter": film_filter}))
+    return runs

@@ -4,8 +4,13 @@ against Cycles, EEVEE as a peer, on three scenes of this script's own.
 Needs the optional extra `blender` (bpy, Python 3.11). Cycles runs on the CPU; EEVEE and
 blurlab on whatever GL device they find (llvmpipe on a machine without a GPU).
 
+--methods limits the blurlab methods (default: every sweepable one); --film-filter σ adds
+gather_coverage with its Gaussian film filter of σ px (docs/spec.md §17.6), a row of its own:
+Cycles filters its pixels (a 1 px box here), EEVEE too (its 1.5 px filter size).
+
     python benchmarks/crosscheck.py [--size 160x90] [--cycles-samples 2048]
-        [--reference-samples 1024] [--json out.json] [--markdown out.md]
+        [--reference-samples 1024] [--scenes a,b] [--methods a,b] [--film-filter 0.5]
+        [--json out.json] [--markdown out.md]
 """
 
 from __future__ import annotations
@@ -28,27 +33,28 @@ from blurlab.blender.crosscheck import (
 )
 from blurlab.studies.sweep import sweep_methods
 
-from common import describe, open_context, save
+from common import describe, method_runs, open_context, save
 
 
 def progress_log(scene_name: str, started: float):
     return lambda *a: print(f"[{time.perf_counter() - started:6.0f} s] {scene_name}:", *a)
 
 
-def method_rows(ctx, scene, size, references) -> list[dict]:
+def method_rows(ctx, scene, size, references, runs: list[tuple[str, str, dict]]) -> list[dict]:
+    """One row per (label, method, parameters) of `runs`."""
     rows = []
-    for name in sweep_methods():
-        frame = ctx.render(scene, size, instant=bl.method_instant(name, {}))
-        bl.blur(ctx, frame, name)  # warm-up: compile, JIT
+    for label, name, params in runs:
+        frame = ctx.render(scene, size, instant=bl.method_instant(name, params))
+        bl.blur(ctx, frame, name, **params)  # warm-up: compile, JIT
         times, color = [], None
         for _ in range(3):
-            result = bl.blur(ctx, frame, name)
+            result = bl.blur(ctx, frame, name, **params)
             times.append(sum(t.ms for t in result.timings.values()))
             color = result.color
             del result
         rows.append(
             {
-                "method": name,
+                "method": label,
                 "time": f"{statistics.median(times):.3g} ms GPU passes ({ctx.info()['renderer']})",
                 **{k: bl.metrics.psnr(ref, color) for k, ref in references.items()},
             }
@@ -64,6 +70,8 @@ def main() -> None:
     parser.add_argument("--reference-samples", type=int, default=1024)
     parser.add_argument("--instant-samples", type=int, default=512)
     parser.add_argument("--scenes", default=",".join(SCENES))
+    parser.add_argument("--methods", default=None, help="comma-separated; default: sweepable")
+    parser.add_argument("--film-filter", type=float, default=0.0, help="σ, px; 0: no extra row")
     parser.add_argument("--json", default=None)
     parser.add_argument("--markdown", default=None)
     args = parser.parse_args()
@@ -72,6 +80,8 @@ def main() -> None:
     n, spp = args.reference_samples, args.cycles_samples
     record = {**describe(ctx), "size": args.size, "cycles_samples": spp, "reference_samples": n}
     record["scenes"] = {}
+    names = args.methods.split(",") if args.methods else sweep_methods()
+    runs = method_runs(names, args.film_filter)
     started = time.perf_counter()
     for scene_name in args.scenes.split(","):
         scene = SCENES[scene_name]()
@@ -133,7 +143,7 @@ def main() -> None:
         log("blurred object", out["blurred_object"])
         # 4. Every method, EEVEE 1 sample / 1 step and EEVEE's default, against all three.
         references = {"cycles": cycles.color, "antialiased": antialiased, "temporal": temporal}
-        rows = method_rows(ctx, scene, size, references)
+        rows = method_rows(ctx, scene, size, references, runs)
         for label, samples, steps in (("EEVEE 1 sample, 1 step", 1, 1), ("EEVEE default", 64, 1)):
             eevee = bl.blender.render(scene, size, engine="EEVEE", samples=samples, steps=steps)
             rows.append(

@@ -11,7 +11,10 @@ stays out of the ms columns and the chart.
 
     python benchmarks/engines.py [--device gpu] [--size 640x360] [--runs 5] [--json PATH]
         [--markdown PATH] [--chart PATH] [--scenes a,b,...] [--methods a,b,...]
-        [--peers eevee]
+        [--peers eevee] [--film-filter 0.5]
+
+--film-filter σ adds gather_coverage with its Gaussian film filter of σ px (docs/spec.md
+§17.6) as a row of its own, timed with its fourth pass.
 """
 
 from __future__ import annotations
@@ -25,7 +28,7 @@ import pandas as pd
 import blurlab as bl
 from blurlab.studies import peers
 
-from common import describe, open_context, save
+from common import describe, method_runs, open_context, save
 
 BASELINES = ("reconstruct_guertin2014", "reconstruct_mcguire2012")
 EEVEE = "eevee (Blender)"
@@ -42,7 +45,8 @@ def engine_methods() -> list[str]:
 
 
 def measure(ctx, scene_name: str, size, runs: int, methods, with_eevee: bool) -> list[dict]:
-    """Every method's pass times first, back to back, then every method's errors: the CPU
+    """`methods`: (label, method, parameters) of each row (common.method_runs). Every
+    method's pass times first, back to back, then every method's errors: the CPU
     metrics (FLIP takes seconds at 1080p) leave the GPU idle, and a GPU that idles clocks
     down, so timing a method right after them measured it about 3x slower on the H100 than a
     busy GPU runs it (docs/benchmarks.md, "engines.py and speed_floor.py")."""
@@ -50,16 +54,17 @@ def measure(ctx, scene_name: str, size, runs: int, methods, with_eevee: bool) ->
     frame = ctx.render(scene, size)
     reference = ctx.reference(scene, size, samples="auto", progress=False)
     outputs, times, passes = {}, {}, {}
-    for name in methods:
-        outputs[name] = bl.blur(ctx, frame, name)  # warm-up: shaders compiled, textures pooled
+    for name, method, params in methods:
+        # warm-up: shaders compiled, textures pooled
+        outputs[name] = bl.blur(ctx, frame, method, **params)
         times[name] = []
         for _ in range(runs):
-            timed = bl.blur(ctx, frame, name)
+            timed = bl.blur(ctx, frame, method, **params)
             times[name].append(timed.total_ms)
             passes[name] = {key: t.ms for key, t in timed.timings.items()}
             del timed
     rows = []
-    for name in methods:
+    for name, _, _ in methods:
         color = outputs.pop(name).color
         rows.append(
             {
@@ -149,6 +154,7 @@ def main() -> None:
     parser.add_argument("--scenes", default=None, help="comma-separated; default: all")
     parser.add_argument("--methods", default=None, help="comma-separated; default: all")
     parser.add_argument("--peers", choices=peers.PEERS, default=None, help="Blender's EEVEE too")
+    parser.add_argument("--film-filter", type=float, default=0.0, help="σ, px; 0: no extra row")
     parser.add_argument("--json", default=None)
     parser.add_argument("--markdown", default=None)
     parser.add_argument("--chart", default=None, help="PNG or SVG: median ms against PSNR")
@@ -158,10 +164,12 @@ def main() -> None:
     scenes = (
         args.scenes.split(",") if args.scenes else bl.scenes.names() + bl.scenes.names("failure")
     )
-    methods = args.methods.split(",") if args.methods else engine_methods()
+    names = args.methods.split(",") if args.methods else engine_methods()
+    methods = method_runs(names, args.film_filter)
     if args.peers:
         peers.check_peers([args.peers])
-    record = {**describe(ctx), "size": args.size, "runs": args.runs, "methods": methods}
+    record = {**describe(ctx), "size": args.size, "runs": args.runs, "methods": names}
+    record["film_filter"] = args.film_filter
     start = time.perf_counter()
     rows = []
     for scene_name in scenes:
@@ -180,7 +188,7 @@ def main() -> None:
         with open(args.markdown, "w") as f:
             f.write(markdown(table))
     if args.chart:
-        clock = bl.blur(ctx, ctx.render(bl.scenes.get(scenes[0]), (8, 8)), methods[0]).clock
+        clock = bl.blur(ctx, ctx.render(bl.scenes.get(scenes[0]), (8, 8)), names[0]).clock
         bl.plots.save(pareto_chart(table, record["renderer"], clock, size), args.chart)
     record["rows"] = rows
     save(args.json, record)

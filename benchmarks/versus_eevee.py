@@ -6,8 +6,14 @@ Blender cannot render as blurlab does are listed with the reason.
 
 Needs the optional extra `blender` (bpy, Python 3.11); EEVEE runs on the GL device Blender finds.
 
+With --film-filter σ, gather_coverage runs a second time with its Gaussian film filter of σ px
+(docs/spec.md §17.6; 0.5 is EEVEE's at its default 1.5 px filter size), labelled as such: the
+filtered image is for the antialiased reference, which EEVEE's film filter also aims at. The
+record then also holds how closely that filter on blurlab's sharp frame matches EEVEE's image
+where nothing moves (PSNR over the flat region of blurlab.blender.crosscheck.regions).
+
     python benchmarks/versus_eevee.py [--size 160x90] [--reference-samples 1024]
-        [--methods a,b,...] [--json PATH]
+        [--methods a,b,...] [--film-filter 0.5] [--json PATH]
 """
 
 from __future__ import annotations
@@ -16,8 +22,10 @@ import argparse
 import statistics
 
 import blurlab as bl
+from blurlab.blender.crosscheck import psnr_in, regions
+from blurlab.twins.film import film_filter
 
-from common import describe, open_context, save
+from common import describe, method_runs, open_context, save
 
 METHODS = ("gather_coverage", "reconstruct_guertin2014", "engine_eevee", "engine_unity")
 EEVEE = "EEVEE 1 sample, 1 step"
@@ -29,11 +37,13 @@ def main() -> None:
     parser.add_argument("--size", default="160x90")
     parser.add_argument("--reference-samples", type=int, default=1024)
     parser.add_argument("--methods", default=",".join(METHODS))
+    parser.add_argument("--film-filter", type=float, default=0.0, help="σ, px; 0: no extra row")
     parser.add_argument("--json", default=None)
     args = parser.parse_args()
     ctx = open_context(args.device)
     size = tuple(int(v) for v in args.size.split("x"))
     methods = args.methods.split(",")
+    runs = method_runs(methods, args.film_filter)
     record = {**describe(ctx), "size": args.size, "reference_samples": args.reference_samples}
     record["refused"], record["scenes"] = {}, {}
     for name in bl.scenes.names() + bl.scenes.names("failure"):
@@ -51,14 +61,24 @@ def main() -> None:
         }
         eevee = bl.blender.render(scene, size, engine="EEVEE", samples=1, steps=1)
         frame = ctx.render(scene, size)
-        images = {EEVEE: eevee.color, **{m: bl.blur(ctx, frame, m).color for m in methods}}
+        images = {EEVEE: eevee.color}
+        images.update({label: bl.blur(ctx, frame, m, **p).color for label, m, p in runs})
+        entry = {"eevee_device": eevee.device}
+        if args.film_filter > 0:
+            film = args.film_filter
+            flat = regions(ctx, scene, size, references["temporal"].color)["flat"]
+            if flat.any():  # near_plane has no pixel that motion leaves alone
+                entry["eevee_vs_film_filtered_sharp_flat_db"] = psnr_in(
+                    eevee.color, film_filter(frame.color, film), flat
+                )
         scores = {
             label: {k: bl.metrics.psnr(ref.color, image) for k, ref in references.items()}
             for label, image in images.items()
         }
-        record["scenes"][name] = {"psnr": scores, "eevee_device": eevee.device}
+        record["scenes"][name] = {"psnr": scores, **entry}
         print(name, {k: {r: round(v, 2) for r, v in s.items()} for k, s in scores.items()})
-    print(markdown(record, [EEVEE, *methods]))
+        print(name, {k: round(v, 2) for k, v in entry.items() if k != "eevee_device"})
+    print(markdown(record, [EEVEE, *(label for label, _, _ in runs)]))
     save(args.json, record)
 
 

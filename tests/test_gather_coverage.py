@@ -25,6 +25,8 @@ METHOD = "gather_coverage"
         ((97, 61), {"tile_percent": 20.0, "samples": 5, "max_blur": 60.0, "soft_z": 2.0}),
         ((130, 70), {"samples": 2, "exposure": 2.5, "seed": 9}),
         ((40, 30), {"tile_percent": 1.0, "samples": 16, "max_blur": 10.0, "soft_z": 0.01}),
+        ((160, 90), {"film_filter": 0.5}),
+        ((64, 48), {"film_filter": 1.3, "samples": 6}),
     ],
 )
 def test_random_frames_match_reference(ctx, rng, size, params):
@@ -66,23 +68,51 @@ def test_sizes_follow_the_image_height():
 
 def test_trail_reach_on_hand_values():
     v = np.array([10.0, 0.0])  # moving 10 px towards X from +x
+    straight = np.zeros(2)
     cases = {
         (4.0, 0.0): 1.0,  # on the trail
         (10.5, 0.0): 0.5,  # half a pixel past its end: 10 + 1 - 10.5
         (12.0, 0.0): 0.0,  # beyond it
-        (4.0, 2.0): 1.0,  # 2 px across: still over X (ACROSS + 0.1 * 10 = 3 px wide)
-        (4.0, 2.5): 0.5,  # 2.5 px across: half
-        (4.0, 3.5): 0.0,  # beyond it
+        (4.0, 1.5): 1.0,  # 1.5 px across: still over X (ACROSS + 0.05 * 10 = 2.5 px wide)
+        (4.0, 2.0): 0.5,  # 2 px across: half
+        (4.0, 2.5): 0.0,  # beyond it
         (-1.0, 0.0): 0.0,  # behind the trail's start
     }
     for d, expected in cases.items():
-        assert ref.trail_reaches(np.array(d), v) == pytest.approx(expected)
-    long_trail = np.array([40.0, 0.0])  # 6 px wide: the chord of an arc strays further
-    assert ref.trail_reaches(np.array([20.0, 5.0]), long_trail) == pytest.approx(1.0)
-    assert ref.trail_reaches(np.array([20.0, 6.5]), long_trail) == pytest.approx(0.0)
+        assert ref.trail_reaches(np.array(d), v, straight) == pytest.approx(expected)
+    long_trail = np.array([40.0, 0.0])  # 4 px wide
+    assert ref.trail_reaches(np.array([20.0, 3.0]), long_trail, straight) == pytest.approx(1.0)
+    assert ref.trail_reaches(np.array([20.0, 4.5]), long_trail, straight) == pytest.approx(0.0)
     still = np.zeros(2)
-    assert ref.trail_reaches(np.array([0.0, 0.0]), still) == pytest.approx(1.0)
-    assert ref.trail_reaches(np.array([2.0, 0.0]), still) == 0.0
+    assert ref.trail_reaches(np.array([0.0, 0.0]), still, straight) == pytest.approx(1.0)
+    assert ref.trail_reaches(np.array([2.0, 0.0]), still, straight) == 0.0
+
+
+def test_a_bent_trail_is_the_parabola_through_its_three_positions():
+    v, bend = np.array([10.0, 0.0]), np.array([0.0, 4.0])
+    # halfway along, the parabola lies τ(1 - τ)·bend = 1 px off the chord
+    assert ref.trail_reaches(np.array([5.0, 1.0]), v, bend) == pytest.approx(1.0)
+    assert ref.trail_reaches(np.array([5.0, 3.0]), v, bend) == pytest.approx(0.5)
+    assert ref.trail_reaches(np.array([5.0, -2.0]), v, bend) == 0.0
+    assert ref.trail_reaches(np.array([5.0, -2.0]), v, np.zeros(2)) == pytest.approx(0.5)
+    # at its ends it meets the chord
+    assert ref.trail_reaches(np.array([10.0, 0.0]), v, bend) == pytest.approx(1.0)
+
+
+def test_own_taps_follow_the_arc_of_a_turning_pixel():
+    # X at radius 10 turning 0.3 rad each half-shutter about the origin
+    def at(angle):
+        return 10 * np.array([np.cos(angle), np.sin(angle)])
+
+    x = at(0.0)
+    prev, next_ = x - at(-0.3), at(0.3) - x
+    bend = (next_ - prev) / 2
+    ts = np.linspace(0.0, 1.0, 11)
+    bent = x + ref.tap_offset_along(prev, bend, ts)
+    straight = x + ref.tap_offset_along(prev, np.zeros(2), ts)
+    assert bent[-1] == pytest.approx(at(0.3))  # where X is at the shutter's close
+    assert np.abs(np.linalg.norm(bent, axis=-1) - 10).max() < 0.05  # on the circle
+    assert np.abs(np.linalg.norm(straight, axis=-1) - 10).max() > 0.4  # the chord is not
 
 
 def test_family_overlap_on_hand_values():
@@ -152,6 +182,8 @@ def test_a_bar_covers_its_trail_by_its_width_over_its_motion(ctx):
         ({"samples": 1}, ValueError, r"samples = 1 is outside 2\.\.32"),
         ({"max_blur": 0.0}, ValueError, "max_blur = 0.0 must be"),
         ({"tile_percent": 101.0}, ValueError, "tile_percent = 101.0"),
+        ({"film_filter": 4.5}, ValueError, r"film_filter = 4\.5 is outside \[0, 4\]"),
+        ({"film_filter": -0.5}, ValueError, "film_filter = -0.5"),
         ({"k": 3}, TypeError, "no parameter.*k.*tile_percent"),
     ],
 )
@@ -164,3 +196,32 @@ def test_timings_name_every_pass(ctx, rng):
     result = bl.blur(ctx, random_frame(rng, 64, 36), METHOD)
     assert list(result.timings) == ["tile_flatten", "tile_dilate", "gather"]
     assert result.total_ms > 0
+    filtered = bl.blur(ctx, random_frame(rng, 64, 36), METHOD, film_filter=0.5)
+    assert list(filtered.timings) == ["tile_flatten", "tile_dilate", "gather", "film"]
+
+
+def test_the_film_filter_spreads_a_point_by_its_gaussian(ctx):
+    # A still frame (every tile exits early) with one bright pixel: the film filter alone acts,
+    # and each neighbour gets the normalised Gaussian weight of its distance.
+    color = np.zeros((21, 21, 4), np.float32)
+    color[10, 10] = 1.0
+    frame = bl.Frame(color, np.ones((21, 21), np.float32), np.zeros((21, 21, 2), np.float32))
+    out = bl.blur(ctx, frame, METHOD, film_filter=0.5).color[..., 0]
+    offsets = np.arange(-2, 3)  # ceil(3 * 0.5) = 2 px each way
+    weights = np.exp(-(offsets[:, None] ** 2 + offsets[None, :] ** 2) / (2 * 0.5**2))
+    assert out[8:13, 8:13] == pytest.approx(weights / weights.sum(), abs=1e-6)
+    assert out.sum() == pytest.approx(1.0, abs=1e-5)  # nothing lost, nothing beyond 2 px
+    assert out[10, 10] == pytest.approx(0.6187, abs=1e-3)
+    unfiltered = bl.blur(ctx, frame, METHOD).color
+    assert unfiltered.tobytes() == color.tobytes()  # 0: no film filter
+
+
+def test_the_film_filter_keeps_a_flat_image_and_the_input_range(ctx, rng):
+    frame = two_sided_frame(rng, 80, 60)
+    frame.color[..., :3] = frame.color[..., :3] * 0.5 + 0.25
+    out = bl.blur(ctx, frame, METHOD, film_filter=2.0, max_blur=40.0).color
+    assert out[..., :3].min() >= 0.25 - 1e-6 and out[..., :3].max() <= 0.75 + 1e-6
+    flat = bl.Frame(
+        np.full((30, 40, 4), 0.3, np.float32), frame.depth[:30, :40], frame.motion[:30, :40]
+    )
+    assert bl.blur(ctx, flat, METHOD, film_filter=1.0).color == pytest.approx(0.3, abs=1e-6)

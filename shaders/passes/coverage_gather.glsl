@@ -25,16 +25,24 @@ uniform uint seed;
 const uvec2 JITTER_SALTS = uvec2(0x510E527Fu, 0x9B05688Cu);
 const float MOVING = 1.0;        // px: shorter half-motions count as still
 const float ACROSS = 2.0;        // px: how far across a trail it still passes over X,
-const float ACROSS_SHARE = 0.1;  // ... plus this share of its length (chords of turning motion)
-const float MOVING_DEPTH = 0.3;  // in-front extent where X moves, fraction of X's depth
+const float ACROSS_SHARE = 0.05; // ... plus this share of its length
+const float MOVING_DEPTH = 10.0; // in-front extent where X moves, multiple of X's depth
 
-// How far (0..1) the trail of a pixel at offset d, moving by v towards X, passes over X.
-float trail_reaches(vec2 d, vec2 v) {
+// a's signed distance across the unit vector b.
+float cross2(vec2 a, vec2 b) {
+    return a.x * b.y - a.y * b.x;
+}
+
+// How far (0..1) the trail of a pixel at offset d, moving by v towards X, passes over X. The
+// trail is the parabola through the pixel's three positions, d = τ·v + τ(1 − τ)·bend.
+float trail_reaches(vec2 d, vec2 v, vec2 bend) {
     float len = length(v);
     float dist = length(d);
     vec2 unit = len > 0.0 ? v / len : vec2(0.0);
     float along = len > 0.0 ? dot(d, unit) : dist;
-    float across = len > 0.0 ? abs(d.x * unit.y - d.y * unit.x) : dist;
+    float tau = len > 0.0 ? clamp(along / len, 0.0, 1.0) : 0.0;
+    float off_line = cross2(d, unit) - tau * (1.0 - tau) * cross2(bend, unit);
+    float across = len > 0.0 ? abs(off_line) : dist;
     float ahead = along > -0.5 ? 1.0 : 0.0;
     float widest = ACROSS + ACROSS_SHARE * len;
     return clamp(len + 1.0 - along, 0.0, 1.0) * ahead * clamp(widest - across, 0.0, 1.0);
@@ -48,10 +56,16 @@ float family_overlap(vec2 line, vec2 own) {
     return clamp(dot(line, own) / max(length(line) * lo, 1e-12), 0.0, 1.0);
 }
 
-vec2 trail_at(ivec2 y, int side) {
+// A pixel's half-motions: xy its prev half, zw its next half, scaled and clamped.
+vec4 halves_at(ivec2 y) {
     vec4 m = texelFetch(motion_sides, y, 0);
-    return side == 0 ? clamp_length(scaled_motion(m.xy, exposure), reach_limit)
-                     : -clamp_length(scaled_motion(m.zw, exposure), reach_limit);
+    return vec4(clamp_length(scaled_motion(m.xy, exposure), reach_limit),
+                clamp_length(scaled_motion(m.zw, exposure), reach_limit));
+}
+
+// The half-motion of a side read as a trail towards X: prev, or minus next.
+vec2 trail_of(vec4 halves, int side) {
+    return side == 0 ? halves.xy : -halves.zw;
 }
 
 vec4 gather_at(ivec2 x) {
@@ -64,10 +78,12 @@ vec4 gather_at(ivec2 x) {
     if (max(length(lines[0]), length(lines[1])) < EARLY_EXIT) return cx;
 
     float zx = sanitize_depth(texelFetch(depth, x, 0).x);
-    vec2 owns[2] = vec2[2](trail_at(x, 0), trail_at(x, 1));
+    vec4 x_halves = halves_at(x);
+    vec2 owns[2] = vec2[2](trail_of(x_halves, 0), trail_of(x_halves, 1));
+    vec2 x_bend = 0.5 * (x_halves.zw - x_halves.xy);
     bool x_moves = max(length(owns[0]), length(owns[1])) >= MOVING;
-    // Where X moves, taps within MOVING_DEPTH of its depth count as in front (its own object
-    // turns and tilts); where X is still, soft_z.
+    // Where X moves, taps within MOVING_DEPTH times its depth (in effect any) count as in front
+    // (its own object turns and tilts); where X is still, soft_z.
     float front_extent = (x_moves && !isinf(zx)) ? max(soft_z, MOVING_DEPTH * zx) : soft_z;
     float j = rand(uint(x.x), uint(x.y), seed);
     vec2 center = vec2(x) + 0.5;
@@ -88,13 +104,16 @@ vec4 gather_at(ivec2 x) {
             float count = float(counts[family]);
             float spacing = length(along) / count * share;
             float t = (float(i / 2) + fract(j + 0.5 * float(family) + 0.25 * float(side))) / count;
-            ivec2 y = clamp(ivec2(floor(center + along * t)), ivec2(0), size - 1);
-            vec2 vy = trail_at(y, side);
+            // X's own family follows X's arc: the parabola through its three positions.
+            vec2 bent = (family == 1 && own_moves) ? x_bend * (t * (1.0 + t)) : vec2(0.0);
+            ivec2 y = clamp(ivec2(floor(center + along * t + bent)), ivec2(0), size - 1);
+            vec4 halves = halves_at(y);
+            vec2 vy = trail_of(halves, side);
             float speed = length(vy);
             float moving = clamp(speed - 0.5, 0.0, 1.0);
             float zy = sanitize_depth(texelFetch(depth, y, 0).x);
             vec4 cy = sanitize_color(texelFetch(color, y, 0));
-            float reaches = trail_reaches(vec2(y - x), vy);
+            float reaches = trail_reaches(vec2(y - x), vy, 0.5 * (halves.zw - halves.xy));
             float a = soft_depth_compare(zx, zy, front_extent) * reaches * moving * spacing
                     / max(speed, 1.0);
             cover += a;

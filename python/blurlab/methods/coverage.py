@@ -5,7 +5,8 @@ engine_unity's, taps along the neighbourhood's and X's own motion (Guertin 2014'
 directions, Unity's v_alt), and weights that estimate what share of each half-shutter a moving
 pixel spends over X, with what lies behind X filling the rest. Passes: engine_eevee's tile
 flatten and tile dilation (shaders/passes/eevee_tile_*.glsl) at this method's tile size and
-limit (methods.eevee.dilated_tiles), then shaders/passes/coverage_gather.glsl. NumPy twin:
+limit (methods.eevee.dilated_tiles), then shaders/passes/coverage_gather.glsl, then, where
+film_filter > 0, shaders/passes/film_filter.glsl. NumPy twin:
 blurlab.twins.coverage.gather_coverage.
 """
 
@@ -29,8 +30,17 @@ PARAMS = {
     "soft_z": TILE_FILTER_PARAMS["soft_z"],
     "exposure": TILE_FILTER_PARAMS["exposure"],
     "seed": SEED,
+    "film_filter": Param(
+        0.0,
+        float,
+        "σ of a Gaussian film filter on the result, px (0: none, pixel-centre samples as the "
+        "temporal reference; 0.5: Blender EEVEE's at its 1.5 px filter size)",
+        0,
+        4,
+    ),
 }
 GATHER = Pass("gather", "passes/coverage_gather.glsl", ("samples", "soft_z", "exposure", "seed"))
+FILM = Pass("film", "passes/film_filter.glsl", ("film_filter",))
 
 
 def _run_coverage(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
@@ -39,7 +49,7 @@ def _run_coverage(ctx: Context, frame: Frame, inputs: dict, values: dict, backen
     reach_limit = twin.max_blur_px(size[0], values["max_blur"])
     timings: dict = {}
     sides, tiles, dilated = dilated_tiles(ctx, frame, timings, PARAMS, values, size, s, reach_limit)
-    result = ctx.pooled((*size, 4))
+    gathered = ctx.pooled((*size, 4))
     textures = {
         "color": inputs["color"],
         "depth": inputs["depth"],
@@ -54,11 +64,16 @@ def _run_coverage(ctx: Context, frame: Frame, inputs: dict, values: dict, backen
         PARAMS,
         values,
         textures,
-        {"result": result},
+        {"result": gathered},
         backend,
         uniforms=uniforms,
     )
-    return {"color": result, "tiles": tiles, "dilated": dilated}, timings
+    outputs = {"color": gathered, "tiles": tiles, "dilated": dilated}
+    if values["film_filter"] > 0:
+        filtered = ctx.pooled((*size, 4))
+        run_pass(ctx, timings, FILM, PARAMS, values, {"color": gathered}, {"result": filtered})
+        outputs.update(color=filtered, unfiltered=gathered)
+    return outputs, timings
 
 
 register(

@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from .eevee import EARLY_EXIT, clamp_length, dilated_half_motions, lookup_tile
+from .film import film_filter as apply_film_filter
 from .hashing import rand
 from .inputs import sanitize_color, sanitize_depth
 from .mcguire2012 import soft_depth_compare
@@ -18,8 +19,8 @@ JITTER_SALTS = (0x510E527F, 0x9B05688C)  # shaders/passes/coverage_gather.glsl
 MOVING = 1.0  # px: a half-motion at least this long moves; shorter ones count as still
 SMALLEST_TILE = 8  # px
 ACROSS = 2.0  # px
-ACROSS_SHARE = 0.1  # ... plus this share of the trail's length (chords of turning motion)
-MOVING_DEPTH = 0.3  # soft depth extent, fraction of X's depth, where X moves
+ACROSS_SHARE = 0.05  # ... plus this share of the trail's length
+MOVING_DEPTH = 10.0  # soft depth extent, multiple of X's depth, where X moves
 
 
 def tile_size(height: int, percent: float) -> int:
@@ -32,21 +33,30 @@ def max_blur_px(height: int, percent: float) -> float:
     return height * percent / 100
 
 
-def trail_reaches(d: np.ndarray, v: np.ndarray) -> np.ndarray:
+def trail_reaches(d: np.ndarray, v: np.ndarray, bend: np.ndarray) -> np.ndarray:
     """§17.6: how far (0..1) the trail of a pixel at offset d from X, moving by v over the
-    half-shutter towards X (the pixel lies at +τ·v from X, τ in [0, 1], where it crosses X),
-    passes over X: 1 up to |v| along v and within ACROSS + ACROSS_SHARE·|v| − 1 px across it,
-    each falling to 0 one pixel further (wider for longer trails: the motion of a turning
-    pixel is the chord of its arc). A still pixel (v = 0) reaches within ACROSS px."""
+    half-shutter towards X, passes over X. The trail is the parabola through the pixel's three
+    positions (shutter open, centre, close): d = τ·v + τ(1 − τ)·bend, τ in [0, 1], with
+    bend = (next − prev)/2 of the pixel's half-motions (0 on a straight, even motion; a turning
+    pixel's chord strays from its arc by up to |bend|/4). It reaches X fully up to |v| along v
+    and within ACROSS + ACROSS_SHARE·|v| − 1 px across the parabola, each falling to 0 one
+    pixel further. A still pixel (v = 0) reaches within ACROSS px."""
     length = np.linalg.norm(v, axis=-1)
-    unit = v / np.where(length > 0, length, 1.0)[..., None]
-    dist = np.linalg.norm(d, axis=-1)
     moving = length > 0
+    unit = v / np.where(moving, length, 1.0)[..., None]
+    dist = np.linalg.norm(d, axis=-1)
     along = np.where(moving, np.sum(d * unit, -1), dist)
-    across = np.where(moving, np.abs(d[..., 0] * unit[..., 1] - d[..., 1] * unit[..., 0]), dist)
+    tau = np.clip(along / np.where(moving, length, 1.0), 0, 1)
+    off_line = cross(d, unit) - tau * (1 - tau) * cross(bend, unit)
+    across = np.where(moving, np.abs(off_line), dist)
     ahead = along > -0.5
     widest = ACROSS + ACROSS_SHARE * length
     return np.clip(length + 1 - along, 0, 1) * ahead * np.clip(widest - across, 0, 1)
+
+
+def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The 2D cross product a.x·b.y − a.y·b.x: a's signed distance across unit vector b."""
+    return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
 
 
 def family_overlap(line: np.ndarray, own: np.ndarray) -> np.ndarray:
@@ -70,6 +80,15 @@ def tap_offset(j, family: int, side: int):
     return np.mod(j + 0.5 * family + 0.25 * side, 1.0)
 
 
+def tap_offset_along(line: np.ndarray, bend: np.ndarray, t) -> np.ndarray:
+    """§17.6: a tap's offset from X at t in [0, 1) of a family's line: t·line, plus
+    t(1 + t)·bend for X's own family, which then follows X's arc (the parabola through X's
+    three positions: on the prev side its way on from the centre, on the next side its way
+    back), where the pixels that crossed X lie when X turns; bend = 0 on the tile's line."""
+    t = np.asarray(t, np.float64)[..., None]
+    return line * t + bend * (t * (1 + t))
+
+
 def gather_coverage(
     color,
     depth,
@@ -82,10 +101,12 @@ def gather_coverage(
     soft_z: float,
     exposure: float,
     seed: int,
+    film_filter: float,
     dilated: np.ndarray | None = None,
 ) -> np.ndarray:
     """§17.6: (H, W, C) float64 blurred color. `max_blur` is a percentage of the height;
-    `dilated` is the dilated tile grid if already computed."""
+    `film_filter` the σ (px) of the Gaussian film filter on the result, 0 for none; `dilated`
+    is the dilated tile grid if already computed."""
     color = sanitize_color(color)
     depth = sanitize_depth(depth)
     h, w = depth.shape
@@ -102,8 +123,8 @@ def gather_coverage(
     )
     longest = np.maximum(*(np.linalg.norm(line, axis=-1) for line in lines))
     x_moves = np.maximum(np.linalg.norm(prev, axis=-1), np.linalg.norm(next_, axis=-1)) >= MOVING
-    # Where X moves, a tap counts as in front within MOVING_DEPTH of X's depth: the surface of
-    # X's own object turns and tilts; where X is still, §3's soft_z.
+    # Where X moves, a tap counts as in front within MOVING_DEPTH times X's depth (in effect at
+    # any depth): the surface of X's own object turns and tilts; where X is still, §3's soft_z.
     finite = np.isfinite(depth)
     front_extent = np.where(
         x_moves & finite, np.maximum(soft_z, MOVING_DEPTH * np.where(finite, depth, 0)), soft_z
@@ -111,6 +132,7 @@ def gather_coverage(
     j = rand(x, y, seed)
     center = np.stack([x, y], -1) + 0.5
     behind_sum, behind_weight = np.zeros_like(color), np.zeros((h, w))
+    bend = (next_ - prev) / 2
     sides = []
     # Prev side: the pixels whose way back to t0 crosses X lie at +τ·prev; next side: those
     # whose way on to t1 crosses X at -τ·next. Each is read as a trail towards X.
@@ -124,13 +146,14 @@ def gather_coverage(
             along = np.where((family & own_moves)[..., None], own, line)
             spacing = np.linalg.norm(along, axis=-1) / count * share
             t = (i + tap_offset(j, family, side)) / count
-            p = np.floor(center + along * t[..., None]).astype(np.int64)
+            bent = np.where((family & own_moves)[..., None], bend, 0.0)
+            p = np.floor(center + tap_offset_along(along, bent, t)).astype(np.int64)
             py, px = np.clip(p[..., 1], 0, h - 1), np.clip(p[..., 0], 0, w - 1)
             d = np.stack([px - x, py - y], -1).astype(np.float64)
             speed = np.linalg.norm(trails[py, px], axis=-1)
             moving = np.clip(speed - 0.5, 0, 1)
             zy = depth[py, px]
-            reaches = trail_reaches(d, trails[py, px])
+            reaches = trail_reaches(d, trails[py, px], bend[py, px])
             in_front = soft_depth_compare(depth, zy, front_extent)
             a = in_front * reaches * moving * spacing / np.maximum(speed, 1)
             cover = cover + a
@@ -155,4 +178,4 @@ def gather_coverage(
         alpha = np.minimum(cover * scale, 1.0)[..., None]
         covering = cover_sum / np.maximum(cover, 1e-12)[..., None]
         out = out + 0.5 * (alpha * covering + (1 - alpha) * background)
-    return np.where((longest >= EARLY_EXIT)[..., None], out, color)
+    return apply_film_filter(np.where((longest >= EARLY_EXIT)[..., None], out, color), film_filter)
