@@ -14,6 +14,7 @@ from filter_promises import assert_matches_twin, two_sided_frame
 import blurlab as bl
 from blurlab.twins import coverage as ref
 from blurlab.twins import eevee as eevee_twin
+from blurlab.twins import film
 
 METHOD = "gather_coverage"
 
@@ -225,3 +226,16 @@ def test_the_film_filter_keeps_a_flat_image_and_the_input_range(ctx, rng):
         np.full((30, 40, 4), 0.3, np.float32), frame.depth[:30, :40], frame.motion[:30, :40]
     )
     assert bl.blur(ctx, flat, METHOD, film_filter=1.0).color == pytest.approx(0.3, abs=1e-6)
+
+
+@pytest.mark.parametrize("sigma", [0.3, 1.3, 4.0])
+def test_the_film_pass_equals_its_twin_across_group_edges(ctx, rng, sigma):
+    # 37 x 23 cuts the 16 x 16 groups; σ = 4 reaches the largest border (12 px) the shared tile
+    # holds, wider than the image's 23 rows, so every clamp is taken. NaN reads as 0.
+    color = rng.random((23, 37, 4), dtype=np.float32)
+    color[5, 7, 1] = np.nan
+    out = ctx.pooled((23, 37, 4))
+    ctx.shader_pass("passes/film_filter.glsl").run(
+        {"color": ctx.upload(color)}, {"result": out}, {"film_filter": sigma}
+    )
+    np.testing.assert_allclose(out.download(), film.film_filter(color, sigma), atol=2e-6)
