@@ -120,7 +120,10 @@ TILE_MAX_VARIANTS = {
     "rows_64_subgroup": {"TILE_MAX_THREADS": 64, "TILE_MAX_SUBGROUP": 1},
     "rows_128_subgroup": {"TILE_MAX_THREADS": 128, "TILE_MAX_SUBGROUP": 1},
 }
-DEFAULT_TILE_MAX_VARIANT = "strided_8x8"
+# Fastest on the H100 at 1080p (speed_floor, 2026-11-24): 0.0200 ms at k = 20 and 0.0195 at
+# k = 40, against 0.0235 and 0.0260 for strided_8x8 (docs/benchmarks.md). Without subgroup
+# operations (llvmpipe) it reduces in shared memory.
+DEFAULT_TILE_MAX_VARIANT = "rows_128_subgroup"
 _TILE_MAX_VARIANT = contextvars.ContextVar("blurlab_tile_max_variant", default=None)
 
 
