@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import json
 import statistics
+import time
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 
@@ -119,6 +120,7 @@ def _reference(ctx, scene, settings: Settings, samples: int, cache: dict, antial
     """The scene's temporal (or antialiased) reference with `samples` sub-frames, made once."""
     key = "reference_aa" if antialias else "reference"
     if key not in cache:
+        start = time.perf_counter()
         cache[key] = ctx.reference(
             scene,
             settings.size,
@@ -127,7 +129,15 @@ def _reference(ctx, scene, settings: Settings, samples: int, cache: dict, antial
             progress=False,
             antialias=antialias,
         )
+        _add_seconds(cache, "references", start)
     return cache[key]
+
+
+def _add_seconds(cache: dict, phase: str, start: float) -> None:
+    """Adds the time since `start` to cache["seconds"][phase]: the study splits its sweep's
+    time into references, G-buffers and evaluations with it."""
+    seconds = cache.setdefault("seconds", {})
+    seconds[phase] = seconds.get(phase, 0.0) + time.perf_counter() - start
 
 
 def _without_steps(point: dict) -> dict:
@@ -141,12 +151,14 @@ def _scene_inputs(ctx, scene, name, point, settings: Settings, cache: dict):
     instant = method_instant(name, params)
     steps = point.get("steps", 1)
     frames = cache.setdefault("frames", {})
+    start = time.perf_counter()
     if (instant, 1) not in frames:
         frames[(instant, 1)] = [ctx.render(scene, settings.size, settings.shutter, instant=instant)]
     if (instant, steps) not in frames:
         frames[(instant, steps)] = render_steps(
             ctx, scene, name, steps, settings.size, settings.shutter, **params
         )
+    _add_seconds(cache, "g_buffers", start)
     n = settings.reference_samples
     if n is None:
         n = default_reference_samples(frames[(instant, 1)][0])
