@@ -12,7 +12,9 @@ import matplotlib
 import numpy as np
 import pytest
 
+import blurlab as bl
 from blurlab import io, metrics
+from blurlab.methods import method_instant
 from blurlab.studies import plots
 
 study = importlib.import_module("blurlab.studies.study")
@@ -115,3 +117,28 @@ def test_phase_clock_adds_up_and_names_each_phase():
     assert 1.0 <= clock.seconds["charts"] < 1.5 and clock.seconds["references"] == 2.0
     assert set(study.PHASES) >= set(clock.seconds)
     json.dumps(clock.seconds)
+
+
+def test_the_sweep_hands_the_study_what_it_rendered(ctx):
+    sweep = importlib.import_module("blurlab.studies.sweep")
+    point = {"taps": 5}
+    key = ("gather_box", json.dumps(point, sort_keys=True))
+    caches = {"fan": {"keep_colours": {key}}}
+    table = sweep.sweep(
+        ctx,
+        ["fan"],
+        {"gather_box": {"taps": [3, 5]}},
+        (32, 18),
+        reference_samples=4,
+        metrics=("psnr",),
+        progress=False,
+        repeats=1,
+        caches=caches,
+    )
+    cache = caches["fan"]
+    assert len(table) == 2 and list(cache["colours"]) == [key]  # taps = 3 was not asked for
+    assert cache["seconds"]["references"] > 0 and cache["seconds"]["g_buffers"] > 0
+    assert cache["reference"].samples == 4
+    frame = cache["frames"][(method_instant("gather_box", point), 1)][0]
+    again = bl.blur(ctx, frame, "gather_box", **point).color
+    assert np.array_equal(cache["colours"][key], again)  # the picture the report would make

@@ -47,7 +47,8 @@ def evaluate_scene(
 ) -> Iterator[tuple[tuple, dict]]:
     """Evaluates `jobs` = [(method, point, backend, key)] of one scene; yields (key, row) as
     each row is finished. `cache` holds the scene's frames and reference between calls (a
-    worker keeps one per scene it has worked on)."""
+    worker keeps one per scene it has worked on); where cache["keep_colours"] holds a job's
+    (method, params JSON), its output colour is kept in cache["colours"] under that key."""
     size = settings.size
     info = ctx.info()
     wanted = settings.metrics if settings.metrics is not None else scene_metrics(scene)
@@ -99,6 +100,9 @@ def evaluate_scene(
             row["psnr_aa"] = m.psnr_from_mse(
                 m.gpu_mse(ctx, result.textures["color"], antialiased.texture)
             )
+        # The pictures a caller shows (the study's middle points): kept, not blurred again.
+        if (name, row["params"]) in cache.get("keep_colours", ()):
+            cache.setdefault("colours", {})[(name, row["params"])] = result.color
         hdr = [name for name in wanted if name in m.HDR_METRICS]
         if hdr:  # with "exposure", the one psnr_tm, ssim_tm and the report's pictures use
             row.update(m.hdr_scores(reference.color, result.color, hdr))

@@ -88,7 +88,10 @@ def run_study(
     out.mkdir(parents=True, exist_ok=True)
     names = list(scene_names or scenes.names())
     grids = grids or default_grids()
-    caches: dict = {}  # per scene, what the sweep rendered: the report shows the same
+    # Per scene, what the sweep rendered and each method's picture (its grid's middle point):
+    # the report shows the same, without rendering or blurring them again.
+    shown = {(m, json.dumps(middle_point(g), sort_keys=True)) for m, g in grids.items()}
+    caches: dict = {scenes.get(item).name: {"keep_colours": shown} for item in names}
     start = time.perf_counter()
     table = sweep(
         None if cluster is not None else ctx,
@@ -240,11 +243,15 @@ def _scene_section(
             reference = ctx.reference(scene, size, samples=samples, progress=False)
     with clock("images"):
         # Images: each method at the middle of its grid, against the reference.
-        frames = cache.get("frames", {})
+        frames, colours = cache.get("frames", {}), cache.get("colours", {})
         images = {}
         for method_name, grid in grids.items():
             point = middle_point(grid)
             instant = method_instant(method_name, point)
+            kept = colours.get((method_name, json.dumps(point, sort_keys=True)))
+            if kept is not None:
+                images[method_name] = kept
+                continue
             if (instant, 1) in frames:
                 frame = frames[(instant, 1)][0]
             else:
