@@ -24,7 +24,8 @@
    and fragment counts, and the first call on a fresh context split into shader build, mesh
    uploads, material textures, target allocation, first pass, second pass;
 6. with --study, `blurlab study` (run_study, default scenes and grids, all three metrics) at
-   --size, its phases timed: references, evaluations, report (charts, images, tables).
+   --size, with the phases it times itself (phases.json): references, G-buffers, evaluations,
+   images, charts, per-object table, HTML.
 
 Medians over --runs; GL timer queries on a GPU, glFinish + wall clock on llvmpipe.
 
@@ -38,9 +39,11 @@ from __future__ import annotations
 import argparse
 import importlib
 import itertools
+import json
 import statistics
 import tempfile
 import time
+from pathlib import Path
 
 import numpy as np
 
@@ -560,53 +563,21 @@ def raster_floor(device: str, ctx, scene_names, size: tuple[int, int], runs: int
 
 
 def study_phases(ctx, size: tuple[int, int]) -> dict:
-    """run_study at `size`, default scenes and grids, PSNR + SSIM + FLIP, with its phases:
-    references (every ctx.reference call), evaluations (the sweep less its references) and the
-    report (the rest: charts, images, per-object table, HTML)."""
+    """run_study at `size`, default scenes and grids, PSNR + SSIM + FLIP, and the phases it
+    times itself (phases.json: references, G-buffers, evaluations, images, charts, per-object
+    table, HTML), with the process's CPU time beside the wall clock."""
     study = importlib.import_module("blurlab.studies.study")
-    phases = {"references": 0.0, "references_in_sweep": 0.0, "sweep": 0.0}
-    in_sweep = [False]
-    reference, sweep = ctx.reference, study.sweep
-
-    def timed_reference(*args, **kwargs):
-        start = time.perf_counter()
-        try:
-            return reference(*args, **kwargs)
-        finally:
-            spent = time.perf_counter() - start
-            phases["references"] += spent
-            if in_sweep[0]:
-                phases["references_in_sweep"] += spent
-
-    def timed_sweep(*args, **kwargs):
-        start, in_sweep[0] = time.perf_counter(), True
-        try:
-            return sweep(*args, **kwargs)
-        finally:
-            phases["sweep"] += time.perf_counter() - start
-            in_sweep[0] = False
-
-    ctx.reference, study.sweep = timed_reference, timed_sweep
-    try:
-        with tempfile.TemporaryDirectory() as folder:
-            start = time.perf_counter()
-            study.run_study(ctx, size=size, out=folder, progress=False)
-            total = time.perf_counter() - start
-    finally:
-        del ctx.reference
-        study.sweep = sweep
-    record = {
-        "total_s": total,
-        "references_s": phases["references"],
-        "evaluations_s": phases["sweep"] - phases["references_in_sweep"],
-        "report_s": total
-        - phases["sweep"]
-        - (phases["references"] - phases["references_in_sweep"]),
-    }
-    print(f"\n| study at {size[0]}x{size[1]}, phase | s |\n|---|---|")
+    with tempfile.TemporaryDirectory() as folder:
+        start, cpu = time.perf_counter(), time.process_time()
+        study.run_study(ctx, size=size, out=folder, progress=False)
+        total, cpu = time.perf_counter() - start, time.process_time() - cpu
+        timing = json.loads((Path(folder) / "phases.json").read_text())
+    record = {"total_s": total, "cpu_s": cpu}
+    record.update({f"{phase}_s": seconds for phase, seconds in timing["phases_s"].items()})
+    print(f"\n| study at {size[0]}x{size[1]}, {timing['evaluations']} evaluations | s |\n|---|---|")
     for key, value in record.items():
         print(f"| {key} | {value:.1f} |")
-    return record
+    return {**record, "evaluations": timing["evaluations"]}
 
 
 def main() -> None:

@@ -4,6 +4,7 @@ interrupted, TOML configurations, and the study's report."""
 from __future__ import annotations
 
 import importlib
+import json
 import os
 import re
 
@@ -228,7 +229,7 @@ def test_sweep_from_a_toml_file(tmp_path, capsys):
     assert exit_.value.code == 2 and "unknown keys" in capsys.readouterr().err
 
 
-def test_study_writes_the_report(tmp_path):
+def test_study_writes_the_report(tmp_path, capsys):
     previous = os.umask(0o022)
     try:
         assert cli.main(["study", "--size", "160x90", "--out", str(tmp_path)]) == 0
@@ -260,6 +261,20 @@ def test_study_writes_the_report(tmp_path):
         10
     ).all(axis=None)
     assert "OGRE paper's Table 1" in report
+    # Each phase timed (issue 19), in phases.json, the report and the console; they add up to
+    # the whole run, less the HTML and JSON writes.
+    timing = json.loads((tmp_path / "phases.json").read_text())
+    phases = timing["phases_s"]
+    assert {"references", "g_buffers", "evaluations", "images", "charts", "per_object"} <= set(
+        phases
+    )
+    assert all(seconds > 0 for seconds in phases.values())
+    assert 0.9 * timing["total_s"] <= sum(phases.values()) <= timing["total_s"]
+    assert timing["evaluations"] == len(table) and timing["size"] == [160, 90]
+    assert "Where the time went" in report and "phases.json" in report
+    printed = capsys.readouterr().out
+    assert "study: " in printed and all(phase in printed for phase in phases)
+    assert (tmp_path / "teapot_pass_error_scale.png").exists()
 
 
 def test_pareto_front_and_chart(ctx):

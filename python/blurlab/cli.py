@@ -117,7 +117,7 @@ def _study(args) -> int:
             cluster=cluster,
             peer_names=tuple(args.peers.split(",")) if args.peers else (),
         )
-    print(f"wrote {report} and {Path(args.out) / 'results.csv'}")
+    print(f"wrote {report}, {Path(args.out) / 'results.csv'} and {Path(args.out) / 'phases.json'}")
     return 0
 
 

@@ -28,20 +28,29 @@ def srgb_to_linear(srgb: np.ndarray) -> np.ndarray:
     return np.where(c <= 0.04045, c / 12.92, np.power((c + 0.055) / 1.055, 2.4))
 
 
+def srgb8(linear: np.ndarray) -> np.ndarray:
+    """8-bit sRGB of linear colour (clipped to [0, 1], rounded to nearest): what a PNG holds."""
+    return np.round(linear_to_srgb(linear) * 255.0).astype(np.uint8)
+
+
 def _oiio():
     import OpenImageIO as oiio
 
     return oiio
 
 
-def write(path: str | os.PathLike, array: np.ndarray, channel_names=None) -> Path:
+def write(
+    path: str | os.PathLike, array: np.ndarray, channel_names=None, png_compression: int = 6
+) -> Path:
     """Writes ``array`` ((H, W) or (H, W, C)) to ``path``; returns the path.
 
     - ``.exr``: float32 stays float32, float16 stays half; uint8 is written as float32 / 255.
       ``channel_names`` (one per channel, e.g. "motion.X") names the channels of a multi-layer
       file; by default OpenImageIO names them R, G, B, A.
     - ``.png``: float arrays are linear color, clipped to [0, 1] and sRGB-encoded to 8 bits;
-      uint8 arrays are taken as already encoded and written as they are.
+      uint8 arrays are taken as already encoded and written as they are. ``png_compression``:
+      zlib's level, 0 (none) to 9; 1 encodes a render in about 2/3 of the default 6's time
+      for files about 30 % larger (the study's report uses it).
     """
     path = Path(path)
     suffix = path.suffix.lower()
@@ -62,6 +71,14 @@ def write(path: str | os.PathLike, array: np.ndarray, channel_names=None) -> Pat
         raise TypeError(
             f"blurlab.io.write: dtype {array.dtype} not supported; use uint8, float16, float32 "
             "or float64"
+        )
+    if (
+        isinstance(png_compression, bool)
+        or not isinstance(png_compression, int)
+        or not 0 <= png_compression <= 9
+    ):
+        raise ValueError(
+            f"blurlab.io.write: png_compression is an integer 0 to 9, not {png_compression!r}"
         )
     if suffix == ".png" and array.ndim == 3 and array.shape[2] > 4:
         raise ValueError(f"blurlab.io.write: PNG takes 1 to 4 channels, not {array.shape[2]}")
@@ -89,6 +106,7 @@ def write(path: str | os.PathLike, array: np.ndarray, channel_names=None) -> Pat
         spec.alpha_channel = -1  # no channel is alpha unless named so: nothing is premultiplied
     if suffix == ".png":
         spec.attribute("oiio:ColorSpace", "sRGB")
+        spec.attribute("png:compressionLevel", png_compression)
     fd, tmp_name = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=suffix, dir=folder)
     os.close(fd)
     try:
@@ -216,7 +234,7 @@ def _encode(array: np.ndarray, suffix: str) -> np.ndarray:
     if suffix == ".png":
         if array.dtype == np.uint8:
             return np.ascontiguousarray(array)
-        return np.ascontiguousarray(np.round(linear_to_srgb(array) * 255.0).astype(np.uint8))
+        return np.ascontiguousarray(srgb8(array))
     if array.dtype == np.uint8:
         return np.ascontiguousarray(array.astype(np.float32) / np.float32(255.0))
     if array.dtype == np.float64:

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import json
 import statistics
+import time
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 
@@ -46,7 +47,8 @@ def evaluate_scene(
 ) -> Iterator[tuple[tuple, dict]]:
     """Evaluates `jobs` = [(method, point, backend, key)] of one scene; yields (key, row) as
     each row is finished. `cache` holds the scene's frames and reference between calls (a
-    worker keeps one per scene it has worked on)."""
+    worker keeps one per scene it has worked on); where cache["keep_colours"] holds a job's
+    (method, params JSON), its output colour is kept in cache["colours"] under that key."""
     size = settings.size
     info = ctx.info()
     wanted = settings.metrics if settings.metrics is not None else scene_metrics(scene)
@@ -103,6 +105,9 @@ def evaluate_scene(
             row["psnr_aa"] = m.psnr_from_mse(
                 m.gpu_mse(ctx, result.textures["color"], antialiased.texture)
             )
+        # The pictures a caller shows (the study's middle points): kept, not blurred again.
+        if (name, row["params"]) in cache.get("keep_colours", ()):
+            cache.setdefault("colours", {})[(name, row["params"])] = result.color
         hdr = [name for name in wanted if name in m.HDR_METRICS]
         if hdr:  # with "exposure", the one psnr_tm, ssim_tm and the report's pictures use
             row.update(m.hdr_scores(reference.color, result.color, hdr))
@@ -124,6 +129,7 @@ def _reference(ctx, scene, settings: Settings, samples: int, cache: dict, antial
     """The scene's temporal (or antialiased) reference with `samples` sub-frames, made once."""
     key = "reference_aa" if antialias else "reference"
     if key not in cache:
+        start = time.perf_counter()
         cache[key] = ctx.reference(
             scene,
             settings.size,
@@ -132,6 +138,7 @@ def _reference(ctx, scene, settings: Settings, samples: int, cache: dict, antial
             progress=False,
             antialias=antialias,
         )
+        _add_seconds(cache, "references", start)
     return cache[key]
 
 
@@ -149,6 +156,13 @@ def _prepared_reference(ctx, reference, cache: dict) -> m.PreparedReference:
     return held[1]
 
 
+def _add_seconds(cache: dict, phase: str, start: float) -> None:
+    """Adds the time since `start` to cache["seconds"][phase]: the study splits its sweep's
+    time into references, G-buffers and evaluations with it."""
+    seconds = cache.setdefault("seconds", {})
+    seconds[phase] = seconds.get(phase, 0.0) + time.perf_counter() - start
+
+
 def _without_steps(point: dict) -> dict:
     return {k: v for k, v in point.items() if k != "steps"}
 
@@ -160,12 +174,14 @@ def _scene_inputs(ctx, scene, name, point, settings: Settings, cache: dict):
     instant = method_instant(name, params)
     steps = point.get("steps", 1)
     frames = cache.setdefault("frames", {})
+    start = time.perf_counter()
     if (instant, 1) not in frames:
         frames[(instant, 1)] = [ctx.render(scene, settings.size, settings.shutter, instant=instant)]
     if (instant, steps) not in frames:
         frames[(instant, steps)] = render_steps(
             ctx, scene, name, steps, settings.size, settings.shutter, **params
         )
+    _add_seconds(cache, "g_buffers", start)
     n = settings.reference_samples
     if n is None:
         n = default_reference_samples(frames[(instant, 1)][0])

@@ -5,6 +5,7 @@ Every function returns a matplotlib Figure; `save(fig, path)` writes PNG or SVG.
 
 from __future__ import annotations
 
+import functools
 import os
 import sys
 from pathlib import Path
@@ -12,7 +13,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ..io import linear_to_srgb, srgb_to_linear
+from ..io import linear_to_srgb, srgb8, srgb_to_linear
 from ..methods.tile_filter import FILTER_OPTIONS
 from ..metrics import error_map, tone_map
 
@@ -168,30 +169,54 @@ def parameter_curves(
     return fig
 
 
+# An image grid's panel is 2.6 in wide, 338 pixels at save()'s 130 dpi: images are averaged
+# down to at most twice that before matplotlib draws them (it would resample a 1080p image
+# to the same pixels, at several times the cost).
+GRID_PIXELS = 676
+
+
+def shrink(array: np.ndarray, most: int = GRID_PIXELS) -> np.ndarray:
+    """`array` ((H, W) or (H, W, C)) averaged over f x f blocks, f the smallest whole factor
+    that brings its width to `most` pixels or fewer (rows and columns beyond whole blocks are
+    dropped): linear values, averaged as light adds up."""
+    factor = -(-array.shape[1] // most)
+    if factor <= 1:
+        return array
+    height, width = array.shape[0] // factor * factor, array.shape[1] // factor * factor
+    if height == 0:
+        return array[:, ::factor]
+    # factor² strided adds: NumPy's mean over the axes of a reshaped view is several times slower.
+    total = np.zeros((height // factor, width // factor, *array.shape[2:]), np.float32)
+    for y in range(factor):
+        for x in range(factor):
+            total += array[y:height:factor, x:width:factor]
+    return total / np.float32(factor * factor)
+
+
 def image_grid(
     reference: np.ndarray,
     images: dict[str, np.ndarray],
     errors: bool = True,
     error_scale: float = 0.25,
+    error_maps: dict[str, np.ndarray] | None = None,
 ):
     """The reference, each method's image and (below) its error map, |error| scaled so that
-    `error_scale` is white."""
+    `error_scale` is white. `error_maps`: each image's metrics.error_map, if already made."""
     plt = _pyplot()
     columns = 1 + len(images)
     rows = 2 if errors else 1
     fig, axes = plt.subplots(
         rows, columns, figsize=(2.6 * columns, 1.7 * rows * 1.1), squeeze=False
     )
-    show = lambda a: np.clip(linear_to_srgb(a[..., :3]), 0, 1)  # noqa: E731
+    show = lambda a: np.clip(linear_to_srgb(shrink(a[..., :3])), 0, 1)  # noqa: E731
     axes[0, 0].imshow(show(reference))
     axes[0, 0].set_title("reference", fontsize=7)
     for i, (name, image) in enumerate(images.items(), start=1):
         axes[0, i].imshow(show(image))
         axes[0, i].set_title(name, fontsize=7)
         if errors:
-            axes[1, i].imshow(
-                np.clip(error_map(reference, image) / error_scale, 0, 1), cmap="magma"
-            )
+            error = error_maps[name] if error_maps is not None else error_map(reference, image)
+            axes[1, i].imshow(np.clip(shrink(error) / error_scale, 0, 1), cmap="magma")
     for ax in axes.ravel():
         ax.axis("off")
     if errors:
@@ -208,16 +233,41 @@ def image_grid(
     return fig
 
 
-def error_figure(reference: np.ndarray, image: np.ndarray, title: str, vmax: float):
-    """|error| of one image against the reference, full size, with a colour bar (0..vmax)."""
+@functools.lru_cache(maxsize=8)
+def _colour_table(cmap: str) -> np.ndarray:
+    """(256, 3) uint8: a matplotlib colour map's colours as its bytes=True gives them."""
+    import matplotlib
+
+    return matplotlib.colormaps[cmap](np.arange(256), bytes=True)[:, :3]
+
+
+def error_colours(error: np.ndarray, vmax: float, cmap: str = "magma") -> np.ndarray:
+    """(H, W, 3) uint8 sRGB picture of an (H, W) error map, 0 .. vmax through `cmap`'s 256
+    colours (the bins matplotlib's imshow uses for vmin = 0, vmax), one pixel per pixel: a
+    lookup in NumPy, no figure."""
+    if not (np.isfinite(vmax) and vmax > 0):
+        raise ValueError(f"blurlab.plots.error_colours: vmax must be finite and > 0, not {vmax}")
+    error = np.asarray(error)
+    if error.ndim != 2 or not np.isfinite(error).all():
+        raise ValueError(
+            f"blurlab.plots.error_colours: needs a finite (H, W) error map, not shape {error.shape}"
+        )
+    index = np.clip(error / vmax * 256.0, 0.0, 255.0).astype(np.uint8)
+    return _colour_table(cmap)[index]
+
+
+def colour_bar(vmax: float, label: str = "|error| (linear)", cmap: str = "magma"):
+    """A horizontal colour bar alone, 0 .. vmax: the key of error_colours' pictures."""
+    import matplotlib
+
     plt = _pyplot()
-    error = error_map(reference, image)
-    height, width = error.shape[:2]
-    fig, ax = plt.subplots(figsize=(max(4.0, width / 100 + 1.2), max(2.5, height / 100 + 0.6)))
-    shown = ax.imshow(error, cmap="magma", vmin=0.0, vmax=vmax, interpolation="nearest")
-    fig.colorbar(shown, ax=ax, fraction=0.04, pad=0.02, label="|error| (linear)")
-    ax.set_title(title, fontsize=8)
-    ax.axis("off")
+    fig, ax = plt.subplots(figsize=(4.5, 0.75))
+    fig.colorbar(
+        matplotlib.cm.ScalarMappable(matplotlib.colors.Normalize(0.0, vmax), cmap),
+        cax=ax,
+        orientation="horizontal",
+        label=label,
+    )
     fig.tight_layout()
     return fig
 
@@ -233,29 +283,66 @@ def worst_window(error: np.ndarray, side: int) -> tuple[int, int]:
     return int(y), int(x)
 
 
-def crops_figure(reference: np.ndarray, images: dict[str, np.ndarray], side: int):
-    """For each method, the window where its error is largest, cut from the reference and
-    from every method's image alike (rows: whose worst window; columns: the images)."""
-    plt = _pyplot()
+CROP_MIN_PIXELS = 96  # crops smaller than this are enlarged (nearest) to be seen
+CROP_LABEL_WIDTH, CROP_HEADER, CROP_GAP = 120, 16, 2
+
+
+def crops_picture(
+    reference: np.ndarray, images: dict[str, np.ndarray], side: int, errors=None
+) -> np.ndarray:
+    """(H, W, 3) uint8 sRGB: for each method, the window where its error is largest, cut from
+    the reference and from every method's image alike (rows: whose worst window; columns: the
+    images, named above), the pixels as they are (enlarged by whole pixels when `side` is
+    small). `errors`: each image's error map, if already computed."""
+    from PIL import Image, ImageDraw
+
     windows: dict[tuple[int, int], str] = {}
     for name, image in images.items():
-        windows.setdefault(worst_window(error_map(reference, image), side), name)
+        error = errors[name] if errors is not None else error_map(reference, image)
+        windows.setdefault(worst_window(error, side), name)
     columns = {"reference": reference, **images}
-    fig, axes = plt.subplots(
-        len(windows), len(columns), figsize=(1.3 * len(columns), 1.4 * len(windows)), squeeze=False
-    )
-    show = lambda a: np.clip(linear_to_srgb(a[..., :3]), 0, 1)  # noqa: E731
-    for row, ((y, x), owner) in enumerate(windows.items()):
-        for col, (name, image) in enumerate(columns.items()):
-            ax = axes[row, col]
-            ax.imshow(show(image[y : y + side, x : x + side]), interpolation="nearest")
-            ax.set_xticks([])
-            ax.set_yticks([])
-            if row == 0:
-                ax.set_title(name.replace("reconstruct_", ""), fontsize=6)
-            if col == 0:
-                ax.set_ylabel(f"worst of\n{owner.replace('reconstruct_', '')}", fontsize=6)
-    fig.tight_layout()
+    side = max(1, min(side, *reference.shape[:2]))
+    zoom = -(-CROP_MIN_PIXELS // side)  # ceil
+    cell = side * zoom
+    height = CROP_HEADER + len(windows) * (cell + CROP_GAP)
+    width = CROP_LABEL_WIDTH + len(columns) * (cell + CROP_GAP)
+    picture = np.full((height, width, 3), 255, np.uint8)
+    for row, (y, x) in enumerate(windows):
+        top = CROP_HEADER + row * (cell + CROP_GAP)
+        for col, image in enumerate(columns.values()):
+            crop = srgb8(image[y : y + side, x : x + side, :3])
+            left = CROP_LABEL_WIDTH + col * (cell + CROP_GAP)
+            picture[top : top + cell, left : left + cell] = crop.repeat(zoom, 0).repeat(zoom, 1)
+    canvas = Image.fromarray(picture)
+    draw = ImageDraw.Draw(canvas)
+    for col, name in enumerate(columns):
+        text = _fitted(draw, name.replace("reconstruct_", ""), cell)
+        draw.text((CROP_LABEL_WIDTH + col * (cell + CROP_GAP), 2), text, fill=(0, 0, 0))
+    for row, owner in enumerate(windows.values()):
+        top = CROP_HEADER + row * (cell + CROP_GAP)
+        label = _fitted(draw, owner.replace("reconstruct_", ""), CROP_LABEL_WIDTH - 4)
+        draw.text((2, top + cell // 2 - 12), "worst of", fill=(0, 0, 0))
+        draw.text((2, top + cell // 2), label, fill=(0, 0, 0))
+    return np.asarray(canvas)
+
+
+def _fitted(draw, text: str, width: int) -> str:
+    """`text`, cut short with "…" where it is wider than `width` pixels."""
+    if draw.textlength(text) <= width:
+        return text
+    while text and draw.textlength(text + "…") > width:
+        text = text[:-1]
+    return text + "…"
+
+
+def crops_figure(reference: np.ndarray, images: dict[str, np.ndarray], side: int):
+    """crops_picture(reference, images, side) as a matplotlib figure (for notebooks)."""
+    plt = _pyplot()
+    picture = crops_picture(reference, images, side)
+    fig, ax = plt.subplots(figsize=(picture.shape[1] / 100, picture.shape[0] / 100), dpi=100)
+    ax.imshow(picture, interpolation="nearest")
+    ax.axis("off")
+    fig.subplots_adjust(0, 0, 1, 1)
     return fig
 
 

@@ -3,9 +3,14 @@ results.csv, charts, image grids and report.html into one folder."""
 
 from __future__ import annotations
 
+import concurrent.futures
+import contextlib
 import datetime
 import html
+import json
+import os
 import re
+import time
 from pathlib import Path
 
 import numpy as np
@@ -18,6 +23,44 @@ from . import interactive, objects, peers, plots
 from .sweep import HDR_METRICS, default_grids, middle_point, sweep
 
 BUDGETS_MS = (0.1, 1.0, 10.0, 100.0)
+
+
+class PhaseClock:
+    """Wall-clock seconds of each phase of a study, in the order each was first entered:
+    `with clock("charts"): ...` adds to a phase, `clock.add(phase, s)` too."""
+
+    def __init__(self):
+        self.seconds: dict[str, float] = {}
+        self.start = time.perf_counter()
+
+    @contextlib.contextmanager
+    def __call__(self, phase: str):
+        start = time.perf_counter()
+        try:
+            yield
+        finally:
+            self.add(phase, time.perf_counter() - start)
+
+    def add(self, phase: str, seconds: float) -> None:
+        self.seconds[phase] = self.seconds.get(phase, 0.0) + seconds
+
+    def total(self) -> float:
+        return time.perf_counter() - self.start
+
+
+# What each phase of phases.json counts (the report's "Where the time went" says the same).
+PHASES = {
+    "references": "the converged references (the sweep's, and any the report still needs)",
+    "g_buffers": "the G-buffers the methods run on, one per scene and instant",
+    "evaluations": "every configuration timed (repeats) and scored (PSNR, SSIM, FLIP, ...)",
+    "sweep_on_cluster": "the whole sweep on Dask workers (references included)",
+    "images": "each scene's pictures: the methods' images at their middle points, error "
+    "maps, crops, the image grid",
+    "charts": "Pareto charts (PNG and interactive) and parameter curves",
+    "per_object": "the per-object table of textured_spin (its own renders and reference)",
+    "peers": "the peers' renders (EEVEE)",
+    "html": "the report's HTML",
+}
 
 
 def run_study(
@@ -36,12 +79,20 @@ def run_study(
     it) the sweep runs on Dask workers; `ctx` still renders the report's images. `metrics`
     as bl.sweep takes them: None measures HDR scenes (bl.scenes.names("hdr")) with the HDR
     metrics too, ranks them by psnr_tm and shows their images tone-mapped. `peer_names`
-    ("eevee") adds Blender's EEVEE as rows scored against the same references (peers.csv)."""
+    ("eevee") adds Blender's EEVEE as rows scored against the same references (peers.csv).
+    Each phase is timed (PHASES): phases.json, the report's last table and, with `progress`,
+    the console."""
+    clock = PhaseClock()
     peer_names = peers.check_peers(peer_names)
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     names = list(scene_names or scenes.names())
     grids = grids or default_grids()
+    # Per scene, what the sweep rendered and each method's picture (its grid's middle point):
+    # the report shows the same, without rendering or blurring them again.
+    shown = {(m, json.dumps(middle_point(g), sort_keys=True)) for m, g in grids.items()}
+    caches: dict = {scenes.get(item).name: {"keep_colours": shown} for item in names}
+    start = time.perf_counter()
     table = sweep(
         None if cluster is not None else ctx,
         names,
@@ -52,31 +103,85 @@ def run_study(
         out=out / "results.csv",
         progress=progress,
         cluster=cluster,
+        caches=caches,
     )
+    swept = time.perf_counter() - start
+    if cluster is not None:
+        clock.add("sweep_on_cluster", swept)
+    else:
+        for phase in ("references", "g_buffers"):
+            spent = sum(c.get("seconds", {}).get(phase, 0.0) for c in caches.values())
+            clock.add(phase, spent)
+            swept -= spent
+        clock.add("evaluations", swept)
     info = ctx.info()
     sections = []
-    for item in names:
-        scene = scenes.get(item)
-        sections.append(_scene_section(ctx, scene, table, size, out, grids, first=not sections))
-    curves: list = []
-    for name in grids:
-        curves += _parameter_curves(table, name, method(name).study_curves, out, curves)
-    per_object = None
-    if "textured_spin" in names:  # the OGRE paper's test matrix
-        per_object = objects.object_errors(ctx, size, reference_samples=reference_samples)
-        per_object.to_csv(out / "per_object.csv", index=False)
-    peer_rows = None
-    if peer_names:
-        peer_rows = peers.peer_table(
-            ctx,
-            {name: scenes.get(name) for name in names},
-            size,
-            {s["name"]: s["reference_samples"] for s in sections},
-            tuple(metrics),
-        )
-        peer_rows.to_csv(out / "peers.csv", index=False)
-    report = _html(info, size, table, sections, curves, per_object, peer_rows)
-    return io.write_text(out / "report.html", report)
+    # Independent PNG encodes run side by side: zlib and NumPy release the GIL.
+    with concurrent.futures.ThreadPoolExecutor(min(8, os.cpu_count() or 1)) as pool:
+        writes: list = []
+        for item in names:
+            scene = scenes.get(item)
+            sections.append(
+                _scene_section(
+                    ctx,
+                    scene,
+                    table,
+                    size,
+                    out,
+                    grids,
+                    not sections,
+                    caches.pop(scene.name, {}),  # freed with the section
+                    pool,
+                    writes,
+                    clock,
+                )
+            )
+        with clock("charts"):
+            curves: list = []
+            for name in grids:
+                curves += _parameter_curves(table, name, method(name).study_curves, out, curves)
+        per_object = None
+        if "textured_spin" in names:  # the OGRE paper's test matrix
+            with clock("per_object"):
+                per_object = objects.object_errors(ctx, size, reference_samples=reference_samples)
+                per_object.to_csv(out / "per_object.csv", index=False)
+        peer_rows = None
+        if peer_names:
+            with clock("peers"):
+                peer_rows = peers.peer_table(
+                    ctx,
+                    {name: scenes.get(name) for name in names},
+                    size,
+                    {s["name"]: s["reference_samples"] for s in sections},
+                    tuple(metrics),
+                )
+                peer_rows.to_csv(out / "peers.csv", index=False)
+        with clock("images"):
+            for write in writes:
+                write.result()  # the encodes left running; raises a failed one's error
+    with clock("html"):
+        report = _html(info, size, table, sections, curves, per_object, peer_rows, clock)
+        path = io.write_text(out / "report.html", report)
+    timing = {
+        "size": [int(size[0]), int(size[1])],
+        "renderer": info["renderer"],
+        "evaluations": len(table),
+        "total_s": clock.total(),
+        "phases_s": clock.seconds,
+        "phases": {k: PHASES[k] for k in clock.seconds},
+    }
+    io.write_text(out / "phases.json", json.dumps(timing, indent=1) + "\n")
+    if progress:
+        print(_phase_lines(clock))
+    return path
+
+
+def _phase_lines(clock: PhaseClock) -> str:
+    total = clock.total()
+    lines = [f"study: {total:.1f} s"]
+    for phase, seconds in clock.seconds.items():
+        lines.append(f"  {phase:<17}{seconds:8.1f} s {100 * seconds / total:5.1f} %")
+    return "\n".join(lines)
 
 
 _CURVE_TITLES = {
@@ -115,31 +220,50 @@ def _ranking_metric(rows) -> str:
     return "psnr_tm" if "psnr_tm" in rows and rows["psnr_tm"].notna().any() else "psnr"
 
 
-def _scene_section(ctx, scene, table, size, out: Path, grids, first: bool) -> dict:
+def _scene_section(
+    ctx, scene, table, size, out: Path, grids, first: bool, cache: dict, pool, writes, clock
+) -> dict:
+    """One scene's part of the report. `cache`: what the sweep rendered for the scene (its
+    reference and G-buffers, reused here); PNG encodes go to `pool`, their futures to
+    `writes`."""
     rows = table[table["scene"] == scene.name]
     name = re.sub(r"[^A-Za-z0-9_.-]", "_", scene.name)  # the scene's files: safe in a URL
     rank = _ranking_metric(rows)
-    plots.save(plots.pareto(rows, scene.name, rank), out / f"{name}_pareto.png")  # for papers
-    chart = interactive.chart_html(
-        interactive.pareto_chart(rows, f"{scene.name}: time against error"), first, f"pareto-{name}"
-    )
-    # Images: each method at the middle of its grid, against the reference.
-    reference = ctx.reference(
-        scene, size, samples=int(rows["reference_samples"].iloc[0]), progress=False
-    )
-    images = {}
-    for method_name, grid in grids.items():
-        point = middle_point(grid)
-        frame = ctx.render(scene, size, instant=method_instant(method_name, point))
-        images[method_name] = blur(ctx, frame, method_name, **point).color
-    shown_reference, exposure = reference.color, None
-    if scene.hdr:  # every picture tone-mapped alike, at the reference's exposure
-        exposure = metrics.exposure(reference.color)
-        shown_reference = plots.tone_mapped(reference.color, exposure)
-        images = {k: plots.tone_mapped(v, exposure) for k, v in images.items()}
-    plots.save(plots.image_grid(shown_reference, images), out / f"{name}_images.png")
-    io.write(out / f"{name}_reference.png", shown_reference)
-    gallery = _full_size_images(name, shown_reference, images, out)
+    samples = int(rows["reference_samples"].iloc[0])
+    with clock("charts"):
+        plots.save(plots.pareto(rows, scene.name, rank), out / f"{name}_pareto.png")  # for papers
+        chart = interactive.chart_html(
+            interactive.pareto_chart(rows, f"{scene.name}: time against error"),
+            first,
+            f"pareto-{name}",
+        )
+    reference = cache.get("reference")
+    if reference is None or reference.samples != samples:  # rows read back from results.csv
+        with clock("references"):
+            reference = ctx.reference(scene, size, samples=samples, progress=False)
+    with clock("images"):
+        # Images: each method at the middle of its grid, against the reference.
+        frames, colours = cache.get("frames", {}), cache.get("colours", {})
+        images = {}
+        for method_name, grid in grids.items():
+            point = middle_point(grid)
+            instant = method_instant(method_name, point)
+            kept = colours.get((method_name, json.dumps(point, sort_keys=True)))
+            if kept is not None:
+                images[method_name] = kept
+                continue
+            if (instant, 1) in frames:
+                frame = frames[(instant, 1)][0]
+            else:
+                frame = ctx.render(scene, size, instant=instant)
+            images[method_name] = blur(ctx, frame, method_name, **point).color
+        shown_reference, exposure = reference.color, None
+        if scene.hdr:  # every picture tone-mapped alike, at the reference's exposure
+            exposure = metrics.exposure(reference.color)
+            shown_reference = plots.tone_mapped(reference.color, exposure)
+            images = {k: plots.tone_mapped(v, exposure) for k, v in images.items()}
+        gallery, encodes = write_pictures(name, shown_reference, images, out, pool)
+        writes += encodes
     best = []
     for budget in BUDGETS_MS:
         within = rows[rows["total_ms"] <= budget]
@@ -170,35 +294,71 @@ def _scene_section(ctx, scene, table, size, out: Path, grids, first: bool) -> di
     }
 
 
-def _full_size_images(name: str, reference, images: dict, out: Path) -> str:
-    """Each method's image and its error map (colour bar shared by the scene) at full size,
-    and crops of the windows where each method errs most; returns the HTML that shows them,
-    each thumbnail linking to its full-size file."""
-    errors = [metrics.error_map(reference, image) for image in images.values()]
-    vmax = max(float(np.percentile(np.concatenate([e.ravel() for e in errors]), 99.5)), 1e-3)
+# zlib level of the report's full-size PNGs: 1 encodes in about 2/3 of the default 6's time,
+# for files about 30 % larger (docs/benchmarks.md, issue 19).
+REPORT_PNG_COMPRESSION = 1
+
+
+def _write_png(path: Path, image) -> Path:
+    return io.write(path, image, png_compression=REPORT_PNG_COMPRESSION)
+
+
+def write_pictures(
+    name: str, reference: np.ndarray, images: dict, out: Path, pool
+) -> tuple[str, list]:
+    """Writes one scene's pictures into `out` as <name>_*.png: the reference, each method's
+    image and error map at full size (the colour bar, shared by the scene, apart), the crops of
+    the windows where each method errs most, and the image grid. Returns the HTML that shows
+    them (each thumbnail links to its full-size file) and the futures of the PNG encodes left
+    running on `pool` (a ThreadPoolExecutor); matplotlib draws on this thread only."""
+    encodes = [pool.submit(_write_png, out / f"{name}_reference.png", reference)]
+    maps = pool.map(lambda image: metrics.error_map(reference, image), images.values())
+    errors = dict(zip(images, maps, strict=True))
+    vmax = max(
+        float(np.percentile(np.concatenate([e.ravel() for e in errors.values()]), 99.5)), 1e-3
+    )
+    plots.save(plots.colour_bar(vmax), out / f"{name}_error_scale.png")
     cells = [
         f"<figure><a href='{name}_reference.png'><img src='{name}_reference.png'></a>"
         "<figcaption>reference</figcaption></figure>"
     ]
     for method_name, image in images.items():
         picture, error = f"{name}_{method_name}.png", f"{name}_{method_name}_error.png"
-        io.write(out / picture, image)
-        plots.save(plots.error_figure(reference, image, method_name, vmax), out / error)
+        encodes.append(pool.submit(_write_png, out / picture, image))
+        encodes.append(
+            pool.submit(
+                lambda path, e: _write_png(path, plots.error_colours(e, vmax)),
+                out / error,
+                errors[method_name],
+            )
+        )
         cells.append(
             f"<figure><a href='{picture}'><img src='{picture}'></a>"
             f"<a href='{error}'><img src='{error}'></a><figcaption>{method_name}</figcaption>"
             "</figure>"
         )
     side = max(16, min(reference.shape[:2]) // 4)
-    plots.save(plots.crops_figure(reference, images, side), out / f"{name}_crops.png")
-    return (
+    encodes.append(
+        pool.submit(
+            lambda: _write_png(
+                out / f"{name}_crops.png", plots.crops_picture(reference, images, side, errors)
+            )
+        )
+    )
+    grid = plots.image_grid(reference, images, error_maps=errors)
+    plots.save(grid, out / f"{name}_images.png")
+    html_text = (
+        f"<p>|error| (linear), 0 to {vmax:.3g}: <img src='{name}_error_scale.png' "
+        "style='width:360px;vertical-align:middle'></p>"
         "<div class='gallery'>" + "".join(cells) + "</div>"
         f"<p>Where each method errs most ({side}×{side} px windows, the same window cut from "
-        f"every image): <a href='{name}_crops.png'><img src='{name}_crops.png'></a></p>"
+        f"every image, pixels as rendered): <a href='{name}_crops.png'>"
+        f"<img src='{name}_crops.png'></a></p>"
     )
+    return html_text, encodes
 
 
-def _html(info, size, table, sections, curves, per_object=None, peer_rows=None) -> str:
+def _html(info, size, table, sections, curves, per_object=None, peer_rows=None, clock=None) -> str:
     e = html.escape
     when = datetime.datetime.now().strftime("%Y-%m-%d %H:%M")
     parts = [
@@ -282,6 +442,19 @@ def _html(info, size, table, sections, curves, per_object=None, peer_rows=None) 
         )
     for title, image in curves:
         parts.append(f"<h2>{e(title)}</h2><p><img src='{e(image)}'></p>")
+    if clock is not None:
+        total = clock.total()
+        parts.append(
+            f"<h2>Where the time went</h2><p>{total:.1f} s of wall clock until this page was "
+            "written (<a href='phases.json'>phases.json</a> has the final figures):</p>"
+            "<table><tr><th>phase</th><th>s</th><th>share</th><th>what it counts</th></tr>"
+        )
+        for phase, seconds in clock.seconds.items():
+            parts.append(
+                f"<tr><td>{phase}</td><td>{seconds:.1f}</td><td>{100 * seconds / total:.0f} %"
+                f"</td><td style='text-align:left'>{e(PHASES[phase])}</td></tr>"
+            )
+        parts.append("</table>")
     parts.append(
         "<p>Made by <code>blurlab study</code>; see docs/ for the methods and what each "
         "number means.</p>"
@@ -330,4 +503,4 @@ def run_sweep_config(
     )
 
 
-__all__ = ["load_config", "run_study", "run_sweep_config"]
+__all__ = ["load_config", "run_study", "run_sweep_config", "write_pictures"]

@@ -86,6 +86,7 @@ def sweep(
     repeats: int = 3,
     cluster=None,
     chunk_size: int | None = None,
+    caches: dict | None = None,
 ) -> pd.DataFrame:
     """Evaluates every method at every point of its grid on every scene.
 
@@ -104,6 +105,11 @@ def sweep(
     in the same table and the same `out` file as a local sweep's (docs/distributed.md).
     `chunk_size`: at most this many configurations of one scene per task (default 8; chunks
     shrink towards the end of the sweep so that the workers finish together).
+    `caches`: a dict that a local sweep fills, per scene name, with what it rendered (frames
+    by instant, "reference", "reference_aa") and the seconds it spent rendering them
+    ("seconds": {"references", "g_buffers"}), for a caller that shows the same images
+    (blurlab study); a scene's "keep_colours", set before, names the (method, params JSON)
+    whose output colours it keeps ("colours"). On a cluster it stays as it was.
     """
     if cluster is None and not isinstance(ctx, Context):
         raise TypeError("blurlab.sweep needs a blurlab Context (or ctx=None and a cluster)")
@@ -188,8 +194,9 @@ def sweep(
     try:
         if cluster is None:
             for scene, jobs in zip(scene_list, pending, strict=True):
+                cache = {} if caches is None else caches.setdefault(scene.name, {})
                 if jobs:
-                    for key, row in evaluate_scene(ctx, scene, jobs, settings, {}):
+                    for key, row in evaluate_scene(ctx, scene, jobs, settings, cache):
                         record(key, row)
         elif any(pending):  # a finished sweep needs no cluster
             dask_cluster.sweep_on_cluster(

@@ -1,0 +1,144 @@
+"""The study report's pictures made without matplotlib figures (issue 19): error maps coloured
+by a lookup table, crops cut from the arrays, images averaged down for the grid, PNG
+compression; and the phases a study times."""
+
+from __future__ import annotations
+
+import concurrent.futures
+import importlib
+import json
+
+import matplotlib
+import numpy as np
+import pytest
+
+import blurlab as bl
+from blurlab import io, metrics
+from blurlab.methods import method_instant
+from blurlab.studies import plots
+
+study = importlib.import_module("blurlab.studies.study")
+
+
+def test_error_colours_are_matplotlibs_colours_of_the_same_values(rng):
+    error = rng.random((90, 160)).astype(np.float32) * 0.3
+    vmax = 0.2  # a third of the pixels lie above: they take the brightest colour
+    ours = plots.error_colours(error, vmax)
+    theirs = matplotlib.colormaps["magma"](
+        matplotlib.colors.Normalize(0.0, vmax)(error), bytes=True
+    )[..., :3]
+    assert ours.shape == (90, 160, 3) and ours.dtype == np.uint8
+    same = (ours == theirs).all(axis=-1)
+    # Float rounding can put a value on the boundary of two of the 256 bins, no more.
+    assert same.mean() > 0.999
+    assert (ours[error >= vmax] == theirs[error >= vmax]).all()
+    with pytest.raises(ValueError, match="vmax"):
+        plots.error_colours(error, 0.0)
+    with pytest.raises(ValueError, match="finite"):
+        plots.error_colours(np.full((4, 4), np.nan), 1.0)
+
+
+def test_crops_are_the_pixels_of_each_methods_worst_window():
+    reference = np.zeros((90, 160, 4), np.float32)
+    reference[..., 3] = 1
+    wrong_here = reference.copy()
+    wrong_here[60:80, 100:120, :3] = 0.5  # one 20 x 20 error: its window is there
+    images = {"reconstruct_a": wrong_here, "b": reference.copy()}
+    side = 20
+    picture = plots.crops_picture(reference, images, side)
+    zoom = -(-plots.CROP_MIN_PIXELS // side)
+    cell = side * zoom
+    windows = 2  # b has no error: its worst window is the first one, (0, 0)
+    assert picture.shape == (
+        plots.CROP_HEADER + windows * (cell + plots.CROP_GAP),
+        plots.CROP_LABEL_WIDTH + 3 * (cell + plots.CROP_GAP),
+        3,
+    )
+    top, left = plots.CROP_HEADER, plots.CROP_LABEL_WIDTH + (cell + plots.CROP_GAP)
+    crop = picture[top : top + cell : zoom, left : left + cell : zoom]
+    assert (crop == io.srgb8(wrong_here[60:80, 100:120, :3])).all()
+    # The reference's cell of that row is black; the labels are drawn in the margins.
+    assert (
+        picture[top : top + cell, plots.CROP_LABEL_WIDTH : plots.CROP_LABEL_WIDTH + cell] == 0
+    ).all()
+    assert (picture[: plots.CROP_HEADER] < 128).any()
+    assert (picture[:, : plots.CROP_LABEL_WIDTH] < 128).any()
+
+
+def test_shrink_averages_whole_blocks():
+    array = np.arange(1080 * 1920 * 3, dtype=np.float32).reshape(1080, 1920, 3)
+    small = plots.shrink(array, 640)
+    assert small.shape == (360, 640, 3)
+    assert np.allclose(small[5, 7], array[15:18, 21:24].mean(axis=(0, 1)))
+    assert plots.shrink(array[:90, :160], 640) is not None
+    assert plots.shrink(array[:90, :160], 640).shape == (90, 160, 3)
+
+
+def test_png_compression_changes_the_size_not_the_pixels(tmp_path, rng):
+    image = rng.random((90, 160, 3)).astype(np.float32)
+    image[:45] = 0.25  # something zlib can compress
+    fast, small = tmp_path / "fast.png", tmp_path / "small.png"
+    io.write(fast, image, png_compression=0)
+    io.write(small, image, png_compression=9)
+    assert fast.stat().st_size > small.stat().st_size
+    assert (io.read(fast) == io.read(small)).all()
+    for bad in (10, -1, 2.5, True, "1"):
+        with pytest.raises(ValueError, match="png_compression"):
+            io.write(tmp_path / "bad.png", image, png_compression=bad)
+    assert not list(tmp_path.glob("bad*")) and not list(tmp_path.glob(".bad*"))
+
+
+def test_write_pictures_writes_every_picture_and_shows_each(tmp_path, rng):
+    reference = rng.random((36, 64, 4)).astype(np.float32)
+    images = {"gather_box": reference * 0.9, "camera_only": reference[::-1].copy()}
+    with concurrent.futures.ThreadPoolExecutor(2) as pool:
+        html, encodes = study.write_pictures("s", reference, images, tmp_path, pool)
+        for encode in encodes:
+            encode.result()
+    names = ["s_reference", "s_error_scale", "s_crops", "s_images"]
+    names += [f"s_{m}{kind}" for m in images for kind in ("", "_error")]
+    for name in names:
+        assert (tmp_path / f"{name}.png").stat().st_size > 100, name
+        if name != "s_images":
+            assert f"{name}.png" in html, name
+    error = io.read(tmp_path / "s_camera_only_error.png")
+    maps = [metrics.error_map(reference, image) for image in images.values()]
+    vmax = max(float(np.percentile(np.concatenate([m.ravel() for m in maps]), 99.5)), 1e-3)
+    assert (error[..., :3] == plots.error_colours(maps[1], vmax)).all()
+
+
+def test_phase_clock_adds_up_and_names_each_phase():
+    clock = study.PhaseClock()
+    with clock("charts"):
+        pass
+    clock.add("references", 2.0)
+    clock.add("charts", 1.0)
+    assert list(clock.seconds) == ["charts", "references"]
+    assert 1.0 <= clock.seconds["charts"] < 1.5 and clock.seconds["references"] == 2.0
+    assert set(study.PHASES) >= set(clock.seconds)
+    json.dumps(clock.seconds)
+
+
+def test_the_sweep_hands_the_study_what_it_rendered(ctx):
+    sweep = importlib.import_module("blurlab.studies.sweep")
+    point = {"taps": 5}
+    key = ("gather_box", json.dumps(point, sort_keys=True))
+    caches = {"fan": {"keep_colours": {key}}}
+    table = sweep.sweep(
+        ctx,
+        ["fan"],
+        {"gather_box": {"taps": [3, 5]}},
+        (32, 18),
+        reference_samples=4,
+        metrics=("psnr",),
+        progress=False,
+        repeats=1,
+        caches=caches,
+    )
+    cache = caches["fan"]
+    assert len(table) == 2 and list(cache["colours"]) == [key]  # taps = 3 was not asked for
+    assert cache["seconds"]["references"] > 0 and cache["seconds"]["g_buffers"] > 0
+    assert cache["reference"].samples == 4
+    frame = cache["frames"][(method_instant("gather_box", point), 1)][0]
+    again = bl.blur(ctx, frame, "gather_box", **point).color
+    assert np.array_equal(cache["colours"][key], again)  # the picture the report would make
