@@ -75,7 +75,9 @@ def test_ties_go_to_the_first_pixel_in_row_order(ctx, backend, variant, k):
         tiles = bl.blur(ctx, frame, "reconstruct_mcguire2012", backend=backend, k=k)
     expected = ref.tile_max(ref.half_velocity(motion, 1.0, k), k)
     np.testing.assert_array_equal(expected[0, 0], [k, 0.0])
-    np.testing.assert_array_equal(tiles.buffers["tile_max"], expected)
+    # The three candidates point three ways, so the winner shows in the direction; its length
+    # may be 1 ulp under k on a GPU (the H100 gives 19.999998 for k = 20), equally for all three.
+    np.testing.assert_allclose(tiles.buffers["tile_max"], expected, rtol=1e-6, atol=0)
 
 
 def test_an_unknown_variant_is_refused():
