@@ -183,6 +183,8 @@ def _scene_inputs(ctx, scene, name, point, settings: Settings, cache: dict):
         )
     _add_seconds(cache, "g_buffers", start)
     n = settings.reference_samples
-    if n is None:
-        n = default_reference_samples(frames[(instant, 1)][0])
+    if n is None:  # once per scene: it reads the whole motion buffer back (55 ms at 1080p)
+        if "default_samples" not in cache:
+            cache["default_samples"] = default_reference_samples(frames[(instant, 1)][0])
+        n = cache["default_samples"]
     return frames[(instant, steps)], _reference(ctx, scene, settings, n, cache)
