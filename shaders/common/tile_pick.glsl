@@ -4,10 +4,7 @@
 // candidates in increasing scan index; with a work group per tile, group_pick() then merges
 // the invocations' picks on the key (longest length, then smallest index), which picks the
 // same candidate as one invocation scanning them all. pick_tiles() runs either mode for the
-// including pass, which defines scan() and store_pick(). Where the pass included
-// common/subgroup.glsl and the driver has subgroups, group_pick() merges within each subgroup
-// first (max length, then min index) and one barrier then leaves a pick per subgroup: the same
-// key, so the same bits, in 1 barrier instead of 8. NumPy twin: blurlab.twins.eevee.
+// including pass, which defines scan() and store_pick(). NumPy twin: blurlab.twins.eevee.
 
 // A work group of 16 x 16 invocations serves one tile; one invocation per tile uses the same
 // group shape.
@@ -34,53 +31,6 @@ void pick_next(vec2 v, float len, int index) {
     picked_index.y = index;
 }
 
-#ifdef SUBGROUP_REDUCTION
-// Each subgroup's pick per side, at 2 * gl_SubgroupID + side.
-shared vec2 subgroup_vector[2 * PICK_GROUP_SIZE];
-shared float subgroup_length[2 * PICK_GROUP_SIZE];
-shared int subgroup_index[2 * PICK_GROUP_SIZE];
-
-// This subgroup's pick on `side` (0 prev, 1 next), written by the one invocation holding it.
-void subgroup_pick(int side, vec2 v) {
-    float len = picked_length[side];
-    int index = picked_index[side];
-    float longest = subgroupMax(len);
-    int first = subgroupMin(len == longest ? index : NO_CANDIDATE);
-    uint holder = subgroupBallotFindLSB(subgroupBallot(len == longest && index == first));
-    if (gl_SubgroupInvocationID == holder) {
-        int slot = 2 * int(gl_SubgroupID) + side;
-        subgroup_vector[slot] = v;
-        subgroup_length[slot] = len;
-        subgroup_index[slot] = index;
-    }
-}
-
-// The work group's pick, from every invocation's; call it in uniform control flow. Valid in
-// invocation 0.
-vec4 group_pick() {
-    subgroup_pick(0, picked.xy);
-    subgroup_pick(1, picked.zw);
-    barrier();
-    vec4 best = vec4(subgroup_vector[0], subgroup_vector[1]);
-    if (gl_LocalInvocationIndex != 0u) return best;
-    vec2 best_length = vec2(subgroup_length[0], subgroup_length[1]);
-    ivec2 best_index = ivec2(subgroup_index[0], subgroup_index[1]);
-    for (int s = 1; s < int(gl_NumSubgroups); ++s) {
-        for (int side = 0; side < 2; ++side) {
-            int slot = 2 * s + side;
-            float len = subgroup_length[slot];
-            int index = subgroup_index[slot];
-            if (len > best_length[side] || (len == best_length[side] && index < best_index[side])) {
-                best_length[side] = len;
-                best_index[side] = index;
-                if (side == 0) best.xy = subgroup_vector[slot];
-                else best.zw = subgroup_vector[slot];
-            }
-        }
-    }
-    return best;
-}
-#else
 shared vec4 group_picked[PICK_GROUP_SIZE];
 shared vec2 group_length[PICK_GROUP_SIZE];
 shared ivec2 group_index[PICK_GROUP_SIZE];
@@ -117,7 +67,6 @@ vec4 group_pick() {
     }
     return group_picked[0];
 }
-#endif
 
 // What the including pass defines: its scan, which offers the candidates first + step * (i, j)
 // of `tile` in row-major order, and where a tile's pick goes.

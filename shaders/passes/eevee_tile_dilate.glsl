@@ -9,7 +9,6 @@
 // each invocation looking at every 16th S of every 16th row of the reach, the picks merged in
 // shared memory (common/tile_pick.glsl); or one invocation per tile looking at them all. Both
 // give the same bits. NumPy twin: blurlab.twins.eevee.tile_dilate.
-#include "common/subgroup.glsl"
 #include "common/eevee.glsl"
 #include "common/tile_reach.glsl"
 #include "common/tile_pick.glsl"

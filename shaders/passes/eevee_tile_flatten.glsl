@@ -6,7 +6,6 @@
 // pixel of every 16th row, the picks merged in shared memory (common/tile_pick.glsl); or one
 // invocation per tile scanning it all. Both give the same bits. NumPy twin:
 // blurlab.twins.eevee.tile_flatten.
-#include "common/subgroup.glsl"
 #include "common/eevee.glsl"
 #include "common/tile_pick.glsl"
 

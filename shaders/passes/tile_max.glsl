@@ -16,8 +16,12 @@
 //                     barrier instead (without them, the shared-memory one).
 // Every mode reduces (length, row-order index), so all give the same bits.
 // NumPy twin: blurlab.twins.mcguire2012.tile_max.
-#ifdef TILE_MAX_SUBGROUP
-#include "common/subgroup.glsl"
+#if defined(TILE_MAX_SUBGROUP) && defined(GL_KHR_shader_subgroup_arithmetic) \
+    && defined(GL_KHR_shader_subgroup_ballot)
+#extension GL_KHR_shader_subgroup_basic : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
+#extension GL_KHR_shader_subgroup_ballot : require
+#define SUBGROUP_REDUCTION 1
 #endif
 #include "common/inputs.glsl"
 #include "common/mcguire2012.glsl"
