@@ -32,3 +32,9 @@ vec2 sanitize_motion(vec2 m) {
     if (!is_finite_bits(m.x) || !is_finite_bits(m.y)) return vec2(0.0);
     return clamp(m, -MOTION_LIMIT, MOTION_LIMIT);
 }
+
+// RGB at p as the LDR metrics read it (docs/spec.md §6, blurlab.metrics.mse and ssim):
+// sanitized, then clipped to [0, 1].
+vec3 clipped_colour(sampler2D image, ivec2 p) {
+    return clamp(sanitize_color(texelFetch(image, p, 0)).rgb, 0.0, 1.0);
+}

@@ -3,7 +3,8 @@
 // kind). Rounds on the float32 bits, to nearest with ties to an even mantissa, so that the GPU
 // and NumPy agree; beyond the largest finite value -> that value, +inf stays, zero, negatives
 // and NaN -> 0, below 2^-14 -> denormals (multiples of 2^-(14 + m)).
-// NumPy twin: blurlab.twins.small_float.
+// NumPy twin: blurlab.twins.small_float. passes/pack_inputs.comp rounds half floats with it
+// (m = 10, the sign put back).
 
 const int UF11_MANTISSA = 6;
 const int UF10_MANTISSA = 5;

@@ -5,6 +5,7 @@
 // An image format has no three-channel half-float layout, so w is written 0 and left unread.
 // NumPy twin: blurlab.twins.inputs.pack_half.
 #include "common/inputs.glsl"
+#include "common/small_float.glsl"
 
 layout(local_size_x = 16, local_size_y = 16) in;
 layout(binding = 0) uniform sampler2D color;
@@ -15,16 +16,16 @@ layout(binding = 1, rgba16f) uniform writeonly image2D packed_motion_depth;
 
 const float HALF_MAX = 65504.0;           // the largest finite half float
 const float HALF_MIN_NORMAL = 6.1035156e-5;  // 2^-14, the smallest normal half float
+const int HALF_MANTISSA = 10;
 
-// x (finite, within +-HALF_MAX, or infinite) rounded to the nearest half float, ties to even,
-// as a float32. The conversion that imageStore then makes is exact whatever rounding the driver
-// uses: llvmpipe's rounds ties towards zero (2051 -> 2050, not 2052).
+// x (sanitized, within +-HALF_MAX, or infinite) rounded to the nearest half float, ties to even,
+// as a float32: a half is common/small_float.glsl's 5-bit-exponent float with 10 mantissa bits
+// and a sign, so |x| is rounded there and x's sign bit put back (-0 stays -0). The conversion
+// that imageStore then makes is exact whatever rounding the driver uses: llvmpipe's rounds ties
+// towards zero (2051 -> 2050, not 2052).
 float round_to_half(float x) {
-    if (!is_finite_bits(x)) return x;
-    if (abs(x) < HALF_MIN_NORMAL) return roundEven(x * 16777216.0) / 16777216.0;  // k 2^-24
-    uint bits = floatBitsToUint(x);
-    bits += 0x0fffu + ((bits >> 13) & 1u);  // 23 - 10 mantissa bits dropped, ties to even
-    return uintBitsToFloat(bits & ~0x1fffu);
+    float rounded = quantize_small_float(abs(x), HALF_MANTISSA);
+    return uintBitsToFloat(floatBitsToUint(rounded) | (floatBitsToUint(x) & 0x80000000u));
 }
 
 vec4 round_to_half(vec4 v) {

@@ -21,8 +21,7 @@ void main() {
     float e = 0.0;
     for (int r = 0; r < ROWS; ++r, p.y += THREADS_Y) {
         if (all(lessThan(p, size))) {
-            vec3 d = clamp(sanitize_color(texelFetch(image_a, p, 0)).rgb, 0.0, 1.0) -
-                     clamp(sanitize_color(texelFetch(image_b, p, 0)).rgb, 0.0, 1.0);
+            vec3 d = clipped_colour(image_a, p) - clipped_colour(image_b, p);
             e += dot(d, d);
         }
     }

@@ -94,10 +94,6 @@ int reflect_index(int i, int n) {
     return i < n ? i : period - i;
 }
 
-vec3 clipped_colour(sampler2D image, ivec2 p) {
-    return clamp(sanitize_color(texelFetch(image, p, 0)).rgb, 0.0, 1.0);
-}
-
 void main() {
     ivec2 size = textureSize(image_a, 0);
     ivec2 tile = ivec2(gl_WorkGroupID.xy) * ivec2(TILE_X, TILE_Y);
