@@ -137,7 +137,8 @@ def test_the_sweep_hands_the_study_what_it_rendered(ctx):
     )
     cache = caches["fan"]
     assert len(table) == 2 and list(cache["colours"]) == [key]  # taps = 3 was not asked for
-    assert cache["seconds"]["references"] > 0 and cache["seconds"]["g_buffers"] > 0
+    seconds = cache["clock"].seconds
+    assert seconds["references"] > 0 and seconds["g_buffers"] > 0
     assert cache["reference"].samples == 4
     frame = cache["frames"][(method_instant("gather_box", point), 1)][0]
     again = bl.blur(ctx, frame, "gather_box", **point).color

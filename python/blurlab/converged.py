@@ -102,9 +102,9 @@ def reference_render(
     per_subframe = not ctx.software
     timings = []
     with nullcontext() if per_subframe else ctx.timer() as whole, ctx.deferred_timers() as timers:
+        sub_frame_timers = timers if per_subframe else False  # False: the pass runs untimed
         for i, t in enumerate(iterator):
             jitter = (0.0, 0.0) if positions is None else tuple(0.5 - positions[i])
-            sub_frame_timers = timers if per_subframe else False
             targets, _, timing = render_targets(
                 ctx, scene, size, shutter, float(t), guard, jitter, timers=sub_frame_timers
             )

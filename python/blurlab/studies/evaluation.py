@@ -5,6 +5,7 @@ error against the scene's reference. Local sweeps (blurlab.studies.sweep) and Da
 
 from __future__ import annotations
 
+import contextlib
 import json
 import statistics
 import time
@@ -125,20 +126,48 @@ def evaluate_scene(
         yield key, row
 
 
+class PhaseClock:
+    """Wall-clock seconds of each phase of a study, in the order each was first entered:
+    `with clock("charts"): ...` adds to a phase, `clock.add(phase, s)` too."""
+
+    def __init__(self):
+        self.seconds: dict[str, float] = {}
+        self.start = time.perf_counter()
+
+    @contextlib.contextmanager
+    def __call__(self, phase: str):
+        start = time.perf_counter()
+        try:
+            yield
+        finally:
+            self.add(phase, time.perf_counter() - start)
+
+    def add(self, phase: str, seconds: float) -> None:
+        self.seconds[phase] = self.seconds.get(phase, 0.0) + seconds
+
+    def total(self) -> float:
+        return time.perf_counter() - self.start
+
+
+def _phase(cache: dict, phase: str):
+    """Times a block into the scene cache's PhaseClock, cache["clock"]: the study splits its
+    sweep's time into references, G-buffers and evaluations with it."""
+    return cache.setdefault("clock", PhaseClock())(phase)
+
+
 def _reference(ctx, scene, settings: Settings, samples: int, cache: dict, antialias=False):
     """The scene's temporal (or antialiased) reference with `samples` sub-frames, made once."""
     key = "reference_aa" if antialias else "reference"
     if key not in cache:
-        start = time.perf_counter()
-        cache[key] = ctx.reference(
-            scene,
-            settings.size,
-            check_shutter(scene.shutter if settings.shutter is None else settings.shutter),
-            samples=samples,
-            progress=False,
-            antialias=antialias,
-        )
-        _add_seconds(cache, "references", start)
+        with _phase(cache, "references"):
+            cache[key] = ctx.reference(
+                scene,
+                settings.size,
+                check_shutter(scene.shutter if settings.shutter is None else settings.shutter),
+                samples=samples,
+                progress=False,
+                antialias=antialias,
+            )
     return cache[key]
 
 
@@ -156,13 +185,6 @@ def _prepared_reference(ctx, reference, cache: dict) -> m.PreparedReference:
     return held[1]
 
 
-def _add_seconds(cache: dict, phase: str, start: float) -> None:
-    """Adds the time since `start` to cache["seconds"][phase]: the study splits its sweep's
-    time into references, G-buffers and evaluations with it."""
-    seconds = cache.setdefault("seconds", {})
-    seconds[phase] = seconds.get(phase, 0.0) + time.perf_counter() - start
-
-
 def _without_steps(point: dict) -> dict:
     return {k: v for k, v in point.items() if k != "steps"}
 
@@ -174,14 +196,15 @@ def _scene_inputs(ctx, scene, name, point, settings: Settings, cache: dict):
     instant = method_instant(name, params)
     steps = point.get("steps", 1)
     frames = cache.setdefault("frames", {})
-    start = time.perf_counter()
-    if (instant, 1) not in frames:
-        frames[(instant, 1)] = [ctx.render(scene, settings.size, settings.shutter, instant=instant)]
-    if (instant, steps) not in frames:
-        frames[(instant, steps)] = render_steps(
-            ctx, scene, name, steps, settings.size, settings.shutter, **params
-        )
-    _add_seconds(cache, "g_buffers", start)
+    with _phase(cache, "g_buffers"):
+        if (instant, 1) not in frames:
+            frames[(instant, 1)] = [
+                ctx.render(scene, settings.size, settings.shutter, instant=instant)
+            ]
+        if (instant, steps) not in frames:
+            frames[(instant, steps)] = render_steps(
+                ctx, scene, name, steps, settings.size, settings.shutter, **params
+            )
     n = settings.reference_samples
     if n is None:  # once per scene: it reads the whole motion buffer back (55 ms at 1080p)
         if "default_samples" not in cache:

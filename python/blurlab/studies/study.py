@@ -4,7 +4,6 @@ results.csv, charts, image grids and report.html into one folder."""
 from __future__ import annotations
 
 import concurrent.futures
-import contextlib
 import datetime
 import html
 import json
@@ -20,32 +19,10 @@ from .. import io, metrics, scenes
 from ..context import Context
 from ..methods import blur, method, method_instant
 from . import interactive, objects, peers, plots
+from .evaluation import PhaseClock
 from .sweep import HDR_METRICS, default_grids, middle_point, sweep
 
 BUDGETS_MS = (0.1, 1.0, 10.0, 100.0)
-
-
-class PhaseClock:
-    """Wall-clock seconds of each phase of a study, in the order each was first entered:
-    `with clock("charts"): ...` adds to a phase, `clock.add(phase, s)` too."""
-
-    def __init__(self):
-        self.seconds: dict[str, float] = {}
-        self.start = time.perf_counter()
-
-    @contextlib.contextmanager
-    def __call__(self, phase: str):
-        start = time.perf_counter()
-        try:
-            yield
-        finally:
-            self.add(phase, time.perf_counter() - start)
-
-    def add(self, phase: str, seconds: float) -> None:
-        self.seconds[phase] = self.seconds.get(phase, 0.0) + seconds
-
-    def total(self) -> float:
-        return time.perf_counter() - self.start
 
 
 # What each phase of phases.json counts (the report's "Where the time went" says the same).
@@ -110,7 +87,7 @@ def run_study(
         clock.add("sweep_on_cluster", swept)
     else:
         for phase in ("references", "g_buffers"):
-            spent = sum(c.get("seconds", {}).get(phase, 0.0) for c in caches.values())
+            spent = sum(c["clock"].seconds.get(phase, 0.0) for c in caches.values() if "clock" in c)
             clock.add(phase, spent)
             swept -= spent
         clock.add("evaluations", swept)

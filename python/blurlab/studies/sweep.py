@@ -107,9 +107,9 @@ def sweep(
     shrink towards the end of the sweep so that the workers finish together).
     `caches`: a dict that a local sweep fills, per scene name, with what it rendered (frames
     by instant, "reference", "reference_aa") and the seconds it spent rendering them
-    ("seconds": {"references", "g_buffers"}), for a caller that shows the same images
-    (blurlab study); a scene's "keep_colours", set before, names the (method, params JSON)
-    whose output colours it keeps ("colours"). On a cluster it stays as it was.
+    ("clock", a PhaseClock with "references" and "g_buffers"), for a caller that shows the
+    same images (blurlab study); a scene's "keep_colours", set before, names the (method,
+    params JSON) whose output colours it keeps ("colours"). On a cluster it stays as it was.
     """
     if cluster is None and not isinstance(ctx, Context):
         raise TypeError("blurlab.sweep needs a blurlab Context (or ctx=None and a cluster)")
