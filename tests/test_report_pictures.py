@@ -104,6 +104,7 @@ def test_write_pictures_writes_every_picture_and_shows_each(tmp_path, rng):
     error = io.read(tmp_path / "s_camera_only_error.png")
     maps = [metrics.error_map(reference, image) for image in images.values()]
     vmax = max(float(np.percentile(np.concatenate([m.ravel() for m in maps]), 99.5)), 1e-3)
+    assert plots.error_scale(maps) == vmax  # small maps: every pixel counts
     assert (error[..., :3] == plots.error_colours(maps[1], vmax)).all()
 
 
@@ -143,3 +144,79 @@ def test_the_sweep_hands_the_study_what_it_rendered(ctx):
     frame = cache["frames"][(method_instant("gather_box", point), 1)][0]
     again = bl.blur(ctx, frame, "gather_box", **point).color
     assert np.array_equal(cache["colours"][key], again)  # the picture the report would make
+
+
+def test_image_grid_picture_shows_each_image_and_error_map_named(rng):
+    reference = rng.random((90, 160, 4)).astype(np.float32)
+    images = {"reconstruct_mcguire2012": reference * 0.5, "camera_only": reference.copy()}
+    picture = plots.image_grid_picture(reference, images, cell=80)
+    label, gap = plots.GRID_LABEL, plots.GRID_GAP
+    assert picture.dtype == np.uint8 and picture.shape == (2 * (label + 45 + gap), 3 * 84, 3)
+    top = picture[label : label + 45]
+    assert np.array_equal(top[:, :80], io.srgb8(plots.shrink(reference[..., :3], 80)))
+    assert np.array_equal(
+        top[:, 84:164], io.srgb8(plots.shrink(images["reconstruct_mcguire2012"][..., :3], 80))
+    )
+    bottom = picture[2 * label + 45 + gap : 2 * label + 90 + gap]
+    same = plots.error_colours(np.zeros((45, 80), np.float32), 0.25)
+    assert np.array_equal(bottom[:, 168:248], same)  # camera_only equals the reference: black
+    assert not np.array_equal(bottom[:, 84:164], same)
+    assert (picture[:label, :80] < 128).any()  # a name drawn above the reference
+    with pytest.raises(ValueError, match="error_scale"):
+        plots.image_grid_picture(reference, images, error_scale=0.0)
+
+
+def test_colour_bar_runs_from_black_to_the_brightest_colour_and_rejects_bad_scales():
+    bar = plots.colour_bar(0.05)
+    width, height = plots.COLOUR_BAR_SIZE
+    assert bar.dtype == np.uint8 and bar.shape[1] > width and bar.shape[0] > height
+    row = bar[height // 2]
+    inside = row[(row != 255).any(axis=-1)]
+    table = plots.error_colours(np.array([[0.0, 0.05]]), 0.05)[0]
+    assert np.array_equal(inside[0], table[0]) and np.array_equal(inside[-1], table[1])
+    for bad in (0.0, -1.0, np.nan, np.inf):
+        with pytest.raises(ValueError, match="vmax"):
+            plots.colour_bar(bad)
+
+
+def test_error_scale_samples_large_maps_and_keeps_small_ones_whole(rng):
+    small = [rng.random((9, 16)).astype(np.float32) for _ in range(3)]
+    whole = np.percentile(np.concatenate([m.ravel() for m in small]), 99.5)
+    assert plots.error_scale(small) == whole
+    large = [rng.random((1080, 1920)).astype(np.float32) for _ in range(2)]
+    assert abs(plots.error_scale(large) - 0.995) < 0.002  # uniform errors: the sample agrees
+    assert plots.error_scale([np.zeros((4, 4))]) == 1e-3  # floor: a scale of zero draws nothing
+    with pytest.raises(ValueError, match="no error values"):
+        plots.error_scale([])
+
+
+def test_charts_draw_in_processes_or_inline_alike(tmp_path):
+    import pandas as pd
+
+    table = pd.DataFrame(
+        {
+            "scene": "s",
+            "method": ["gather_box", "gather_box", "camera_only"],
+            "total_ms": [0.2, 0.4, 0.1],
+            "psnr": [30.0, 31.0, 25.0],
+            "param_taps": [3, 5, None],
+            "clock": "gl_time_elapsed",
+            "renderer": "test",
+            "width": 160,
+            "height": 90,
+        }
+    )
+    for processes in (0, 1):
+        with study.chart_pool(processes) as charts:
+            work = study.ReportWork(None, charts)
+            work.draw(plots.pareto, (table, "s", "psnr"), tmp_path / f"p{processes}.png")
+            work.draw(plots.pareto, (table, "nope", "psnr"), tmp_path / "never.png")
+            assert work.charts_drawn[0].result() == tmp_path / f"p{processes}.png"
+            with pytest.raises(ValueError, match="no rows for scene 'nope'"):
+                work.charts_drawn[1].result()  # the drawing's error reaches the study
+        assert io.read(tmp_path / f"p{processes}.png").shape[2] >= 3
+    assert not (tmp_path / "never.png").exists()
+    for bad in (-1, 1.5, True, "2"):
+        with pytest.raises(ValueError, match="chart_processes"):
+            with study.chart_pool(bad):
+                pass

@@ -6,6 +6,7 @@ failed write never leaves a partial file behind.
 
 from __future__ import annotations
 
+import functools
 import os
 import tempfile
 from pathlib import Path
@@ -28,9 +29,54 @@ def srgb_to_linear(srgb: np.ndarray) -> np.ndarray:
     return np.where(c <= 0.04045, c / 12.92, np.power((c + 0.055) / 1.055, 2.4))
 
 
-def srgb8(linear: np.ndarray) -> np.ndarray:
-    """8-bit sRGB of linear colour (clipped to [0, 1], rounded to nearest): what a PNG holds."""
+def _srgb8_exact(linear) -> np.ndarray:
     return np.round(linear_to_srgb(linear) * 255.0).astype(np.uint8)
+
+
+# srgb8 by table: where in [0, 1] each 8-bit code starts, and a 2^16-bin table of the code at
+# each bin's start. Codes are at least 3e-4 apart in linear light (at the dark end, where sRGB
+# is steepest), so a bin 1.5e-5 wide holds at most one step, and one comparison with the next
+# code's start finishes the rounding: the same bytes as the transfer function in float64,
+# 10-40x faster on a 1080p picture (tests/test_io.py compares them at every step).
+SRGB8_BINS = 1 << 16
+
+
+@functools.lru_cache(maxsize=1)
+def _srgb8_tables() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(starts64, starts32, bins): starts64[k - 1] is the least float64 whose code is >= k
+    (k = 1..255), found by bisecting on the bit patterns of [0, 1] with the float64 formula;
+    starts32 the least float32 at or above it, then +inf (no code 256); bins[i] the code of
+    i / SRGB8_BINS."""
+    codes = np.arange(1, 256)
+    low = np.zeros(255, np.int64)  # bit patterns: low's code < k <= high's code
+    high = np.full(255, np.float64(1.0).view(np.int64))
+    while (high - low > 1).any():
+        middle = (low + high) // 2
+        reached = _srgb8_exact(middle.view(np.float64)) >= codes
+        high = np.where(reached, middle, high)
+        low = np.where(reached, low, middle)
+    starts64 = high.view(np.float64)
+    starts32 = starts64.astype(np.float32)
+    starts32 = np.where(starts32 < starts64, np.nextafter(starts32, np.float32(2)), starts32)
+    starts32 = np.append(starts32, np.float32(np.inf)).astype(np.float32)
+    grid = np.arange(SRGB8_BINS + 1, dtype=np.float64) / SRGB8_BINS
+    bins = np.searchsorted(starts64, grid, side="right").astype(np.uint8)
+    return starts64, starts32, bins
+
+
+def srgb8(linear: np.ndarray) -> np.ndarray:
+    """8-bit sRGB of linear colour (clipped to [0, 1], rounded to nearest; NaN gives 0): what
+    a PNG holds."""
+    linear = np.asarray(linear)
+    starts64, starts32, bins = _srgb8_tables()
+    if linear.dtype != np.float32:  # float64 (or anything else): compare in float64
+        clipped = np.nan_to_num(np.clip(np.asarray(linear, np.float64), 0.0, 1.0), nan=0.0)
+        return np.searchsorted(starts64, clipped, side="right").astype(np.uint8)
+    # fmax before fmin sends NaN to 0; the scaling by a power of two is exact in float32.
+    clipped = np.fmin(np.fmax(linear, np.float32(0.0)), np.float32(1.0))
+    code = bins[(clipped * np.float32(SRGB8_BINS)).astype(np.int32)]
+    code += clipped >= starts32[code]  # never past 255: starts32[255] is +inf
+    return code
 
 
 def _oiio():

@@ -23,15 +23,15 @@ from .twins import flip as flip_twin
 LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
 
 
-def _rgb(image) -> np.ndarray:
-    image = np.asarray(image, np.float64)
+def _rgb(image, dtype=np.float64) -> np.ndarray:
+    image = np.asarray(image, dtype)
     if image.ndim != 3 or image.shape[2] < 3:
         raise ValueError(f"blurlab.metrics: expected an (H, W, 3 or 4) image, not {image.shape}")
     return np.clip(image[..., :3], 0.0, 1.0)
 
 
-def _pair(a, b) -> tuple[np.ndarray, np.ndarray]:
-    a, b = _rgb(a), _rgb(b)
+def _pair(a, b, dtype=np.float64) -> tuple[np.ndarray, np.ndarray]:
+    a, b = _rgb(a, dtype), _rgb(b, dtype)
     if a.shape != b.shape:
         raise ValueError(f"blurlab.metrics: images differ in shape: {a.shape} and {b.shape}")
     return a, b
@@ -91,9 +91,13 @@ def flip(reference, test) -> float:
 
 
 def error_map(a, b) -> np.ndarray:
-    """(H, W) per-pixel mean absolute RGB error, colors clipped to [0, 1]."""
-    a, b = _pair(a, b)
-    return np.mean(np.abs(a - b), axis=-1)
+    """(H, W) float32 per-pixel mean absolute RGB error, colors clipped to [0, 1]. In float32:
+    it is drawn and searched for its worst windows, never summed over an image, and float64
+    took 4x as long on the study's 1080p pictures."""
+    a, b = _pair(a, b, np.float32)
+    a -= b
+    np.abs(a, out=a)
+    return a.sum(axis=-1) / np.float32(3.0)
 
 
 def flicker(frames, still) -> float:

@@ -144,6 +144,6 @@ def gallery(ctx, scene_name: str, size, methods=None, reference_samples=None):
     for name in methods:
         frame = ctx.render(scene, size, instant=method_instant(name, {}))
         images[name.replace("reconstruct_", "")] = blur(ctx, frame, name).color
-    fig = plots.image_grid(reference.color, images)
-    fig.suptitle(f"{scene_name}: {scenes.describe(scene_name)}", fontsize=8)
-    return fig
+    return plots.image_grid(
+        reference.color, images, title=f"{scene_name}: {scenes.describe(scene_name)}"
+    )

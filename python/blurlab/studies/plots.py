@@ -1,7 +1,6 @@
-"""Charts of speed against accuracy (matplotlib): Pareto fronts, parameter curves, image grids.
-
-Every function returns a matplotlib Figure; `save(fig, path)` writes PNG or SVG.
-"""
+"""Charts of speed against accuracy (matplotlib: Pareto fronts, parameter curves; `save`
+writes PNG or SVG) and the report's pictures (uint8 arrays drawn with NumPy and Pillow: image
+grids, error maps, colour bars, crops; the *_figure functions show them in a notebook)."""
 
 from __future__ import annotations
 
@@ -13,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ..io import linear_to_srgb, srgb8, srgb_to_linear
+from ..io import srgb8, srgb_to_linear
 from ..methods.tile_filter import FILTER_OPTIONS
 from ..metrics import error_map, tone_map
 
@@ -196,43 +195,79 @@ def shrink(array: np.ndarray, most: int = GRID_PIXELS) -> np.ndarray:
     return total / np.float32(factor * factor)
 
 
+GRID_CELL_PIXELS = 320  # thumbnail width in image_grid_picture
+GRID_LABEL, GRID_GAP = 14, 4
+
+
+def image_grid_picture(
+    reference: np.ndarray,
+    images: dict[str, np.ndarray],
+    errors: bool = True,
+    error_scale: float = 0.25,
+    error_maps: dict[str, np.ndarray] | None = None,
+    cell: int = GRID_CELL_PIXELS,
+) -> np.ndarray:
+    """(H, W, 3) uint8 sRGB: the reference and each method's image in a row, each shrunk
+    (`shrink`) to `cell` px wide or less and named above; below each image (with `errors`),
+    its error map, |error| through magma with `error_scale` white. `error_maps`: each image's
+    metrics.error_map, if already made. Drawn with NumPy and Pillow, no figure."""
+    from PIL import Image, ImageDraw
+
+    if not (np.isfinite(error_scale) and error_scale > 0):
+        raise ValueError(f"blurlab.plots.image_grid: error_scale must be > 0, not {error_scale}")
+    columns = {"reference": reference, **images}
+    thumbs = [srgb8(shrink(image[..., :3], cell)) for image in columns.values()]
+    height, width = thumbs[0].shape[:2]
+    rows = 2 if errors else 1
+    row_height = GRID_LABEL + height + GRID_GAP
+    picture = np.full((rows * row_height, len(thumbs) * (width + GRID_GAP), 3), 255, np.uint8)
+    for col, thumb in enumerate(thumbs):
+        left = col * (width + GRID_GAP)
+        picture[GRID_LABEL : GRID_LABEL + height, left : left + width] = thumb
+    if errors:
+        for col, (name, image) in enumerate(images.items(), start=1):
+            error = error_maps[name] if error_maps is not None else error_map(reference, image)
+            left, top = col * (width + GRID_GAP), row_height + GRID_LABEL
+            picture[top : top + height, left : left + width] = error_colours(
+                shrink(error, cell), error_scale
+            )
+    canvas = Image.fromarray(picture)
+    draw = ImageDraw.Draw(canvas)
+    for col, name in enumerate(columns):
+        text = _fitted(draw, name.replace("reconstruct_", ""), width)
+        draw.text((col * (width + GRID_GAP), 1), text, fill=(0, 0, 0))
+    if errors:
+        draw.text((2, row_height + GRID_LABEL + height // 2 - 12), "|error|", fill=(0, 0, 0))
+        draw.text(
+            (2, row_height + GRID_LABEL + height // 2), f"white = {error_scale:g}", fill=(0, 0, 0)
+        )
+    return np.asarray(canvas)
+
+
 def image_grid(
     reference: np.ndarray,
     images: dict[str, np.ndarray],
     errors: bool = True,
     error_scale: float = 0.25,
     error_maps: dict[str, np.ndarray] | None = None,
+    title: str | None = None,
 ):
-    """The reference, each method's image and (below) its error map, |error| scaled so that
-    `error_scale` is white. `error_maps`: each image's metrics.error_map, if already made."""
+    """image_grid_picture(...) as a matplotlib figure (for notebooks), `title` above it."""
+    picture = image_grid_picture(reference, images, errors, error_scale, error_maps)
+    return picture_figure(picture, title)
+
+
+def picture_figure(picture: np.ndarray, title: str | None = None):
+    """A matplotlib figure showing a uint8 picture pixel for pixel (at 100 dpi), `title` in a
+    strip above it."""
     plt = _pyplot()
-    columns = 1 + len(images)
-    rows = 2 if errors else 1
-    fig, axes = plt.subplots(
-        rows, columns, figsize=(2.6 * columns, 1.7 * rows * 1.1), squeeze=False
-    )
-    show = lambda a: np.clip(linear_to_srgb(shrink(a[..., :3])), 0, 1)  # noqa: E731
-    axes[0, 0].imshow(show(reference))
-    axes[0, 0].set_title("reference", fontsize=7)
-    for i, (name, image) in enumerate(images.items(), start=1):
-        axes[0, i].imshow(show(image))
-        axes[0, i].set_title(name, fontsize=7)
-        if errors:
-            error = error_maps[name] if error_maps is not None else error_map(reference, image)
-            axes[1, i].imshow(np.clip(shrink(error) / error_scale, 0, 1), cmap="magma")
-    for ax in axes.ravel():
-        ax.axis("off")
-    if errors:
-        axes[1, 0].text(
-            0.5,
-            0.5,
-            f"|error|\n(white = {error_scale})",
-            ha="center",
-            va="center",
-            fontsize=7,
-            transform=axes[1, 0].transAxes,
-        )
-    fig.tight_layout()
+    height, strip = picture.shape[0] / 100, 0.3 if title else 0.0
+    fig, ax = plt.subplots(figsize=(picture.shape[1] / 100, height + strip), dpi=100)
+    ax.imshow(picture, interpolation="nearest")
+    ax.axis("off")
+    fig.subplots_adjust(0, 0, 1, height / (height + strip))
+    if title:
+        fig.suptitle(title, fontsize=8)
     return fig
 
 
@@ -259,20 +294,48 @@ def error_colours(error: np.ndarray, vmax: float, cmap: str = "magma") -> np.nda
     return _colour_table(cmap)[index]
 
 
-def colour_bar(vmax: float, label: str = "|error| (linear)", cmap: str = "magma"):
-    """A horizontal colour bar alone, 0 .. vmax: the key of error_colours' pictures."""
-    import matplotlib
+ERROR_SCALE_PERCENTILE = 99.5
+ERROR_SCALE_SAMPLES = 1 << 21  # a 1080p study scene has 29 M errors: a regular sample will do
 
-    plt = _pyplot()
-    fig, ax = plt.subplots(figsize=(4.5, 0.75))
-    fig.colorbar(
-        matplotlib.cm.ScalarMappable(matplotlib.colors.Normalize(0.0, vmax), cmap),
-        cax=ax,
-        orientation="horizontal",
-        label=label,
-    )
-    fig.tight_layout()
-    return fig
+
+def error_scale(error_maps, percentile: float = ERROR_SCALE_PERCENTILE) -> float:
+    """The top of a scene's error colour scale: the `percentile` of its error maps' pixels
+    (every pixel up to ERROR_SCALE_SAMPLES in all, a regular stride through each map beyond),
+    at least 1e-3. A percentile, not the maximum, so that a few outliers do not darken the
+    rest."""
+    maps = [np.asarray(error).ravel() for error in error_maps]
+    total = sum(m.size for m in maps)
+    if total == 0:
+        raise ValueError("blurlab.plots.error_scale: no error values")
+    stride = -(-total // ERROR_SCALE_SAMPLES)
+    sample = np.concatenate([m[::stride] for m in maps])
+    return max(float(np.percentile(sample, percentile)), 1e-3)
+
+
+COLOUR_BAR_SIZE = (360, 18)  # the bar itself, px
+
+
+def colour_bar(vmax: float, label: str = "|error| (linear)", cmap: str = "magma") -> np.ndarray:
+    """(H, W, 3) uint8: a horizontal colour bar, 0 .. vmax, with three ticks and `label`: the
+    key of error_colours' pictures, drawn with NumPy and Pillow."""
+    from PIL import Image, ImageDraw
+
+    if not (np.isfinite(vmax) and vmax > 0):
+        raise ValueError(f"blurlab.plots.colour_bar: vmax must be finite and > 0, not {vmax}")
+    width, height = COLOUR_BAR_SIZE
+    margin = 24  # room for the end ticks' labels
+    picture = np.full((height + 34, width + 2 * margin, 3), 255, np.uint8)
+    ramp = np.linspace(0.0, vmax, width, endpoint=False) + vmax / (2 * width)  # bin centres
+    picture[:height, margin : margin + width] = error_colours(ramp[None, :], vmax, cmap)
+    canvas = Image.fromarray(picture)
+    draw = ImageDraw.Draw(canvas)
+    for fraction in (0.0, 0.5, 1.0):
+        x = margin + round(fraction * (width - 1))
+        draw.line([(x, height), (x, height + 3)], fill=(0, 0, 0))
+        text = f"{fraction * vmax:.3g}"
+        draw.text((x - draw.textlength(text) / 2, height + 4), text, fill=(0, 0, 0))
+    draw.text((margin + (width - draw.textlength(label)) / 2, height + 19), label, fill=(0, 0, 0))
+    return np.asarray(canvas)
 
 
 def worst_window(error: np.ndarray, side: int) -> tuple[int, int]:
@@ -280,7 +343,7 @@ def worst_window(error: np.ndarray, side: int) -> tuple[int, int]:
     height, width = error.shape[:2]
     side = max(1, min(side, height, width))
     table = np.zeros((height + 1, width + 1))
-    table[1:, 1:] = np.cumsum(np.cumsum(error, 0), 1)
+    table[1:, 1:] = np.cumsum(np.cumsum(error, 0, dtype=np.float64), 1)  # float32 would drift
     sums = table[side:, side:] - table[:-side, side:] - table[side:, :-side] + table[:-side, :-side]
     y, x = np.unravel_index(int(np.argmax(sums)), sums.shape)
     return int(y), int(x)
@@ -340,13 +403,7 @@ def _fitted(draw, text: str, width: int) -> str:
 
 def crops_figure(reference: np.ndarray, images: dict[str, np.ndarray], side: int):
     """crops_picture(reference, images, side) as a matplotlib figure (for notebooks)."""
-    plt = _pyplot()
-    picture = crops_picture(reference, images, side)
-    fig, ax = plt.subplots(figsize=(picture.shape[1] / 100, picture.shape[0] / 100), dpi=100)
-    ax.imshow(picture, interpolation="nearest")
-    ax.axis("off")
-    fig.subplots_adjust(0, 0, 1, 1)
-    return fig
+    return picture_figure(crops_picture(reference, images, side))
 
 
 def motion_picture(motion: np.ndarray) -> np.ndarray:
@@ -366,6 +423,17 @@ def tone_mapped(image: np.ndarray, exposure: float) -> np.ndarray:
     exposure)`: written as a PNG or drawn by the functions here, an HDR image shows
     tone-mapped (docs/spec.md §6.2) instead of clipped."""
     return srgb_to_linear(tone_map(image, exposure)).astype(np.float32)
+
+
+def load_matplotlib() -> None:
+    """Imports matplotlib's pyplot (the first import on a machine builds its font cache): a
+    process that will draw calls it early, while it would otherwise wait."""
+    _pyplot()
+
+
+def draw_and_save(draw, args: tuple, path: str | Path) -> Path:
+    """save(draw(*args), path): a chart drawn where it is saved, e.g. in another process."""
+    return save(draw(*args), path)
 
 
 def save(fig, path: str | Path) -> Path:

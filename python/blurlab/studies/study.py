@@ -4,9 +4,13 @@ results.csv, charts, image grids and report.html into one folder."""
 from __future__ import annotations
 
 import concurrent.futures
+import contextlib
+import dataclasses
 import datetime
+import functools
 import html
 import json
+import multiprocessing
 import os
 import re
 import time
@@ -32,8 +36,9 @@ PHASES = {
     "evaluations": "every configuration timed (repeats) and scored (PSNR, SSIM, FLIP, ...)",
     "sweep_on_cluster": "the whole sweep on Dask workers (references included)",
     "images": "each scene's pictures: the methods' images at their middle points, error "
-    "maps, crops, the image grid",
-    "charts": "Pareto charts (PNG and interactive) and parameter curves",
+    "maps, crops, the image grid (encoded on threads: what is counted is the wait for them)",
+    "charts": "Pareto charts (PNG and interactive) and parameter curves (the PNGs drawn in "
+    "processes of their own: what is counted is the wait for them)",
     "per_object": "the per-object table of textured_spin (its own renders and reference)",
     "peers": "the peers' renders (EEVEE)",
     "html": "the report's HTML",
@@ -51,6 +56,7 @@ def run_study(
     progress: bool = True,
     cluster=None,
     peer_names=(),
+    chart_processes: int | None = None,
 ) -> Path:
     """Runs the study and returns the path of report.html. With `cluster` (as bl.sweep takes
     it) the sweep runs on Dask workers; `ctx` still renders the report's images. `metrics`
@@ -58,11 +64,83 @@ def run_study(
     metrics too, ranks them by psnr_tm and shows their images tone-mapped. `peer_names`
     ("eevee") adds Blender's EEVEE as rows scored against the same references (peers.csv).
     Each phase is timed (PHASES): phases.json, the report's last table and, with `progress`,
-    the console."""
+    the console. `chart_processes`: how many processes draw the matplotlib charts (default
+    default_chart_processes(); 0 draws them in this one)."""
     clock = PhaseClock()
     peer_names = peers.check_peers(peer_names)
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
+    with chart_pool(chart_processes) as charts:
+        return _run_study(
+            ctx,
+            scene_names,
+            size,
+            out,
+            reference_samples,
+            metrics,
+            grids,
+            progress,
+            cluster,
+            peer_names,
+            charts,
+            clock,
+        )
+
+
+def default_chart_processes() -> int:
+    """Chart processes by default: a quarter of the cores, 1 to 4 (on 2 cores one process,
+    so that the charts do not take the renderer's cores during the sweep)."""
+    return max(1, min(4, (os.cpu_count() or 1) // 4))
+
+
+@contextlib.contextmanager
+def chart_pool(processes: int | None = None):
+    """An executor for the matplotlib charts. matplotlib holds the GIL while it draws, so
+    threads would not overlap it: processes (spawned, not forked: the parent holds a GL
+    context) import it at once, which overlaps its import (and, on a fresh machine, its font
+    cache) with the sweep. 0 processes: an executor that runs each job as it is submitted."""
+    processes = default_chart_processes() if processes is None else processes
+    if isinstance(processes, bool) or not isinstance(processes, int) or processes < 0:
+        raise ValueError(
+            f"blurlab study: chart_processes must be an integer >= 0, not {processes!r}"
+        )
+    if processes == 0:
+        yield InlineExecutor()
+        return
+    spawn = multiprocessing.get_context("spawn")
+    with concurrent.futures.ProcessPoolExecutor(processes, mp_context=spawn) as pool:
+        for _ in range(processes):
+            pool.submit(plots.load_matplotlib)
+        yield pool
+
+
+class InlineExecutor(concurrent.futures.Executor):
+    """Runs each submitted call at once, in the caller's thread; its future holds the result
+    or the exception."""
+
+    def submit(self, fn, /, *args, **kwargs):
+        future: concurrent.futures.Future = concurrent.futures.Future()
+        try:
+            future.set_result(fn(*args, **kwargs))
+        except BaseException as error:  # handed to whoever reads the future, as a pool would
+            future.set_exception(error)
+        return future
+
+
+def _run_study(
+    ctx,
+    scene_names,
+    size,
+    out,
+    reference_samples,
+    metrics,
+    grids,
+    progress,
+    cluster,
+    peer_names,
+    charts,
+    clock,
+) -> Path:
     names = list(scene_names or scenes.names())
     grids = grids or default_grids()
     # Per scene, what the sweep rendered and each method's picture (its grid's middle point):
@@ -93,9 +171,10 @@ def run_study(
         clock.add("evaluations", swept)
     info = ctx.info()
     sections = []
-    # Independent PNG encodes run side by side: zlib and NumPy release the GIL.
-    with concurrent.futures.ThreadPoolExecutor(min(8, os.cpu_count() or 1)) as pool:
-        writes: list = []
+    # Independent PNG encodes run side by side (zlib and NumPy release the GIL), the charts in
+    # their processes: this thread waits for both at the end.
+    with concurrent.futures.ThreadPoolExecutor(os.cpu_count() or 1) as pool:
+        work = ReportWork(pool, charts)
         for item in names:
             scene = scenes.get(item)
             sections.append(
@@ -108,15 +187,13 @@ def run_study(
                     grids,
                     not sections,
                     caches.pop(scene.name, {}),  # freed with the section
-                    pool,
-                    writes,
+                    work,
                     clock,
                 )
             )
-        with clock("charts"):
-            curves: list = []
-            for name in grids:
-                curves += _parameter_curves(table, name, method(name).study_curves, out, curves)
+        curves: list = []
+        for name in grids:
+            curves += _parameter_curves(table, name, method(name).study_curves, out, curves, work)
         per_object = None
         if "textured_spin" in names:  # the OGRE paper's test matrix
             with clock("per_object"):
@@ -134,8 +211,11 @@ def run_study(
                 )
                 peer_rows.to_csv(out / "peers.csv", index=False)
         with clock("images"):
-            for write in writes:
-                write.result()  # the encodes left running; raises a failed one's error
+            for write in work.pictures_written:
+                write.result()  # raises a failed one's error
+        with clock("charts"):
+            for drawing in work.charts_drawn:
+                drawing.result()
     with clock("html"):
         report = _html(info, size, table, sections, curves, per_object, peer_rows, clock)
         path = io.write_text(out / "report.html", report)
@@ -167,10 +247,12 @@ _CURVE_TITLES = {
 }
 
 
-def _parameter_curves(table, name: str, params: tuple[str, ...], out: Path, earlier) -> list:
+def _parameter_curves(
+    table, name: str, params: tuple[str, ...], out: Path, earlier, work: ReportWork
+) -> list:
     """Time and error against each of `params` for method `name`, the others fixed (the
-    thesis's tables 5.2 and 5.3): [(title, png name)] of the charts written. A chart is
-    curve_<param>.png unless an `earlier` one took that name."""
+    thesis's tables 5.2 and 5.3): [(title, png name)] of the charts, each left drawing on
+    `work`. A chart is curve_<param>.png unless an `earlier` one took that name."""
     rows = table[table["method"] == name]
     columns = [f"param_{p}" for p in params]
     if len(rows) == 0 or any(c not in rows or rows[c].nunique() < 2 for c in columns):
@@ -187,7 +269,7 @@ def _parameter_curves(table, name: str, params: tuple[str, ...], out: Path, earl
         png = f"curve_{param}.png"
         if png in {file for _, file in earlier}:
             png = f"curve_{name}_{param}.png"
-        plots.save(plots.parameter_curves(table, name, param, fixed), out / png)
+        work.draw(plots.parameter_curves, (table, name, param, fixed), out / png)
         curves.append((_CURVE_TITLES.get(param, f"{param} sweep of {name}"), png))
     return curves
 
@@ -197,18 +279,32 @@ def _ranking_metric(rows) -> str:
     return "psnr_tm" if "psnr_tm" in rows and rows["psnr_tm"].notna().any() else "psnr"
 
 
+@dataclasses.dataclass
+class ReportWork:
+    """The report's work left running: pictures on `pictures` (threads), matplotlib charts on
+    `charts` (processes), and the futures of each, which the study waits for at the end."""
+
+    pictures: concurrent.futures.Executor
+    charts: concurrent.futures.Executor
+    pictures_written: list = dataclasses.field(default_factory=list)
+    charts_drawn: list = dataclasses.field(default_factory=list)
+
+    def draw(self, chart, args: tuple, path: Path) -> None:
+        """Draws chart(*args) (a function of blurlab.studies.plots) into `path`."""
+        self.charts_drawn.append(self.charts.submit(plots.draw_and_save, chart, args, path))
+
+
 def _scene_section(
-    ctx, scene, table, size, out: Path, grids, first: bool, cache: dict, pool, writes, clock
+    ctx, scene, table, size, out: Path, grids, first: bool, cache: dict, work: ReportWork, clock
 ) -> dict:
     """One scene's part of the report. `cache`: what the sweep rendered for the scene (its
-    reference and G-buffers, reused here); PNG encodes go to `pool`, their futures to
-    `writes`."""
+    reference and G-buffers, reused here); pictures and charts are left running on `work`."""
     rows = table[table["scene"] == scene.name]
     name = re.sub(r"[^A-Za-z0-9_.-]", "_", scene.name)  # the scene's files: safe in a URL
     rank = _ranking_metric(rows)
     samples = int(rows["reference_samples"].iloc[0])
     with clock("charts"):
-        plots.save(plots.pareto(rows, scene.name, rank), out / f"{name}_pareto.png")  # for papers
+        work.draw(plots.pareto, (rows, scene.name, rank), out / f"{name}_pareto.png")  # papers
         chart = interactive.chart_html(
             interactive.pareto_chart(rows, f"{scene.name}: time against error"),
             first,
@@ -239,8 +335,8 @@ def _scene_section(
             exposure = metrics.exposure(reference.color)
             shown_reference = plots.tone_mapped(reference.color, exposure)
             images = {k: plots.tone_mapped(v, exposure) for k, v in images.items()}
-        gallery, encodes = write_pictures(name, shown_reference, images, out, pool)
-        writes += encodes
+        gallery, encodes = write_pictures(name, shown_reference, images, out, work.pictures)
+        work.pictures_written.extend(encodes)
     best = []
     for budget in BUDGETS_MS:
         within = rows[rows["total_ms"] <= budget]
@@ -286,15 +382,24 @@ def write_pictures(
     """Writes one scene's pictures into `out` as <name>_*.png: the reference, each method's
     image and error map at full size (the colour bar, shared by the scene, apart), the crops of
     the windows where each method errs most, and the image grid. Returns the HTML that shows
-    them (each thumbnail links to its full-size file) and the futures of the PNG encodes left
-    running on `pool` (a ThreadPoolExecutor); matplotlib draws on this thread only."""
+    them (each thumbnail links to its full-size file) and the futures of the work left running
+    on `pool` (a ThreadPoolExecutor): every picture is NumPy and Pillow/OpenImageIO work that
+    mostly releases the GIL, so the caller's thread goes on while they encode."""
+    rgb = lambda image: image[..., :3]  # noqa: E731 (the pictures carry no alpha)
+    reference = rgb(reference)
+    images = {method_name: rgb(image) for method_name, image in images.items()}
     encodes = [pool.submit(_write_png, out / f"{name}_reference.png", reference)]
     maps = pool.map(lambda image: metrics.error_map(reference, image), images.values())
     errors = dict(zip(images, maps, strict=True))
-    vmax = max(
-        float(np.percentile(np.concatenate([e.ravel() for e in errors.values()]), 99.5)), 1e-3
-    )
-    plots.save(plots.colour_bar(vmax), out / f"{name}_error_scale.png")
+    vmax = plots.error_scale(errors.values())
+    side = max(16, min(reference.shape[:2]) // 4)
+    pictures = {
+        f"{name}_error_scale.png": lambda: plots.colour_bar(vmax),
+        f"{name}_crops.png": lambda: plots.crops_picture(reference, images, side, errors),
+        f"{name}_images.png": lambda: plots.image_grid_picture(
+            reference, images, error_maps=errors
+        ),
+    }
     cells = [
         f"<figure><a href='{name}_reference.png'><img src='{name}_reference.png'></a>"
         "<figcaption>reference</figcaption></figure>"
@@ -302,28 +407,16 @@ def write_pictures(
     for method_name, image in images.items():
         picture, error = f"{name}_{method_name}.png", f"{name}_{method_name}_error.png"
         encodes.append(pool.submit(_write_png, out / picture, image))
-        encodes.append(
-            pool.submit(
-                lambda path, e: _write_png(path, plots.error_colours(e, vmax)),
-                out / error,
-                errors[method_name],
-            )
-        )
+        pictures[error] = functools.partial(plots.error_colours, errors[method_name], vmax)
         cells.append(
             f"<figure><a href='{picture}'><img src='{picture}'></a>"
             f"<a href='{error}'><img src='{error}'></a><figcaption>{method_name}</figcaption>"
             "</figure>"
         )
-    side = max(16, min(reference.shape[:2]) // 4)
-    encodes.append(
-        pool.submit(
-            lambda: _write_png(
-                out / f"{name}_crops.png", plots.crops_picture(reference, images, side, errors)
-            )
+    for file_name, draw in pictures.items():
+        encodes.append(
+            pool.submit(lambda path, draw: _write_png(path, draw()), out / file_name, draw)
         )
-    )
-    grid = plots.image_grid(reference, images, error_maps=errors)
-    plots.save(grid, out / f"{name}_images.png")
     html_text = (
         f"<p>|error| (linear), 0 to {vmax:.3g}: <img src='{name}_error_scale.png' "
         "style='width:360px;vertical-align:middle'></p>"
