@@ -114,14 +114,9 @@ def pareto(table: pd.DataFrame, scene: str, metric: str = "psnr", budget_ms: flo
     return fig
 
 
-# The filters' options (declared in blurlab.methods.tile_filter), each its own marker on the
-# Pareto chart.
-OPTION_MARKERS = {
-    "jitter_tiles": "^",
-    "adaptive_samples": "s",
-    "early_exit": "D",
-    "packed_inputs": "P",
-}
+# Each filter option (blurlab.methods.tile_filter.FILTER_OPTIONS, in its order) its own marker
+# on the Pareto chart; a row with several options on, or an option past these, draws "*".
+OPTION_MARKERS = dict(zip(FILTER_OPTIONS, "^sDPvX<>", strict=False))
 
 
 def _variant(row) -> str:
