@@ -240,16 +240,11 @@ def image_grid_picture(
 
 
 def image_grid(
-    reference: np.ndarray,
-    images: dict[str, np.ndarray],
-    errors: bool = True,
-    error_scale: float = 0.25,
-    error_maps: dict[str, np.ndarray] | None = None,
-    title: str | None = None,
+    reference: np.ndarray, images: dict[str, np.ndarray], title: str | None = None, **options
 ):
-    """image_grid_picture(...) as a matplotlib figure (for notebooks), `title` above it."""
-    picture = image_grid_picture(reference, images, errors, error_scale, error_maps)
-    return picture_figure(picture, title)
+    """image_grid_picture(reference, images, **options) as a matplotlib figure (for
+    notebooks), `title` above it."""
+    return picture_figure(image_grid_picture(reference, images, **options), title)
 
 
 def picture_figure(picture: np.ndarray, title: str | None = None):

@@ -71,20 +71,102 @@ def run_study(
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     with chart_pool(chart_processes) as charts:
-        return _run_study(
-            ctx,
-            scene_names,
-            size,
-            out,
-            reference_samples,
-            metrics,
+        names = list(scene_names or scenes.names())
+        grids = grids or default_grids()
+        # Per scene, what the sweep rendered and each method's picture (its grid's middle point):
+        # the report shows the same, without rendering or blurring them again.
+        shown = {(m, json.dumps(middle_point(g), sort_keys=True)) for m, g in grids.items()}
+        caches: dict = {scenes.get(item).name: {"keep_colours": shown} for item in names}
+        start = time.perf_counter()
+        table = sweep(
+            None if cluster is not None else ctx,
+            names,
             grids,
-            progress,
-            cluster,
-            peer_names,
-            charts,
-            clock,
+            size,
+            reference_samples=reference_samples,
+            metrics=metrics,
+            out=out / "results.csv",
+            progress=progress,
+            cluster=cluster,
+            caches=caches,
         )
+        swept = time.perf_counter() - start
+        if cluster is not None:
+            clock.add("sweep_on_cluster", swept)
+        else:
+            for phase in ("references", "g_buffers"):
+                spent = sum(
+                    c["clock"].seconds.get(phase, 0.0) for c in caches.values() if "clock" in c
+                )
+                clock.add(phase, spent)
+                swept -= spent
+            clock.add("evaluations", swept)
+        info = ctx.info()
+        sections = []
+        # Independent PNG encodes run side by side (zlib and NumPy release the GIL), the charts in
+        # their processes: this thread waits for both at the end.
+        with concurrent.futures.ThreadPoolExecutor(os.cpu_count() or 1) as pool:
+            work = ReportWork(pool, charts)
+            for item in names:
+                scene = scenes.get(item)
+                sections.append(
+                    _scene_section(
+                        ctx,
+                        scene,
+                        table,
+                        size,
+                        out,
+                        grids,
+                        not sections,
+                        caches.pop(scene.name, {}),  # freed with the section
+                        work,
+                        clock,
+                    )
+                )
+            curves: list = []
+            for name in grids:
+                curves += _parameter_curves(
+                    table, name, method(name).study_curves, out, curves, work
+                )
+            per_object = None
+            if "textured_spin" in names:  # the OGRE paper's test matrix
+                with clock("per_object"):
+                    per_object = objects.object_errors(
+                        ctx, size, reference_samples=reference_samples
+                    )
+                    per_object.to_csv(out / "per_object.csv", index=False)
+            peer_rows = None
+            if peer_names:
+                with clock("peers"):
+                    peer_rows = peers.peer_table(
+                        ctx,
+                        {name: scenes.get(name) for name in names},
+                        size,
+                        {s["name"]: s["reference_samples"] for s in sections},
+                        tuple(metrics),
+                    )
+                    peer_rows.to_csv(out / "peers.csv", index=False)
+            with clock("images"):
+                for write in work.pictures_written:
+                    write.result()  # raises a failed one's error
+            with clock("charts"):
+                for drawing in work.charts_drawn:
+                    drawing.result()
+        with clock("html"):
+            report = _html(info, size, table, sections, curves, per_object, peer_rows, clock)
+            path = io.write_text(out / "report.html", report)
+        timing = {
+            "size": [int(size[0]), int(size[1])],
+            "renderer": info["renderer"],
+            "evaluations": len(table),
+            "total_s": clock.total(),
+            "phases_s": clock.seconds,
+            "phases": {k: PHASES[k] for k in clock.seconds},
+        }
+        io.write_text(out / "phases.json", json.dumps(timing, indent=1) + "\n")
+        if progress:
+            print(_phase_lines(clock))
+        return path
 
 
 def default_chart_processes() -> int:
@@ -125,112 +207,6 @@ class InlineExecutor(concurrent.futures.Executor):
         except BaseException as error:  # handed to whoever reads the future, as a pool would
             future.set_exception(error)
         return future
-
-
-def _run_study(
-    ctx,
-    scene_names,
-    size,
-    out,
-    reference_samples,
-    metrics,
-    grids,
-    progress,
-    cluster,
-    peer_names,
-    charts,
-    clock,
-) -> Path:
-    names = list(scene_names or scenes.names())
-    grids = grids or default_grids()
-    # Per scene, what the sweep rendered and each method's picture (its grid's middle point):
-    # the report shows the same, without rendering or blurring them again.
-    shown = {(m, json.dumps(middle_point(g), sort_keys=True)) for m, g in grids.items()}
-    caches: dict = {scenes.get(item).name: {"keep_colours": shown} for item in names}
-    start = time.perf_counter()
-    table = sweep(
-        None if cluster is not None else ctx,
-        names,
-        grids,
-        size,
-        reference_samples=reference_samples,
-        metrics=metrics,
-        out=out / "results.csv",
-        progress=progress,
-        cluster=cluster,
-        caches=caches,
-    )
-    swept = time.perf_counter() - start
-    if cluster is not None:
-        clock.add("sweep_on_cluster", swept)
-    else:
-        for phase in ("references", "g_buffers"):
-            spent = sum(c["clock"].seconds.get(phase, 0.0) for c in caches.values() if "clock" in c)
-            clock.add(phase, spent)
-            swept -= spent
-        clock.add("evaluations", swept)
-    info = ctx.info()
-    sections = []
-    # Independent PNG encodes run side by side (zlib and NumPy release the GIL), the charts in
-    # their processes: this thread waits for both at the end.
-    with concurrent.futures.ThreadPoolExecutor(os.cpu_count() or 1) as pool:
-        work = ReportWork(pool, charts)
-        for item in names:
-            scene = scenes.get(item)
-            sections.append(
-                _scene_section(
-                    ctx,
-                    scene,
-                    table,
-                    size,
-                    out,
-                    grids,
-                    not sections,
-                    caches.pop(scene.name, {}),  # freed with the section
-                    work,
-                    clock,
-                )
-            )
-        curves: list = []
-        for name in grids:
-            curves += _parameter_curves(table, name, method(name).study_curves, out, curves, work)
-        per_object = None
-        if "textured_spin" in names:  # the OGRE paper's test matrix
-            with clock("per_object"):
-                per_object = objects.object_errors(ctx, size, reference_samples=reference_samples)
-                per_object.to_csv(out / "per_object.csv", index=False)
-        peer_rows = None
-        if peer_names:
-            with clock("peers"):
-                peer_rows = peers.peer_table(
-                    ctx,
-                    {name: scenes.get(name) for name in names},
-                    size,
-                    {s["name"]: s["reference_samples"] for s in sections},
-                    tuple(metrics),
-                )
-                peer_rows.to_csv(out / "peers.csv", index=False)
-        with clock("images"):
-            for write in work.pictures_written:
-                write.result()  # raises a failed one's error
-        with clock("charts"):
-            for drawing in work.charts_drawn:
-                drawing.result()
-    with clock("html"):
-        report = _html(info, size, table, sections, curves, per_object, peer_rows, clock)
-        path = io.write_text(out / "report.html", report)
-    timing = {
-        "size": [int(size[0]), int(size[1])],
-        "renderer": info["renderer"],
-        "evaluations": len(table),
-        "total_s": clock.total(),
-        "phases_s": clock.seconds,
-        "phases": {k: PHASES[k] for k in clock.seconds},
-    }
-    io.write_text(out / "phases.json", json.dumps(timing, indent=1) + "\n")
-    if progress:
-        print(_phase_lines(clock))
-    return path
 
 
 def _phase_lines(clock: PhaseClock) -> str:
