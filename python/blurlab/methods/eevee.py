@@ -20,6 +20,7 @@ from ..frame import Frame
 from ..twins import eevee as twin
 from .core import SEED, Method, Param, Pass, register, run_pass
 from .tile_filter import TILE_FILTER_PARAMS
+from .variants import PassVariants
 
 PARAMS = {
     "tile_size": Param(32, int, "tile side, pixels", 4, 256),
@@ -36,6 +37,22 @@ PARAMS = {
 FLATTEN = Pass("tile_flatten", "passes/eevee_tile_flatten.glsl", ("exposure",))
 DILATE = Pass("tile_dilate", "passes/eevee_tile_dilate.glsl")
 GATHER = Pass("gather", "passes/eevee_gather.glsl", tuple(PARAMS))
+
+# The layouts of the tile passes' work group per tile (shaders/common/tile_pick.glsl): the
+# #defines of each. All give the same bits; benchmarks/engines.py --tile-variants times them.
+TILE_PICK_VARIANTS = {
+    "grid_16x16": {},
+    "rows_64": {"TILE_PICK_THREADS": 64},
+    "rows_128": {"TILE_PICK_THREADS": 128},
+    "rows_32_subgroup": {"TILE_PICK_THREADS": 32, "TILE_PICK_SUBGROUP": 1},
+    "rows_64_subgroup": {"TILE_PICK_THREADS": 64, "TILE_PICK_SUBGROUP": 1},
+    "rows_128_subgroup": {"TILE_PICK_THREADS": 128, "TILE_PICK_SUBGROUP": 1},
+    "rows_256_subgroup": {"TILE_PICK_THREADS": 256, "TILE_PICK_SUBGROUP": 1},
+}
+# TileMax's fastest layout on the H100 (tile_filter.DEFAULT_TILE_MAX_VARIANT), until the tile
+# passes' own are timed there; without subgroup operations (llvmpipe) it reduces in shared
+# memory.
+TILE_PICK_LAYOUT = PassVariants("tile pick", TILE_PICK_VARIANTS, "rows_128_subgroup")
 
 
 def motion_sides_texture(ctx: Context, frame: Frame):
@@ -70,9 +87,9 @@ def dilated_tiles(
 ):
     """§17.2 steps 1-2 on the frame's two-sided motion for an image of `size` (H, W): tile
     flatten and dilation at `tile_size` px and `max_blur` px (a method's params and values give
-    the exposure). `group_per_tile`: both passes run a work group per tile, else one thread per
-    tile (same bits either way); None: as tile_groups(ctx) says. Returns (two-sided motion
-    texture, tiles, dilated tiles)."""
+    the exposure). `group_per_tile`: both passes run a work group per tile (laid out as
+    TILE_PICK_LAYOUT says), else one thread per tile (same bits either way); None: as
+    tile_groups(ctx) says. Returns (two-sided motion texture, tiles, dilated tiles)."""
     height, width = size
     grid = (-(-height // tile_size), -(-width // tile_size), 4)
     tiles, dilated = ctx.pooled(grid), ctx.pooled(grid)
@@ -80,6 +97,7 @@ def dilated_tiles(
     if group_per_tile is None:
         group_per_tile = tile_groups(ctx)
     sized = {"tile_size": tile_size, "group_per_tile": group_per_tile}
+    layout = TILE_PICK_LAYOUT.defines() if group_per_tile else {}
     run_pass(
         ctx,
         timings,
@@ -89,6 +107,7 @@ def dilated_tiles(
         {"motion_sides": sides},
         {"tiles": tiles},
         uniforms=sized,
+        defines=layout,
         group_per_texel=group_per_tile,
     )
     run_pass(
@@ -100,6 +119,7 @@ def dilated_tiles(
         {"tiles": tiles},
         {"dilated": dilated},
         uniforms={**sized, "max_blur": max_blur},
+        defines=layout,
         group_per_texel=group_per_tile,
     )
     return sides, tiles, dilated
