@@ -12,6 +12,7 @@ from conftest import random_frame
 from filter_promises import assert_matches_twin, two_sided_frame
 
 import blurlab as bl
+from blurlab.methods.coverage import FILM_LAYOUT, FILM_VARIANTS
 from blurlab.twins import coverage as ref
 from blurlab.twins import eevee as eevee_twin
 from blurlab.twins import film
@@ -198,7 +199,9 @@ def test_timings_name_every_pass(ctx, rng):
     assert list(result.timings) == ["tile_flatten", "tile_dilate", "gather"]
     assert result.total_ms > 0
     filtered = bl.blur(ctx, random_frame(rng, 64, 36), METHOD, film_filter=0.5)
-    assert list(filtered.timings) == ["tile_flatten", "tile_dilate", "gather", "film"]
+    film_passes = {"direct": ["film"], "separable": ["film_rows", "film_columns"]}
+    passes = film_passes[FILM_LAYOUT.chosen()]
+    assert list(filtered.timings) == ["tile_flatten", "tile_dilate", "gather", *passes]
 
 
 def test_the_film_filter_spreads_a_point_by_its_gaussian(ctx):
@@ -228,14 +231,25 @@ def test_the_film_filter_keeps_a_flat_image_and_the_input_range(ctx, rng):
     assert bl.blur(ctx, flat, METHOD, film_filter=1.0).color == pytest.approx(0.3, abs=1e-6)
 
 
+@pytest.mark.parametrize("variant", list(FILM_VARIANTS))
 @pytest.mark.parametrize("sigma", [0.3, 1.3, 4.0])
-def test_the_film_pass_equals_its_twin_across_group_edges(ctx, rng, sigma):
-    # 37 x 23 cuts the 16 x 16 groups; σ = 4 reaches the largest border (12 px) the shared tile
-    # holds, wider than the image's 23 rows, so every clamp is taken. NaN reads as 0.
+def test_the_film_pass_equals_its_twin_across_group_edges(ctx, rng, variant, sigma):
+    # A still frame: every tile exits early, so the film filter alone acts. 37 x 23 cuts the
+    # 16 x 16 groups; σ = 4 reaches 12 px, wider than the image's 23 rows, so every clamp is
+    # taken. NaN reads as 0.
     color = rng.random((23, 37, 4), dtype=np.float32)
     color[5, 7, 1] = np.nan
-    out = ctx.pooled((23, 37, 4))
-    ctx.shader_pass("passes/film_filter.glsl").run(
-        {"color": ctx.upload(color)}, {"result": out}, {"film_filter": sigma}
-    )
-    np.testing.assert_allclose(out.download(), film.film_filter(color, sigma), atol=2e-6)
+    frame = bl.Frame(color, np.ones((23, 37), np.float32), np.zeros((23, 37, 2), np.float32))
+    with FILM_LAYOUT.use(variant):
+        out = bl.blur(ctx, frame, METHOD, film_filter=sigma)
+    passes = ["film"] if variant == "direct" else ["film_rows", "film_columns"]
+    assert list(out.timings) == ["tile_flatten", "tile_dilate", "gather", *passes]
+    np.testing.assert_allclose(out.color, film.film_filter(color, sigma), atol=2e-6)
+
+
+@pytest.mark.parametrize("variant", list(FILM_VARIANTS))
+def test_every_film_layout_matches_the_twin_after_the_gather(ctx, rng, variant):
+    frame = two_sided_frame(rng, 160, 90)
+    with FILM_LAYOUT.use(variant):
+        result = bl.blur(ctx, frame, METHOD, film_filter=0.5)
+    assert_matches_twin(result, frame)

@@ -15,9 +15,11 @@ from __future__ import annotations
 from ..context import Context
 from ..frame import Frame
 from ..twins import coverage as twin
+from ..twins import film
 from .core import SEED, Method, Param, Pass, register, run_pass
 from .eevee import dilated_tiles
 from .tile_filter import TILE_FILTER_PARAMS
+from .variants import PassVariants
 
 PARAMS = {
     "tile_percent": Param(
@@ -41,6 +43,48 @@ PARAMS = {
 }
 GATHER = Pass("gather", "passes/coverage_gather.glsl", ("samples", "soft_z", "exposure", "seed"))
 FILM = Pass("film", "passes/film_filter.glsl", ("film_filter",))
+FILM_ROWS = Pass("film_rows", "passes/film_filter.glsl", ("film_filter",))
+FILM_COLUMNS = Pass("film_columns", "passes/film_filter.glsl", ("film_filter",))
+# The film filter's layouts (shaders/passes/film_filter.glsl): one pass of (2R + 1)² taps, or
+# two of 2R + 1 (rows, then columns) with an RGBA32F image between them. Same kernel, sums in
+# another order; benchmarks/engines.py --film-variants times both.
+FILM_VARIANTS = {"direct": {}, "separable": {"FILM_SEPARABLE": 1}}
+FILM_LAYOUT = PassVariants("film filter", FILM_VARIANTS, "separable")
+
+
+def _film_filter(ctx: Context, timings: dict, values: dict, gathered):
+    """Step 4 of §17.6 on `gathered`, as FILM_LAYOUT says: the filtered texture."""
+    size = gathered.shape[:2]
+    variant = FILM_LAYOUT.defines()
+    defines = {**variant, "FILM_RADIUS": film.film_radius(values["film_filter"])}
+    filtered = ctx.pooled((*size, 4))
+    if not variant:
+        run_pass(
+            ctx,
+            timings,
+            FILM,
+            PARAMS,
+            values,
+            {"color": gathered},
+            {"result": filtered},
+            defines=defines,
+        )
+        return filtered
+    rows = ctx.pooled((*size, 4))
+    for step, source, target in ((FILM_ROWS, gathered, rows), (FILM_COLUMNS, rows, filtered)):
+        run_pass(
+            ctx,
+            timings,
+            step,
+            PARAMS,
+            values,
+            {"color": source},
+            {"result": target},
+            uniforms={"film_columns": step is FILM_COLUMNS},
+            defines=defines,
+        )
+    ctx.recycle(rows)
+    return filtered
 
 
 def _run_coverage(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
@@ -70,9 +114,7 @@ def _run_coverage(ctx: Context, frame: Frame, inputs: dict, values: dict, backen
     )
     outputs = {"color": gathered, "tiles": tiles, "dilated": dilated}
     if values["film_filter"] > 0:
-        filtered = ctx.pooled((*size, 4))
-        run_pass(ctx, timings, FILM, PARAMS, values, {"color": gathered}, {"result": filtered})
-        outputs.update(color=filtered, unfiltered=gathered)
+        outputs.update(color=_film_filter(ctx, timings, values, gathered), unfiltered=gathered)
     return outputs, timings
 
 
