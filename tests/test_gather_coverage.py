@@ -38,7 +38,9 @@ def test_random_frames_match_reference(ctx, rng, size, params):
     assert_matches_twin(result, frame)
 
 
-@pytest.mark.parametrize("scene", ["teapot_pass", "fan", "skinned_arm", "crossing", "occluder"])
+@pytest.mark.parametrize(
+    "scene", ["teapot_pass", "fan", "skinned_arm", "crossing", "occluder", "moire"]
+)
 def test_rendered_frames_match_reference(ctx, scene):
     frame = ctx.render(bl.scenes.get(scene), (160, 90))
     result = bl.blur(ctx, frame, METHOD)
@@ -53,11 +55,43 @@ def test_tile_passes_are_engine_eevees_at_this_methods_sizes(ctx, rng):
     assert (s, limit) == (9, 36.0)
     prev = eevee_twin.scaled_motion(frame.motion_prev, 0.8)
     next_ = eevee_twin.scaled_motion(frame.motion_next, 0.8)
+    steps = ref.TILE_LENGTH_STEPS
     np.testing.assert_allclose(
-        result.buffers["tiles"], eevee_twin.tile_flatten(prev, next_, s), rtol=1e-6, atol=1e-5
+        result.buffers["tiles"],
+        eevee_twin.tile_flatten(prev, next_, s, steps),
+        rtol=1e-6,
+        atol=1e-5,
     )
-    dilated = eevee_twin.tile_dilate(result.buffers["tiles"].astype(np.float64), s, limit)
+    dilated = eevee_twin.tile_dilate(result.buffers["tiles"].astype(np.float64), s, limit, steps)
     np.testing.assert_allclose(result.buffers["dilated"], dilated, rtol=1e-6, atol=1e-5)
+
+
+def test_near_equal_lengths_tie_and_go_to_the_first_tile(ctx):
+    # The moire gap's cause (docs/engines.md): a turning disc moves many pixels and tiles
+    # almost equally fast, and exact lengths that float rounding orders differently on the GPU
+    # and in the twin picked other tiles, so whole tiles differed. Lengths compare in steps of
+    # 1/16 px: here the later pixel is longer by 1e-5 px (exactly, not only by rounding), and
+    # the first still wins, on the GPU and in the twin.
+    height, width = 16, 16  # 8 px tiles (tile_percent 50), a 2 x 2 grid
+    prev = np.zeros((height, width, 2), np.float32)
+    prev[0, 0] = (3.0, 4.0)  # length 5, first in row order
+    prev[3, 5] = (0.0, 5.00001)  # length 5.00001, later
+    frame = bl.Frame(
+        np.zeros((height, width, 4), np.float32),
+        np.ones((height, width), np.float32),
+        2 * prev,
+        motion_prev=prev,
+        motion_next=prev.copy(),
+    )
+    tiles = bl.blur(ctx, frame, METHOD, tile_percent=50.0).buffers["tiles"]
+    assert tiles[0, 0].tolist() == [3.0, 4.0, 3.0, 4.0]
+    twin_tiles = eevee_twin.tile_flatten(prev, prev, 8, ref.TILE_LENGTH_STEPS)
+    assert twin_tiles[0, 0].tolist() == [3.0, 4.0, 3.0, 4.0]
+    # engine_eevee keeps EEVEE's exact comparison: the longer one wins
+    exact = eevee_twin.tile_flatten(prev, prev, 8)
+    assert exact[0, 0, 1] == np.float32(5.00001)
+    # A length a full step longer still wins
+    assert eevee_twin.pick_key(np.float32(5.0625), 16) > eevee_twin.pick_key(np.float32(5.0), 16)
 
 
 def test_sizes_follow_the_image_height():

@@ -1,6 +1,7 @@
 // The choice both engine_eevee tile passes make (docs/spec.md §17.2 steps 1-2), per side (slot
 // 0: prev, xy of the output; slot 1: next, zw): among the candidates a tile scans in row-major
-// order, the longest, the first in that order among equal lengths, vec4(0) where there is none.
+// order, the longest (by pick_key), the first in that order among equal lengths, vec4(0) where
+// there is none.
 // pick_tiles() runs the including pass's scan in one of two modes (uniform group_per_tile): one
 // invocation per tile scanning all its candidates, or a work group per tile whose invocations
 // share them out, then merge their picks (common/group_pick.glsl: same bits either way). The
@@ -32,6 +33,14 @@ ivec2 tile_extent(ivec2 tile);
 void store_pick(ivec2 tile, vec4 pick);
 
 uniform bool group_per_tile;  // a work group per tile; else one invocation per tile
+uniform float length_steps;  // candidates compare floor(length · length_steps); 0: lengths
+
+// What a candidate's length compares as: with length_steps > 0, lengths within the same
+// 1/length_steps px step tie (and go to the first in row order), so that near-equal lengths,
+// which float rounding orders differently on each device, pick alike.
+float pick_key(float len) {
+    return length_steps > 0.0 ? floor(len * length_steps) : len;
+}
 
 // The pass's main: picks for the tile this invocation (group) serves of a `grid`-sized output.
 void pick_tiles(ivec2 grid) {

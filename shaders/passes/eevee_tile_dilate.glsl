@@ -5,7 +5,7 @@
 // half-motion whose line (from S's center along -prev, or +next, clamped to max_blur, in tile
 // units) meets D's square
 // widened by h + REACH_MARGIN, h = 1/2 - 1/(2 tile_size); the first S in row-major order among
-// equal lengths. Compute, two modes (uniform group_per_tile): a work group per tile whose
+// equal lengths (compared as common/tile_pick.glsl's pick_key says: exact for engine_eevee). Compute, two modes (uniform group_per_tile): a work group per tile whose
 // invocations share the sources in reach, then merge their picks (common/tile_pick.glsl,
 // layouts TILE_PICK_VARIANTS); or one invocation per tile looking at them all. All give the
 // same bits. NumPy twin: blurlab.twins.eevee.tile_dilate.
@@ -37,7 +37,7 @@ void consider(ivec2 tile, ivec2 p, uint index) {
     vec4 v = texelFetch(tiles, source, 0);
     vec2 start = vec2(offset) + 0.5;  // S's center, in D's tile coordinates
     float widen = reach_widening(tile_size);
-    float lp = length(v.xy), ln = length(v.zw);
+    float lp = pick_key(length(v.xy)), ln = pick_key(length(v.zw));
     if (lp > picks[0].len &&
         segment_meets_box(start, -clamp_length(v.xy, max_blur) / float(tile_size), -widen, 1.0 + widen)) {
         offer(0, v.xy, lp, index);

@@ -1,7 +1,8 @@
 #version 450
 // engine_eevee step 1, docs/spec.md §17.2: for each tile_size² tile, the longest prev half-motion
 // E·M_prev (xy) and the longest E·M_next (zw) among its pixels, unclamped; the first in row-major order
-// among equal lengths (the order-independent result of EEVEE's atomic max). Compute, two modes
+// among equal lengths (the order-independent result of EEVEE's atomic max); lengths compared as
+// common/tile_pick.glsl's pick_key says (exact for engine_eevee). Compute, two modes
 // (uniform group_per_tile): a work group per tile whose invocations share its pixels, then
 // merge their picks (common/tile_pick.glsl, layouts TILE_PICK_VARIANTS); or one invocation per
 // tile scanning it all. All give the same bits. NumPy twin:
@@ -24,8 +25,8 @@ void consider(ivec2 tile, ivec2 p, uint index) {
     vec4 m = texelFetch(motion_sides, tile * tile_size + p, 0);
     vec2 prev = scaled_motion(m.xy, exposure);
     vec2 next = scaled_motion(m.zw, exposure);
-    offer(0, prev, length(prev), index);
-    offer(1, next, length(next), index);
+    offer(0, prev, pick_key(length(prev)), index);
+    offer(1, next, pick_key(length(next)), index);
 }
 
 void store_pick(ivec2 tile, vec4 pick) {

@@ -92,7 +92,17 @@ def _run_coverage(ctx: Context, frame: Frame, inputs: dict, values: dict, backen
     s = twin.tile_size(size[0], values["tile_percent"])
     reach_limit = twin.max_blur_px(size[0], values["max_blur"])
     timings: dict = {}
-    sides, tiles, dilated = dilated_tiles(ctx, frame, timings, PARAMS, values, size, s, reach_limit)
+    sides, tiles, dilated = dilated_tiles(
+        ctx,
+        frame,
+        timings,
+        PARAMS,
+        values,
+        size,
+        s,
+        reach_limit,
+        length_steps=twin.TILE_LENGTH_STEPS,
+    )
     gathered = ctx.pooled((*size, 4))
     textures = {
         "color": inputs["color"],

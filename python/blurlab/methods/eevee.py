@@ -84,19 +84,21 @@ def dilated_tiles(
     tile_size,
     max_blur,
     group_per_tile: bool | None = None,
+    length_steps: float = 0.0,
 ):
     """§17.2 steps 1-2 on the frame's two-sided motion for an image of `size` (H, W): tile
     flatten and dilation at `tile_size` px and `max_blur` px (a method's params and values give
     the exposure). `group_per_tile`: both passes run a work group per tile (laid out as
     TILE_PICK_LAYOUT says), else one thread per tile (same bits either way); None: as
-    tile_groups(ctx) says. Returns (two-sided motion texture, tiles, dilated tiles)."""
+    tile_groups(ctx) says. `length_steps`: lengths compare as twins.eevee.pick_key says (0:
+    exactly, as EEVEE does). Returns (two-sided motion texture, tiles, dilated tiles)."""
     height, width = size
     grid = (-(-height // tile_size), -(-width // tile_size), 4)
     tiles, dilated = ctx.pooled(grid), ctx.pooled(grid)
     sides = motion_sides_texture(ctx, frame)
     if group_per_tile is None:
         group_per_tile = tile_groups(ctx)
-    sized = {"tile_size": tile_size, "group_per_tile": group_per_tile}
+    sized = {"tile_size": tile_size, "group_per_tile": group_per_tile, "length_steps": length_steps}
     layout = TILE_PICK_LAYOUT.defines() if group_per_tile else {}
     run_pass(
         ctx,
