@@ -15,6 +15,18 @@ stays out of the ms columns and the chart.
 
 --film-filter σ adds gather_coverage with its Gaussian film filter of σ px (docs/spec.md
 §17.6) as a row of its own, timed with its fourth pass.
+
+--variants times gather_coverage's pass layouts instead of the table, on each scene: every
+tile-pass work-group layout (methods.eevee.TILE_PICK_VARIANTS; a layout applies where the
+tile passes run a work group per tile, on a GPU), every gather variant
+(methods.coverage.GATHER_VARIANTS) and every film-filter layout
+(methods.coverage.FILM_VARIANTS, at σ = --film-filter or 0.5), ms per pass beside
+reconstruct_guertin2014's total, and whether each gives the right result: the tiles of one
+thread per tile bit for bit, the first gather variant's colour bit for bit, the film filter
+within 1e-5 of its twin on the same gather. Each row runs the other passes at their defaults.
+
+    python benchmarks/engines.py --variants --size 1920x1080 --runs 20
+        --scenes teapot_pass,fan,skinned_arm,vehicle,near_plane --json PATH
 """
 
 from __future__ import annotations
@@ -26,7 +38,10 @@ import time
 import pandas as pd
 
 import blurlab as bl
+from blurlab.methods import coverage, eevee
 from blurlab.studies import peers
+from blurlab.twins import coverage as coverage_twin
+from blurlab.twins import film as film_twin
 
 from common import describe, method_runs, open_context, save
 
@@ -88,6 +103,80 @@ def measure(ctx, scene_name: str, size, runs: int, methods, with_eevee: bool) ->
             EEVEE_POST_PROCESS,
         )
         rows += eevee.to_dict("records")
+    return rows
+
+
+def median_passes(ctx, frame, method: str, runs: int, **params) -> tuple[dict, object]:
+    """Median ms of each pass of `method` over `runs` timed runs after one warm-up, and the
+    last run's result."""
+    bl.blur(ctx, frame, method, **params)
+    times: dict[str, list] = {}
+    for _ in range(runs):
+        result = bl.blur(ctx, frame, method, **params)
+        for key, timing in result.timings.items():
+            times.setdefault(key, []).append(timing.ms)
+    return {key: statistics.median(ms) for key, ms in times.items()}, result
+
+
+def coverage_variants(ctx, scene_names, size, runs: int, sigma: float) -> list[dict]:
+    """--variants: one row per scene and layout (see the module's doc)."""
+    method = bl.method(COMBINED[0])
+    rows = []
+    for scene_name in scene_names:
+        frame = ctx.render(bl.scenes.get(scene_name), size)
+        guertin, _ = median_passes(ctx, frame, "reconstruct_guertin2014", runs)
+        values = method.defaults(frame)
+        s = coverage_twin.tile_size(size[1], values["tile_percent"])
+        limit = coverage_twin.max_blur_px(size[1], values["max_blur"])
+        _, tiles, dilated = eevee.dilated_tiles(
+            ctx,
+            frame,
+            {},
+            method.params,
+            values,
+            (size[1], size[0]),
+            s,
+            limit,
+            group_per_tile=False,
+            length_steps=coverage_twin.TILE_LENGTH_STEPS,
+        )
+        one_thread = (tiles.download(), dilated.download())
+        ctx.recycle(tiles, dilated)
+        base = {"scene": scene_name, "guertin_ms": sum(guertin.values())}
+        for variant in eevee.TILE_PICK_VARIANTS:
+            with eevee.TILE_PICK_LAYOUT.use(variant):
+                passes, result = median_passes(ctx, frame, method.name, runs)
+            same = all(
+                (result.buffers[name] == expected).all()
+                for name, expected in zip(("tiles", "dilated"), one_thread, strict=True)
+            )
+            rows.append({**base, "layout": f"tiles {variant}", "passes": passes, "right": same})
+        first_gather = None
+        for variant in coverage.GATHER_VARIANTS:
+            with coverage.GATHER_LAYOUT.use(variant):
+                passes, result = median_passes(ctx, frame, method.name, runs)
+            first_gather = result.color if first_gather is None else first_gather
+            same = bool((result.color == first_gather).all())
+            rows.append({**base, "layout": f"gather {variant}", "passes": passes, "right": same})
+        for variant in coverage.FILM_VARIANTS:
+            with coverage.FILM_LAYOUT.use(variant):
+                passes, result = median_passes(ctx, frame, method.name, runs, film_filter=sigma)
+            expected = film_twin.film_filter(result.buffers["unfiltered"], sigma)
+            error = float(abs(result.color - expected).max())
+            rows.append(
+                {**base, "layout": f"film {variant}", "passes": passes, "right": error <= 1e-5}
+            )
+        print(f"{scene_name}: done", flush=True)
+    print("\n| scene | layout | ms per pass | total ms | / guertin2014 | right |")
+    print("|---|---|---|---|---|---|")
+    for row in rows:
+        row["ms"] = sum(row["passes"].values())
+        row["over_guertin"] = row["ms"] / row["guertin_ms"]
+        passes = ", ".join(f"{key} {ms:.4f}" for key, ms in row["passes"].items())
+        print(
+            f"| {row['scene']} | {row['layout']} | {passes} | {row['ms']:.4f} | "
+            f"{row['over_guertin']:.2f}x | {row['right']} |"
+        )
     return rows
 
 
@@ -155,6 +244,7 @@ def main() -> None:
     parser.add_argument("--methods", default=None, help="comma-separated; default: all")
     parser.add_argument("--peers", choices=peers.PEERS, default=None, help="Blender's EEVEE too")
     parser.add_argument("--film-filter", type=float, default=0.0, help="σ, px; 0: no extra row")
+    parser.add_argument("--variants", action="store_true", help="gather_coverage's layouts only")
     parser.add_argument("--json", default=None)
     parser.add_argument("--markdown", default=None)
     parser.add_argument("--chart", default=None, help="PNG or SVG: median ms against PSNR")
@@ -164,6 +254,17 @@ def main() -> None:
     scenes = (
         args.scenes.split(",") if args.scenes else bl.scenes.names() + bl.scenes.names("failure")
     )
+    if args.variants:
+        record = {**describe(ctx), "size": args.size, "runs": args.runs}
+        sigma = args.film_filter or 0.5
+        record["film_filter"] = sigma
+        # Where this is false (llvmpipe) the tile passes run one thread per tile and the
+        # tile layouts do not apply: their rows then time the same passes.
+        record["tile_groups"] = eevee.tile_groups(ctx)
+        print(f"tile passes with a work group per tile: {record['tile_groups']}")
+        record["rows"] = coverage_variants(ctx, scenes, size, args.runs, sigma)
+        save(args.json, record)
+        return
     names = args.methods.split(",") if args.methods else engine_methods()
     methods = method_runs(names, args.film_filter)
     if args.peers:

@@ -12,7 +12,7 @@ from conftest import random_frame
 from filter_promises import assert_matches_twin, two_sided_frame
 
 import blurlab as bl
-from blurlab.methods.coverage import FILM_LAYOUT, FILM_VARIANTS
+from blurlab.methods.coverage import FILM_LAYOUT, FILM_VARIANTS, GATHER_LAYOUT, GATHER_VARIANTS
 from blurlab.twins import coverage as ref
 from blurlab.twins import eevee as eevee_twin
 from blurlab.twins import film
@@ -287,3 +287,17 @@ def test_every_film_layout_matches_the_twin_after_the_gather(ctx, rng, variant):
     with FILM_LAYOUT.use(variant):
         result = bl.blur(ctx, frame, METHOD, film_filter=0.5)
     assert_matches_twin(result, frame)
+
+
+@pytest.mark.parametrize("scene", ["teapot_pass", "occluder", None])
+def test_every_gather_variant_gives_the_same_bits(ctx, rng, scene):
+    if scene is None:
+        frame = two_sided_frame(rng, 97, 61, reach=40.0)
+    else:
+        frame = ctx.render(bl.scenes.get(scene), (160, 90))
+    outputs = {}
+    for variant in GATHER_VARIANTS:
+        with GATHER_LAYOUT.use(variant):
+            outputs[variant] = bl.blur(ctx, frame, METHOD, samples=6).color
+    first, *others = outputs.values()
+    assert all(other.tobytes() == first.tobytes() for other in others)

@@ -42,6 +42,11 @@ PARAMS = {
     ),
 }
 GATHER = Pass("gather", "passes/coverage_gather.glsl", ("samples", "soft_z", "exposure", "seed"))
+# The gather's variants (shaders/passes/coverage_gather.glsl): every tap reads its colour, or
+# only the taps that weigh on a sum do (fewer reads, a branch). Same bits; benchmarks/engines.py
+# --variants times both.
+GATHER_VARIANTS = {"fetch_all": {}, "skip_unweighted": {"GATHER_SKIP_UNWEIGHTED": 1}}
+GATHER_LAYOUT = PassVariants("gather", GATHER_VARIANTS, "skip_unweighted")
 FILM = Pass("film", "passes/film_filter.glsl", ("film_filter",))
 FILM_ROWS = Pass("film_rows", "passes/film_filter.glsl", ("film_filter",))
 FILM_COLUMNS = Pass("film_columns", "passes/film_filter.glsl", ("film_filter",))
@@ -121,6 +126,7 @@ def _run_coverage(ctx: Context, frame: Frame, inputs: dict, values: dict, backen
         {"result": gathered},
         backend,
         uniforms=uniforms,
+        defines=GATHER_LAYOUT.defines(),
     )
     outputs = {"color": gathered, "tiles": tiles, "dilated": dilated}
     if values["film_filter"] > 0:

@@ -2,7 +2,7 @@
 whose difference is measured and documented), of which benchmarks time every one on a GPU
 and the fastest becomes the default: TileMax's work group (tile_filter.TILE_MAX_VARIANTS),
 engine_eevee's tile passes (eevee.TILE_PICK_VARIANTS), gather_coverage's film filter
-(coverage.FILM_VARIANTS)."""
+(coverage.FILM_VARIANTS), gather_coverage's gather (coverage.GATHER_VARIANTS)."""
 
 from __future__ import annotations
 
