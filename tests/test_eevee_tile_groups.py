@@ -73,7 +73,7 @@ def test_every_group_layout_gives_the_same_bits(
     # Layouts with fewer invocations than a tile's candidates and with more (4 px tiles: 16
     # pixels for up to 256 invocations); the *_subgroup ones reduce in shared memory where the
     # driver lacks subgroup operations (llvmpipe), so on a GPU benchmarks/engines.py
-    # --tile-variants checks their bits again.
+    # --variants checks their bits again.
     frame = tied_frame(rng, *size, scale)
     threads = tile_buffers(ctx, frame, tile_size, max_blur, group_per_tile=False)
     with eevee.TILE_PICK_LAYOUT.use(variant):

@@ -10,17 +10,32 @@
 // in row order: neighbouring invocations read neighbouring texels).
 //
 // Before including it a pass defines (preprocessor only, so that the #extension lines below
-// come before any declaration) PICK_SLOTS and, in compute, PICK_GROUP_SIZE (a power of two, the
-// work group's invocations); PICK_SUBGROUP asks for a subgroup reduction and one barrier instead
-// of the log2(PICK_GROUP_SIZE) barrier steps of the shared-memory one, where the driver has
-// GL_KHR_shader_subgroup_arithmetic and _ballot (without them, the shared-memory one). It defines
-// consider(tile, p, index): offer() the candidate at p of the tile's scan grid.
+// come before any declaration) PICK_SLOTS and, in compute, the work group's layout: PICK_ROWS
+// (N invocations in a row, scan_rows) or PICK_GRID_SIDE (a square, scan_grid), N or the side²
+// a power of two; PICK_SUBGROUP asks for a subgroup reduction and one barrier instead of the
+// log2(invocations) barrier steps of the shared-memory one, where the driver has
+// GL_KHR_shader_subgroup_arithmetic and _ballot (without them, the shared-memory one). The pass
+// defines consider(tile, p, index), which offer()s the candidate at p of the tile's scan grid,
+// and tile_extent(tile), the grid's size; in compute pick_tile() runs the whole choice.
+#ifdef PICK_ROWS
+#define PICK_GROUP_SIZE PICK_ROWS
+#else
+#define PICK_GROUP_SIZE (PICK_GRID_SIDE * PICK_GRID_SIDE)
+#endif
 #if defined(STAGE_COMPUTE) && defined(PICK_SUBGROUP) && \
     defined(GL_KHR_shader_subgroup_arithmetic) && defined(GL_KHR_shader_subgroup_ballot)
 #extension GL_KHR_shader_subgroup_basic : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #extension GL_KHR_shader_subgroup_ballot : require
 #define SUBGROUP_REDUCTION 1
+#endif
+
+#ifdef STAGE_COMPUTE
+#ifdef PICK_ROWS
+layout(local_size_x = PICK_ROWS) in;
+#else
+layout(local_size_x = PICK_GRID_SIDE, local_size_y = PICK_GRID_SIDE) in;
+#endif
 #endif
 
 // A candidate: its vector, the vector's length and its row-order index in the tile's scan.
@@ -50,8 +65,9 @@ bool beats(Candidate a, Candidate b) {
 }
 
 // The including pass's: offers the candidate at p (0 <= p < extent) of `tile`'s scan grid,
-// whose row-order index is `index`.
+// whose row-order index is `index`; and the size of a tile's scan grid.
 void consider(ivec2 tile, ivec2 p, uint index);
+ivec2 tile_extent(ivec2 tile);
 
 // Candidates first + step * (i, j) of an `extent`-sized grid, in row order.
 void scan_grid(ivec2 tile, ivec2 extent, ivec2 first, int step) {
@@ -116,4 +132,28 @@ void reduce_picks() {
     for (int slot = 0; slot < PICK_SLOTS; ++slot) picks[slot] = group_picks[slot][0];
 }
 #endif
+
+uniform bool group_per_tile;  // a work group per tile; else one invocation per tile
+
+// The picks for the tile this invocation (one per tile) or work group (group_per_tile) serves
+// of a `grid`-sized output, in `picks`; returns whether this invocation holds them and stores
+// them (an invocation beyond the grid, or not the group's first, does not).
+bool pick_tile(ivec2 grid, out ivec2 tile) {
+    clear_picks();
+    if (!group_per_tile) {
+        tile = ivec2(gl_GlobalInvocationID.xy);
+        if (any(greaterThanEqual(tile, grid))) return false;
+        scan_grid(tile, tile_extent(tile), ivec2(0), 1);
+        return true;
+    }
+    // group_per_tile is a uniform: the barriers of reduce_picks stay in uniform control flow.
+    tile = ivec2(gl_WorkGroupID.xy);
+#ifdef PICK_ROWS
+    scan_rows(tile, tile_extent(tile), int(gl_LocalInvocationIndex), PICK_ROWS);
+#else
+    scan_grid(tile, tile_extent(tile), ivec2(gl_LocalInvocationID.xy), PICK_GRID_SIDE);
+#endif
+    reduce_picks();
+    return gl_LocalInvocationIndex == 0u;
+}
 #endif

@@ -1,38 +1,29 @@
 // The choice both engine_eevee tile passes make (docs/spec.md §17.2 steps 1-2), per side (slot
 // 0: prev, xy of the output; slot 1: next, zw): among the candidates a tile scans in row-major
 // order, the longest (by pick_key), the first in that order among equal lengths, vec4(0) where
-// there is none.
-// pick_tiles() runs the including pass's scan in one of two modes (uniform group_per_tile): one
-// invocation per tile scanning all its candidates, or a work group per tile whose invocations
-// share them out, then merge their picks (common/group_pick.glsl: same bits either way). The
-// group's layout is a variant (blurlab.methods.eevee.TILE_PICK_VARIANTS, timed by
-// benchmarks/engines.py --tile-variants): by default 16 x 16 invocations each taking every 16th
-// candidate of every 16th row; with TILE_PICK_THREADS N invocations in a row taking candidates
-// t, t + N, ... in row order; TILE_PICK_SUBGROUP adds the subgroup reduction. The including
-// pass defines consider() (common/group_pick.glsl), tile_extent() and store_pick().
+// there is none. pick_tiles() runs it in one of two modes (uniform group_per_tile): one invocation per tile
+// scanning all its candidates, or a work group per tile whose invocations share them out, then
+// merge their picks (common/group_pick.glsl: same bits either way). The group's layout is a
+// variant (blurlab.methods.eevee.TILE_PICK_VARIANTS, timed by benchmarks/engines.py
+// --variants): by default 16 x 16 invocations each taking every 16th candidate of every 16th
+// row; with TILE_PICK_THREADS N invocations in a row taking candidates t, t + N, ... in row
+// order; TILE_PICK_SUBGROUP adds the subgroup reduction. The including pass defines consider()
+// and tile_extent() (common/group_pick.glsl) and store_pick().
 // NumPy twin: blurlab.twins.eevee.
 #define PICK_SLOTS 2
 #ifdef TILE_PICK_THREADS
-#define PICK_GROUP_SIZE TILE_PICK_THREADS
+#define PICK_ROWS TILE_PICK_THREADS
 #else
-#define PICK_GROUP_SIZE 256
+#define PICK_GRID_SIDE 16
 #endif
 #ifdef TILE_PICK_SUBGROUP
 #define PICK_SUBGROUP 1
 #endif
 #include "common/group_pick.glsl"
 
-#ifdef TILE_PICK_THREADS
-layout(local_size_x = TILE_PICK_THREADS) in;
-#else
-layout(local_size_x = 16, local_size_y = 16) in;
-#endif
-
-// What the including pass defines: the extent of a tile's scan grid, and where its pick goes.
-ivec2 tile_extent(ivec2 tile);
+// What the including pass defines besides consider() and tile_extent(): where a pick goes.
 void store_pick(ivec2 tile, vec4 pick);
 
-uniform bool group_per_tile;  // a work group per tile; else one invocation per tile
 uniform float length_steps;  // candidates compare floor(length · length_steps); 0: lengths
 
 // What a candidate's length compares as: with length_steps > 0, lengths within the same
@@ -44,21 +35,6 @@ float pick_key(float len) {
 
 // The pass's main: picks for the tile this invocation (group) serves of a `grid`-sized output.
 void pick_tiles(ivec2 grid) {
-    clear_picks();
-    if (!group_per_tile) {
-        ivec2 tile = ivec2(gl_GlobalInvocationID.xy);
-        if (any(greaterThanEqual(tile, grid))) return;
-        scan_grid(tile, tile_extent(tile), ivec2(0), 1);
-        store_pick(tile, vec4(picks[0].v, picks[1].v));
-        return;
-    }
-    // group_per_tile is a uniform: the barriers of reduce_picks stay in uniform control flow.
-    ivec2 tile = ivec2(gl_WorkGroupID.xy);
-#ifdef TILE_PICK_THREADS
-    scan_rows(tile, tile_extent(tile), int(gl_LocalInvocationIndex), TILE_PICK_THREADS);
-#else
-    scan_grid(tile, tile_extent(tile), ivec2(gl_LocalInvocationID.xy), 16);
-#endif
-    reduce_picks();
-    if (gl_LocalInvocationIndex == 0u) store_pick(tile, vec4(picks[0].v, picks[1].v));
+    ivec2 tile;
+    if (pick_tile(grid, tile)) store_pick(tile, vec4(picks[0].v, picks[1].v));
 }

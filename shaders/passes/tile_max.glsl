@@ -18,9 +18,9 @@
 // NumPy twin: blurlab.twins.mcguire2012.tile_max.
 #define PICK_SLOTS 1
 #ifdef TILE_MAX_THREADS
-#define PICK_GROUP_SIZE TILE_MAX_THREADS
+#define PICK_ROWS TILE_MAX_THREADS
 #else
-#define PICK_GROUP_SIZE 64
+#define PICK_GRID_SIDE 8
 #endif
 #ifdef TILE_MAX_SUBGROUP
 #define PICK_SUBGROUP 1
@@ -45,32 +45,10 @@ ivec2 tile_extent(ivec2 tile) {
 
 #ifdef STAGE_COMPUTE
 layout(binding = 0, rg32f) uniform writeonly image2D tile_max;
-uniform bool group_per_tile;
-
-#ifndef TILE_MAX_THREADS
-layout(local_size_x = 8, local_size_y = 8) in;
-#else
-layout(local_size_x = TILE_MAX_THREADS) in;
-#endif
 
 void main() {
-    clear_picks();
-    if (!group_per_tile) {
-        ivec2 tile = ivec2(gl_GlobalInvocationID.xy);
-        if (any(greaterThanEqual(tile, imageSize(tile_max)))) return;
-        scan_grid(tile, tile_extent(tile), ivec2(0), 1);
-        imageStore(tile_max, tile, vec4(picks[0].v, 0.0, 0.0));
-        return;
-    }
-    // group_per_tile is a uniform: the barriers of reduce_picks stay in uniform control flow.
-    ivec2 tile = ivec2(gl_WorkGroupID.xy);
-#ifdef TILE_MAX_THREADS
-    scan_rows(tile, tile_extent(tile), int(gl_LocalInvocationIndex), TILE_MAX_THREADS);
-#else
-    scan_grid(tile, tile_extent(tile), ivec2(gl_LocalInvocationID.xy), 8);
-#endif
-    reduce_picks();
-    if (gl_LocalInvocationIndex == 0u) imageStore(tile_max, tile, vec4(picks[0].v, 0.0, 0.0));
+    ivec2 tile;
+    if (pick_tile(imageSize(tile_max), tile)) imageStore(tile_max, tile, vec4(picks[0].v, 0.0, 0.0));
 }
 #endif
 

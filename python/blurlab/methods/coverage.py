@@ -52,7 +52,7 @@ FILM_ROWS = Pass("film_rows", "passes/film_filter.glsl", ("film_filter",))
 FILM_COLUMNS = Pass("film_columns", "passes/film_filter.glsl", ("film_filter",))
 # The film filter's layouts (shaders/passes/film_filter.glsl): one pass of (2R + 1)² taps, or
 # two of 2R + 1 (rows, then columns) with an RGBA32F image between them. Same kernel, sums in
-# another order; benchmarks/engines.py --film-variants times both.
+# another order; benchmarks/engines.py --variants times both.
 FILM_VARIANTS = {"direct": {}, "separable": {"FILM_SEPARABLE": 1}}
 FILM_LAYOUT = PassVariants("film filter", FILM_VARIANTS, "separable")
 

@@ -39,7 +39,7 @@ DILATE = Pass("tile_dilate", "passes/eevee_tile_dilate.glsl")
 GATHER = Pass("gather", "passes/eevee_gather.glsl", tuple(PARAMS))
 
 # The layouts of the tile passes' work group per tile (shaders/common/tile_pick.glsl): the
-# #defines of each. All give the same bits; benchmarks/engines.py --tile-variants times them.
+# #defines of each. All give the same bits; benchmarks/engines.py --variants times them.
 TILE_PICK_VARIANTS = {
     "grid_16x16": {},
     "rows_64": {"TILE_PICK_THREADS": 64},
