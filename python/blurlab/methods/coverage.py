@@ -50,10 +50,15 @@ GATHER_LAYOUT = PassVariants("gather", GATHER_VARIANTS, "skip_unweighted")
 FILM = Pass("film", "passes/film_filter.glsl", ("film_filter",))
 FILM_ROWS = Pass("film_rows", "passes/film_filter.glsl", ("film_filter",))
 FILM_COLUMNS = Pass("film_columns", "passes/film_filter.glsl", ("film_filter",))
-# The film filter's layouts (shaders/passes/film_filter.glsl): one pass of (2R + 1)² taps, or
-# two of 2R + 1 (rows, then columns) with an RGBA32F image between them. Same kernel, sums in
-# another order; benchmarks/engines.py --variants times both.
-FILM_VARIANTS = {"direct": {}, "separable": {"FILM_SEPARABLE": 1}}
+# The film filter's layouts (shaders/passes/film_filter.glsl): one pass of (2R + 1)² taps; two
+# of 2R + 1 (rows, then columns) with an RGBA32F image between them; or one whose work group
+# filters its rows in shared memory, then its columns there. Same kernel, sums in another
+# order; benchmarks/engines.py --variants times them.
+FILM_VARIANTS = {
+    "direct": {},
+    "separable": {"FILM_SEPARABLE": 1},
+    "separable_shared": {"FILM_SHARED": 1},
+}
 FILM_LAYOUT = PassVariants("film filter", FILM_VARIANTS, "separable")
 
 
@@ -63,7 +68,7 @@ def _film_filter(ctx: Context, timings: dict, values: dict, gathered):
     variant = FILM_LAYOUT.defines()
     defines = {**variant, "FILM_RADIUS": film.film_radius(values["film_filter"])}
     filtered = ctx.pooled((*size, 4))
-    if not variant:
+    if "FILM_SEPARABLE" not in variant:
         run_pass(
             ctx,
             timings,

@@ -49,10 +49,9 @@ TILE_PICK_VARIANTS = {
     "rows_128_subgroup": {"TILE_PICK_THREADS": 128, "TILE_PICK_SUBGROUP": 1},
     "rows_256_subgroup": {"TILE_PICK_THREADS": 256, "TILE_PICK_SUBGROUP": 1},
 }
-# TileMax's fastest layout on the H100 (tile_filter.DEFAULT_TILE_MAX_VARIANT), until the tile
-# passes' own are timed there; without subgroup operations (llvmpipe) it reduces in shared
-# memory.
-TILE_PICK_LAYOUT = PassVariants("tile pick", TILE_PICK_VARIANTS, "rows_128_subgroup")
+# The layout last timed on the H100 (docs/engines.md: a subgroup merge inside it measured 1-2 µs
+# slower), until the others are timed there.
+TILE_PICK_LAYOUT = PassVariants("tile pick", TILE_PICK_VARIANTS, "grid_16x16")
 
 
 def motion_sides_texture(ctx: Context, frame: Frame):
