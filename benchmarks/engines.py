@@ -180,6 +180,34 @@ def coverage_variants(ctx, scene_names, size, runs: int, sigma: float) -> list[d
     return rows
 
 
+# The passes each kind of layout changes (the film's are every pass named film*).
+LAYOUT_PASSES = {"tiles": ("tile_flatten", "tile_dilate"), "gather": ("gather",), "film": ()}
+
+
+def layout_summary(rows: list[dict]) -> dict:
+    """Per layout, the median over the scenes of the ms of the passes it changes, and whether
+    it was right on every scene; per kind, the fastest layout that was right everywhere."""
+    summary = {}
+    for row in rows:
+        kind, _ = row["layout"].split(" ", 1)
+        names = LAYOUT_PASSES[kind]
+        ms = sum(t for key, t in row["passes"].items() if key in names or key.startswith(kind))
+        entry = summary.setdefault(row["layout"], {"kind": kind, "ms": [], "right": True})
+        entry["ms"].append(ms)
+        entry["right"] &= row["right"]
+    print("\n| layout | median ms of its passes | right on every scene |")
+    print("|---|---|---|")
+    fastest = {}
+    for layout, entry in summary.items():
+        entry["median_ms"] = statistics.median(entry.pop("ms"))
+        print(f"| {layout} | {entry['median_ms']:.4f} | {entry['right']} |")
+        best = fastest.get(entry["kind"])
+        if entry["right"] and (best is None or entry["median_ms"] < summary[best]["median_ms"]):
+            fastest[entry["kind"]] = layout
+    print("fastest right layouts: " + ", ".join(fastest.values()))
+    return {"layouts": summary, "fastest": fastest}
+
+
 def markdown(table: pd.DataFrame) -> str:
     """One row per scene: PSNR / SSIM / FLIP per method, then the median PSNR and ms per method;
     with EEVEE, the medians over the scenes it renders and how many of them each method wins."""
@@ -263,6 +291,7 @@ def main() -> None:
         record["tile_groups"] = eevee.tile_groups(ctx)
         print(f"tile passes with a work group per tile: {record['tile_groups']}")
         record["rows"] = coverage_variants(ctx, scenes, size, args.runs, sigma)
+        record["summary"] = layout_summary(record["rows"])
         save(args.json, record)
         return
     names = args.methods.split(",") if args.methods else engine_methods()
