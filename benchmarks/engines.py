@@ -24,6 +24,8 @@ tile passes run a work group per tile, on a GPU), every gather variant
 reconstruct_guertin2014's total, and whether each gives the right result: the tiles of one
 thread per tile bit for bit, the first gather variant's colour bit for bit, the film filter
 within 1e-5 of its twin on the same gather. Each row runs the other passes at their defaults.
+Then the fastest right layout of each kind (median over the scenes) together: issue 17's time
+goal, gather_coverage's total without and with the film filter over guertin2014's.
 
     python benchmarks/engines.py --variants --size 1920x1080 --runs 20
         --scenes teapot_pass,fan,skinned_arm,vehicle,near_plane --json PATH
@@ -32,6 +34,7 @@ within 1e-5 of its twin on the same gather. Each row runs the other passes at th
 from __future__ import annotations
 
 import argparse
+import contextlib
 import statistics
 import time
 
@@ -208,6 +211,48 @@ def layout_summary(rows: list[dict]) -> dict:
     return {"layouts": summary, "fastest": fastest}
 
 
+LAYOUTS = {
+    "tiles": eevee.TILE_PICK_LAYOUT,
+    "gather": coverage.GATHER_LAYOUT,
+    "film": coverage.FILM_LAYOUT,
+}
+
+
+def time_goal(ctx, scene_names, size, runs: int, sigma: float, fastest: dict) -> dict:
+    """Issue 17's time goal with the `fastest` layouts together: per scene gather_coverage's
+    total ms without and with the film filter over guertin2014's, timed back to back; the
+    median of the per-scene ratios and the ratio of the medians."""
+    rows = []
+    for scene_name in scene_names:
+        frame = ctx.render(bl.scenes.get(scene_name), size)
+        with contextlib.ExitStack() as stack:
+            for kind, layout in fastest.items():
+                stack.enter_context(LAYOUTS[kind].use(layout.split(" ", 1)[1]))
+            plain, _ = median_passes(ctx, frame, COMBINED[0], runs)
+            filmed, _ = median_passes(ctx, frame, COMBINED[0], runs, film_filter=sigma)
+        guertin, _ = median_passes(ctx, frame, "reconstruct_guertin2014", runs)
+        row = {"scene": scene_name, "guertin_ms": sum(guertin.values())}
+        row["ms"], row["film_ms"] = sum(plain.values()), sum(filmed.values())
+        rows.append(row)
+    goal = {"layouts": fastest, "rows": rows}
+    print(f"\ntime goal with {', '.join(fastest.values())} (film_filter = {sigma:g}):")
+    for key in ("ms", "film_ms"):
+        ratios = [row[key] / row["guertin_ms"] for row in rows]
+        medians = statistics.median(row[key] for row in rows)
+        goal[key] = {
+            "median_of_ratios": statistics.median(ratios),
+            "ratio_of_medians": medians / statistics.median(row["guertin_ms"] for row in rows),
+            "scenes_within_1_5": sum(r <= 1.5 for r in ratios),
+        }
+        label = "with film" if key == "film_ms" else "without film"
+        print(
+            f"  {label}: median per-scene ratio {goal[key]['median_of_ratios']:.2f}x, "
+            f"ratio of medians {goal[key]['ratio_of_medians']:.2f}x, "
+            f"{goal[key]['scenes_within_1_5']} of {len(rows)} scenes within 1.5x"
+        )
+    return goal
+
+
 def markdown(table: pd.DataFrame) -> str:
     """One row per scene: PSNR / SSIM / FLIP per method, then the median PSNR and ms per method;
     with EEVEE, the medians over the scenes it renders and how many of them each method wins."""
@@ -292,6 +337,8 @@ def main() -> None:
         print(f"tile passes with a work group per tile: {record['tile_groups']}")
         record["rows"] = coverage_variants(ctx, scenes, size, args.runs, sigma)
         record["summary"] = layout_summary(record["rows"])
+        fastest = record["summary"]["fastest"]
+        record["goal"] = time_goal(ctx, scenes, size, args.runs, sigma, fastest)
         save(args.json, record)
         return
     names = args.methods.split(",") if args.methods else engine_methods()
