@@ -15,18 +15,36 @@ stays out of the ms columns and the chart.
 
 --film-filter σ adds gather_coverage with its Gaussian film filter of σ px (docs/spec.md
 §17.6) as a row of its own, timed with its fourth pass.
+
+--variants times gather_coverage's pass layouts instead of the table, on each scene: every
+tile-pass work-group layout (methods.eevee.TILE_PICK_VARIANTS; a layout applies where the
+tile passes run a work group per tile, on a GPU), every gather variant
+(methods.coverage.GATHER_VARIANTS) and every film-filter layout
+(methods.coverage.FILM_VARIANTS, at σ = --film-filter or 0.5), ms per pass beside
+reconstruct_guertin2014's total, and whether each gives the right result: the tiles of one
+thread per tile bit for bit, the first gather variant's colour bit for bit, the film filter
+within 1e-5 of its twin on the same gather. Each row runs the other passes at their defaults.
+Then the fastest right layout of each kind (median over the scenes) together: issue 17's time
+goal, gather_coverage's total without and with the film filter over guertin2014's.
+
+    python benchmarks/engines.py --variants --size 1920x1080 --runs 20
+        --scenes teapot_pass,fan,skinned_arm,vehicle,near_plane --json PATH
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import statistics
 import time
 
 import pandas as pd
 
 import blurlab as bl
+from blurlab.methods import coverage, eevee
 from blurlab.studies import peers
+from blurlab.twins import coverage as coverage_twin
+from blurlab.twins import film as film_twin
 
 from common import describe, method_runs, open_context, save
 
@@ -89,6 +107,153 @@ def measure(ctx, scene_name: str, size, runs: int, methods, with_eevee: bool) ->
         )
         rows += eevee.to_dict("records")
     return rows
+
+
+def median_passes(ctx, frame, method: str, runs: int, **params) -> tuple[dict, object]:
+    """Median ms of each pass of `method` over `runs` timed runs after one warm-up, and the
+    last run's result."""
+    bl.blur(ctx, frame, method, **params)
+    times: dict[str, list] = {}
+    for _ in range(runs):
+        result = bl.blur(ctx, frame, method, **params)
+        for key, timing in result.timings.items():
+            times.setdefault(key, []).append(timing.ms)
+    return {key: statistics.median(ms) for key, ms in times.items()}, result
+
+
+def coverage_variants(ctx, scene_names, size, runs: int, sigma: float) -> list[dict]:
+    """--variants: one row per scene and layout (see the module's doc)."""
+    method = bl.method(COMBINED[0])
+    rows = []
+    for scene_name in scene_names:
+        frame = ctx.render(bl.scenes.get(scene_name), size)
+        guertin, _ = median_passes(ctx, frame, "reconstruct_guertin2014", runs)
+        values = method.defaults(frame)
+        s = coverage_twin.tile_size(size[1], values["tile_percent"])
+        limit = coverage_twin.max_blur_px(size[1], values["max_blur"])
+        _, tiles, dilated = eevee.dilated_tiles(
+            ctx,
+            frame,
+            {},
+            method.params,
+            values,
+            (size[1], size[0]),
+            s,
+            limit,
+            group_per_tile=False,
+            length_steps=coverage_twin.TILE_LENGTH_STEPS,
+        )
+        one_thread = (tiles.download(), dilated.download())
+        ctx.recycle(tiles, dilated)
+        base = {"scene": scene_name, "guertin_ms": sum(guertin.values())}
+        for variant in eevee.TILE_PICK_VARIANTS:
+            with eevee.TILE_PICK_LAYOUT.use(variant):
+                passes, result = median_passes(ctx, frame, method.name, runs)
+            same = all(
+                (result.buffers[name] == expected).all()
+                for name, expected in zip(("tiles", "dilated"), one_thread, strict=True)
+            )
+            rows.append({**base, "layout": f"tiles {variant}", "passes": passes, "right": same})
+        first_gather = None
+        for variant in coverage.GATHER_VARIANTS:
+            with coverage.GATHER_LAYOUT.use(variant):
+                passes, result = median_passes(ctx, frame, method.name, runs)
+            first_gather = result.color if first_gather is None else first_gather
+            same = bool((result.color == first_gather).all())
+            rows.append({**base, "layout": f"gather {variant}", "passes": passes, "right": same})
+        filmed = []
+        for variant in coverage.FILM_VARIANTS:
+            with coverage.FILM_LAYOUT.use(variant):
+                passes, result = median_passes(ctx, frame, method.name, runs, film_filter=sigma)
+            rows.append({**base, "layout": f"film {variant}", "passes": passes})
+            filmed.append((rows[-1], result))
+        # The twin after every timing: seconds of NumPy would leave the GPU idle, and an idle
+        # GPU clocks down (the docstring of measure).
+        for row, result in filmed:
+            expected = film_twin.film_filter(result.buffers["unfiltered"], sigma)
+            row["right"] = float(abs(result.color - expected).max()) <= 1e-5
+        print(f"{scene_name}: done", flush=True)
+    print("\n| scene | layout | ms per pass | total ms | / guertin2014 | right |")
+    print("|---|---|---|---|---|---|")
+    for row in rows:
+        row["ms"] = sum(row["passes"].values())
+        row["over_guertin"] = row["ms"] / row["guertin_ms"]
+        passes = ", ".join(f"{key} {ms:.4f}" for key, ms in row["passes"].items())
+        print(
+            f"| {row['scene']} | {row['layout']} | {passes} | {row['ms']:.4f} | "
+            f"{row['over_guertin']:.2f}x | {row['right']} |"
+        )
+    return rows
+
+
+# The passes each kind of layout changes (the film's are every pass named film*).
+LAYOUT_PASSES = {"tiles": ("tile_flatten", "tile_dilate"), "gather": ("gather",), "film": ()}
+
+
+def layout_summary(rows: list[dict]) -> dict:
+    """Per layout, the median over the scenes of the ms of the passes it changes, and whether
+    it was right on every scene; per kind, the fastest layout that was right everywhere."""
+    summary = {}
+    for row in rows:
+        kind, _ = row["layout"].split(" ", 1)
+        names = LAYOUT_PASSES[kind]
+        ms = sum(t for key, t in row["passes"].items() if key in names or key.startswith(kind))
+        entry = summary.setdefault(row["layout"], {"kind": kind, "ms": [], "right": True})
+        entry["ms"].append(ms)
+        entry["right"] &= row["right"]
+    print("\n| layout | median ms of its passes | right on every scene |")
+    print("|---|---|---|")
+    fastest = {}
+    for layout, entry in summary.items():
+        entry["median_ms"] = statistics.median(entry.pop("ms"))
+        print(f"| {layout} | {entry['median_ms']:.4f} | {entry['right']} |")
+        best = fastest.get(entry["kind"])
+        if entry["right"] and (best is None or entry["median_ms"] < summary[best]["median_ms"]):
+            fastest[entry["kind"]] = layout
+    print("fastest right layouts: " + ", ".join(fastest.values()))
+    return {"layouts": summary, "fastest": fastest}
+
+
+LAYOUTS = {
+    "tiles": eevee.TILE_PICK_LAYOUT,
+    "gather": coverage.GATHER_LAYOUT,
+    "film": coverage.FILM_LAYOUT,
+}
+
+
+def time_goal(ctx, scene_names, size, runs: int, sigma: float, fastest: dict) -> dict:
+    """Issue 17's time goal with the `fastest` layouts together: per scene gather_coverage's
+    total ms without and with the film filter over guertin2014's, timed back to back; the
+    median of the per-scene ratios and the ratio of the medians."""
+    rows = []
+    for scene_name in scene_names:
+        frame = ctx.render(bl.scenes.get(scene_name), size)
+        with contextlib.ExitStack() as stack:
+            for kind, layout in fastest.items():
+                stack.enter_context(LAYOUTS[kind].use(layout.split(" ", 1)[1]))
+            plain, _ = median_passes(ctx, frame, COMBINED[0], runs)
+            filmed, _ = median_passes(ctx, frame, COMBINED[0], runs, film_filter=sigma)
+        guertin, _ = median_passes(ctx, frame, "reconstruct_guertin2014", runs)
+        row = {"scene": scene_name, "guertin_ms": sum(guertin.values())}
+        row["ms"], row["film_ms"] = sum(plain.values()), sum(filmed.values())
+        rows.append(row)
+    goal = {"layouts": fastest, "rows": rows}
+    print(f"\ntime goal with {', '.join(fastest.values())} (film_filter = {sigma:g}):")
+    for key in ("ms", "film_ms"):
+        ratios = [row[key] / row["guertin_ms"] for row in rows]
+        medians = statistics.median(row[key] for row in rows)
+        goal[key] = {
+            "median_of_ratios": statistics.median(ratios),
+            "ratio_of_medians": medians / statistics.median(row["guertin_ms"] for row in rows),
+            "scenes_within_1_5": sum(r <= 1.5 for r in ratios),
+        }
+        label = "with film" if key == "film_ms" else "without film"
+        print(
+            f"  {label}: median per-scene ratio {goal[key]['median_of_ratios']:.2f}x, "
+            f"ratio of medians {goal[key]['ratio_of_medians']:.2f}x, "
+            f"{goal[key]['scenes_within_1_5']} of {len(rows)} scenes within 1.5x"
+        )
+    return goal
 
 
 def markdown(table: pd.DataFrame) -> str:
@@ -155,6 +320,7 @@ def main() -> None:
     parser.add_argument("--methods", default=None, help="comma-separated; default: all")
     parser.add_argument("--peers", choices=peers.PEERS, default=None, help="Blender's EEVEE too")
     parser.add_argument("--film-filter", type=float, default=0.0, help="σ, px; 0: no extra row")
+    parser.add_argument("--variants", action="store_true", help="gather_coverage's layouts only")
     parser.add_argument("--json", default=None)
     parser.add_argument("--markdown", default=None)
     parser.add_argument("--chart", default=None, help="PNG or SVG: median ms against PSNR")
@@ -164,6 +330,20 @@ def main() -> None:
     scenes = (
         args.scenes.split(",") if args.scenes else bl.scenes.names() + bl.scenes.names("failure")
     )
+    if args.variants:
+        record = {**describe(ctx), "size": args.size, "runs": args.runs}
+        sigma = args.film_filter or 0.5
+        record["film_filter"] = sigma
+        # Where this is false (llvmpipe) the tile passes run one thread per tile and the
+        # tile layouts do not apply: their rows then time the same passes.
+        record["tile_groups"] = eevee.tile_groups(ctx)
+        print(f"tile passes with a work group per tile: {record['tile_groups']}")
+        record["rows"] = coverage_variants(ctx, scenes, size, args.runs, sigma)
+        record["summary"] = layout_summary(record["rows"])
+        fastest = record["summary"]["fastest"]
+        record["goal"] = time_goal(ctx, scenes, size, args.runs, sigma, fastest)
+        save(args.json, record)
+        return
     names = args.methods.split(",") if args.methods else engine_methods()
     methods = method_runs(names, args.film_filter)
     if args.peers:

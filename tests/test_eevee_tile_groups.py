@@ -65,6 +65,28 @@ def test_both_modes_give_the_same_bits(ctx, rng, size, tile_size, max_blur, scal
         assert one.tobytes() == other.tobytes()
 
 
+@pytest.mark.parametrize("variant", list(eevee.TILE_PICK_VARIANTS))
+@pytest.mark.parametrize(("size", "tile_size", "max_blur", "scale"), CASES)
+def test_every_group_layout_gives_the_same_bits(
+    ctx, rng, variant, size, tile_size, max_blur, scale
+):
+    # Layouts with fewer invocations than a tile's candidates and with more (4 px tiles: 16
+    # pixels for up to 256 invocations); the *_subgroup ones reduce in shared memory where the
+    # driver lacks subgroup operations (llvmpipe), so on a GPU benchmarks/engines.py
+    # --variants checks their bits again.
+    frame = tied_frame(rng, *size, scale)
+    threads = tile_buffers(ctx, frame, tile_size, max_blur, group_per_tile=False)
+    with eevee.TILE_PICK_LAYOUT.use(variant):
+        groups = tile_buffers(ctx, frame, tile_size, max_blur, group_per_tile=True)
+    for one, other in zip(threads, groups, strict=True):
+        assert one.tobytes() == other.tobytes()
+
+
+def test_an_unknown_layout_is_refused():
+    with pytest.raises(ValueError, match="rows_128_subgroup"), eevee.TILE_PICK_LAYOUT.use("rows_7"):
+        pass
+
+
 @pytest.mark.parametrize("group_per_tile", [False, True])
 @pytest.mark.parametrize(("size", "tile_size", "max_blur", "scale"), CASES)
 def test_ties_go_to_the_first_candidate_as_the_twin_says(

@@ -12,6 +12,7 @@ from conftest import random_frame
 from filter_promises import assert_matches_twin, two_sided_frame
 
 import blurlab as bl
+from blurlab.methods.coverage import FILM_LAYOUT, FILM_VARIANTS, GATHER_LAYOUT, GATHER_VARIANTS
 from blurlab.twins import coverage as ref
 from blurlab.twins import eevee as eevee_twin
 from blurlab.twins import film
@@ -37,7 +38,9 @@ def test_random_frames_match_reference(ctx, rng, size, params):
     assert_matches_twin(result, frame)
 
 
-@pytest.mark.parametrize("scene", ["teapot_pass", "fan", "skinned_arm", "crossing", "occluder"])
+@pytest.mark.parametrize(
+    "scene", ["teapot_pass", "fan", "skinned_arm", "crossing", "occluder", "moire"]
+)
 def test_rendered_frames_match_reference(ctx, scene):
     frame = ctx.render(bl.scenes.get(scene), (160, 90))
     result = bl.blur(ctx, frame, METHOD)
@@ -52,11 +55,43 @@ def test_tile_passes_are_engine_eevees_at_this_methods_sizes(ctx, rng):
     assert (s, limit) == (9, 36.0)
     prev = eevee_twin.scaled_motion(frame.motion_prev, 0.8)
     next_ = eevee_twin.scaled_motion(frame.motion_next, 0.8)
+    steps = ref.TILE_LENGTH_STEPS
     np.testing.assert_allclose(
-        result.buffers["tiles"], eevee_twin.tile_flatten(prev, next_, s), rtol=1e-6, atol=1e-5
+        result.buffers["tiles"],
+        eevee_twin.tile_flatten(prev, next_, s, steps),
+        rtol=1e-6,
+        atol=1e-5,
     )
-    dilated = eevee_twin.tile_dilate(result.buffers["tiles"].astype(np.float64), s, limit)
+    dilated = eevee_twin.tile_dilate(result.buffers["tiles"].astype(np.float64), s, limit, steps)
     np.testing.assert_allclose(result.buffers["dilated"], dilated, rtol=1e-6, atol=1e-5)
+
+
+def test_near_equal_lengths_tie_and_go_to_the_first_tile(ctx):
+    # The moire gap's cause (docs/engines.md): a turning disc moves many pixels and tiles
+    # almost equally fast, and exact lengths that float rounding orders differently on the GPU
+    # and in the twin picked other tiles, so whole tiles differed. Lengths compare in steps of
+    # 1/16 px: here the later pixel is longer by 1e-5 px (exactly, not only by rounding), and
+    # the first still wins, on the GPU and in the twin.
+    height, width = 16, 16  # 8 px tiles (tile_percent 50), a 2 x 2 grid
+    prev = np.zeros((height, width, 2), np.float32)
+    prev[0, 0] = (3.0, 4.0)  # length 5, first in row order
+    prev[3, 5] = (0.0, 5.00001)  # length 5.00001, later
+    frame = bl.Frame(
+        np.zeros((height, width, 4), np.float32),
+        np.ones((height, width), np.float32),
+        2 * prev,
+        motion_prev=prev,
+        motion_next=prev.copy(),
+    )
+    tiles = bl.blur(ctx, frame, METHOD, tile_percent=50.0).buffers["tiles"]
+    assert tiles[0, 0].tolist() == [3.0, 4.0, 3.0, 4.0]
+    twin_tiles = eevee_twin.tile_flatten(prev, prev, 8, ref.TILE_LENGTH_STEPS)
+    assert twin_tiles[0, 0].tolist() == [3.0, 4.0, 3.0, 4.0]
+    # engine_eevee keeps EEVEE's exact comparison: the longer one wins
+    exact = eevee_twin.tile_flatten(prev, prev, 8)
+    assert exact[0, 0, 1] == np.float32(5.00001)
+    # A length a full step longer still wins
+    assert eevee_twin.pick_key(np.float32(5.0625), 16) > eevee_twin.pick_key(np.float32(5.0), 16)
 
 
 def test_sizes_follow_the_image_height():
@@ -198,7 +233,9 @@ def test_timings_name_every_pass(ctx, rng):
     assert list(result.timings) == ["tile_flatten", "tile_dilate", "gather"]
     assert result.total_ms > 0
     filtered = bl.blur(ctx, random_frame(rng, 64, 36), METHOD, film_filter=0.5)
-    assert list(filtered.timings) == ["tile_flatten", "tile_dilate", "gather", "film"]
+    two_passes = FILM_LAYOUT.chosen() == "separable"
+    passes = ["film_rows", "film_columns"] if two_passes else ["film"]
+    assert list(filtered.timings) == ["tile_flatten", "tile_dilate", "gather", *passes]
 
 
 def test_the_film_filter_spreads_a_point_by_its_gaussian(ctx):
@@ -228,14 +265,39 @@ def test_the_film_filter_keeps_a_flat_image_and_the_input_range(ctx, rng):
     assert bl.blur(ctx, flat, METHOD, film_filter=1.0).color == pytest.approx(0.3, abs=1e-6)
 
 
+@pytest.mark.parametrize("variant", list(FILM_VARIANTS))
 @pytest.mark.parametrize("sigma", [0.3, 1.3, 4.0])
-def test_the_film_pass_equals_its_twin_across_group_edges(ctx, rng, sigma):
-    # 37 x 23 cuts the 16 x 16 groups; σ = 4 reaches the largest border (12 px) the shared tile
-    # holds, wider than the image's 23 rows, so every clamp is taken. NaN reads as 0.
+def test_the_film_pass_equals_its_twin_across_group_edges(ctx, rng, variant, sigma):
+    # A still frame: every tile exits early, so the film filter alone acts. 37 x 23 cuts the
+    # 16 x 16 groups (separable_shared's aprons reach past the image on every side); σ = 4
+    # reaches 12 px, wider than the image's 23 rows, so every clamp is taken. NaN reads as 0.
     color = rng.random((23, 37, 4), dtype=np.float32)
     color[5, 7, 1] = np.nan
-    out = ctx.pooled((23, 37, 4))
-    ctx.shader_pass("passes/film_filter.glsl").run(
-        {"color": ctx.upload(color)}, {"result": out}, {"film_filter": sigma}
-    )
-    np.testing.assert_allclose(out.download(), film.film_filter(color, sigma), atol=2e-6)
+    frame = bl.Frame(color, np.ones((23, 37), np.float32), np.zeros((23, 37, 2), np.float32))
+    with FILM_LAYOUT.use(variant):
+        out = bl.blur(ctx, frame, METHOD, film_filter=sigma)
+    passes = ["film_rows", "film_columns"] if variant == "separable" else ["film"]
+    assert list(out.timings) == ["tile_flatten", "tile_dilate", "gather", *passes]
+    np.testing.assert_allclose(out.color, film.film_filter(color, sigma), atol=2e-6)
+
+
+@pytest.mark.parametrize("variant", list(FILM_VARIANTS))
+def test_every_film_layout_matches_the_twin_after_the_gather(ctx, rng, variant):
+    frame = two_sided_frame(rng, 160, 90)
+    with FILM_LAYOUT.use(variant):
+        result = bl.blur(ctx, frame, METHOD, film_filter=0.5)
+    assert_matches_twin(result, frame)
+
+
+@pytest.mark.parametrize("scene", ["teapot_pass", "occluder", None])
+def test_every_gather_variant_gives_the_same_bits(ctx, rng, scene):
+    if scene is None:
+        frame = two_sided_frame(rng, 97, 61, reach=40.0)
+    else:
+        frame = ctx.render(bl.scenes.get(scene), (160, 90))
+    outputs = {}
+    for variant in GATHER_VARIANTS:
+        with GATHER_LAYOUT.use(variant):
+            outputs[variant] = bl.blur(ctx, frame, METHOD, samples=6).color
+    first, *others = outputs.values()
+    assert all(other.tobytes() == first.tobytes() for other in others)

@@ -5,7 +5,9 @@
 // spends on X), the families' weights divided by 1 + their overlap. Each side is its coverage
 // times the covering color plus the rest times what lies behind X: the mean of the taps behind
 // X that do not reach it where X moves, X itself where it is still. Compute, one invocation
-// per pixel. NumPy twin: blurlab.twins.coverage.gather_coverage.
+// per pixel. Variant (blurlab.methods.coverage.GATHER_VARIANTS): GATHER_SKIP_UNWEIGHTED reads a
+// tap's colour only where it weighs on a sum; same bits.
+// NumPy twin: blurlab.twins.coverage.gather_coverage.
 #include "common/eevee.glsl"
 #include "common/mcguire2012.glsl"
 #include "common/random.glsl"
@@ -112,18 +114,23 @@ vec4 gather_at(ivec2 x) {
             float speed = length(vy);
             float moving = clamp(speed - 0.5, 0.0, 1.0);
             float zy = sanitize_depth(texelFetch(depth, y, 0).x);
-            vec4 cy = sanitize_color(texelFetch(color, y, 0));
             float reaches = trail_reaches(vec2(y - x), vy, 0.5 * (halves.zw - halves.xy));
             float a = soft_depth_compare(zx, zy, front_extent) * reaches * moving * spacing
                     / max(speed, 1.0);
-            cover += a;
-            cover_sums[side] += a * cy;
             // A still tap in front of a moving X hides the part of X's line behind it.
             float nearer = 1.0 - soft_depth_compare(zy, zx, soft_z);
             spaced += spacing;
             seen += spacing * (1.0 - (x_moves ? 1.0 : 0.0) * nearer * (1.0 - moving));
             float b = (1.0 - nearer) * (1.0 - soft_depth_compare(zx, zy, soft_z)) * (1.0 - reaches);
+            cover += a;
             behind_weight += b;
+#ifdef GATHER_SKIP_UNWEIGHTED
+            // A tap of weight 0 on both sums adds +-0 to them (its colour is finite): same bits
+            // without reading it.
+            if (a == 0.0 && b == 0.0) continue;
+#endif
+            vec4 cy = sanitize_color(texelFetch(color, y, 0));
+            cover_sums[side] += a * cy;
             behind_sum += b * cy;
         }
         covers[side] = cover;

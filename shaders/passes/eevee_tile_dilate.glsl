@@ -5,13 +5,13 @@
 // half-motion whose line (from S's center along -prev, or +next, clamped to max_blur, in tile
 // units) meets D's square
 // widened by h + REACH_MARGIN, h = 1/2 - 1/(2 tile_size); the first S in row-major order among
-// equal lengths. Compute, two modes (uniform group_per_tile): one 16 x 16 work group per tile,
-// each invocation looking at every 16th S of every 16th row of the reach, the picks merged in
-// shared memory (common/tile_pick.glsl); or one invocation per tile looking at them all. Both
-// give the same bits. NumPy twin: blurlab.twins.eevee.tile_dilate.
+// equal lengths (compared as common/tile_pick.glsl's pick_key says: exact for engine_eevee). Compute, two modes (uniform group_per_tile): a work group per tile whose
+// invocations share the sources in reach, then merge their picks (common/tile_pick.glsl,
+// layouts TILE_PICK_VARIANTS); or one invocation per tile looking at them all. All give the
+// same bits. NumPy twin: blurlab.twins.eevee.tile_dilate.
+#include "common/tile_pick.glsl"
 #include "common/eevee.glsl"
 #include "common/tile_reach.glsl"
-#include "common/tile_pick.glsl"
 
 layout(binding = 0) uniform sampler2D tiles;
 uniform int tile_size;
@@ -19,30 +19,32 @@ uniform float max_blur;
 
 layout(binding = 0, rgba32f) uniform writeonly image2D dilated;
 
-// Offers the sources at offsets first + step * (i, j) from -radius to radius, in row-major order.
-void scan(ivec2 tile, ivec2 first, int step) {
+// How many tiles away a source can reach (the same for every tile).
+int reach_radius() {
     ivec2 grid = textureSize(tiles, 0);
-    int radius = min(int(ceil(max_blur / float(tile_size))) + 1, max(grid.x, grid.y));
+    return min(int(ceil(max_blur / float(tile_size))) + 1, max(grid.x, grid.y));
+}
+
+// The sources' offsets from -radius to radius on each axis, as a scan grid.
+ivec2 tile_extent(ivec2 tile) {
+    return ivec2(2 * reach_radius() + 1);
+}
+
+void consider(ivec2 tile, ivec2 p, uint index) {
+    ivec2 offset = p - reach_radius();
+    ivec2 source = tile + offset;
+    if (any(lessThan(source, ivec2(0))) || any(greaterThanEqual(source, textureSize(tiles, 0)))) return;
+    vec4 v = texelFetch(tiles, source, 0);
+    vec2 start = vec2(offset) + 0.5;  // S's center, in D's tile coordinates
     float widen = reach_widening(tile_size);
-    for (int oy = -radius + first.y; oy <= radius; oy += step) {
-        for (int ox = -radius + first.x; ox <= radius; ox += step) {
-            ivec2 source = tile + ivec2(ox, oy);
-            if (any(lessThan(source, ivec2(0))) || any(greaterThanEqual(source, grid))) continue;
-            vec4 v = texelFetch(tiles, source, 0);
-            vec2 start = vec2(ox, oy) + 0.5;  // S's center, in D's tile coordinates
-            float lp = length(v.xy), ln = length(v.zw);
-            int index = (oy + radius) * (2 * radius + 1) + (ox + radius);
-            if (lp > picked_length.x &&
-                segment_meets_box(start, -clamp_length(v.xy, max_blur) / float(tile_size), -widen,
-                                  1.0 + widen)) {
-                pick_prev(v.xy, lp, index);
-            }
-            if (ln > picked_length.y &&
-                segment_meets_box(start, clamp_length(v.zw, max_blur) / float(tile_size), -widen,
-                                  1.0 + widen)) {
-                pick_next(v.zw, ln, index);
-            }
-        }
+    float lp = pick_key(length(v.xy)), ln = pick_key(length(v.zw));
+    if (lp > picks[0].len &&
+        segment_meets_box(start, -clamp_length(v.xy, max_blur) / float(tile_size), -widen, 1.0 + widen)) {
+        offer(0, v.xy, lp, index);
+    }
+    if (ln > picks[1].len &&
+        segment_meets_box(start, clamp_length(v.zw, max_blur) / float(tile_size), -widen, 1.0 + widen)) {
+        offer(1, v.zw, ln, index);
     }
 }
 

@@ -15,9 +15,11 @@ from __future__ import annotations
 from ..context import Context
 from ..frame import Frame
 from ..twins import coverage as twin
+from ..twins import film
 from .core import SEED, Method, Param, Pass, register, run_pass
 from .eevee import dilated_tiles
 from .tile_filter import TILE_FILTER_PARAMS
+from .variants import PassVariants
 
 PARAMS = {
     "tile_percent": Param(
@@ -40,7 +42,59 @@ PARAMS = {
     ),
 }
 GATHER = Pass("gather", "passes/coverage_gather.glsl", ("samples", "soft_z", "exposure", "seed"))
+# The gather's variants (shaders/passes/coverage_gather.glsl): every tap reads its colour, or
+# only the taps that weigh on a sum do (fewer reads, a branch). Same bits; benchmarks/engines.py
+# --variants times both.
+GATHER_VARIANTS = {"fetch_all": {}, "skip_unweighted": {"GATHER_SKIP_UNWEIGHTED": 1}}
+GATHER_LAYOUT = PassVariants("gather", GATHER_VARIANTS, "skip_unweighted")
 FILM = Pass("film", "passes/film_filter.glsl", ("film_filter",))
+FILM_ROWS = Pass("film_rows", "passes/film_filter.glsl", ("film_filter",))
+FILM_COLUMNS = Pass("film_columns", "passes/film_filter.glsl", ("film_filter",))
+# The film filter's layouts (shaders/passes/film_filter.glsl): one pass of (2R + 1)² taps; two
+# of 2R + 1 (rows, then columns) with an RGBA32F image between them; or one whose work group
+# filters its rows in shared memory, then its columns there. Same kernel, sums in another
+# order; benchmarks/engines.py --variants times them.
+FILM_VARIANTS = {
+    "direct": {},
+    "separable": {"FILM_SEPARABLE": 1},
+    "separable_shared": {"FILM_SHARED": 1},
+}
+FILM_LAYOUT = PassVariants("film filter", FILM_VARIANTS, "separable")
+
+
+def _film_filter(ctx: Context, timings: dict, values: dict, gathered):
+    """Step 4 of §17.6 on `gathered`, as FILM_LAYOUT says: the filtered texture."""
+    size = gathered.shape[:2]
+    variant = FILM_LAYOUT.defines()
+    defines = {**variant, "FILM_RADIUS": film.film_radius(values["film_filter"])}
+    filtered = ctx.pooled((*size, 4))
+    if "FILM_SEPARABLE" not in variant:
+        run_pass(
+            ctx,
+            timings,
+            FILM,
+            PARAMS,
+            values,
+            {"color": gathered},
+            {"result": filtered},
+            defines=defines,
+        )
+        return filtered
+    rows = ctx.pooled((*size, 4))
+    for step, source, target in ((FILM_ROWS, gathered, rows), (FILM_COLUMNS, rows, filtered)):
+        run_pass(
+            ctx,
+            timings,
+            step,
+            PARAMS,
+            values,
+            {"color": source},
+            {"result": target},
+            uniforms={"film_columns": step is FILM_COLUMNS},
+            defines=defines,
+        )
+    ctx.recycle(rows)
+    return filtered
 
 
 def _run_coverage(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
@@ -48,7 +102,17 @@ def _run_coverage(ctx: Context, frame: Frame, inputs: dict, values: dict, backen
     s = twin.tile_size(size[0], values["tile_percent"])
     reach_limit = twin.max_blur_px(size[0], values["max_blur"])
     timings: dict = {}
-    sides, tiles, dilated = dilated_tiles(ctx, frame, timings, PARAMS, values, size, s, reach_limit)
+    sides, tiles, dilated = dilated_tiles(
+        ctx,
+        frame,
+        timings,
+        PARAMS,
+        values,
+        size,
+        s,
+        reach_limit,
+        length_steps=twin.TILE_LENGTH_STEPS,
+    )
     gathered = ctx.pooled((*size, 4))
     textures = {
         "color": inputs["color"],
@@ -67,12 +131,11 @@ def _run_coverage(ctx: Context, frame: Frame, inputs: dict, values: dict, backen
         {"result": gathered},
         backend,
         uniforms=uniforms,
+        defines=GATHER_LAYOUT.defines(),
     )
     outputs = {"color": gathered, "tiles": tiles, "dilated": dilated}
     if values["film_filter"] > 0:
-        filtered = ctx.pooled((*size, 4))
-        run_pass(ctx, timings, FILM, PARAMS, values, {"color": gathered}, {"result": filtered})
-        outputs.update(color=filtered, unfiltered=gathered)
+        outputs.update(color=_film_filter(ctx, timings, values, gathered), unfiltered=gathered)
     return outputs, timings
 
 

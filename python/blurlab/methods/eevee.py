@@ -20,6 +20,7 @@ from ..frame import Frame
 from ..twins import eevee as twin
 from .core import SEED, Method, Param, Pass, register, run_pass
 from .tile_filter import TILE_FILTER_PARAMS
+from .variants import PassVariants
 
 PARAMS = {
     "tile_size": Param(32, int, "tile side, pixels", 4, 256),
@@ -36,6 +37,21 @@ PARAMS = {
 FLATTEN = Pass("tile_flatten", "passes/eevee_tile_flatten.glsl", ("exposure",))
 DILATE = Pass("tile_dilate", "passes/eevee_tile_dilate.glsl")
 GATHER = Pass("gather", "passes/eevee_gather.glsl", tuple(PARAMS))
+
+# The layouts of the tile passes' work group per tile (shaders/common/tile_pick.glsl): the
+# #defines of each. All give the same bits; benchmarks/engines.py --variants times them.
+TILE_PICK_VARIANTS = {
+    "grid_16x16": {},
+    "rows_64": {"TILE_PICK_THREADS": 64},
+    "rows_128": {"TILE_PICK_THREADS": 128},
+    "rows_32_subgroup": {"TILE_PICK_THREADS": 32, "TILE_PICK_SUBGROUP": 1},
+    "rows_64_subgroup": {"TILE_PICK_THREADS": 64, "TILE_PICK_SUBGROUP": 1},
+    "rows_128_subgroup": {"TILE_PICK_THREADS": 128, "TILE_PICK_SUBGROUP": 1},
+    "rows_256_subgroup": {"TILE_PICK_THREADS": 256, "TILE_PICK_SUBGROUP": 1},
+}
+# The layout last timed on the H100 (docs/engines.md: a subgroup merge inside it measured 1-2 µs
+# slower), until the others are timed there.
+TILE_PICK_LAYOUT = PassVariants("tile pick", TILE_PICK_VARIANTS, "grid_16x16")
 
 
 def motion_sides_texture(ctx: Context, frame: Frame):
@@ -67,19 +83,22 @@ def dilated_tiles(
     tile_size,
     max_blur,
     group_per_tile: bool | None = None,
+    length_steps: float = 0.0,
 ):
     """§17.2 steps 1-2 on the frame's two-sided motion for an image of `size` (H, W): tile
     flatten and dilation at `tile_size` px and `max_blur` px (a method's params and values give
-    the exposure). `group_per_tile`: both passes run a work group per tile, else one thread per
-    tile (same bits either way); None: as tile_groups(ctx) says. Returns (two-sided motion
-    texture, tiles, dilated tiles)."""
+    the exposure). `group_per_tile`: both passes run a work group per tile (laid out as
+    TILE_PICK_LAYOUT says), else one thread per tile (same bits either way); None: as
+    tile_groups(ctx) says. `length_steps`: lengths compare as twins.eevee.pick_key says (0:
+    exactly, as EEVEE does). Returns (two-sided motion texture, tiles, dilated tiles)."""
     height, width = size
     grid = (-(-height // tile_size), -(-width // tile_size), 4)
     tiles, dilated = ctx.pooled(grid), ctx.pooled(grid)
     sides = motion_sides_texture(ctx, frame)
     if group_per_tile is None:
         group_per_tile = tile_groups(ctx)
-    sized = {"tile_size": tile_size, "group_per_tile": group_per_tile}
+    sized = {"tile_size": tile_size, "group_per_tile": group_per_tile, "length_steps": length_steps}
+    layout = TILE_PICK_LAYOUT.defines() if group_per_tile else {}
     run_pass(
         ctx,
         timings,
@@ -89,6 +108,7 @@ def dilated_tiles(
         {"motion_sides": sides},
         {"tiles": tiles},
         uniforms=sized,
+        defines=layout,
         group_per_texel=group_per_tile,
     )
     run_pass(
@@ -100,6 +120,7 @@ def dilated_tiles(
         {"tiles": tiles},
         {"dilated": dilated},
         uniforms={**sized, "max_blur": max_blur},
+        defines=layout,
         group_per_texel=group_per_tile,
     )
     return sides, tiles, dilated

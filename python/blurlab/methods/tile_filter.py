@@ -9,8 +9,6 @@ tile_max_variant().
 
 from __future__ import annotations
 
-import contextlib
-import contextvars
 import math
 import weakref
 
@@ -18,8 +16,8 @@ import numpy as np
 
 from ..context import Context, Timing
 from ..frame import Frame
-from . import plans
 from .core import FLOAT32_MAX, PARAM_SCALE_MAX, SEED, Param, Pass, run_pass
+from .variants import PassVariants
 
 
 def depth_range_soft_z(frame: Frame) -> float:
@@ -124,24 +122,9 @@ TILE_MAX_VARIANTS = {
 # k = 40, against 0.0235 and 0.0260 for strided_8x8 (docs/benchmarks.md). Without subgroup
 # operations (llvmpipe) it reduces in shared memory.
 DEFAULT_TILE_MAX_VARIANT = "rows_128_subgroup"
-_TILE_MAX_VARIANT = contextvars.ContextVar("blurlab_tile_max_variant", default=None)
-
-
-@contextlib.contextmanager
-def tile_max_variant(name: str):
-    """Inside the block, TileMax's work group per tile takes layout `name` of
-    TILE_MAX_VARIANTS (for benchmarks and tests), and
-    no dispatch plan is recorded or replayed, as plans do not know the layout."""
-    if name not in TILE_MAX_VARIANTS:
-        raise ValueError(
-            f"blurlab: no TileMax variant {name!r}; the variants are {list(TILE_MAX_VARIANTS)}"
-        )
-    token = _TILE_MAX_VARIANT.set(name)
-    try:
-        with plans.disabled():
-            yield
-    finally:
-        _TILE_MAX_VARIANT.reset(token)
+TILE_MAX_LAYOUT = PassVariants("TileMax", TILE_MAX_VARIANTS, DEFAULT_TILE_MAX_VARIANT)
+# Inside `with tile_max_variant(name):` TileMax's work group per tile takes layout `name`.
+tile_max_variant = TILE_MAX_LAYOUT.use
 
 
 def largest_tile_for_one_thread(ctx: Context) -> int:
@@ -170,7 +153,7 @@ def tile_passes(
     group_per_tile = k > largest_tile_for_one_thread(ctx)
     defines = {}
     if backend == "compute" and group_per_tile:
-        defines.update(TILE_MAX_VARIANTS[_TILE_MAX_VARIANT.get() or DEFAULT_TILE_MAX_VARIANT])
+        defines.update(TILE_MAX_LAYOUT.defines())
     run_pass(
         ctx,
         timings,

@@ -21,6 +21,10 @@ SMALLEST_TILE = 8  # px
 ACROSS = 2.0  # px
 ACROSS_SHARE = 0.05  # ... plus this share of the trail's length
 MOVING_DEPTH = 10.0  # soft depth extent, multiple of X's depth, where X moves
+# The tile passes compare lengths in steps of 1/16 px (eevee.pick_key): on a turning object
+# many tiles move almost equally fast, and exact lengths, rounded differently by each device,
+# picked differently on the GPU and here (moire: whole tiles apart, 139 of 14400 pixels).
+TILE_LENGTH_STEPS = 16.0
 
 
 def tile_size(height: int, percent: float) -> int:
@@ -113,7 +117,7 @@ def gather_coverage(
     s = tile_size(h, tile_percent)
     reach_limit = max_blur_px(h, max_blur)
     prev, next_, dilated = dilated_half_motions(
-        motion_prev, motion_next, exposure, s, reach_limit, dilated
+        motion_prev, motion_next, exposure, s, reach_limit, dilated, TILE_LENGTH_STEPS
     )
     y, x = np.mgrid[0:h, 0:w]
     ty, tx = lookup_tile(x, y, s, seed, dilated.shape[:2], JITTER_SALTS)

@@ -32,10 +32,25 @@ def clamp_length(v: np.ndarray, max_len: float) -> np.ndarray:
         return v * np.where(n > max_len, max_len / n, 1.0)
 
 
-def tile_flatten(prev: np.ndarray, next_: np.ndarray, tile_size: int) -> np.ndarray:
+def pick_key(length: np.ndarray, length_steps: float = 0.0) -> np.ndarray:
+    """What the tile passes compare a length as (shaders/common/tile_pick.glsl): the length
+    itself, or with length_steps > 0 floor(length · length_steps), so that lengths within one
+    step tie and go to the first candidate in row order."""
+    if length_steps > 0:
+        return np.floor(np.asarray(length, np.float32).astype(np.float64) * length_steps)
+    return length
+
+
+def tile_flatten(
+    prev: np.ndarray, next_: np.ndarray, tile_size: int, length_steps: float = 0.0
+) -> np.ndarray:
     """§17.2 step 1: (ceil(H/s), ceil(W/s), 4): per tile the longest E·M_prev (xy) and the
-    longest E·M_next (zw), unclamped; the first in row-major order among equal lengths."""
-    return np.concatenate([tile_max(prev, tile_size), tile_max(next_, tile_size)], axis=-1)
+    longest E·M_next (zw), unclamped; the first in row-major order among equal lengths (as
+    pick_key compares them)."""
+    key = None if length_steps <= 0 else (lambda length: pick_key(length, length_steps))
+    return np.concatenate(
+        [tile_max(prev, tile_size, key), tile_max(next_, tile_size, key)], axis=-1
+    )
 
 
 def dilation_radius(max_blur: float, tile_size: int, grid) -> int:
@@ -44,13 +59,15 @@ def dilation_radius(max_blur: float, tile_size: int, grid) -> int:
     return min(math.ceil(max_blur / tile_size) + 1, max(grid))
 
 
-def tile_dilate(tiles: np.ndarray, tile_size: int, max_blur: float) -> np.ndarray:
+def tile_dilate(
+    tiles: np.ndarray, tile_size: int, max_blur: float, length_steps: float = 0.0
+) -> np.ndarray:
     """§17.2 step 2: for each tile D, the longest prev (xy) and next (zw) half-motion among the
     tiles whose reach meets D: the segment from a tile's center along -prev (toward the
     positions at t0) or +next, clamped to max_blur, in tile units, meets D's square widened by
     h + REACH_MARGIN,
     h = 1/2 - 1/(2s) (how far a tile's pixel centers lie from its center). Among equal lengths
-    the first source tile in row-major order wins."""
+    the first source tile in row-major order wins (as pick_key compares them)."""
     th, tw = tiles.shape[:2]
     radius = dilation_radius(max_blur, tile_size, (th, tw))
     widen = reach_widening(tile_size)
@@ -65,7 +82,7 @@ def tile_dilate(tiles: np.ndarray, tile_size: int, max_blur: float) -> np.ndarra
             start = np.stack([ox + 0.5 + 0 * sx, oy + 0.5 + 0 * sy], -1).astype(np.float64)
             for side, sign in ((0, -1.0), (1, 1.0)):
                 v = source[..., 2 * side : 2 * side + 2]
-                length = np.linalg.norm(v, axis=-1)
+                length = pick_key(np.linalg.norm(v, axis=-1), length_steps)
                 line = sign * clamp_length(v, max_blur) / tile_size
                 reach = segment_meets_box(start, line, -widen, 1 + widen)
                 better = valid & reach & (length > best[..., side])
@@ -88,13 +105,17 @@ def lookup_tile(x, y, tile_size: int, seed: int, grid, salts=JITTER_SALTS):
     return ty, tx
 
 
-def dilated_half_motions(motion_prev, motion_next, exposure, tile_size, max_blur, dilated=None):
+def dilated_half_motions(
+    motion_prev, motion_next, exposure, tile_size, max_blur, dilated=None, length_steps=0.0
+):
     """§17.2 steps 1-2: (E·M_prev, E·M_next, each clamped to max_blur px, and the dilated
-    tile grid of tile_size px tiles; `dilated` if already computed)."""
+    tile grid of tile_size px tiles, lengths compared as pick_key(·, length_steps) says;
+    `dilated` if already computed)."""
     prev = scaled_motion(motion_prev, exposure)
     next_ = scaled_motion(motion_next, exposure)
     if dilated is None:
-        dilated = tile_dilate(tile_flatten(prev, next_, tile_size), tile_size, max_blur)
+        tiles = tile_flatten(prev, next_, tile_size, length_steps)
+        dilated = tile_dilate(tiles, tile_size, max_blur, length_steps)
     return clamp_length(prev, max_blur), clamp_length(next_, max_blur), dilated
 
 

@@ -54,14 +54,17 @@ def tap_positions(samples: int, j) -> list:
     return [-1 + 2 * (i + j + 1) / (samples + 1) for i in range(samples) if i != skip]
 
 
-def tile_max(v: np.ndarray, k: int) -> np.ndarray:
-    """§3.2: (ceil(H/k), ceil(W/k), 2): the half-vector of largest length in each k x k tile."""
+def tile_max(v: np.ndarray, k: int, key=None) -> np.ndarray:
+    """§3.2: (ceil(H/k), ceil(W/k), 2): the half-vector of largest length in each k x k tile,
+    the first in row order among equal lengths; `key` maps lengths to what is compared
+    (default: the lengths)."""
     h, w = v.shape[:2]
     th, tw = -(-h // k), -(-w // k)
     padded = np.zeros((th * k, tw * k, 2))
     padded[:h, :w] = v
     tiles = padded.reshape(th, k, tw, k, 2).transpose(0, 2, 1, 3, 4).reshape(th, tw, k * k, 2)
-    best = np.argmax(np.linalg.norm(tiles, axis=-1), axis=-1)
+    lengths = np.linalg.norm(tiles, axis=-1)
+    best = np.argmax(lengths if key is None else key(lengths), axis=-1)
     return np.take_along_axis(tiles, best[..., None, None], axis=2)[:, :, 0]
 
 
