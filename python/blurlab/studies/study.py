@@ -10,7 +10,6 @@ import datetime
 import functools
 import html
 import json
-import multiprocessing
 import os
 import re
 import time
@@ -22,7 +21,7 @@ import pandas as pd
 from .. import io, metrics, scenes
 from ..context import Context
 from ..methods import blur, method, method_instant
-from . import interactive, objects, peers, plots
+from . import interactive, objects, peers, plots, workers
 from .evaluation import PhaseClock
 from .sweep import HDR_METRICS, default_grids, middle_point, sweep
 
@@ -178,9 +177,9 @@ def default_chart_processes() -> int:
 @contextlib.contextmanager
 def chart_pool(processes: int | None = None):
     """An executor for the matplotlib charts. matplotlib holds the GIL while it draws, so
-    threads would not overlap it: processes (spawned, not forked: the parent holds a GL
-    context) import it at once, which overlaps its import (and, on a fresh machine, its font
-    cache) with the sweep. 0 processes: an executor that runs each job as it is submitted."""
+    threads would not overlap it: worker processes (blurlab.studies.workers) import it at
+    once, which overlaps its import (and, on a fresh machine, its font cache) with the sweep.
+    0 processes: an executor that runs each job as it is submitted."""
     processes = default_chart_processes() if processes is None else processes
     if isinstance(processes, bool) or not isinstance(processes, int) or processes < 0:
         raise ValueError(
@@ -189,10 +188,7 @@ def chart_pool(processes: int | None = None):
     if processes == 0:
         yield InlineExecutor()
         return
-    spawn = multiprocessing.get_context("spawn")
-    with concurrent.futures.ProcessPoolExecutor(processes, mp_context=spawn) as pool:
-        for _ in range(processes):
-            pool.submit(plots.load_matplotlib)
+    with workers.ProcessWorkers(processes, warm_up=plots.load_matplotlib) as pool:
         yield pool
 
 
