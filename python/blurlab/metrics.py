@@ -124,12 +124,26 @@ def gpu_mse(ctx, a, b) -> float:
     return reduction.squared_error(a.native, b.native) / (height * width * 3)
 
 
-# Work-group layouts of shaders/passes/ssim.comp, (tile rows, output rows per invocation): the
-# tile is 32 pixels wide; every layout gives the same value up to float rounding. "column4"
-# computes four pixels down a column per invocation (the vertical blur reads each row's moments
-# once for up to four outputs); "pixel16" is the one-pixel-per-invocation layout measured in
-# docs/benchmarks.md before it. benchmarks/speed_floor.py times them all.
-SSIM_LAYOUTS = {"pixel16": (16, 1), "column2": (16, 2), "column4": (32, 4), "column8": (32, 8)}
+# Work-group layouts of the SSIM pass, (tile columns, tile rows, output rows per invocation);
+# every layout gives the same value up to float rounding, and benchmarks/speed_floor.py times
+# them all. Tiles 32 pixels wide (shaders/passes/ssim.comp): "column4" computes four pixels down
+# a column per invocation (the vertical blur reads each row's moments once for up to four
+# outputs); "pixel16" is the one-pixel-per-invocation layout measured in docs/benchmarks.md
+# before it. Strips (shaders/passes/ssim_strip.comp), "stripWxH": W invocations, each walking
+# its column down H rows with the vertical blur in registers, one barrier per 8 (W = 256: 4)
+# rows, a subgroup sum where the driver has one, and a prepared reference that reads 8 bytes
+# per border texel instead of 16.
+SSIM_LAYOUTS = {
+    "pixel16": (32, 16, 1),
+    "column2": (32, 16, 2),
+    "column4": (32, 32, 4),
+    "column8": (32, 32, 8),
+    "strip64x16": (64, 16, 16),
+    "strip64x32": (64, 32, 32),
+    "strip128x16": (128, 16, 16),
+    "strip128x32": (128, 32, 32),
+    "strip256x16": (256, 16, 16),
+}
 SSIM_LAYOUT = "column4"
 
 
@@ -139,8 +153,8 @@ def _ssim_pass(ctx, layout: str | None):
         raise ValueError(
             f"blurlab.metrics: unknown SSIM layout {layout!r}; choose from {list(SSIM_LAYOUTS)}"
         )
-    tile_rows, rows = SSIM_LAYOUTS[layout]
-    make = lambda: _core.SsimReductionPass(ctx.native, tile_rows, rows)  # noqa: E731
+    columns, tile_rows, rows = SSIM_LAYOUTS[layout]
+    make = lambda: _core.SsimReductionPass(ctx.native, tile_rows, rows, columns)  # noqa: E731
     return ctx.cached(("ssim", layout), make)
 
 
