@@ -160,7 +160,7 @@ def _ssim_pass(ctx, layout: str | None):
 
 def gpu_ssim(ctx, a, b, layout: str | None = None) -> float:
     """`ssim` of two (H, W, 4) float32 textures, computed on the GPU (docs/spec.md §6): only partial
-    sums of the SSIM map (one float per work group of 32 x 16 or 32 x 32 pixels) are read back.
+    sums of the SSIM map (one float per work group's tile or strip) are read back.
     `layout`: a key of SSIM_LAYOUTS (default SSIM_LAYOUT), for benchmarks that compare them."""
     _same_size(a, b, "gpu_ssim")
     return _ssim_pass(ctx, layout).mean_ssim(a.native, b.native)
@@ -184,7 +184,9 @@ def gpu_mse_ssim(ctx, a, b, layout: str | None = None) -> tuple[float, float]:
 class PreparedReference:
     """A reference prepared once for many `gpu_mse_ssim` calls against it (a sweep's scene): its
     clipped colour and luminance, and the Gaussian mean and variance of its luminance, computed
-    once on the GPU, so each evaluation blurs three moments of the pair instead of five. It
+    once on the GPU, so each evaluation blurs three moments of the pair instead of five. Two
+    textures hold them, packed as the layout's shader reads them (docs/spec.md §6: tiles keep
+    colour + luminance and mean + variance, strips colour + mean and luminance + variance). It
     holds copies: later changes to the reference texture do not reach it. Make it with
     `prepare_reference`; its textures go back to the pool with `release()`."""
 
