@@ -143,6 +143,7 @@ SSIM_LAYOUTS = {
     "strip128x16": (128, 16, 16),
     "strip128x32": (128, 32, 32),
     "strip256x16": (256, 16, 16),
+    "strip256x32": (256, 32, 32),
 }
 SSIM_LAYOUT = "column4"
 

@@ -22,7 +22,7 @@
 // in float32 where the image is flat. Every tap of one output pixel must share its c, so each
 // invocation takes its own, the pair at its column's pixel in the strip's middle row: a shift
 // per strip was up to 6.9e-6 from NumPy on the five scenes' blurred 160 x 90 frames, one per
-// column at most 4.1e-7 (tiles: 9.7e-7).
+// column at most 4.2e-7 (tiles: 9.7e-7).
 //
 // Variants (defines, 0 or 1), as in passes/ssim.comp but for the prepared reference's textures:
 //   SQUARED_ERROR  also sums the squared clipped RGB error of each owned pixel, from the texels
