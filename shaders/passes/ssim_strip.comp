@@ -33,7 +33,8 @@
 //   PREPARED       with SQUARED_ERROR: image_a is a PREPARE'd colour_mean and binding 2 its
 //                  luminance_variance. The border rows and columns read only the 8-byte
 //                  luminance_variance texel of the reference (ssim.comp's prepared layout reads
-//                  16 bytes there); colour_mean is read once per owned pixel.
+//                  16 bytes there); colour_mean is read once per owned pixel, and the mean and
+//                  variance wait in shared memory (STASH) for their output RADIUS rows later.
 #if defined(GL_KHR_shader_subgroup_arithmetic)
 #extension GL_KHR_shader_subgroup_basic : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
@@ -45,7 +46,18 @@
 layout(local_size_x = GROUP_X) in;
 const int TAPS = 2 * RADIUS + 1;
 const int SPAN_X = GROUP_X + 2 * RADIUS, INPUT_ROWS = STRIP + 2 * RADIUS;
-const int BATCH = GROUP_X > 128 ? 4 : 8;  // rows per barrier; two buffers stay within 32 KiB
+#if PREPARED && GROUP_X <= 128
+// The reference's (mean, variance) of the owned texels go to shared memory as they are loaded,
+// for the output pixel RADIUS rows later: no second texture read per pixel. The stash keeps
+// three batches: the one being blurred, the one before (RADIUS <= BATCH rows back reach no
+// further) and the next, stored while slower invocations still read the other two. With the
+// luminance buffers it fits llvmpipe's 32 KiB up to 128 invocations.
+#define STASH 1
+#else
+#define STASH 0
+#endif
+// Rows per barrier: the two luminance buffers (and the stash) stay within 32 KiB.
+const int BATCH = GROUP_X > 128 ? 4 : (STASH != 0 && GROUP_X > 64 ? RADIUS : 8);
 const int BATCHES = (INPUT_ROWS + BATCH - 1) / BATCH;
 const int BATCH_TEXELS = BATCH * SPAN_X;
 const int LOADS = (BATCH_TEXELS + GROUP_X - 1) / GROUP_X;  // texels per invocation per batch
@@ -71,22 +83,30 @@ layout(binding = 2) uniform sampler2D luminance_variance;
 #endif
 
 shared Pair rows[2][BATCH][SPAN_X];  // the luminance pair, two batches
+#if STASH
+shared vec2 stash[3][BATCH][GROUP_X];  // the reference's (mean, variance) at owned texels
+#endif
 
 ivec2 size, tile, origin;  // origin: the strip's first input texel (its border included)
 bool mirror;               // some input texel lies outside the image
 
-// The luminance pair at image texel p; adds its squared error when `owned`.
-Pair pair_at(ivec2 p, bool owned, inout float squared_error) {
+// The luminance pair at image texel p; adds its squared error when `owned` (and, of a prepared
+// reference, gives its (mean, variance) there).
+Pair pair_at(ivec2 p, bool owned, inout float squared_error, out vec2 reference_stats) {
+    reference_stats = vec2(0.0);
 #if PREPARE
     return dot(clipped_colour(image_a, p), LUMINANCE);
 #else
     vec3 b = clipped_colour(image_b, p);
 #if PREPARED
-    float x = texelFetch(luminance_variance, p, 0).x;
-    if (SQUARED_ERROR != 0 && owned) {
-        vec3 a = texelFetch(image_a, p, 0).rgb;  // clipped when the reference was prepared
+    vec2 x_variance = texelFetch(luminance_variance, p, 0).xy;
+    if (owned) {
+        vec4 colour_mean = texelFetch(image_a, p, 0);  // clipped when the reference was prepared
+        vec3 a = colour_mean.rgb;
         squared_error += dot(a - b, a - b);
+        reference_stats = vec2(colour_mean.a, x_variance.y);
     }
+    float x = x_variance.x;
 #else
     vec3 a = clipped_colour(image_a, p);
     float x = dot(a, LUMINANCE);
@@ -98,19 +118,31 @@ Pair pair_at(ivec2 p, bool owned, inout float squared_error) {
 
 // The pair of texel i of batch `batch` (0 past the input rows). The strip owns the texels inside
 // itself and the image: each pixel's squared error counts once, mirrored texels' never.
-Pair load_pair(int i, int batch, inout float squared_error) {
+Pair load_pair(int i, int batch, inout float squared_error, out vec2 reference_stats) {
+    reference_stats = vec2(0.0);
     ivec2 q = ivec2(i % SPAN_X, batch * BATCH + i / SPAN_X);
     if (i >= BATCH_TEXELS || q.y >= INPUT_ROWS) return Pair(0.0);
     ivec2 p = origin + q;
     bool owned = q.x >= RADIUS && q.x < RADIUS + GROUP_X && q.y >= RADIUS &&
                  q.y < RADIUS + STRIP && all(lessThan(p, size));
     if (mirror) p = ivec2(reflect_index(p.x, size.x), reflect_index(p.y, size.y));
-    return pair_at(p, owned, squared_error);
+    return pair_at(p, owned, squared_error, reference_stats);
 }
 
-// The SSIM at pixel p from its Gaussian moments m of the shifted pair (PREPARE: writes the
-// reference's textures and returns 0).
-float finish_pixel(float m[MOMENTS], ivec2 p, Pair c) {
+// Stores texel i of batch `batch`, loaded as (pair, reference_stats), into its buffers.
+void stage(int batch, int i, Pair pair, vec2 reference_stats) {
+    if (i >= BATCH_TEXELS) return;
+    rows[batch & 1][i / SPAN_X][i % SPAN_X] = pair;
+#if STASH
+    int x = i % SPAN_X - RADIUS;
+    if (x >= 0 && x < GROUP_X) stash[batch % 3][i / SPAN_X][x] = reference_stats;
+#endif
+}
+
+// The SSIM at pixel p from its Gaussian moments m of the shifted pair and, against a prepared
+// reference, the reference's (mean, variance) there (PREPARE: writes the reference's textures
+// and returns 0).
+float finish_pixel(float m[MOMENTS], ivec2 p, Pair c, vec2 reference_stats) {
 #if PREPARE
     vec3 a = clipped_colour(image_a, p);
     float d = m[0];
@@ -119,7 +151,7 @@ float finish_pixel(float m[MOMENTS], ivec2 p, Pair c) {
     return 0.0;
 #else
 #if PREPARED
-    float mean_x = texelFetch(image_a, p, 0).a, vx = texelFetch(luminance_variance, p, 0).y;
+    float mean_x = reference_stats.x, vx = reference_stats.y;
     vec2 d = vec2(mean_x - c.x, m[0]);
     float vy = m[1] - d.y * d.y, cov = m[2] - d.x * d.y;
 #else
@@ -171,14 +203,14 @@ void main() {
     // c: this column's shift, the pair at its pixel in the strip's middle row (cut at the image).
     int column = tile.x + local;
     float squared_error = 0.0, unused = 0.0;
-    Pair c = pair_at(min(ivec2(column, tile.y + STRIP / 2), size - 1), false, unused);
+    vec2 unused_stats;
+    Pair c = pair_at(min(ivec2(column, tile.y + STRIP / 2), size - 1), false, unused, unused_stats);
 
     Pair staged[LOADS];
-    for (int k = 0; k < LOADS; ++k) staged[k] = load_pair(local + k * GROUP_X, 0, squared_error);
-    for (int k = 0; k < LOADS; ++k) {
-        int i = local + k * GROUP_X;
-        if (i < BATCH_TEXELS) rows[0][i / SPAN_X][i % SPAN_X] = staged[k];
-    }
+    vec2 staged_stats[LOADS];
+    for (int k = 0; k < LOADS; ++k)
+        staged[k] = load_pair(local + k * GROUP_X, 0, squared_error, staged_stats[k]);
+    for (int k = 0; k < LOADS; ++k) stage(0, local + k * GROUP_X, staged[k], staged_stats[k]);
     barrier();
 
     float pending[2 * RADIUS][MOMENTS];  // the output rows 2 RADIUS .. 1 rows above the newest
@@ -191,7 +223,7 @@ void main() {
         bool more = batch + 1 < BATCHES;
         if (more) {  // issued now, stored after this batch's arithmetic
             for (int k = 0; k < LOADS; ++k)
-                staged[k] = load_pair(local + k * GROUP_X, batch + 1, squared_error);
+                staged[k] = load_pair(local + k * GROUP_X, batch + 1, squared_error, staged_stats[k]);
         }
         for (int r = 0; r < BATCH; ++r) {
             int input_row = batch * BATCH + r;
@@ -217,13 +249,21 @@ void main() {
             }
             for (int j = 0; j < MOMENTS; ++j) pending[2 * RADIUS - 1][j] = WEIGHT[0] * h[j];
             ivec2 p = ivec2(column, tile.y + input_row - 2 * RADIUS);
-            if (input_row >= 2 * RADIUS && all(lessThan(p, size))) s += finish_pixel(done, p, c);
+            if (input_row >= 2 * RADIUS && all(lessThan(p, size))) {
+                vec2 reference_stats = vec2(0.0);
+#if STASH  // loaded RADIUS rows ago: in this batch or the one before
+                int owned_row = input_row - RADIUS;
+                reference_stats = stash[(owned_row / BATCH) % 3][owned_row % BATCH][local];
+#elif PREPARED
+                reference_stats = vec2(texelFetch(image_a, p, 0).a,
+                                       texelFetch(luminance_variance, p, 0).y);
+#endif
+                s += finish_pixel(done, p, c, reference_stats);
+            }
         }
         if (more) {
-            for (int k = 0; k < LOADS; ++k) {
-                int i = local + k * GROUP_X;
-                if (i < BATCH_TEXELS) rows[current ^ 1][i / SPAN_X][i % SPAN_X] = staged[k];
-            }
+            for (int k = 0; k < LOADS; ++k)
+                stage(batch + 1, local + k * GROUP_X, staged[k], staged_stats[k]);
         }
         barrier();
     }
