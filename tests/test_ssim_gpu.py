@@ -38,9 +38,10 @@ def noisy_pair(rng, height: int, width: int) -> tuple[np.ndarray, np.ndarray]:
 
 
 @pytest.mark.parametrize("layout", LAYOUTS)
-@pytest.mark.parametrize("size", [(160, 90), (17, 33), (16, 16), (33, 1), (300, 70)])
+@pytest.mark.parametrize("size", [(160, 90), (17, 33), (16, 16), (33, 1), (1, 70), (300, 70)])
 def test_random_images_equal_numpy(ctx, rng, size, layout):
-    # 300 x 70: more than one strip of every width across, cut strips on two edges.
+    # 300 x 70: more than one strip of every width across, cut strips on two edges; 1 x 70: a
+    # column mirrored onto itself, several strips down.
     a, b = noisy_pair(rng, size[1], size[0])
     assert agree(ctx, a, b, layout) < 0.99
 
