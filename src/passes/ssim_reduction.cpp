@@ -45,11 +45,11 @@ SsimReductionPass::SsimReductionPass(std::shared_ptr<Context> context, int tile_
       reduction_(std::make_unique<PairReduction>(context_.get())) {
   if (strips()) {
     const bool columns_ok = tile_columns == 64 || tile_columns == 128 || tile_columns == 256;
-    const bool rows_ok = tile_rows == 16 || tile_rows == 32 || tile_rows == 64;
+    const bool rows_ok = tile_rows == 16 || tile_rows == 32;
     if (!columns_ok || !rows_ok || rows_per_thread != tile_rows)
       throw std::invalid_argument(
-          "blurlab.SsimReductionPass: strips (tile_columns 64, 128 or 256) need tile_rows 16, 32 "
-          "or 64 and rows_per_thread equal to tile_rows; got " +
+          "blurlab.SsimReductionPass: strips (tile_columns 64, 128 or 256) need tile_rows 16 or 32 "
+          "and rows_per_thread equal to tile_rows; got " +
           std::to_string(tile_columns) + ", " + std::to_string(tile_rows) + " and " +
           std::to_string(rows_per_thread));
   } else {

@@ -27,7 +27,7 @@ class SsimReductionPass {
   // invocation computes rows_per_thread pixels of one column; tile_rows in {8, 16, 32},
   // rows_per_thread in {1, 2, 4, 8} dividing tile_rows. tile_columns 64, 128 or 256: strips,
   // shaders/passes/ssim_strip.comp, each invocation walks its column down the whole strip;
-  // tile_rows in {16, 32, 64} and rows_per_thread == tile_rows.
+  // tile_rows in {16, 32} and rows_per_thread == tile_rows.
   SsimReductionPass(std::shared_ptr<Context> context, int tile_rows = 32, int rows_per_thread = 4,
                     int tile_columns = 32);
   ~SsimReductionPass();
