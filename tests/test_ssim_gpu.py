@@ -2,7 +2,8 @@
 (docs/spec.md §6): random images, rendered frames, near-flat images (where float32 variances
 cancel), sizes that are not multiples of any work-group tile and sizes smaller than the 11-tap
 window; gpu_mse_ssim (SSIM and squared error from one dispatch) against gpu_mse and gpu_ssim,
-in every work-group layout, with NaN and infinite colours."""
+in every work-group layout (metrics.SSIM_LAYOUTS: the 32-pixel tiles of ssim.comp and the
+strips of ssim_strip.comp), with NaN and infinite colours."""
 
 from __future__ import annotations
 
@@ -20,8 +21,11 @@ from blurlab import _core, metrics
 TOLERANCE = 5e-6
 
 
-def agree(ctx, a: np.ndarray, b: np.ndarray, tolerance: float = TOLERANCE) -> float:
-    gpu = metrics.gpu_ssim(ctx, ctx.upload(a), ctx.upload(b))
+LAYOUTS = list(metrics.SSIM_LAYOUTS)
+
+
+def agree(ctx, a: np.ndarray, b: np.ndarray, layout: str, tolerance: float = TOLERANCE) -> float:
+    gpu = metrics.gpu_ssim(ctx, ctx.upload(a), ctx.upload(b), layout=layout)
     assert gpu == pytest.approx(metrics.ssim(a, b), abs=tolerance)
     return gpu
 
@@ -33,21 +37,26 @@ def noisy_pair(rng, height: int, width: int) -> tuple[np.ndarray, np.ndarray]:
     return a, b
 
 
-@pytest.mark.parametrize("size", [(160, 90), (17, 33), (16, 16), (33, 1)])
-def test_random_images_equal_numpy(ctx, rng, size):
+@pytest.mark.parametrize("layout", LAYOUTS)
+@pytest.mark.parametrize("size", [(160, 90), (17, 33), (16, 16), (33, 1), (1, 70), (300, 70)])
+def test_random_images_equal_numpy(ctx, rng, size, layout):
+    # 300 x 70: more than one strip of every width across, cut strips on two edges; 1 x 70: a
+    # column mirrored onto itself, several strips down.
     a, b = noisy_pair(rng, size[1], size[0])
-    assert agree(ctx, a, b) < 0.99
+    assert agree(ctx, a, b, layout) < 0.99
 
 
+@pytest.mark.parametrize("layout", LAYOUTS)
 @pytest.mark.parametrize("size", [(1, 1), (2, 3), (5, 4), (7, 1), (11, 11)])
-def test_images_smaller_than_the_window_mirror_as_numpy_does(ctx, rng, size):
+def test_images_smaller_than_the_window_mirror_as_numpy_does(ctx, rng, size, layout):
     # np.pad(mode="reflect") repeats the mirror with period 2(n - 1) when n <= radius; the
     # shader's reflect_index does the same, so tiny images need no special case.
     a, b = noisy_pair(rng, size[1], size[0])
-    agree(ctx, a, b)
+    agree(ctx, a, b, layout)
 
 
-def test_smooth_bright_images_keep_their_variance(ctx):
+@pytest.mark.parametrize("layout", LAYOUTS)
+def test_smooth_bright_images_keep_their_variance(ctx, layout):
     # Luminance 0.9 ± 0.03, varying smoothly: E[x²] - E[x]² cancels about three digits in
     # float32. The shader takes the moments about the luminance at its tile's center; measured
     # 3e-9 from NumPy that way, 2e-6 without the shift (the rendered frame below: 5e-7 with
@@ -56,23 +65,40 @@ def test_smooth_bright_images_keep_their_variance(ctx):
     a = 0.9 + 0.03 * np.sin(x / 7) * np.cos(y / 5)
     b = 0.9 + 0.03 * np.sin(x / 6 + 1) * np.cos(y / 4)
     gray = lambda v: np.repeat(v[..., None], 4, axis=-1).astype(np.float32)  # noqa: E731
-    assert agree(ctx, gray(a), gray(b), tolerance=2e-7) < 0.95
+    assert agree(ctx, gray(a), gray(b), layout, tolerance=2e-7) < 0.95
 
 
-def test_rendered_frame_against_its_reference(ctx):
+@pytest.fixture(scope="module")
+def rendered_pair(ctx):
+    """fan at 160 x 90, blurred, and its reference: dark and bright regions side by side, where
+    the shift of the moments matters. Measured on llvmpipe: tiles within 9.7e-7 of NumPy,
+    strips within 4.2e-7 (with one shift per strip instead of per column: 6.9e-6)."""
     scene = bl.scenes.fan()
-    frame = ctx.render(scene, (96, 54))
-    reference = ctx.reference(scene, (96, 54), samples=16, progress=False)
-    gpu = metrics.gpu_ssim(ctx, reference.texture, ctx.upload(frame.color))
-    numpy = metrics.ssim(reference.color, frame.color)
+    frame = ctx.render(scene, (160, 90))
+    blurred = bl.blur(ctx, frame, "reconstruct_mcguire2012", timed=False)
+    reference = ctx.reference(scene, (160, 90), samples=16, progress=False)
+    return reference, blurred.textures["color"].download()
+
+
+@pytest.mark.parametrize("layout", LAYOUTS)
+def test_rendered_frame_against_its_reference(ctx, rendered_pair, layout):
+    reference, color = rendered_pair
+    gpu = metrics.gpu_ssim(ctx, reference.texture, ctx.upload(color), layout=layout)
+    numpy = metrics.ssim(reference.color, color)
     assert gpu == pytest.approx(numpy, abs=TOLERANCE)
     assert 0.0 < gpu < 1.0
+    prepared = metrics.prepare_reference(ctx, reference.texture, layout)
+    mse, ssim = metrics.gpu_mse_ssim(ctx, prepared, ctx.upload(color))
+    prepared.release()
+    assert mse == pytest.approx(metrics.mse(reference.color, color), rel=MSE_REL)
+    assert ssim == pytest.approx(numpy, abs=TOLERANCE)
 
 
-def test_identical_images_give_one(ctx, rng):
+@pytest.mark.parametrize("layout", LAYOUTS)
+def test_identical_images_give_one(ctx, rng, layout):
     a, _ = noisy_pair(rng, 36, 64)
     texture = ctx.upload(a)
-    assert metrics.gpu_ssim(ctx, texture, texture) == pytest.approx(1.0, abs=1e-6)
+    assert metrics.gpu_ssim(ctx, texture, texture, layout=layout) == pytest.approx(1.0, abs=1e-6)
 
 
 # The squared error: float32 sums of at most 32 x 32 pixels per work group (each term < 3),
@@ -94,40 +120,50 @@ def fused_agrees(ctx, a: np.ndarray, b: np.ndarray, layout: str | None = None) -
     return mse, ssim
 
 
+@pytest.mark.parametrize("layout", LAYOUTS)
 @pytest.mark.parametrize("size", [(160, 90), (17, 33), (33, 1), (1, 1), (2, 3), (11, 11)])
-def test_fused_mse_and_ssim_equal_the_separate_calls_and_numpy(ctx, rng, size):
+def test_fused_mse_and_ssim_equal_the_separate_calls_and_numpy(ctx, rng, size, layout):
     a, b = noisy_pair(rng, size[1], size[0])
-    mse, ssim = fused_agrees(ctx, a, b)
+    mse, ssim = fused_agrees(ctx, a, b, layout)
     assert mse > 0 and ssim < 1.0
 
 
-@pytest.mark.parametrize("layout", list(metrics.SSIM_LAYOUTS))
+@pytest.mark.parametrize("layout", LAYOUTS)
 def test_every_work_group_layout_gives_the_numpy_values(ctx, rng, layout):
     # 70 x 45: no layout's tile divides it, so every layout has cut tiles on two edges.
     a, b = noisy_pair(rng, 45, 70)
     fused_agrees(ctx, a, b, layout)
 
 
-def test_identical_images_give_zero_error_and_ssim_one(ctx, rng):
+@pytest.mark.parametrize("layout", LAYOUTS)
+def test_identical_images_give_zero_error_and_ssim_one(ctx, rng, layout):
     a, _ = noisy_pair(rng, 36, 64)
     texture = ctx.upload(a)
-    mse, ssim = metrics.gpu_mse_ssim(ctx, texture, texture)
+    mse, ssim = metrics.gpu_mse_ssim(ctx, texture, texture, layout=layout)
+    assert mse == 0.0 and ssim == pytest.approx(1.0, abs=1e-6)
+    prepared = metrics.prepare_reference(ctx, texture, layout)
+    mse, ssim = metrics.gpu_mse_ssim(ctx, prepared, texture)
+    prepared.release()
     assert mse == 0.0 and ssim == pytest.approx(1.0, abs=1e-6)
 
 
-def test_nan_and_infinite_colours_read_as_the_passes_read_them(ctx, rng):
+@pytest.mark.parametrize("layout", LAYOUTS)
+def test_nan_and_infinite_colours_read_as_the_passes_read_them(ctx, rng, layout):
     # NaN reads as 0 (common/inputs.glsl), then colour clips to [0, 1]: +inf as 1, -inf as 0.
     a, b = noisy_pair(rng, 36, 64)
     b[5, 7, 0], b[20, 30, 1], b[30, 60] = np.nan, np.inf, -np.inf
     a[10, 3, 2] = np.nan
     clean = lambda image: np.nan_to_num(image, nan=0.0, posinf=1.0, neginf=0.0)  # noqa: E731
     ta, tb = ctx.upload(a), ctx.upload(b)
-    mse, ssim = metrics.gpu_mse_ssim(ctx, ta, tb)
+    mse, ssim = metrics.gpu_mse_ssim(ctx, ta, tb, layout=layout)
     assert np.isfinite([mse, ssim]).all()
     assert mse == pytest.approx(metrics.mse(clean(a), clean(b)), rel=MSE_REL)
     assert ssim == pytest.approx(metrics.ssim(clean(a), clean(b)), abs=TOLERANCE)
     assert metrics.gpu_mse(ctx, ta, tb) == pytest.approx(mse, rel=MSE_REL)
-    assert metrics.gpu_ssim(ctx, ta, tb) == pytest.approx(ssim, abs=TOLERANCE)
+    assert metrics.gpu_ssim(ctx, ta, tb, layout=layout) == pytest.approx(ssim, abs=TOLERANCE)
+    prepared = metrics.prepare_reference(ctx, ta, layout)
+    assert metrics.gpu_mse_ssim(ctx, prepared, tb) == pytest.approx((mse, ssim), abs=TOLERANCE)
+    prepared.release()
 
 
 @pytest.mark.parametrize("name", ["gpu_ssim", "gpu_mse_ssim"])
@@ -147,6 +183,16 @@ def test_bad_textures_and_layouts_are_rejected(ctx, name):
 def test_the_pass_refuses_layouts_its_shader_cannot_tile(ctx, tile_rows, rows):
     with pytest.raises(ValueError, match="tile_rows must be 8, 16 or 32"):
         _core.SsimReductionPass(ctx.native, tile_rows, rows)
+
+
+@pytest.mark.parametrize(
+    "columns, tile_rows, rows",
+    [(64, 16, 4), (128, 8, 8), (128, 64, 64), (512, 16, 16), (48, 16, 16)],
+)
+def test_the_pass_refuses_strips_its_shader_cannot_walk(ctx, columns, tile_rows, rows):
+    # A strip's invocation walks its whole column: rows per invocation must be the strip's.
+    with pytest.raises(ValueError, match="strips .* need tile_rows 16 or 32"):
+        _core.SsimReductionPass(ctx.native, tile_rows, rows, columns)
 
 
 @pytest.mark.parametrize("size", [(160, 90), (17, 33), (33, 1), (1, 1), (11, 11)])

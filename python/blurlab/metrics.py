@@ -128,12 +128,27 @@ def gpu_mse(ctx, a, b) -> float:
     return reduction.squared_error(a.native, b.native) / (height * width * 3)
 
 
-# Work-group layouts of shaders/passes/ssim.comp, (tile rows, output rows per invocation): the
-# tile is 32 pixels wide; every layout gives the same value up to float rounding. "column4"
-# computes four pixels down a column per invocation (the vertical blur reads each row's moments
-# once for up to four outputs); "pixel16" is the one-pixel-per-invocation layout measured in
-# docs/benchmarks.md before it. benchmarks/speed_floor.py times them all.
-SSIM_LAYOUTS = {"pixel16": (16, 1), "column2": (16, 2), "column4": (32, 4), "column8": (32, 8)}
+# Work-group layouts of the SSIM pass, (tile columns, tile rows, output rows per invocation);
+# every layout gives the same value up to float rounding, and benchmarks/speed_floor.py times
+# them all. Tiles 32 pixels wide (shaders/passes/ssim.comp): "column4" computes four pixels down
+# a column per invocation (the vertical blur reads each row's moments once for up to four
+# outputs); "pixel16" is the one-pixel-per-invocation layout measured in docs/benchmarks.md
+# before it. Strips (shaders/passes/ssim_strip.comp), "stripWxH": W invocations, each walking
+# its column down H rows with the vertical blur in registers, one barrier per 8 (W = 256: 4)
+# rows, a subgroup sum where the driver has one, and a prepared reference that reads 8 bytes
+# per border texel instead of 16.
+SSIM_LAYOUTS = {
+    "pixel16": (32, 16, 1),
+    "column2": (32, 16, 2),
+    "column4": (32, 32, 4),
+    "column8": (32, 32, 8),
+    "strip64x16": (64, 16, 16),
+    "strip64x32": (64, 32, 32),
+    "strip128x16": (128, 16, 16),
+    "strip128x32": (128, 32, 32),
+    "strip256x16": (256, 16, 16),
+    "strip256x32": (256, 32, 32),
+}
 SSIM_LAYOUT = "column4"
 
 
@@ -143,14 +158,14 @@ def _ssim_pass(ctx, layout: str | None):
         raise ValueError(
             f"blurlab.metrics: unknown SSIM layout {layout!r}; choose from {list(SSIM_LAYOUTS)}"
         )
-    tile_rows, rows = SSIM_LAYOUTS[layout]
-    make = lambda: _core.SsimReductionPass(ctx.native, tile_rows, rows)  # noqa: E731
+    columns, tile_rows, rows = SSIM_LAYOUTS[layout]
+    make = lambda: _core.SsimReductionPass(ctx.native, tile_rows, rows, columns)  # noqa: E731
     return ctx.cached(("ssim", layout), make)
 
 
 def gpu_ssim(ctx, a, b, layout: str | None = None) -> float:
     """`ssim` of two (H, W, 4) float32 textures, computed on the GPU (docs/spec.md §6): only partial
-    sums of the SSIM map (one float per work group of 32 x 16 or 32 x 32 pixels) are read back.
+    sums of the SSIM map (one float per work group's tile or strip) are read back.
     `layout`: a key of SSIM_LAYOUTS (default SSIM_LAYOUT), for benchmarks that compare them."""
     _same_size(a, b, "gpu_ssim")
     return _ssim_pass(ctx, layout).mean_ssim(a.native, b.native)
@@ -174,7 +189,9 @@ def gpu_mse_ssim(ctx, a, b, layout: str | None = None) -> tuple[float, float]:
 class PreparedReference:
     """A reference prepared once for many `gpu_mse_ssim` calls against it (a sweep's scene): its
     clipped colour and luminance, and the Gaussian mean and variance of its luminance, computed
-    once on the GPU, so each evaluation blurs three moments of the pair instead of five. It
+    once on the GPU, so each evaluation blurs three moments of the pair instead of five. Two
+    textures hold them, packed as the layout's shader reads them (docs/spec.md §6: tiles keep
+    colour + luminance and mean + variance, strips colour + mean and luminance + variance). It
     holds copies: later changes to the reference texture do not reach it. Make it with
     `prepare_reference`; its textures go back to the pool with `release()`."""
 

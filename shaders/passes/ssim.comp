@@ -31,30 +31,27 @@
 // Both are shift-invariant, so the moments are taken of x - c with c the luminance at the
 // tile's center: in flat regions the shifted values are near 0 and nothing cancels.
 #include "common/inputs.glsl"
+#include "common/ssim.glsl"
 
 const int TILE_X = 32, THREADS_Y = TILE_Y / ROWS, INVOCATIONS = TILE_X * THREADS_Y;
 layout(local_size_x = TILE_X, local_size_y = THREADS_Y) in;
 layout(binding = 0) uniform sampler2D image_a;
 #if PREPARE
-const int LUMS = 1, MOMENTS = 2;  // planes: x; row moments x, x²
+const int LUMS = 1;  // planes: x (row moments: MOMENTS, common/ssim.glsl)
 layout(rgba32f, binding = 0) writeonly uniform image2D colour_luminance;
 layout(rg32f, binding = 1) writeonly uniform image2D reference_moments;
 #else
 layout(binding = 1) uniform sampler2D image_b;
 layout(std430, binding = 0) writeonly buffer Partials { float partials[]; };
 #if PREPARED
-const int LUMS = 2, MOMENTS = 3;  // planes: x, y; row moments y, y², xy
+const int LUMS = 2;  // planes: x, y
 layout(binding = 2) uniform sampler2D reference_moments;
 #else
-const int LUMS = 2, MOMENTS = 5;  // planes: x, y; row moments x, y, x², y², xy
+const int LUMS = 2;  // planes: x, y
 #endif
 #endif
 
 const int SPAN_X = TILE_X + 2 * RADIUS, SPAN_Y = TILE_Y + 2 * RADIUS;  // tile and border
-const float WEIGHT[2 * RADIUS + 1] = WEIGHTS;
-const float C1 = 0.01 * 0.01;
-const float C2 = 0.03 * 0.03;
-const vec3 LUMINANCE = vec3(0.2126, 0.7152, 0.0722);  // Rec. 709, as blurlab.metrics
 
 #if SQUARED_ERROR
 #define Sums vec2  // (SSIM, squared error)
@@ -71,27 +68,8 @@ const int POOL = LUMS * LUM_PLANE > MOMENTS * ROW_PLANE ? LUMS * LUM_PLANE : MOM
 shared float pool[POOL];
 shared Sums sums[INVOCATIONS];
 
-// The products whose Gaussian means the SSIM needs, of the shifted luminance pair v.
-float[MOMENTS] products(vec2 v) {
-#if PREPARE
-    return float[MOMENTS](v.x, v.x * v.x);
-#elif PREPARED
-    return float[MOMENTS](v.y, v.y * v.y, v.x * v.y);
-#else
-    return float[MOMENTS](v.x, v.y, v.x * v.x, v.y * v.y, v.x * v.y);
-#endif
-}
-
 vec2 shifted_luminance(int i, vec2 c) {
     return vec2(pool[i], LUMS == 2 ? pool[LUM_PLANE + i] : 0.0) - c;
-}
-
-// np.pad(mode="reflect") index: mirror about 0 and n - 1 without repeating the edge.
-int reflect_index(int i, int n) {
-    if (n == 1) return 0;
-    int period = 2 * (n - 1);
-    i = abs(i) % period;
-    return i < n ? i : period - i;
 }
 
 void main() {
@@ -198,8 +176,7 @@ void main() {
             float vx = m[o][2] - d.x * d.x, vy = m[o][3] - d.y * d.y, cov = m[o][4] - d.x * d.y;
 #endif
             vec2 mean = c + d;
-            s += ((2.0 * mean.x * mean.y + C1) * (2.0 * cov + C2)) /
-                 ((mean.x * mean.x + mean.y * mean.y + C1) * (vx + vy + C2));
+            s += ssim_value(mean, vx, vy, cov);
         }
     }
 #if SQUARED_ERROR

@@ -268,8 +268,8 @@ void bind_passes(py::module_& m) {
            py::call_guard<py::gil_scoped_release>());
 
   py::class_<SsimReductionPass, std::shared_ptr<SsimReductionPass>>(m, "SsimReductionPass")
-      .def(py::init<std::shared_ptr<Context>, int, int>(), py::arg("context"),
-           py::arg("tile_rows") = 32, py::arg("rows_per_thread") = 4)
+      .def(py::init<std::shared_ptr<Context>, int, int, int>(), py::arg("context"),
+           py::arg("tile_rows") = 32, py::arg("rows_per_thread") = 4, py::arg("tile_columns") = 32)
       .def("mean_ssim", &SsimReductionPass::mean_ssim, py::arg("a"), py::arg("b"),
            py::call_guard<py::gil_scoped_release>())
       .def("mse_ssim", &SsimReductionPass::mse_ssim, py::arg("a"), py::arg("b"),

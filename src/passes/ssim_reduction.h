@@ -22,18 +22,24 @@ class SsimReductionPass {
   static constexpr double sigma = 1.5;
   static constexpr int radius = 5;
 
-  // Work groups cover 32 x tile_rows pixels; each invocation computes rows_per_thread pixels of
-  // one column (the layouts give the same value up to float rounding: benchmarks compare their
-  // speed). tile_rows in {8, 16, 32}, rows_per_thread in {1, 2, 4, 8} dividing tile_rows.
-  SsimReductionPass(std::shared_ptr<Context> context, int tile_rows = 32, int rows_per_thread = 4);
+  // Work groups cover tile_columns x tile_rows pixels (the layouts give the same value up to float
+  // rounding: benchmarks compare their speed). tile_columns 32: shaders/passes/ssim.comp, each
+  // invocation computes rows_per_thread pixels of one column; tile_rows in {8, 16, 32},
+  // rows_per_thread in {1, 2, 4, 8} dividing tile_rows. tile_columns 64, 128 or 256: strips,
+  // shaders/passes/ssim_strip.comp, each invocation walks its column down the whole strip;
+  // tile_rows in {16, 32} and rows_per_thread == tile_rows.
+  SsimReductionPass(std::shared_ptr<Context> context, int tile_rows = 32, int rows_per_thread = 4,
+                    int tile_columns = 32);
   ~SsimReductionPass();
   // Mean over pixels of the SSIM map of a and b, both RGB(A) float textures of one size.
   double mean_ssim(const Texture& a, const Texture& b);
   // (Σ over pixels and RGB of (clamp(a) - clamp(b))², mean SSIM) from one dispatch.
   std::pair<double, double> mse_ssim(const Texture& a, const Texture& b);
-  // Prepares a reference that many tests are compared with: writes its clipped colour and
-  // luminance to colour_luminance (RGBA32F) and the Gaussian mean and variance of its luminance
-  // to moments (RG32F), both of the reference's size.
+  // Prepares a reference that many tests are compared with, into two textures of its size.
+  // Tiles: its clipped colour and luminance to colour_luminance (RGBA32F) and the Gaussian mean
+  // and variance of its luminance to moments (RG32F). Strips: its clipped colour and the
+  // Gaussian mean of its luminance to colour_luminance, its luminance and the Gaussian variance
+  // to moments (so the border texels a strip reads beside its own cost 8 bytes, not 16).
   void prepare(const Texture& reference, const Texture& colour_luminance, const Texture& moments);
   // mse_ssim(reference, test) of a reference prepared by `prepare`: blurs three moments, not five.
   std::pair<double, double> mse_ssim_prepared(const Texture& colour_luminance,
@@ -41,10 +47,11 @@ class SsimReductionPass {
 
  private:
   enum class Variant { ssim, fused, prepare, prepared };
+  bool strips() const { return tile_columns_ != 32; }
   Program& program(Variant variant);  // compiled on first use
 
   std::shared_ptr<Context> context_;
-  int tile_rows_, rows_per_thread_;
+  int tile_columns_, tile_rows_, rows_per_thread_;
   std::shared_ptr<Program> programs_[4];
   std::unique_ptr<PairReduction> reduction_;
 };
