@@ -241,47 +241,90 @@ def dram_floor(ctx, frame, filter_results: dict, bandwidth: dict, nominal_gbs) -
     return record
 
 
-def sweep_rate(ctx, frame, reference, evaluations: int) -> dict:
+def sweep_rate(ctx, frame, reference, evaluations: int, batch: int) -> dict:
     """Evaluations per second as bl.sweep makes them (PSNR and SSIM from gpu_mse_ssim against the
-    prepared reference), and for comparison from gpu_mse_ssim of the two textures and from the
-    separate gpu_mse + gpu_ssim passes of before."""
+    prepared reference), read back per evaluation and in batches of `batch` (MetricQueue,
+    docs/spec.md §6.3, as bl.sweep's readback_batch), and for comparison from gpu_mse_ssim of the
+    two textures and from the separate gpu_mse + gpu_ssim passes of before. The batched rows
+    must equal the per-evaluation ones bit for bit ("same_rows")."""
     grid = list(itertools.product([10, 20, 40], [5, 9, 15, 25]))
     ways = {
         "PSNR + SSIM (prepared reference, as sweeps run)": ("prepared",),
+        f"PSNR + SSIM, read back {batch} at a time": ("prepared", "deferred"),
         "PSNR + SSIM + FLIP (prepared reference)": ("prepared", "flip"),
+        f"PSNR + SSIM + FLIP, read back {batch} at a time": ("prepared", "flip", "deferred"),
         "PSNR + SSIM, one pass, reference not prepared": ("fused",),
         "PSNR + SSIM, separate passes": ("separate",),
     }
     prepared = metrics.prepare_reference(ctx, reference.texture)
-    record = {}
+    queue = metrics.MetricQueue(ctx)
+    record = {"readback_batch": batch}
     print("\n| sweep, untimed, reconstruct_mcguire2012 | evaluations / s | ms per evaluation |")
     print("|---|---|---|")
     for label, chosen in ways.items():
 
-        def evaluate(i, chosen=chosen):
+        def issue(i, chosen=chosen):
+            """One evaluation: its row of values, or with "deferred" its indices in the queue."""
             k, s = grid[i % len(grid)]
             result = bl.blur(ctx, frame, "reconstruct_mcguire2012", k=k, samples=s, timed=False)
             color = result.textures["color"]
+            if "deferred" in chosen:
+                row = {"mse_ssim": queue.mse_ssim(prepared, color)}
+                if "flip" in chosen:
+                    row["flip"] = queue.flip(reference.texture, color)
+                return row
             if "prepared" in chosen:
-                mse, ssim = metrics.gpu_mse_ssim(ctx, prepared, color)
+                row = {"mse_ssim": metrics.gpu_mse_ssim(ctx, prepared, color)}
             elif "fused" in chosen:
-                mse, ssim = metrics.gpu_mse_ssim(ctx, reference.texture, color)
+                row = {"mse_ssim": metrics.gpu_mse_ssim(ctx, reference.texture, color)}
             else:
                 mse = metrics.gpu_mse(ctx, color, reference.texture)
-                ssim = metrics.gpu_ssim(ctx, reference.texture, color)
-            row = {"psnr": metrics.psnr_from_mse(mse), "ssim": ssim}
+                row = {"mse_ssim": (mse, metrics.gpu_ssim(ctx, reference.texture, color))}
             if "flip" in chosen:
                 row["flip"] = metrics.gpu_flip(ctx, reference.texture, color)
             return row
 
-        for i in range(3):
-            evaluate(i)
+        def run(first: int, count: int, chosen=chosen) -> list[dict]:
+            """Evaluations first..first + count - 1; their rows (PSNR, SSIM, FLIP)."""
+            rows, pending = [], []
+            for i in range(first, first + count):
+                pending.append(issue(i))
+                if "deferred" not in chosen or len(pending) == batch:
+                    rows += finish(pending)
+                    pending = []
+            return rows + finish(pending)
+
+        def finish(pending: list[dict]) -> list[dict]:
+            values = queue.read() if pending and isinstance(pending[0]["mse_ssim"], int) else None
+            rows = []
+            for row in pending:
+                got = {c: values[v] if values is not None else v for c, v in row.items()}
+                mse, ssim = got["mse_ssim"]
+                rows.append({"psnr": metrics.psnr_from_mse(mse), "ssim": ssim})
+                if "flip" in got:
+                    rows[-1]["flip"] = got["flip"]
+            return rows
+
+        run(0, 3)
+        ctx.finish()
         start = time.perf_counter()
-        for i in range(evaluations):
-            row = evaluate(i)
+        rows = run(0, evaluations)
         rate = evaluations / (time.perf_counter() - start)
-        record[label] = {"evaluations_per_s": rate, "last_row": row}
+        record[label] = {"evaluations_per_s": rate, "last_row": rows[-1], "rows": rows[: len(grid)]}
         print(f"| {label} | {rate:.0f} | {1e3 / rate:.3f} |")
+    pairs = {  # batched, per evaluation
+        "": (f"PSNR + SSIM, read back {batch} at a time", next(iter(ways))),
+        "_flip": (
+            f"PSNR + SSIM + FLIP, read back {batch} at a time",
+            "PSNR + SSIM + FLIP (prepared reference)",
+        ),
+    }
+    for suffix, (now, before) in pairs.items():
+        same = record[now]["rows"] == record[before]["rows"]
+        speedup = record[now]["evaluations_per_s"] / record[before]["evaluations_per_s"]
+        record["deferred_speedup" + suffix], record["same_rows" + suffix] = speedup, same
+        print(f"| {now} / per evaluation | {speedup:.2f}x | same rows: {same} |")
+    prepared.release()
     return record
 
 
@@ -586,6 +629,9 @@ def main() -> None:
     parser.add_argument("--size", default="1920x1080")
     parser.add_argument("--runs", type=int, default=20)
     parser.add_argument("--evaluations", type=int, default=500)
+    parser.add_argument(
+        "--readback-batch", type=int, default=16, help="evaluations read back together (sweep)"
+    )
     parser.add_argument("--bandwidth-size", default="4096x4096")
     parser.add_argument("--nominal-gbs", type=float, default=None, help="e.g. 3350 (H100 SXM)")
     parser.add_argument("--study", action="store_true", help="also time blurlab study")
@@ -651,7 +697,7 @@ def measure_filters_and_metrics(
             ctx, frame, record["filters"], record["bandwidth"], args.nominal_gbs
         )
     if "sweep" in parts:
-        record["sweep"] = sweep_rate(ctx, frame, reference, args.evaluations)
+        record["sweep"] = sweep_rate(ctx, frame, reference, args.evaluations, args.readback_batch)
     if "metrics" in parts:
         record["metrics"] = metric_times(ctx, frame, reference, args.runs, layouts)
     if args.study:

@@ -29,6 +29,9 @@ class Settings:
     reference_samples: int | None
     metrics: tuple[str, ...] | None  # None: scene_metrics(scene) on each scene
     repeats: int
+    # Evaluations whose GPU metrics are read back together (metrics.MetricQueue); 1 reads each
+    # one's scalars before the next evaluation starts.
+    readback_batch: int = 1
 
 
 LDR_METRICS = ("psnr", "ssim", "flip", "psnr_aa")  # psnr_aa: against the antialiased reference
@@ -72,16 +75,16 @@ def evaluate_scene(
             clock = result.clock
             del result  # back to the pool before the next run
         timings[key] = (runs, clock)
-    # Then the error of each configuration, one untimed run each.
+    # Then the error of each configuration, one untimed run each. The GPU metrics of up to
+    # settings.readback_batch evaluations are issued before any is read back, so the GPU works
+    # through one evaluation while the CPU issues the next, and the CPU waits once per batch.
+    queue = m.MetricQueue(ctx) if settings.readback_batch > 1 else None
+    issued: list[tuple[tuple, dict, dict]] = []  # (key, row, {column: index in queue})
     for name, point, backend, key in jobs:
         frames, reference = _scene_inputs(ctx, scene, name, point, settings, cache)
         runs, clock = timings[key]
         result = blur_steps(ctx, frames, name, backend, timed=False, **_without_steps(point))
-        if "ssim" in wanted:  # PSNR and SSIM from one pass against the prepared reference
-            prepared = _prepared_reference(ctx, reference, cache)
-            mse, ssim = m.gpu_mse_ssim(ctx, prepared, result.textures["color"])
-        else:
-            mse = m.gpu_mse(ctx, result.textures["color"], reference.texture)
+        color = result.textures["color"]
         row = {
             "scene": scene.name,
             "method": name,
@@ -92,20 +95,41 @@ def evaluate_scene(
             "total_ms": statistics.median(sum(r.values()) for r in runs),
             "repeats": settings.repeats,
             "clock": clock,
-            "psnr": m.psnr_from_mse(mse),
+            "psnr": None,  # filled in from the GPU's sums below
             # What the parameters given as "auto" chose on this scene.
             **{f"auto_{k}": json.dumps(v) for k, v in result.auto.items()},
         }
         # Every LDR metric is reduced on the GPU (docs/spec.md §6): no image is read back for it.
-        if "ssim" in wanted:
-            row["ssim"] = ssim
-        if "flip" in wanted:
-            row["flip"] = m.gpu_flip(ctx, reference.texture, result.textures["color"])
-        if "psnr_aa" in wanted:  # against the antialiased reference (§11)
-            antialiased = _reference(ctx, scene, settings, reference.samples, cache, True)
-            row["psnr_aa"] = m.psnr_from_mse(
-                m.gpu_mse(ctx, result.textures["color"], antialiased.texture)
+        gpu = {}  # column: the value, or its index in the queue
+        if "ssim" in wanted:  # PSNR and SSIM from one pass against the prepared reference
+            prepared = _prepared_reference(ctx, reference, cache)
+            gpu["mse_ssim"] = (
+                queue.mse_ssim(prepared, color)
+                if queue is not None
+                else m.gpu_mse_ssim(ctx, prepared, color)
             )
+            row["ssim"] = None
+        else:
+            gpu["mse"] = (
+                queue.mse(color, reference.texture)
+                if queue is not None
+                else m.gpu_mse(ctx, color, reference.texture)
+            )
+        if "flip" in wanted:
+            gpu["flip"] = (
+                queue.flip(reference.texture, color)
+                if queue is not None
+                else m.gpu_flip(ctx, reference.texture, color)
+            )
+            row["flip"] = None
+        if "psnr_aa" in wanted:  # against the antialiased reference (§11)
+            antialiased = _reference(ctx, scene, settings, reference.samples, cache, True).texture
+            gpu["mse_aa"] = (
+                queue.mse(color, antialiased)
+                if queue is not None
+                else m.gpu_mse(ctx, color, antialiased)
+            )
+            row["psnr_aa"] = None
         # The pictures a caller shows (the study's middle points): kept, not blurred again.
         if (name, row["params"]) in cache.get("keep_colours", ()):
             cache.setdefault("colours", {})[(name, row["params"])] = result.color
@@ -122,7 +146,31 @@ def evaluate_scene(
                 "shutter": json.dumps([frames[0].shutter[0], frames[-1].shutter[1]]),
             }
         )
-        del result  # its textures go back to the pool before the next evaluation
+        # Its textures go back to the pool before the next evaluation; a queued reduction
+        # still reads them first (GL runs commands in the order issued).
+        del result, color
+        issued.append((key, row, gpu))
+        if queue is None or len(issued) >= settings.readback_batch:
+            yield from _finished_rows(queue, issued)
+            issued = []
+    yield from _finished_rows(queue, issued)
+
+
+def _finished_rows(queue, issued: list) -> Iterator[tuple[tuple, dict]]:
+    """The rows of `issued` with their GPU metrics filled in (read from `queue` in one wait,
+    or already there without one)."""
+    values = queue.read() if queue is not None else []
+    for key, row, gpu in issued:
+        got = {c: values[v] if queue is not None else v for c, v in gpu.items()}
+        if "mse_ssim" in got:
+            mse, row["ssim"] = got["mse_ssim"]
+        else:
+            mse = got["mse"]
+        row["psnr"] = m.psnr_from_mse(mse)
+        if "flip" in got:
+            row["flip"] = got["flip"]
+        if "mse_aa" in got:
+            row["psnr_aa"] = m.psnr_from_mse(got["mse_aa"])
         yield key, row
 
 

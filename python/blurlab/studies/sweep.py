@@ -2,7 +2,8 @@
 
 Each scene's G-buffer is rendered once per instant its methods need and its reference once;
 each evaluation runs the method, reduces the squared error and, if asked, the SSIM and FLIP
-maps against the reference on the GPU (scalar readbacks). Rows are
+maps against the reference on the GPU, reading the sums of a batch of evaluations back
+at once (docs/spec.md §6.3). Rows are
 appended to a CSV file as they are made, so an interrupted sweep keeps every finished row and
 a rerun with the same file skips them. With a Dask cluster the same evaluations run on its
 workers, a scene's configurations split into chunks (blurlab.studies.cluster).
@@ -87,6 +88,7 @@ def sweep(
     cluster=None,
     chunk_size: int | None = None,
     caches: dict | None = None,
+    readback_batch: int = 16,
 ) -> pd.DataFrame:
     """Evaluates every method at every point of its grid on every scene.
 
@@ -110,6 +112,10 @@ def sweep(
     ("clock", a PhaseClock with "references" and "g_buffers"), for a caller that shows the
     same images (blurlab study); a scene's "keep_colours", set before, names the (method,
     params JSON) whose output colours it keeps ("colours"). On a cluster it stays as it was.
+    `readback_batch`: the GPU metrics of up to this many evaluations of a scene are read back
+    together, after one wait (metrics.MetricQueue), so the GPU runs one evaluation while the
+    CPU issues the next; 1 waits for each evaluation's scalars. The values are the same bits
+    either way; rows reach `out` a batch at a time.
     """
     if cluster is None and not isinstance(ctx, Context):
         raise TypeError("blurlab.sweep needs a blurlab Context (or ctx=None and a cluster)")
@@ -121,6 +127,14 @@ def sweep(
         dask_cluster.check_cluster(cluster)
     if isinstance(repeats, bool) or not isinstance(repeats, int) or repeats < 1:
         raise ValueError(f"blurlab.sweep: repeats must be an integer >= 1, not {repeats!r}")
+    if (
+        isinstance(readback_batch, bool)
+        or not isinstance(readback_batch, int)
+        or readback_batch < 1
+    ):
+        raise ValueError(
+            f"blurlab.sweep: readback_batch must be an integer >= 1, not {readback_batch!r}"
+        )
     if chunk_size is not None and (
         isinstance(chunk_size, bool) or not isinstance(chunk_size, int) or chunk_size < 1
     ):
@@ -164,6 +178,7 @@ def sweep(
         reference_samples,
         None if metrics is None else tuple(metrics),
         repeats,
+        readback_batch,
     )
     done = _finished_keys(path)
     # Every evaluation asked for, in table order, and per scene those not yet in `out`.

@@ -1,0 +1,77 @@
+"""metrics.MetricQueue (docs/spec.md §6.3): GPU metrics issued now and read back together give the
+bits of gpu_mse, gpu_mse_ssim and gpu_flip called one at a time, with one wait for the GPU."""
+
+from __future__ import annotations
+
+import pytest
+
+import blurlab as bl
+from blurlab import metrics as m
+
+SIZE = (160, 90)
+
+
+@pytest.fixture(scope="module")
+def scene_inputs(ctx):
+    scene = bl.scenes.teapot_pass()
+    frame = ctx.render(scene, SIZE)
+    reference = ctx.reference(scene, SIZE, samples=8, progress=False)
+    prepared = m.prepare_reference(ctx, reference.texture)
+    yield frame, reference, prepared
+    prepared.release()
+
+
+def test_queued_metrics_equal_the_immediate_ones_with_one_wait(ctx, scene_inputs):
+    frame, reference, prepared = scene_inputs
+    queue = m.MetricQueue(ctx)
+    expected, order = [], []
+    for k in (4, 8, 16, 20, 40, 8):  # a repeat: the same value twice, from two slots
+        result = bl.blur(ctx, frame, "reconstruct_mcguire2012", k=k, timed=False)
+        color = result.textures["color"]
+        expected += [
+            m.gpu_mse_ssim(ctx, prepared, color),
+            m.gpu_mse(ctx, color, reference.texture),
+            m.gpu_flip(ctx, reference.texture, color),
+        ]
+        order += [
+            queue.mse_ssim(prepared, color),
+            queue.mse(color, reference.texture),
+            queue.flip(reference.texture, color),
+        ]
+        # Back to the pool before the read: the next blur writes into the same texture, after
+        # the queued reductions read it.
+        del result, color
+    assert order == list(range(18)) and len(queue) == 18
+    waits = ctx.waits()
+    values = queue.read()
+    # One wait for the reductions' sums, one per FLIP partials download.
+    assert ctx.waits() - waits == 1 + 6
+    assert values == expected
+    assert len({v[1] for v in values[::3]}) == 5  # the SSIMs differ with k
+    assert len(queue) == 0 and queue.read() == []
+
+
+def test_an_empty_read_does_not_wait(ctx):
+    queue = m.MetricQueue(ctx)
+    waits = ctx.waits()
+    assert queue.read() == [] and ctx.waits() == waits
+
+
+def test_bad_queued_metrics_are_refused_and_leave_the_batch_whole(ctx, scene_inputs):
+    frame, reference, prepared = scene_inputs
+    queue = m.MetricQueue(ctx)
+    queue.mse(frame.textures["color"], reference.texture)
+    small = ctx.pooled((45, 80, 4))
+    with pytest.raises(TypeError, match="PreparedReference"):
+        queue.mse_ssim(reference.texture, frame.textures["color"])
+    with pytest.raises(ValueError, match="differ in shape"):
+        queue.mse(small, reference.texture)
+    with pytest.raises(ValueError, match="differ in shape"):
+        queue.mse_ssim(prepared, small)
+    gone = m.prepare_reference(ctx, reference.texture)
+    gone.release()
+    with pytest.raises(ValueError, match="after release"):
+        queue.mse_ssim(gone, frame.textures["color"])
+    ctx.recycle(small)
+    assert len(queue) == 1
+    assert queue.read() == [m.gpu_mse(ctx, frame.textures["color"], reference.texture)]
