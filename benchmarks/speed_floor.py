@@ -2,8 +2,10 @@
 
 1. filters: McGuire 2012 (k = 20, S = 15) and Guertin 2014 per pass, compute and fragment
    (fragment / compute), each with the stored and the packed inputs (packed_inputs, docs/spec.md
-   §19; the packing pass timed once), and a Python call (wall clock per bl.blur over a loop,
-   finished once) against its GPU time; then TileMax's work-group layouts (TILE_MAX_VARIANTS)
+   §19; the packing pass timed once), and a Python call (wall clock per untimed bl.blur over
+   a loop, finished once) against its GPU time: over the first 20 calls (which note, then
+   record, the dispatch plan: docs/spec.md §18) and in steady state over 200, with the CPU
+   time of this process per call; then TileMax's work-group layouts (TILE_MAX_VARIANTS)
    at each --tile-max-k, on stored and packed motion, and whether they give the same bits;
 2. bytes per pixel the filter cannot avoid (read colour, depth and motion once, write colour
    once), as stored and packed, and the share of the DRAM floor: those bytes at the
@@ -11,8 +13,10 @@
    against the filter's GPU time;
 3. sweep evaluations per second (blur + metrics reduced on the GPU, untimed, parameters
    cycling through k and S) with PSNR + SSIM (one gpu_mse_ssim pass against the prepared
-   reference, as sweeps run), with PSNR + SSIM + FLIP, and with PSNR + SSIM from gpu_mse_ssim
-   of the two textures and from separate gpu_mse + gpu_ssim passes;
+   reference, as sweeps run), with PSNR + SSIM + FLIP, each read back per evaluation and in
+   batches of --readback-batch (metrics.MetricQueue, docs/spec.md §6.3; the rows must be the
+   same bits), and with PSNR + SSIM from gpu_mse_ssim of the two textures and from separate
+   gpu_mse + gpu_ssim passes;
 4. gpu_mse, gpu_ssim, gpu_mse_ssim and gpu_mse_ssim against a prepared reference (in each SSIM
    work-group layout, --ssim-layouts), prepare_reference, and gpu_flip: wall clock per call
    (with the scalar read back) and GPU time;
@@ -92,8 +96,11 @@ def filters(ctx, frame, runs: int) -> dict:
     """Each filter per backend with the stored inputs ("compute", "fragment") and with packed
     inputs ("compute packed", "fragment packed"; the frame is packed once, before timing)."""
     out = {}
-    print("\n| filter / backend | per pass, ms | GPU total, ms | Python call, ms | call / GPU |")
-    print("|---|---|---|---|---|")
+    print(
+        "\n| filter / backend | per pass, ms | GPU total, ms | Python call, first 20, ms "
+        "(/ GPU) | Python call, steady, ms | its CPU, ms | call / GPU |"
+    )
+    print("|---|---|---|---|---|---|---|")
     for name, stored_params in FILTERS.items():
         out[name] = {}
         ways = itertools.product(bl.method(name).backends, (False, True))
@@ -111,17 +118,23 @@ def filters(ctx, frame, runs: int) -> dict:
             medians = {p: statistics.median(v) for p, v in per_pass.items()}
             total = sum(medians.values())
             # A Python call as a sweep makes it: untimed, the GPU finished once after the loop.
-            calls = max(runs, 20)
-            ctx.finish()
-            start = time.perf_counter()
-            for _ in range(calls):
-                bl.blur(ctx, frame, name, backend=backend, timed=False, **params)
-            ctx.finish()
-            call = 1e3 * (time.perf_counter() - start) / calls
-            out[name][label] = {"passes_ms": medians, "total_ms": total, "call_ms": call}
+            # The first 20 include the call that only notes the parameters and the one that
+            # records the plan (docs/spec.md §18), as the figures before 2026-11-24 05:00 did.
+            first = untimed_calls(ctx, frame, name, backend, params, 20)
+            # Then steady state, the plan recorded: wall clock and this process's CPU time.
+            call, cpu = untimed_calls(ctx, frame, name, backend, params, max(runs, 200))
+            out[name][label] = {
+                "passes_ms": medians,
+                "total_ms": total,
+                "call_ms": call,
+                "call_cpu_ms": cpu,
+                "first_20_calls_ms": first[0],
+            }
             passes = ", ".join(f"{p} {v:.4f}" for p, v in medians.items())
-            ratio = call / total
-            print(f"| {name} / {label} | {passes} | {total:.4f} | {call:.4f} | {ratio:.2f} |")
+            print(
+                f"| {name} / {label} | {passes} | {total:.4f} | {first[0]:.4f} "
+                f"({first[0] / total:.2f}x) | {call:.4f} | {cpu:.4f} | {call / total:.2f} |"
+            )
         both = out[name]
         for suffix in ("", " packed"):
             if "fragment" + suffix in both:
@@ -134,6 +147,19 @@ def filters(ctx, frame, runs: int) -> dict:
     out["pack_inputs_ms"] = frame.timings["pack_inputs"].ms  # once per frame, first call
     print(f"| packing pass (once per frame) | | {out['pack_inputs_ms']:.4f} | | |")
     return out
+
+
+def untimed_calls(ctx, frame, name, backend, params, calls: int) -> tuple[float, float]:
+    """(wall ms, CPU ms of this process) per untimed bl.blur over `calls` calls in a loop, the
+    GPU finished before and once after it. Where the CPU time is below the wall time, the GPU
+    bounds the loop; on llvmpipe the CPU time includes the passes' work."""
+    ctx.finish()
+    start, cpu = time.perf_counter(), time.process_time()
+    for _ in range(calls):
+        bl.blur(ctx, frame, name, backend=backend, timed=False, **params)
+    ctx.finish()
+    cpu = time.process_time() - cpu
+    return 1e3 * (time.perf_counter() - start) / calls, 1e3 * cpu / calls
 
 
 def tile_max_variants(ctx, frame, runs: int, ks) -> dict:
