@@ -283,61 +283,70 @@ def sweep_rate(ctx, frame, reference, evaluations: int, batch: int) -> dict:
         "PSNR + SSIM, separate passes": ("separate",),
     }
     prepared = metrics.prepare_reference(ctx, reference.texture)
-    queue = metrics.MetricQueue(ctx)
+    batches = metrics.MetricBatches(ctx, batch)
     record = {"readback_batch": batch}
-    print("\n| sweep, untimed, reconstruct_mcguire2012 | evaluations / s | ms per evaluation |")
-    print("|---|---|---|")
+    print(
+        "\n| sweep, untimed, reconstruct_mcguire2012 | evaluations / s | ms per evaluation "
+        "| CPU ms per evaluation |"
+    )
+    print("|---|---|---|---|")
     for label, chosen in ways.items():
 
         def issue(i, chosen=chosen):
-            """One evaluation: its row of values, or with "deferred" its indices in the queue."""
+            """One evaluation: its values, or with "deferred" their indices in its batch."""
             k, s = grid[i % len(grid)]
             result = bl.blur(ctx, frame, "reconstruct_mcguire2012", k=k, samples=s, timed=False)
             color = result.textures["color"]
             if "deferred" in chosen:
-                row = {"mse_ssim": queue.mse_ssim(prepared, color)}
+                got = {"mse_ssim": batches.queue.mse_ssim(prepared, color)}
                 if "flip" in chosen:
-                    row["flip"] = queue.flip(reference.texture, color)
-                return row
+                    got["flip"] = batches.queue.flip(reference.texture, color)
+                return got
             if "prepared" in chosen:
-                row = {"mse_ssim": metrics.gpu_mse_ssim(ctx, prepared, color)}
+                got = {"mse_ssim": metrics.gpu_mse_ssim(ctx, prepared, color)}
             elif "fused" in chosen:
-                row = {"mse_ssim": metrics.gpu_mse_ssim(ctx, reference.texture, color)}
+                got = {"mse_ssim": metrics.gpu_mse_ssim(ctx, reference.texture, color)}
             else:
                 mse = metrics.gpu_mse(ctx, color, reference.texture)
-                row = {"mse_ssim": (mse, metrics.gpu_ssim(ctx, reference.texture, color))}
+                got = {"mse_ssim": (mse, metrics.gpu_ssim(ctx, reference.texture, color))}
             if "flip" in chosen:
-                row["flip"] = metrics.gpu_flip(ctx, reference.texture, color)
-            return row
+                got["flip"] = metrics.gpu_flip(ctx, reference.texture, color)
+            return got
 
         def run(first: int, count: int, chosen=chosen) -> list[dict]:
             """Evaluations first..first + count - 1; their rows (PSNR, SSIM, FLIP)."""
-            rows, pending = [], []
-            for i in range(first, first + count):
-                pending.append(issue(i))
-                if "deferred" not in chosen or len(pending) == batch:
-                    rows += finish(pending)
-                    pending = []
-            return rows + finish(pending)
-
-        def finish(pending: list[dict]) -> list[dict]:
-            values = queue.read() if pending and isinstance(pending[0]["mse_ssim"], int) else None
             rows = []
-            for row in pending:
-                got = {c: values[v] if values is not None else v for c, v in row.items()}
-                mse, ssim = got["mse_ssim"]
-                rows.append({"psnr": metrics.psnr_from_mse(mse), "ssim": ssim})
-                if "flip" in got:
-                    rows[-1]["flip"] = got["flip"]
+            for i in range(first, first + count):
+                if "deferred" not in chosen:
+                    rows.append(row_of(issue(i)))
+                    continue
+                for indices, values in batches.add(issue(i)):
+                    rows.append(row_of({c: values[v] for c, v in indices.items()}))
+            if "deferred" in chosen:
+                for indices, values in batches.flush():
+                    rows.append(row_of({c: values[v] for c, v in indices.items()}))
             return rows
+
+        def row_of(got: dict) -> dict:
+            mse, ssim = got["mse_ssim"]
+            row = {"psnr": metrics.psnr_from_mse(mse), "ssim": ssim}
+            if "flip" in got:
+                row["flip"] = got["flip"]
+            return row
 
         run(0, 3)
         ctx.finish()
-        start = time.perf_counter()
+        start, cpu = time.perf_counter(), time.process_time()
         rows = run(0, evaluations)
         rate = evaluations / (time.perf_counter() - start)
-        record[label] = {"evaluations_per_s": rate, "last_row": rows[-1], "rows": rows[: len(grid)]}
-        print(f"| {label} | {rate:.0f} | {1e3 / rate:.3f} |")
+        cpu = 1e3 * (time.process_time() - cpu) / evaluations
+        record[label] = {
+            "evaluations_per_s": rate,
+            "cpu_ms_per_evaluation": cpu,
+            "last_row": rows[-1],
+            "rows": rows[: len(grid)],
+        }
+        print(f"| {label} | {rate:.0f} | {1e3 / rate:.3f} | {cpu:.3f} |")
     pairs = {  # batched, per evaluation
         "": (f"PSNR + SSIM, read back {batch} at a time", next(iter(ways))),
         "_flip": (
@@ -349,7 +358,7 @@ def sweep_rate(ctx, frame, reference, evaluations: int, batch: int) -> dict:
         same = record[now]["rows"] == record[before]["rows"]
         speedup = record[now]["evaluations_per_s"] / record[before]["evaluations_per_s"]
         record["deferred_speedup" + suffix], record["same_rows" + suffix] = speedup, same
-        print(f"| {now} / per evaluation | {speedup:.2f}x | same rows: {same} |")
+        print(f"| {now} / per evaluation | {speedup:.2f}x | same rows: {same} | |")
     prepared.release()
     return record
 

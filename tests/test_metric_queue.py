@@ -75,3 +75,38 @@ def test_bad_queued_metrics_are_refused_and_leave_the_batch_whole(ctx, scene_inp
     ctx.recycle(small)
     assert len(queue) == 1
     assert queue.read() == [m.gpu_mse(ctx, frame.textures["color"], reference.texture)]
+
+
+def test_batches_read_one_behind_in_order(ctx, scene_inputs):
+    # Batches of 2 over 5 evaluations: nothing is read until the second batch is issued, then
+    # the first; flush() gives the rest. Every value equals the immediate call's, in order.
+    frame, reference, prepared = scene_inputs
+    batches = m.MetricBatches(ctx, 2)
+    expected, got = [], []
+    for i, k in enumerate((4, 8, 16, 20, 40)):
+        result = bl.blur(ctx, frame, "reconstruct_mcguire2012", k=k, timed=False)
+        color = result.textures["color"]
+        expected.append(m.gpu_mse_ssim(ctx, prepared, color))
+        ready = batches.add((i, batches.queue.mse_ssim(prepared, color)))
+        assert [item[0] for item, _ in ready] == {0: [], 1: [], 2: [], 3: [0, 1], 4: []}[i]
+        got += [values[index] for (_, index), values in ready]
+        del result, color
+    ready = batches.flush()
+    assert [item[0] for item, _ in ready] == [2, 3, 4]
+    got += [values[index] for (_, index), values in ready]
+    assert got == expected
+    assert batches.flush() == []
+    with pytest.raises(ValueError, match="size must be an integer >= 1"):
+        m.MetricBatches(ctx, 0)
+
+
+def test_a_sealed_queue_takes_no_more_until_read(ctx, scene_inputs):
+    frame, reference, prepared = scene_inputs
+    queue = m.MetricQueue(ctx)
+    queue.mse(frame.textures["color"], reference.texture)
+    queue.seal()
+    with pytest.raises(RuntimeError, match="read\\(\\) a sealed batch"):
+        queue.mse_ssim(prepared, frame.textures["color"])
+    assert len(queue.read()) == 1
+    queue.mse(frame.textures["color"], reference.texture)  # open again
+    assert len(queue.read()) == 1

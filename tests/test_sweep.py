@@ -86,9 +86,10 @@ def test_interrupted_sweep_keeps_finished_rows(ctx, tmp_path, monkeypatch):
 
     def interrupt_after_three(*args, **kwargs):
         calls["n"] += 1
-        # Per scene: the timing runs (2 warm-ups + 5 timed), then one run per row; rows are
-        # read back two at a time, so the two finished ones reach the file.
-        if calls["n"] > 9:
+        # Per scene: the timing runs (2 warm-ups + 5 timed), then one run per row. Rows are
+        # read back two at a time, a batch once the next is issued: after rows 3 and 4, rows 1
+        # and 2 are finished and reach the file; the fifth run is interrupted.
+        if calls["n"] > 11:
             raise KeyboardInterrupt
         return real(*args, **kwargs)
 

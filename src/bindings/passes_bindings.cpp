@@ -268,6 +268,7 @@ void bind_passes(py::module_& m) {
              return std::make_shared<ReductionQueue>(context.get());
            }),
            py::arg("context"), py::keep_alive<1, 2>())
+      .def("seal", &ReductionQueue::seal)
       .def("read", &ReductionQueue::read, py::call_guard<py::gil_scoped_release>())
       .def("clear", &ReductionQueue::clear)
       .def_property_readonly("pending", &ReductionQueue::pending);

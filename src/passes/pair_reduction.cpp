@@ -32,9 +32,19 @@ ReductionQueue::ReductionQueue(Context* context) : context_(context) {
   alignment_ = storage_alignment_floats();
 }
 
-ReductionQueue::~ReductionQueue() = default;
+ReductionQueue::~ReductionQueue() {
+  drop_fence();
+}
+
+void ReductionQueue::drop_fence() {
+  if (!fence_) return;
+  context_->release(nullptr, [fence = static_cast<GLsync>(fence_)] { glDeleteSync(fence); });
+  fence_ = nullptr;
+}
 
 size_t ReductionQueue::reserve(size_t count, int components) {
+  if (fence_)
+    throw std::logic_error("blurlab: a sealed batch of reductions must be read before the next");
   const size_t offset = (used_ + alignment_ - 1) / alignment_ * alignment_;
   const size_t end = offset + count;
   if (!buffer_ || buffer_->size() < end * sizeof(float)) {
@@ -55,20 +65,35 @@ size_t ReductionQueue::reserve(size_t count, int components) {
   return entries_.size() - 1;
 }
 
+void ReductionQueue::seal() {
+  if (fence_ || entries_.empty()) return;
+  const size_t bytes = used_ * sizeof(float);
+  if (!readback_ || readback_->size() < bytes)
+    readback_ = std::make_unique<Buffer>(context_, buffer_->size(), Buffer::Usage::readback);
+  // The dispatches ended with full memory barriers: the copy reads their partial sums.
+  glCopyNamedBufferSubData(buffer_->id(), readback_->id(), 0, 0, static_cast<GLsizeiptr>(bytes));
+  glMemoryBarrier(GL_CLIENT_MAPPED_BUFFER_BARRIER_BIT);
+  fence_ = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+  glFlush();  // else the batch may wait in the command queue until someone waits on it
+  check_gl("queueing the read-back of partial sums");
+}
+
 std::vector<std::vector<double>> ReductionQueue::read() {
   std::vector<std::vector<double>> totals;
   if (entries_.empty()) return totals;
-  host_.resize(used_);
+  seal();
+  context_->make_current();
   context_->count_wait();
-  glGetNamedBufferSubData(buffer_->id(), 0, static_cast<GLsizeiptr>(used_ * sizeof(float)),
-                          host_.data());
+  const GLenum waited =
+      glClientWaitSync(static_cast<GLsync>(fence_), GL_SYNC_FLUSH_COMMANDS_BIT, GL_TIMEOUT_IGNORED);
   const auto entries = std::move(entries_);
   clear();
-  check_gl("reading back partial sums");
+  if (waited == GL_WAIT_FAILED) throw GLError("blurlab: waiting for partial sums failed");
   totals.reserve(entries.size());
+  const float* host = static_cast<const float*>(readback_->mapped());
   for (const Entry& e : entries) {
     std::vector<double> out(e.components, 0.0);
-    const float* partials = host_.data() + e.offset;
+    const float* partials = host + e.offset;
     for (size_t i = 0; i < e.count; ++i) out[i % e.components] += partials[i];
     totals.push_back(std::move(out));
   }
@@ -81,6 +106,7 @@ void ReductionQueue::drop_last() {
 }
 
 void ReductionQueue::clear() {
+  drop_fence();
   entries_.clear();
   used_ = 0;
 }

@@ -75,12 +75,12 @@ def evaluate_scene(
             clock = result.clock
             del result  # back to the pool before the next run
         timings[key] = (runs, clock)
-    # Then the error of each configuration, one untimed run each. The GPU metrics of up to
-    # settings.readback_batch evaluations are issued before any is read back, so the GPU works
-    # through one evaluation while the CPU issues the next, and the CPU waits once per batch.
-    queue = m.MetricQueue(ctx) if settings.readback_batch > 1 else None
-    issued: list[tuple[tuple, dict, dict]] = []  # (key, row, {column: index in queue})
+    # Then the error of each configuration, one untimed run each. The GPU metrics go in
+    # batches of settings.readback_batch evaluations, each read back once the next is issued,
+    # so the GPU works through one batch while the CPU issues the next (docs/spec.md §6.3).
+    batches = m.MetricBatches(ctx, settings.readback_batch) if settings.readback_batch > 1 else None
     for name, point, backend, key in jobs:
+        queue = batches.queue if batches is not None else None
         frames, reference = _scene_inputs(ctx, scene, name, point, settings, cache)
         runs, clock = timings[key]
         result = blur_steps(ctx, frames, name, backend, timed=False, **_without_steps(point))
@@ -149,29 +149,33 @@ def evaluate_scene(
         # Its textures go back to the pool before the next evaluation; a queued reduction
         # still reads them first (GL runs commands in the order issued).
         del result, color
-        issued.append((key, row, gpu))
-        if queue is None or len(issued) >= settings.readback_batch:
-            yield from _finished_rows(queue, issued)
-            issued = []
-    yield from _finished_rows(queue, issued)
-
-
-def _finished_rows(queue, issued: list) -> Iterator[tuple[tuple, dict]]:
-    """The rows of `issued` with their GPU metrics filled in (read from `queue` in one wait,
-    or already there without one)."""
-    values = queue.read() if queue is not None else []
-    for key, row, gpu in issued:
-        got = {c: values[v] if queue is not None else v for c, v in gpu.items()}
-        if "mse_ssim" in got:
-            mse, row["ssim"] = got["mse_ssim"]
+        if batches is None:
+            yield _finished_row(key, row, gpu)
         else:
-            mse = got["mse"]
-        row["psnr"] = m.psnr_from_mse(mse)
-        if "flip" in got:
-            row["flip"] = got["flip"]
-        if "mse_aa" in got:
-            row["psnr_aa"] = m.psnr_from_mse(got["mse_aa"])
-        yield key, row
+            yield from _read_rows(batches.add((key, row, gpu)))
+    if batches is not None:
+        yield from _read_rows(batches.flush())
+
+
+def _read_rows(ready: list) -> Iterator[tuple[tuple, dict]]:
+    """The finished rows of MetricBatches' (item, values) pairs, items (key, row, {column:
+    index in values})."""
+    for (key, row, indices), values in ready:
+        yield _finished_row(key, row, {column: values[i] for column, i in indices.items()})
+
+
+def _finished_row(key: tuple, row: dict, got: dict) -> tuple[tuple, dict]:
+    """(key, row) with its GPU metrics filled in from `got`, {column: value}."""
+    if "mse_ssim" in got:
+        mse, row["ssim"] = got["mse_ssim"]
+    else:
+        mse = got["mse"]
+    row["psnr"] = m.psnr_from_mse(mse)
+    if "flip" in got:
+        row["flip"] = got["flip"]
+    if "mse_aa" in got:
+        row["psnr_aa"] = m.psnr_from_mse(got["mse_aa"])
+    return key, row
 
 
 class PhaseClock:
