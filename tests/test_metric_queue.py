@@ -110,3 +110,22 @@ def test_a_sealed_queue_takes_no_more_until_read(ctx, scene_inputs):
     assert len(queue.read()) == 1
     queue.mse(frame.textures["color"], reference.texture)  # open again
     assert len(queue.read()) == 1
+
+
+def test_many_batches_hold_no_more_gl_objects(ctx, scene_inputs):
+    # Buffers grow to the largest batch once; fences are deleted as batches are read.
+    frame, reference, prepared = scene_inputs
+    color = frame.textures["color"]
+    batches = m.MetricBatches(ctx, 4)
+
+    def some_batches():
+        for _ in range(3):
+            for _ in range(4):
+                batches.add(batches.queue.mse_ssim(prepared, color))
+        batches.flush()
+
+    some_batches()
+    before = ctx.live_objects()
+    for _ in range(10):
+        some_batches()
+    assert ctx.live_objects() == before and ctx.gl_errors() == []
