@@ -2,8 +2,10 @@
 
 1. filters: McGuire 2012 (k = 20, S = 15) and Guertin 2014 per pass, compute and fragment
    (fragment / compute), each with the stored and the packed inputs (packed_inputs, docs/spec.md
-   §19; the packing pass timed once), and a Python call (wall clock per bl.blur over a loop,
-   finished once) against its GPU time; then TileMax's work-group layouts (TILE_MAX_VARIANTS)
+   §19; the packing pass timed once), and a Python call (wall clock per untimed bl.blur over
+   a loop, finished once) against its GPU time: over the first 20 calls (which note, then
+   record, the dispatch plan: docs/spec.md §18) and in steady state over 200, with the CPU
+   time of this process per call; then TileMax's work-group layouts (TILE_MAX_VARIANTS)
    at each --tile-max-k, on stored and packed motion, and whether they give the same bits;
 2. bytes per pixel the filter cannot avoid (read colour, depth and motion once, write colour
    once), as stored and packed, and the share of the DRAM floor: those bytes at the
@@ -11,8 +13,10 @@
    against the filter's GPU time;
 3. sweep evaluations per second (blur + metrics reduced on the GPU, untimed, parameters
    cycling through k and S) with PSNR + SSIM (one gpu_mse_ssim pass against the prepared
-   reference, as sweeps run), with PSNR + SSIM + FLIP, and with PSNR + SSIM from gpu_mse_ssim
-   of the two textures and from separate gpu_mse + gpu_ssim passes;
+   reference, as sweeps run), with PSNR + SSIM + FLIP, each read back per evaluation and in
+   batches of --readback-batch (metrics.MetricQueue, docs/spec.md §6.3; the rows must be the
+   same bits), and with PSNR + SSIM from gpu_mse_ssim of the two textures and from separate
+   gpu_mse + gpu_ssim passes;
 4. gpu_mse, gpu_ssim, gpu_mse_ssim, gpu_mse_ssim against a prepared reference and
    prepare_reference (each in every SSIM work-group layout, --ssim-layouts, tiles and strips),
    and gpu_flip: wall clock per call (with the scalar read back) and GPU time;
@@ -92,8 +96,11 @@ def filters(ctx, frame, runs: int) -> dict:
     """Each filter per backend with the stored inputs ("compute", "fragment") and with packed
     inputs ("compute packed", "fragment packed"; the frame is packed once, before timing)."""
     out = {}
-    print("\n| filter / backend | per pass, ms | GPU total, ms | Python call, ms | call / GPU |")
-    print("|---|---|---|---|---|")
+    print(
+        "\n| filter / backend | per pass, ms | GPU total, ms | Python call, first 20, ms "
+        "(/ GPU) | Python call, steady, ms | its CPU, ms | call / GPU |"
+    )
+    print("|---|---|---|---|---|---|---|")
     for name, stored_params in FILTERS.items():
         out[name] = {}
         ways = itertools.product(bl.method(name).backends, (False, True))
@@ -111,17 +118,23 @@ def filters(ctx, frame, runs: int) -> dict:
             medians = {p: statistics.median(v) for p, v in per_pass.items()}
             total = sum(medians.values())
             # A Python call as a sweep makes it: untimed, the GPU finished once after the loop.
-            calls = max(runs, 20)
-            ctx.finish()
-            start = time.perf_counter()
-            for _ in range(calls):
-                bl.blur(ctx, frame, name, backend=backend, timed=False, **params)
-            ctx.finish()
-            call = 1e3 * (time.perf_counter() - start) / calls
-            out[name][label] = {"passes_ms": medians, "total_ms": total, "call_ms": call}
+            # The first 20 include the call that only notes the parameters and the one that
+            # records the plan (docs/spec.md §18), as the figures before 2026-11-24 05:00 did.
+            first = untimed_calls(ctx, frame, name, backend, params, 20)
+            # Then steady state, the plan recorded: wall clock and this process's CPU time.
+            call, cpu = untimed_calls(ctx, frame, name, backend, params, max(runs, 200))
+            out[name][label] = {
+                "passes_ms": medians,
+                "total_ms": total,
+                "call_ms": call,
+                "call_cpu_ms": cpu,
+                "first_20_calls_ms": first[0],
+            }
             passes = ", ".join(f"{p} {v:.4f}" for p, v in medians.items())
-            ratio = call / total
-            print(f"| {name} / {label} | {passes} | {total:.4f} | {call:.4f} | {ratio:.2f} |")
+            print(
+                f"| {name} / {label} | {passes} | {total:.4f} | {first[0]:.4f} "
+                f"({first[0] / total:.2f}x) | {call:.4f} | {cpu:.4f} | {call / total:.2f} |"
+            )
         both = out[name]
         for suffix in ("", " packed"):
             if "fragment" + suffix in both:
@@ -134,6 +147,19 @@ def filters(ctx, frame, runs: int) -> dict:
     out["pack_inputs_ms"] = frame.timings["pack_inputs"].ms  # once per frame, first call
     print(f"| packing pass (once per frame) | | {out['pack_inputs_ms']:.4f} | | |")
     return out
+
+
+def untimed_calls(ctx, frame, name, backend, params, calls: int) -> tuple[float, float]:
+    """(wall ms, CPU ms of this process) per untimed bl.blur over `calls` calls in a loop, the
+    GPU finished before and once after it. Where the CPU time is below the wall time, the GPU
+    bounds the loop; on llvmpipe the CPU time includes the passes' work."""
+    ctx.finish()
+    start, cpu = time.perf_counter(), time.process_time()
+    for _ in range(calls):
+        bl.blur(ctx, frame, name, backend=backend, timed=False, **params)
+    ctx.finish()
+    cpu = time.process_time() - cpu
+    return 1e3 * (time.perf_counter() - start) / calls, 1e3 * cpu / calls
 
 
 def tile_max_variants(ctx, frame, runs: int, ks) -> dict:
@@ -241,47 +267,99 @@ def dram_floor(ctx, frame, filter_results: dict, bandwidth: dict, nominal_gbs) -
     return record
 
 
-def sweep_rate(ctx, frame, reference, evaluations: int) -> dict:
+def sweep_rate(ctx, frame, reference, evaluations: int, batch: int) -> dict:
     """Evaluations per second as bl.sweep makes them (PSNR and SSIM from gpu_mse_ssim against the
-    prepared reference), and for comparison from gpu_mse_ssim of the two textures and from the
-    separate gpu_mse + gpu_ssim passes of before."""
+    prepared reference), read back per evaluation and in batches of `batch` (MetricQueue,
+    docs/spec.md §6.3, as bl.sweep's readback_batch), and for comparison from gpu_mse_ssim of the
+    two textures and from the separate gpu_mse + gpu_ssim passes of before. The batched rows
+    must equal the per-evaluation ones bit for bit ("same_rows")."""
     grid = list(itertools.product([10, 20, 40], [5, 9, 15, 25]))
     ways = {
         "PSNR + SSIM (prepared reference, as sweeps run)": ("prepared",),
+        f"PSNR + SSIM, read back {batch} at a time": ("prepared", "deferred"),
         "PSNR + SSIM + FLIP (prepared reference)": ("prepared", "flip"),
+        f"PSNR + SSIM + FLIP, read back {batch} at a time": ("prepared", "flip", "deferred"),
         "PSNR + SSIM, one pass, reference not prepared": ("fused",),
         "PSNR + SSIM, separate passes": ("separate",),
     }
     prepared = metrics.prepare_reference(ctx, reference.texture)
-    record = {}
-    print("\n| sweep, untimed, reconstruct_mcguire2012 | evaluations / s | ms per evaluation |")
-    print("|---|---|---|")
+    batches = metrics.MetricBatches(ctx, batch)
+    record = {"readback_batch": batch}
+    print(
+        "\n| sweep, untimed, reconstruct_mcguire2012 | evaluations / s | ms per evaluation "
+        "| CPU ms per evaluation |"
+    )
+    print("|---|---|---|---|")
     for label, chosen in ways.items():
 
-        def evaluate(i, chosen=chosen):
+        def issue(i, chosen=chosen):
+            """One evaluation: its values, or with "deferred" their indices in its batch."""
             k, s = grid[i % len(grid)]
             result = bl.blur(ctx, frame, "reconstruct_mcguire2012", k=k, samples=s, timed=False)
             color = result.textures["color"]
+            if "deferred" in chosen:
+                got = {"mse_ssim": batches.queue.mse_ssim(prepared, color)}
+                if "flip" in chosen:
+                    got["flip"] = batches.queue.flip(reference.texture, color)
+                return got
             if "prepared" in chosen:
-                mse, ssim = metrics.gpu_mse_ssim(ctx, prepared, color)
+                got = {"mse_ssim": metrics.gpu_mse_ssim(ctx, prepared, color)}
             elif "fused" in chosen:
-                mse, ssim = metrics.gpu_mse_ssim(ctx, reference.texture, color)
+                got = {"mse_ssim": metrics.gpu_mse_ssim(ctx, reference.texture, color)}
             else:
                 mse = metrics.gpu_mse(ctx, color, reference.texture)
-                ssim = metrics.gpu_ssim(ctx, reference.texture, color)
-            row = {"psnr": metrics.psnr_from_mse(mse), "ssim": ssim}
+                got = {"mse_ssim": (mse, metrics.gpu_ssim(ctx, reference.texture, color))}
             if "flip" in chosen:
-                row["flip"] = metrics.gpu_flip(ctx, reference.texture, color)
+                got["flip"] = metrics.gpu_flip(ctx, reference.texture, color)
+            return got
+
+        def run(first: int, count: int, chosen=chosen) -> list[dict]:
+            """Evaluations first..first + count - 1; their rows (PSNR, SSIM, FLIP)."""
+            rows = []
+            for i in range(first, first + count):
+                if "deferred" not in chosen:
+                    rows.append(row_of(issue(i)))
+                    continue
+                for indices, values in batches.add(issue(i)):
+                    rows.append(row_of({c: values[v] for c, v in indices.items()}))
+            if "deferred" in chosen:
+                for indices, values in batches.flush():
+                    rows.append(row_of({c: values[v] for c, v in indices.items()}))
+            return rows
+
+        def row_of(got: dict) -> dict:
+            mse, ssim = got["mse_ssim"]
+            row = {"psnr": metrics.psnr_from_mse(mse), "ssim": ssim}
+            if "flip" in got:
+                row["flip"] = got["flip"]
             return row
 
-        for i in range(3):
-            evaluate(i)
-        start = time.perf_counter()
-        for i in range(evaluations):
-            row = evaluate(i)
+        run(0, 3)
+        ctx.finish()
+        start, cpu = time.perf_counter(), time.process_time()
+        rows = run(0, evaluations)
         rate = evaluations / (time.perf_counter() - start)
-        record[label] = {"evaluations_per_s": rate, "last_row": row}
-        print(f"| {label} | {rate:.0f} | {1e3 / rate:.3f} |")
+        cpu = 1e3 * (time.process_time() - cpu) / evaluations
+        record[label] = {
+            "evaluations_per_s": rate,
+            "cpu_ms_per_evaluation": cpu,
+            "last_row": rows[-1],
+            "rows": rows[: len(grid)],
+        }
+        print(f"| {label} | {rate:.0f} | {1e3 / rate:.3f} | {cpu:.3f} |")
+    pairs = {  # batched, per evaluation
+        "": (f"PSNR + SSIM, read back {batch} at a time", next(iter(ways))),
+        "_flip": (
+            f"PSNR + SSIM + FLIP, read back {batch} at a time",
+            "PSNR + SSIM + FLIP (prepared reference)",
+        ),
+    }
+    for suffix, (now, before) in pairs.items():
+        same = record[now]["rows"] == record[before]["rows"]
+        speedup = record[now]["evaluations_per_s"] / record[before]["evaluations_per_s"]
+        record["deferred_speedup" + suffix], record["same_rows" + suffix] = speedup, same
+        print(f"| {now} / per evaluation | {speedup:.2f}x | same rows: {same} | |")
+    prepared.release()
     return record
 
 
@@ -603,6 +681,9 @@ def main() -> None:
     parser.add_argument("--size", default="1920x1080")
     parser.add_argument("--runs", type=int, default=20)
     parser.add_argument("--evaluations", type=int, default=500)
+    parser.add_argument(
+        "--readback-batch", type=int, default=16, help="evaluations read back together (sweep)"
+    )
     parser.add_argument("--bandwidth-size", default="4096x4096")
     parser.add_argument("--nominal-gbs", type=float, default=None, help="e.g. 3350 (H100 SXM)")
     parser.add_argument("--study", action="store_true", help="also time blurlab study")
@@ -668,7 +749,7 @@ def measure_filters_and_metrics(
             ctx, frame, record["filters"], record["bandwidth"], args.nominal_gbs
         )
     if "sweep" in parts:
-        record["sweep"] = sweep_rate(ctx, frame, reference, args.evaluations)
+        record["sweep"] = sweep_rate(ctx, frame, reference, args.evaluations, args.readback_batch)
     if "metrics" in parts:
         record["metrics"] = metric_times(ctx, frame, reference, args.runs, layouts)
     if args.study:

@@ -86,8 +86,10 @@ def test_interrupted_sweep_keeps_finished_rows(ctx, tmp_path, monkeypatch):
 
     def interrupt_after_three(*args, **kwargs):
         calls["n"] += 1
-        # Per scene: the timing runs (2 warm-ups + 5 timed), then one run per row.
-        if calls["n"] > 9:
+        # Per scene: the timing runs (2 warm-ups + 5 timed), then one run per row. Rows are
+        # read back two at a time, a batch once the next is issued: after rows 3 and 4, rows 1
+        # and 2 are finished and reach the file; the fifth run is interrupted.
+        if calls["n"] > 11:
             raise KeyboardInterrupt
         return real(*args, **kwargs)
 
@@ -103,6 +105,7 @@ def test_interrupted_sweep_keeps_finished_rows(ctx, tmp_path, monkeypatch):
             out=out,
             progress=False,
             repeats=1,
+            readback_batch=2,
         )
     assert len(pd.read_csv(out)) == 2
     monkeypatch.undo()
@@ -146,7 +149,10 @@ def test_psnr_and_ssim_come_from_one_gpu_pass_equal_to_numpy(ctx, monkeypatch):
     monkeypatch.setattr(evaluation.m, "prepare_reference", prepare)
     monkeypatch.setattr(evaluation.m, "gpu_mse", separate)
     monkeypatch.setattr(evaluation.m, "gpu_ssim", separate)
+    # Read back per evaluation, through gpu_mse_ssim; test_deferred_readback_gives_the_same_table
+    # shows that the batched read-back gives the same bits.
     args = dict(reference_samples=8, metrics=("psnr", "ssim"), progress=False, repeats=1)
+    args["readback_batch"] = 1
     table = sw.sweep(ctx, ["fan"], GRID, SIZE, **args)
     assert len(compared) == len(table) == 5 and len(prepared) == 1
     assert list(table["ssim"]) == [gpu[1] for gpu, _ in compared]
@@ -170,6 +176,7 @@ def test_gpu_flip_column_equals_the_cpu_metric_on_the_same_images(ctx, monkeypat
 
     monkeypatch.setattr(evaluation.m, "gpu_flip", gpu_and_cpu)
     args = dict(reference_samples=8, metrics=("psnr", "flip"), progress=False, repeats=1)
+    args["readback_batch"] = 1  # through gpu_flip, as above
     table = sw.sweep(ctx, ["fan"], GRID, SIZE, **args)
     assert len(compared) == len(table) == 5
     assert list(table["flip"]) == [gpu for gpu, _ in compared]
@@ -192,6 +199,30 @@ def test_no_metric_downloads_the_images(ctx, monkeypatch):
     assert downloads[render:] == [(-(-SIZE[1] // 16), -(-SIZE[0] // 16))]
 
 
+def test_deferred_readback_gives_the_same_table(ctx, monkeypatch):
+    # The GPU metrics of 3 evaluations read back together (a last batch of 2), and of each one
+    # alone: every column but the timings holds the same bits, in the same order; PSNR, SSIM,
+    # FLIP and psnr_aa all come from the queue when batched.
+    calls = []
+    for name in ("gpu_mse", "gpu_mse_ssim", "gpu_flip"):
+        real = getattr(evaluation.m, name)
+        spy = lambda *a, real=real, name=name: calls.append(name) or real(*a)  # noqa: E731
+        monkeypatch.setattr(evaluation.m, name, spy)
+    args = dict(reference_samples=8, metrics=("psnr", "ssim", "flip", "psnr_aa"), repeats=1)
+    tables = {}
+    for batch in (1, 3):
+        calls.clear()
+        tables[batch] = sw.sweep(
+            ctx, ["fan"], GRID, SIZE, progress=False, readback_batch=batch, **args
+        )
+        assert len(calls) == (15 if batch == 1 else 0)
+    timing = [c for c in tables[1] if c.startswith("ms_") or c in ("total_ms", "clock")]
+    one, three = (tables[b].drop(columns=timing) for b in (1, 3))
+    assert list(one.columns) == list(three.columns) and len(one) == 5
+    assert one.equals(three)
+    assert one["psnr"].nunique() == 5 and one["flip"].nunique() > 1
+
+
 def test_bad_sweeps_are_rejected(ctx, tmp_path):
     with pytest.raises(ValueError, match="no parameter 'kk'"):
         sw.sweep(ctx, ["fan"], {"reconstruct_mcguire2012": {"kk": [1]}}, SIZE, progress=False)
@@ -201,6 +232,8 @@ def test_bad_sweeps_are_rejected(ctx, tmp_path):
         sw.sweep(ctx, ["fan"], ["gather_box"], SIZE, out=tmp_path / "r.parquet", progress=False)
     with pytest.raises(ValueError, match="repeats"):
         sw.sweep(ctx, ["fan"], ["gather_box"], SIZE, repeats=0, progress=False)
+    with pytest.raises(ValueError, match="readback_batch must be an integer >= 1"):
+        sw.sweep(ctx, ["fan"], ["gather_box"], SIZE, readback_batch=0, progress=False)
     with pytest.raises(ValueError, match=r"k = 0 is outside 1\.\.256"):
         out = tmp_path / "never.csv"
         sw.sweep(ctx, ["fan"], {"reconstruct_mcguire2012": {"k": [8, 0]}}, SIZE, out=out)

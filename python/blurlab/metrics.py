@@ -123,9 +123,21 @@ def gpu_mse(ctx, a, b) -> float:
     """`mse` of two (H, W, 4) float32 textures, reduced on the GPU: only partial sums (one
     float per 32 x 32 pixels) are read back. NaN reads as 0."""
     _same_size(a, b, "gpu_mse")
-    reduction = ctx.cached("squared_error", lambda: _core.ErrorReductionPass(ctx.native))
-    height, width = a.shape[:2]
-    return reduction.squared_error(a.native, b.native) / (height * width * 3)
+    return _mean_squared(_squared_error_pass(ctx).squared_error(a.native, b.native), a.shape)
+
+
+def _squared_error_pass(ctx):
+    return ctx.cached("squared_error", lambda: _core.ErrorReductionPass(ctx.native))
+
+
+def _mean_squared(total: float, shape) -> float:
+    """The MSE of a squared error summed over the pixels and RGB of an image of `shape`."""
+    return total / (shape[0] * shape[1] * 3)
+
+
+def _mse_ssim_of_totals(totals, shape) -> tuple[float, float]:
+    """(MSE, mean SSIM) from the two sums of a fused pass: Σ SSIM, Σ squared error."""
+    return _mean_squared(totals[1], shape), totals[0] / (shape[0] * shape[1])
 
 
 # Work-group layouts of the SSIM pass, (tile columns, tile rows, output rows per invocation);
@@ -182,8 +194,7 @@ def gpu_mse_ssim(ctx, a, b, layout: str | None = None) -> tuple[float, float]:
         return a.mse_ssim(b)
     _same_size(a, b, "gpu_mse_ssim")
     squared_error, mean_ssim = _ssim_pass(ctx, layout).mse_ssim(a.native, b.native)
-    height, width = a.shape[:2]
-    return squared_error / (height * width * 3), mean_ssim
+    return _mean_squared(squared_error, a.shape), mean_ssim
 
 
 class PreparedReference:
@@ -215,8 +226,7 @@ class PreparedReference:
         squared_error, mean_ssim = _ssim_pass(self._ctx, self.layout).mse_ssim_prepared(
             self.colour_luminance.native, self.moments.native, test.native
         )
-        height, width = test.shape[:2]
-        return squared_error / (height * width * 3), mean_ssim
+        return _mean_squared(squared_error, test.shape), mean_ssim
 
     def release(self) -> None:
         """Returns the textures to the context's pool; the object cannot be used after."""
@@ -229,6 +239,128 @@ def prepare_reference(ctx, reference, layout: str | None = None) -> PreparedRefe
     """`reference` (an (H, W, 4) float32 texture) prepared for `gpu_mse_ssim(ctx, prepared,
     test)`: for a caller that compares many images with one fixed reference."""
     return PreparedReference(ctx, reference, layout)
+
+
+class MetricQueue:
+    """GPU metrics issued now and read together later (docs/spec.md §6.3): `mse`, `mse_ssim`
+    and `flip` dispatch their passes and return their place in the batch; `read()` waits for
+    the GPU once and returns every value in the order issued, each equal bit for bit to what
+    `gpu_mse` / `gpu_mse_ssim` / `gpu_flip` return for the same pair. Between the two the CPU
+    goes on issuing work (the next evaluation's filter) while the GPU runs, instead of waiting
+    for each scalar. `seal()` ends a batch without waiting (the copy of its sums to mapped
+    memory and a fence are queued), so that with two queues in turn the GPU works through one
+    batch while the CPU issues the next and reads the one before. The compared textures may go
+    back to the pool once issued: GL runs the reduction before any later pass that reuses them."""
+
+    def __init__(self, ctx):
+        self._ctx = ctx
+        self._core = _core.ReductionQueue(ctx.native)
+        self._finish: list = []  # per reduction issued: totals -> the metric's value
+        self._sealed = False
+
+    def _issuing(self) -> None:
+        if self._sealed:
+            raise RuntimeError("blurlab.metrics.MetricQueue: read() a sealed batch before issuing")
+
+    def seal(self) -> None:
+        """Ends the batch: its read-back starts on the GPU; `read()` then waits only for it."""
+        self._core.seal()
+        self._sealed = bool(self._finish)
+
+    def __len__(self) -> int:
+        return len(self._finish)
+
+    def mse(self, a, b) -> int:
+        """Issues `gpu_mse(ctx, a, b)`; returns its index in `read()`'s list."""
+        self._issuing()
+        _same_size(a, b, "MetricQueue.mse")
+        _squared_error_pass(self._ctx).issue_squared_error(a.native, b.native, self._core)
+        shape = a.shape
+        self._finish.append((True, lambda totals: _mean_squared(totals[0], shape)))
+        return len(self._finish) - 1
+
+    def mse_ssim(self, prepared: PreparedReference, test) -> int:
+        """Issues `gpu_mse_ssim(ctx, prepared, test)` against a `PreparedReference`; returns its
+        index in `read()`'s list, where its value is the (mse, ssim) tuple."""
+        self._issuing()
+        if not isinstance(prepared, PreparedReference):
+            raise TypeError(
+                "blurlab.metrics.MetricQueue.mse_ssim: compares with a PreparedReference "
+                f"(prepare_reference), not {type(prepared).__name__}"
+            )
+        if prepared.colour_luminance is None:
+            raise ValueError("blurlab.metrics.PreparedReference: used after release()")
+        _same_size(prepared.colour_luminance, test, "MetricQueue.mse_ssim")
+        _ssim_pass(self._ctx, prepared.layout).issue_mse_ssim_prepared(
+            prepared.colour_luminance.native, prepared.moments.native, test.native, self._core
+        )
+        shape = test.shape
+        self._finish.append((True, lambda totals: _mse_ssim_of_totals(totals, shape)))
+        return len(self._finish) - 1
+
+    def flip(self, reference, test, ppd: float = flip_twin.DEFAULT_PPD) -> int:
+        """Issues `gpu_flip(ctx, reference, test, ppd)`; returns its index in `read()`'s list.
+        Its partial sums stay in a small pooled texture until `read()` downloads them."""
+        self._issuing()
+        error, partials = _gpu_flip_textures(self._ctx, reference, test, ppd)
+        self._ctx.recycle(error)
+        shape = reference.shape
+        self._finish.append((False, lambda: _flip_mean(self._ctx, partials, shape)))
+        return len(self._finish) - 1
+
+    def read(self) -> list:
+        """The values of every metric issued since the last read, in order; empties the queue.
+        One wait for the GPU (none when nothing is pending)."""
+        finish, self._finish, self._sealed = self._finish, [], False
+        totals = iter(self._core.read())
+        return [f(next(totals)) if reads_totals else f() for reads_totals, f in finish]
+
+
+class MetricBatches:
+    """Batches of `size` evaluations whose metrics are read back one batch behind: two
+    MetricQueues in turn, so that the CPU reads batch n only once batch n + 1 is issued and the
+    GPU never waits for the CPU's read (docs/spec.md §6.3). Issue an evaluation's metrics into
+    `queue`, then `add(item)` it; `add` and `flush` return (item, values) for each evaluation
+    whose batch has been read, in order, `values` being its batch's `MetricQueue.read()`."""
+
+    def __init__(self, ctx, size: int):
+        if isinstance(size, bool) or not isinstance(size, int) or size < 1:
+            raise ValueError(
+                f"blurlab.metrics.MetricBatches: size must be an integer >= 1, not {size!r}"
+            )
+        self.size = size
+        self._queues = [MetricQueue(ctx), MetricQueue(ctx)]
+        self._items: list = []  # of the batch being issued
+        self._sealed: list = []  # the batch before, sealed and not read yet
+
+    @property
+    def queue(self) -> MetricQueue:
+        """The queue that the current evaluation's metrics go to."""
+        return self._queues[0]
+
+    def add(self, item) -> list[tuple[object, list]]:
+        self._items.append(item)
+        if len(self._items) < self.size:
+            return []
+        self.queue.seal()
+        ready = self._read_sealed()
+        self._sealed, self._items = self._items, []
+        self._queues.reverse()
+        return ready
+
+    def flush(self) -> list[tuple[object, list]]:
+        """Every evaluation not read yet."""
+        ready = self._read_sealed()
+        values = self.queue.read()
+        ready += [(item, values) for item in self._items]
+        self._items = []
+        return ready
+
+    def _read_sealed(self) -> list[tuple[object, list]]:
+        values = self._queues[1].read()
+        ready = [(item, values) for item in self._sealed]
+        self._sealed = []
+        return ready
 
 
 def _glsl_floats(values) -> str:
@@ -305,9 +437,15 @@ def gpu_flip(ctx, reference, test, ppd: float = flip_twin.DEFAULT_PPD) -> float:
     back. `ppd`: pixels per degree of visual angle (flip-evaluator's default: 67.02). NaN
     colour reads as 0 and infinities clip to [0, 1], as every pass reads colour."""
     error, partials = _gpu_flip_textures(ctx, reference, test, ppd)
+    ctx.recycle(error)
+    return _flip_mean(ctx, partials, reference.shape)
+
+
+def _flip_mean(ctx, partials, shape) -> float:
+    """The mean FLIP error from its per-group partial sums, which go back to the pool."""
     total = float(np.sum(partials.download(), dtype=np.float64))
-    ctx.recycle(error, partials)
-    return total / (reference.shape[0] * reference.shape[1])
+    ctx.recycle(partials)
+    return total / (shape[0] * shape[1])
 
 
 def gpu_flip_map(ctx, reference, test, ppd: float = flip_twin.DEFAULT_PPD) -> np.ndarray:

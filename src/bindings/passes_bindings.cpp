@@ -14,6 +14,7 @@
 #include "passes/error_reduction.h"
 #include "passes/gbuffer.h"
 #include "passes/motion_encoding.h"
+#include "passes/pair_reduction.h"
 #include "passes/shader_pass.h"
 #include "passes/ssim_reduction.h"
 
@@ -262,10 +263,22 @@ void bind_passes(py::module_& m) {
       .def("run", &DispatchPlan::run, py::arg("textures"))
       .def_property_readonly("steps", &DispatchPlan::steps);
 
+  py::class_<ReductionQueue, std::shared_ptr<ReductionQueue>>(m, "ReductionQueue")
+      .def(py::init([](std::shared_ptr<Context> context) {
+             return std::make_shared<ReductionQueue>(context.get());
+           }),
+           py::arg("context"), py::keep_alive<1, 2>())
+      .def("seal", &ReductionQueue::seal)
+      .def("read", &ReductionQueue::read, py::call_guard<py::gil_scoped_release>())
+      .def("clear", &ReductionQueue::clear)
+      .def_property_readonly("pending", &ReductionQueue::pending);
+
   py::class_<ErrorReductionPass, std::shared_ptr<ErrorReductionPass>>(m, "ErrorReductionPass")
       .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))
       .def("squared_error", &ErrorReductionPass::squared_error, py::arg("a"), py::arg("b"),
-           py::call_guard<py::gil_scoped_release>());
+           py::call_guard<py::gil_scoped_release>())
+      .def("issue_squared_error", &ErrorReductionPass::issue_squared_error, py::arg("a"),
+           py::arg("b"), py::arg("queue"));
 
   py::class_<SsimReductionPass, std::shared_ptr<SsimReductionPass>>(m, "SsimReductionPass")
       .def(py::init<std::shared_ptr<Context>, int, int, int>(), py::arg("context"),
@@ -278,7 +291,9 @@ void bind_passes(py::module_& m) {
            py::arg("colour_luminance"), py::arg("moments"),
            py::call_guard<py::gil_scoped_release>())
       .def("mse_ssim_prepared", &SsimReductionPass::mse_ssim_prepared, py::arg("colour_luminance"),
-           py::arg("moments"), py::arg("test"), py::call_guard<py::gil_scoped_release>());
+           py::arg("moments"), py::arg("test"), py::call_guard<py::gil_scoped_release>())
+      .def("issue_mse_ssim_prepared", &SsimReductionPass::issue_mse_ssim_prepared,
+           py::arg("colour_luminance"), py::arg("moments"), py::arg("test"), py::arg("queue"));
 
   py::class_<MotionEncodingPass, std::shared_ptr<MotionEncodingPass>>(m, "MotionEncodingPass")
       .def(py::init<std::shared_ptr<Context>>(), py::arg("context"))

@@ -13,8 +13,17 @@ ErrorReductionPass::ErrorReductionPass(std::shared_ptr<Context> context)
 
 ErrorReductionPass::~ErrorReductionPass() = default;
 
+namespace {
+constexpr std::array<int, 2> tile{32, 32};  // squared_error.comp's
+}
+
 double ErrorReductionPass::squared_error(const Texture& a, const Texture& b) {
-  return reduction_->sums(*program_, a, b, {32, 32}, 1)[0];  // squared_error.comp's tile
+  return reduction_->sums(*program_, a, b, tile, 1)[0];
+}
+
+size_t ErrorReductionPass::issue_squared_error(const Texture& a, const Texture& b,
+                                               ReductionQueue& queue) {
+  return reduction_->issue(*program_, a, b, tile, 1, queue);
 }
 
 }  // namespace blurlab

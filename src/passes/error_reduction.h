@@ -2,12 +2,14 @@
 // twin blurlab.metrics.mse, tests/test_metrics.py.
 #pragma once
 
+#include <cstddef>
 #include <memory>
 
 namespace blurlab {
 
 class Context;
 class PairReduction;
+class ReductionQueue;
 class Program;
 class Texture;
 
@@ -17,6 +19,8 @@ class ErrorReductionPass {
   ~ErrorReductionPass();
   // Σ over pixels and RGB of (clamp(a) - clamp(b))², both RGBA32F of one size.
   double squared_error(const Texture& a, const Texture& b);
+  // squared_error without the wait: its total is the next reduction of `queue`; returns its index.
+  size_t issue_squared_error(const Texture& a, const Texture& b, ReductionQueue& queue);
 
  private:
   std::shared_ptr<Context> context_;

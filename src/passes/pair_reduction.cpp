@@ -1,5 +1,6 @@
 #include "passes/pair_reduction.h"
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 
@@ -16,34 +17,129 @@ std::string size_of(const Texture& t) {
   return std::to_string(t.width()) + "x" + std::to_string(t.height());
 }
 
+size_t storage_alignment_floats() {
+  GLint bytes = 0;
+  glGetIntegerv(GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT, &bytes);
+  check_gl("querying the storage buffer offset alignment");
+  const size_t align = std::max<size_t>(size_t(std::max(bytes, 1)), sizeof(float));
+  return (align + sizeof(float) - 1) / sizeof(float);
+}
+
 }  // namespace
 
-PairReduction::PairReduction(Context* context) : context_(context) {}
+ReductionQueue::ReductionQueue(Context* context) : context_(context) {
+  context_->make_current();
+  alignment_ = storage_alignment_floats();
+}
+
+ReductionQueue::~ReductionQueue() {
+  drop_fence();
+}
+
+void ReductionQueue::drop_fence() {
+  if (!fence_) return;
+  context_->release(nullptr, [fence = static_cast<GLsync>(fence_)] { glDeleteSync(fence); });
+  fence_ = nullptr;
+}
+
+size_t ReductionQueue::reserve(size_t count, int components) {
+  if (fence_)
+    throw std::logic_error("blurlab: a sealed batch of reductions must be read before the next");
+  const size_t offset = (used_ + alignment_ - 1) / alignment_ * alignment_;
+  const size_t end = offset + count;
+  if (!buffer_ || buffer_->size() < end * sizeof(float)) {
+    // Grow geometrically; partials already written move over on the GPU, in command order.
+    const size_t floats = std::max(end, buffer_ ? 2 * buffer_->size() / sizeof(float) : end);
+    auto grown = std::make_unique<Buffer>(context_, floats * sizeof(float), Buffer::Usage::storage);
+    if (buffer_ && used_ > 0)
+      glCopyNamedBufferSubData(buffer_->id(), grown->id(), 0, 0,
+                               static_cast<GLsizeiptr>(used_ * sizeof(float)));
+    buffer_ = std::move(grown);
+  }
+  glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 0, buffer_->id(),
+                    static_cast<GLintptr>(offset * sizeof(float)),
+                    static_cast<GLsizeiptr>(count * sizeof(float)));
+  check_gl("binding a reduction's partial sums");
+  entries_.push_back({offset, count, components});
+  used_ = end;
+  return entries_.size() - 1;
+}
+
+void ReductionQueue::seal() {
+  if (fence_ || entries_.empty()) return;
+  const size_t bytes = used_ * sizeof(float);
+  if (!readback_ || readback_->size() < bytes)
+    readback_ = std::make_unique<Buffer>(context_, buffer_->size(), Buffer::Usage::readback);
+  // The dispatches ended with full memory barriers: the copy reads their partial sums.
+  glCopyNamedBufferSubData(buffer_->id(), readback_->id(), 0, 0, static_cast<GLsizeiptr>(bytes));
+  glMemoryBarrier(GL_CLIENT_MAPPED_BUFFER_BARRIER_BIT);
+  fence_ = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+  glFlush();  // else the batch may wait in the command queue until someone waits on it
+  check_gl("queueing the read-back of partial sums");
+}
+
+std::vector<std::vector<double>> ReductionQueue::read() {
+  std::vector<std::vector<double>> totals;
+  if (entries_.empty()) return totals;
+  seal();
+  context_->make_current();
+  context_->count_wait();
+  const GLenum waited =
+      glClientWaitSync(static_cast<GLsync>(fence_), GL_SYNC_FLUSH_COMMANDS_BIT, GL_TIMEOUT_IGNORED);
+  const auto entries = std::move(entries_);
+  clear();
+  if (waited == GL_WAIT_FAILED) throw GLError("blurlab: waiting for partial sums failed");
+  totals.reserve(entries.size());
+  const float* host = static_cast<const float*>(readback_->mapped());
+  for (const Entry& e : entries) {
+    std::vector<double> out(e.components, 0.0);
+    const float* partials = host + e.offset;
+    for (size_t i = 0; i < e.count; ++i) out[i % e.components] += partials[i];
+    totals.push_back(std::move(out));
+  }
+  return totals;
+}
+
+void ReductionQueue::drop_last() {
+  entries_.pop_back();
+  used_ = entries_.empty() ? 0 : entries_.back().offset + entries_.back().count;
+}
+
+void ReductionQueue::clear() {
+  drop_fence();
+  entries_.clear();
+  used_ = 0;
+}
+
+PairReduction::PairReduction(Context* context) : own_(context) {}
 
 PairReduction::~PairReduction() = default;
 
 std::vector<double> PairReduction::sums(Program& program, const Texture& a, const Texture& b,
                                         std::array<int, 2> tile, int components) {
+  own_.clear();
+  issue(program, a, b, tile, components, own_);
+  return own_.read().front();
+}
+
+size_t PairReduction::issue(Program& program, const Texture& a, const Texture& b,
+                            std::array<int, 2> tile, int components, ReductionQueue& queue) {
   if (a.width() != b.width() || a.height() != b.height())
     throw std::invalid_argument("blurlab: compared images differ in size: " + size_of(a) + " and " +
                                 size_of(b));
   if (a.format().channels < 3 || b.format().channels < 3)
     throw std::invalid_argument("blurlab: compared images need RGB channels");
   const int gx = (a.width() + tile[0] - 1) / tile[0], gy = (a.height() + tile[1] - 1) / tile[1];
-  const size_t count = size_t(gx) * gy * components;
-  if (!partials_ || partials_->size() < count * sizeof(float))
-    partials_ = std::make_unique<Buffer>(context_, count * sizeof(float), Buffer::Usage::storage);
   program.bind_texture(0, a);
   program.bind_texture(1, b);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, partials_->id());
-  program.dispatch(gx, gy, 1);
-  host_.resize(count);
-  glGetNamedBufferSubData(partials_->id(), 0, static_cast<GLsizeiptr>(count * sizeof(float)),
-                          host_.data());
-  check_gl("reading back partial sums");
-  std::vector<double> out(components, 0.0);
-  for (size_t i = 0; i < count; ++i) out[i % components] += host_[i];
-  return out;
+  const size_t index = queue.reserve(size_t(gx) * gy * components, components);
+  try {
+    program.dispatch(gx, gy, 1);
+  } catch (...) {
+    queue.drop_last();
+    throw;
+  }
+  return index;
 }
 
 }  // namespace blurlab

@@ -1,9 +1,11 @@
 // What the error reductions of docs/spec.md §6 share (ErrorReductionPass, SsimReductionPass): a
 // compute program over two images of one size in work groups of one tile each, each writing its
 // partial sums to a storage buffer, read back and added up in double precision on the CPU.
+// ReductionQueue defers that read-back (docs/spec.md §6.3): many reductions, one wait.
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <memory>
 #include <vector>
 
@@ -13,6 +15,51 @@ class Buffer;
 class Context;
 class Program;
 class Texture;
+
+// Partial sums of reductions issued but not read yet. Each reduction writes its partials to its
+// own range of one storage buffer (ranges aligned as GL requires of bound storage ranges). seal()
+// queues one copy of all of them into a persistently mapped buffer and a fence; read() waits on
+// that fence (once per batch instead of once per reduction) and adds each reduction's partials up
+// in double in the order PairReduction::sums does: the totals are those of sums, bit for bit.
+class ReductionQueue {
+ public:
+  explicit ReductionQueue(Context* context);
+  ~ReductionQueue();
+  ReductionQueue(const ReductionQueue&) = delete;
+  ReductionQueue& operator=(const ReductionQueue&) = delete;
+
+  // Room for `count` floats of one reduction (`components` sums, interleaved), bound to storage
+  // buffer 0 for the dispatch that writes them; returns the reduction's index in the batch.
+  size_t reserve(size_t count, int components);
+  // Ends the batch: queues the copy of its partials to mapped memory and a fence, without
+  // waiting, so the GPU can go on while the CPU issues another batch (in another queue). No
+  // reduction can be reserved again before read(). Nothing happens when the queue is empty.
+  void seal();
+  // The totals of every reduction reserved since the last read or clear, in order (one vector
+  // of `components` sums each); empties the queue. Seals the batch if it is not; one wait for
+  // the fence, none when empty.
+  std::vector<std::vector<double>> read();
+  // Forgets the reductions not read (their partials are never fetched).
+  void clear();
+  size_t pending() const { return entries_.size(); }
+  // Gives back the last reservation (its dispatch failed).
+  void drop_last();
+
+ private:
+  struct Entry {
+    size_t offset, count;  // in floats
+    int components;
+  };
+  void drop_fence();
+
+  Context* context_;
+  size_t alignment_;                  // GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT, in floats
+  size_t used_ = 0;                   // floats reserved in buffer_
+  std::unique_ptr<Buffer> buffer_;    // the dispatches write here
+  std::unique_ptr<Buffer> readback_;  // persistently mapped; seal() copies buffer_ here
+  void* fence_ = nullptr;             // GLsync of the sealed batch's copy
+  std::vector<Entry> entries_;
+};
 
 class PairReduction {
  public:
@@ -24,11 +71,13 @@ class PairReduction {
   // Throws std::invalid_argument, naming both sizes, if a and b differ in size or lack RGB.
   std::vector<double> sums(Program& program, const Texture& a, const Texture& b,
                            std::array<int, 2> tile, int components);
+  // sums() without the wait: the partials go to `queue`, whose read() returns the totals.
+  // Returns the reduction's index in the queue's batch.
+  size_t issue(Program& program, const Texture& a, const Texture& b, std::array<int, 2> tile,
+               int components, ReductionQueue& queue);
 
  private:
-  Context* context_;
-  std::unique_ptr<Buffer> partials_;
-  std::vector<float> host_;
+  ReductionQueue own_;  // sums(): a batch of one
 };
 
 }  // namespace blurlab

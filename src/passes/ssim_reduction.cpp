@@ -136,12 +136,24 @@ void SsimReductionPass::prepare(const Texture& reference, const Texture& colour_
 std::pair<double, double> SsimReductionPass::mse_ssim_prepared(const Texture& colour_luminance,
                                                                const Texture& moments,
                                                                const Texture& test) {
+  const auto totals = reduction_->sums(prepared_program(colour_luminance, moments),
+                                       colour_luminance, test, {tile_columns_, tile_rows_}, 2);
+  return {totals[1], totals[0] / (double(test.width()) * test.height())};
+}
+
+size_t SsimReductionPass::issue_mse_ssim_prepared(const Texture& colour_luminance,
+                                                  const Texture& moments, const Texture& test,
+                                                  ReductionQueue& queue) {
+  return reduction_->issue(prepared_program(colour_luminance, moments), colour_luminance, test,
+                           {tile_columns_, tile_rows_}, 2, queue);
+}
+
+Program& SsimReductionPass::prepared_program(const Texture& colour_luminance,
+                                             const Texture& moments) {
   check_prepared(colour_luminance, colour_luminance, moments);
   Program& prepared = program(Variant::prepared);
   prepared.bind_texture(2, moments);
-  const auto totals =
-      reduction_->sums(prepared, colour_luminance, test, {tile_columns_, tile_rows_}, 2);
-  return {totals[1], totals[0] / (double(test.width()) * test.height())};
+  return prepared;
 }
 
 }  // namespace blurlab

@@ -7,6 +7,7 @@
 // `mse_ssim` also returns the squared error of the same dispatch (one pass, one read-back).
 #pragma once
 
+#include <cstddef>
 #include <memory>
 #include <utility>
 
@@ -14,6 +15,7 @@ namespace blurlab {
 
 class Context;
 class PairReduction;
+class ReductionQueue;
 class Program;
 class Texture;
 
@@ -44,11 +46,17 @@ class SsimReductionPass {
   // mse_ssim(reference, test) of a reference prepared by `prepare`: blurs three moments, not five.
   std::pair<double, double> mse_ssim_prepared(const Texture& colour_luminance,
                                               const Texture& moments, const Texture& test);
+  // mse_ssim_prepared without the wait: its (Σ squared error, Σ SSIM) are the next reduction of
+  // `queue`, summed in that order; returns its index.
+  size_t issue_mse_ssim_prepared(const Texture& colour_luminance, const Texture& moments,
+                                 const Texture& test, ReductionQueue& queue);
 
  private:
   enum class Variant { ssim, fused, prepare, prepared };
   bool strips() const { return tile_columns_ != 32; }
   Program& program(Variant variant);  // compiled on first use
+  // The prepared variant with `moments` bound, after checking the prepared textures.
+  Program& prepared_program(const Texture& colour_luminance, const Texture& moments);
 
   std::shared_ptr<Context> context_;
   int tile_columns_, tile_rows_, rows_per_thread_;

@@ -29,6 +29,9 @@ class Settings:
     reference_samples: int | None
     metrics: tuple[str, ...] | None  # None: scene_metrics(scene) on each scene
     repeats: int
+    # Evaluations whose GPU metrics are read back together (metrics.MetricQueue); 1 reads each
+    # one's scalars before the next evaluation starts.
+    readback_batch: int = 1
 
 
 LDR_METRICS = ("psnr", "ssim", "flip", "psnr_aa")  # psnr_aa: against the antialiased reference
@@ -72,16 +75,16 @@ def evaluate_scene(
             clock = result.clock
             del result  # back to the pool before the next run
         timings[key] = (runs, clock)
-    # Then the error of each configuration, one untimed run each.
+    # Then the error of each configuration, one untimed run each. The GPU metrics go in
+    # batches of settings.readback_batch evaluations, each read back once the next is issued,
+    # so the GPU works through one batch while the CPU issues the next (docs/spec.md §6.3).
+    batches = m.MetricBatches(ctx, settings.readback_batch) if settings.readback_batch > 1 else None
     for name, point, backend, key in jobs:
+        queue = batches.queue if batches is not None else None
         frames, reference = _scene_inputs(ctx, scene, name, point, settings, cache)
         runs, clock = timings[key]
         result = blur_steps(ctx, frames, name, backend, timed=False, **_without_steps(point))
-        if "ssim" in wanted:  # PSNR and SSIM from one pass against the prepared reference
-            prepared = _prepared_reference(ctx, reference, cache)
-            mse, ssim = m.gpu_mse_ssim(ctx, prepared, result.textures["color"])
-        else:
-            mse = m.gpu_mse(ctx, result.textures["color"], reference.texture)
+        color = result.textures["color"]
         row = {
             "scene": scene.name,
             "method": name,
@@ -92,20 +95,41 @@ def evaluate_scene(
             "total_ms": statistics.median(sum(r.values()) for r in runs),
             "repeats": settings.repeats,
             "clock": clock,
-            "psnr": m.psnr_from_mse(mse),
+            "psnr": None,  # filled in from the GPU's sums below
             # What the parameters given as "auto" chose on this scene.
             **{f"auto_{k}": json.dumps(v) for k, v in result.auto.items()},
         }
         # Every LDR metric is reduced on the GPU (docs/spec.md §6): no image is read back for it.
-        if "ssim" in wanted:
-            row["ssim"] = ssim
-        if "flip" in wanted:
-            row["flip"] = m.gpu_flip(ctx, reference.texture, result.textures["color"])
-        if "psnr_aa" in wanted:  # against the antialiased reference (§11)
-            antialiased = _reference(ctx, scene, settings, reference.samples, cache, True)
-            row["psnr_aa"] = m.psnr_from_mse(
-                m.gpu_mse(ctx, result.textures["color"], antialiased.texture)
+        gpu = {}  # column: the value, or its index in the queue
+        if "ssim" in wanted:  # PSNR and SSIM from one pass against the prepared reference
+            prepared = _prepared_reference(ctx, reference, cache)
+            gpu["mse_ssim"] = (
+                queue.mse_ssim(prepared, color)
+                if queue is not None
+                else m.gpu_mse_ssim(ctx, prepared, color)
             )
+            row["ssim"] = None
+        else:
+            gpu["mse"] = (
+                queue.mse(color, reference.texture)
+                if queue is not None
+                else m.gpu_mse(ctx, color, reference.texture)
+            )
+        if "flip" in wanted:
+            gpu["flip"] = (
+                queue.flip(reference.texture, color)
+                if queue is not None
+                else m.gpu_flip(ctx, reference.texture, color)
+            )
+            row["flip"] = None
+        if "psnr_aa" in wanted:  # against the antialiased reference (§11)
+            antialiased = _reference(ctx, scene, settings, reference.samples, cache, True).texture
+            gpu["mse_aa"] = (
+                queue.mse(color, antialiased)
+                if queue is not None
+                else m.gpu_mse(ctx, color, antialiased)
+            )
+            row["psnr_aa"] = None
         # The pictures a caller shows (the study's middle points): kept, not blurred again.
         if (name, row["params"]) in cache.get("keep_colours", ()):
             cache.setdefault("colours", {})[(name, row["params"])] = result.color
@@ -122,8 +146,36 @@ def evaluate_scene(
                 "shutter": json.dumps([frames[0].shutter[0], frames[-1].shutter[1]]),
             }
         )
-        del result  # its textures go back to the pool before the next evaluation
-        yield key, row
+        # Its textures go back to the pool before the next evaluation; a queued reduction
+        # still reads them first (GL runs commands in the order issued).
+        del result, color
+        if batches is None:
+            yield _finished_row(key, row, gpu)
+        else:
+            yield from _read_rows(batches.add((key, row, gpu)))
+    if batches is not None:
+        yield from _read_rows(batches.flush())
+
+
+def _read_rows(ready: list) -> Iterator[tuple[tuple, dict]]:
+    """The finished rows of MetricBatches' (item, values) pairs, items (key, row, {column:
+    index in values})."""
+    for (key, row, indices), values in ready:
+        yield _finished_row(key, row, {column: values[i] for column, i in indices.items()})
+
+
+def _finished_row(key: tuple, row: dict, got: dict) -> tuple[tuple, dict]:
+    """(key, row) with its GPU metrics filled in from `got`, {column: value}."""
+    if "mse_ssim" in got:
+        mse, row["ssim"] = got["mse_ssim"]
+    else:
+        mse = got["mse"]
+    row["psnr"] = m.psnr_from_mse(mse)
+    if "flip" in got:
+        row["flip"] = got["flip"]
+    if "mse_aa" in got:
+        row["psnr_aa"] = m.psnr_from_mse(got["mse_aa"])
+    return key, row
 
 
 class PhaseClock:
