@@ -49,9 +49,11 @@ TILE_PICK_VARIANTS = {
     "rows_128_subgroup": {"TILE_PICK_THREADS": 128, "TILE_PICK_SUBGROUP": 1},
     "rows_256_subgroup": {"TILE_PICK_THREADS": 256, "TILE_PICK_SUBGROUP": 1},
 }
-# The layout last timed on the H100 (docs/engines.md: a subgroup merge inside it measured 1-2 µs
-# slower), until the others are timed there.
-TILE_PICK_LAYOUT = PassVariants("tile pick", TILE_PICK_VARIANTS, "grid_16x16")
+# rows_64 measured fastest on the H100 at 1080p where its clocks held (teapot_pass: flatten +
+# dilate 0.044 ms against grid_16x16's 0.056, rows_64_subgroup's 0.049), and second to
+# rows_64_subgroup (0.0648 against 0.0667) in the 15-scene medians of the same run, whose later
+# scenes ran slow; it needs no subgroup extension (benchmarks/engines.py --variants, 2026-11-24).
+TILE_PICK_LAYOUT = PassVariants("tile pick", TILE_PICK_VARIANTS, "rows_64")
 
 
 def motion_sides_texture(ctx: Context, frame: Frame):
