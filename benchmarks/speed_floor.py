@@ -385,17 +385,20 @@ def metric_times(ctx, frame, reference, runs: int, layouts) -> dict:
     ways = {"gpu_mse": lambda: metrics.gpu_mse(ctx, color, reference.texture)}
     for layout in layouts:
         default = " (default)" if layout == metrics.SSIM_LAYOUT else ""
+        default_prepared = " (default)" if layout == metrics.PREPARED_SSIM_LAYOUT else ""
         ways[f"gpu_ssim {layout}{default}"] = lambda layout=layout: metrics.gpu_ssim(
             ctx, reference.texture, color, layout=layout
         )
         ways[f"gpu_mse_ssim {layout}{default}"] = lambda layout=layout: metrics.gpu_mse_ssim(
             ctx, reference.texture, color, layout=layout
         )
-        ways[f"gpu_mse_ssim, prepared reference, {layout}{default}"] = against_prepared(
+        ways[f"gpu_mse_ssim, prepared reference, {layout}{default_prepared}"] = against_prepared(
             ctx, reference.texture, color, layout
         )
-        ways[f"prepare_reference (once per reference), {layout}{default}"] = lambda layout=layout: (
-            metrics.prepare_reference(ctx, reference.texture, layout).release()
+        ways[f"prepare_reference (once per reference), {layout}{default_prepared}"] = (
+            lambda layout=layout: metrics.prepare_reference(
+                ctx, reference.texture, layout
+            ).release()
         )
     ways["gpu_flip"] = lambda: metrics.gpu_flip(ctx, reference.texture, color)
     record = {}

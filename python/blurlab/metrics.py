@@ -161,7 +161,11 @@ SSIM_LAYOUTS = {
     "strip256x16": (256, 16, 16),
     "strip256x32": (256, 32, 32),
 }
-SSIM_LAYOUT = "column4"
+# The defaults, from the H100 at 1080p (docs/benchmarks.md, 2026-11-24): a pair is fastest in
+# strip128x32 (gpu_ssim 0.107 ms against column4's 0.137), a prepared reference in column4
+# (0.094-0.099 ms over four runs; the strips re-read its moments, 0.165 ms).
+SSIM_LAYOUT = "strip128x32"
+PREPARED_SSIM_LAYOUT = "column4"
 
 
 def _ssim_pass(ctx, layout: str | None):
@@ -209,7 +213,7 @@ class PreparedReference:
     def __init__(self, ctx, reference, layout: str | None = None):
         if reference.channels < 3:
             raise ValueError("blurlab.metrics.prepare_reference: the reference needs RGB channels")
-        self.layout = SSIM_LAYOUT if layout is None else layout
+        self.layout = PREPARED_SSIM_LAYOUT if layout is None else layout
         self.shape = reference.shape
         height, width = reference.shape[:2]
         self.colour_luminance = ctx.pooled((height, width, 4))
@@ -237,7 +241,8 @@ class PreparedReference:
 
 def prepare_reference(ctx, reference, layout: str | None = None) -> PreparedReference:
     """`reference` (an (H, W, 4) float32 texture) prepared for `gpu_mse_ssim(ctx, prepared,
-    test)`: for a caller that compares many images with one fixed reference."""
+    test)`: for a caller that compares many images with one fixed reference. `layout`: a key
+    of SSIM_LAYOUTS (default PREPARED_SSIM_LAYOUT)."""
     return PreparedReference(ctx, reference, layout)
 
 
