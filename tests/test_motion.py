@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 import blurlab as bl
+from blurlab import motion
 from blurlab.motion import quaternion_matrix, slerp
 
 
@@ -71,3 +72,25 @@ def test_skeleton_rest_pose_is_identity_and_children_follow_parents():
     np.testing.assert_allclose(joint[:3], [3, 0, 0], atol=1e-12)
     with pytest.raises(ValueError, match="parent"):
         bl.Skeleton([bl.Bone(0, np.eye(4))])
+
+
+def test_compose_gives_the_bits_of_the_plain_numpy_formula():
+    # compose and quaternion_matrix take shortcuts for speed (thousands of calls per
+    # reference); they must give exactly what T · R(q / |q|) · S gives in NumPy float64.
+    rng = np.random.default_rng(11)
+    for _ in range(2000):
+        q = rng.normal(size=4) * rng.choice([1e-3, 1.0, 1e3])
+        position = rng.normal(size=3) * 10
+        scale = rng.choice([1.0, float(rng.normal())]) if rng.random() < 0.5 else rng.normal(size=3)
+        w, x, y, z = np.asarray(q) / np.linalg.norm(q)
+        rotation = np.array(
+            [
+                [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+                [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
+            ]
+        )
+        expected = np.eye(4)
+        expected[:3, :3] = rotation * np.broadcast_to(np.asarray(scale, float), 3)
+        expected[:3, 3] = position
+        assert np.array_equal(motion.compose(position, q, scale), expected)
