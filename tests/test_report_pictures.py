@@ -220,3 +220,20 @@ def test_charts_draw_in_processes_or_inline_alike(tmp_path):
         with pytest.raises(ValueError, match="chart_processes"):
             with study.chart_pool(bad):
                 pass
+
+
+def test_the_per_object_table_takes_the_sweeps_reference_and_gives_the_same_rows(ctx):
+    # The study hands textured_spin's reference from its sweep to the per-object table
+    # instead of rendering it again (issue 19): the same rows but for the times.
+    objects = importlib.import_module("blurlab.studies.objects")
+    from blurlab.converged import default_reference_samples
+
+    size, scene = (96, 54), bl.scenes.get("textured_spin")
+    own = objects.object_errors(ctx, size, renders=(8,))
+    samples = default_reference_samples(ctx.render(scene, size))
+    reference = ctx.reference(scene, size, samples=samples, progress=False)
+    handed = objects.object_errors(ctx, size, renders=(8,), reference=reference)
+    same = [c for c in own if not c.startswith("ms_")]
+    assert len(own) == 8 and own[same].equals(handed[same])
+    with pytest.raises(ValueError, match="the reference is 96x54, the study renders 64x36"):
+        objects.object_errors(ctx, (64, 36), renders=(8,), reference=reference)

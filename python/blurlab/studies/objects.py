@@ -42,13 +42,25 @@ def object_boxes(frame) -> dict[int, tuple[int, int, int, int]]:
     return boxes
 
 
-def object_errors(ctx, size=(640, 360), renders=RENDERS, reference_samples=None) -> pd.DataFrame:
+def object_errors(
+    ctx, size=(640, 360), renders=RENDERS, reference_samples=None, reference=None
+) -> pd.DataFrame:
     """One row per sphere of textured_spin and render count: its texture and rotation, the
-    PSNR of accumulation and of stochastic blur inside the sphere's box, and their times."""
+    PSNR of accumulation and of stochastic blur inside the sphere's box, and their times.
+    `reference`: textured_spin's converged reference at `size` where the caller has rendered
+    it already (the study's sweep has), else it is rendered here with `reference_samples`
+    sub-frames (default: default_reference_samples)."""
     scene = scenes.get("textured_spin")
     frame = ctx.render(scene, size)
-    n = reference_samples or default_reference_samples(frame)
-    reference = ctx.reference(scene, size, samples=n, progress=False).color
+    if reference is None:
+        n = reference_samples or default_reference_samples(frame)
+        reference = ctx.reference(scene, size, samples=n, progress=False)
+    elif reference.color.shape[:2] != frame.color.shape[:2]:
+        raise ValueError(
+            f"blurlab.studies.objects: the reference is {reference.color.shape[1]}x"
+            f"{reference.color.shape[0]}, the study renders {size[0]}x{size[1]}"
+        )
+    n, reference = reference.samples, reference.color
     boxes = object_boxes(frame)
     # Every method that renders its own sub-frames, each at the same number of renders.
     compared = [name for name in methods() if method(name).renders_for is not None]

@@ -38,7 +38,7 @@ PHASES = {
     "maps, crops, the image grid (encoded on threads: what is counted is the wait for them)",
     "charts": "Pareto charts (PNG and interactive) and parameter curves (the PNGs drawn in "
     "processes of their own: what is counted is the wait for them)",
-    "per_object": "the per-object table of textured_spin (its own renders and reference)",
+    "per_object": "the per-object table of textured_spin (its own renders; the sweep's reference)",
     "peers": "the peers' renders (EEVEE)",
     "html": "the report's HTML",
 }
@@ -106,8 +106,11 @@ def run_study(
         # their processes: this thread waits for both at the end.
         with concurrent.futures.ThreadPoolExecutor(os.cpu_count() or 1) as pool:
             work = ReportWork(pool, charts)
+            spin_reference = None  # textured_spin's, for the per-object table
             for item in names:
                 scene = scenes.get(item)
+                if scene.name == "textured_spin":
+                    spin_reference = caches.get(scene.name, {}).get("reference")
                 sections.append(
                     _scene_section(
                         ctx,
@@ -131,7 +134,7 @@ def run_study(
             if "textured_spin" in names:  # the OGRE paper's test matrix
                 with clock("per_object"):
                     per_object = objects.object_errors(
-                        ctx, size, reference_samples=reference_samples
+                        ctx, size, reference_samples=reference_samples, reference=spin_reference
                     )
                     per_object.to_csv(out / "per_object.csv", index=False)
             peer_rows = None
