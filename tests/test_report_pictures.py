@@ -7,6 +7,7 @@ from __future__ import annotations
 import concurrent.futures
 import importlib
 import json
+import sys
 
 import matplotlib
 import numpy as np
@@ -237,3 +238,10 @@ def test_the_per_object_table_takes_the_sweeps_reference_and_gives_the_same_rows
     assert len(own) == 8 and own[same].equals(handed[same])
     with pytest.raises(ValueError, match="the reference is 96x54, the study renders 64x36"):
         objects.object_errors(ctx, (64, 36), renders=(8,), reference=reference)
+
+
+def test_charts_draw_inline_where_no_interpreter_can_be_started(monkeypatch):
+    monkeypatch.setattr(sys, "executable", "")  # an embedded Python has none to start
+    with study.chart_pool(2) as charts:
+        assert isinstance(charts, study.InlineExecutor)
+        assert charts.submit(pow, 2, 5).result() == 32

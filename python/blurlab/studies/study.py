@@ -12,6 +12,7 @@ import html
 import json
 import os
 import re
+import sys
 import time
 from pathlib import Path
 
@@ -182,13 +183,14 @@ def chart_pool(processes: int | None = None):
     """An executor for the matplotlib charts. matplotlib holds the GIL while it draws, so
     threads would not overlap it: worker processes (blurlab.studies.workers) import it at
     once, which overlaps its import (and, on a fresh machine, its font cache) with the sweep.
-    0 processes: an executor that runs each job as it is submitted."""
+    0 processes, or no `sys.executable` to start them with: an executor that runs each job as
+    it is submitted."""
     processes = default_chart_processes() if processes is None else processes
     if isinstance(processes, bool) or not isinstance(processes, int) or processes < 0:
         raise ValueError(
             f"blurlab study: chart_processes must be an integer >= 0, not {processes!r}"
         )
-    if processes == 0:
+    if processes == 0 or not sys.executable:  # no interpreter to start (an embedded Python)
         yield InlineExecutor()
         return
     with workers.ProcessWorkers(processes, warm_up=plots.load_matplotlib) as pool:
