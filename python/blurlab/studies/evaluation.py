@@ -79,8 +79,9 @@ def evaluate_scene(
     # batches of settings.readback_batch evaluations, each read back once the next is issued,
     # so the GPU works through one batch while the CPU issues the next (docs/spec.md §6.3).
     batches = m.MetricBatches(ctx, settings.readback_batch) if settings.readback_batch > 1 else None
+    immediate = _ImmediateMetrics(ctx)
     for name, point, backend, key in jobs:
-        queue = batches.queue if batches is not None else None
+        queue = batches.queue if batches is not None else immediate
         frames, reference = _scene_inputs(ctx, scene, name, point, settings, cache)
         runs, clock = timings[key]
         result = blur_steps(ctx, frames, name, backend, timed=False, **_without_steps(point))
@@ -100,39 +101,23 @@ def evaluate_scene(
             **{f"auto_{k}": json.dumps(v) for k, v in result.auto.items()},
         }
         # Every LDR metric is reduced on the GPU (docs/spec.md §6): no image is read back for it.
-        gpu = {}  # column: the value, or its index in the queue
+        gpu = {}  # column: the value, or its index in the batch's queue
         if "ssim" in wanted:  # PSNR and SSIM from one pass against the prepared reference
-            prepared = _prepared_reference(ctx, reference, cache)
-            gpu["mse_ssim"] = (
-                queue.mse_ssim(prepared, color)
-                if queue is not None
-                else m.gpu_mse_ssim(ctx, prepared, color)
-            )
+            gpu["mse_ssim"] = queue.mse_ssim(_prepared_reference(ctx, reference, cache), color)
             row["ssim"] = None
         else:
-            gpu["mse"] = (
-                queue.mse(color, reference.texture)
-                if queue is not None
-                else m.gpu_mse(ctx, color, reference.texture)
-            )
+            gpu["mse"] = queue.mse(color, reference.texture)
         if "flip" in wanted:
-            gpu["flip"] = (
-                queue.flip(reference.texture, color)
-                if queue is not None
-                else m.gpu_flip(ctx, reference.texture, color)
-            )
+            gpu["flip"] = queue.flip(reference.texture, color)
             row["flip"] = None
         if "psnr_aa" in wanted:  # against the antialiased reference (§11)
             antialiased = _reference(ctx, scene, settings, reference.samples, cache, True).texture
-            gpu["mse_aa"] = (
-                queue.mse(color, antialiased)
-                if queue is not None
-                else m.gpu_mse(ctx, color, antialiased)
-            )
+            gpu["mse_aa"] = queue.mse(color, antialiased)
             row["psnr_aa"] = None
         # The pictures a caller shows (the study's middle points): kept, not blurred again.
-        if (name, row["params"]) in cache.get("keep_colours", ()):
-            cache.setdefault("colours", {})[(name, row["params"])] = result.color
+        kept_as = picture_key(name, point)
+        if kept_as in cache.get("keep_colours", ()):
+            cache.setdefault("colours", {})[kept_as] = result.color
         hdr = [name for name in wanted if name in m.HDR_METRICS]
         if hdr:  # with "exposure", the one psnr_tm, ssim_tm and the report's pictures use
             row.update(m.hdr_scores(reference.color, result.color, hdr))
@@ -155,6 +140,29 @@ def evaluate_scene(
             yield from _read_rows(batches.add((key, row, gpu)))
     if batches is not None:
         yield from _read_rows(batches.flush())
+
+
+class _ImmediateMetrics:
+    """MetricQueue's calls answered at once (readback_batch 1): each returns the metric's
+    value, read back before the next evaluation starts."""
+
+    def __init__(self, ctx):
+        self._ctx = ctx
+
+    def mse(self, a, b) -> float:
+        return m.gpu_mse(self._ctx, a, b)
+
+    def mse_ssim(self, prepared, test) -> tuple[float, float]:
+        return m.gpu_mse_ssim(self._ctx, prepared, test)
+
+    def flip(self, reference, test) -> float:
+        return m.gpu_flip(self._ctx, reference, test)
+
+
+def picture_key(method_name: str, point: dict) -> tuple[str, str]:
+    """How a configuration's output colour is named in a scene cache's "keep_colours" and
+    "colours": its method and its parameters as the row's "params" JSON."""
+    return method_name, json.dumps(point, sort_keys=True)
 
 
 def _read_rows(ready: list) -> Iterator[tuple[tuple, dict]]:

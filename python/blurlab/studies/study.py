@@ -23,7 +23,7 @@ from .. import io, metrics, scenes
 from ..context import Context
 from ..methods import blur, method, method_instant
 from . import interactive, objects, peers, plots, workers
-from .evaluation import PhaseClock
+from .evaluation import PhaseClock, picture_key
 from .sweep import HDR_METRICS, default_grids, middle_point, sweep
 
 BUDGETS_MS = (0.1, 1.0, 10.0, 100.0)
@@ -75,7 +75,7 @@ def run_study(
         grids = grids or default_grids()
         # Per scene, what the sweep rendered and each method's picture (its grid's middle point):
         # the report shows the same, without rendering or blurring them again.
-        shown = {(m, json.dumps(middle_point(g), sort_keys=True)) for m, g in grids.items()}
+        shown = {picture_key(m, middle_point(g)) for m, g in grids.items()}
         caches: dict = {scenes.get(item).name: {"keep_colours": shown} for item in names}
         start = time.perf_counter()
         table = sweep(
@@ -110,8 +110,9 @@ def run_study(
             spin_reference = None  # textured_spin's, for the per-object table
             for item in names:
                 scene = scenes.get(item)
+                cache = caches.pop(scene.name, {})  # freed with the section
                 if scene.name == "textured_spin":
-                    spin_reference = caches.get(scene.name, {}).get("reference")
+                    spin_reference = cache.get("reference")
                 sections.append(
                     _scene_section(
                         ctx,
@@ -121,7 +122,7 @@ def run_study(
                         out,
                         grids,
                         not sections,
-                        caches.pop(scene.name, {}),  # freed with the section
+                        cache,
                         work,
                         clock,
                     )
@@ -298,7 +299,7 @@ def _scene_section(
         for method_name, grid in grids.items():
             point = middle_point(grid)
             instant = method_instant(method_name, point)
-            kept = colours.get((method_name, json.dumps(point, sort_keys=True)))
+            kept = colours.get(picture_key(method_name, point))
             if kept is not None:
                 images[method_name] = kept
                 continue
