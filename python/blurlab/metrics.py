@@ -224,13 +224,22 @@ class PreparedReference:
 
     def mse_ssim(self, test) -> tuple[float, float]:
         """(`mse`, `ssim`) of the reference and `test`, as `gpu_mse_ssim` computes them."""
-        if self.colour_luminance is None:
-            raise ValueError("blurlab.metrics.PreparedReference: used after release()")
-        _same_size(self.colour_luminance, test, "gpu_mse_ssim")
-        squared_error, mean_ssim = _ssim_pass(self._ctx, self.layout).mse_ssim_prepared(
-            self.colour_luminance.native, self.moments.native, test.native
+        squared_error, mean_ssim = self.pass_against(test, "gpu_mse_ssim").mse_ssim_prepared(
+            *self.natives(test)
         )
         return _mean_squared(squared_error, test.shape), mean_ssim
+
+    def pass_against(self, test, caller: str):
+        """The SSIM pass of this reference's layout, once `test` is checked against it (the
+        reference not released, the same size); `caller` names the call in errors."""
+        if self.colour_luminance is None:
+            raise ValueError("blurlab.metrics.PreparedReference: used after release()")
+        _same_size(self.colour_luminance, test, caller)
+        return _ssim_pass(self._ctx, self.layout)
+
+    def natives(self, test) -> tuple:
+        """The native textures a prepared pass reads: the reference's two and `test`."""
+        return self.colour_luminance.native, self.moments.native, test.native
 
     def release(self) -> None:
         """Returns the textures to the context's pool; the object cannot be used after."""
@@ -293,11 +302,8 @@ class MetricQueue:
                 "blurlab.metrics.MetricQueue.mse_ssim: compares with a PreparedReference "
                 f"(prepare_reference), not {type(prepared).__name__}"
             )
-        if prepared.colour_luminance is None:
-            raise ValueError("blurlab.metrics.PreparedReference: used after release()")
-        _same_size(prepared.colour_luminance, test, "MetricQueue.mse_ssim")
-        _ssim_pass(self._ctx, prepared.layout).issue_mse_ssim_prepared(
-            prepared.colour_luminance.native, prepared.moments.native, test.native, self._core
+        prepared.pass_against(test, "MetricQueue.mse_ssim").issue_mse_ssim_prepared(
+            *prepared.natives(test), self._core
         )
         shape = test.shape
         self._finish.append((True, lambda totals: _mse_ssim_of_totals(totals, shape)))
