@@ -163,13 +163,11 @@ def parameter_curves(
     return fig
 
 
-# An image grid's panel is 2.6 in wide, 338 pixels at save()'s 130 dpi: images are averaged
-# down to at most twice that before matplotlib draws them (it would resample a 1080p image
-# to the same pixels, at several times the cost).
-GRID_PIXELS = 676
+GRID_CELL_PIXELS = 320  # thumbnail width in image_grid_picture
+GRID_LABEL, GRID_GAP = 14, 4
 
 
-def shrink(array: np.ndarray, most: int = GRID_PIXELS) -> np.ndarray:
+def shrink(array: np.ndarray, most: int = GRID_CELL_PIXELS) -> np.ndarray:
     """`array` ((H, W) or (H, W, C)) averaged over f x f blocks, f the smallest whole factor
     that brings its width to `most` pixels or fewer (rows and columns beyond whole blocks are
     dropped): linear values, averaged as light adds up."""
@@ -188,10 +186,6 @@ def shrink(array: np.ndarray, most: int = GRID_PIXELS) -> np.ndarray:
     for x in range(1, factor):
         total += rows[:, x::factor]
     return total / np.float32(factor * factor)
-
-
-GRID_CELL_PIXELS = 320  # thumbnail width in image_grid_picture
-GRID_LABEL, GRID_GAP = 14, 4
 
 
 def image_grid_picture(
