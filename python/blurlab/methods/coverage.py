@@ -71,20 +71,12 @@ def _film_filter(ctx: Context, timings: dict, values: dict, gathered):
     variant = FILM_LAYOUT.defines()
     defines = {**variant, "FILM_RADIUS": film.film_radius(values["film_filter"])}
     filtered = ctx.pooled((*size, 4))
-    if "FILM_SEPARABLE" not in variant:
-        run_pass(
-            ctx,
-            timings,
-            FILM,
-            PARAMS,
-            values,
-            {"color": gathered},
-            {"result": filtered},
-            defines=defines,
-        )
-        return filtered
-    rows = ctx.pooled((*size, 4))
-    for step, source, target in ((FILM_ROWS, gathered, rows), (FILM_COLUMNS, rows, filtered)):
+    if "FILM_SEPARABLE" in variant:  # along rows into `rows`, then along its columns
+        rows = ctx.pooled((*size, 4))
+        steps = [(FILM_ROWS, gathered, rows, False), (FILM_COLUMNS, rows, filtered, True)]
+    else:
+        rows, steps = None, [(FILM, gathered, filtered, None)]
+    for step, source, target, columns in steps:
         run_pass(
             ctx,
             timings,
@@ -93,10 +85,11 @@ def _film_filter(ctx: Context, timings: dict, values: dict, gathered):
             values,
             {"color": source},
             {"result": target},
-            uniforms={"film_columns": step is FILM_COLUMNS},
+            uniforms={} if columns is None else {"film_columns": columns},
             defines=defines,
         )
-    ctx.recycle(rows)
+    if rows is not None:
+        ctx.recycle(rows)
     return filtered
 
 
