@@ -375,6 +375,31 @@ def against_prepared(ctx, reference, color, layout: str):
     return call
 
 
+def issued_times(ctx, reference, color, runs: int, layouts) -> dict:
+    """GPU time of the PSNR + SSIM pass alone, in each layout: each gpu_mse_ssim is issued into a
+    metrics.MetricQueue inside the timer and read back after it (as bl.sweep does), so the timer
+    holds the dispatch and not the wait for its scalar. Of a texture pair and of a prepared
+    reference; the values read back must equal gpu_mse_ssim's."""
+    record = {}
+    print("\n| PSNR + SSIM pass, issued, read back later | GPU ms | same value |\n|---|---|---|")
+    for layout in layouts:
+        prepared = metrics.prepare_reference(ctx, reference, layout)
+        for name, against in ((f"pair, {layout}", reference), (f"prepared, {layout}", prepared)):
+            expected = metrics.gpu_mse_ssim(ctx, against, color, layout=layout)
+            queue = metrics.MetricQueue(ctx)
+            queue.mse_ssim(against, color, layout)  # compiled and warm before the clock
+            samples = []
+            for _ in range(runs):
+                with ctx.timer() as timing:
+                    queue.mse_ssim(against, color, layout)
+                samples.append(timing.ms)
+            same = all(value == expected for value in queue.read())
+            record[name] = {"gpu_ms": statistics.median(samples), "same_value": same}
+            print(f"| {name} | {record[name]['gpu_ms']:.4f} | {same} |")
+        prepared.release()
+    return record
+
+
 def metric_times(ctx, frame, reference, runs: int, layouts) -> dict:
     """Wall clock per call (scalar read back) and GPU time of each metric on one image pair;
     gpu_ssim and gpu_mse_ssim in each SSIM work-group layout (metrics.SSIM_LAYOUTS)."""
@@ -416,6 +441,7 @@ def metric_times(ctx, frame, reference, runs: int, layouts) -> dict:
         values = value if isinstance(value, tuple) else () if value is None else (value,)
         shown = ", ".join(f"{v:.6f}" for v in values)
         print(f"| {name} | {r['wall_ms']:.4f} | {r['gpu_ms']:.4f} | {shown} |")
+    record["issued"] = issued_times(ctx, reference.texture, color, runs, layouts)
     del result
     return record
 

@@ -30,24 +30,26 @@ def test_queued_metrics_equal_the_immediate_ones_with_one_wait(ctx, scene_inputs
         color = result.textures["color"]
         expected += [
             m.gpu_mse_ssim(ctx, prepared, color),
+            m.gpu_mse_ssim(ctx, reference.texture, color),
             m.gpu_mse(ctx, color, reference.texture),
             m.gpu_flip(ctx, reference.texture, color),
         ]
         order += [
             queue.mse_ssim(prepared, color),
+            queue.mse_ssim(reference.texture, color),
             queue.mse(color, reference.texture),
             queue.flip(reference.texture, color),
         ]
         # Back to the pool before the read: the next blur writes into the same texture, after
         # the queued reductions read it.
         del result, color
-    assert order == list(range(18)) and len(queue) == 18
+    assert order == list(range(24)) and len(queue) == 24
     waits = ctx.waits()
     values = queue.read()
     # One wait for the reductions' sums, one per FLIP partials download.
     assert ctx.waits() - waits == 1 + 6
     assert values == expected
-    assert len({v[1] for v in values[::3]}) == 5  # the SSIMs differ with k
+    assert len({v[1] for v in values[::4]}) == 5  # the SSIMs differ with k
     assert len(queue) == 0 and queue.read() == []
 
 
@@ -63,7 +65,9 @@ def test_bad_queued_metrics_are_refused_and_leave_the_batch_whole(ctx, scene_inp
     queue.mse(frame.textures["color"], reference.texture)
     small = ctx.pooled((45, 80, 4))
     with pytest.raises(TypeError, match="PreparedReference"):
-        queue.mse_ssim(reference.texture, frame.textures["color"])
+        queue.mse_ssim(reference.color, frame.textures["color"])
+    with pytest.raises(ValueError, match="unknown SSIM layout"):
+        queue.mse_ssim(reference.texture, frame.textures["color"], layout="column3")
     with pytest.raises(ValueError, match="differ in shape"):
         queue.mse(small, reference.texture)
     with pytest.raises(ValueError, match="differ in shape"):

@@ -293,18 +293,24 @@ class MetricQueue:
         self._finish.append((True, lambda totals: _mean_squared(totals[0], shape)))
         return len(self._finish) - 1
 
-    def mse_ssim(self, prepared: PreparedReference, test) -> int:
-        """Issues `gpu_mse_ssim(ctx, prepared, test)` against a `PreparedReference`; returns its
-        index in `read()`'s list, where its value is the (mse, ssim) tuple."""
+    def mse_ssim(self, reference, test, layout: str | None = None) -> int:
+        """Issues `gpu_mse_ssim(ctx, reference, test)`: `reference` a `PreparedReference`
+        (prepare_reference; `layout` is then its own) or a texture (both images' moments
+        blurred, in `layout` as `gpu_mse_ssim` says). Returns its index in `read()`'s list,
+        where its value is the (mse, ssim) tuple."""
         self._issuing()
-        if not isinstance(prepared, PreparedReference):
-            raise TypeError(
-                "blurlab.metrics.MetricQueue.mse_ssim: compares with a PreparedReference "
-                f"(prepare_reference), not {type(prepared).__name__}"
+        if isinstance(reference, PreparedReference):
+            reference.pass_against(test, "MetricQueue.mse_ssim").issue_mse_ssim_prepared(
+                *reference.natives(test), self._core
             )
-        prepared.pass_against(test, "MetricQueue.mse_ssim").issue_mse_ssim_prepared(
-            *prepared.natives(test), self._core
-        )
+        else:
+            if getattr(reference, "native", None) is None:
+                raise TypeError(
+                    "blurlab.metrics.MetricQueue.mse_ssim: compares with a PreparedReference "
+                    f"(prepare_reference) or a texture, not {type(reference).__name__}"
+                )
+            _same_size(reference, test, "MetricQueue.mse_ssim")
+            _ssim_pass(self._ctx, layout).issue_mse_ssim(reference.native, test.native, self._core)
         shape = test.shape
         self._finish.append((True, lambda totals: _mse_ssim_of_totals(totals, shape)))
         return len(self._finish) - 1

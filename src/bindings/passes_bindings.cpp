@@ -287,6 +287,8 @@ void bind_passes(py::module_& m) {
            py::call_guard<py::gil_scoped_release>())
       .def("mse_ssim", &SsimReductionPass::mse_ssim, py::arg("a"), py::arg("b"),
            py::call_guard<py::gil_scoped_release>())
+      .def("issue_mse_ssim", &SsimReductionPass::issue_mse_ssim, py::arg("a"), py::arg("b"),
+           py::arg("queue"))
       .def("prepare", &SsimReductionPass::prepare, py::arg("reference"),
            py::arg("colour_luminance"), py::arg("moments"),
            py::call_guard<py::gil_scoped_release>())

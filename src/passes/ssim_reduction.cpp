@@ -103,6 +103,11 @@ std::pair<double, double> SsimReductionPass::mse_ssim(const Texture& a, const Te
   return {totals[1], totals[0] / (double(a.width()) * a.height())};
 }
 
+size_t SsimReductionPass::issue_mse_ssim(const Texture& a, const Texture& b,
+                                         ReductionQueue& queue) {
+  return reduction_->issue(program(Variant::fused), a, b, {tile_columns_, tile_rows_}, 2, queue);
+}
+
 namespace {
 
 void check_prepared(const Texture& reference, const Texture& colour_luminance,

@@ -37,6 +37,9 @@ class SsimReductionPass {
   double mean_ssim(const Texture& a, const Texture& b);
   // (Σ over pixels and RGB of (clamp(a) - clamp(b))², mean SSIM) from one dispatch.
   std::pair<double, double> mse_ssim(const Texture& a, const Texture& b);
+  // mse_ssim without the wait: its (Σ SSIM, Σ squared error) are the next reduction of `queue`,
+  // summed in that order; returns its index.
+  size_t issue_mse_ssim(const Texture& a, const Texture& b, ReductionQueue& queue);
   // Prepares a reference that many tests are compared with, into two textures of its size.
   // Tiles: its clipped colour and luminance to colour_luminance (RGBA32F) and the Gaussian mean
   // and variance of its luminance to moments (RG32F). Strips: its clipped colour and the
