@@ -212,7 +212,17 @@ def streaming_bandwidth(ctx, size: tuple[int, int], runs: int) -> dict:
     step = ctx.shader_pass("passes/accumulate.comp")
     ms = gpu_ms(ctx, lambda: step.run({"color": color}, {"sum": total}, {"weight": 0.5}), runs)
     ctx.recycle(color, total)
-    return {"size": f"{width}x{height}", "ms": ms, "gb_per_s": 48 * width * height / ms / 1e6}
+    # The same pass over one pixel: what a dispatch costs by this clock with nearly no work, a
+    # floor under each pass of a filter timed pass by pass.
+    color, total = ctx.empty((1, 1, 4)), ctx.empty((1, 1, 4))
+    one = gpu_ms(ctx, lambda: step.run({"color": color}, {"sum": total}, {"weight": 0.5}), runs)
+    ctx.recycle(color, total)
+    return {
+        "size": f"{width}x{height}",
+        "ms": ms,
+        "gb_per_s": 48 * width * height / ms / 1e6,
+        "one_pixel_dispatch_ms": one,
+    }
 
 
 def texel_bytes(texture) -> int:
@@ -237,6 +247,7 @@ def dram_floor(ctx, frame, filter_results: dict, bandwidth: dict, nominal_gbs) -
     if nominal_gbs:
         rates["nominal"] = nominal_gbs
     print(f"\nStreaming pass: {bandwidth['gb_per_s']:.0f} GB/s over {bandwidth['size']}")
+    print(f"The same pass over one pixel: {bandwidth['one_pixel_dispatch_ms']:.4f} ms")
     for suffix, layout in layouts.items():
         per_pixel = sum(layout.values())
         inputs = "packed" if suffix else "stored"
