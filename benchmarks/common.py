@@ -52,3 +52,28 @@ def method_runs(names: list[str], film_filter: float = 0.0) -> list[tuple[str, s
         label = f"gather_coverage, film_filter={film_filter:g}"
         runs.append((label, "gather_coverage", {"film_filter": film_filter}))
     return runs
+
+
+def back_to_back_ms(ctx, call, calls: int = 50, busy_ms: float = 20.0) -> float:
+    """GPU ms per `call()` over `calls` calls issued in a row while the GPU is still busy with
+    earlier work, so that it never waits for the CPU between them: one GL timer query around
+    the calls, whose passes carry no timers of their own. Per-pass timers each hold a pass's
+    ramp-up and drain; a timer around a lone call also holds the gaps where the GPU waited for
+    Python to issue the next pass. On a wall clock (llvmpipe) there is nothing to overlap: the
+    calls are timed as they run."""
+    call()  # compiled, pooled and planned before the clock
+    gpu_clock = ctx.info()["timer"] == "gl_time_elapsed"
+    if gpu_clock:
+        busy = ctx.shader_pass("passes/accumulate.comp")
+        color, total = ctx.empty((2048, 2048, 4)), ctx.empty((2048, 2048, 4))
+        run_busy = lambda: busy.run({"color": color}, {"sum": total}, {"weight": 0.5})  # noqa: E731
+        with ctx.timer() as one:
+            run_busy()
+        for _ in range(max(1, int(busy_ms / max(one.ms, 1e-3)))):
+            run_busy()  # the GPU works through these while the CPU issues the calls below
+    with ctx.timer() as timing:
+        for _ in range(calls):
+            call()
+    if gpu_clock:
+        ctx.recycle(color, total)
+    return timing.ms / calls

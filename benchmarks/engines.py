@@ -46,7 +46,7 @@ from blurlab.studies import peers
 from blurlab.twins import coverage as coverage_twin
 from blurlab.twins import film as film_twin
 
-from common import describe, method_runs, open_context, save
+from common import back_to_back_ms, describe, method_runs, open_context, save
 
 BASELINES = ("reconstruct_guertin2014", "reconstruct_mcguire2012")
 EEVEE = "eevee (Blender)"
@@ -71,7 +71,7 @@ def measure(ctx, scene_name: str, size, runs: int, methods, with_eevee: bool) ->
     scene = bl.scenes.get(scene_name)
     frame = ctx.render(scene, size)
     reference = ctx.reference(scene, size, samples="auto", progress=False)
-    outputs, times, passes = {}, {}, {}
+    outputs, times, passes, queued = {}, {}, {}, {}
     for name, method, params in methods:
         # warm-up: shaders compiled, textures pooled
         outputs[name] = bl.blur(ctx, frame, method, **params)
@@ -81,6 +81,7 @@ def measure(ctx, scene_name: str, size, runs: int, methods, with_eevee: bool) ->
             times[name].append(timed.total_ms)
             passes[name] = {key: t.ms for key, t in timed.timings.items()}
             del timed
+        queued[name] = calls_ms(ctx, frame, method, **params)
     rows = []
     for name, _, _ in methods:
         color = outputs.pop(name).color
@@ -92,6 +93,7 @@ def measure(ctx, scene_name: str, size, runs: int, methods, with_eevee: bool) ->
                 "ssim": bl.metrics.ssim(reference.color, color),
                 "flip": bl.metrics.flip(reference.color, color),
                 "ms": statistics.median(times[name]),
+                "back_to_back_ms": queued[name],
                 "passes": passes[name],
                 "reference_samples": reference.samples,
             }
@@ -113,6 +115,12 @@ def measure(ctx, scene_name: str, size, runs: int, methods, with_eevee: bool) ->
 # frame, reference tiles and checks kept it idle, and the next layouts timed 3-4x slow (the
 # first --variants run, 2026-11-24: guertin2014 0.079 ms on the first scene, 0.22-0.84 after).
 SPIN_UP_S = 0.25
+
+
+def calls_ms(ctx, frame, method: str, **params) -> float:
+    """GPU ms per untimed call of `method` on `frame`, calls issued back to back
+    (common.back_to_back_ms): no per-pass timers, no GPU waiting for Python."""
+    return back_to_back_ms(ctx, lambda: bl.blur(ctx, frame, method, timed=False, **params))
 
 
 def median_passes(ctx, frame, method: str, runs: int, **params) -> tuple[dict, object]:
@@ -241,27 +249,57 @@ def time_goal(ctx, scene_names, size, runs: int, sigma: float, fastest: dict) ->
                 stack.enter_context(LAYOUTS[kind].use(layout.split(" ", 1)[1]))
             plain, _ = median_passes(ctx, frame, COMBINED[0], runs)
             filmed, _ = median_passes(ctx, frame, COMBINED[0], runs, film_filter=sigma)
+            row = {
+                "scene": scene_name,
+                "b2b_ms": calls_ms(ctx, frame, COMBINED[0]),
+                "b2b_film_ms": calls_ms(ctx, frame, COMBINED[0], film_filter=sigma),
+            }
         guertin, _ = median_passes(ctx, frame, "reconstruct_guertin2014", runs)
-        row = {"scene": scene_name, "guertin_ms": sum(guertin.values())}
+        row["guertin_ms"] = sum(guertin.values())
+        row["b2b_guertin_ms"] = calls_ms(ctx, frame, "reconstruct_guertin2014")
         row["ms"], row["film_ms"] = sum(plain.values()), sum(filmed.values())
         rows.append(row)
     goal = {"layouts": fastest, "rows": rows}
     print(f"\ntime goal with {', '.join(fastest.values())} (film_filter = {sigma:g}):")
-    for key in ("ms", "film_ms"):
-        ratios = [row[key] / row["guertin_ms"] for row in rows]
+    keys = {"ms": "guertin_ms", "film_ms": "guertin_ms"}
+    keys |= {"b2b_ms": "b2b_guertin_ms", "b2b_film_ms": "b2b_guertin_ms"}
+    for key, baseline in keys.items():
+        ratios = [row[key] / row[baseline] for row in rows]
         medians = statistics.median(row[key] for row in rows)
         goal[key] = {
             "median_of_ratios": statistics.median(ratios),
-            "ratio_of_medians": medians / statistics.median(row["guertin_ms"] for row in rows),
+            "ratio_of_medians": medians / statistics.median(row[baseline] for row in rows),
             "scenes_within_1_5": sum(r <= 1.5 for r in ratios),
         }
-        label = "with film" if key == "film_ms" else "without film"
+        label = ("with film" if "film" in key else "without film") + (
+            ", calls back to back" if key.startswith("b2b") else ", per-pass timers"
+        )
         print(
             f"  {label}: median per-scene ratio {goal[key]['median_of_ratios']:.2f}x, "
             f"ratio of medians {goal[key]['ratio_of_medians']:.2f}x, "
             f"{goal[key]['scenes_within_1_5']} of {len(rows)} scenes within 1.5x"
         )
     return goal
+
+
+def time_ratios(table: pd.DataFrame, baseline: str = BASELINES[0]) -> dict:
+    """Each method's time over `baseline`'s (issue 17: gather_coverage ≤ 1.5x guertin2014's):
+    the median of the per-scene ratios and the ratio of the medians, by the per-pass timers
+    (ms) and by calls back to back (back_to_back_ms)."""
+    timed = table[table.method != EEVEE]
+    ratios = {}
+    for clock in ("ms", "back_to_back_ms"):
+        by = timed.pivot(index="scene", columns="method", values=clock)
+        if baseline not in by:
+            return {}
+        for method in by.columns:
+            per_scene = by[method] / by[baseline]
+            ratios.setdefault(method, {})[clock] = {
+                "median_of_ratios": float(per_scene.median()),
+                "ratio_of_medians": float(by[method].median() / by[baseline].median()),
+                "scenes_within_1_5": int((per_scene <= 1.5).sum()),
+            }
+    return ratios
 
 
 def markdown(table: pd.DataFrame) -> str:
@@ -286,9 +324,10 @@ def markdown(table: pd.DataFrame) -> str:
         cells = [f"**{fmt(values[m])}**" if pd.notna(values.get(m)) else "–" for m in methods]
         return f"| **{label}** | " + " | ".join(cells) + " |"
 
-    medians = table.groupby("method", sort=False)[["psnr", "ms"]].median()
+    medians = table.groupby("method", sort=False)[["psnr", "ms", "back_to_back_ms"]].median()
     lines.append(line("median PSNR", medians.psnr, "{:.2f}".format))
-    lines.append(line("median ms", medians.ms, "{:.2f}".format))
+    lines.append(line("median ms", medians.ms, "{:.3f}".format))
+    lines.append(line("median ms, calls back to back", medians.back_to_back_ms, "{:.3f}".format))
     eevee = table[(table.method == EEVEE) & table.psnr.notna()].set_index("scene").psnr
     if len(eevee):
         shared = table[table.scene.isin(eevee.index)]
@@ -378,6 +417,14 @@ def main() -> None:
     if args.chart:
         clock = bl.blur(ctx, ctx.render(bl.scenes.get(scenes[0]), (8, 8)), names[0]).clock
         bl.plots.save(pareto_chart(table, record["renderer"], clock, size), args.chart)
+    record["over_guertin"] = time_ratios(table)
+    print(f"\ntime over {BASELINES[0]} (median per-scene ratio; ratio of medians):")
+    for method, clocks in record["over_guertin"].items():
+        cells = [
+            f"{c}: {r['median_of_ratios']:.2f}x; {r['ratio_of_medians']:.2f}x"
+            for c, r in clocks.items()
+        ]
+        print(f"  {method}: " + " | ".join(cells))
     record["rows"] = rows
     save(args.json, record)
 
