@@ -44,6 +44,7 @@ import argparse
 import importlib
 import itertools
 import json
+import re
 import statistics
 import tempfile
 import time
@@ -397,6 +398,21 @@ def against_prepared(ctx, reference, color, layout: str):
     return call
 
 
+def issued_time(ctx, against, color, runs: int, layout: str) -> dict:
+    """issued_times' row: median GPU ms of one issue, and whether the values read back later
+    equal gpu_mse_ssim's."""
+    expected = metrics.gpu_mse_ssim(ctx, against, color, layout=layout)
+    queue = metrics.MetricQueue(ctx)
+    queue.mse_ssim(against, color, layout)  # compiled and warm before the clock
+    samples = []
+    for _ in range(runs):
+        with ctx.timer() as timing:
+            queue.mse_ssim(against, color, layout)
+        samples.append(timing.ms)
+    same = all(value == expected for value in queue.read())
+    return {"gpu_ms": statistics.median(samples), "same_value": same}
+
+
 def issued_times(ctx, reference, color, runs: int, layouts) -> dict:
     """GPU time of the PSNR + SSIM pass alone, in each layout: each gpu_mse_ssim is issued into a
     metrics.MetricQueue inside the timer and read back after it (as bl.sweep does), so the timer
@@ -405,19 +421,20 @@ def issued_times(ctx, reference, color, runs: int, layouts) -> dict:
     record = {}
     print("\n| PSNR + SSIM pass, issued, read back later | GPU ms | same value |\n|---|---|---|")
     for layout in layouts:
-        prepared = metrics.prepare_reference(ctx, reference, layout)
+        try:
+            prepared = metrics.prepare_reference(ctx, reference, layout)
+        except (RuntimeError, ValueError) as error:  # a layout the driver refuses: the rest
+            record[layout] = {"error": str(error)}
+            print(f"| {layout} | failed: {error} | |")
+            continue
         for name, against in ((f"pair, {layout}", reference), (f"prepared, {layout}", prepared)):
-            expected = metrics.gpu_mse_ssim(ctx, against, color, layout=layout)
-            queue = metrics.MetricQueue(ctx)
-            queue.mse_ssim(against, color, layout)  # compiled and warm before the clock
-            samples = []
-            for _ in range(runs):
-                with ctx.timer() as timing:
-                    queue.mse_ssim(against, color, layout)
-                samples.append(timing.ms)
-            same = all(value == expected for value in queue.read())
-            record[name] = {"gpu_ms": statistics.median(samples), "same_value": same}
-            print(f"| {name} | {record[name]['gpu_ms']:.4f} | {same} |")
+            try:
+                record[name] = issued_time(ctx, against, color, runs, layout)
+            except (RuntimeError, ValueError) as error:
+                record[name] = {"error": str(error)}
+                print(f"| {name} | failed: {error} | |")
+                continue
+            print(f"| {name} | {record[name]['gpu_ms']:.4f} | {record[name]['same_value']} |")
         prepared.release()
     return record
 
@@ -749,7 +766,7 @@ def main() -> None:
     parser.add_argument(
         "--ssim-layouts",
         default=",".join(metrics.SSIM_LAYOUTS),
-        help="SSIM work-group layouts to time (keys of blurlab.metrics.SSIM_LAYOUTS)",
+        help="SSIM work-group layouts to time (keys of blurlab.metrics.SSIM_LAYOUTS, or tileHrN)",
     )
     parser.add_argument(
         "--raster-scenes",
@@ -762,8 +779,15 @@ def main() -> None:
     if parts - set(PARTS):
         parser.error(f"unknown parts {sorted(parts - set(PARTS))}; choose from {PARTS}")
     layouts = args.ssim_layouts.split(",")
+    for layout in layouts:  # a candidate tile layout, timed before it earns a name
+        candidate = re.fullmatch(r"tile(8|16|32)r(1|2|4|8)", layout)
+        if layout not in metrics.SSIM_LAYOUTS and candidate:
+            metrics.SSIM_LAYOUTS[layout] = (32, int(candidate[1]), int(candidate[2]))
     if set(layouts) - set(metrics.SSIM_LAYOUTS):
-        parser.error(f"unknown SSIM layouts; choose from {list(metrics.SSIM_LAYOUTS)}")
+        parser.error(
+            f"unknown SSIM layouts; choose from {list(metrics.SSIM_LAYOUTS)} or a candidate "
+            "tileHrN (32 x H tiles, N rows an invocation: H 8, 16 or 32, N 1, 2, 4 or 8 <= H)"
+        )
     ctx = open_context(args.device)
     size = tuple(int(v) for v in args.size.split("x"))
     record = {**describe(ctx), "size": args.size, "runs": args.runs}
