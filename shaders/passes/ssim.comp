@@ -24,16 +24,23 @@
 // vertically, and reduces the SSIM map. In the vertical blur each invocation computes ROWS
 // pixels down one column: it reads the ROWS + 2 RADIUS row moments once and adds each into every
 // output it touches, so shared-memory reads per pixel fall from 11 to (ROWS + 10) / ROWS and
-// there are ROWS times fewer invocations for the final tree reduction. Every output adds its
-// taps in the same order whatever ROWS is.
+// there are ROWS times fewer invocations to sum. Every output adds its taps in the same order
+// whatever ROWS is. The group's sum is common/ssim.glsl's group_sum: a subgroup add and one
+// barrier where the driver has GL_KHR_shader_subgroup_arithmetic (the H100), else a tree.
 //
 // Precision: variances are E[x²] - E[x]², which loses digits in float32 where the image is flat.
 // Both are shift-invariant, so the moments are taken of x - c with c the luminance at the
 // tile's center: in flat regions the shifted values are near 0 and nothing cancels.
+#if defined(GL_KHR_shader_subgroup_arithmetic)
+#extension GL_KHR_shader_subgroup_basic : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
+#define SUBGROUP_SUM 1
+#endif
+#define GROUP_INVOCATIONS (32 * (TILE_Y / ROWS))
 #include "common/inputs.glsl"
 #include "common/ssim.glsl"
 
-const int TILE_X = 32, THREADS_Y = TILE_Y / ROWS, INVOCATIONS = TILE_X * THREADS_Y;
+const int TILE_X = 32, THREADS_Y = TILE_Y / ROWS, INVOCATIONS = GROUP_INVOCATIONS;
 layout(local_size_x = TILE_X, local_size_y = THREADS_Y) in;
 layout(binding = 0) uniform sampler2D image_a;
 #if PREPARE
@@ -53,12 +60,6 @@ const int LUMS = 2;  // planes: x, y
 
 const int SPAN_X = TILE_X + 2 * RADIUS, SPAN_Y = TILE_Y + 2 * RADIUS;  // tile and border
 
-#if SQUARED_ERROR
-#define Sums vec2  // (SSIM, squared error)
-#else
-#define Sums float
-#endif
-
 // One pool of shared memory, used twice: first the luminance over the tile and its border (LUMS
 // planes), then the horizontal Gaussian of the MOMENTS products (planes of SPAN_Y rows by TILE_X
 // columns). Sharing it keeps a 32 x 32 tile within 32 KiB (llvmpipe's limit; the two arrays side
@@ -66,7 +67,6 @@ const int SPAN_X = TILE_X + 2 * RADIUS, SPAN_Y = TILE_Y + 2 * RADIUS;  // tile a
 const int LUM_PLANE = SPAN_Y * SPAN_X, ROW_PLANE = SPAN_Y * TILE_X;
 const int POOL = LUMS * LUM_PLANE > MOMENTS * ROW_PLANE ? LUMS * LUM_PLANE : MOMENTS * ROW_PLANE;
 shared float pool[POOL];
-shared Sums sums[INVOCATIONS];
 
 vec2 shifted_luminance(int i, vec2 c) {
     return vec2(pool[i], LUMS == 2 ? pool[LUM_PLANE + i] : 0.0) - c;
@@ -180,23 +180,18 @@ void main() {
         }
     }
 #if SQUARED_ERROR
-    sums[local] = vec2(s, squared_error);
+    Sums total = group_sum(vec2(s, squared_error), int(local));
 #else
-    sums[local] = s;
+    Sums total = group_sum(s, int(local));
 #endif
-    barrier();
-    for (uint stride = uint(INVOCATIONS / 2); stride > 0u; stride >>= 1u) {
-        if (local < stride) sums[local] += sums[local + stride];
-        barrier();
-    }
     uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
 #if SQUARED_ERROR
     if (local == 0u) {
-        partials[2u * group] = sums[0].x;
-        partials[2u * group + 1u] = sums[0].y;
+        partials[2u * group] = total.x;
+        partials[2u * group + 1u] = total.y;
     }
 #else
-    if (local == 0u) partials[group] = sums[0];
+    if (local == 0u) partials[group] = total;
 #endif
 #endif
 }

@@ -40,6 +40,7 @@
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #define SUBGROUP_SUM 1
 #endif
+#define GROUP_INVOCATIONS GROUP_X
 #include "common/inputs.glsl"
 #include "common/ssim.glsl"
 
@@ -74,12 +75,6 @@ layout(std430, binding = 0) writeonly buffer Partials { float partials[]; };
 layout(binding = 2) uniform sampler2D luminance_variance;
 #endif
 #define Pair vec2  // (x, y)
-#endif
-
-#if SQUARED_ERROR
-#define Sums vec2  // (SSIM, squared error)
-#else
-#define Sums float
 #endif
 
 shared Pair rows[2][BATCH][SPAN_X];  // the luminance pair, two batches
@@ -161,36 +156,6 @@ float finish_pixel(float m[MOMENTS], ivec2 p, Pair c, vec2 reference_stats) {
     return ssim_value(c + d, vx, vy, cov);
 #endif
 }
-
-#if !PREPARE
-#if SUBGROUP_SUM
-shared Sums subgroup_sums[GROUP_X];  // at most one per invocation, whatever the subgroup size
-#else
-shared Sums tree[GROUP_X];
-#endif
-
-// The group's total of `mine` in invocation 0.
-Sums group_sum(Sums mine, int local) {
-#if SUBGROUP_SUM
-    Sums subgroup_total = subgroupAdd(mine);
-    if (subgroupElect()) subgroup_sums[gl_SubgroupID] = subgroup_total;
-    barrier();
-    Sums total = Sums(0.0);
-    if (local == 0) {
-        for (uint i = 0u; i < gl_NumSubgroups; ++i) total += subgroup_sums[i];
-    }
-    return total;
-#else
-    tree[local] = mine;
-    barrier();
-    for (int stride = GROUP_X / 2; stride > 0; stride >>= 1) {
-        if (local < stride) tree[local] += tree[local + stride];
-        barrier();
-    }
-    return tree[0];
-#endif
-}
-#endif
 
 void main() {
     size = textureSize(image_a, 0);
