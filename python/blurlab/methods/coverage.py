@@ -50,9 +50,9 @@ GATHER_FILM = Pass("gather_film", GATHER.shader, (*GATHER.params, "film_filter")
 # --variants times both: on the H100 at 1080p fetch_all was as fast or faster (0.0628 against
 # 0.0647 ms on teapot_pass, medians over 15 scenes 0.168 and 0.171, 2026-11-24), so it is the
 # default, without the branch. The fetch_all_WxH variants run W x H invocations a work group
-# instead of common/pass_main.glsl's 16 x 16 (same bits), for the H100 to time; none is
-# measured yet. The in_gather film layouts take the read variant but not the shape: their
-# work group is their block.
+# instead of common/pass_main.glsl's 16 x 16 (same bits), for the H100 to time; not yet timed
+# on a GPU. The in_gather film layouts take the read variant but not the shape: their work
+# group is their block.
 GATHER_VARIANTS = {
     "fetch_all": {},
     "skip_unweighted": {"GATHER_SKIP_UNWEIGHTED": 1},
@@ -74,7 +74,8 @@ FILM_COLUMNS = Pass("film_columns", "passes/film_filter.glsl", ("film_filter",))
 # (shaders/common/film_in_pass.glsl), the same sums as separable_shared (the same bits on
 # llvmpipe, tests/test_gather_coverage.py). It gathers (X + 2R)(Y + 2R)/(XY) times the pixels:
 # at σ = 0.5 (R = 2) 1.27x for 32 x 32, 1.41x for 32 x 16, 1.56x for 16 x 16. Its result has no
-# "unfiltered" buffer (the same gather with film_filter = 0 gives it). Not yet timed on a GPU.
+# "unfiltered" buffer (the same gather with film_filter = 0 gives it). Not yet timed on a GPU;
+# on llvmpipe, whose barriers are costly, slower than separable_shared (docs/engines.md).
 FILM_VARIANTS = {
     "direct": {},
     "separable": {"FILM_SEPARABLE": 1},
