@@ -17,7 +17,7 @@ from ..frame import Frame
 from ..twins import coverage as twin
 from ..twins import film
 from .core import SEED, Method, Param, Pass, register, run_pass
-from .eevee import dilated_tiles
+from .eevee import dilated_tiles, flattened_tiles
 from .tile_filter import TILE_FILTER_PARAMS
 from .variants import PassVariants
 
@@ -47,7 +47,15 @@ GATHER = Pass("gather", "passes/coverage_gather.glsl", ("samples", "soft_z", "ex
 # --variants times both: on the H100 at 1080p fetch_all was as fast or faster (0.0628 against
 # 0.0647 ms on teapot_pass, medians over 15 scenes 0.168 and 0.171, 2026-11-24), so it is the
 # default, without the branch.
-GATHER_VARIANTS = {"fetch_all": {}, "skip_unweighted": {"GATHER_SKIP_UNWEIGHTED": 1}}
+# fused_dilation (common/coverage_dilation.glsl) drops the tile_dilate pass: each gather work
+# group dilates the few tiles its pixels look up (4 at 1080p) first, in shared memory, and
+# writes the tiles whose first pixel is its own to the `dilated` output, so the method returns
+# the same grid. It trades a dispatch (latency-bound on a tiny grid) for more work per group.
+GATHER_VARIANTS = {
+    "fetch_all": {},
+    "skip_unweighted": {"GATHER_SKIP_UNWEIGHTED": 1},
+    "fused_dilation": {"GATHER_FUSED_DILATION": 1},
+}
 GATHER_LAYOUT = PassVariants("gather", GATHER_VARIANTS, "fetch_all")
 FILM = Pass("film", "passes/film_filter.glsl", ("film_filter",))
 FILM_ROWS = Pass("film_rows", "passes/film_filter.glsl", ("film_filter",))
@@ -98,25 +106,25 @@ def _run_coverage(ctx: Context, frame: Frame, inputs: dict, values: dict, backen
     s = twin.tile_size(size[0], values["tile_percent"])
     reach_limit = twin.max_blur_px(size[0], values["max_blur"])
     timings: dict = {}
-    sides, tiles, dilated = dilated_tiles(
-        ctx,
-        frame,
-        timings,
-        PARAMS,
-        values,
-        size,
-        s,
-        reach_limit,
-        length_steps=twin.TILE_LENGTH_STEPS,
-    )
+    layout = GATHER_LAYOUT.defines()
+    steps = twin.TILE_LENGTH_STEPS
+    textures = {"color": inputs["color"], "depth": inputs["depth"]}
     gathered = ctx.pooled((*size, 4))
-    textures = {
-        "color": inputs["color"],
-        "depth": inputs["depth"],
-        "motion_sides": sides,
-        "dilated": dilated,
-    }
+    targets = {"result": gathered}
     uniforms = {"tile_size": s, "reach_limit": reach_limit}
+    if "GATHER_FUSED_DILATION" in layout:  # the gather dilates the tiles: `dilated` an output
+        sides, tiles = flattened_tiles(
+            ctx, frame, timings, PARAMS, values, size, s, length_steps=steps
+        )
+        dilated = ctx.pooled(tiles.shape)
+        textures.update(motion_sides=sides, tiles=tiles)
+        targets["dilated"] = dilated
+        uniforms["length_steps"] = steps
+    else:
+        sides, tiles, dilated = dilated_tiles(
+            ctx, frame, timings, PARAMS, values, size, s, reach_limit, length_steps=steps
+        )
+        textures.update(motion_sides=sides, dilated=dilated)
     run_pass(
         ctx,
         timings,
@@ -124,10 +132,10 @@ def _run_coverage(ctx: Context, frame: Frame, inputs: dict, values: dict, backen
         PARAMS,
         values,
         textures,
-        {"result": gathered},
+        targets,
         backend,
         uniforms=uniforms,
-        defines=GATHER_LAYOUT.defines(),
+        defines=layout,
     )
     outputs = {"color": gathered, "tiles": tiles, "dilated": dilated}
     if values["film_filter"] > 0:
