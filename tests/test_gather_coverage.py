@@ -317,13 +317,17 @@ def fused_dilation_cases(ctx, rng):
         ("97x61 huge", two_sided_frame(rng, 97, 61, reach=5000.0), {"max_blur": 100.0}),
         ("97x61 still", still, {}),
         ("37x23 odd tiles", two_sided_frame(rng, 37, 23, reach=15.0), {"tile_percent": 40.0}),
+        # 8 px tiles reaching 15 tiles: inner groups' sources (34 x 34) overflow the cache of
+        # fused_dilation_cached and are read from the texture, the edge groups' fit
+        ("264x264 long reach", two_sided_frame(rng, 264, 264, reach=150.0), {"max_blur": 40.0}),
     ]
 
 
-def test_fused_dilation_gives_the_same_bits_and_grid(ctx, rng):
+@pytest.mark.parametrize("variant", ["fused_dilation", "fused_dilation_cached"])
+def test_fused_dilation_gives_the_same_bits_and_grid(ctx, rng, variant):
     for label, frame, params in fused_dilation_cases(ctx, rng):
         # fused first, so that its `dilated` is not a pooled texture the other layout filled
-        with GATHER_LAYOUT.use("fused_dilation"):
+        with GATHER_LAYOUT.use(variant):
             fused = bl.blur(ctx, frame, METHOD, **params)
         with GATHER_LAYOUT.use("fetch_all"):
             separate = bl.blur(ctx, frame, METHOD, **params)
@@ -338,13 +342,14 @@ def test_fused_dilation_gives_the_same_bits_and_grid(ctx, rng):
         np.testing.assert_allclose(fused.buffers["dilated"], dilated, rtol=1e-6, atol=1e-5)
 
 
+@pytest.mark.parametrize("variant", ["fused_dilation", "fused_dilation_cached"])
 @pytest.mark.parametrize(
     ("size", "params"),
     [((160, 90), {}), ((97, 61), {"tile_percent": 20.0, "max_blur": 60.0, "seed": 3})],
 )
-def test_fused_dilation_matches_the_twin(ctx, rng, size, params):
+def test_fused_dilation_matches_the_twin(ctx, rng, variant, size, params):
     frame = two_sided_frame(rng, *size, reach=40.0)
-    with GATHER_LAYOUT.use("fused_dilation"):
+    with GATHER_LAYOUT.use(variant):
         result = bl.blur(ctx, frame, METHOD, **params)
     assert_matches_twin(result, frame)
 

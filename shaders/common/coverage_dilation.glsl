@@ -4,7 +4,8 @@
 // jittered lookups can reach, into shared memory, with the same test (common/tile_dilate.glsl)
 // and the same pick (common/tile_pick.glsl): the same bits. Each tile takes a run of the
 // group's invocations (the runs as long as the tiles allow, a power of two), which share its
-// sources in row order and merge their picks (reduce_picks_in). The group also writes, to image
+// sources in row order and merge their picks (reduce_picks_in); with GATHER_DILATION_CACHE the
+// sources come from a copy in shared memory (below). The group also writes, to image
 // `dilated`, the tiles whose first pixel is its own, so each tile of the grid is written once
 // and the method still returns the dilated grid. Included by passes/coverage_gather.glsl after
 // its uniforms tile_size and reach_limit; defines dilated_grid() and dilated_motion(tile).
@@ -36,6 +37,43 @@ int lookup_reach() {
     return (tile_size + 3) / 4 + 1;
 }
 
+#ifdef GATHER_DILATION_CACHE
+// Layout fused_dilation_cached: the group's tiles share most of their sources (at 1080p 4
+// tiles scan 4 x 625 of them, 676 distinct), so the group first copies them into shared memory
+// where they fit, CACHE_TILES of them (16 KiB: with the picks' 8 KiB under llvmpipe's 32 KiB),
+// 2 radius + 4 tiles per axis at most; where they do not (a long reach over small tiles),
+// each read goes to `tiles`. The same values either way: the same bits.
+const int CACHE_TILES = 1024;
+shared vec4 cached_sources[CACHE_TILES];
+ivec2 cache_first;
+ivec2 cache_size;
+bool cached;
+
+void cache_sources(ivec2 last_tile) {
+    ivec2 grid = textureSize(tiles, 0);
+    cache_first = max(group_first_tile - reach_radius(), ivec2(0));
+    cache_size = min(last_tile + reach_radius(), grid - 1) - cache_first + 1;
+    int count = cache_size.x * cache_size.y;
+    cached = count <= CACHE_TILES;
+    if (cached) {
+        for (int k = int(gl_LocalInvocationIndex); k < count; k += PICK_GROUP_SIZE) {
+            cached_sources[k] = texelFetch(tiles, cache_first + ivec2(k % cache_size.x, k / cache_size.x), 0);
+        }
+    }
+    barrier();
+}
+
+vec4 source_motion(ivec2 source) {
+    if (!cached) return texelFetch(tiles, source, 0);
+    ivec2 i = source - cache_first;
+    return cached_sources[i.y * cache_size.x + i.x];
+}
+#else
+vec4 source_motion(ivec2 source) {
+    return texelFetch(tiles, source, 0);
+}
+#endif
+
 void store_pick(ivec2 tile, vec4 pick) {
     ivec2 i = tile - group_first_tile;
     group_dilated[i.y * group_tiles.x + i.x] = pick;
@@ -49,6 +87,9 @@ void dilation_prologue() {
     group_first_tile = max(first_pixel - lookup_reach(), ivec2(0)) / tile_size;
     ivec2 last_tile = min((last_pixel + lookup_reach()) / tile_size, grid - 1);
     group_tiles = min(last_tile - group_first_tile + 1, ivec2(GROUP_TILES_SIDE));
+#ifdef GATHER_DILATION_CACHE
+    cache_sources(group_first_tile + group_tiles - 1);
+#endif
     int count = group_tiles.x * group_tiles.y;
     uint lanes = uint(PICK_GROUP_SIZE);
     while (lanes * uint(count) > uint(PICK_GROUP_SIZE)) lanes /= 2u;

@@ -4,10 +4,15 @@
 // in tile units) meets D's square widened by h + REACH_MARGIN, h = 1/2 - 1/(2 tile_size). Shared
 // by passes/eevee_tile_dilate.glsl (a pass of its own) and the prologue of
 // passes/coverage_gather.glsl (common/coverage_dilation.glsl). The including pass declares
-// sampler2D `tiles` (the flattened grid), int `tile_size` (px) and float `reach_limit` (px), and
-// includes common/tile_pick.glsl first. NumPy twin: blurlab.twins.eevee.tile_dilate.
+// sampler2D `tiles` (the flattened grid), int `tile_size` (px) and float `reach_limit` (px),
+// includes common/tile_pick.glsl first, and defines source_motion() (below) after this file.
+// NumPy twin: blurlab.twins.eevee.tile_dilate.
 #include "common/eevee.glsl"
 #include "common/tile_reach.glsl"
+
+// The including pass's: the flattened tile at `source` (inside the grid), read from `tiles` or
+// from a copy of it.
+vec4 source_motion(ivec2 source);
 
 // How many tiles away a source can reach (the same for every tile).
 int reach_radius() {
@@ -24,7 +29,7 @@ void consider(ivec2 tile, ivec2 p, uint index) {
     ivec2 offset = p - reach_radius();
     ivec2 source = tile + offset;
     if (any(lessThan(source, ivec2(0))) || any(greaterThanEqual(source, textureSize(tiles, 0)))) return;
-    vec4 v = texelFetch(tiles, source, 0);
+    vec4 v = source_motion(source);
     vec2 start = vec2(offset) + 0.5;  // S's center, in D's tile coordinates
     float widen = reach_widening(tile_size);
     float lp = pick_key(length(v.xy)), ln = pick_key(length(v.zw));

@@ -17,6 +17,10 @@ uniform float reach_limit;  // px: half-motions are clamped to it (engine_eevee'
 
 #include "common/tile_dilate.glsl"
 
+vec4 source_motion(ivec2 source) {
+    return texelFetch(tiles, source, 0);
+}
+
 layout(binding = 0, rgba32f) uniform writeonly image2D dilated;
 
 void store_pick(ivec2 tile, vec4 pick) {

@@ -50,11 +50,14 @@ GATHER = Pass("gather", "passes/coverage_gather.glsl", ("samples", "soft_z", "ex
 # fused_dilation (common/coverage_dilation.glsl) drops the tile_dilate pass: each gather work
 # group dilates the few tiles its pixels look up (4 at 1080p) first, in shared memory, and
 # writes the tiles whose first pixel is its own to the `dilated` output, so the method returns
-# the same grid. It trades a dispatch (latency-bound on a tiny grid) for more work per group.
+# the same grid. It trades a dispatch (latency-bound on a tiny grid) for more work per group:
+# each tile is dilated by every group that looks it up (16 groups at 1080p). fused_dilation_cached
+# first copies the sources those tiles scan into shared memory, where they fit. Same bits.
 GATHER_VARIANTS = {
     "fetch_all": {},
     "skip_unweighted": {"GATHER_SKIP_UNWEIGHTED": 1},
     "fused_dilation": {"GATHER_FUSED_DILATION": 1},
+    "fused_dilation_cached": {"GATHER_FUSED_DILATION": 1, "GATHER_DILATION_CACHE": 1},
 }
 GATHER_LAYOUT = PassVariants("gather", GATHER_VARIANTS, "fetch_all")
 FILM = Pass("film", "passes/film_filter.glsl", ("film_filter",))
