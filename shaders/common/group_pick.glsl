@@ -114,13 +114,16 @@ void reduce_picks() {
 #else
 shared Candidate group_picks[PICK_SLOTS][PICK_GROUP_SIZE];
 
-// The group's picks into every invocation's picks; call it in uniform control flow.
-void reduce_picks() {
+// Each run of `lanes` consecutive invocations (a power of two dividing the group) merges its
+// picks, which every invocation of the run then holds; call it in uniform control flow with
+// `lanes` the same across the group. Several tiles per group give each tile a run
+// (common/coverage_dilation.glsl).
+void reduce_picks_in(uint lanes) {
     uint i = gl_LocalInvocationIndex;
     for (int slot = 0; slot < PICK_SLOTS; ++slot) group_picks[slot][i] = picks[slot];
     barrier();
-    for (uint stride = uint(PICK_GROUP_SIZE) / 2u; stride > 0u; stride >>= 1u) {
-        if (i < stride) {
+    for (uint stride = lanes / 2u; stride > 0u; stride >>= 1u) {
+        if (i % lanes < stride) {
             for (int slot = 0; slot < PICK_SLOTS; ++slot) {
                 if (beats(group_picks[slot][i + stride], group_picks[slot][i])) {
                     group_picks[slot][i] = group_picks[slot][i + stride];
@@ -129,7 +132,12 @@ void reduce_picks() {
         }
         barrier();
     }
-    for (int slot = 0; slot < PICK_SLOTS; ++slot) picks[slot] = group_picks[slot][0];
+    for (int slot = 0; slot < PICK_SLOTS; ++slot) picks[slot] = group_picks[slot][i - i % lanes];
+}
+
+// The group's picks into every invocation's picks; call it in uniform control flow.
+void reduce_picks() {
+    reduce_picks_in(uint(PICK_GROUP_SIZE));
 }
 #endif
 
