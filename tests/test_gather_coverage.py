@@ -235,23 +235,17 @@ def test_bad_parameters_name_the_range(ctx, rng, params, error, message):
         bl.blur(ctx, random_frame(rng, 16, 16), METHOD, **params)
 
 
-def gather_passes() -> list[str]:
-    """The passes up to the gather in the gather layout in force: the fused ones dilate in it."""
-    fused = "GATHER_FUSED_DILATION" in GATHER_LAYOUT.defines()
-    return ["tile_flatten", "gather"] if fused else ["tile_flatten", "tile_dilate", "gather"]
-
-
 def filmed_passes(variant: str) -> list[str]:
     """The timings' keys of a run with film_filter > 0 in film layout `variant`."""
     if "FILM_IN_PASS" in FILM_VARIANTS[variant]:
-        return [*gather_passes()[:-1], "gather_film"]
+        return ["tile_flatten", "tile_dilate", "gather_film"]
     film_passes = ["film_rows", "film_columns"] if variant == "separable" else ["film"]
-    return [*gather_passes(), *film_passes]
+    return ["tile_flatten", "tile_dilate", "gather", *film_passes]
 
 
 def test_timings_name_every_pass(ctx, rng):
     result = bl.blur(ctx, random_frame(rng, 64, 36), METHOD)
-    assert list(result.timings) == gather_passes()
+    assert list(result.timings) == ["tile_flatten", "tile_dilate", "gather"]
     assert result.total_ms > 0
     filtered = bl.blur(ctx, random_frame(rng, 64, 36), METHOD, film_filter=0.5)
     assert list(filtered.timings) == filmed_passes(FILM_LAYOUT.chosen())
@@ -356,7 +350,7 @@ def test_no_film_filter_leaves_the_gather_alone_in_every_in_gather_layout(ctx, r
     plain = bl.blur(ctx, frame, METHOD)
     with FILM_LAYOUT.use(variant):
         unfiltered = bl.blur(ctx, frame, METHOD, film_filter=0.0)
-    assert list(unfiltered.timings) == gather_passes()
+    assert list(unfiltered.timings) == ["tile_flatten", "tile_dilate", "gather"]
     assert unfiltered.color.tobytes() == plain.color.tobytes()
 
 
@@ -381,76 +375,3 @@ def test_in_gather_blocks_shrink_to_fit_the_shared_memory():
             x, y = film_block((defines["FILM_BLOCK_X"], defines["FILM_BLOCK_Y"]), radius)
             assert (x + 2 * radius) * (y + 2 * radius) * 16 <= FILM_SHARED_BYTES
             assert x * y <= 1024  # GL's guaranteed invocations a work group
-
-
-def fused_dilation_cases(ctx, rng):
-    """(label, frame, params) on which fused_dilation must equal the separate tile_dilate."""
-    still = two_sided_frame(rng, 97, 61)
-    still.motion_prev[:] = 0.0
-    still.motion_next[:] = 0.0
-    return [
-        ("160x90 random", two_sided_frame(rng, 160, 90, reach=30.0), {}),
-        ("97x61 random", two_sided_frame(rng, 97, 61, reach=40.0), {"samples": 5}),
-        ("320x180 teapot_pass", ctx.render(bl.scenes.get("teapot_pass"), (320, 180)), {}),
-        ("160x90 fan", ctx.render(bl.scenes.get("fan"), (160, 90)), {"tile_percent": 10.0}),
-        # motion far past the limit: every tile reaches the whole grid
-        ("97x61 huge", two_sided_frame(rng, 97, 61, reach=5000.0), {"max_blur": 100.0}),
-        ("97x61 still", still, {}),
-        ("37x23 odd tiles", two_sided_frame(rng, 37, 23, reach=15.0), {"tile_percent": 40.0}),
-        # 8 px tiles reaching 15 tiles: inner groups' sources (34 x 34) overflow the cache of
-        # fused_dilation_cached and are read from the texture, the edge groups' fit
-        ("264x264 long reach", two_sided_frame(rng, 264, 264, reach=150.0), {"max_blur": 40.0}),
-    ]
-
-
-@pytest.mark.parametrize("variant", ["fused_dilation", "fused_dilation_cached"])
-def test_fused_dilation_gives_the_same_bits_and_grid(ctx, rng, variant):
-    for label, frame, params in fused_dilation_cases(ctx, rng):
-        # fused first, so that its `dilated` is not a pooled texture the other layout filled
-        with GATHER_LAYOUT.use(variant):
-            fused = bl.blur(ctx, frame, METHOD, **params)
-        with GATHER_LAYOUT.use("fetch_all"):
-            separate = bl.blur(ctx, frame, METHOD, **params)
-        assert list(fused.timings) == ["tile_flatten", "gather"], label
-        assert list(separate.timings) == ["tile_flatten", "tile_dilate", "gather"], label
-        assert fused.color.tobytes() == separate.color.tobytes(), label
-        for name in ("tiles", "dilated"):
-            assert fused.buffers[name].tobytes() == separate.buffers[name].tobytes(), (label, name)
-        s = ref.tile_size(frame.color.shape[0], fused.params["tile_percent"])
-        limit = ref.max_blur_px(frame.color.shape[0], fused.params["max_blur"])
-        tiles = fused.buffers["tiles"].astype(np.float64)
-        dilated = eevee_twin.tile_dilate(tiles, s, limit, ref.TILE_LENGTH_STEPS)
-        np.testing.assert_allclose(fused.buffers["dilated"], dilated, rtol=1e-6, atol=1e-5)
-
-
-@pytest.mark.parametrize("variant", ["fused_dilation", "fused_dilation_cached"])
-@pytest.mark.parametrize(
-    ("size", "params"),
-    [((160, 90), {}), ((97, 61), {"tile_percent": 20.0, "max_blur": 60.0, "seed": 3})],
-)
-def test_fused_dilation_matches_the_twin(ctx, rng, variant, size, params):
-    frame = two_sided_frame(rng, *size, reach=40.0)
-    with GATHER_LAYOUT.use(variant):
-        result = bl.blur(ctx, frame, METHOD, **params)
-    assert_matches_twin(result, frame)
-
-
-@pytest.mark.parametrize("tile_size", [8, 9, 11, 13, 16, 32, 33, 45, 100])
-def test_a_work_groups_lookups_fit_the_fused_dilations_tiles(tile_size):
-    # common/coverage_dilation.glsl's bound, written out: a 16 x 16 group dilates the tiles
-    # within (tile_size + 3) / 4 + 1 px of its pixels, at most 4 x 4 of them; every pixel's
-    # jittered lookup (the twin's) must land among them.
-    width = height = 16 * 9 + 5  # the last group cut by the image's edge
-    grid = (-(-height // tile_size), -(-width // tile_size))
-    y, x = np.mgrid[0:height, 0:width]
-    lookups = eevee_twin.lookup_tile(x, y, tile_size, 12345, grid, ref.JITTER_SALTS)
-    reach = (tile_size + 3) // 4 + 1
-    for axis, length in enumerate((height, width)):
-        first = np.arange(length) // 16 * 16
-        last = np.minimum(first + 15, length - 1)
-        first_tile = np.maximum(first - reach, 0) // tile_size
-        last_tile = np.minimum((last + reach) // tile_size, grid[axis] - 1)
-        assert (last_tile - first_tile + 1).max() <= 4
-        along = lookups[axis].T if axis == 1 else lookups[axis]
-        assert (along >= first_tile[:, None]).all() and (along <= last_tile[:, None]).all()
-    assert ref.SMALLEST_TILE >= 8  # the bound above needs tiles of 8 px or more

@@ -114,16 +114,13 @@ void reduce_picks() {
 #else
 shared Candidate group_picks[PICK_SLOTS][PICK_GROUP_SIZE];
 
-// Each run of `lanes` consecutive invocations (a power of two dividing the group) merges its
-// picks, which every invocation of the run then holds; call it in uniform control flow with
-// `lanes` the same across the group. Several tiles per group give each tile a run
-// (common/coverage_dilation.glsl).
-void reduce_picks_in(uint lanes) {
+// The group's picks into every invocation's picks; call it in uniform control flow.
+void reduce_picks() {
     uint i = gl_LocalInvocationIndex;
     for (int slot = 0; slot < PICK_SLOTS; ++slot) group_picks[slot][i] = picks[slot];
     barrier();
-    for (uint stride = lanes / 2u; stride > 0u; stride >>= 1u) {
-        if (i % lanes < stride) {
+    for (uint stride = uint(PICK_GROUP_SIZE) / 2u; stride > 0u; stride >>= 1u) {
+        if (i < stride) {
             for (int slot = 0; slot < PICK_SLOTS; ++slot) {
                 if (beats(group_picks[slot][i + stride], group_picks[slot][i])) {
                     group_picks[slot][i] = group_picks[slot][i + stride];
@@ -132,12 +129,7 @@ void reduce_picks_in(uint lanes) {
         }
         barrier();
     }
-    for (int slot = 0; slot < PICK_SLOTS; ++slot) picks[slot] = group_picks[slot][i - i % lanes];
-}
-
-// The group's picks into every invocation's picks; call it in uniform control flow.
-void reduce_picks() {
-    reduce_picks_in(uint(PICK_GROUP_SIZE));
+    for (int slot = 0; slot < PICK_SLOTS; ++slot) picks[slot] = group_picks[slot][0];
 }
 #endif
 

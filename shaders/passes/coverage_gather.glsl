@@ -5,11 +5,10 @@
 // spends on X), the families' weights divided by 1 + their overlap. Each side is its coverage
 // times the covering color plus the rest times what lies behind X: the mean of the taps behind
 // X that do not reach it where X moves, X itself where it is still. Compute, one invocation
-// per pixel. Variants (blurlab.methods.coverage.GATHER_VARIANTS): GATHER_SKIP_UNWEIGHTED reads a
-// tap's colour only where it weighs on a sum; GATHER_FUSED_DILATION dilates the tiles in the
-// work group's prologue instead of reading tile_dilate's output. Same bits. PASS_GROUP_X,
-// PASS_GROUP_Y set the work group's shape (common/pass_main.glsl); FILM_IN_PASS adds step 4,
-// the film filter, to this pass (common/film_in_pass.glsl).
+// per pixel. Variant (blurlab.methods.coverage.GATHER_VARIANTS): GATHER_SKIP_UNWEIGHTED reads a
+// tap's colour only where it weighs on a sum; same bits. PASS_GROUP_X, PASS_GROUP_Y set the
+// work group's shape (common/pass_main.glsl); FILM_IN_PASS adds step 4, the film filter, to
+// this pass (common/film_in_pass.glsl).
 // NumPy twin: blurlab.twins.coverage.gather_coverage.
 #include "common/eevee.glsl"
 #include "common/mcguire2012.glsl"
@@ -19,28 +18,13 @@
 layout(binding = 0) uniform sampler2D color;
 layout(binding = 1) uniform sampler2D depth;
 layout(binding = 2) uniform sampler2D motion_sides;
+layout(binding = 3) uniform sampler2D dilated;
 uniform int tile_size;     // px, from tile_percent
 uniform float reach_limit;  // px, from max_blur
 uniform int samples;
 uniform float soft_z;
 uniform float exposure;
 uniform uint seed;
-
-// The dilated tile grid (step 2): tile_dilate's output, or with GATHER_FUSED_DILATION dilated
-// by this pass's work groups first (common/coverage_dilation.glsl).
-#ifdef GATHER_FUSED_DILATION
-#include "common/coverage_dilation.glsl"
-#else
-layout(binding = 3) uniform sampler2D dilated;
-
-ivec2 dilated_grid() {
-    return textureSize(dilated, 0);
-}
-
-vec4 dilated_motion(ivec2 tile) {
-    return texelFetch(dilated, tile, 0);
-}
-#endif
 
 const uvec2 JITTER_SALTS = uvec2(0x510E527Fu, 0x9B05688Cu);
 const float MOVING = 1.0;        // px: shorter half-motions count as still
@@ -91,8 +75,8 @@ vec2 trail_of(vec4 halves, int side) {
 vec4 gather_at(ivec2 x) {
     ivec2 size = textureSize(color, 0);
     vec4 cx = sanitize_color(texelFetch(color, x, 0));
-    ivec2 tile = jittered_tile(x, float(tile_size), seed, JITTER_SALTS, dilated_grid());
-    vec4 tile_motion = dilated_motion(tile);
+    ivec2 tile = jittered_tile(x, float(tile_size), seed, JITTER_SALTS, textureSize(dilated, 0));
+    vec4 tile_motion = texelFetch(dilated, tile, 0);
     vec2 lines[2] = vec2[2](clamp_length(tile_motion.xy, reach_limit),
                             -clamp_length(tile_motion.zw, reach_limit));
     if (max(length(lines[0]), length(lines[1])) < EARLY_EXIT) return cx;

@@ -18,7 +18,7 @@ from ..frame import Frame
 from ..twins import coverage as twin
 from ..twins import film
 from .core import SEED, Method, Param, Pass, register, run_pass
-from .eevee import dilated_tiles, flattened_tiles
+from .eevee import dilated_tiles
 from .tile_filter import TILE_FILTER_PARAMS
 from .variants import PassVariants
 
@@ -53,24 +53,13 @@ GATHER_FILM = Pass("gather_film", GATHER.shader, (*GATHER.params, "film_filter")
 # instead of common/pass_main.glsl's 16 x 16 (same bits), for the H100 to time; not yet timed
 # on a GPU. The in_gather film layouts take the read variant but not the shape: their work
 # group is their block.
-# fused_dilation (common/coverage_dilation.glsl) drops the tile_dilate pass: each gather work
-# group dilates the few tiles its pixels look up (4 at 1080p) first, in shared memory, and
-# writes the tiles whose first pixel is its own to the `dilated` output, so the method returns
-# the same grid. It trades a dispatch (latency-bound on a tiny grid) for more work per group:
-# each tile is dilated by every group that looks it up (16 groups at 1080p). fused_dilation_cached
-# first copies the sources those tiles scan into shared memory, where they fit. Same bits.
 GATHER_VARIANTS = {
     "fetch_all": {},
     "skip_unweighted": {"GATHER_SKIP_UNWEIGHTED": 1},
     "fetch_all_8x8": {"PASS_GROUP_X": 8, "PASS_GROUP_Y": 8},
     "fetch_all_32x8": {"PASS_GROUP_X": 32, "PASS_GROUP_Y": 8},
-    "fused_dilation": {"GATHER_FUSED_DILATION": 1},
-    "fused_dilation_cached": {"GATHER_FUSED_DILATION": 1, "GATHER_DILATION_CACHE": 1},
 }
 GATHER_LAYOUT = PassVariants("gather", GATHER_VARIANTS, "fetch_all")
-# The fused dilation needs the gather's own 16 x 16 groups: with an in_gather film layout the
-# tiles are dilated by their pass (same bits either way).
-FUSED_DILATION_DEFINES = ("GATHER_FUSED_DILATION", "GATHER_DILATION_CACHE")
 FILM = Pass("film", "passes/film_filter.glsl", ("film_filter",))
 FILM_ROWS = Pass("film_rows", "passes/film_filter.glsl", ("film_filter",))
 FILM_COLUMNS = Pass("film_columns", "passes/film_filter.glsl", ("film_filter",))
@@ -156,29 +145,27 @@ def _run_coverage(ctx: Context, frame: Frame, inputs: dict, values: dict, backen
     s = twin.tile_size(size[0], values["tile_percent"])
     reach_limit = twin.max_blur_px(size[0], values["max_blur"])
     timings: dict = {}
-    steps = twin.TILE_LENGTH_STEPS
-    textures = {"color": inputs["color"], "depth": inputs["depth"]}
+    sides, tiles, dilated = dilated_tiles(
+        ctx,
+        frame,
+        timings,
+        PARAMS,
+        values,
+        size,
+        s,
+        reach_limit,
+        length_steps=twin.TILE_LENGTH_STEPS,
+    )
     film_layout = film_defines(values["film_filter"]) if values["film_filter"] > 0 else {}
     in_gather = "FILM_IN_PASS" in film_layout
-    layout = GATHER_LAYOUT.defines()
-    if in_gather:  # its work group is the film's block, not the 16 x 16 the dilation covers
-        layout = {k: v for k, v in layout.items() if k not in FUSED_DILATION_DEFINES}
     gathered = ctx.pooled((*size, 4))
-    targets = {"result": gathered}
+    textures = {
+        "color": inputs["color"],
+        "depth": inputs["depth"],
+        "motion_sides": sides,
+        "dilated": dilated,
+    }
     uniforms = {"tile_size": s, "reach_limit": reach_limit}
-    if "GATHER_FUSED_DILATION" in layout:  # the gather dilates the tiles: `dilated` an output
-        sides, tiles = flattened_tiles(
-            ctx, frame, timings, PARAMS, values, size, s, length_steps=steps
-        )
-        dilated = ctx.pooled(tiles.shape)
-        textures.update(motion_sides=sides, tiles=tiles)
-        targets["dilated"] = dilated
-        uniforms["length_steps"] = steps
-    else:
-        sides, tiles, dilated = dilated_tiles(
-            ctx, frame, timings, PARAMS, values, size, s, reach_limit, length_steps=steps
-        )
-        textures.update(motion_sides=sides, dilated=dilated)
     run_pass(
         ctx,
         timings,
@@ -186,10 +173,10 @@ def _run_coverage(ctx: Context, frame: Frame, inputs: dict, values: dict, backen
         PARAMS,
         values,
         textures,
-        targets,
+        {"result": gathered},
         backend,
         uniforms=uniforms,
-        defines={**layout, **(film_layout if in_gather else {})},
+        defines={**GATHER_LAYOUT.defines(), **(film_layout if in_gather else {})},
     )
     outputs = {"color": gathered, "tiles": tiles, "dilated": dilated}
     if film_layout and not in_gather:

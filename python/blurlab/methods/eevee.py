@@ -75,49 +75,6 @@ def tile_groups(ctx: Context) -> bool:
     return not ctx.software
 
 
-def flattened_tiles(
-    ctx: Context,
-    frame: Frame,
-    timings: dict,
-    params: dict,
-    values: dict,
-    size,
-    tile_size,
-    group_per_tile: bool | None = None,
-    length_steps: float = 0.0,
-):
-    """§17.2 step 1 on the frame's two-sided motion for an image of `size` (H, W): the tile
-    flatten at `tile_size` px (a method's params and values give the exposure); the arguments
-    as dilated_tiles says. Returns (two-sided motion texture, tiles)."""
-    height, width = size
-    tiles = ctx.pooled((-(-height // tile_size), -(-width // tile_size), 4))
-    sides = motion_sides_texture(ctx, frame)
-    group_per_tile, sized, layout = _tile_pass_settings(
-        ctx, tile_size, group_per_tile, length_steps
-    )
-    run_pass(
-        ctx,
-        timings,
-        FLATTEN,
-        params,
-        values,
-        {"motion_sides": sides},
-        {"tiles": tiles},
-        uniforms=sized,
-        defines=layout,
-        group_per_texel=group_per_tile,
-    )
-    return sides, tiles
-
-
-def _tile_pass_settings(ctx: Context, tile_size, group_per_tile, length_steps):
-    """(group_per_tile resolved, the uniforms both tile passes take, their #defines)."""
-    if group_per_tile is None:
-        group_per_tile = tile_groups(ctx)
-    sized = {"tile_size": tile_size, "group_per_tile": group_per_tile, "length_steps": length_steps}
-    return group_per_tile, sized, TILE_PICK_LAYOUT.defines() if group_per_tile else {}
-
-
 def dilated_tiles(
     ctx: Context,
     frame: Frame,
@@ -136,13 +93,26 @@ def dilated_tiles(
     TILE_PICK_LAYOUT says), else one thread per tile (same bits either way); None: as
     tile_groups(ctx) says. `length_steps`: lengths compare as twins.eevee.pick_key says (0:
     exactly, as EEVEE does). Returns (two-sided motion texture, tiles, dilated tiles)."""
-    sides, tiles = flattened_tiles(
-        ctx, frame, timings, params, values, size, tile_size, group_per_tile, length_steps
+    height, width = size
+    grid = (-(-height // tile_size), -(-width // tile_size), 4)
+    tiles, dilated = ctx.pooled(grid), ctx.pooled(grid)
+    sides = motion_sides_texture(ctx, frame)
+    if group_per_tile is None:
+        group_per_tile = tile_groups(ctx)
+    sized = {"tile_size": tile_size, "group_per_tile": group_per_tile, "length_steps": length_steps}
+    layout = TILE_PICK_LAYOUT.defines() if group_per_tile else {}
+    run_pass(
+        ctx,
+        timings,
+        FLATTEN,
+        params,
+        values,
+        {"motion_sides": sides},
+        {"tiles": tiles},
+        uniforms=sized,
+        defines=layout,
+        group_per_texel=group_per_tile,
     )
-    group_per_tile, sized, layout = _tile_pass_settings(
-        ctx, tile_size, group_per_tile, length_steps
-    )
-    dilated = ctx.pooled(tiles.shape)
     run_pass(
         ctx,
         timings,
@@ -151,7 +121,7 @@ def dilated_tiles(
         values,
         {"tiles": tiles},
         {"dilated": dilated},
-        uniforms={**sized, "reach_limit": max_blur},
+        uniforms={**sized, "max_blur": max_blur},
         defines=layout,
         group_per_texel=group_per_tile,
     )
