@@ -1,25 +1,12 @@
 // The entry points every post-process pass with one RGBA32F output shares. Before including
 // this file a pass defines PASS_AT to its per-pixel function (vec4 f(ivec2 x)) and declares a
 // sampler2D `color` of the output's size. Compute (STAGE_COMPUTE): one invocation per pixel,
-// PASS_GROUP_X x PASS_GROUP_Y per work group (16 x 16 unless the pass's defines say otherwise),
-// written to image `result`; with FILM_IN_PASS, common/film_in_pass.glsl's entry point instead,
-// which writes PASS_AT's image through the film filter. Fragment (STAGE_FRAGMENT): one fragment
-// per pixel of the framebuffer, written to output `result`. A pass may define PASS_PROLOGUE to
-// a function that every invocation of a compute work group runs before its bounds test (one
-// with a barrier, common/tile_filter.glsl).
+// 16 x 16 per work group, written to image `result`; fragment (STAGE_FRAGMENT): one fragment per pixel of the framebuffer, written to
+// output `result`. A pass may define PASS_PROLOGUE to a function that every invocation of a
+// compute work group runs before its bounds test (one with a barrier, common/tile_filter.glsl).
 #ifdef STAGE_COMPUTE
+layout(local_size_x = 16, local_size_y = 16) in;
 layout(binding = 0, rgba32f) uniform writeonly image2D result;
-
-#ifdef FILM_IN_PASS
-#include "common/film_in_pass.glsl"
-#else
-#ifndef PASS_GROUP_X
-#define PASS_GROUP_X 16
-#endif
-#ifndef PASS_GROUP_Y
-#define PASS_GROUP_Y 16
-#endif
-layout(local_size_x = PASS_GROUP_X, local_size_y = PASS_GROUP_Y) in;
 
 void main() {
 #ifdef PASS_PROLOGUE
@@ -29,7 +16,6 @@ void main() {
     if (any(greaterThanEqual(x, textureSize(color, 0)))) return;
     imageStore(result, x, PASS_AT(x));
 }
-#endif
 #endif
 
 #ifdef STAGE_FRAGMENT

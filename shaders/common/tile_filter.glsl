@@ -72,9 +72,6 @@ uniform bool diagonal_reach;
 // A jittered lookup moves by at most k/4 px from a pixel's center, so a group's lookups reach
 // (16 + 2 (k/4 + 2)) / k + 1 tiles per axis at most: 20 at k = 1, fewer for larger k.
 const int GROUP_TILES_SIDE = 20;
-#if defined(PASS_GROUP_X) || defined(PASS_GROUP_Y)
-#error "FUSED_NEIGHBOR_MAX's tile bound is for common/pass_main.glsl's 16 x 16 work groups"
-#endif
 const ivec2 GROUP_SIZE = ivec2(16);  // common/pass_main.glsl's, declared after this file
 shared vec2 group_neighbor_max[GROUP_TILES_SIDE * GROUP_TILES_SIDE];
 ivec2 group_first_tile;

@@ -6,9 +6,7 @@
 // times the covering color plus the rest times what lies behind X: the mean of the taps behind
 // X that do not reach it where X moves, X itself where it is still. Compute, one invocation
 // per pixel. Variant (blurlab.methods.coverage.GATHER_VARIANTS): GATHER_SKIP_UNWEIGHTED reads a
-// tap's colour only where it weighs on a sum; same bits. PASS_GROUP_X, PASS_GROUP_Y set the
-// work group's shape (common/pass_main.glsl); FILM_IN_PASS adds step 4, the film filter, to
-// this pass (common/film_in_pass.glsl).
+// tap's colour only where it weighs on a sum; same bits.
 // NumPy twin: blurlab.twins.coverage.gather_coverage.
 #include "common/eevee.glsl"
 #include "common/mcguire2012.glsl"

@@ -4,30 +4,39 @@
 // #define the method sets, so that the loops unroll), coordinates clamped to the image, weights
 // normalised over the whole kernel. It reconstructs a filtered pixel from pixel-centre samples,
 // as a renderer's pixel filter does (Blender's EEVEE at its default 1.5 px filter size fits
-// σ = 0.5, docs/engines.md). The 2D weight of (dx, dy) is w(dx)·w(dy) of the normalised 1D
-// kernel w of common/film.glsl, whose FILM_RADIUS + 1 values each invocation computes once.
-// Three variants of this pass (blurlab.methods.coverage.FILM_VARIANTS; its in_gather layouts
-// run common/film_in_pass.glsl in the gather instead): with no define one pass over the
-// (2R + 1)² taps; with FILM_SEPARABLE two passes of 2R + 1 taps, along rows (film_columns
-// false) then along columns of the rows' result; with FILM_SHARED one pass whose work group
-// first filters along rows its 16 x (16 + 2R) pixels into shared memory, then each invocation
-// along its column there (the rows of the apron filtered twice, by the groups above and below:
-// (16 + 2R)/16 row taps a pixel). Compute, one invocation per pixel.
+// σ = 0.5, docs/engines.md). The Gaussian and the clamping are separable, so the 2D weight of
+// (dx, dy) is w(dx)·w(dy) of the normalised 1D kernel w, whose FILM_RADIUS + 1 values each
+// invocation computes once. Three variants (blurlab.methods.coverage.FILM_VARIANTS): by default
+// one pass over the (2R + 1)² taps; with FILM_SEPARABLE two passes of 2R + 1 taps, along rows
+// (film_columns false) then along columns of the rows' result; with FILM_SHARED one pass whose
+// work group first filters along rows its 16 x (16 + 2R) pixels into shared memory, then each
+// invocation along its column there (the rows of the apron filtered twice, by the groups
+// above and below: (16 + 2R)/16 row taps a pixel). Compute, one invocation per pixel.
 // NumPy twin: blurlab.twins.film.film_filter.
-#include "common/film.glsl"
 #include "common/inputs.glsl"
 
 layout(binding = 0) uniform sampler2D color;
+uniform float film_filter;  // σ, px
 #ifdef FILM_SEPARABLE
 uniform bool film_columns;  // this pass filters along columns; else along rows
 #endif
 
+// The normalised 1D kernel at distances 0 .. FILM_RADIUS.
+float[FILM_RADIUS + 1] film_weights() {
+    float weights[FILM_RADIUS + 1];
+    float inv_two_var = 1.0 / (2.0 * film_filter * film_filter);
+    float total = 0.0;
+    for (int d = 0; d <= FILM_RADIUS; ++d) {
+        weights[d] = exp(-float(d * d) * inv_two_var);
+        total += d == 0 ? weights[d] : 2.0 * weights[d];
+    }
+    for (int d = 0; d <= FILM_RADIUS; ++d) weights[d] /= total;
+    return weights;
+}
+
 #ifdef FILM_SHARED
 // The work group's 16 columns filtered along rows, on its 16 rows and FILM_RADIUS rows above
 // and below (clamped to the image), for the columns pass to read.
-#if defined(PASS_GROUP_X) || defined(PASS_GROUP_Y)
-#error "FILM_SHARED is for common/pass_main.glsl's 16 x 16 work groups"
-#endif
 const int FILM_GROUP = 16;  // common/pass_main.glsl's work group side
 shared vec4 film_rows[FILM_GROUP + 2 * FILM_RADIUS][FILM_GROUP];
 

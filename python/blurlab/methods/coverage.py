@@ -6,8 +6,7 @@ directions, Unity's v_alt), and weights that estimate what share of each half-sh
 pixel spends over X, with what lies behind X filling the rest. Passes: engine_eevee's tile
 flatten and tile dilation (shaders/passes/eevee_tile_*.glsl) at this method's tile size and
 limit (methods.eevee.dilated_tiles), then shaders/passes/coverage_gather.glsl, then, where
-film_filter > 0, shaders/passes/film_filter.glsl, or, in FILM_VARIANTS' in_gather layouts,
-the gather pass itself filters its output (shaders/common/film_in_pass.glsl). NumPy twin:
+film_filter > 0, shaders/passes/film_filter.glsl. NumPy twin:
 blurlab.twins.coverage.gather_coverage.
 """
 
@@ -43,22 +42,12 @@ PARAMS = {
     ),
 }
 GATHER = Pass("gather", "passes/coverage_gather.glsl", ("samples", "soft_z", "exposure", "seed"))
-# The gather and the film filter in one pass (FILM_VARIANTS' in_gather layouts).
-GATHER_FILM = Pass("gather_film", GATHER.shader, (*GATHER.params, "film_filter"))
 # The gather's variants (shaders/passes/coverage_gather.glsl): every tap reads its colour, or
 # only the taps that weigh on a sum do (fewer reads, a branch). Same bits; benchmarks/engines.py
 # --variants times both: on the H100 at 1080p fetch_all was as fast or faster (0.0628 against
 # 0.0647 ms on teapot_pass, medians over 15 scenes 0.168 and 0.171, 2026-11-24), so it is the
-# default, without the branch. The fetch_all_WxH variants run W x H invocations a work group
-# instead of common/pass_main.glsl's 16 x 16 (same bits), for the H100 to time; not yet timed
-# on a GPU. The in_gather film layouts take the read variant but not the shape: their work
-# group is their block.
-GATHER_VARIANTS = {
-    "fetch_all": {},
-    "skip_unweighted": {"GATHER_SKIP_UNWEIGHTED": 1},
-    "fetch_all_8x8": {"PASS_GROUP_X": 8, "PASS_GROUP_Y": 8},
-    "fetch_all_32x8": {"PASS_GROUP_X": 32, "PASS_GROUP_Y": 8},
-}
+# default, without the branch.
+GATHER_VARIANTS = {"fetch_all": {}, "skip_unweighted": {"GATHER_SKIP_UNWEIGHTED": 1}}
 GATHER_LAYOUT = PassVariants("gather", GATHER_VARIANTS, "fetch_all")
 FILM = Pass("film", "passes/film_filter.glsl", ("film_filter",))
 FILM_ROWS = Pass("film_rows", "passes/film_filter.glsl", ("film_filter",))
@@ -68,57 +57,21 @@ FILM_COLUMNS = Pass("film_columns", "passes/film_filter.glsl", ("film_filter",))
 # filters its rows in shared memory, then its columns there. Same kernel, sums in another
 # order; benchmarks/engines.py --variants times them. On the H100 at 1080p, σ = 0.5, teapot_pass:
 # 0.113 ms direct, 0.079 separable (two passes), 0.044 separable_shared (2026-11-24).
-# The in_gather layouts drop the film pass and the full-screen RGBA32F image it reads: the
-# gather pass itself, a work group per block of output pixels of the shape in the name, gathers
-# the block and its R px apron into shared memory and filters it there
-# (shaders/common/film_in_pass.glsl), the same sums as separable_shared (the same bits on
-# llvmpipe, tests/test_gather_coverage.py). It gathers (X + 2R)(Y + 2R)/(XY) times the pixels:
-# at σ = 0.5 (R = 2) 1.27x for 32 x 32, 1.41x for 32 x 16, 1.56x for 16 x 16. Its result has no
-# "unfiltered" buffer (the same gather with film_filter = 0 gives it). Not yet timed on a GPU;
-# on llvmpipe, whose barriers are costly, slower than separable_shared (docs/engines.md).
 FILM_VARIANTS = {
     "direct": {},
     "separable": {"FILM_SEPARABLE": 1},
     "separable_shared": {"FILM_SHARED": 1},
-    "in_gather_32x32": {"FILM_IN_PASS": 1, "FILM_BLOCK_X": 32, "FILM_BLOCK_Y": 32},
-    "in_gather_32x16": {"FILM_IN_PASS": 1, "FILM_BLOCK_X": 32, "FILM_BLOCK_Y": 16},
-    "in_gather_16x16": {"FILM_IN_PASS": 1, "FILM_BLOCK_X": 16, "FILM_BLOCK_Y": 16},
 }
 FILM_LAYOUT = PassVariants("film filter", FILM_VARIANTS, "separable_shared")
-# Shared memory an in_gather work group may take: GL 4.3's guaranteed
-# GL_MAX_COMPUTE_SHARED_MEMORY_SIZE (llvmpipe's; NVIDIA's is larger).
-FILM_SHARED_BYTES = 32768
 
 
-def film_block(block: tuple[int, int], radius: int) -> tuple[int, int]:
-    """The in_gather block for film radius `radius`: `block`, its longer side halved (x on a
-    tie) until the block and its apron, (x + 2r)(y + 2r) vec4, fit FILM_SHARED_BYTES (at
-    σ = 4, r = 12, 32 x 32 becomes 16 x 16)."""
-    x, y = block
-    while (x + 2 * radius) * (y + 2 * radius) * 16 > FILM_SHARED_BYTES:
-        if x >= y:
-            x //= 2
-        else:
-            y //= 2
-    return x, y
-
-
-def film_defines(sigma: float) -> dict:
-    """The #defines of the film layout in force at σ = `sigma` > 0: its variant's, the radius,
-    and an in_gather block fitted to the shared memory."""
-    defines = {**FILM_LAYOUT.defines(), "FILM_RADIUS": film.film_radius(sigma)}
-    if "FILM_IN_PASS" in defines:
-        block = (defines["FILM_BLOCK_X"], defines["FILM_BLOCK_Y"])
-        defines["FILM_BLOCK_X"], defines["FILM_BLOCK_Y"] = film_block(block, defines["FILM_RADIUS"])
-    return defines
-
-
-def _film_filter(ctx: Context, timings: dict, values: dict, gathered, defines: dict):
-    """Step 4 of §17.6 on `gathered` as its own pass(es), with the film layout's `defines`:
-    the filtered texture."""
+def _film_filter(ctx: Context, timings: dict, values: dict, gathered):
+    """Step 4 of §17.6 on `gathered`, as FILM_LAYOUT says: the filtered texture."""
     size = gathered.shape[:2]
+    variant = FILM_LAYOUT.defines()
+    defines = {**variant, "FILM_RADIUS": film.film_radius(values["film_filter"])}
     filtered = ctx.pooled((*size, 4))
-    if "FILM_SEPARABLE" in defines:  # along rows into `rows`, then along its columns
+    if "FILM_SEPARABLE" in variant:  # along rows into `rows`, then along its columns
         rows = ctx.pooled((*size, 4))
         steps = [(FILM_ROWS, gathered, rows, False), (FILM_COLUMNS, rows, filtered, True)]
     else:
@@ -156,8 +109,6 @@ def _run_coverage(ctx: Context, frame: Frame, inputs: dict, values: dict, backen
         reach_limit,
         length_steps=twin.TILE_LENGTH_STEPS,
     )
-    film_layout = film_defines(values["film_filter"]) if values["film_filter"] > 0 else {}
-    in_gather = "FILM_IN_PASS" in film_layout
     gathered = ctx.pooled((*size, 4))
     textures = {
         "color": inputs["color"],
@@ -169,19 +120,18 @@ def _run_coverage(ctx: Context, frame: Frame, inputs: dict, values: dict, backen
     run_pass(
         ctx,
         timings,
-        GATHER_FILM if in_gather else GATHER,
+        GATHER,
         PARAMS,
         values,
         textures,
         {"result": gathered},
         backend,
         uniforms=uniforms,
-        defines={**GATHER_LAYOUT.defines(), **(film_layout if in_gather else {})},
+        defines=GATHER_LAYOUT.defines(),
     )
     outputs = {"color": gathered, "tiles": tiles, "dilated": dilated}
-    if film_layout and not in_gather:
-        filtered = _film_filter(ctx, timings, values, gathered, film_layout)
-        outputs.update(color=filtered, unfiltered=gathered)
+    if values["film_filter"] > 0:
+        outputs.update(color=_film_filter(ctx, timings, values, gathered), unfiltered=gathered)
     return outputs, timings
 
 

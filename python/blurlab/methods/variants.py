@@ -1,9 +1,8 @@
 """Alternative layouts of one pass, each a set of #defines that gives the same result (or one
 whose difference is measured and documented), of which benchmarks time every one on a GPU
 and the fastest becomes the default: TileMax's work group (tile_filter.TILE_MAX_VARIANTS),
-engine_eevee's tile passes (eevee.TILE_PICK_VARIANTS), gather_coverage's film filter, a pass
-of its own or folded into the gather (coverage.FILM_VARIANTS), gather_coverage's gather and
-its work-group shape (coverage.GATHER_VARIANTS)."""
+engine_eevee's tile passes (eevee.TILE_PICK_VARIANTS), gather_coverage's film filter
+(coverage.FILM_VARIANTS), gather_coverage's gather (coverage.GATHER_VARIANTS)."""
 
 from __future__ import annotations
 
