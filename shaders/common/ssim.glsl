@@ -1,8 +1,7 @@
 // What the two SSIM reduction shaders share (docs/spec.md §6): passes/ssim.comp (32-pixel-wide
 // tiles blurred in shared memory) and passes/ssim_strip.comp (each invocation walks one column).
-// Needs RADIUS, WEIGHTS (the normalized Gaussian taps as a GLSL float array), PREPARE, PREPARED,
-// SQUARED_ERROR and GROUP_INVOCATIONS (a power of two) defined, and SUBGROUP_SUM where the pass
-// enabled GL_KHR_shader_subgroup_arithmetic. NumPy twin: blurlab.metrics.ssim.
+// Needs RADIUS, WEIGHTS (the normalized Gaussian taps as a GLSL float array), PREPARE, PREPARED
+// and SQUARED_ERROR defined. NumPy twin: blurlab.metrics.ssim.
 
 const float WEIGHT[2 * RADIUS + 1] = WEIGHTS;
 const float C1 = 0.01 * 0.01;
@@ -41,40 +40,3 @@ float ssim_value(vec2 mean, float vx, float vy, float cov) {
     return ((2.0 * mean.x * mean.y + C1) * (2.0 * cov + C2)) /
            ((mean.x * mean.x + mean.y * mean.y + C1) * (vx + vy + C2));
 }
-
-#if !PREPARE
-#if SQUARED_ERROR
-#define Sums vec2  // (SSIM, squared error)
-#else
-#define Sums float
-#endif
-
-#if SUBGROUP_SUM
-shared Sums subgroup_sums[GROUP_INVOCATIONS];  // at most one per invocation, whatever the subgroup size
-#else
-shared Sums tree[GROUP_INVOCATIONS];
-#endif
-
-// The group's total of `mine` in invocation 0: a subgroup add and one barrier where the driver
-// has subgroup arithmetic, else a shared-memory tree (log2 of the group's size barriers).
-Sums group_sum(Sums mine, int local) {
-#if SUBGROUP_SUM
-    Sums subgroup_total = subgroupAdd(mine);
-    if (subgroupElect()) subgroup_sums[gl_SubgroupID] = subgroup_total;
-    barrier();
-    Sums total = Sums(0.0);
-    if (local == 0) {
-        for (uint i = 0u; i < gl_NumSubgroups; ++i) total += subgroup_sums[i];
-    }
-    return total;
-#else
-    tree[local] = mine;
-    barrier();
-    for (int stride = GROUP_INVOCATIONS / 2; stride > 0; stride >>= 1) {
-        if (local < stride) tree[local] += tree[local + stride];
-        barrier();
-    }
-    return tree[0];
-#endif
-}
-#endif

@@ -42,6 +42,7 @@
 
 const int TILE_X = 32, THREADS_Y = TILE_Y / ROWS, INVOCATIONS = GROUP_INVOCATIONS;
 layout(local_size_x = TILE_X, local_size_y = THREADS_Y) in;
+#include "common/ssim_group_sum.glsl"
 layout(binding = 0) uniform sampler2D image_a;
 #if PREPARE
 const int LUMS = 1;  // planes: x (row moments: MOMENTS, common/ssim.glsl)

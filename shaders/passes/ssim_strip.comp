@@ -45,6 +45,7 @@
 #include "common/ssim.glsl"
 
 layout(local_size_x = GROUP_X) in;
+#include "common/ssim_group_sum.glsl"
 const int TAPS = 2 * RADIUS + 1;
 const int SPAN_X = GROUP_X + 2 * RADIUS, INPUT_ROWS = STRIP + 2 * RADIUS;
 #if PREPARED && GROUP_X <= 128
