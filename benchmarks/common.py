@@ -6,7 +6,13 @@ import datetime
 import json
 import platform
 import statistics
+import time
 from pathlib import Path
+
+# Seconds of untimed calls before a timed set: an H100 left idle (by CPU work, or a benchmark's
+# checks) clocks down, and the next set then timed 2-4x slow (engines.py --variants and
+# speed_floor.py's metrics, 2026-11-24).
+SPIN_UP_S = 0.25
 
 
 def open_context(device: str):
@@ -54,6 +60,13 @@ def method_runs(names: list[str], film_filter: float = 0.0) -> list[tuple[str, s
     return runs
 
 
+def spin_up(call, seconds: float = SPIN_UP_S) -> None:
+    """Calls `call()` untimed for `seconds`, so the GPU's clocks are up when timing starts."""
+    start = time.perf_counter()
+    while time.perf_counter() - start < seconds:
+        call()
+
+
 def back_to_back_ms(ctx, call, calls: int = 50, busy_ms: float = 20.0) -> float:
     """GPU ms per `call()` over `calls` calls issued in a row while the GPU is still busy with
     earlier work, so that it never waits for the CPU between them: one GL timer query around
@@ -61,7 +74,7 @@ def back_to_back_ms(ctx, call, calls: int = 50, busy_ms: float = 20.0) -> float:
     ramp-up and drain; a timer around a lone call also holds the gaps where the GPU waited for
     Python to issue the next pass. On a wall clock (llvmpipe) there is nothing to overlap: the
     calls are timed as they run."""
-    call()  # compiled, pooled and planned before the clock
+    spin_up(call)  # compiled, pooled, planned and the clocks up before the clock
     gpu_clock = ctx.info()["timer"] == "gl_time_elapsed"
     if gpu_clock:
         busy = ctx.shader_pass("passes/accumulate.comp")

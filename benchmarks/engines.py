@@ -46,7 +46,7 @@ from blurlab.studies import peers
 from blurlab.twins import coverage as coverage_twin
 from blurlab.twins import film as film_twin
 
-from common import back_to_back_ms, describe, method_runs, open_context, save
+from common import back_to_back_ms, describe, method_runs, open_context, save, spin_up
 
 BASELINES = ("reconstruct_guertin2014", "reconstruct_mcguire2012")
 EEVEE = "eevee (Blender)"
@@ -111,12 +111,6 @@ def measure(ctx, scene_name: str, size, runs: int, methods, with_eevee: bool) ->
     return rows
 
 
-# Seconds of untimed calls before each timed set: the H100 clocked down while a scene's
-# frame, reference tiles and checks kept it idle, and the next layouts timed 3-4x slow (the
-# first --variants run, 2026-11-24: guertin2014 0.079 ms on the first scene, 0.22-0.84 after).
-SPIN_UP_S = 0.25
-
-
 def calls_ms(ctx, frame, method: str, **params) -> float:
     """GPU ms per untimed call of `method` on `frame`, calls issued back to back
     (common.back_to_back_ms): no per-pass timers, no GPU waiting for Python."""
@@ -124,11 +118,9 @@ def calls_ms(ctx, frame, method: str, **params) -> float:
 
 
 def median_passes(ctx, frame, method: str, runs: int, **params) -> tuple[dict, object]:
-    """Median ms of each pass of `method` over `runs` timed runs after SPIN_UP_S of untimed
-    ones, and the last run's result."""
-    start = time.perf_counter()
-    while time.perf_counter() - start < SPIN_UP_S:
-        bl.blur(ctx, frame, method, **params)
+    """Median ms of each pass of `method` over `runs` timed runs after common.SPIN_UP_S of
+    untimed ones, and the last run's result."""
+    spin_up(lambda: bl.blur(ctx, frame, method, **params))
     times: dict[str, list] = {}
     for _ in range(runs):
         result = bl.blur(ctx, frame, method, **params)

@@ -63,7 +63,7 @@ from blurlab.render import (
     target_shapes,
 )
 
-from common import back_to_back_ms, describe, open_context, save
+from common import back_to_back_ms, describe, open_context, save, spin_up
 
 PARTS = ("filters", "sweep", "metrics", "raster")  # what --parts can choose
 FILTERS = {
@@ -108,8 +108,11 @@ def filters(ctx, frame, runs: int) -> dict:
         for backend, packed in ways:
             params = {**stored_params, "packed_inputs": packed}
             label = backend + (" packed" if packed else "")
-            for _ in range(2):
-                bl.blur(ctx, frame, name, backend=backend, **params)
+            spin_up(
+                lambda name=name, backend=backend, params=params: bl.blur(
+                    ctx, frame, name, backend=backend, **params
+                )
+            )
             per_pass: dict = {}
             for _ in range(runs):
                 result = bl.blur(ctx, frame, name, backend=backend, **params)
@@ -402,6 +405,7 @@ def issued_time(ctx, against, color, runs: int, layout: str) -> dict:
     """issued_times' row: median GPU ms of one issue, and whether the values read back later
     equal gpu_mse_ssim's."""
     expected = metrics.gpu_mse_ssim(ctx, against, color, layout=layout)
+    spin_up(lambda: metrics.gpu_mse_ssim(ctx, against, color, layout=layout))
     queue = metrics.MetricQueue(ctx)
     queue.mse_ssim(against, color, layout)  # compiled and warm before the clock
     samples = []
@@ -474,6 +478,7 @@ def metric_times(ctx, frame, reference, runs: int, layouts) -> dict:
             record[name] = {"error": str(error)}
             print(f"| {name} | failed: {error} | | |")
             continue
+        spin_up(fn)
         record[name] = {"wall_ms": wall_ms(fn, runs), "gpu_ms": gpu_ms(ctx, fn, runs)}
         record[name]["value"] = value
         r = record[name]
