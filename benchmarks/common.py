@@ -67,14 +67,15 @@ def spin_up(call, seconds: float = SPIN_UP_S) -> None:
         call()
 
 
-def back_to_back_ms(ctx, call, calls: int = 50, busy_ms: float = 20.0) -> float:
+def back_to_back_ms(ctx, call, calls: int = 50, busy_ms: float = 20.0, warm=None) -> float:
     """GPU ms per `call()` over `calls` calls issued in a row while the GPU is still busy with
     earlier work, so that it never waits for the CPU between them: one GL timer query around
     the calls, whose passes carry no timers of their own. Per-pass timers each hold a pass's
     ramp-up and drain; a timer around a lone call also holds the gaps where the GPU waited for
     Python to issue the next pass. On a wall clock (llvmpipe) there is nothing to overlap: the
-    calls are timed as they run."""
-    spin_up(call)  # compiled, pooled, planned and the clocks up before the clock
+    calls are timed as they run. `warm`: what to spin the GPU up with, where `call` should not
+    run for that long (default: `call`)."""
+    spin_up(warm or call)  # compiled, pooled, planned and the clocks up before the clock
     gpu_clock = ctx.info()["timer"] == "gl_time_elapsed"
     if gpu_clock:
         busy = ctx.shader_pass("passes/accumulate.comp")

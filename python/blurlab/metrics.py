@@ -162,10 +162,12 @@ SSIM_LAYOUTS = {
     "strip256x32": (256, 32, 32),
 }
 # The defaults, from the H100 at 1080p (docs/benchmarks.md, 2026-11-24): a pair is fastest in
-# strip128x32 (gpu_ssim 0.107 ms against column4's 0.137), a prepared reference in column4
-# (0.094-0.099 ms over four runs; the strips re-read its moments, 0.165 ms).
+# strip128x32 (gpu_ssim 0.107 ms against column4's 0.137), a prepared reference in column2
+# since the tiles sum their group with a subgroup add: its pass 0.0556 ms issued without a
+# read-back, column4's 0.0646 (in two runs, 0.0592 / 0.068 before that change; the strips
+# re-read its moments, 0.145-0.165 ms).
 SSIM_LAYOUT = "strip128x32"
-PREPARED_SSIM_LAYOUT = "column4"
+PREPARED_SSIM_LAYOUT = "column2"
 
 
 def _ssim_pass(ctx, layout: str | None):
