@@ -36,12 +36,11 @@
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #define SUBGROUP_SUM 1
 #endif
-#define TILE_X_PX 32
-#define GROUP_INVOCATIONS (TILE_X_PX * (TILE_Y / ROWS))
+#define GROUP_INVOCATIONS (32 * (TILE_Y / ROWS))
 #include "common/inputs.glsl"
 #include "common/ssim.glsl"
 
-const int TILE_X = TILE_X_PX, THREADS_Y = TILE_Y / ROWS, INVOCATIONS = GROUP_INVOCATIONS;
+const int TILE_X = 32, THREADS_Y = TILE_Y / ROWS, INVOCATIONS = GROUP_INVOCATIONS;
 layout(local_size_x = TILE_X, local_size_y = THREADS_Y) in;
 #include "common/ssim_group_sum.glsl"
 layout(binding = 0) uniform sampler2D image_a;
@@ -62,46 +61,16 @@ const int LUMS = 2;  // planes: x, y
 
 const int SPAN_X = TILE_X + 2 * RADIUS, SPAN_Y = TILE_Y + 2 * RADIUS;  // tile and border
 
-// Shared memory: the luminance over the tile and its border (LUMS planes), then the horizontal
-// Gaussian of the MOMENTS products (planes of SPAN_Y rows by TILE_X columns). Where both fit
-// llvmpipe's 32 KiB beside the group's sum (SEPARATE_ROWS: the prepared layouts, and pairs in
-// 16-row tiles) each has its own array, and the rows are stored as they are blurred. Otherwise
-// one pool serves twice (a 32 x 32 pair's two arrays side by side took 41 KiB): the rows wait
-// in registers until every invocation has read the luminance they overwrite, one barrier more.
-// Planes keep neighbouring invocations on neighbouring banks.
-#define LUM_FLOATS ((2 - PREPARE) * (TILE_X_PX + 2 * RADIUS) * (TILE_Y + 2 * RADIUS))
-#define ROW_FLOATS ((5 - 3 * PREPARE - 2 * PREPARED) * (TILE_Y + 2 * RADIUS) * TILE_X_PX)
-#define SHARED_FLOATS (LUM_FLOATS + ROW_FLOATS)
-#if 4 * SHARED_FLOATS + 8 * GROUP_INVOCATIONS <= 32768
-#define SEPARATE_ROWS 1
-#else
-#define SEPARATE_ROWS 0
-#endif
+// One pool of shared memory, used twice: first the luminance over the tile and its border (LUMS
+// planes), then the horizontal Gaussian of the MOMENTS products (planes of SPAN_Y rows by TILE_X
+// columns). Sharing it keeps a 32 x 32 tile within 32 KiB (llvmpipe's limit; the two arrays side
+// by side took 41 KiB). Planes keep neighbouring invocations on neighbouring banks.
 const int LUM_PLANE = SPAN_Y * SPAN_X, ROW_PLANE = SPAN_Y * TILE_X;
-#if SEPARATE_ROWS
-shared float pool[LUMS * LUM_PLANE];
-shared float row_pool[MOMENTS * ROW_PLANE];
-#define ROW_MOMENT(j, i) row_pool[(j) * ROW_PLANE + (i)]
-#else
 const int POOL = LUMS * LUM_PLANE > MOMENTS * ROW_PLANE ? LUMS * LUM_PLANE : MOMENTS * ROW_PLANE;
 shared float pool[POOL];
-#define ROW_MOMENT(j, i) pool[(j) * ROW_PLANE + (i)]
-#endif
 
 vec2 shifted_luminance(int i, vec2 c) {
     return vec2(pool[i], LUMS == 2 ? pool[LUM_PLANE + i] : 0.0) - c;
-}
-
-// The horizontal Gaussian of the products at row position i (0 <= i < ROW_PLANE).
-float[MOMENTS] row_moments(int i, vec2 c) {
-    float row[MOMENTS];
-    for (int j = 0; j < MOMENTS; ++j) row[j] = 0.0;
-    int start = (i / TILE_X) * SPAN_X + i % TILE_X;
-    for (int t = 0; t <= 2 * RADIUS; ++t) {
-        float[MOMENTS] v = products(shifted_luminance(start + t, c));
-        for (int j = 0; j < MOMENTS; ++j) row[j] += WEIGHT[t] * v[j];
-    }
-    return row;
 }
 
 void main() {
@@ -143,12 +112,6 @@ void main() {
 
     const int center = (RADIUS + TILE_Y / 2) * SPAN_X + RADIUS + TILE_X / 2;
     const vec2 c = shifted_luminance(center, vec2(0.0));
-#if SEPARATE_ROWS
-    for (int i = int(local); i < ROW_PLANE; i += INVOCATIONS) {
-        float[MOMENTS] row = row_moments(i, c);
-        for (int j = 0; j < MOMENTS; ++j) ROW_MOMENT(j, i) = row[j];
-    }
-#else
     // Each invocation blurs up to ITEMS row positions into registers, then, once every
     // invocation has read the luminance, writes them over it.
     const int ITEMS = (ROW_PLANE + INVOCATIONS - 1) / INVOCATIONS;
@@ -156,16 +119,21 @@ void main() {
     for (int k = 0; k < ITEMS; ++k) {
         int i = int(local) + k * INVOCATIONS;
         for (int j = 0; j < MOMENTS; ++j) row[k][j] = 0.0;
-        if (i < ROW_PLANE) row[k] = row_moments(i, c);
+        if (i < ROW_PLANE) {
+            int start = (i / TILE_X) * SPAN_X + i % TILE_X;
+            for (int t = 0; t <= 2 * RADIUS; ++t) {
+                float[MOMENTS] v = products(shifted_luminance(start + t, c));
+                for (int j = 0; j < MOMENTS; ++j) row[k][j] += WEIGHT[t] * v[j];
+            }
+        }
     }
     barrier();
     for (int k = 0; k < ITEMS; ++k) {
         int i = int(local) + k * INVOCATIONS;
         if (i < ROW_PLANE) {
-            for (int j = 0; j < MOMENTS; ++j) ROW_MOMENT(j, i) = row[k][j];
+            for (int j = 0; j < MOMENTS; ++j) pool[j * ROW_PLANE + i] = row[k][j];
         }
     }
-#endif
     barrier();
 
     // Rows first_row .. first_row + ROWS - 1 of column x of the tile.
@@ -177,7 +145,7 @@ void main() {
     for (int r = 0; r < ROWS + 2 * RADIUS; ++r) {
         int i = (first_row + r) * TILE_X + x;
         float moments[MOMENTS];
-        for (int j = 0; j < MOMENTS; ++j) moments[j] = ROW_MOMENT(j, i);
+        for (int j = 0; j < MOMENTS; ++j) moments[j] = pool[j * ROW_PLANE + i];
         for (int o = 0; o < ROWS; ++o) {
             int t = r - o;  // this row's tap for output row first_row + o
             if (t >= 0 && t <= 2 * RADIUS) {
