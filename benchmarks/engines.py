@@ -11,10 +11,20 @@ stays out of the ms columns and the chart.
 
     python benchmarks/engines.py [--device gpu] [--size 640x360] [--runs 5] [--json PATH]
         [--markdown PATH] [--chart PATH] [--scenes a,b,...] [--methods a,b,...]
-        [--peers eevee] [--film-filter 0.5]
+        [--peers eevee] [--film-filter 0.5] [--references temporal,antialiased]
+        [--reference-samples auto]
 
 --film-filter σ adds gather_coverage with its Gaussian film filter of σ px (docs/spec.md
-§17.6) as a row of its own, timed with its fourth pass.
+§17.6) as a row of its own, timed with its fourth pass. With --peers eevee too, EEVEE's row of
+each scene holds film_match_flat_db: its image against blurlab's sharp frame under that filter,
+PSNR where nothing moves (studies.peers.film_match); the Markdown lists it per scene.
+
+--references temporal,antialiased also scores every row against the antialiased reference
+(docs/spec.md §11: sub-pixel positions too, the one-pixel box-filtered image that EEVEE's and
+Cycles' filtered pixels aim at): columns psnr_aa, ssim_aa and flip_aa beside psnr, ssim and flip,
+and a second block in the Markdown. The ms, the chart and the time ratios stay on the temporal
+reference, which is always scored. --reference-samples N renders both references with N
+samples instead of choosing N from each scene's motion (auto, as sweeps do).
 
 --variants times gather_coverage's pass layouts instead of the table, on each scene: every
 tile-pass work-group layout (methods.eevee.TILE_PICK_VARIANTS; a layout applies where the
@@ -53,6 +63,8 @@ EEVEE = "eevee (Blender)"
 # EEVEE's real-time filter alone: one render sample, one motion-blur step.
 EEVEE_POST_PROCESS = ((EEVEE, 1, 1),)
 COMBINED = ("gather_coverage",)  # the filter built from the engines' best parts (spec §17.6)
+# Each reference the rows can be scored against, and its columns' suffix (studies.peers).
+REFERENCES = {"temporal": "", "antialiased": peers.ANTIALIASED}
 
 
 def engine_methods() -> list[str]:
@@ -62,15 +74,32 @@ def engine_methods() -> list[str]:
     return engines + list(COMBINED) + list(BASELINES)
 
 
-def measure(ctx, scene_name: str, size, runs: int, methods, with_eevee: bool) -> list[dict]:
+def measure(
+    ctx,
+    scene_name: str,
+    size,
+    runs: int,
+    methods,
+    with_eevee: bool,
+    references=("temporal",),
+    reference_samples: int | str = "auto",
+    film_sigma: float = 0.0,
+) -> list[dict]:
     """`methods`: (label, method, parameters) of each row (common.method_runs). Every
     method's pass times first, back to back, then every method's errors: the CPU
     metrics (FLIP takes seconds at 1080p) leave the GPU idle, and a GPU that idles clocks
     down, so timing a method right after them measured it about 3x slower on the H100 than a
-    busy GPU runs it (docs/benchmarks.md, "engines.py and speed_floor.py")."""
+    busy GPU runs it (docs/benchmarks.md, "engines.py and speed_floor.py"). Scores against
+    each of `references` (REFERENCES), both of the temporal one's N; `film_sigma` > 0 gives
+    EEVEE's rows film_match_flat_db."""
     scene = bl.scenes.get(scene_name)
     frame = ctx.render(scene, size)
-    reference = ctx.reference(scene, size, samples="auto", progress=False)
+    reference = ctx.reference(scene, size, samples=reference_samples, progress=False)
+    rendered = {False: reference}
+    if "antialiased" in references:
+        rendered[True] = ctx.reference(
+            scene, size, samples=reference.samples, antialias=True, progress=False
+        )
     outputs, times, passes, queued = {}, {}, {}, {}
     for name, method, params in methods:
         # warm-up: shaders compiled, textures pooled
@@ -85,30 +114,35 @@ def measure(ctx, scene_name: str, size, runs: int, methods, with_eevee: bool) ->
     rows = []
     for name, _, _ in methods:
         color = outputs.pop(name).color
-        rows.append(
-            {
-                "scene": scene_name,
-                "method": name,
-                "psnr": bl.metrics.psnr(reference.color, color),
-                "ssim": bl.metrics.ssim(reference.color, color),
-                "flip": bl.metrics.flip(reference.color, color),
-                "ms": statistics.median(times[name]),
-                "back_to_back_ms": queued[name],
-                "passes": passes[name],
-                "reference_samples": reference.samples,
-            }
-        )
+        row = {"scene": scene_name, "method": name}
+        row.update(scores(rendered[False].color, color))
+        row |= {
+            "ms": statistics.median(times[name]),
+            "back_to_back_ms": queued[name],
+            "passes": passes[name],
+            "reference_samples": reference.samples,
+        }
+        if True in rendered:
+            row.update(scores(rendered[True].color, color, REFERENCES["antialiased"]))
+        rows.append(row)
     if with_eevee:
-        eevee = peers.peer_table(
+        wanted = [m + REFERENCES[r] for r in references for m in peers.SCORES]
+        rows += peers.peer_rows(
             ctx,
-            {scene_name: scene},
+            scene_name,
+            scene,
             size,
-            {scene_name: reference.samples},
-            ("ssim", "flip"),
+            rendered.__getitem__,
+            tuple(wanted),
             EEVEE_POST_PROCESS,
+            film_sigma,
         )
-        rows += eevee.to_dict("records")
     return rows
+
+
+def scores(reference, color, suffix: str = "") -> dict:
+    """PSNR, SSIM and FLIP of `color` against `reference`, named with `suffix` after each."""
+    return {m + suffix: score(reference, color) for m, score in peers.SCORES.items()}
 
 
 def calls_ms(ctx, frame, method: str, **params) -> float:
@@ -294,10 +328,41 @@ def time_ratios(table: pd.DataFrame, baseline: str = BASELINES[0]) -> dict:
     return ratios
 
 
-def markdown(table: pd.DataFrame) -> str:
-    """One row per scene: PSNR / SSIM / FLIP per method, then the median PSNR and ms per method;
-    with EEVEE, the medians over the scenes it renders and how many of them each method wins."""
+def markdown(table: pd.DataFrame, references=("temporal",), film_sigma: float = 0.0) -> str:
+    """Per reference (REFERENCES; the temporal one alone: no heading) one row per scene of
+    PSNR / SSIM / FLIP per method, then the median PSNR per method, after the first block's
+    also the median ms; with EEVEE, the medians over the scenes it renders and how many of them
+    each method wins. Then, where EEVEE's rows hold film_match_flat_db, that figure per scene
+    (film filter of `film_sigma` px)."""
     methods = list(dict.fromkeys(table["method"]))
+    blocks = []
+    for reference in references:
+        lines = [] if len(references) == 1 else [f"Against the {reference} reference:", ""]
+        lines += score_block(table, methods, REFERENCES[reference], timed=not blocks)
+        blocks.append("\n".join(lines) + "\n")
+    if "film_match_flat_db" in table:
+        blocks.append(film_match_line(table, film_sigma) + "\n")
+    return "\n".join(blocks)
+
+
+def film_match_line(table: pd.DataFrame, film_sigma: float) -> str:
+    """EEVEE's film_match_flat_db per scene it renders, in one sentence."""
+    eevee = table[(table.method == EEVEE) & table.psnr.notna()].set_index("scene")
+    cells = [
+        f"{scene} {db:.2f}" if pd.notna(db) else f"{scene} –"
+        for scene, db in eevee.film_match_flat_db.items()
+    ]
+    return (
+        f"EEVEE's image against blurlab's sharp frame under a film filter of σ = {film_sigma:g} "
+        "px, PSNR (dB) where nothing moves and no edge is near (–: no such pixel): "
+        + ", ".join(cells)
+    )
+
+
+def score_block(table: pd.DataFrame, methods: list[str], suffix: str, timed: bool) -> list[str]:
+    """markdown's table of the scores named with `suffix` (REFERENCES), its ms lines if
+    `timed`."""
+    psnr, ssim, flip = (m + suffix for m in peers.SCORES)
     lines = [
         "| scene | " + " | ".join(methods) + " |",
         "|---|" + "---|" * len(methods),
@@ -305,8 +370,8 @@ def markdown(table: pd.DataFrame) -> str:
     for scene, rows in table.groupby("scene", sort=False):
         by = rows.set_index("method")
         cells = [
-            f"{by.psnr[m]:.2f} / {by.ssim[m]:.3f} / {by.flip[m]:.3f}"
-            if m in by.index and pd.notna(by.psnr[m])
+            f"{by[psnr][m]:.2f} / {by[ssim][m]:.3f} / {by[flip][m]:.3f}"
+            if m in by.index and pd.notna(by[psnr][m])
             else "–"
             for m in methods
         ]
@@ -316,27 +381,31 @@ def markdown(table: pd.DataFrame) -> str:
         cells = [f"**{fmt(values[m])}**" if pd.notna(values.get(m)) else "–" for m in methods]
         return f"| **{label}** | " + " | ".join(cells) + " |"
 
-    medians = table.groupby("method", sort=False)[["psnr", "ms", "back_to_back_ms"]].median()
-    lines.append(line("median PSNR", medians.psnr, "{:.2f}".format))
-    lines.append(line("median ms", medians.ms, "{:.3f}".format))
-    lines.append(line("median ms, calls back to back", medians.back_to_back_ms, "{:.3f}".format))
-    eevee = table[(table.method == EEVEE) & table.psnr.notna()].set_index("scene").psnr
+    columns = [psnr, "ms", "back_to_back_ms"] if timed else [psnr]
+    medians = table.groupby("method", sort=False)[columns].median()
+    lines.append(line("median PSNR", medians[psnr], "{:.2f}".format))
+    if timed:
+        lines.append(line("median ms", medians.ms, "{:.3f}".format))
+        lines.append(
+            line("median ms, calls back to back", medians.back_to_back_ms, "{:.3f}".format)
+        )
+    eevee = table[(table.method == EEVEE) & table[psnr].notna()].set_index("scene")[psnr]
     if len(eevee):
         shared = table[table.scene.isin(eevee.index)]
         lines.append(
             line(
                 f"median PSNR, the {len(eevee)} scenes EEVEE renders",
-                shared.groupby("method").psnr.median(),
+                shared.groupby("method")[psnr].median(),
                 "{:.2f}".format,
             )
         )
         wins = {
-            m: int((rows.set_index("scene").psnr > eevee).reindex(eevee.index).sum())
+            m: int((rows.set_index("scene")[psnr] > eevee).reindex(eevee.index).sum())
             for m, rows in shared.groupby("method")
             if m != EEVEE
         }
         lines.append(line("scenes better than EEVEE", wins, f"{{}} of {len(eevee)}".format))
-    return "\n".join(lines) + "\n"
+    return lines
 
 
 def pareto_chart(table: pd.DataFrame, renderer: str, clock: str, size):
@@ -350,6 +419,28 @@ def pareto_chart(table: pd.DataFrame, renderer: str, clock: str, size):
     return bl.plots.pareto(medians, "median over scenes")
 
 
+def reference_list(text: str) -> tuple[str, ...]:
+    """--references: names of REFERENCES, comma-separated, the temporal one among them."""
+    names = tuple(dict.fromkeys(text.split(",")))
+    unknown = [n for n in names if n not in REFERENCES]
+    if unknown or "temporal" not in names:
+        raise argparse.ArgumentTypeError(
+            f"{text!r}: give names from {', '.join(REFERENCES)}, comma-separated, temporal among "
+            "them (the ms, the chart and the time ratios are scored against it)"
+            + (f"; unknown: {', '.join(unknown)}" if unknown else "")
+        )
+    return names
+
+
+def reference_samples(text: str) -> int | str:
+    """--reference-samples: auto or a whole number of samples, at least 1."""
+    if text == "auto":
+        return text
+    if not text.isdigit() or int(text) < 1:
+        raise argparse.ArgumentTypeError(f"{text!r}: give auto or a whole number >= 1")
+    return int(text)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--device", default="auto")
@@ -359,6 +450,18 @@ def main() -> None:
     parser.add_argument("--methods", default=None, help="comma-separated; default: all")
     parser.add_argument("--peers", choices=peers.PEERS, default=None, help="Blender's EEVEE too")
     parser.add_argument("--film-filter", type=float, default=0.0, help="σ, px; 0: no extra row")
+    parser.add_argument(
+        "--references",
+        type=reference_list,
+        default=("temporal",),
+        help=f"comma-separated, from {', '.join(REFERENCES)}; temporal is always scored",
+    )
+    parser.add_argument(
+        "--reference-samples",
+        type=reference_samples,
+        default="auto",
+        help="N of both references; auto (default): from each scene's motion, as sweeps do",
+    )
     parser.add_argument("--variants", action="store_true", help="gather_coverage's layouts only")
     parser.add_argument("--json", default=None)
     parser.add_argument("--markdown", default=None)
@@ -389,23 +492,41 @@ def main() -> None:
         peers.check_peers([args.peers])
     record = {**describe(ctx), "size": args.size, "runs": args.runs, "methods": names}
     record["film_filter"] = args.film_filter
+    # Keys only where asked for: a record of the defaults reads as it always did.
+    if args.references != ("temporal",):
+        record["references"] = list(args.references)
+    if args.reference_samples != "auto":
+        record["reference_samples"] = args.reference_samples
     start = time.perf_counter()
     rows = []
     for scene_name in scenes:
-        rows += measure(ctx, scene_name, size, args.runs, methods, bool(args.peers))
+        rows += measure(
+            ctx,
+            scene_name,
+            size,
+            args.runs,
+            methods,
+            bool(args.peers),
+            args.references,
+            args.reference_samples,
+            args.film_filter,
+        )
         print(f"{scene_name}: done", flush=True)
     record["seconds"] = round(time.perf_counter() - start, 1)
     table = pd.DataFrame(rows)
     print(f"\n{record['date']}  {record['renderer']}  {args.size}")
-    for metric in ("psnr", "ssim", "flip", "ms"):
+    shown = [m + REFERENCES[r] for r in args.references for m in peers.SCORES]
+    for metric in [*shown, "ms"]:
         print(f"\n{metric}")
         print(table.pivot(index="scene", columns="method", values=metric).round(3).to_string())
+    if "film_match_flat_db" in table:
+        print("\n" + film_match_line(table, args.film_filter))
     if args.json:  # benchmarks/gpu.sh passes --json only: the table and chart go beside it
         args.markdown = args.markdown or args.json.removesuffix(".json") + ".md"
         args.chart = args.chart or args.json.removesuffix(".json") + "_pareto.png"
     if args.markdown:
         with open(args.markdown, "w") as f:
-            f.write(markdown(table))
+            f.write(markdown(table, args.references, args.film_filter))
     if args.chart:
         clock = bl.blur(ctx, ctx.render(bl.scenes.get(scenes[0]), (8, 8)), names[0]).clock
         bl.plots.save(pareto_chart(table, record["renderer"], clock, size), args.chart)

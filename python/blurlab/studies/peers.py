@@ -1,13 +1,18 @@
-"""Peers in the study (`blurlab study --peers eevee`): Blender's EEVEE rendering the same scenes,
-scored against the same references as the methods. Their time is Blender's wall time on its
-own device, not a GPU pass time, and the table says so."""
+"""Peers in the study (`blurlab study --peers eevee`) and in benchmarks/engines.py: Blender's
+EEVEE rendering the same scenes, scored against the same references as the methods. Their time
+is Blender's wall time on its own device, not a GPU pass time, and the table says so."""
 
 from __future__ import annotations
+
+from collections.abc import Callable
 
 import pandas as pd
 
 from .. import blender, metrics
+from ..blender.crosscheck import psnr_in, regions
 from ..context import Context
+from ..converged import Reference
+from ..twins.film import film_filter
 
 PEERS = ("eevee",)
 # (row label, EEVEE render samples, motion-blur steps): the real-time post-process filter
@@ -16,6 +21,10 @@ EEVEE_ROWS = (
     ("EEVEE post-process (1 sample, 1 step)", 1, 1),
     ("EEVEE default (64 samples, 1 step)", 64, 1),
 )
+# The scores a peer row can carry: each metric against the temporal reference under its own
+# name, and against the antialiased one (docs/spec.md §11) with "_aa" after it.
+SCORES = {"psnr": metrics.psnr, "ssim": metrics.ssim, "flip": metrics.flip}
+ANTIALIASED = "_aa"
 
 
 def check_peers(peers) -> tuple[str, ...]:
@@ -37,43 +46,78 @@ def peer_table(
     wanted: tuple[str, ...],
     configurations=EEVEE_ROWS,
 ) -> pd.DataFrame:
-    """One row per peer configuration (label, samples, steps) and scene: PSNR (and SSIM, FLIP,
-    psnr_aa if `wanted`) against the scene's temporal reference with the sweep's N, Blender's
-    wall time and device. A scene Blender cannot reproduce gets a row that says why instead of
-    numbers."""
+    """peer_rows for each of `scenes`, against references of the sweep's N for that scene
+    (`reference_samples`), rendered only for the scenes Blender can reproduce."""
     rows = []
     for name, scene in scenes.items():
         n = reference_samples[name]
-        try:
-            blender.check_reproducible(scene)
-        except ValueError as error:
-            rows += [
-                {"scene": name, "method": label, "note": str(error)} for label, *_ in configurations
-            ]
-            continue
-        temporal = ctx.reference(scene, size, samples=n, progress=False).color
-        antialiased = None
-        if "psnr_aa" in wanted:
-            antialiased = ctx.reference(scene, size, samples=n, antialias=True, progress=False)
-        for label, samples, steps in configurations:
-            result = blender.render(scene, size, engine="EEVEE", samples=samples, steps=steps)
-            row = {
-                "scene": name,
-                "method": label,
-                "psnr": metrics.psnr(temporal, result.color),
-                "time": f"{result.wall_s:.1f} s Blender wall time "
-                f"({result.render_s:.1f} s rendering), {result.device}",
-                "wall_s": result.wall_s,
-                "render_s": result.render_s,
-                "device": result.device,
-                "reference_samples": n,
-                "note": "",
-            }
-            if "ssim" in wanted:
-                row["ssim"] = metrics.ssim(temporal, result.color)
-            if "flip" in wanted:
-                row["flip"] = metrics.flip(temporal, result.color)
-            if antialiased is not None:
-                row["psnr_aa"] = metrics.psnr(antialiased.color, result.color)
-            rows.append(row)
+
+        def reference(antialias: bool, scene=scene, n=n) -> Reference:
+            return ctx.reference(scene, size, samples=n, antialias=antialias, progress=False)
+
+        rows += peer_rows(ctx, name, scene, size, reference, wanted, configurations)
     return pd.DataFrame(rows)
+
+
+def peer_rows(
+    ctx: Context,
+    name: str,
+    scene,
+    size,
+    reference: Callable[[bool], Reference],
+    wanted: tuple[str, ...],
+    configurations=EEVEE_ROWS,
+    film_sigma: float = 0.0,
+) -> list[dict]:
+    """One row per peer configuration (label, samples, steps) on scene `name`: PSNR against the
+    temporal reference, the other SCORES `wanted` (ssim, flip; psnr_aa, ssim_aa, flip_aa
+    against the antialiased reference), Blender's wall time and device. `reference(antialias)`
+    gives the scene's reference; it is called only when Blender can reproduce the scene, and a
+    scene it cannot gets rows that say why instead of numbers. With `film_sigma` > 0 each row
+    also holds film_match_flat_db (film_match)."""
+    try:
+        blender.check_reproducible(scene)
+    except ValueError as error:
+        return [
+            {"scene": name, "method": label, "note": str(error)} for label, *_ in configurations
+        ]
+    references = {"": reference(False)}
+    if any(w.endswith(ANTIALIASED) for w in wanted):
+        references[ANTIALIASED] = reference(True)
+    temporal = references[""]
+    rows = []
+    for label, samples, steps in configurations:
+        result = blender.render(scene, size, engine="EEVEE", samples=samples, steps=steps)
+        row = {
+            "scene": name,
+            "method": label,
+            "psnr": metrics.psnr(temporal.color, result.color),
+            "time": f"{result.wall_s:.1f} s Blender wall time "
+            f"({result.render_s:.1f} s rendering), {result.device}",
+            "wall_s": result.wall_s,
+            "render_s": result.render_s,
+            "device": result.device,
+            "reference_samples": temporal.samples,
+            "note": "",
+        }
+        for suffix, ref in references.items():
+            for metric, score in SCORES.items():
+                if metric + suffix in wanted and metric + suffix not in row:
+                    row[metric + suffix] = score(ref.color, result.color)
+        if film_sigma > 0:
+            row["film_match_flat_db"] = film_match(
+                ctx, scene, size, temporal.color, result.color, film_sigma
+            )
+        rows.append(row)
+    return rows
+
+
+def film_match(ctx: Context, scene, size, temporal, image, sigma: float) -> float | None:
+    """PSNR (dB) of a peer's `image` against blurlab's sharp frame under a Gaussian film filter
+    of `sigma` px (docs/spec.md §17.6 step 4), over the pixels that motion leaves alone and no
+    edge is near (the flat region of blurlab.blender.crosscheck.regions): how closely that
+    filter is the peer's own pixel filter. None where the scene has no such pixel."""
+    flat = regions(ctx, scene, size, temporal)["flat"]
+    if not flat.any():
+        return None
+    return float(psnr_in(image, film_filter(ctx.render(scene, size).color, sigma), flat))
