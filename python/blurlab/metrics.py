@@ -144,14 +144,15 @@ def _mse_ssim_of_totals(totals, shape) -> tuple[float, float]:
 # every layout gives the same value up to float rounding, and benchmarks/speed_floor.py times
 # them all. Tiles 32 pixels wide (shaders/passes/ssim.comp): "column4" computes four pixels down
 # a column per invocation (the vertical blur reads each row's moments once for up to four
-# outputs); "pixel16" is the one-pixel-per-invocation layout measured in docs/benchmarks.md
-# before it. Strips (shaders/passes/ssim_strip.comp), "stripWxH": W invocations, each walking
-# its column down H rows with the vertical blur in registers, one barrier per 8 (W = 256: 4)
-# rows, a subgroup sum where the driver has one, and a prepared reference that reads 8 bytes
-# per border texel instead of 16.
+# outputs), "column2x32" two in 32 x 32 tiles; "pixel16" is the one-pixel-per-invocation layout
+# measured in docs/benchmarks.md before it. Strips (shaders/passes/ssim_strip.comp),
+# "stripWxH": W invocations, each walking its column down H rows with the vertical blur in
+# registers, one barrier per 8 (W = 256: 4) rows, a subgroup sum where the driver has one, and
+# a prepared reference that reads 8 bytes per border texel instead of 16.
 SSIM_LAYOUTS = {
     "pixel16": (32, 16, 1),
     "column2": (32, 16, 2),
+    "column2x32": (32, 32, 2),
     "column4": (32, 32, 4),
     "column8": (32, 32, 8),
     "strip64x16": (64, 16, 16),
@@ -162,12 +163,12 @@ SSIM_LAYOUTS = {
     "strip256x32": (256, 32, 32),
 }
 # The defaults, from the H100 at 1080p (docs/benchmarks.md, 2026-11-24): a pair is fastest in
-# strip128x32 (gpu_ssim 0.107 ms against column4's 0.137), a prepared reference in column2
-# since the tiles sum their group with a subgroup add: its pass 0.0556 ms issued without a
-# read-back, column4's 0.0646 (in two runs, 0.0592 / 0.068 before that change; the strips
-# re-read its moments, 0.145-0.165 ms).
+# strip128x32 (gpu_ssim 0.107 ms against column4's 0.137), a prepared reference in column2x32
+# since the tiles sum their group with a subgroup add into a few shared slots: its pass 0.0524
+# ms issued without a read-back (0.0492 back to back), column2's 0.0564, column4's 0.0566 (the
+# strips re-read its moments, 0.145 ms).
 SSIM_LAYOUT = "strip128x32"
-PREPARED_SSIM_LAYOUT = "column2"
+PREPARED_SSIM_LAYOUT = "column2x32"
 
 
 def _ssim_pass(ctx, layout: str | None):
