@@ -85,6 +85,7 @@ def peer_rows(
     if any(w.endswith(ANTIALIASED) for w in wanted):
         references[ANTIALIASED] = reference(True)
     temporal = references[""]
+    filtered_flat = film_reference(ctx, scene, size, temporal.color, film_sigma)
     rows = []
     for label, samples, steps in configurations:
         result = blender.render(scene, size, engine="EEVEE", samples=samples, steps=steps)
@@ -105,19 +106,28 @@ def peer_rows(
                 if metric + suffix in wanted and metric + suffix not in row:
                     row[metric + suffix] = score(ref.color, result.color)
         if film_sigma > 0:
-            row["film_match_flat_db"] = film_match(
-                ctx, scene, size, temporal.color, result.color, film_sigma
-            )
+            row["film_match_flat_db"] = film_match(result.color, filtered_flat)
         rows.append(row)
     return rows
 
 
-def film_match(ctx: Context, scene, size, temporal, image, sigma: float) -> float | None:
-    """PSNR (dB) of a peer's `image` against blurlab's sharp frame under a Gaussian film filter
-    of `sigma` px (docs/spec.md §17.6 step 4), over the pixels that motion leaves alone and no
-    edge is near (the flat region of blurlab.blender.crosscheck.regions): how closely that
-    filter is the peer's own pixel filter. None where the scene has no such pixel."""
+def film_reference(ctx: Context, scene, size, temporal, sigma: float):
+    """What film_match compares a peer's image with, once per scene: (blurlab's sharp frame
+    under a Gaussian film filter of `sigma` px, docs/spec.md §17.6 step 4; the pixels that
+    motion leaves alone and no edge is near, the flat region of
+    blurlab.blender.crosscheck.regions). None for `sigma` 0 or a scene with no such pixel."""
+    if sigma <= 0:
+        return None
     flat = regions(ctx, scene, size, temporal)["flat"]
     if not flat.any():
         return None
-    return float(psnr_in(image, film_filter(ctx.render(scene, size).color, sigma), flat))
+    return film_filter(ctx.render(scene, size).color, sigma), flat
+
+
+def film_match(image, filtered_flat) -> float | None:
+    """PSNR (dB) of a peer's `image` against film_reference's filtered frame over its flat
+    pixels: how closely that filter is the peer's own pixel filter. None without one."""
+    if filtered_flat is None:
+        return None
+    filtered, flat = filtered_flat
+    return float(psnr_in(image, filtered, flat))
