@@ -79,7 +79,7 @@ def back_to_back_ms(ctx, call, calls: int = 50, busy_ms: float = 20.0, warm=None
     gpu_clock = ctx.info()["timer"] == "gl_time_elapsed"
     if gpu_clock:
         busy = ctx.shader_pass("passes/accumulate.comp")
-        color, total = ctx.empty((2048, 2048, 4)), ctx.empty((2048, 2048, 4))
+        color, total = ctx.pooled((2048, 2048, 4)), ctx.pooled((2048, 2048, 4))
         run_busy = lambda: busy.run({"color": color}, {"sum": total}, {"weight": 0.5})  # noqa: E731
         with ctx.timer() as one:
             run_busy()
