@@ -1,0 +1,504 @@
+"""Where the time of McGuire 2012's and Guertin 2014's filters goes on one context (issue 19:
+the filter goals), on one G-buffer of teapot_pass, in two parts.
+
+1. ``passes``: each filter (k = 20, S = 15 for McGuire; stored and packed inputs, docs/spec.md
+   §19) is run once with its passes recorded (blurlab.methods.plans.Recorder), then the
+   recorded passes are replayed: each pass alone, and the first one, two, three passes, each
+   set 50 times back to back behind busy work (common.back_to_back_ms), so that what a pass
+   costs on its own and what each pass boundary adds (the GPU drains before a dependent pass)
+   can be told apart.
+2. ``fetch``: whether the reconstruct pass's taps, or its own reads and write, hold it. The
+   same gather as McGuire's reconstruct (S taps along the tile's NeighborMax, jittered per
+   pixel, McGuire's weights, an early exit under half a pixel), written once here over
+   teapot_pass's inputs rounded to halves, read through:
+   - ``two_textures``: colour and motion + depth from two RGBA16F textures (today's packed path);
+   - ``one_texture``: one RGBA32UI texel a pixel (colour as four halves, motion as two, depth as
+     one; unpackHalf2x16), one fetch a tap;
+   - ``buffer_rows``: the same 16 bytes a pixel in a storage buffer, row by row (one 128-bit
+     load a tap through the load/store path, not the texture units);
+   - ``buffer_blocks``: the same in 8 x 8 pixel blocks, for 2D locality;
+   - ``two_textures_half_out``: today's path writing RGBA16F instead of RGBA32F;
+   - ``two_textures_runtime_samples``, ``_pcg``: the sample count a uniform (the loop cannot
+     unroll) and the filters' own hash for the jitter, as the real pass has them;
+   - ``centre_only`` (and ``_one_texture``, ``_buffer_rows``): each pixel's own texels read and
+     its result written, no tap: the pass's floor.
+   Every variant with taps must give the same image as ``two_textures`` (the record says so).
+   moderngl on blurlab's context.
+
+Medians over --runs: on a GPU by GL timer queries (50 dispatches back to back behind busy work,
+and one dispatch under its own timer); on llvmpipe by glFinish and a wall clock, which ranks
+nothing.
+
+    python benchmarks/filter_time.py [--device gpu] [--size 1920x1080] [--parts passes,fetch]
+        [--runs 20] [--json f]
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import time
+
+import numpy as np
+
+import blurlab as bl
+from blurlab.methods import plans
+from blurlab.methods.core import frame_textures, method, resolve_params
+
+from common import back_to_back_ms, describe, open_context, save, spin_up
+
+K = 20  # McGuire 2012's tile side at the issue's configuration
+SAMPLES = 15
+
+FETCH = {
+    "two_textures": """
+layout(binding = 0) uniform sampler2D color;
+layout(binding = 1) uniform sampler2D motion_depth;
+void texel_at(ivec2 p, out vec4 c, out vec2 m, out float z) {
+    c = texelFetch(color, p, 0);
+    vec4 t = texelFetch(motion_depth, p, 0);
+    m = t.xy;
+    z = t.z;
+}""",
+    "one_texture": """
+layout(binding = 0) uniform usampler2D pixels;
+void texel_at(ivec2 p, out vec4 c, out vec2 m, out float z) {
+    uvec4 t = texelFetch(pixels, p, 0);
+    c = vec4(unpackHalf2x16(t.x), unpackHalf2x16(t.y));
+    m = unpackHalf2x16(t.z);
+    z = unpackHalf2x16(t.w).x;
+}""",
+    "buffer_rows": """
+layout(std430, binding = 0) readonly buffer Pixels { uvec4 pixels[]; };
+void texel_at(ivec2 p, out vec4 c, out vec2 m, out float z) {
+    uvec4 t = pixels[p.y * size.x + p.x];
+    c = vec4(unpackHalf2x16(t.x), unpackHalf2x16(t.y));
+    m = unpackHalf2x16(t.z);
+    z = unpackHalf2x16(t.w).x;
+}""",
+    "buffer_blocks": """
+layout(std430, binding = 0) readonly buffer Pixels { uvec4 pixels[]; };
+void texel_at(ivec2 p, out vec4 c, out vec2 m, out float z) {
+    int blocks_x = (size.x + 7) / 8;
+    int i = ((p.y >> 3) * blocks_x + (p.x >> 3)) * 64 + (p.y & 7) * 8 + (p.x & 7);
+    uvec4 t = pixels[i];
+    c = vec4(unpackHalf2x16(t.x), unpackHalf2x16(t.y));
+    m = unpackHalf2x16(t.z);
+    z = unpackHalf2x16(t.w).x;
+}""",
+}
+
+GATHER = """
+float half_length(vec2 v) { return max(length(v), 0.5); }
+vec2 half_velocity(vec2 motion) {
+    vec2 q = motion * 0.5;
+    float n = length(q);
+    return n == 0.0 ? vec2(0.0) : q * (clamp(n, 0.5, float(K)) / max(n, 1e-6));
+}
+float cone(float dist, vec2 v) { return clamp(1.0 - dist / half_length(v), 0.0, 1.0); }
+float cylinder(float dist, vec2 v) {
+    float l = half_length(v);
+    return 1.0 - smoothstep(0.95 * l, 1.05 * l, dist);
+}
+float closer(float za, float zb) {
+    float d = za == zb ? 0.0 : zb - za;
+    return clamp(1.0 - d, 0.0, 1.0);
+}
+#ifdef PCG_JITTER  // the filters' own hash, common/random.glsl's rand
+uint pcg(uint v) {
+    uint s = v * 747796405u + 2891336453u;
+    uint w = ((s >> ((s >> 28u) + 4u)) ^ s) * 277803737u;
+    return (w >> 22u) ^ w;
+}
+float jitter(ivec2 p) {
+    return float(pcg(uint(p.x) ^ pcg(uint(p.y) ^ pcg(0u))) >> 8u) * (1.0 / 16777216.0) - 0.5;
+}
+#else
+float jitter(ivec2 p) {
+    uint h = uint(p.x) * 1973u + uint(p.y) * 9277u + 26699u;
+    h = (h ^ (h >> 16)) * 0x7feb352du;
+    h = (h ^ (h >> 15)) * 0x846ca68bu;
+    return float((h ^ (h >> 16)) & 0xffffu) / 65536.0 - 0.5;
+}
+#endif
+#ifdef RUNTIME_SAMPLES  // the count a uniform, as the filters take it: the loop cannot unroll
+uniform int samples;
+#else
+const int samples = SAMPLES;
+#endif
+
+vec4 gather_at(ivec2 x) {
+    vec4 cx; vec2 mx; float zx;
+    texel_at(x, cx, mx, zx);
+#ifdef CENTRE_ONLY
+    return cx + vec4(mx, zx, 0.0) * 1e-30;
+#else
+    vec2 vn = texelFetch(neighbor_max, x / K, 0).xy;
+    if (length(vn) < 0.5) return cx;
+    vec2 vx = half_velocity(mx);
+    float weight = 1.0 / half_length(vx);
+    vec4 sum = cx * weight;
+    float j = jitter(x);
+    vec2 centre = vec2(x) + 0.5;
+    for (int i = 0; i < samples; ++i) {
+        if (i == samples / 2) continue;
+        float t = -1.0 + 2.0 * (float(i) + j + 1.0) / float(samples + 1);
+        ivec2 y = clamp(ivec2(floor(centre + vn * t)), ivec2(0), size - 1);
+        vec4 cy; vec2 my; float zy;
+        texel_at(y, cy, my, zy);
+        vec2 vy = half_velocity(my);
+        float dist = length(vec2(y - x));
+        float a = closer(zx, zy) * cone(dist, vy) + closer(zy, zx) * cone(dist, vx)
+                + cylinder(dist, vy) * cylinder(dist, vx) * 2.0;
+        weight += a;
+        sum += a * cy;
+    }
+    return sum / weight;
+#endif
+}
+
+void main() {
+    ivec2 x = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(x, size))) return;
+    imageStore(result, x, gather_at(x));
+}
+"""
+
+
+FILTER_RUNS = [  # label, method, parameters
+    ("reconstruct_mcguire2012", "reconstruct_mcguire2012", {"k": K, "samples": SAMPLES}),
+    (
+        "reconstruct_mcguire2012 packed",
+        "reconstruct_mcguire2012",
+        {"k": K, "samples": SAMPLES, "packed_inputs": True},
+    ),
+    ("reconstruct_guertin2014", "reconstruct_guertin2014", {}),
+    ("reconstruct_guertin2014 packed", "reconstruct_guertin2014", {"packed_inputs": True}),
+    ("gather_coverage", "gather_coverage", {}),
+    ("gather_coverage, film_filter=0.5", "gather_coverage", {"film_filter": 0.5}),
+]
+
+
+def recorded_passes(ctx, frame, name: str, params: dict) -> list:
+    """The passes of one run of method `name`, as blurlab.methods.plans records them."""
+    m = method(name)
+    values = resolve_params(m, frame, params)
+    recorder = plans.Recorder()
+    with plans.recording(recorder):
+        m.run(ctx, frame, frame_textures(ctx, frame), values, "compute")
+    return list(zip(recorder.timing_names, recorder.runs, strict=True))
+
+
+def replay(passes: list) -> None:
+    for _, run in passes:
+        run.shader.run(run.inputs, run.outputs, run.uniforms, run.backend, run.group_per_texel)
+
+
+def specialized_reconstruct(ctx, name: str, packed: bool, run, runs: int) -> dict:
+    """The recorded reconstruct pass built with FIXED_SAMPLES (its sample count a constant, so
+    the tap loop can unroll) on the same textures: ms back to back, and whether the bits match."""
+    samples = int(run.uniforms["samples"])
+    defines = {"FIXED_SAMPLES": samples, **({"PACKED_INPUTS": 1} if packed else {})}
+    shader = ctx.shader_pass(f"passes/{name}.glsl", defines)
+    known = shader.reflect()["uniforms"]
+    uniforms = {key: value for key, value in run.uniforms.items() if key in known}
+    output = ctx.pooled(run.outputs["result"].shape)
+
+    def specialized():
+        shader.run(run.inputs, {"result": output}, uniforms, run.backend, run.group_per_texel)
+
+    def recorded():
+        run.shader.run(run.inputs, run.outputs, run.uniforms, run.backend, run.group_per_texel)
+
+    specialized()
+    recorded()
+    same = bool(np.array_equal(output.download(), run.outputs["result"].download()))
+    ms = statistics.median(back_to_back_ms(ctx, specialized) for _ in range(runs))
+    ctx.recycle(output)
+    return {"samples": samples, "back_to_back_ms": ms, "same_bits": same}
+
+
+def film_from_half(ctx, run, runs: int) -> dict:
+    """The recorded film pass reading the gather's image as RGBA16F instead of RGBA32F (the
+    read half of handing the film a half-float image): ms back to back, and the largest
+    difference that rounding makes."""
+    ((source_name, source),) = run.inputs.items()
+    half = ctx.upload(source.download().astype(np.float16))
+    inputs = {source_name: half}
+    output = ctx.pooled(run.outputs["result"].shape)
+
+    def film():
+        run.shader.run(inputs, {"result": output}, run.uniforms, run.backend, run.group_per_texel)
+
+    film()
+    difference = np.abs(output.download() - run.outputs["result"].download())
+    ms = statistics.median(back_to_back_ms(ctx, film) for _ in range(runs))
+    ctx.recycle(output)
+    return {"back_to_back_ms": ms, "largest_difference": float(difference.max())}
+
+
+def one_texel_dispatch_ms(ctx, runs: int) -> float:
+    """A pass over one texel (accumulate.comp), back to back: what any dispatch costs, with the
+    memory barrier every blurlab pass issues after it."""
+    source, total = ctx.empty((1, 1, 4)), ctx.empty((1, 1, 4))
+    shader = ctx.shader_pass("passes/accumulate.comp")
+
+    def dispatch():
+        shader.run({"color": source}, {"sum": total}, {"weight": 0.5})
+
+    return statistics.median(back_to_back_ms(ctx, dispatch) for _ in range(runs))
+
+
+def filter_passes(ctx, frame, runs: int) -> dict:
+    """Part 1 of the module's list: ms per pass alone and per prefix of the passes, back to back."""
+    runs = min(runs, 5)  # each back_to_back_ms is already a mean over 50 calls
+    record = {"one_texel_dispatch_ms": one_texel_dispatch_ms(ctx, runs)}
+    print(f"one-texel dispatch: {record['one_texel_dispatch_ms']:.4f} ms back to back", flush=True)
+    for label, name, params in FILTER_RUNS:
+        packed = params.get("packed_inputs", False)
+        passes = recorded_passes(ctx, frame, name, params)
+        alone = {
+            step: statistics.median(
+                back_to_back_ms(ctx, lambda p=[(step, run)]: replay(p)) for _ in range(runs)
+            )
+            for step, run in passes
+        }
+        prefixes = {
+            "+".join(step for step, _ in passes[:n]): statistics.median(
+                back_to_back_ms(ctx, lambda p=passes[:n]: replay(p)) for _ in range(runs)
+            )
+            for n in range(1, len(passes) + 1)
+        }
+        whole = prefixes["+".join(step for step, _ in passes)]
+        record[label] = {
+            "alone_ms": alone,
+            "prefixes_ms": prefixes,
+            "sum_alone_ms": sum(alone.values()),
+            "all_passes_ms": whole,
+            "boundaries_ms": whole - sum(alone.values()),
+        }
+        cells = ", ".join(f"{step} {ms:.4f}" for step, ms in alone.items())
+        print(f"{label}: alone {cells}; all {whole:.4f} ms back to back", flush=True)
+        if "film_filter" in params:
+            record[label]["film_from_half"] = film_from_half(ctx, passes[-1][1], runs)
+            print(f"  film reading RGBA16F: {record[label]['film_from_half']}", flush=True)
+        if name.startswith("reconstruct_"):
+            fixed = specialized_reconstruct(ctx, name, packed, passes[-1][1], runs)
+            record[label]["reconstruct_fixed_samples"] = fixed
+            print(f"  reconstruct with FIXED_SAMPLES: {fixed}", flush=True)
+    return record
+
+
+def shader_source(fetch: str, output_format: str, centre_only: bool, extra: tuple = ()) -> str:
+    head = [
+        "#version 450",
+        "layout(local_size_x = 16, local_size_y = 16) in;",
+        f"const int K = {K};",
+        f"const int SAMPLES = {SAMPLES};",
+        "uniform ivec2 size;",
+        "layout(binding = 2) uniform sampler2D neighbor_max;",
+        f"layout(binding = 0, {output_format}) uniform writeonly image2D result;",
+    ]
+    if centre_only:
+        head.append("#define CENTRE_ONLY")
+    head.extend(f"#define {name}" for name in extra)
+    return "\n".join(head) + FETCH[fetch] + GATHER
+
+
+def neighbor_max(motion: np.ndarray) -> np.ndarray:
+    """McGuire's TileMax then 3 x 3 NeighborMax of the half-vectors' directions, in NumPy: the
+    largest motion of each tile, then of its neighbours (the gather's direction)."""
+    height, width = motion.shape[:2]
+    rows, cols = -(-height // K), -(-width // K)
+    padded = np.zeros((rows * K, cols * K, 2), np.float32)
+    padded[:height, :width] = motion
+    blocks = padded.reshape(rows, K, cols, K, 2).transpose(0, 2, 1, 3, 4).reshape(rows, cols, -1, 2)
+    pick = np.linalg.norm(blocks, axis=-1).argmax(axis=-1)
+    tiles = np.take_along_axis(blocks, pick[..., None, None], axis=2)[:, :, 0] * 0.5
+    best = tiles.copy()
+    bordered = np.pad(tiles, ((1, 1), (1, 1), (0, 0)))
+    for dy in range(3):
+        for dx in range(3):
+            other = bordered[dy : dy + rows, dx : dx + cols]
+            longer = np.linalg.norm(other, axis=-1) > np.linalg.norm(best, axis=-1)
+            best[longer] = other[longer]
+    return best.astype(np.float32)
+
+
+def packed_words(color: np.ndarray, motion: np.ndarray, depth: np.ndarray) -> np.ndarray:
+    """(H, W, 4) uint32: colour as four halves, motion as two, depth as one (and a zero half),
+    the low half of each word first, as unpackHalf2x16 reads it."""
+    halves = np.concatenate(
+        [color, motion, depth[..., None], np.zeros_like(depth)[..., None]], axis=-1
+    ).astype(np.float16)
+    return halves.view(np.uint32)
+
+
+def blocks_of_8(words: np.ndarray) -> np.ndarray:
+    """The words in 8 x 8 blocks, row by row of blocks, pixels row by row in a block."""
+    height, width = words.shape[:2]
+    rows, cols = -(-height // 8), -(-width // 8)
+    padded = np.zeros((rows * 8, cols * 8, 4), np.uint32)
+    padded[:height, :width] = words
+    return padded.reshape(rows, 8, cols, 8, 4).transpose(0, 2, 1, 3, 4).copy()
+
+
+# name: (how the taps read, output format, centre only, extra defines)
+FETCH_VARIANTS = {
+    "two_textures": ("two_textures", "rgba32f", False, ()),
+    "one_texture": ("one_texture", "rgba32f", False, ()),
+    "buffer_rows": ("buffer_rows", "rgba32f", False, ()),
+    "buffer_blocks": ("buffer_blocks", "rgba32f", False, ()),
+    "two_textures_half_out": ("two_textures", "rgba16f", False, ()),
+    "two_textures_runtime_samples": ("two_textures", "rgba32f", False, ("RUNTIME_SAMPLES",)),
+    "two_textures_pcg": ("two_textures", "rgba32f", False, ("PCG_JITTER",)),
+    "two_textures_runtime_samples_pcg": (
+        "two_textures",
+        "rgba32f",
+        False,
+        ("RUNTIME_SAMPLES", "PCG_JITTER"),
+    ),
+    "centre_only": ("two_textures", "rgba32f", True, ()),
+    "centre_only_one_texture": ("one_texture", "rgba32f", True, ()),
+    "centre_only_buffer_rows": ("buffer_rows", "rgba32f", True, ()),
+}
+SAMPLER_UNITS = {"color": 0, "motion_depth": 1, "pixels": 0, "neighbor_max": 2}
+
+
+def fetch_sources(mgl, frame) -> tuple[dict, dict, np.ndarray]:
+    """teapot_pass's inputs rounded to halves as each fetch path reads them: moderngl textures
+    by sampler name, storage buffers by variant, and the NeighborMax grid."""
+    depth = np.where(np.isfinite(frame.depth), np.clip(frame.depth, 6.1035156e-5, 65504), np.inf)
+    color = np.clip(frame.color, -65504, 65504).astype(np.float16)
+    motion = np.clip(frame.motion, -65504, 65504).astype(np.float16)
+    words = packed_words(color, motion, depth.astype(np.float32))
+    motion_depth = np.concatenate(
+        [motion, depth.astype(np.float16)[..., None], np.zeros_like(motion[..., :1])], axis=-1
+    )
+    tiles = neighbor_max(motion.astype(np.float32))
+
+    def texture(array, dtype):
+        height, width, channels = array.shape
+        return mgl.texture((width, height), channels, array.tobytes(), dtype=dtype)
+
+    textures = {
+        "color": texture(color, "f2"),
+        "motion_depth": texture(motion_depth, "f2"),
+        "pixels": texture(words, "u4"),
+        "neighbor_max": texture(tiles, "f4"),
+    }
+    buffers = {
+        "buffer_rows": mgl.buffer(words.tobytes()),
+        "buffer_blocks": mgl.buffer(blocks_of_8(words).tobytes()),
+    }
+    return textures, buffers, tiles
+
+
+def dispatch_ms(ctx, mgl, dispatch, runs: int) -> tuple[float, float]:
+    """Medians of (one dispatch under its own timer, a dispatch of 50 issued back to back behind
+    busy work); on llvmpipe both are glFinish + wall clock of one dispatch."""
+    spin_up(dispatch)
+    alone, in_a_row = [], []
+    if ctx.info()["timer"] != "gl_time_elapsed":  # llvmpipe's timer queries read near zero
+        for _ in range(runs):
+            mgl.finish()
+            start = time.perf_counter()
+            dispatch()
+            mgl.finish()
+            alone.append((time.perf_counter() - start) * 1e3)
+        return statistics.median(alone), statistics.median(alone)
+    busy_target = mgl.texture((2048, 2048), 4, dtype="f4")
+    busy = mgl.compute_shader(
+        "#version 450\nlayout(local_size_x = 16, local_size_y = 16) in;\n"
+        "layout(binding = 0, rgba32f) uniform image2D busy;\n"
+        "void main() { ivec2 p = ivec2(gl_GlobalInvocationID.xy);"
+        " imageStore(busy, p, imageLoad(busy, p) * 0.5 + 1.0); }"
+    )
+    for _ in range(runs):
+        query = mgl.query(time=True)
+        with query:
+            dispatch()
+        alone.append(query.elapsed / 1e6)
+        busy_target.bind_to_image(0, read=True, write=True)
+        for _ in range(40):  # about 20 ms on the H100: the GPU is busy while the CPU issues
+            busy.run(128, 128)
+        query = mgl.query(time=True)
+        with query:
+            for _ in range(50):
+                dispatch()
+        in_a_row.append(query.elapsed / 1e6 / 50)
+    busy_target.release()
+    busy.release()
+    return statistics.median(alone), statistics.median(in_a_row)
+
+
+def fetch_paths(ctx, frame, runs: int) -> dict:
+    """Part 2 of the module's list."""
+    mgl = ctx.moderngl()
+    height, width = frame.color.shape[:2]
+    textures, buffers, tiles = fetch_sources(mgl, frame)
+    outputs = {"rgba32f": mgl.texture((width, height), 4, dtype="f4")}
+    outputs["rgba16f"] = mgl.texture((width, height), 4, dtype="f2")
+    groups = (-(-width // 16), -(-height // 16))
+    record: dict = {"k": K, "samples": SAMPLES, "variants": {}}
+    images = {}
+    for name, (fetch, output_format, centre_only, defines) in FETCH_VARIANTS.items():
+        program = mgl.compute_shader(shader_source(fetch, output_format, centre_only, defines))
+        program["size"] = (width, height)
+        if "RUNTIME_SAMPLES" in defines:
+            program["samples"] = SAMPLES
+        for sampler, unit in SAMPLER_UNITS.items():
+            if sampler in program:
+                program[sampler] = unit
+                textures[sampler].use(unit)
+        if fetch in buffers:
+            buffers[fetch].bind_to_storage_buffer(0)
+        output = outputs[output_format]
+
+        def dispatch(program=program, output=output):
+            output.bind_to_image(0, read=False, write=True)
+            program.run(*groups)
+            mgl.memory_barrier()
+
+        alone, in_a_row = dispatch_ms(ctx, mgl, dispatch, runs)
+        dtype = np.float32 if output_format == "rgba32f" else np.float16
+        image = np.frombuffer(output.read(), dtype).reshape(height, width, 4)
+        images[name] = image.astype(np.float32)
+        record["variants"][name] = {"one_dispatch_ms": alone, "back_to_back_ms": in_a_row}
+        print(f"{name:34s} one dispatch {alone:.4f} ms, back to back {in_a_row:.4f} ms", flush=True)
+        program.release()
+    for name, image in images.items():
+        if name.startswith("centre_only"):
+            continue
+        # The PCG variants jitter otherwise, so they are compared with each other.
+        base = images["two_textures_pcg" if "pcg" in name else "two_textures"]
+        difference = np.abs(image - base)
+        record["variants"][name]["largest_difference"] = float(difference.max())
+        record["variants"][name]["share_within_1e-3"] = float((difference <= 1e-3).mean())
+    record["tiles_with_taps"] = float((np.linalg.norm(tiles, axis=-1) >= 0.5).mean())
+    return record
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--device", default="auto")
+    parser.add_argument("--size", default="1920x1080")
+    parser.add_argument("--runs", type=int, default=20)
+    parser.add_argument("--parts", default="passes,fetch")
+    parser.add_argument("--json")
+    args = parser.parse_args()
+    size = tuple(int(v) for v in args.size.split("x"))
+    ctx = open_context(args.device)
+    parts = set(args.parts.split(","))
+    record = {**describe(ctx), "size": args.size, "runs": args.runs}
+    frame = ctx.render(bl.scenes.teapot_pass(), size)
+    if "passes" in parts:
+        record["passes"] = filter_passes(ctx, frame, args.runs)
+        save(args.json, record)  # before moderngl shares the context
+    if "fetch" in parts:
+        record["fetch"] = fetch_paths(ctx, frame, args.runs)
+    save(args.json, record)
+
+
+if __name__ == "__main__":
+    main()
