@@ -1,12 +1,17 @@
-"""Where the time of McGuire 2012's and Guertin 2014's filters goes on one context (issue 19:
-the filter goals), on one G-buffer of teapot_pass, in two parts.
+"""Where the time of the tile filters and of gather_coverage goes on one context (issue 19: the
+filter goals; issue 17: gather_coverage's time against guertin2014's), on one G-buffer of
+teapot_pass, in two parts.
 
-1. ``passes``: each filter (k = 20, S = 15 for McGuire; stored and packed inputs, docs/spec.md
-   §19) is run once with its passes recorded (blurlab.methods.plans.Recorder), then the
-   recorded passes are replayed: each pass alone, and the first one, two, three passes, each
-   set 50 times back to back behind busy work (common.back_to_back_ms), so that what a pass
-   costs on its own and what each pass boundary adds (the GPU drains before a dependent pass)
-   can be told apart.
+1. ``passes``: McGuire 2012 (k = 20, S = 15) and Guertin 2014, with stored and with packed
+   inputs (docs/spec.md §19), and gather_coverage without and with film_filter = 0.5 are each
+   run once with their passes recorded (blurlab.methods.plans.Recorder); the recorded passes
+   are then replayed, each pass alone and each prefix of them (the first pass, the first two,
+   ...), 50 times back to back behind busy work (common.back_to_back_ms). So what a pass costs
+   on its own and what the pass boundaries add (the GPU drains before a dependent pass) can be
+   told apart. Beside them: a pass over one texel, back to back (what any dispatch costs), and
+   gather_coverage's film pass reading the gather's image as RGBA16F instead of RGBA32F. (The
+   first version of this file, in git history, also timed the reconstruct passes built with
+   their sample count as a compile-time constant: docs/benchmarks.md gives what it measured.)
 2. ``fetch``: whether the reconstruct pass's taps, or its own reads and write, hold it. The
    same gather as McGuire's reconstruct (S taps along the tile's NeighborMax, jittered per
    pixel, McGuire's weights, an early exit under half a pixel), written once here over
@@ -194,30 +199,6 @@ def replay(passes: list) -> None:
         run.shader.run(run.inputs, run.outputs, run.uniforms, run.backend, run.group_per_texel)
 
 
-def specialized_reconstruct(ctx, name: str, packed: bool, run, runs: int) -> dict:
-    """The recorded reconstruct pass built with FIXED_SAMPLES (its sample count a constant, so
-    the tap loop can unroll) on the same textures: ms back to back, and whether the bits match."""
-    samples = int(run.uniforms["samples"])
-    defines = {"FIXED_SAMPLES": samples, **({"PACKED_INPUTS": 1} if packed else {})}
-    shader = ctx.shader_pass(f"passes/{name}.glsl", defines)
-    known = shader.reflect()["uniforms"]
-    uniforms = {key: value for key, value in run.uniforms.items() if key in known}
-    output = ctx.pooled(run.outputs["result"].shape)
-
-    def specialized():
-        shader.run(run.inputs, {"result": output}, uniforms, run.backend, run.group_per_texel)
-
-    def recorded():
-        run.shader.run(run.inputs, run.outputs, run.uniforms, run.backend, run.group_per_texel)
-
-    specialized()
-    recorded()
-    same = bool(np.array_equal(output.download(), run.outputs["result"].download()))
-    ms = statistics.median(back_to_back_ms(ctx, specialized) for _ in range(runs))
-    ctx.recycle(output)
-    return {"samples": samples, "back_to_back_ms": ms, "same_bits": same}
-
-
 def film_from_half(ctx, run, runs: int) -> dict:
     """The recorded film pass reading the gather's image as RGBA16F instead of RGBA32F (the
     read half of handing the film a half-float image): ms back to back, and the largest
@@ -255,7 +236,6 @@ def filter_passes(ctx, frame, runs: int) -> dict:
     record = {"one_texel_dispatch_ms": one_texel_dispatch_ms(ctx, runs)}
     print(f"one-texel dispatch: {record['one_texel_dispatch_ms']:.4f} ms back to back", flush=True)
     for label, name, params in FILTER_RUNS:
-        packed = params.get("packed_inputs", False)
         passes = recorded_passes(ctx, frame, name, params)
         alone = {
             step: statistics.median(
@@ -282,10 +262,6 @@ def filter_passes(ctx, frame, runs: int) -> dict:
         if "film_filter" in params:
             record[label]["film_from_half"] = film_from_half(ctx, passes[-1][1], runs)
             print(f"  film reading RGBA16F: {record[label]['film_from_half']}", flush=True)
-        if name.startswith("reconstruct_"):
-            fixed = specialized_reconstruct(ctx, name, packed, passes[-1][1], runs)
-            record[label]["reconstruct_fixed_samples"] = fixed
-            print(f"  reconstruct with FIXED_SAMPLES: {fixed}", flush=True)
     return record
 
 

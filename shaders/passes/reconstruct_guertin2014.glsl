@@ -41,11 +41,7 @@ vec4 reconstruct_at(ivec2 x) {
     vec2 vn = neighbor_max_of(tile);
     float vn_length = length(vn);
     if (exits_early(vn_length, early_exit)) return cx;  // nothing moves near here
-#ifdef FIXED_SAMPLES  // S known when the pass was built (adaptive_samples off): the loop unrolls
-    int n = FIXED_SAMPLES;
-#else
     int n = sample_count(vn_length, samples, adaptive_samples);
-#endif
 
     float kf = float(k);
     float zx;

@@ -11,11 +11,7 @@ vec4 reconstruct_at(ivec2 x) {
     ivec2 tile = lookup_tile(x, k, seed, jitter_tiles, tile_grid());
     vec2 vn = neighbor_max_of(tile);
     if (exits_early(length(vn), early_exit)) return cx;  // nothing moves near here
-#ifdef FIXED_SAMPLES  // S known when the pass was built (adaptive_samples off): the loop unrolls
-    int n = FIXED_SAMPLES;
-#else
     int n = sample_count(length(vn), samples, adaptive_samples);
-#endif
 
     float kf = float(k);
     float zx;
