@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import argparse
 import datetime
 import json
 import platform
@@ -49,15 +50,42 @@ def save(path: str | None, record: dict) -> None:
         Path(path).write_text(json.dumps(record, indent=2))
 
 
-def method_runs(names: list[str], film_filter: float = 0.0) -> list[tuple[str, str, dict]]:
+def method_runs(
+    names: list[str], film_filter: float = 0.0, configs: tuple = ()
+) -> list[tuple[str, str, dict]]:
     """(label, method, parameters) for each method at its defaults, and with film_filter > 0
     gather_coverage once more with its Gaussian film filter of that σ (docs/spec.md §17.6),
-    labelled with it: the row to compare against an antialiased reference."""
+    labelled with it: the row to compare against an antialiased reference. Then a row for each
+    of `configs`, (method, parameters) pairs (method_config), labelled with its parameters."""
     runs = [(name, name, {}) for name in names]
     if film_filter > 0:
         label = f"gather_coverage, film_filter={film_filter:g}"
         runs.append((label, "gather_coverage", {"film_filter": film_filter}))
+    for method, params in configs:
+        label = ", ".join([method] + [f"{key}={value}" for key, value in params.items()])
+        runs.append((label, method, params))
     return runs
+
+
+def method_config(text: str) -> tuple[str, dict]:
+    """--config's argument, METHOD:KEY=VALUE,KEY=VALUE (numbers, true or false), as (method,
+    parameters)."""
+    method, _, given = text.partition(":")
+    params = {}
+    for item in filter(None, given.split(",")):
+        key, equals, value = item.partition("=")
+        try:
+            if value in ("true", "false"):
+                params[key] = value == "true"
+            else:
+                params[key] = float(value) if "." in value or "e" in value else int(value)
+        except ValueError:
+            equals = ""
+        if not method or not key or not equals:
+            raise argparse.ArgumentTypeError(
+                f"{item!r} in {text!r}: give METHOD:KEY=VALUE,... with numbers, true or false"
+            )
+    return method, params
 
 
 def spin_up(call, seconds: float = SPIN_UP_S) -> None:

@@ -12,12 +12,15 @@ stays out of the ms columns and the chart.
     python benchmarks/engines.py [--device gpu] [--size 640x360] [--runs 5] [--json PATH]
         [--markdown PATH] [--chart PATH] [--scenes a,b,...] [--methods a,b,...]
         [--peers eevee] [--film-filter 0.5] [--references temporal,antialiased]
-        [--reference-samples auto]
+        [--reference-samples auto] [--config gather_coverage:samples=16 ...]
 
 --film-filter σ adds gather_coverage with its Gaussian film filter of σ px (docs/spec.md
 §17.6) as a row of its own, timed with its fourth pass. With --peers eevee too, EEVEE's row of
 each scene holds film_match_flat_db: its image against blurlab's sharp frame under that filter,
 PSNR where nothing moves (studies.peers.film_match); the Markdown lists it per scene.
+
+--config METHOD:KEY=VALUE,... (repeatable) adds a row of that method with those parameters,
+labelled with them: e.g. --config gather_coverage:samples=16,film_filter=0.5.
 
 --references temporal,antialiased also scores every row against the antialiased reference
 (docs/spec.md §11: sub-pixel positions too, the one-pixel box-filtered image that EEVEE's and
@@ -56,7 +59,15 @@ from blurlab.studies import peers
 from blurlab.twins import coverage as coverage_twin
 from blurlab.twins import film as film_twin
 
-from common import back_to_back_ms, describe, method_runs, open_context, save, spin_up
+from common import (
+    back_to_back_ms,
+    describe,
+    method_config,
+    method_runs,
+    open_context,
+    save,
+    spin_up,
+)
 
 BASELINES = ("reconstruct_guertin2014", "reconstruct_mcguire2012")
 EEVEE = "eevee (Blender)"
@@ -464,6 +475,13 @@ def main() -> None:
         default="auto",
         help="N of both references; auto (default): from each scene's motion, as sweeps do",
     )
+    parser.add_argument(
+        "--config",
+        type=method_config,
+        action="append",
+        default=[],
+        help="METHOD:KEY=VALUE,...: a row of that method with those parameters (repeatable)",
+    )
     parser.add_argument("--variants", action="store_true", help="gather_coverage's layouts only")
     parser.add_argument("--json", default=None)
     parser.add_argument("--markdown", default=None)
@@ -489,7 +507,7 @@ def main() -> None:
         save(args.json, record)
         return
     names = args.methods.split(",") if args.methods else engine_methods()
-    methods = method_runs(names, args.film_filter)
+    methods = method_runs(names, args.film_filter, args.config)
     if args.peers:
         peers.check_peers([args.peers])
     record = {**describe(ctx), "size": args.size, "runs": args.runs, "methods": names}

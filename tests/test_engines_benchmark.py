@@ -113,6 +113,21 @@ def test_reference_options_refuse_what_they_cannot_do():
             engines.reference_samples(bad)
 
 
+def test_config_rows_carry_their_parameters_and_bad_ones_are_refused():
+    config = engines.method_config("gather_coverage:samples=16,film_filter=0.5,seed=3")
+    assert config == ("gather_coverage", {"samples": 16, "film_filter": 0.5, "seed": 3})
+    assert engines.method_config("gather_coverage:packed_inputs=true")[1] == {"packed_inputs": True}
+    runs = engines.method_runs(["reconstruct_guertin2014"], 0.0, [config])
+    assert runs[-1] == (
+        "gather_coverage, samples=16, film_filter=0.5, seed=3",
+        "gather_coverage",
+        config[1],
+    )
+    for bad in ("gather_coverage:samples", "gather_coverage:samples=many", ":k=3", "x:=3"):
+        with pytest.raises(argparse.ArgumentTypeError, match="METHOD:KEY=VALUE"):
+            engines.method_config(bad)
+
+
 def test_a_scene_blender_refuses_renders_no_reference():
     def reference(antialias):
         raise AssertionError("a reference rendered for a scene Blender cannot reproduce")
