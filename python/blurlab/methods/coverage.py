@@ -18,7 +18,7 @@ from ..twins import coverage as twin
 from ..twins import film
 from .core import SEED, Method, Param, Pass, register, run_pass
 from .eevee import dilated_tiles
-from .tile_filter import TILE_FILTER_PARAMS, packed_inputs
+from .tile_filter import TILE_FILTER_PARAMS
 from .variants import PassVariants
 
 PARAMS = {
@@ -39,9 +39,6 @@ PARAMS = {
         "temporal reference; 0.5: Blender EEVEE's at its 1.5 px filter size)",
         0,
         4,
-    ),
-    "packed_color": Param(
-        False, bool, "read the colour as RGBA16F, packed once per frame (docs/spec.md §19)"
     ),
 }
 GATHER = Pass("gather", "passes/coverage_gather.glsl", ("samples", "soft_z", "exposure", "seed"))
@@ -113,13 +110,8 @@ def _run_coverage(ctx: Context, frame: Frame, inputs: dict, values: dict, backen
         length_steps=twin.TILE_LENGTH_STEPS,
     )
     gathered = ctx.pooled((*size, 4))
-    # §19's packed colour is sanitized and clamped already: the gather's own sanitizing of it
-    # changes nothing, so the same shader reads either.
-    color = (
-        packed_inputs(ctx, frame, inputs)["color"] if values["packed_color"] else inputs["color"]
-    )
     textures = {
-        "color": color,
+        "color": inputs["color"],
         "depth": inputs["depth"],
         "motion_sides": sides,
         "dilated": dilated,

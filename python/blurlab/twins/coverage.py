@@ -12,7 +12,7 @@ import numpy as np
 from .eevee import EARLY_EXIT, clamp_length, dilated_half_motions, lookup_tile
 from .film import film_filter as apply_film_filter
 from .hashing import rand
-from .inputs import pack_half_color, sanitize_color, sanitize_depth
+from .inputs import sanitize_color, sanitize_depth
 from .mcguire2012 import soft_depth_compare
 
 JITTER_SALTS = (0x510E527F, 0x9B05688C)  # shaders/passes/coverage_gather.glsl
@@ -106,14 +106,12 @@ def gather_coverage(
     exposure: float,
     seed: int,
     film_filter: float,
-    packed_color: bool,
     dilated: np.ndarray | None = None,
 ) -> np.ndarray:
     """§17.6: (H, W, C) float64 blurred color. `max_blur` is a percentage of the height;
     `film_filter` the σ (px) of the Gaussian film filter on the result, 0 for none; `dilated`
-    is the dilated tile grid if already computed; `packed_color` reads the colour as §19 packs
-    it (half floats)."""
-    color = pack_half_color(color) if packed_color else sanitize_color(color)
+    is the dilated tile grid if already computed."""
+    color = sanitize_color(color)
     depth = sanitize_depth(depth)
     h, w = depth.shape
     s = tile_size(h, tile_percent)

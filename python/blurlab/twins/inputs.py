@@ -42,17 +42,12 @@ def _half(x: np.ndarray) -> np.ndarray:
     return np.asarray(x, np.float32).astype(np.float16).astype(np.float64)
 
 
-def pack_half_color(color) -> np.ndarray:
-    """The colour as the packed colour texture holds it: sanitized, clamped to ±HALF_MAX, in
-    float16 (one rounding: frame arrays are float32, where the bounds are exact)."""
-    return _half(np.clip(sanitize_color(color), -HALF_MAX, HALF_MAX))
-
-
 def pack_half(color, depth, motion) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(color, depth, motion) as the packed textures hold them: sanitized, clamped to
     ±HALF_MAX (depth to [HALF_MIN_NORMAL, HALF_MAX] where finite, +inf kept), in float16."""
+    c = np.clip(sanitize_color(color), -HALF_MAX, HALF_MAX)
     m = np.clip(sanitize_motion(motion), -HALF_MAX, HALF_MAX)
     z = sanitize_depth(depth)
     z = np.where(np.isfinite(z), np.clip(z, HALF_MIN_NORMAL, HALF_MAX), z)
     # Frame arrays are float32 and the clamps' bounds are exact there: one rounding, to half.
-    return pack_half_color(color), _half(z), _half(m)
+    return _half(c), _half(z), _half(m)
