@@ -1,6 +1,6 @@
 """Where the time of the tile filters and of gather_coverage goes on one context (issue 19: the
 filter goals; issue 17: gather_coverage's time against guertin2014's), on one G-buffer of
-teapot_pass, in two parts.
+teapot_pass, in three parts.
 
 1. ``passes``: McGuire 2012 (k = 20, S = 15) and Guertin 2014, with stored and with packed
    inputs (docs/spec.md §19), and gather_coverage without and with film_filter = 0.5 are each
@@ -14,8 +14,9 @@ teapot_pass, in two parts.
    their sample count as a compile-time constant: docs/benchmarks.md gives what it measured.)
 2. ``fetch``: whether the reconstruct pass's taps, or its own reads and write, hold it. The
    same gather as McGuire's reconstruct (S taps along the tile's NeighborMax, jittered per
-   pixel, McGuire's weights, an early exit under half a pixel), written once here over
-   teapot_pass's inputs rounded to halves, read through:
+   pixel, McGuire's weights, an early exit at McGuire's |vN| <= 0.51 px), written once here over
+   teapot_pass's inputs rounded to halves, with a NeighborMax grid computed in NumPy from
+   the unclamped half-motions (so |vN| is up to 3.5x k on this scene), read through:
    - ``two_textures``: colour and motion + depth from two RGBA16F textures (today's packed path);
    - ``one_texture``: one RGBA32UI texel a pixel (colour as four halves, motion as two, depth as
      one; unpackHalf2x16), one fetch a tap;
@@ -25,33 +26,45 @@ teapot_pass, in two parts.
    - ``two_textures_half_out``: today's path writing RGBA16F instead of RGBA32F;
    - ``two_textures_runtime_samples``, ``_pcg``: the sample count a uniform (the loop cannot
      unroll) and the filters' own hash for the jitter, as the real pass has them;
+   - ``two_textures_no_jitter``, ``buffer_rows_no_jitter``: every pixel's taps at the same
+     offsets along vN, so neighbouring invocations read neighbouring texels;
    - ``centre_only`` (and ``_one_texture``, ``_buffer_rows``): each pixel's own texels read and
      its result written, no tap: the pass's floor.
-   Every variant with taps must give the same image as ``two_textures`` (the record says so).
-   moderngl on blurlab's context.
+   Every variant with taps must give the same image as its kin (``two_textures``, or the one
+   with the same hash or jitter; the record says so). moderngl on blurlab's context.
+   ``fetch_clamped`` runs the same variants over McGuire's own NeighborMax (half-velocities
+   clamped to k, from a blur with packed inputs).
+3. ``dispatch``: McGuire's packed reconstruct pass dispatched by blurlab (the recorded pass
+   replayed), the same shader source compiled and dispatched by moderngl on the same textures,
+   and part 2's model over blurlab's NeighborMax: whether blurlab's binding and dispatch, or
+   the shader, makes the difference.
 
 Medians over --runs: on a GPU by GL timer queries (50 dispatches back to back behind busy work,
 and one dispatch under its own timer); on llvmpipe by glFinish and a wall clock, which ranks
 nothing.
 
-    python benchmarks/filter_time.py [--device gpu] [--size 1920x1080] [--parts passes,fetch]
-        [--runs 20] [--json f]
+    python benchmarks/filter_time.py [--device gpu] [--size 1920x1080]
+        [--parts passes,fetch,fetch_clamped,dispatch] [--runs 20] [--json f]
 """
 
 from __future__ import annotations
 
 import argparse
+import re
 import statistics
 import time
+from pathlib import Path
 
 import numpy as np
 
 import blurlab as bl
+from blurlab._paths import shader_dir
 from blurlab.methods import plans
 from blurlab.methods.core import frame_textures, method, resolve_params
 
 from common import back_to_back_ms, describe, open_context, save, spin_up
 
+PARTS = ("passes", "fetch", "fetch_clamped", "dispatch")
 K = 20  # McGuire 2012's tile side at the issue's configuration
 SAMPLES = 15
 
@@ -139,11 +152,15 @@ vec4 gather_at(ivec2 x) {
     return cx + vec4(mx, zx, 0.0) * 1e-30;
 #else
     vec2 vn = texelFetch(neighbor_max, x / K, 0).xy;
-    if (length(vn) < 0.5) return cx;
+    if (length(vn) <= 0.5 + 0.01) return cx;  // McGuire's test (common/filter_options.glsl)
     vec2 vx = half_velocity(mx);
     float weight = 1.0 / half_length(vx);
     vec4 sum = cx * weight;
+#ifdef NO_JITTER
+    float j = 0.0;
+#else
     float j = jitter(x);
+#endif
     vec2 centre = vec2(x) + 0.5;
     for (int i = 0; i < samples; ++i) {
         if (i == samples / 2) continue;
@@ -334,6 +351,8 @@ FETCH_VARIANTS = {
         False,
         ("RUNTIME_SAMPLES", "PCG_JITTER"),
     ),
+    "two_textures_no_jitter": ("two_textures", "rgba32f", False, ("NO_JITTER",)),
+    "buffer_rows_no_jitter": ("buffer_rows", "rgba32f", False, ("NO_JITTER",)),
     "centre_only": ("two_textures", "rgba32f", True, ()),
     "centre_only_one_texture": ("one_texture", "rgba32f", True, ()),
     "centre_only_buffer_rows": ("buffer_rows", "rgba32f", True, ()),
@@ -341,9 +360,10 @@ FETCH_VARIANTS = {
 SAMPLER_UNITS = {"color": 0, "motion_depth": 1, "pixels": 0, "neighbor_max": 2}
 
 
-def fetch_sources(mgl, frame) -> tuple[dict, dict, np.ndarray]:
+def fetch_sources(mgl, frame, tiles=None) -> tuple[dict, dict, np.ndarray]:
     """teapot_pass's inputs rounded to halves as each fetch path reads them: moderngl textures
-    by sampler name, storage buffers by variant, and the NeighborMax grid."""
+    by sampler name, storage buffers by variant, and the NeighborMax grid (`tiles`, or
+    neighbor_max's)."""
     depth = np.where(np.isfinite(frame.depth), np.clip(frame.depth, 6.1035156e-5, 65504), np.inf)
     color = np.clip(frame.color, -65504, 65504).astype(np.float16)
     motion = np.clip(frame.motion, -65504, 65504).astype(np.float16)
@@ -351,7 +371,7 @@ def fetch_sources(mgl, frame) -> tuple[dict, dict, np.ndarray]:
     motion_depth = np.concatenate(
         [motion, depth.astype(np.float16)[..., None], np.zeros_like(motion[..., :1])], axis=-1
     )
-    tiles = neighbor_max(motion.astype(np.float32))
+    tiles = neighbor_max(motion.astype(np.float32)) if tiles is None else tiles
 
     def texture(array, dtype):
         height, width, channels = array.shape
@@ -408,11 +428,11 @@ def dispatch_ms(ctx, mgl, dispatch, runs: int) -> tuple[float, float]:
     return statistics.median(alone), statistics.median(in_a_row)
 
 
-def fetch_paths(ctx, frame, runs: int) -> dict:
-    """Part 2 of the module's list."""
+def fetch_paths(ctx, frame, runs: int, tiles=None) -> dict:
+    """Part 2 of the module's list (`tiles`: the NeighborMax grid, default neighbor_max's)."""
     mgl = ctx.moderngl()
     height, width = frame.color.shape[:2]
-    textures, buffers, tiles = fetch_sources(mgl, frame)
+    textures, buffers, tiles = fetch_sources(mgl, frame, tiles)
     outputs = {"rgba32f": mgl.texture((width, height), 4, dtype="f4")}
     outputs["rgba16f"] = mgl.texture((width, height), 4, dtype="f2")
     groups = (-(-width // 16), -(-height // 16))
@@ -446,12 +466,143 @@ def fetch_paths(ctx, frame, runs: int) -> dict:
     for name, image in images.items():
         if name.startswith("centre_only"):
             continue
-        # The PCG variants jitter otherwise, so they are compared with each other.
-        base = images["two_textures_pcg" if "pcg" in name else "two_textures"]
+        # The PCG and unjittered variants jitter otherwise: each is compared with its kin.
+        if "no_jitter" in name:
+            base = images["two_textures_no_jitter"]
+        else:
+            base = images["two_textures_pcg" if "pcg" in name else "two_textures"]
         difference = np.abs(image - base)
         record["variants"][name]["largest_difference"] = float(difference.max())
         record["variants"][name]["share_within_1e-3"] = float((difference <= 1e-3).mean())
-    record["tiles_with_taps"] = float((np.linalg.norm(tiles, axis=-1) >= 0.5).mean())
+    record["tiles_with_taps"] = float((np.linalg.norm(tiles, axis=-1) > 0.5 + 0.01).mean())
+    return record
+
+
+def expanded_source(path: str, defines: dict) -> str:
+    """A blurlab shader with its includes expanded once each and `defines` after #version, as
+    the C++ core builds it (src/gl/program.cpp), for moderngl to compile."""
+    root = shader_dir()
+    seen: set = set()
+
+    def expand(file: Path) -> list[str]:
+        lines = []
+        for line in file.read_text().splitlines():
+            include = re.fullmatch(r'\s*#\s*include\s+"([^"]+)"\s*', line)
+            if include is None:
+                lines.append(line)
+                continue
+            target = file.parent / include[1]
+            target = target if target.is_file() else root / include[1]
+            if target.resolve() not in seen:
+                seen.add(target.resolve())
+                lines += expand(target)
+        return lines
+
+    lines = expand(root / path)
+    head = [f"#define {name} {value}" for name, value in defines.items()]
+    return "\n".join([lines[0], *head, *lines[1:]])
+
+
+CONSTANTS = {  # label: uniforms made constants (part 3)
+    "k constant": ("k",),
+    "S constant": ("samples",),
+    "soft_z constant": ("soft_z",),
+    "exposure constant": ("exposure",),
+    "no overflow branch": (),
+    "all four constant, no overflow branch": ("k", "samples", "soft_z", "exposure"),
+}
+
+
+def blurlab_or_moderngl(ctx, frame, runs: int) -> dict:
+    """Part 3 of the module's list: McGuire's packed reconstruct pass three ways on the same
+    textures: dispatched by blurlab (the recorded pass replayed), the same shader source
+    compiled and dispatched by moderngl, and part 2's model gather (two_textures) over
+    blurlab's own NeighborMax. Where the first two differ, the difference lies in how blurlab
+    binds and dispatches; where the last two do, in the shader."""
+    mgl = ctx.moderngl()
+    height, width = frame.color.shape[:2]
+    passes = recorded_passes(ctx, frame, FILTER_RUNS[1][1], FILTER_RUNS[1][2])
+    _, run = passes[-1]
+    replay(passes)
+    blurlab_output = run.outputs["result"]
+    groups = (-(-width // 16), -(-height // 16))
+    wrapped = {
+        name: mgl.external_texture(texture.glo, texture.shape[1::-1], 4, 0, "f4")
+        for name, texture in run.inputs.items()
+    }
+    output = mgl.texture((width, height), 4, dtype="f4")
+    record: dict = {}
+    images: dict = {}
+
+    def timed(name, dispatch, read):
+        one, in_a_row = dispatch_ms(ctx, mgl, dispatch, runs)
+        mgl.finish()
+        images[name] = read()
+        record[name] = {"one_dispatch_ms": one, "back_to_back_ms": in_a_row}
+        print(f"{name:34s} one dispatch {one:.4f} ms, back to back {in_a_row:.4f} ms", flush=True)
+
+    def read_output():
+        return np.frombuffer(output.read(), np.float32).reshape(height, width, 4)
+
+    timed("blurlab", lambda: replay([passes[-1]]), blurlab_output.download)
+    source = expanded_source(
+        "passes/reconstruct_mcguire2012.glsl", {"STAGE_COMPUTE": 1, "PACKED_INPUTS": 1}
+    )
+    program = mgl.compute_shader(source)
+    for name, value in run.uniforms.items():
+        program[name] = value
+    units = {"color": 0, "motion_depth": 1, "neighbor_max": 3}
+
+    def dispatch_real():
+        for name, unit in units.items():
+            wrapped[name].use(unit)
+            program[name] = unit
+        output.bind_to_image(0, read=False, write=True)
+        program.run(*groups)
+        mgl.memory_barrier()
+
+    timed("same shader, moderngl", dispatch_real, read_output)
+    # The same source with one thing at a time made a compile-time constant (its value this
+    # run's), or the overflow branch of half_velocity taken out: which of them the compiler
+    # turns into the 0.009 ms between the real pass and the model.
+    for label, names in CONSTANTS.items():
+        program.release()
+        variant = source
+        for name in names:
+            kind = "int" if name in ("k", "samples") else "float"
+            value = run.uniforms[name]
+            literal = str(int(value)) if kind == "int" else repr(float(value))
+            declared = f"const {kind} {name} = {literal};"
+            variant = variant.replace(f"uniform {kind} {name};", declared)
+        if "no overflow branch" in label:
+            variant = variant.replace("if (isinf(n)) {", "if (false) {")
+        program = mgl.compute_shader(variant)
+        for name, value in run.uniforms.items():
+            if name in program:
+                program[name] = value
+        timed(f"same shader, {label}", dispatch_real, read_output)
+    record["constants_same_bits"] = {
+        label: bool(np.array_equal(images["blurlab"], images[f"same shader, {label}"]))
+        for label in CONSTANTS
+    }
+    model = mgl.compute_shader(shader_source("two_textures", "rgba32f", False))
+    model["size"] = (width, height)
+    model_units = {"color": 0, "motion_depth": 1, "neighbor_max": 2}
+
+    def dispatch_model():
+        for name, unit in model_units.items():
+            wrapped[name].use(unit)
+            model[name] = unit
+        output.bind_to_image(0, read=False, write=True)
+        model.run(*groups)
+        mgl.memory_barrier()
+
+    timed("model gather, blurlab's NeighborMax", dispatch_model, read_output)
+    same = np.array_equal(images["blurlab"], images["same shader, moderngl"])
+    record["same_shader_same_bits"] = bool(same)
+    program.release()
+    model.release()
+    output.release()
     return record
 
 
@@ -460,12 +611,14 @@ def main() -> None:
     parser.add_argument("--device", default="auto")
     parser.add_argument("--size", default="1920x1080")
     parser.add_argument("--runs", type=int, default=20)
-    parser.add_argument("--parts", default="passes,fetch")
+    parser.add_argument("--parts", default=",".join(PARTS))
     parser.add_argument("--json")
     args = parser.parse_args()
     size = tuple(int(v) for v in args.size.split("x"))
     ctx = open_context(args.device)
     parts = set(args.parts.split(","))
+    if parts - set(PARTS):
+        parser.error(f"unknown parts {sorted(parts - set(PARTS))}; choose from {PARTS}")
     record = {**describe(ctx), "size": args.size, "runs": args.runs}
     frame = ctx.render(bl.scenes.teapot_pass(), size)
     if "passes" in parts:
@@ -473,6 +626,12 @@ def main() -> None:
         save(args.json, record)  # before moderngl shares the context
     if "fetch" in parts:
         record["fetch"] = fetch_paths(ctx, frame, args.runs)
+    if "fetch_clamped" in parts:  # part 2 over McGuire's own NeighborMax (|vN| <= k)
+        result = bl.blur(ctx, frame, FILTER_RUNS[1][1], **FILTER_RUNS[1][2])
+        tiles = result.textures["neighbor_max"].download()
+        record["fetch_clamped"] = fetch_paths(ctx, frame, args.runs, tiles)
+    if "dispatch" in parts:
+        record["dispatch"] = blurlab_or_moderngl(ctx, frame, args.runs)
     save(args.json, record)
 
 

@@ -1,5 +1,6 @@
 """benchmarks/filter_time.py times what it says: its replayed passes make the method's own image,
-and every fetch path of its gather reads the same texels (on llvmpipe, tiny images)."""
+every fetch path of its gather reads the same texels, and the reconstruct shader it expands for
+moderngl (with or without constants) gives blurlab's bits (on llvmpipe, tiny images)."""
 
 from __future__ import annotations
 
@@ -45,7 +46,8 @@ def test_fetch_paths_read_the_same_texels(ctx, frame):
     record = filter_time.fetch_paths(ctx, frame, runs=1)
     variants = record["variants"]
     assert set(variants) == set(filter_time.FETCH_VARIANTS)
-    for name in ("one_texture", "buffer_rows", "buffer_blocks"):  # the same code but the fetch
+    # Only the fetch differs from their kin's: the same texels, the same bits.
+    for name in ("one_texture", "buffer_rows", "buffer_blocks", "buffer_rows_no_jitter"):
         assert variants[name]["largest_difference"] == 0.0, name
     # A loop bound the compiler cannot see may round a tap's position otherwise (on the H100,
     # one pixel of the 2.07 million at 1080p changed).
@@ -54,3 +56,9 @@ def test_fetch_paths_read_the_same_texels(ctx, frame):
     # RGBA16F output: rounding only, within half a unit in the last place of a half float.
     assert 0.0 < variants["two_textures_half_out"]["largest_difference"] < 2e-3
     assert 0.0 < record["tiles_with_taps"] <= 1.0
+
+
+def test_the_real_pass_through_moderngl_gives_blurlabs_bits(ctx, frame):
+    record = filter_time.blurlab_or_moderngl(ctx, frame, runs=1)
+    assert record["same_shader_same_bits"]
+    assert record["constants_same_bits"] == {label: True for label in filter_time.CONSTANTS}
