@@ -61,6 +61,7 @@ import blurlab as bl
 from blurlab._paths import shader_dir
 from blurlab.methods import plans
 from blurlab.methods.core import frame_textures, method, resolve_params
+from blurlab.methods.tile_filter import variant_defines
 
 from common import back_to_back_ms, describe, open_context, save, spin_up
 
@@ -503,14 +504,22 @@ def expanded_source(path: str, defines: dict) -> str:
     return "\n".join([lines[0], *head, *lines[1:]])
 
 
-CONSTANTS = {  # label: uniforms made constants (part 3)
+# Part 3's variants of the real source. Since the fifth stop the options are #defines
+# (tile_filter.variant_defines); "the options as uniforms" puts back how they were before, which
+# the H100 measured at 15 % of the pass. The rest make one uniform at a time a constant (its
+# value this run's) or take half_velocity's overflow branch out.
+OPTIONS_AS_UNIFORMS = "the options as uniforms (before)"
+CONSTANTS = {  # label: uniforms made constants
+    OPTIONS_AS_UNIFORMS: (),
     "k constant": ("k",),
     "S constant": ("samples",),
     "soft_z constant": ("soft_z",),
     "exposure constant": ("exposure",),
+    "early_exit constant": ("early_exit",),
     "no overflow branch": (),
-    "all four constant, no overflow branch": ("k", "samples", "soft_z", "exposure"),
+    "everything constant, no overflow branch": ("k", "samples", "soft_z", "exposure", "early_exit"),
 }
+UNIFORM_TYPES = {"k": "int", "samples": "int"}  # the others are floats
 
 
 def blurlab_or_moderngl(ctx, frame, runs: int) -> dict:
@@ -521,7 +530,7 @@ def blurlab_or_moderngl(ctx, frame, runs: int) -> dict:
     binds and dispatches; where the last two do, in the shader."""
     mgl = ctx.moderngl()
     height, width = frame.color.shape[:2]
-    passes = recorded_passes(ctx, frame, FILTER_RUNS[1][1], FILTER_RUNS[1][2])
+    passes = recorded_passes(ctx, frame, *FILTER_RUNS[1][1:])
     _, run = passes[-1]
     replay(passes)
     blurlab_output = run.outputs["result"]
@@ -545,9 +554,9 @@ def blurlab_or_moderngl(ctx, frame, runs: int) -> dict:
         return np.frombuffer(output.read(), np.float32).reshape(height, width, 4)
 
     timed("blurlab", lambda: replay([passes[-1]]), blurlab_output.download)
-    source = expanded_source(
-        "passes/reconstruct_mcguire2012.glsl", {"STAGE_COMPUTE": 1, "PACKED_INPUTS": 1}
-    )
+    filter_name, params = FILTER_RUNS[1][1:]
+    defines = variant_defines(resolve_params(method(filter_name), frame, params))
+    source = expanded_source(f"passes/{filter_name}.glsl", {"STAGE_COMPUTE": 1, **defines})
     program = mgl.compute_shader(source)
     for name, value in run.uniforms.items():
         program[name] = value
@@ -562,24 +571,30 @@ def blurlab_or_moderngl(ctx, frame, runs: int) -> dict:
         mgl.memory_barrier()
 
     timed("same shader, moderngl", dispatch_real, read_output)
-    # The same source with one thing at a time made a compile-time constant (its value this
-    # run's), or the overflow branch of half_velocity taken out: which of them the compiler
-    # turns into the 0.009 ms between the real pass and the model.
     for label, names in CONSTANTS.items():
         program.release()
         variant = source
+        if label == OPTIONS_AS_UNIFORMS:
+            for option in ("jitter_tiles", "adaptive_samples"):
+                declared = f"const bool {option} = {option.upper()} != 0;"
+                assert declared in variant, f"{label}: the shader declares no {declared}"
+                variant = variant.replace(declared, f"uniform bool {option};")
         for name in names:
-            kind = "int" if name in ("k", "samples") else "float"
+            kind = UNIFORM_TYPES.get(name, "float")
             value = run.uniforms[name]
             literal = str(int(value)) if kind == "int" else repr(float(value))
-            declared = f"const {kind} {name} = {literal};"
-            variant = variant.replace(f"uniform {kind} {name};", declared)
+            uniform = f"uniform {kind} {name};"
+            assert uniform in variant, f"{label}: the shader declares no {uniform}"
+            variant = variant.replace(uniform, f"const {kind} {name} = {literal};")
         if "no overflow branch" in label:
             variant = variant.replace("if (isinf(n)) {", "if (false) {")
         program = mgl.compute_shader(variant)
         for name, value in run.uniforms.items():
             if name in program:
                 program[name] = value
+        for option in ("jitter_tiles", "adaptive_samples"):
+            if option in program:  # the options as uniforms, at this run's values
+                program[option] = defines[option.upper()]
         timed(f"same shader, {label}", dispatch_real, read_output)
     record["constants_same_bits"] = {
         label: bool(np.array_equal(images["blurlab"], images[f"same shader, {label}"]))

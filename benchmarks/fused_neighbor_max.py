@@ -18,7 +18,7 @@ import statistics
 import blurlab as bl
 from blurlab.methods import guertin2014, mcguire2012
 from blurlab.methods.core import choice_defines, pass_uniforms
-from blurlab.methods.tile_filter import NEIGHBOR_MAX
+from blurlab.methods.tile_filter import NEIGHBOR_MAX, variant_defines
 
 from common import describe, open_context, save
 
@@ -33,7 +33,7 @@ def both_ways(ctx, frame, name: str) -> dict:
     step, diagonal_reach = FILTERS[name]
     method = bl.method(name)
     result = bl.blur(ctx, frame, name, k=20, samples=15)
-    defines = choice_defines(method.params, step.params)
+    defines = choice_defines(method.params, step.params) | variant_defines(result.params)
     uniforms = pass_uniforms(method.params, result.params, step.params)
     gbuffer = {"color": frame.color, "depth": frame.depth, "motion": frame.motion}
     gbuffer = {key: ctx.upload(value) for key, value in gbuffer.items()}

@@ -11,6 +11,7 @@ from conftest import random_frame
 import blurlab as bl
 from blurlab.methods import guertin2014, mcguire2012
 from blurlab.methods.core import choice_defines, pass_uniforms
+from blurlab.methods.tile_filter import variant_defines
 from blurlab.twins import mcguire2012 as ref
 
 
@@ -56,7 +57,7 @@ def run_reconstruct(ctx, name, frame, values, tiles, fused):
     """The method's compute reconstruct pass on `frame`: reading the NeighborMax grid of the
     separate pass, or (`fused`) computing it from `tiles` in its prologue. (color, grid)."""
     method, step = bl.method(name), FILTERS[name].RECONSTRUCT
-    defines = choice_defines(method.params, step.params)
+    defines = choice_defines(method.params, step.params) | variant_defines(values)
     uniforms = pass_uniforms(method.params, values, step.params)
     height, width = frame.color.shape[:2]
     inputs = {"color": frame.color, "depth": frame.depth, "motion": frame.motion}

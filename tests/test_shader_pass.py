@@ -12,6 +12,7 @@ import pytest
 import blurlab as bl
 from blurlab.methods import mcguire2012
 from blurlab.methods.core import choice_defines, pass_uniforms
+from blurlab.methods.tile_filter import variant_defines
 
 W, H, K = 53, 37, 8  # sizes that are no multiple of any work-group size
 GRID = (-(-H // K), -(-W // K))
@@ -22,14 +23,15 @@ FILTER_UNIFORMS = {
     "soft_z",
     "exposure",
     "seed",
-    "jitter_tiles",
-    "adaptive_samples",
     "early_exit",
 }
 
 
 def test_reflect_lists_what_a_pass_takes(ctx):
-    p = ctx.shader_pass("passes/reconstruct_mcguire2012.glsl")
+    # The options that pick a variant are #defines (tile_filter.variant_defines), not uniforms.
+    p = ctx.shader_pass(
+        "passes/reconstruct_mcguire2012.glsl", {"JITTER_TILES": 0, "ADAPTIVE_SAMPLES": 1}
+    )
     compute = p.reflect("compute")
     assert compute["samplers"] == {
         name: {"type": "sampler2D", "unit": unit} for unit, name in enumerate(FILTER_INPUTS)
@@ -50,8 +52,11 @@ def test_a_method_pass_takes_its_parameters_under_their_own_names(ctx):
     """The uniforms a method's reconstruct pass declares are exactly the parameters it hands
     over (blurlab/methods/mcguire2012.py), named as in Python."""
 
-    uniforms = ctx.shader_pass(mcguire2012.RECONSTRUCT.shader).reflect()["uniforms"]
-    assert set(uniforms) == set(mcguire2012.RECONSTRUCT.params)
+    values = {"jitter_tiles": 0, "adaptive_samples": 0, "packed_inputs": False}
+    shader = ctx.shader_pass(mcguire2012.RECONSTRUCT.shader, variant_defines(values))
+    assert set(shader.reflect()["uniforms"]) == set(mcguire2012.RECONSTRUCT.params)
+    with pytest.raises(bl.ShaderError, match="JITTER_TILES and ADAPTIVE_SAMPLES"):
+        ctx.shader_pass(mcguire2012.RECONSTRUCT.shader).reflect()
 
 
 def test_read_modify_write_output_accumulates(ctx, rng):

@@ -40,8 +40,14 @@ uniform int samples;
 uniform float soft_z;
 uniform float exposure;
 uniform uint seed;
-uniform bool jitter_tiles;  // options, common/filter_options.glsl
-uniform bool adaptive_samples;
+// The options of common/filter_options.glsl that pick the pass's variant are #defines, 0 or 1
+// (blurlab.methods.tile_filter.variant_defines), not uniforms: the jittered lookup's code, compiled
+// in and switched off by a uniform, cost the H100 15 % of the reconstruct pass.
+#if !defined(JITTER_TILES) || !defined(ADAPTIVE_SAMPLES)
+#error "define JITTER_TILES and ADAPTIVE_SAMPLES (0 or 1): blurlab.methods.tile_filter.variant_defines"
+#endif
+const bool jitter_tiles = JITTER_TILES != 0;
+const bool adaptive_samples = ADAPTIVE_SAMPLES != 0;
 uniform float early_exit;  // pixels; 0: only the §3.4 test
 
 #ifndef FUSED_NEIGHBOR_MAX

@@ -83,13 +83,26 @@ FILTER_OPTIONS = {
         False, bool, "read colour, motion and depth as half floats packed once per frame"
     ),
 }
-# Options that pick a shader variant (a #define), not a uniform of the same name.
-VARIANT_OPTIONS = ("packed_inputs",)
+# Options that pick a shader variant (a #define), not a uniform of the same name. The two
+# filter options were uniforms until the H100 showed that the jittered lookup's code, compiled
+# in and switched off by a uniform, cost 15 % of the reconstruct pass (docs/benchmarks.md,
+# "Where the filters' time goes"); as #defines each combination is a program of its own.
+VARIANT_OPTIONS = ("packed_inputs", "jitter_tiles", "adaptive_samples")
 
 
 def uniform_names(params) -> tuple[str, ...]:
     """The parameters among `params` that a reconstruct pass takes as uniforms."""
     return tuple(key for key in params if key not in VARIANT_OPTIONS)
+
+
+def variant_defines(values: dict) -> dict[str, int]:
+    """The reconstruct pass's #defines for the VARIANT_OPTIONS among validated `values`
+    (shaders/common/tile_filter.glsl)."""
+    defines = {"JITTER_TILES": int(values["jitter_tiles"])}
+    defines["ADAPTIVE_SAMPLES"] = int(values["adaptive_samples"])
+    if values["packed_inputs"]:
+        defines["PACKED_INPUTS"] = 1
+    return defines
 
 
 # The sweep grid every filter shares: each option gets one point beside the default
@@ -223,7 +236,6 @@ def run_filter(params: dict[str, Param], reconstruct: Pass, diagonal_reach: bool
         )
         result = ctx.pooled(inputs["color"].shape[:2] + (4,))
         textures["neighbor_max"] = neighbors
-        defines = {"PACKED_INPUTS": 1} if packed else None
         run_pass(
             ctx,
             timings,
@@ -233,7 +245,7 @@ def run_filter(params: dict[str, Param], reconstruct: Pass, diagonal_reach: bool
             textures,
             {"result": result},
             backend,
-            defines=defines,
+            defines=variant_defines(values),
         )
         return {"color": result, "tile_max": tiles, "neighbor_max": neighbors}, timings
 
