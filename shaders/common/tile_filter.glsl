@@ -1,6 +1,7 @@
 // What every tile-based filter's reconstruct pass reads (docs/spec.md §3): the G-buffer, the
-// NeighborMax grid (neighbor_max_of, tile_grid), and the uniforms of blurlab/methods/tile_filter.py's TILE_FILTER_PARAMS
-// and FILTER_OPTIONS under the same names (values validated in Python, once per call).
+// NeighborMax grid (neighbor_max_of, tile_grid), and blurlab/methods/tile_filter.py's
+// TILE_FILTER_PARAMS and FILTER_OPTIONS under the same names (values validated in Python, once
+// per call): uniforms, but for the options that pick the variant (VARIANT_OPTIONS: #defines).
 #include "common/inputs.glsl"
 #include "common/mcguire2012.glsl"
 #include "common/random.glsl"
