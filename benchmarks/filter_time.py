@@ -69,6 +69,13 @@ PARTS = ("passes", "fetch", "fetch_clamped", "dispatch")
 K = 20  # McGuire 2012's tile side at the issue's configuration
 SAMPLES = 15
 
+# One pixel's 16 bytes (packed_words): colour as four halves, motion as two, depth as one.
+UNPACK = """
+void unpack(uvec4 t, out vec4 c, out vec2 m, out float z) {
+    c = vec4(unpackHalf2x16(t.x), unpackHalf2x16(t.y));
+    m = unpackHalf2x16(t.z);
+    z = unpackHalf2x16(t.w).x;
+}"""
 FETCH = {
     "two_textures": """
 layout(binding = 0) uniform sampler2D color;
@@ -79,31 +86,25 @@ void texel_at(ivec2 p, out vec4 c, out vec2 m, out float z) {
     m = t.xy;
     z = t.z;
 }""",
-    "one_texture": """
+    "one_texture": UNPACK
+    + """
 layout(binding = 0) uniform usampler2D pixels;
 void texel_at(ivec2 p, out vec4 c, out vec2 m, out float z) {
-    uvec4 t = texelFetch(pixels, p, 0);
-    c = vec4(unpackHalf2x16(t.x), unpackHalf2x16(t.y));
-    m = unpackHalf2x16(t.z);
-    z = unpackHalf2x16(t.w).x;
+    unpack(texelFetch(pixels, p, 0), c, m, z);
 }""",
-    "buffer_rows": """
+    "buffer_rows": UNPACK
+    + """
 layout(std430, binding = 0) readonly buffer Pixels { uvec4 pixels[]; };
 void texel_at(ivec2 p, out vec4 c, out vec2 m, out float z) {
-    uvec4 t = pixels[p.y * size.x + p.x];
-    c = vec4(unpackHalf2x16(t.x), unpackHalf2x16(t.y));
-    m = unpackHalf2x16(t.z);
-    z = unpackHalf2x16(t.w).x;
+    unpack(pixels[p.y * size.x + p.x], c, m, z);
 }""",
-    "buffer_blocks": """
+    "buffer_blocks": UNPACK
+    + """
 layout(std430, binding = 0) readonly buffer Pixels { uvec4 pixels[]; };
 void texel_at(ivec2 p, out vec4 c, out vec2 m, out float z) {
     int blocks_x = (size.x + 7) / 8;
     int i = ((p.y >> 3) * blocks_x + (p.x >> 3)) * 64 + (p.y & 7) * 8 + (p.x & 7);
-    uvec4 t = pixels[i];
-    c = vec4(unpackHalf2x16(t.x), unpackHalf2x16(t.y));
-    m = unpackHalf2x16(t.z);
-    z = unpackHalf2x16(t.w).x;
+    unpack(pixels[i], c, m, z);
 }""",
 }
 
@@ -560,16 +561,23 @@ def blurlab_or_moderngl(ctx, frame, runs: int) -> dict:
     program = mgl.compute_shader(source)
     for name, value in run.uniforms.items():
         program[name] = value
-    units = {"color": 0, "motion_depth": 1, "neighbor_max": 3}
 
-    def dispatch_real():
-        for name, unit in units.items():
-            wrapped[name].use(unit)
-            program[name] = unit
-        output.bind_to_image(0, read=False, write=True)
-        program.run(*groups)
-        mgl.memory_barrier()
+    def dispatch_with(units: dict, current):
+        """A dispatch of the program current() returns over blurlab's textures at `units`."""
 
+        def dispatch():
+            shader = current()
+            for name, unit in units.items():
+                wrapped[name].use(unit)
+                shader[name] = unit
+            output.bind_to_image(0, read=False, write=True)
+            shader.run(*groups)
+            mgl.memory_barrier()
+
+        return dispatch
+
+    real_units = {"color": 0, "motion_depth": 1, "neighbor_max": 3}  # the pass's bindings
+    dispatch_real = dispatch_with(real_units, lambda: program)
     timed("same shader, moderngl", dispatch_real, read_output)
     for label, names in CONSTANTS.items():
         program.release()
@@ -602,16 +610,8 @@ def blurlab_or_moderngl(ctx, frame, runs: int) -> dict:
     }
     model = mgl.compute_shader(shader_source("two_textures", "rgba32f", False))
     model["size"] = (width, height)
-    model_units = {"color": 0, "motion_depth": 1, "neighbor_max": 2}
-
-    def dispatch_model():
-        for name, unit in model_units.items():
-            wrapped[name].use(unit)
-            model[name] = unit
-        output.bind_to_image(0, read=False, write=True)
-        model.run(*groups)
-        mgl.memory_barrier()
-
+    model_units = {"color": 0, "motion_depth": 1, "neighbor_max": 2}  # shader_source's
+    dispatch_model = dispatch_with(model_units, lambda: model)
     timed("model gather, blurlab's NeighborMax", dispatch_model, read_output)
     same = np.array_equal(images["blurlab"], images["same shader, moderngl"])
     record["same_shader_same_bits"] = bool(same)
