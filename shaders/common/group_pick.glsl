@@ -133,7 +133,14 @@ void reduce_picks() {
 }
 #endif
 
-uniform bool group_per_tile;  // a work group per tile; else one invocation per tile
+// A work group per tile; else one invocation per tile. A #define, 0 or 1, not a uniform: the
+// mode not taken is then not compiled in (the H100 measured code compiled in and switched off
+// by a uniform at 15 % of the reconstruct pass: docs/benchmarks.md, "Where the filters' time
+// goes"), and reduce_picks's barriers stay in uniform control flow either way.
+#ifndef GROUP_PER_TILE
+#error "define GROUP_PER_TILE (0 or 1): a work group per tile, or one invocation per tile"
+#endif
+const bool group_per_tile = GROUP_PER_TILE != 0;
 
 // The picks for the tile this invocation (one per tile) or work group (group_per_tile) serves
 // of a `grid`-sized output, in `picks`; returns whether this invocation holds them and stores
@@ -146,7 +153,6 @@ bool pick_tile(ivec2 grid, out ivec2 tile) {
         scan_grid(tile, tile_extent(tile), ivec2(0), 1);
         return true;
     }
-    // group_per_tile is a uniform: the barriers of reduce_picks stay in uniform control flow.
     tile = ivec2(gl_WorkGroupID.xy);
 #ifdef PICK_ROWS
     scan_rows(tile, tile_extent(tile), int(gl_LocalInvocationIndex), PICK_ROWS);

@@ -1,7 +1,7 @@
 // The choice both engine_eevee tile passes make (docs/spec.md §17.2 steps 1-2), per side (slot
 // 0: prev, xy of the output; slot 1: next, zw): among the candidates a tile scans in row-major
 // order, the longest (by pick_key), the first in that order among equal lengths, vec4(0) where
-// there is none. pick_tiles() runs it in one of two modes (uniform group_per_tile): one invocation per tile
+// there is none. pick_tiles() runs it in one of two modes (#define GROUP_PER_TILE): one invocation per tile
 // scanning all its candidates, or a work group per tile whose invocations share them out, then
 // merge their picks (common/group_pick.glsl: same bits either way). The group's layout is a
 // variant (blurlab.methods.eevee.TILE_PICK_VARIANTS, timed by benchmarks/engines.py

@@ -5,7 +5,7 @@
 // half-motion whose line (from S's center along -prev, or +next, clamped to max_blur, in tile
 // units) meets D's square
 // widened by h + REACH_MARGIN, h = 1/2 - 1/(2 tile_size); the first S in row-major order among
-// equal lengths (compared as common/tile_pick.glsl's pick_key says: exact for engine_eevee). Compute, two modes (uniform group_per_tile): a work group per tile whose
+// equal lengths (compared as common/tile_pick.glsl's pick_key says: exact for engine_eevee). Compute, two modes (#define GROUP_PER_TILE): a work group per tile whose
 // invocations share the sources in reach, then merge their picks (common/tile_pick.glsl,
 // layouts TILE_PICK_VARIANTS); or one invocation per tile looking at them all. All give the
 // same bits. NumPy twin: blurlab.twins.eevee.tile_dilate.

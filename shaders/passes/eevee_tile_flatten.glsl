@@ -3,7 +3,7 @@
 // E·M_prev (xy) and the longest E·M_next (zw) among its pixels, unclamped; the first in row-major order
 // among equal lengths (the order-independent result of EEVEE's atomic max); lengths compared as
 // common/tile_pick.glsl's pick_key says (exact for engine_eevee). Compute, two modes
-// (uniform group_per_tile): a work group per tile whose invocations share its pixels, then
+// (#define GROUP_PER_TILE): a work group per tile whose invocations share its pixels, then
 // merge their picks (common/tile_pick.glsl, layouts TILE_PICK_VARIANTS); or one invocation per
 // tile scanning it all. All give the same bits. NumPy twin:
 // blurlab.twins.eevee.tile_flatten.

@@ -99,8 +99,11 @@ def dilated_tiles(
     sides = motion_sides_texture(ctx, frame)
     if group_per_tile is None:
         group_per_tile = tile_groups(ctx)
-    sized = {"tile_size": tile_size, "group_per_tile": group_per_tile, "length_steps": length_steps}
-    layout = TILE_PICK_LAYOUT.defines() if group_per_tile else {}
+    sized = {"tile_size": tile_size, "length_steps": length_steps}
+    # common/group_pick.glsl's mode is a #define; the layout applies to a group per tile only.
+    layout = {"GROUP_PER_TILE": int(group_per_tile)}
+    if group_per_tile:
+        layout.update(TILE_PICK_LAYOUT.defines())
     run_pass(
         ctx,
         timings,

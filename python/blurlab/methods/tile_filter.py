@@ -165,8 +165,10 @@ def tile_passes(
     timings: dict[str, Timing] = {}
     group_per_tile = k > largest_tile_for_one_thread(ctx)
     defines = {}
-    if backend == "compute" and group_per_tile:
-        defines.update(TILE_MAX_LAYOUT.defines())
+    if backend == "compute":
+        defines["GROUP_PER_TILE"] = int(group_per_tile)  # common/group_pick.glsl
+        if group_per_tile:
+            defines.update(TILE_MAX_LAYOUT.defines())
     run_pass(
         ctx,
         timings,
@@ -176,7 +178,6 @@ def tile_passes(
         {"motion": motion},
         {"tile_max": tiles},
         backend,
-        uniforms={"group_per_tile": group_per_tile} if backend == "compute" else {},
         defines=defines,
         group_per_texel=group_per_tile,
     )
