@@ -1,6 +1,6 @@
 """Where the time of the tile filters and of gather_coverage goes on one context (issue 19: the
 filter goals; issue 17: gather_coverage's time against guertin2014's), on one G-buffer of
-teapot_pass, in three parts.
+teapot_pass, in four parts.
 
 1. ``passes``: McGuire 2012 (k = 20, S = 15) and Guertin 2014, with stored and with packed
    inputs (docs/spec.md §19), and gather_coverage without and with film_filter = 0.5 are each
@@ -38,13 +38,15 @@ teapot_pass, in three parts.
    replayed), the same shader source compiled and dispatched by moderngl on the same textures,
    and part 2's model over blurlab's NeighborMax: whether blurlab's binding and dispatch, or
    the shader, makes the difference.
+4. ``coverage``: gather_coverage's gather pass dispatched by blurlab, and through moderngl with
+   its uniforms made constants one group at a time.
 
 Medians over --runs: on a GPU by GL timer queries (50 dispatches back to back behind busy work,
 and one dispatch under its own timer); on llvmpipe by glFinish and a wall clock, which ranks
 nothing.
 
     python benchmarks/filter_time.py [--device gpu] [--size 1920x1080]
-        [--parts passes,fetch,fetch_clamped,dispatch] [--runs 20] [--json f]
+        [--parts passes,fetch,fetch_clamped,dispatch,coverage] [--runs 20] [--json f]
 """
 
 from __future__ import annotations
@@ -65,7 +67,7 @@ from blurlab.methods.tile_filter import variant_defines
 
 from common import back_to_back_ms, describe, open_context, save, spin_up
 
-PARTS = ("passes", "fetch", "fetch_clamped", "dispatch")
+PARTS = ("passes", "fetch", "fetch_clamped", "dispatch", "coverage")
 K = 20  # McGuire 2012's tile side at the issue's configuration
 SAMPLES = 15
 
@@ -621,6 +623,72 @@ def blurlab_or_moderngl(ctx, frame, runs: int) -> dict:
     return record
 
 
+GATHER_CONSTANTS = {  # label: gather_coverage's gather uniforms made constants (part 4)
+    "samples constant": ("samples",),
+    "tile_size constant": ("tile_size",),
+    "everything constant": ("samples", "tile_size", "reach_limit", "soft_z", "exposure"),
+}
+
+
+def coverage_gather_constants(ctx, frame, runs: int) -> dict:
+    """Part 4: gather_coverage's gather pass dispatched by blurlab and, through moderngl, with
+    its uniforms made constants: whether a sample count known when the pass is built (the taps'
+    loops unroll) would pay, as the options' #defines did for the tile filters."""
+    mgl = ctx.moderngl()
+    height, width = frame.color.shape[:2]
+    passes = recorded_passes(ctx, frame, "gather_coverage", {})
+    step, run = passes[-1]
+    assert step == "gather", step
+    replay(passes)
+    groups = (-(-width // 16), -(-height // 16))
+    wrapped = {
+        name: mgl.external_texture(texture.glo, texture.shape[1::-1], 4, 0, "f4")
+        for name, texture in run.inputs.items()
+    }
+    units = {"color": 0, "depth": 1, "motion_sides": 2, "dilated": 3}
+    output = mgl.texture((width, height), 4, dtype="f4")
+    source = expanded_source("passes/coverage_gather.glsl", {"STAGE_COMPUTE": 1})
+    record: dict = {}
+    expected = run.outputs["result"].download()
+    one, in_a_row = dispatch_ms(ctx, mgl, lambda: replay([passes[-1]]), runs)
+    record["blurlab"] = {"one_dispatch_ms": one, "back_to_back_ms": in_a_row}
+    print(f"{'gather, blurlab':34s} one dispatch {one:.4f} ms, back to back {in_a_row:.4f} ms")
+    for label, names in {"same source": (), **GATHER_CONSTANTS}.items():
+        variant = source
+        for name in names:
+            kind = "int" if name in ("samples", "tile_size") else "float"
+            value = run.uniforms[name]
+            literal = str(int(value)) if kind == "int" else repr(float(value))
+            uniform = f"uniform {kind} {name};"
+            assert uniform in variant, f"{label}: the shader declares no {uniform}"
+            variant = variant.replace(uniform, f"const {kind} {name} = {literal};")
+        program = mgl.compute_shader(variant)
+        for name, value in run.uniforms.items():
+            if name in program:
+                program[name] = value
+
+        def dispatch(program=program):
+            for name, unit in units.items():
+                wrapped[name].use(unit)
+                program[name] = unit
+            output.bind_to_image(0, read=False, write=True)
+            program.run(*groups)
+            mgl.memory_barrier()
+
+        one, in_a_row = dispatch_ms(ctx, mgl, dispatch, runs)
+        mgl.finish()
+        image = np.frombuffer(output.read(), np.float32).reshape(height, width, 4)
+        record[label] = {
+            "one_dispatch_ms": one,
+            "back_to_back_ms": in_a_row,
+            "same_bits": bool(np.array_equal(image, expected)),
+        }
+        print(f"{'gather, ' + label:34s} one dispatch {one:.4f} ms, back to back {in_a_row:.4f} ms")
+        program.release()
+    output.release()
+    return record
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--device", default="auto")
@@ -647,6 +715,8 @@ def main() -> None:
         record["fetch_clamped"] = fetch_paths(ctx, frame, args.runs, tiles)
     if "dispatch" in parts:
         record["dispatch"] = blurlab_or_moderngl(ctx, frame, args.runs)
+    if "coverage" in parts:
+        record["coverage"] = coverage_gather_constants(ctx, frame, args.runs)
     save(args.json, record)
 
 

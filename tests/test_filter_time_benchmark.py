@@ -62,3 +62,9 @@ def test_the_real_pass_through_moderngl_gives_blurlabs_bits(ctx, frame):
     record = filter_time.blurlab_or_moderngl(ctx, frame, runs=1)
     assert record["same_shader_same_bits"]
     assert record["constants_same_bits"] == {label: True for label in filter_time.CONSTANTS}
+
+
+def test_the_coverage_gather_with_constants_gives_blurlabs_bits(ctx, frame):
+    record = filter_time.coverage_gather_constants(ctx, frame, runs=1)
+    labels = ["same source", *filter_time.GATHER_CONSTANTS]
+    assert {label: record[label]["same_bits"] for label in labels} == dict.fromkeys(labels, True)
