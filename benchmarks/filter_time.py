@@ -1,6 +1,6 @@
 """Where the time of the tile filters and of gather_coverage goes on one context (issue 19: the
 filter goals; issue 17: gather_coverage's time against guertin2014's), on one G-buffer of
-teapot_pass, in four parts.
+teapot_pass, in five parts.
 
 1. ``passes``: McGuire 2012 (k = 20, S = 15) and Guertin 2014, with stored and with packed
    inputs (docs/spec.md §19), and gather_coverage without and with film_filter = 0.5 are each
@@ -40,13 +40,16 @@ teapot_pass, in four parts.
    the shader, makes the difference.
 4. ``coverage``: gather_coverage's gather pass dispatched by blurlab, and through moderngl with
    its uniforms made constants one group at a time.
+5. ``barriers``: a pass over one texel and one over the frame, back to back, with the memory
+   barrier every blurlab pass ends with (all bits), with only the bits a following pass's
+   texel fetches and image accesses need, and with none.
 
 Medians over --runs: on a GPU by GL timer queries (50 dispatches back to back behind busy work,
 and one dispatch under its own timer); on llvmpipe by glFinish and a wall clock, which ranks
 nothing.
 
     python benchmarks/filter_time.py [--device gpu] [--size 1920x1080]
-        [--parts passes,fetch,fetch_clamped,dispatch,coverage] [--runs 20] [--json f]
+        [--parts passes,fetch,fetch_clamped,dispatch,coverage,barriers] [--runs 20] [--json f]
 """
 
 from __future__ import annotations
@@ -67,7 +70,7 @@ from blurlab.methods.tile_filter import variant_defines
 
 from common import back_to_back_ms, describe, open_context, save, spin_up
 
-PARTS = ("passes", "fetch", "fetch_clamped", "dispatch", "coverage")
+PARTS = ("passes", "fetch", "fetch_clamped", "dispatch", "coverage", "barriers")
 K = 20  # McGuire 2012's tile side at the issue's configuration
 SAMPLES = 15
 
@@ -689,6 +692,54 @@ def coverage_gather_constants(ctx, frame, runs: int) -> dict:
     return record
 
 
+# glMemoryBarrier bits (GL 4.5): every blurlab pass ends with GL_ALL_BARRIER_BITS.
+BARRIERS = {
+    "all bits (as blurlab)": 0xFFFFFFFF,
+    "texture fetch + image access": 0x00000008 | 0x00000020,
+    "none (unsafe: timing only)": 0,
+}
+
+
+def barrier_costs(ctx, frame, runs: int) -> dict:
+    """Part 5: what the barrier after each pass costs. A compute pass over one texel and one over
+    the frame (read a texel, write a texel), each dispatched back to back with each of BARRIERS
+    after it; "none" lets dispatches overlap and only bounds the gain."""
+    mgl = ctx.moderngl()
+    height, width = frame.color.shape[:2]
+    program = mgl.compute_shader(
+        "#version 450\nlayout(local_size_x = 16, local_size_y = 16) in;\n"
+        "layout(binding = 0) uniform sampler2D source;\n"
+        "layout(binding = 0, rgba32f) uniform writeonly image2D target;\n"
+        "uniform ivec2 size;\n"
+        "void main() { ivec2 p = ivec2(gl_GlobalInvocationID.xy);"
+        " if (any(greaterThanEqual(p, size))) return;"
+        " imageStore(target, p, texelFetch(source, p, 0) * 0.5); }"
+    )
+    source = mgl.texture((width, height), 4, frame.color.tobytes(), dtype="f4")
+    target = mgl.texture((width, height), 4, dtype="f4")
+    program["source"] = 0
+    record: dict = {}
+    for label, size in (("one texel", (1, 1)), ("the frame", (width, height))):
+        groups = (-(-size[0] // 16), -(-size[1] // 16))
+        for barrier_label, bits in BARRIERS.items():
+
+            def dispatch(groups=groups, size=size, bits=bits):
+                source.use(0)
+                target.bind_to_image(0, read=False, write=True)
+                program["size"] = size
+                program.run(*groups)
+                if bits:
+                    mgl.memory_barrier(bits)
+
+            one, in_a_row = dispatch_ms(ctx, mgl, dispatch, runs)
+            key = f"{label}, {barrier_label}"
+            record[key] = {"one_dispatch_ms": one, "back_to_back_ms": in_a_row}
+            print(f"{key:52s} one dispatch {one:.4f} ms, back to back {in_a_row:.4f} ms")
+    for item in (program, source, target):
+        item.release()
+    return record
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--device", default="auto")
@@ -717,6 +768,8 @@ def main() -> None:
         record["dispatch"] = blurlab_or_moderngl(ctx, frame, args.runs)
     if "coverage" in parts:
         record["coverage"] = coverage_gather_constants(ctx, frame, args.runs)
+    if "barriers" in parts:
+        record["barriers"] = barrier_costs(ctx, frame, args.runs)
     save(args.json, record)
 
 

@@ -68,3 +68,9 @@ def test_the_coverage_gather_with_constants_gives_blurlabs_bits(ctx, frame):
     record = filter_time.coverage_gather_constants(ctx, frame, runs=1)
     labels = ["same source", *filter_time.GATHER_CONSTANTS]
     assert {label: record[label]["same_bits"] for label in labels} == dict.fromkeys(labels, True)
+
+
+def test_barrier_costs_time_every_barrier_on_both_sizes(ctx, frame):
+    record = filter_time.barrier_costs(ctx, frame, runs=1)
+    assert len(record) == 2 * len(filter_time.BARRIERS)
+    assert all(row["back_to_back_ms"] > 0 for row in record.values())
