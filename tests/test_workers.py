@@ -8,6 +8,7 @@ import os
 import subprocess
 import sys
 import threading
+import time
 
 import pytest
 
@@ -34,6 +35,22 @@ def test_a_dead_child_fails_its_job_and_the_last_one_fails_the_rest():
             pool.submit(os._exit, 3).result(timeout=60)
         with pytest.raises(RuntimeError, match="before it answered"):
             pool.submit(pow, 2, 3).result(timeout=60)  # no child left: fails, does not hang
+
+
+def close_answers_then_exit(code: int) -> None:
+    """In a child: closes every descriptor but the standard three (its answers' pipe among
+    them), lingers, then exits with `code`."""
+    os.closerange(3, 4096)
+    time.sleep(1.0)
+    os._exit(code)
+
+
+def test_a_child_that_closes_its_pipe_before_it_exits_reports_its_code():
+    # The pipe closes a moment before the process ends (poll() still None): seen on a loaded
+    # machine, where the message once said "code None".
+    with workers.ProcessWorkers(1) as pool:
+        with pytest.raises(RuntimeError, match="ended with code 4 before it answered"):
+            pool.submit(close_answers_then_exit, 4).result(timeout=60)
 
 
 def test_bad_process_counts_are_refused():

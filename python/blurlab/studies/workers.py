@@ -19,6 +19,7 @@ import sys
 import threading
 
 STOP_SECONDS = 30  # how long shutdown waits for a child to exit before killing it
+LOST_SECONDS = 5  # how long a child whose pipe closed gets to exit, so its exit code is known
 
 
 class ProcessWorkers(concurrent.futures.Executor):
@@ -77,12 +78,7 @@ class ProcessWorkers(concurrent.futures.Executor):
             elif outcome == "error":
                 future.set_exception(value)
             else:
-                future.set_exception(
-                    RuntimeError(
-                        f"blurlab: a chart process (pid {child.pid}) ended with code "
-                        f"{child.poll()} before it answered"
-                    )
-                )
+                future.set_exception(RuntimeError(_lost_message(child)))
                 if not lost:
                     lost = True
                     if not self._one_lost():
@@ -115,6 +111,20 @@ class ProcessWorkers(concurrent.futures.Executor):
                 child.kill()
                 child.wait()
             child.stdout.close()
+
+
+def _lost_message(child: subprocess.Popen) -> str:
+    """What became of a child whose pipe closed. Its pipe can close a moment before the process
+    has exited, when poll() still says None (seen on a loaded 2-core machine), so it is given
+    LOST_SECONDS to exit."""
+    try:
+        code = child.wait(LOST_SECONDS)
+    except subprocess.TimeoutExpired:
+        return (
+            f"blurlab: a chart process (pid {child.pid}) closed its pipe before it answered "
+            f"and was still running {LOST_SECONDS} s later"
+        )
+    return f"blurlab: a chart process (pid {child.pid}) ended with code {code} before it answered"
 
 
 def _call(child: subprocess.Popen, job) -> tuple[str, object]:
