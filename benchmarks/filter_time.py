@@ -238,7 +238,7 @@ def film_from_half(ctx, run, runs: int) -> dict:
     film()
     difference = np.abs(output.download() - run.outputs["result"].download())
     ms = statistics.median(back_to_back_ms(ctx, film) for _ in range(runs))
-    ctx.recycle(output)
+    ctx.recycle(output, half)
     return {"back_to_back_ms": ms, "largest_difference": float(difference.max())}
 
 
@@ -251,7 +251,9 @@ def one_texel_dispatch_ms(ctx, runs: int) -> float:
     def dispatch():
         shader.run({"color": source}, {"sum": total}, {"weight": 0.5})
 
-    return statistics.median(back_to_back_ms(ctx, dispatch) for _ in range(runs))
+    ms = statistics.median(back_to_back_ms(ctx, dispatch) for _ in range(runs))
+    ctx.recycle(source, total)
+    return ms
 
 
 def filter_passes(ctx, frame, runs: int) -> dict:
@@ -525,7 +527,43 @@ CONSTANTS = {  # label: uniforms made constants
     "no overflow branch": (),
     "everything constant, no overflow branch": ("k", "samples", "soft_z", "exposure", "early_exit"),
 }
-UNIFORM_TYPES = {"k": "int", "samples": "int"}  # the others are floats
+
+
+def with_constants(source: str, uniforms: dict, names, int_names, label: str) -> str:
+    """`source` with each uniform of `names` declared a constant at its value in `uniforms`
+    (`int_names` are ints, the rest floats)."""
+    for name in names:
+        kind = "int" if name in int_names else "float"
+        value = uniforms[name]
+        literal = str(int(value)) if kind == "int" else repr(float(value))
+        uniform = f"uniform {kind} {name};"
+        assert uniform in source, f"{label}: the shader declares no {uniform}"
+        source = source.replace(uniform, f"const {kind} {name} = {literal};")
+    return source
+
+
+def moderngl_dispatch(mgl, current, inputs: dict, units: dict, output, groups):
+    """A dispatch, through moderngl, of the program current() returns, over `inputs` (moderngl
+    textures by sampler name) bound at `units`, into image `output`, then a barrier."""
+
+    def dispatch():
+        shader = current()
+        for name, unit in units.items():
+            inputs[name].use(unit)
+            shader[name] = unit
+        output.bind_to_image(0, read=False, write=True)
+        shader.run(*groups)
+        mgl.memory_barrier()
+
+    return dispatch
+
+
+def wrapped_inputs(mgl, run) -> dict:
+    """The recorded pass's input textures, wrapped for moderngl (not owned: never released)."""
+    return {
+        name: mgl.external_texture(texture.glo, texture.shape[1::-1], 4, 0, "f4")
+        for name, texture in run.inputs.items()
+    }
 
 
 def blurlab_or_moderngl(ctx, frame, runs: int) -> dict:
@@ -541,10 +579,7 @@ def blurlab_or_moderngl(ctx, frame, runs: int) -> dict:
     replay(passes)
     blurlab_output = run.outputs["result"]
     groups = (-(-width // 16), -(-height // 16))
-    wrapped = {
-        name: mgl.external_texture(texture.glo, texture.shape[1::-1], 4, 0, "f4")
-        for name, texture in run.inputs.items()
-    }
+    wrapped = wrapped_inputs(mgl, run)
     output = mgl.texture((width, height), 4, dtype="f4")
     record: dict = {}
     images: dict = {}
@@ -567,22 +602,8 @@ def blurlab_or_moderngl(ctx, frame, runs: int) -> dict:
     for name, value in run.uniforms.items():
         program[name] = value
 
-    def dispatch_with(units: dict, current):
-        """A dispatch of the program current() returns over blurlab's textures at `units`."""
-
-        def dispatch():
-            shader = current()
-            for name, unit in units.items():
-                wrapped[name].use(unit)
-                shader[name] = unit
-            output.bind_to_image(0, read=False, write=True)
-            shader.run(*groups)
-            mgl.memory_barrier()
-
-        return dispatch
-
     real_units = {"color": 0, "motion_depth": 1, "neighbor_max": 3}  # the pass's bindings
-    dispatch_real = dispatch_with(real_units, lambda: program)
+    dispatch_real = moderngl_dispatch(mgl, lambda: program, wrapped, real_units, output, groups)
     timed("same shader, moderngl", dispatch_real, read_output)
     for label, names in CONSTANTS.items():
         program.release()
@@ -592,13 +613,7 @@ def blurlab_or_moderngl(ctx, frame, runs: int) -> dict:
                 declared = f"const bool {option} = {option.upper()} != 0;"
                 assert declared in variant, f"{label}: the shader declares no {declared}"
                 variant = variant.replace(declared, f"uniform bool {option};")
-        for name in names:
-            kind = UNIFORM_TYPES.get(name, "float")
-            value = run.uniforms[name]
-            literal = str(int(value)) if kind == "int" else repr(float(value))
-            uniform = f"uniform {kind} {name};"
-            assert uniform in variant, f"{label}: the shader declares no {uniform}"
-            variant = variant.replace(uniform, f"const {kind} {name} = {literal};")
+        variant = with_constants(variant, run.uniforms, names, ("k", "samples"), label)
         if "no overflow branch" in label:
             variant = variant.replace("if (isinf(n)) {", "if (false) {")
         program = mgl.compute_shader(variant)
@@ -616,7 +631,7 @@ def blurlab_or_moderngl(ctx, frame, runs: int) -> dict:
     model = mgl.compute_shader(shader_source("two_textures", "rgba32f", False))
     model["size"] = (width, height)
     model_units = {"color": 0, "motion_depth": 1, "neighbor_max": 2}  # shader_source's
-    dispatch_model = dispatch_with(model_units, lambda: model)
+    dispatch_model = moderngl_dispatch(mgl, lambda: model, wrapped, model_units, output, groups)
     timed("model gather, blurlab's NeighborMax", dispatch_model, read_output)
     same = np.array_equal(images["blurlab"], images["same shader, moderngl"])
     record["same_shader_same_bits"] = bool(same)
@@ -644,10 +659,7 @@ def coverage_gather_constants(ctx, frame, runs: int) -> dict:
     assert step == "gather", step
     replay(passes)
     groups = (-(-width // 16), -(-height // 16))
-    wrapped = {
-        name: mgl.external_texture(texture.glo, texture.shape[1::-1], 4, 0, "f4")
-        for name, texture in run.inputs.items()
-    }
+    wrapped = wrapped_inputs(mgl, run)
     units = {"color": 0, "depth": 1, "motion_sides": 2, "dilated": 3}
     output = mgl.texture((width, height), 4, dtype="f4")
     source = expanded_source("passes/coverage_gather.glsl", {"STAGE_COMPUTE": 1})
@@ -657,27 +669,15 @@ def coverage_gather_constants(ctx, frame, runs: int) -> dict:
     record["blurlab"] = {"one_dispatch_ms": one, "back_to_back_ms": in_a_row}
     print(f"{'gather, blurlab':34s} one dispatch {one:.4f} ms, back to back {in_a_row:.4f} ms")
     for label, names in {"same source": (), **GATHER_CONSTANTS}.items():
-        variant = source
-        for name in names:
-            kind = "int" if name in ("samples", "tile_size") else "float"
-            value = run.uniforms[name]
-            literal = str(int(value)) if kind == "int" else repr(float(value))
-            uniform = f"uniform {kind} {name};"
-            assert uniform in variant, f"{label}: the shader declares no {uniform}"
-            variant = variant.replace(uniform, f"const {kind} {name} = {literal};")
+        variant = with_constants(source, run.uniforms, names, ("samples", "tile_size"), label)
         program = mgl.compute_shader(variant)
         for name, value in run.uniforms.items():
             if name in program:
                 program[name] = value
 
-        def dispatch(program=program):
-            for name, unit in units.items():
-                wrapped[name].use(unit)
-                program[name] = unit
-            output.bind_to_image(0, read=False, write=True)
-            program.run(*groups)
-            mgl.memory_barrier()
-
+        dispatch = moderngl_dispatch(
+            mgl, lambda program=program: program, wrapped, units, output, groups
+        )
         one, in_a_row = dispatch_ms(ctx, mgl, dispatch, runs)
         mgl.finish()
         image = np.frombuffer(output.read(), np.float32).reshape(height, width, 4)
