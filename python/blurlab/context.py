@@ -22,6 +22,9 @@ from .converged import reference_render
 from .render import render
 
 TEXTURE_DTYPES = ("uint8", "float16", "float32")
+# Textures that no image comes in or goes out through: counters that shaders update with image
+# atomics (an r32ui image), made by ``empty`` and read back with ``download``.
+COUNTER_DTYPE = "uint32"
 DEVICE_MODES = ("auto", "gpu", "software")
 
 
@@ -305,7 +308,8 @@ class Context:
         return texture
 
     def empty(self, shape: tuple[int, ...], dtype: str = "float32") -> Texture:
-        """A new zero-filled texture of ``shape`` (H, W) or (H, W, C) and ``dtype``."""
+        """A new zero-filled texture of ``shape`` (H, W) or (H, W, C) and ``dtype``: one of
+        TEXTURE_DTYPES, or COUNTER_DTYPE for a shader's atomic counters."""
         if (
             not isinstance(shape, (tuple, list))
             or len(shape) not in (2, 3)
@@ -321,9 +325,10 @@ class Context:
             dtype_name = np.dtype(dtype).name
         except TypeError:
             dtype_name = repr(dtype)
-        if dtype_name not in TEXTURE_DTYPES:
+        if dtype_name not in (*TEXTURE_DTYPES, COUNTER_DTYPE):
             raise TypeError(
-                f"blurlab: texture dtype {dtype!r} is not one of " + ", ".join(TEXTURE_DTYPES)
+                f"blurlab: texture dtype {dtype!r} is not one of "
+                + ", ".join((*TEXTURE_DTYPES, COUNTER_DTYPE))
             )
         self._check_size(shape[1], shape[0])
         channels = shape[2] if len(shape) == 3 else 1
