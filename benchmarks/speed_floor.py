@@ -54,12 +54,7 @@ import numpy as np
 
 import blurlab as bl
 from blurlab import metrics
-from blurlab.methods.tile_filter import (
-    FILTER_DISPATCH,
-    FILTER_DISPATCH_VARIANTS,
-    TILE_MAX_VARIANTS,
-    tile_max_variant,
-)
+from blurlab.methods.tile_filter import TILE_MAX_VARIANTS, tile_max_variant
 from blurlab.render import (
     camera_matrices,
     gbuffer_pass,
@@ -196,8 +191,7 @@ def tile_max_variants(ctx, frame, runs: int, ks) -> dict:
             row = {"same_bits": True}
             for packed in (False, True):
                 params = {"k": k, "samples": 15, "packed_inputs": packed}
-                # TileMax's own pass: the filter as three passes
-                with tile_max_variant(variant), FILTER_DISPATCH.use("three_passes"):
+                with tile_max_variant(variant):
                     times = []
                     for _ in range(runs + 2):
                         result = bl.blur(ctx, frame, "reconstruct_mcguire2012", **params)
@@ -798,17 +792,8 @@ def main() -> None:
         default="teapot_pass,textured_spin,vehicle",
         help="scenes of the G-buffer floor (comma-separated)",
     )
-    parser.add_argument(
-        "--filter-dispatch",
-        choices=list(FILTER_DISPATCH_VARIANTS),
-        default=FILTER_DISPATCH.default,
-        help="the tile filters' dispatches for the whole run (blurlab.methods.tile_filter)",
-    )
     parser.add_argument("--json", default=None)
     args = parser.parse_args()
-    # For the whole process, before any plan is recorded: a use() block would turn plans off,
-    # and with them the per-call figures.
-    FILTER_DISPATCH.default = args.filter_dispatch
     parts = set(args.parts.split(","))
     if parts - set(PARTS):
         parser.error(f"unknown parts {sorted(parts - set(PARTS))}; choose from {PARTS}")
@@ -825,7 +810,6 @@ def main() -> None:
     ctx = open_context(args.device)
     size = tuple(int(v) for v in args.size.split("x"))
     record = {**describe(ctx), "size": args.size, "runs": args.runs}
-    record["filter_dispatch"] = args.filter_dispatch
     print(f"\n{record['date']}  {record['renderer']}  {args.size}, medians of {args.runs} runs")
     if parts - {"raster"} or args.study:
         measure_filters_and_metrics(ctx, size, args, parts, layouts, record)

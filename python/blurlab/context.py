@@ -22,9 +22,6 @@ from .converged import reference_render
 from .render import render
 
 TEXTURE_DTYPES = ("uint8", "float16", "float32")
-# Textures that no image comes in or goes out through: counters that shaders update with image
-# atomics (an r32ui image), made by ``empty`` and read back with ``download``.
-COUNTER_DTYPE = "uint32"
 DEVICE_MODES = ("auto", "gpu", "software")
 
 
@@ -308,8 +305,7 @@ class Context:
         return texture
 
     def empty(self, shape: tuple[int, ...], dtype: str = "float32") -> Texture:
-        """A new zero-filled texture of ``shape`` (H, W) or (H, W, C) and ``dtype``: one of
-        TEXTURE_DTYPES, or COUNTER_DTYPE for a shader's atomic counters."""
+        """A new zero-filled texture of ``shape`` (H, W) or (H, W, C) and ``dtype``."""
         if (
             not isinstance(shape, (tuple, list))
             or len(shape) not in (2, 3)
@@ -325,10 +321,9 @@ class Context:
             dtype_name = np.dtype(dtype).name
         except TypeError:
             dtype_name = repr(dtype)
-        if dtype_name not in (*TEXTURE_DTYPES, COUNTER_DTYPE):
+        if dtype_name not in TEXTURE_DTYPES:
             raise TypeError(
-                f"blurlab: texture dtype {dtype!r} is not one of "
-                + ", ".join((*TEXTURE_DTYPES, COUNTER_DTYPE))
+                f"blurlab: texture dtype {dtype!r} is not one of " + ", ".join(TEXTURE_DTYPES)
             )
         self._check_size(shape[1], shape[0])
         channels = shape[2] if len(shape) == 3 else 1

@@ -4,11 +4,7 @@
 // 16 x 16 per work group, written to image `result`; fragment (STAGE_FRAGMENT): one fragment per pixel of the framebuffer, written to
 // output `result`. A pass may define PASS_PROLOGUE to a function that every invocation of a
 // compute work group runs before its bounds test (one with a barrier, common/tile_filter.glsl).
-// With TILE_CHAIN the tile filters' one-dispatch entry point replaces the compute one
-// (common/tile_chain.glsl).
-#if defined(STAGE_COMPUTE) && defined(TILE_CHAIN)
-#include "common/tile_chain.glsl"
-#elif defined(STAGE_COMPUTE)
+#ifdef STAGE_COMPUTE
 layout(local_size_x = 16, local_size_y = 16) in;
 layout(binding = 0, rgba32f) uniform writeonly image2D result;
 

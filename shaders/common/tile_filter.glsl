@@ -2,16 +2,6 @@
 // NeighborMax grid (neighbor_max_of, tile_grid), and blurlab/methods/tile_filter.py's
 // TILE_FILTER_PARAMS and FILTER_OPTIONS under the same names (values validated in Python, once
 // per call): uniforms, but for the options that pick the variant (VARIANT_OPTIONS: #defines).
-// With TILE_CHAIN (compute only) the pass is the whole filter in one dispatch: TileMax,
-// NeighborMax and the reconstruct, a work group per tile of TILE_CHAIN_THREADS invocations
-// (common/tile_chain.glsl, docs/spec.md §3.7); group_pick.glsl comes first for its #extensions.
-#ifdef TILE_CHAIN
-#define PICK_SLOTS 1
-#define PICK_ROWS TILE_CHAIN_THREADS
-#define PICK_SUBGROUP 1
-#define GROUP_PER_TILE 1
-#include "common/group_pick.glsl"
-#endif
 #include "common/inputs.glsl"
 #include "common/mcguire2012.glsl"
 #include "common/random.glsl"
@@ -61,29 +51,7 @@ const bool jitter_tiles = JITTER_TILES != 0;
 const bool adaptive_samples = ADAPTIVE_SAMPLES != 0;
 uniform float early_exit;  // pixels; 0: only the §3.4 test
 
-// Outside the #if: the shader loader takes each file once, where it first appears.
-#include "common/neighbor_max.glsl"
-#if defined(TILE_CHAIN)
-#if JITTER_TILES
-#error "TILE_CHAIN: each pixel reads its own tile's NeighborMax, so no jittered lookup"
-#endif
-
-// TileMax is written and NeighborMax read by other work groups of the same dispatch: coherent.
-layout(binding = 1, rg32f) coherent uniform image2D tile_max;
-layout(binding = 2, rg32f) uniform writeonly image2D neighbor_max;
-layout(binding = 3, r32ui) coherent uniform uimage2D tile_counts;
-uniform bool diagonal_reach;
-shared vec2 chained_neighbor_max;  // of the tile the group is reconstructing
-
-ivec2 tile_grid() {
-    return imageSize(tile_max);
-}
-
-// The pixels a group reconstructs all lie in one tile, and without jitter read only its own.
-vec2 neighbor_max_of(ivec2 tile) {
-    return chained_neighbor_max;
-}
-#elif !defined(FUSED_NEIGHBOR_MAX)
+#ifndef FUSED_NEIGHBOR_MAX
 layout(binding = 3) uniform sampler2D neighbor_max;
 
 ivec2 tile_grid() {
@@ -102,6 +70,7 @@ vec2 neighbor_max_of(ivec2 tile) {
 #ifndef STAGE_COMPUTE
 #error "FUSED_NEIGHBOR_MAX is for the compute backend over the whole image"
 #endif
+#include "common/neighbor_max.glsl"
 
 layout(binding = 3) uniform sampler2D tile_max;
 layout(binding = 1, rg32f) uniform writeonly image2D neighbor_max;

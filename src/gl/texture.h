@@ -15,16 +15,14 @@ namespace blurlab {
 
 class Context;
 
-// u32: unsigned-integer texels, for counters that shaders update with image atomics (r32ui);
-// never sampled as colour.
-enum class PixelType { u8, f16, f32, u32 };
+enum class PixelType { u8, f16, f32 };
 
 struct TextureFormat {
   PixelType type;
   int channels;         // 1..4
   GLenum internal;      // e.g. GL_RGBA32F
-  GLenum pixel_format;  // GL_RED, GL_RG, GL_RGB, GL_RGBA (GL_RED_INTEGER ... for u32)
-  GLenum pixel_type;    // GL_UNSIGNED_BYTE, GL_HALF_FLOAT, GL_FLOAT, GL_UNSIGNED_INT
+  GLenum pixel_format;  // GL_RED, GL_RG, GL_RGB, GL_RGBA
+  GLenum pixel_type;    // GL_UNSIGNED_BYTE, GL_HALF_FLOAT, GL_FLOAT
   size_t bytes_per_texel;
   std::string image_layout;  // GLSL image format qualifier, "" where images cannot bind it
 };
@@ -47,8 +45,7 @@ class Texture {
   // (a tonal art map's levels each hold their own strokes, docs/spec.md §5).
   void upload_level(int level, const void* data, size_t bytes);
   void download(void* data, size_t bytes) const;
-  // Clears every texel to zero, or to `value` (as many floats as the texture has channels; not
-  // for u32 textures, which clear() zeroes).
+  // Clears every texel to zero, or to `value` (as many floats as the texture has channels).
   void clear();
   void clear(const float* value);
   // Fills levels 1.. from level 0 and samples with trilinear filtering and repeat wrapping,

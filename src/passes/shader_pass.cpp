@@ -46,22 +46,6 @@ std::vector<TextureUnitBinding> units_of(const Program& p, const NamedTextures& 
   return units;
 }
 
-// A uint32 texture binds to a usampler or uimage, any other texture to a float one: GL would
-// otherwise read undefined values without an error.
-void check_integer_kinds(const Program& p, const NamedTextures& given) {
-  for (const auto& [name, texture] : given) {
-    auto it = p.uniforms().find(name);
-    if (it == p.uniforms().end()) continue;  // units_of names it
-    const std::string type = glsl_type_name(it->second.type);
-    const bool integer_texture = texture->format().type == PixelType::u32;
-    const bool unsigned_uniform = type.rfind("usampler", 0) == 0 || type.rfind("uimage", 0) == 0;
-    if (integer_texture != unsigned_uniform)
-      throw std::invalid_argument("blurlab: " + p.name() + "'s " + type + " '" + name +
-                                  (integer_texture ? "' cannot take a uint32 texture"
-                                                   : "' takes a uint32 texture only"));
-  }
-}
-
 }  // namespace
 
 ShaderPass::ShaderPass(std::shared_ptr<Context> context, std::string shader, Defines defines)
@@ -69,20 +53,14 @@ ShaderPass::ShaderPass(std::shared_ptr<Context> context, std::string shader, Def
 
 const ShaderPass::Units& ShaderPass::units(const Program& p, const NamedTextures& inputs,
                                            const NamedTextures& outputs, Backend backend) {
-  // The key marks unsigned-integer textures ('#'): whether each one suits its uniform is checked
-  // once per program, list of names and kinds, like the units.
   std::string names;
-  for (const auto& [name, texture] : inputs)
-    names += name + (texture->format().type == PixelType::u32 ? "#," : ",");
+  for (const auto& [name, texture] : inputs) names += name + ',';
   names += '|';
-  for (const auto& [name, texture] : outputs)
-    names += name + (texture->format().type == PixelType::u32 ? "#," : ",");
+  for (const auto& [name, texture] : outputs) names += name + ',';
   auto found = units_.find({&p, names});
   if (found != units_.end()) return found->second;
   if (outputs.empty())
     throw std::invalid_argument("blurlab: " + p.name() + " needs at least one output");
-  check_integer_kinds(p, inputs);
-  check_integer_kinds(p, outputs);
   Units u;
   for (const TextureUnitBinding& b : units_of(p, inputs, is_sampler_type, "sampler"))
     u.samplers.push_back(b.unit);

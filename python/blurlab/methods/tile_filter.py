@@ -219,42 +219,10 @@ def packed_inputs(ctx: Context, frame: Frame, inputs: dict) -> dict:
     return {"color": inputs["packed_color"], "motion_depth": inputs["packed_motion_depth"]}
 
 
-# The filter's dispatches (docs/spec.md §3.7): TileMax, NeighborMax and the reconstruct as three
-# passes, or as one (common/tile_chain.glsl: a work group per tile, chained by atomic counters).
-# Same bits. The one dispatch needs a work group per tile and each pixel reading its own tile
-# (no jitter_tiles); elsewhere the filter runs as three passes whatever the layout.
-FILTER_DISPATCH_VARIANTS = {
-    "three_passes": {},
-    "one_dispatch": {"TILE_CHAIN": 1, "TILE_CHAIN_THREADS": 128},
-    "one_dispatch_256": {"TILE_CHAIN": 1, "TILE_CHAIN_THREADS": 256},
-    "diag_copy": {"TILE_CHAIN": 1, "TILE_CHAIN_THREADS": 256, "TILE_CHAIN_DIAG": 1},
-    "diag_own_tile": {"TILE_CHAIN": 1, "TILE_CHAIN_THREADS": 256, "TILE_CHAIN_DIAG": 2},
-}
-FILTER_DISPATCH = PassVariants("tile filter dispatch", FILTER_DISPATCH_VARIANTS, "three_passes")
-
-
-def tile_counters(ctx: Context, grid: tuple[int, int]):
-    """The one-dispatch filter's counter per tile (uint32): zero when made, and each run leaves
-    them zero again, so one texture per context and grid serves every run."""
-    return ctx.cached(("tile_counters", grid), lambda: ctx.empty(grid, "uint32"))
-
-
-def chains(ctx: Context, values: dict, backend: str) -> bool:
-    """Whether the filter runs as one dispatch (FILTER_DISPATCH) with these values."""
-    return (
-        backend == "compute"
-        and "TILE_CHAIN" in FILTER_DISPATCH.defines()
-        and values["k"] > largest_tile_for_one_thread(ctx)
-        and not values["jitter_tiles"]
-    )
-
-
 def run_filter(params: dict[str, Param], reconstruct: Pass, diagonal_reach: bool):
     """TileMax → NeighborMax → the method's `reconstruct` pass (docs/spec.md §3,
-    docs/guertin2014.md), as three passes or one dispatch (FILTER_DISPATCH); `params` are the
-    method's parameter declarations. The three passes keep NeighborMax a pass of its own:
-    computing it in the reconstruct pass's prologue measured slower (§3.6)."""
-    one_dispatch = Pass("tile_filter", reconstruct.shader, reconstruct.params)
+    docs/guertin2014.md); `params` are the method's parameter declarations. NeighborMax keeps a
+    pass of its own: computing it in the reconstruct pass's prologue measured slower (§3.6)."""
 
     def run(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
         packed = values["packed_inputs"]
@@ -264,35 +232,10 @@ def run_filter(params: dict[str, Param], reconstruct: Pass, diagonal_reach: bool
         else:
             textures = {key: inputs[key] for key in ("color", "depth", "motion")}
             motion = inputs["motion"]
-        result = ctx.pooled(inputs["color"].shape[:2] + (4,))
-        if chains(ctx, values, backend):
-            height, width = motion.shape[:2]
-            grid = (-(-height // values["k"]), -(-width // values["k"]))
-            tiles, neighbors = ctx.pooled((*grid, 2)), ctx.pooled((*grid, 2))
-            timings: dict[str, Timing] = {}
-            run_pass(
-                ctx,
-                timings,
-                one_dispatch,
-                params,
-                values,
-                textures,
-                # TileMax's grid first: it sets the dispatch, a work group per tile
-                {
-                    "tile_max": tiles,
-                    "result": result,
-                    "neighbor_max": neighbors,
-                    "tile_counts": tile_counters(ctx, grid),
-                },
-                backend,
-                uniforms={"diagonal_reach": diagonal_reach},
-                defines={**variant_defines(values), **FILTER_DISPATCH.defines()},
-                group_per_texel=True,
-            )
-            return {"color": result, "tile_max": tiles, "neighbor_max": neighbors}, timings
         tiles, neighbors, timings = tile_passes(
             ctx, motion, params, values, backend, diagonal_reach
         )
+        result = ctx.pooled(inputs["color"].shape[:2] + (4,))
         textures["neighbor_max"] = neighbors
         run_pass(
             ctx,
