@@ -46,13 +46,24 @@ def test_reflect_lists_what_a_pass_takes(ctx):
     camera = ctx.shader_pass("passes/camera_motion.glsl").reflect()
     assert camera["uniforms"]["clip_from_world"] == {"type": "mat4", "count": 32}
     assert camera["images"]["motion"]["format"] == "rg32f"
+    # The format of the #ifdef branch the defines take (common/pass_main.glsl's HALF_RESULT).
+    half = ctx.shader_pass(
+        "passes/reconstruct_mcguire2012.glsl",
+        {"JITTER_TILES": 0, "ADAPTIVE_SAMPLES": 0, "HALF_RESULT": 1},
+    )
+    assert half.reflect("compute")["images"]["result"]["format"] == "rgba16f"
 
 
 def test_a_method_pass_takes_its_parameters_under_their_own_names(ctx):
     """The uniforms a method's reconstruct pass declares are exactly the parameters it hands
     over (blurlab/methods/mcguire2012.py), named as in Python."""
 
-    values = {"jitter_tiles": 0, "adaptive_samples": 0, "packed_inputs": False}
+    values = {
+        "jitter_tiles": 0,
+        "adaptive_samples": 0,
+        "packed_inputs": False,
+        "half_result": False,
+    }
     shader = ctx.shader_pass(mcguire2012.RECONSTRUCT.shader, variant_defines(values))
     assert set(shader.reflect()["uniforms"]) == set(mcguire2012.RECONSTRUCT.params)
     with pytest.raises(bl.ShaderError, match="JITTER_TILES and ADAPTIVE_SAMPLES"):

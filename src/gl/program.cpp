@@ -150,13 +150,51 @@ bool is_image_format(const std::string& token) {
   return formats.count(token) > 0;
 }
 
+// `text` without the lines of #ifdef / #ifndef branches that its own #defines (the program's
+// defines among them, which come first) rule out. Branches of any other #if count as taken: the
+// caller then sees every declaration in them.
+std::string active_lines(const std::string& text) {
+  static const std::regex directive(R"(^\s*#\s*(\w+)\s*(\w*))");
+  std::set<std::string> defined;
+  std::vector<int> branches;  // per open #if: 1 taken, 0 ruled out, -1 not known
+  auto taken = [&] {
+    for (int b : branches)
+      if (b == 0) return false;
+    return true;
+  };
+  std::string kept;
+  std::istringstream lines(text);
+  for (std::string line; std::getline(lines, line);) {
+    std::smatch m;
+    const std::string word = std::regex_search(line, m, directive) ? m[1].str() : "";
+    if (word == "ifdef" || word == "ifndef") {
+      branches.push_back(taken() ? int(defined.count(m[2].str()) == (word == "ifdef")) : 0);
+    } else if (word == "if") {
+      branches.push_back(taken() ? -1 : 0);
+    } else if ((word == "else" || word == "elif") && !branches.empty()) {
+      const int before = branches.back();
+      branches.pop_back();  // the enclosing branches decide whether this one can be taken
+      const int now = (word == "else" && before >= 0) ? 1 - before : -1;
+      branches.push_back(taken() ? now : 0);
+    } else if (word == "endif" && !branches.empty()) {
+      branches.pop_back();
+    } else if (taken()) {
+      if (word == "define") defined.insert(m[2].str());
+      if (word == "undef") defined.erase(m[2].str());
+      kept += line + '\n';
+    }
+  }
+  return kept;
+}
+
 // Image name -> format qualifier from the declarations `layout(..., FORMAT) ... uniform ...
-// imageXX name;` in `text`. Every declaration counts, #if branches included: a name whose
-// declarations disagree, or whose format is a macro, gets "".
-std::map<std::string, std::string> declared_image_formats(const std::string& text) {
+// imageXX name;` in the branches of `text` that its #defines take (active_lines). A name whose
+// declarations there disagree, or whose format is a macro, gets "".
+std::map<std::string, std::string> declared_image_formats(const std::string& source) {
   static const std::regex declaration(
       R"(layout\s*\(([^)]*)\)([\w\s]*)\b[iu]?image[0-9A-Z]\w*\s+(\w+)\s*;)");
   static const std::regex uniform_word(R"(\buniform\b)");
+  const std::string text = active_lines(source);
   std::map<std::string, std::string> formats;
   for (std::sregex_iterator it(text.begin(), text.end(), declaration), end; it != end; ++it) {
     const std::string qualifiers = (*it)[2].str();
