@@ -40,7 +40,9 @@ def fingerprints(ctx) -> dict[str, str]:
     depth = rng.uniform(1, 5, SIZE[::-1])
     motion = rng.normal(0, 6, (SIZE[1], SIZE[0], 2))
     filter_params = dict(k=8, samples=15, soft_z=0.01, exposure=1.0, seed=SEED)
-    options = dict(jitter_tiles=0, adaptive_samples=0, early_exit=0.0, packed_inputs=False)
+    options = dict(
+        jitter_tiles=0, adaptive_samples=0, early_exit=0.0, packed_inputs=False, half_result=False
+    )
     out["reference.mcguire2012"] = digest(
         bl.twins.mcguire2012.reconstruct_mcguire2012(
             color, depth, motion, **filter_params, **options

@@ -1,6 +1,7 @@
 """Packed filter inputs (docs/spec.md §19, issue 19): colour and motion + depth as half floats,
 packed once per frame by shaders/passes/pack_inputs.comp, read by reconstruct_mcguire2012 and
-reconstruct_guertin2014 with packed_inputs=True; NumPy twin blurlab.twins.inputs.pack_half."""
+reconstruct_guertin2014 with packed_inputs=True; NumPy twin blurlab.twins.inputs.pack_half. And
+their results as half floats (half_result=True), rounded as blurlab.twins.inputs.round_to_half."""
 
 from __future__ import annotations
 
@@ -11,7 +12,7 @@ from conftest import random_frame
 import blurlab as bl
 from blurlab.methods.core import frame_textures
 from blurlab.methods.tile_filter import packed_inputs
-from blurlab.twins.inputs import HALF_MAX, pack_half
+from blurlab.twins.inputs import HALF_MAX, pack_half, round_to_half
 
 FILTERS = ("reconstruct_mcguire2012", "reconstruct_guertin2014")
 
@@ -96,3 +97,33 @@ def test_replayed_packed_calls_give_the_same_bits(ctx, rng):
         replayed = bl.blur(ctx, frame, FILTERS[1], timed=False, **params)
     assert frame.plans and any(plan is not None for plan in frame.plans.values())
     np.testing.assert_array_equal(replayed.color, ordinary)
+
+
+@pytest.mark.parametrize("backend", ["compute", "fragment"])
+@pytest.mark.parametrize("name", FILTERS)
+@pytest.mark.parametrize("packed", [False, True])
+def test_half_results_match_their_twins(ctx, rng, backend, name, packed):
+    frame = random_frame(rng, 160, 90)
+    params = {"soft_z": 0.5, "seed": 5, "packed_inputs": packed, "half_result": True}
+    result = bl.blur(ctx, frame, name, backend=backend, **params)
+    assert result.color.dtype == np.float16
+    expected = bl.method(name).twin_output(frame, **params)
+    # Both round the same float32 to half: they differ only where the unrounded values lie on
+    # either side of a rounding boundary, by one half step (under 1e-3 for values under 2).
+    error = np.abs(result.color.astype(np.float64) - expected)
+    assert (error.max(axis=-1) <= 1e-3).mean() >= 0.999
+    assert (error == 0).mean() >= 0.99
+    full = bl.method(name).twin_output(frame, **{**params, "half_result": False})
+    assert np.abs(expected - full).max() > 0  # the twin does round
+
+
+@pytest.mark.parametrize("name", FILTERS)
+def test_half_results_round_ties_to_even_and_clamp(ctx, name):
+    # Still pixels keep their colour: the stored half is round_to_half of it, on every driver.
+    color = np.full((30, 40, 4), 0.5, np.float32)
+    color[0, 0] = (2049.0, 2051.0, 1e5, -7e4)  # 2048, 2052 (ties to even), ±HALF_MAX
+    frame = bl.Frame(color=color, depth=np.ones((30, 40)), motion=np.zeros((30, 40, 2)))
+    for backend in ("compute", "fragment"):
+        got = bl.blur(ctx, frame, name, backend=backend, half_result=True).color
+        np.testing.assert_array_equal(got[0, 0], [2048.0, 2052.0, HALF_MAX, -HALF_MAX])
+        np.testing.assert_array_equal(got.astype(np.float64), round_to_half(color))

@@ -2,9 +2,9 @@
 parameters, TileMax → NeighborMax, and the filter pipeline that ends in a method's own
 reconstruct pass. reconstruct_mcguire2012, reconstruct_guertin2014 and reconstruct_urho3d are
 built on it. With the option packed_inputs (mcguire2012 and guertin2014) TileMax and
-reconstruct read the half-float textures that packed_inputs() makes once per frame (docs/spec.md
-§19). TileMax's work-group layout is one of TILE_MAX_VARIANTS, chosen for benchmarks by
-tile_max_variant().
+reconstruct read the half-float textures that packed_inputs() makes once per frame, and with
+half_result the reconstruct writes half floats (docs/spec.md §19). TileMax's work-group layout
+is one of TILE_MAX_VARIANTS, chosen for benchmarks by tile_max_variant().
 """
 
 from __future__ import annotations
@@ -82,12 +82,15 @@ FILTER_OPTIONS = {
     "packed_inputs": Param(
         False, bool, "read colour, motion and depth as half floats packed once per frame"
     ),
+    "half_result": Param(
+        False, bool, "write the result as half floats (RGBA16F, an engine's HDR target)"
+    ),
 }
 # Options that pick a shader variant (a #define), not a uniform of the same name. The two
 # filter options were uniforms until the H100 showed that the jittered lookup's code, compiled
 # in and switched off by a uniform, cost 15 % of the reconstruct pass (docs/benchmarks.md,
 # "Where the filters' time goes"); as #defines each combination is a program of its own.
-VARIANT_OPTIONS = ("packed_inputs", "jitter_tiles", "adaptive_samples")
+VARIANT_OPTIONS = ("packed_inputs", "half_result", "jitter_tiles", "adaptive_samples")
 
 
 def uniform_names(params) -> tuple[str, ...]:
@@ -102,6 +105,8 @@ def variant_defines(values: dict) -> dict[str, int]:
     defines["ADAPTIVE_SAMPLES"] = int(values["adaptive_samples"])
     if values["packed_inputs"]:
         defines["PACKED_INPUTS"] = 1
+    if values["half_result"]:
+        defines["HALF_RESULT"] = 1  # common/pass_main.glsl
     return defines
 
 
@@ -235,7 +240,8 @@ def run_filter(params: dict[str, Param], reconstruct: Pass, diagonal_reach: bool
         tiles, neighbors, timings = tile_passes(
             ctx, motion, params, values, backend, diagonal_reach
         )
-        result = ctx.pooled(inputs["color"].shape[:2] + (4,))
+        result_type = "float16" if values["half_result"] else "float32"
+        result = ctx.pooled(inputs["color"].shape[:2] + (4,), result_type)
         textures["neighbor_max"] = neighbors
         run_pass(
             ctx,

@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from .hashing import rand
-from .inputs import pack_half, sanitize_color, sanitize_depth
+from .inputs import pack_half, round_to_half, sanitize_color, sanitize_depth
 from .mcguire2012 import (
     cone,
     cylinder,
@@ -83,11 +83,13 @@ def reconstruct_guertin2014(
     adaptive_samples: int,
     early_exit: float,
     packed_inputs: bool,
+    half_result: bool,
     neighbor: np.ndarray | None = None,
 ) -> np.ndarray:
     """(H, W, C) float64 blurred color. `neighbor`: NeighborMax (with diagonal_reach) if
     already computed; the options (0 is off) are those of docs/guertin2014.md, and
-    packed_inputs reads the inputs as docs/spec.md §19 packs them."""
+    packed_inputs reads the inputs as docs/spec.md §19 packs them; half_result rounds the
+    result to half floats as the RGBA16F target holds it."""
     if packed_inputs:  # docs/spec.md §19: what the packed textures hold
         color, depth, motion = pack_half(color, depth, motion)
     color = sanitize_color(color)
@@ -129,4 +131,5 @@ def reconstruct_guertin2014(
         a1, a2 = np.where(active, a1, 0.0), np.where(active, a2, 0.0)
         weight = weight + a1 + a2
         total = total + a1[..., None] * color[py1, px1] + a2[..., None] * color[py2, px2]
-    return np.where(moving[..., None], total / weight[..., None], color)
+    result = np.where(moving[..., None], total / weight[..., None], color)
+    return round_to_half(result) if half_result else result

@@ -38,8 +38,13 @@ HALF_MAX = 65504.0
 HALF_MIN_NORMAL = 2.0**-14  # the smallest normal half: a finite depth never becomes 0
 
 
-def _half(x: np.ndarray) -> np.ndarray:
-    return np.asarray(x, np.float32).astype(np.float16).astype(np.float64)
+def round_to_half(x) -> np.ndarray:
+    """float64 `x` as float32, then to the nearest half float (ties to even), as float64:
+    shaders/common/half_float.glsl's round_to_half, finite values clamped to ±HALF_MAX as it
+    clamps them (±inf stays)."""
+    x = np.asarray(x, np.float32)
+    x = np.where(np.isfinite(x), np.clip(x, -HALF_MAX, HALF_MAX), x)
+    return x.astype(np.float16).astype(np.float64)
 
 
 def pack_half(color, depth, motion) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -50,4 +55,4 @@ def pack_half(color, depth, motion) -> tuple[np.ndarray, np.ndarray, np.ndarray]
     z = sanitize_depth(depth)
     z = np.where(np.isfinite(z), np.clip(z, HALF_MIN_NORMAL, HALF_MAX), z)
     # Frame arrays are float32 and the clamps' bounds are exact there: one rounding, to half.
-    return _half(c), _half(z), _half(m)
+    return round_to_half(c), round_to_half(z), round_to_half(m)

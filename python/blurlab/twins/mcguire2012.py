@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 
 from .hashing import rand
-from .inputs import pack_half, sanitize_color, sanitize_depth, sanitize_motion
+from .inputs import pack_half, round_to_half, sanitize_color, sanitize_depth, sanitize_motion
 
 
 def half_velocity(motion: np.ndarray, exposure: float, k: float) -> np.ndarray:
@@ -156,12 +156,13 @@ def reconstruct_mcguire2012(
     adaptive_samples: int,
     early_exit: float,
     packed_inputs: bool,
+    half_result: bool,
     neighbor: np.ndarray | None = None,
 ) -> np.ndarray:
     """§3.4: (H, W, C) float64 blurred color, with the options of docs/guertin2014.md
     (jitter_tiles, adaptive_samples, early_exit; 0 is off) and packed_inputs (docs/spec.md
-    §19: the inputs rounded as the packed textures hold them). `neighbor` is NeighborMax if
-    already computed."""
+    §19: the inputs rounded as the packed textures hold them), half_result (the result rounded to
+    half floats as the RGBA16F target holds it). `neighbor` is NeighborMax if already computed."""
     if packed_inputs:  # docs/spec.md §19: what the packed textures hold
         color, depth, motion = pack_half(color, depth, motion)
     color = sanitize_color(color)
@@ -193,4 +194,5 @@ def reconstruct_mcguire2012(
         a = np.where(active, a, 0.0)
         weight = weight + a
         total = total + a[..., None] * color[py, px]
-    return np.where(moving[..., None], total / weight[..., None], color)
+    result = np.where(moving[..., None], total / weight[..., None], color)
+    return round_to_half(result) if half_result else result
