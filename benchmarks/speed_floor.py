@@ -2,7 +2,8 @@
 
 1. filters: McGuire 2012 (k = 20, S = 15) and Guertin 2014 per pass, compute and fragment
    (fragment / compute), each with the stored and the packed inputs (packed_inputs, docs/spec.md
-   §19; the packing pass timed once), and a Python call (wall clock per untimed bl.blur over
+   §19; the packing pass timed once), and packed with a half-float result (half_result), and a
+   Python call (wall clock per untimed bl.blur over
    a loop, finished once) against its GPU time: over the first 20 calls (which note, then
    record, the dispatch plan: docs/spec.md §18) and in steady state over 200, with the CPU
    time of this process per call; then TileMax's work-group layouts (TILE_MAX_VARIANTS)
@@ -97,6 +98,11 @@ def filters(ctx, frame, runs: int) -> dict:
     """Each filter per backend with the stored inputs ("compute", "fragment") and with packed
     inputs ("compute packed", "fragment packed"; the frame is packed once, before timing)."""
     out = {}
+    ways_of_inputs = {  # label suffix -> the options
+        "": {"packed_inputs": False},
+        " packed": {"packed_inputs": True},
+        " packed half": {"packed_inputs": True, "half_result": True},  # RGBA16F result too
+    }
     print(
         "\n| filter / backend | per pass, ms | GPU total, ms | calls back to back, GPU ms | "
         "Python call, first 20, ms (/ GPU) | Python call, steady, ms | its CPU, ms | call / GPU |"
@@ -104,10 +110,10 @@ def filters(ctx, frame, runs: int) -> dict:
     print("|---|---|---|---|---|---|---|---|")
     for name, stored_params in FILTERS.items():
         out[name] = {}
-        ways = itertools.product(bl.method(name).backends, (False, True))
-        for backend, packed in ways:
-            params = {**stored_params, "packed_inputs": packed}
-            label = backend + (" packed" if packed else "")
+        ways = itertools.product(bl.method(name).backends, ways_of_inputs)
+        for backend, suffix in ways:
+            params = {**stored_params, **ways_of_inputs[suffix]}
+            label = backend + suffix
             spin_up(
                 lambda name=name, backend=backend, params=params: bl.blur(
                     ctx, frame, name, backend=backend, **params
@@ -148,7 +154,7 @@ def filters(ctx, frame, runs: int) -> dict:
                 f"({first[0] / total:.2f}x) | {call:.4f} | {cpu:.4f} | {call / total:.2f} |"
             )
         both = out[name]
-        for suffix in ("", " packed"):
+        for suffix in ways_of_inputs:
             if "fragment" + suffix in both:
                 fragment, compute = both["fragment" + suffix], both["compute" + suffix]
                 ratio = fragment["total_ms"] / compute["total_ms"]
@@ -251,10 +257,12 @@ def dram_floor(ctx, frame, filter_results: dict, bandwidth: dict, nominal_gbs) -
     textures = frame.textures
     result = bl.blur(ctx, frame, "reconstruct_mcguire2012", timed=False)
     output = {"output colour": texel_bytes(result.textures["color"])}
+    half = bl.blur(ctx, frame, "reconstruct_mcguire2012", timed=False, half_result=True)
+    packed = {k: texel_bytes(textures[f"packed_{k}"]) for k in ("color", "motion_depth")}
     layouts = {
         "": {k: texel_bytes(textures[k]) for k in ("color", "depth", "motion")} | output,
-        " packed": {k: texel_bytes(textures[f"packed_{k}"]) for k in ("color", "motion_depth")}
-        | output,
+        " packed": packed | output,
+        " packed half": packed | {"output colour": texel_bytes(half.textures["color"])},
     }
     pixels = frame.color.shape[0] * frame.color.shape[1]
     record = {"bytes_per_pixel": {}, "total_bytes_per_pixel": {}, "filters": {}}
@@ -265,7 +273,7 @@ def dram_floor(ctx, frame, filter_results: dict, bandwidth: dict, nominal_gbs) -
     print(f"The same pass over one pixel: {bandwidth['one_pixel_dispatch_ms']:.4f} ms")
     for suffix, layout in layouts.items():
         per_pixel = sum(layout.values())
-        inputs = "packed" if suffix else "stored"
+        inputs = suffix.strip() or "stored"
         record["bytes_per_pixel"][inputs] = layout
         record["total_bytes_per_pixel"][inputs] = per_pixel
         print(f"Bytes per pixel the filter cannot avoid, inputs {inputs}: {layout} = {per_pixel} B")
@@ -285,7 +293,7 @@ def dram_floor(ctx, frame, filter_results: dict, bandwidth: dict, nominal_gbs) -
                     "filter_ms": gpu,
                     "share": floor / gpu,
                 }
-                inputs = "packed" if suffix else "stored"
+                inputs = suffix.strip() or "stored"
                 print(
                     f"| {name} | {inputs} | {label} {gbs:.0f} GB/s | {floor:.4f} | {gpu:.4f} | "
                     f"{floor / gpu:.0%} |"
