@@ -88,6 +88,17 @@ def method_config(text: str) -> tuple[str, dict]:
     return method, params
 
 
+def add_config_argument(parser) -> None:
+    """--config (repeatable), parsed by method_config, for method_runs' `configs`."""
+    parser.add_argument(
+        "--config",
+        type=method_config,
+        action="append",
+        default=[],
+        help="METHOD:KEY=VALUE,...: a row of that method with those parameters (repeatable)",
+    )
+
+
 def spin_up(call, seconds: float = SPIN_UP_S) -> None:
     """Calls `call()` untimed for `seconds`, so the GPU's clocks are up when timing starts."""
     start = time.perf_counter()

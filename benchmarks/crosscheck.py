@@ -4,12 +4,14 @@ against Cycles, EEVEE as a peer, on three scenes of this script's own.
 Needs the optional extra `blender` (bpy, Python 3.11). Cycles runs on the CPU; EEVEE and
 blurlab on whatever GL device they find (llvmpipe on a machine without a GPU).
 
---methods limits the blurlab methods (default: every sweepable one); --film-filter σ adds
+--methods limits the blurlab methods (default: every sweepable one); --config
+METHOD:KEY=VALUE,... adds a row of a method with those parameters; --film-filter σ adds
 gather_coverage with its Gaussian film filter of σ px (docs/spec.md §17.6), a row of its own:
 Cycles filters its pixels (a 1 px box here), EEVEE too (its 1.5 px filter size).
 
     python benchmarks/crosscheck.py [--size 160x90] [--cycles-samples 2048]
         [--reference-samples 1024] [--scenes a,b] [--methods a,b] [--film-filter 0.5]
+        [--config gather_coverage:samples=4 ...]
         [--json out.json] [--markdown out.md]
 """
 
@@ -33,7 +35,7 @@ from blurlab.blender.crosscheck import (
 )
 from blurlab.studies.sweep import sweep_methods
 
-from common import describe, method_runs, open_context, save
+from common import add_config_argument, describe, method_runs, open_context, save
 
 
 def progress_log(scene_name: str, started: float):
@@ -72,6 +74,7 @@ def main() -> None:
     parser.add_argument("--scenes", default=",".join(SCENES))
     parser.add_argument("--methods", default=None, help="comma-separated; default: sweepable")
     parser.add_argument("--film-filter", type=float, default=0.0, help="σ, px; 0: no extra row")
+    add_config_argument(parser)
     parser.add_argument("--json", default=None)
     parser.add_argument("--markdown", default=None)
     args = parser.parse_args()
@@ -81,7 +84,7 @@ def main() -> None:
     record = {**describe(ctx), "size": args.size, "cycles_samples": spp, "reference_samples": n}
     record["scenes"] = {}
     names = args.methods.split(",") if args.methods else sweep_methods()
-    runs = method_runs(names, args.film_filter)
+    runs = method_runs(names, args.film_filter, args.config)
     started = time.perf_counter()
     for scene_name in args.scenes.split(","):
         scene = SCENES[scene_name]()

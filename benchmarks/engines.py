@@ -60,9 +60,9 @@ from blurlab.twins import coverage as coverage_twin
 from blurlab.twins import film as film_twin
 
 from common import (
+    add_config_argument,
     back_to_back_ms,
     describe,
-    method_config,
     method_runs,
     open_context,
     save,
@@ -475,13 +475,7 @@ def main() -> None:
         default="auto",
         help="N of both references; auto (default): from each scene's motion, as sweeps do",
     )
-    parser.add_argument(
-        "--config",
-        type=method_config,
-        action="append",
-        default=[],
-        help="METHOD:KEY=VALUE,...: a row of that method with those parameters (repeatable)",
-    )
+    add_config_argument(parser)
     parser.add_argument("--variants", action="store_true", help="gather_coverage's layouts only")
     parser.add_argument("--json", default=None)
     parser.add_argument("--markdown", default=None)

@@ -17,6 +17,8 @@ from blurlab.studies import peers
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
 import engines  # noqa: E402  (a script folder, not a package)
 
+import common  # noqa: E402
+
 needs_bpy = pytest.mark.skipif(
     not bl.blender.available(), reason="bpy is not installed (pip install 'blurlab[blender]')"
 )
@@ -114,9 +116,16 @@ def test_reference_options_refuse_what_they_cannot_do():
 
 
 def test_config_rows_carry_their_parameters_and_bad_ones_are_refused():
-    config = engines.method_config("gather_coverage:samples=16,film_filter=0.5,seed=3")
+    config = common.method_config("gather_coverage:samples=16,film_filter=0.5,seed=3")
     assert config == ("gather_coverage", {"samples": 16, "film_filter": 0.5, "seed": 3})
-    assert engines.method_config("gather_coverage:packed_inputs=true")[1] == {"packed_inputs": True}
+    assert common.method_config("gather_coverage:packed_inputs=true")[1] == {"packed_inputs": True}
+    parser = argparse.ArgumentParser()  # as engines.py and crosscheck.py take it
+    common.add_config_argument(parser)
+    given = ["--config", "gather_coverage:samples=4", "--config", "engine_unity:quality=8"]
+    assert parser.parse_args(given).config == [
+        ("gather_coverage", {"samples": 4}),
+        ("engine_unity", {"quality": 8}),
+    ]
     runs = engines.method_runs(["reconstruct_guertin2014"], 0.0, [config])
     assert runs[-1] == (
         "gather_coverage, samples=16, film_filter=0.5, seed=3",
@@ -125,7 +134,7 @@ def test_config_rows_carry_their_parameters_and_bad_ones_are_refused():
     )
     for bad in ("gather_coverage:samples", "gather_coverage:samples=many", ":k=3", "x:=3"):
         with pytest.raises(argparse.ArgumentTypeError, match="METHOD:KEY=VALUE"):
-            engines.method_config(bad)
+            common.method_config(bad)
 
 
 def test_a_scene_blender_refuses_renders_no_reference():
