@@ -5,7 +5,8 @@ packed with the result written as half floats too (half_result=True: RGBA16F, no
 
 McGuire 2012 (k = 20, S = 15) and Guertin 2014 (defaults) blur each scene's G-buffer the three
 ways; the table gives the PSNR of each against the converged reference and the changes from the
-stored one. The bar: |ΔPSNR| <= 0.05 dB on every scene. Also the packing pass's time per frame.
+stored one, and FLIP of each. The bar:
+|ΔPSNR| <= 0.05 dB on every scene. Also the packing pass's time per frame.
 
     python benchmarks/packed_inputs.py [--device auto] [--size 320x180] [--samples 128]
 """
@@ -36,21 +37,26 @@ def main() -> None:
     print(f"\n{record['date']}  {record['renderer']}  {args.size}, reference N = {args.samples}\n")
     print(
         "| scene | method | PSNR stored, dB | PSNR packed, dB | ΔdB | PSNR packed + half "
-        "result, dB | ΔdB | packing, ms |"
+        "result, dB | ΔdB | FLIP stored | FLIP packed | FLIP packed + half result | packing, ms |"
     )
-    print("|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
     for scene_name in bl.scenes.names() + bl.scenes.names("failure"):
         scene = bl.scenes.get(scene_name)
         reference = ctx.reference(scene, size, samples=args.samples, progress=False).color
         for name, params in FILTERS.items():
             frame = ctx.render(scene, size, instant=bl.method_instant(name, params))
-            stored = metrics.psnr(bl.blur(ctx, frame, name, timed=False, **params).color, reference)
+            sharp = bl.blur(ctx, frame, name, timed=False, **params).color
+            stored = metrics.psnr(sharp, reference)
             out = bl.blur(ctx, frame, name, timed=False, packed_inputs=True, **params)
             packed = metrics.psnr(out.color, reference)
             both = bl.blur(
                 ctx, frame, name, timed=False, packed_inputs=True, half_result=True, **params
             )
             half = metrics.psnr(both.color.astype("float32"), reference)
+            # FLIP reacts to half-float steps far more than PSNR does (docs/benchmarks.md).
+            flip_stored = metrics.flip(sharp, reference)
+            flip_packed = metrics.flip(out.color, reference)
+            flip_half = metrics.flip(both.color.astype("float32"), reference)
             row = {
                 "scene": scene_name,
                 "method": name,
@@ -59,13 +65,16 @@ def main() -> None:
                 "change_db": packed - stored,
                 "psnr_packed_half_result": half,
                 "change_half_result_db": half - stored,
+                "flip_stored": flip_stored,
+                "flip_packed": flip_packed,
+                "flip_packed_half_result": flip_half,
                 "pack_ms": frame.timings["pack_inputs"].ms,
             }
             record["rows"].append(row)
             print(
                 f"| {scene_name} | {name} | {stored:.3f} | {packed:.3f} | "
                 f"{row['change_db']:+.4f} | {half:.3f} | {row['change_half_result_db']:+.4f} | "
-                f"{row['pack_ms']:.3f} |"
+                f"{flip_stored:.5f} | {flip_packed:.5f} | {flip_half:.5f} | {row['pack_ms']:.3f} |"
             )
     worst = max(abs(r["change_db"]) for r in record["rows"])
     worst_half = max(abs(r["change_half_result_db"]) for r in record["rows"])
@@ -79,6 +88,12 @@ def main() -> None:
     alone = max(abs(r["psnr_packed_half_result"] - r["psnr_packed"]) for r in record["rows"])
     record["largest_change_half_result_over_packed_db"] = alone
     print(f"the half-float result alone (against packed): largest |change| {alone:.4f} dB")
+    flip_up = [r["flip_packed_half_result"] - r["flip_packed"] for r in record["rows"]]
+    record["flip_change_half_result"] = {"min": min(flip_up), "max": max(flip_up)}
+    print(f"... and FLIP (against packed): {min(flip_up):+.5f} to {max(flip_up):+.5f}")
+    packing_up = [r["flip_packed"] - r["flip_stored"] for r in record["rows"]]
+    record["flip_change_packed"] = {"min": min(packing_up), "max": max(packing_up)}
+    print(f"FLIP of packed against stored: {min(packing_up):+.5f} to {max(packing_up):+.5f}")
     save(args.json, record)
 
 
