@@ -14,16 +14,8 @@ const int HALF_MANTISSA = 10;
 // that imageStore then makes is exact whatever rounding the driver uses: llvmpipe's rounds ties
 // towards zero (2051 -> 2050, not 2052).
 float round_to_half(float x) {
-    uint bits = floatBitsToUint(x);
-    uint magnitude = bits & 0x7fffffffu;
-    // Normal halves below HALF_MAX, nearly every value: quantize_small_float's rounding on the
-    // bits in a few integer operations, without its branches and exp2s.
-    if (magnitude >= 0x38800000u && magnitude < 0x477fe000u) {  // 2^-14 <= |x| < HALF_MAX
-        uint rounded = (magnitude + 0xfffu + ((magnitude >> 13) & 1u)) & 0xffffe000u;
-        return uintBitsToFloat(rounded | (bits & 0x80000000u));
-    }
     float rounded = quantize_small_float(abs(x), HALF_MANTISSA);
-    return uintBitsToFloat(floatBitsToUint(rounded) | (bits & 0x80000000u));
+    return uintBitsToFloat(floatBitsToUint(rounded) | (floatBitsToUint(x) & 0x80000000u));
 }
 
 vec4 round_to_half(vec4 v) {
