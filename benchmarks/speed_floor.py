@@ -95,8 +95,9 @@ def wall_ms(fn, runs: int) -> float:
 
 
 def filters(ctx, frame, runs: int) -> dict:
-    """Each filter per backend with the stored inputs ("compute", "fragment") and with packed
-    inputs ("compute packed", "fragment packed"; the frame is packed once, before timing)."""
+    """Each filter per backend with the stored inputs ("compute", "fragment"), with packed
+    inputs ("compute packed", "fragment packed"; the frame is packed once, before timing) and
+    with packed inputs and a half-float result ("compute packed half", "fragment packed half")."""
     out = {}
     ways_of_inputs = {  # label suffix -> the options
         "": {"packed_inputs": False},
