@@ -7,7 +7,9 @@ worker then gets an equal share of the cores). The wall time of a sweep runs fro
 call to its table, so it includes each worker's context, shader compiles and references;
 starting the cluster is timed apart. "GPU-timed" adds up every timed pass of every run
 (warm-up and error runs untimed, so the GPU's real share is somewhat higher); the rest of the
-wall time is the CPU's: G-buffer and reference submission, readback, SSIM and FLIP.
+wall time is the CPU's: G-buffer and reference submission, readback, SSIM and FLIP. After
+each cluster run, a table says where each worker's time went (blurlab.studies.cluster's
+worker_report): context, references, G-buffers, evaluations and idle.
 
     python benchmarks/sweep_scaling.py [--device gpu] [--size 1920x1080] [--workers 1 2]
         [--scenes teapot_pass fan] [--metrics psnr,ssim] [--reference-samples N] [--local]
@@ -21,6 +23,7 @@ import time
 import pandas as pd
 
 import blurlab as bl
+from blurlab.studies.cluster import worker_report
 from blurlab.studies.sweep import default_grids, grid_points
 
 from common import describe, save
@@ -101,8 +104,30 @@ def main() -> None:
         )
         save(args.json, record)
     for run in record["runs"]:
-        if "worker_devices" in run:
-            print(f"{run['name']}: " + "; ".join(run["worker_devices"]))
+        if "workers_report" in run:
+            _print_workers(run)
+
+
+def _print_workers(run: dict) -> None:
+    """Where each worker's share of the sweep's wall time went: opening its context, the
+    scenes' references and G-buffers, the evaluations (timed runs and metrics), and idle
+    (waiting for the client or for work); the client's share is the wall time the busiest
+    worker did not use."""
+    wall = run["wall_s"]
+    print(f"\n{run['name']}, sweep wall {wall:.1f} s:\n")
+    print(
+        "| worker | device | tasks | evaluations | context s | references s | G-buffers s "
+        "| evaluations s | idle s |\n|---|---|---|---|---|---|---|---|---|"
+    )
+    for name, r in sorted(run["workers_report"].items()):
+        idle = wall - r["context_s"] - r["busy_s"]
+        print(
+            f"| {name} | {r['device']} | {r['tasks']} | {r['evaluations']} "
+            f"| {r['context_s']:.1f} | {r['references_s']:.1f} | {r['g_buffers_s']:.1f} "
+            f"| {r['evaluations_s']:.1f} | {idle:.1f} |"
+        )
+    busiest = max(r["context_s"] + r["busy_s"] for r in run["workers_report"].values())
+    print(f"\nnot on any worker's account (client, scheduler, transfers): {wall - busiest:.1f} s")
 
 
 def _cluster_run(name: str, n: int, device: str, sweep_args: dict):
@@ -115,10 +140,11 @@ def _cluster_run(name: str, n: int, device: str, sweep_args: dict):
         start = time.perf_counter()
         table = bl.sweep(None, cluster=client, **sweep_args)
         wall = time.perf_counter() - start
-        devices = client.run(_worker_device)
+        reports = client.run(worker_report)
     run = _run(name, startup, wall, table)
     run["workers"] = n
-    run["worker_devices"] = sorted(devices.values())
+    run["worker_devices"] = sorted(str(r["device"]) for r in reports.values())
+    run["workers_report"] = {str(worker): r for worker, r in reports.items()}
     return run, table
 
 
@@ -134,16 +160,6 @@ def _same(a: pd.DataFrame, b: pd.DataFrame) -> bool:
     a = a[columns].sort_values(keys).reset_index(drop=True)
     b = b[columns].sort_values(keys).reset_index(drop=True)
     return bool(a.equals(b))
-
-
-def _worker_device() -> str:
-    from blurlab.studies import cluster
-
-    ctx = cluster._worker_state.get("ctx")
-    if ctx is None:
-        return "(no task ran here)"
-    info = ctx.info()
-    return f"EGL device {info['device_index']}: {info['renderer']}"
 
 
 if __name__ == "__main__":

@@ -5,7 +5,7 @@ spawned processes, and a cluster that hangs is then killed with its whole proces
 
 Writes into FOLDER: local.csv (the sweep in this process), one.csv (one worker), two.csv (two
 workers), resumed.csv (a partial sweep through `blurlab sweep --scheduler`, then the whole
-sweep on the cluster) and workers.json (the scenes each worker kept).
+sweep on the cluster) and workers.json (each worker's report after the two-worker sweep).
 """
 
 from __future__ import annotations
@@ -22,6 +22,7 @@ OPTIONS = {"size": (64, 36), "reference_samples": 16, "progress": False, "repeat
 def main(folder: Path) -> None:
     import blurlab as bl
     from blurlab import cli
+    from blurlab.studies import cluster as cluster_module
 
     bl.sweep(bl.Context(), SCENES, GRID, out=folder / "local.csv", **OPTIONS)
     with bl.local_cluster(1) as cluster:
@@ -31,9 +32,10 @@ def main(folder: Path) -> None:
 
         with Client(cluster) as client:
             client.wait_for_workers(2, timeout=120)
-            client.run(_forget)  # the second sweep starts with no frames or references kept
+            # The second sweep starts with no frames or references kept.
+            client.run(cluster_module.forget_scenes)
             bl.sweep(None, SCENES, GRID, out=folder / "two.csv", cluster=client, **OPTIONS)
-            kept = client.run(_kept_scenes)
+            reports = client.run(cluster_module.worker_report)
             config = folder / "partial.toml"
             config.write_text(
                 f"scenes = {json.dumps(SCENES[:1])}\nsize = [64, 36]\nreference_samples = 16\n"
@@ -46,20 +48,7 @@ def main(folder: Path) -> None:
                 None, SCENES, GRID, out=folder / "resumed.csv", cluster=cluster, **OPTIONS
             )
             table.to_csv(folder / "resumed_table.csv", index=False)
-    (folder / "workers.json").write_text(json.dumps({str(k): v for k, v in kept.items()}))
-
-
-def _forget() -> None:
-    from blurlab.studies import cluster
-
-    cluster._worker_state.get("scenes", {}).clear()
-
-
-def _kept_scenes() -> list[int]:
-    """Indices of the scenes whose reference this worker rendered in the last sweep."""
-    from blurlab.studies import cluster
-
-    return sorted(index for _, index in cluster._worker_state.get("scenes", {}))
+    (folder / "workers.json").write_text(json.dumps({str(k): v for k, v in reports.items()}))
 
 
 if __name__ == "__main__":

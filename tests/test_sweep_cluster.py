@@ -68,10 +68,33 @@ def test_two_workers_give_the_rows_of_one_worker_and_of_a_local_sweep(job):
 
 
 def test_both_workers_evaluated_scenes(job):
-    kept = json.loads((job / "workers.json").read_text())
+    reports = json.loads((job / "workers.json").read_text())
+    kept = {worker: report["scenes_kept"] for worker, report in reports.items()}
     assert len(kept) == 2
     assert all(kept.values()), kept  # each worker rendered at least one scene's reference
     assert set().union(*map(set, kept.values())) == {0, 1}
+
+
+def test_worker_reports_account_for_every_evaluation_and_second(job):
+    reports = list(json.loads((job / "workers.json").read_text()).values())
+    # The first worker ran the one-worker sweep too: 10 rows each sweep.
+    assert sum(r["evaluations"] for r in reports) == 20
+    for report in reports:
+        assert report["device"].startswith("EGL device")
+        assert report["tasks"] >= 1 and report["context_s"] > 0
+        assert report["references_s"] > 0 and report["g_buffers_s"] > 0
+        spent = report["references_s"] + report["g_buffers_s"] + report["evaluations_s"]
+        assert report["evaluations_s"] > 0
+        assert spent == pytest.approx(report["busy_s"])
+
+
+def test_a_helper_joins_another_workers_scene_only_where_it_pays():
+    # 10 evaluations of 0.5 s left: 5 s alone, against a setup of 2 s to help.
+    assert cluster.worth_helping(10, 0.5, 2.0)
+    assert not cluster.worth_helping(10, 0.5, 2.5)  # 5 s is not more than twice 2.5 s
+    assert not cluster.worth_helping(1, 0.5, 0.3)
+    assert cluster.worth_helping(1, None, 10.0)  # no estimate yet: help
+    assert cluster.worth_helping(1, 0.5, None)
 
 
 def test_a_cluster_sweep_resumes_from_the_csv_file(job):

@@ -15,6 +15,7 @@ from __future__ import annotations
 import math
 import os
 import re
+import time
 import uuid
 from collections import OrderedDict, deque
 
@@ -26,6 +27,9 @@ INSTALL_HINT = "pip install 'blurlab[distributed]' (or dask[distributed])"
 # at a time, so two are enough for the hand-over between scenes.
 SCENES_KEPT = 2
 MAX_CHUNK = 8  # configurations per task unless bl.sweep's chunk_size says otherwise
+# The phases of a scene cache's PhaseClock (studies/evaluation.py) that a scene costs once per
+# worker before its first evaluation: a helper on another worker's scene pays them again.
+SETUP_PHASES = ("references", "g_buffers")
 
 _worker_state: dict = {}  # this process as a Dask worker: its Context and scene caches
 
@@ -131,22 +135,77 @@ def worker_context() -> Context:
                 "context belongs to one thread: start workers with --nthreads 1 "
                 "(LocalCluster: threads_per_worker=1)"
             )
+        start = time.perf_counter()
         _worker_state["ctx"] = Context(worker_device(worker.name))
         _worker_state["scenes"] = OrderedDict()
+        _worker_state["log"] = {
+            "context_s": time.perf_counter() - start,
+            "tasks": 0,
+            "evaluations": 0,
+            "busy_s": 0.0,
+            **{f"{phase}_s": 0.0 for phase in SETUP_PHASES},
+        }
     return _worker_state["ctx"]
 
 
-def run_chunk(scene, scene_key, jobs, settings) -> tuple[str, list]:
-    """On a worker: evaluates `jobs` of `scene`; returns (worker name, [(key, row)])."""
-    ctx = worker_context()
+def run_chunk(scene, scene_key, jobs, settings) -> tuple[str, list, dict]:
+    """On a worker: evaluates `jobs` of `scene`; returns (worker name, [(key, row)], costs),
+    costs = {"seconds": the task's wall time, "setup_s": what it spent on the scene's
+    references and G-buffers, "evaluations": len(jobs)}: the client's estimate of what a
+    helper on this scene would pay before its first evaluation."""
+    ctx = worker_context()  # its first call opens the context: counted apart, as context_s
+    start = time.perf_counter()
     ctx.make_current()  # a no-op on the thread that made it, which is every task's thread
     scenes = _worker_state["scenes"]
     cache = scenes.pop(scene_key, {})
     scenes[scene_key] = cache
     while len(scenes) > SCENES_KEPT:
         scenes.popitem(last=False)
+    before = dict(cache["clock"].seconds) if "clock" in cache else {}
     rows = list(evaluate_scene(ctx, scene, jobs, settings, cache))
-    return str(_distributed().get_worker().name), rows
+    seconds = time.perf_counter() - start
+    log = _worker_state["log"]
+    setup = 0.0
+    for phase in SETUP_PHASES:
+        spent = cache["clock"].seconds.get(phase, 0.0) - before.get(phase, 0.0)
+        log[f"{phase}_s"] += spent
+        setup += spent
+    log["tasks"] += 1
+    log["evaluations"] += len(rows)
+    log["busy_s"] += seconds
+    costs = {"seconds": seconds, "setup_s": setup, "evaluations": len(rows)}
+    return str(_distributed().get_worker().name), rows, costs
+
+
+def worker_report() -> dict:
+    """This worker's account since it opened its context (run it with ``client.run``): its
+    device, the tasks and evaluations it ran, and where its busy seconds went: opening the
+    context, the scenes' references and G-buffers, and the rest (timed runs and metrics).
+    Idle time is the sweep's wall time less ``context_s`` and ``busy_s``."""
+    if "ctx" not in _worker_state:
+        return {"device": None, "tasks": 0, "evaluations": 0, "busy_s": 0.0, "scenes_kept": []}
+    info = _worker_state["ctx"].info()
+    log = dict(_worker_state["log"])
+    log["evaluations_s"] = log["busy_s"] - sum(log[f"{p}_s"] for p in SETUP_PHASES)
+    log["device"] = f"EGL device {info['device_index']}: {info['renderer']}"
+    log["scenes_kept"] = sorted(index for _, index in _worker_state["scenes"])
+    return log
+
+
+def forget_scenes() -> None:
+    """Drops the frames and references this worker keeps, so that the next sweep renders its
+    scenes anew (run it with ``client.run``)."""
+    _worker_state.get("scenes", {}).clear()
+
+
+def worth_helping(left: int, seconds_each: float | None, setup_s: float | None) -> bool:
+    """Whether a worker that holds none of a scene should take part of the `left` evaluations
+    another worker is working through: only if that worker alone would need more than twice
+    the scene's setup (its references and G-buffers, which the helper must render again).
+    Without estimates yet it helps."""
+    if seconds_each is None or setup_s is None:
+        return True
+    return left * seconds_each > 2.0 * setup_s
 
 
 def _scene_copy(scene):
@@ -195,14 +254,24 @@ def sweep_on_cluster(cluster, scenes, pending, settings, record, chunk_size, bar
         owner: dict = {}
         started: set = set()
         counts: dict = {}
+        held: dict = {}  # worker: the scenes whose inputs it keeps, oldest first
+        setup_s: dict = {}  # scene: what its first chunk on a worker spent on references
+        seconds_each: dict = {}  # scene: a chunk's other seconds per evaluation
         done = distributed.as_completed()
+
+        def worth_it(worker, i) -> bool:
+            """Helping on scene i pays, or nobody else is working on it."""
+            if i in held.get(worker, ()):
+                return True
+            covered = any(owner.get(w) == i for w in futures.values() if w != worker)
+            return not covered or worth_helping(len(queues[i]), seconds_each.get(i), setup_s.get(i))
 
         def next_scene(worker):
             mine = owner.get(worker)
             if mine is not None and queues.get(mine):
                 return mine
             fresh = [i for i in queues if queues[i] and i not in started]
-            left = fresh or [i for i in queues if queues[i]]
+            left = fresh or [i for i in queues if queues[i] and worth_it(worker, i)]
             return max(left, key=lambda i: len(queues[i])) if left else None
 
         def assign(worker) -> None:
@@ -231,15 +300,24 @@ def sweep_on_cluster(cluster, scenes, pending, settings, record, chunk_size, bar
                 pure=False,
             )
             futures[future] = worker
+            scene_of[future] = i
             done.add(future)
 
+        scene_of: dict = {}
         for worker in workers:
             assign(worker)
         for future in done:
             worker = futures.pop(future)
-            name, rows = future.result()  # a worker's exception is raised here
+            i = scene_of.pop(future)
+            name, rows, costs = future.result()  # a worker's exception is raised here
             for key, row in rows:
                 record(key, row)
+            kept = [j for j in held.get(worker, []) if j != i] + [i]
+            held[worker] = kept[-SCENES_KEPT:]
+            if costs["setup_s"] > 0:  # this chunk rendered the scene's inputs
+                setup_s[i] = max(setup_s.get(i, 0.0), costs["setup_s"])
+            if costs["evaluations"]:
+                seconds_each[i] = (costs["seconds"] - costs["setup_s"]) / costs["evaluations"]
             counts[name] = counts.get(name, 0) + len(rows)
             if bar:
                 bar.set_postfix(rows_per_worker=",".join(f"{n}:{c}" for n, c in counts.items()))
