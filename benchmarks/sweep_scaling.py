@@ -5,8 +5,8 @@ Each worker is a process with one thread and one device: GPU i for worker i on a
 machine (wrapping around when there are more workers than GPUs), llvmpipe otherwise (each
 worker then gets an equal share of the cores). The wall time of a sweep runs from bl.sweep's
 call to its table, so it includes each worker's context, shader compiles and references;
-starting the cluster is timed apart. "GPU-timed" adds up every timed pass of every run
-(warm-up and error runs untimed, so the GPU's real share is somewhat higher); the rest of the
+starting the cluster (with --warm, and its untimed warm-up sweep) is timed apart. "GPU-timed"
+adds up every timed pass of every run (warm-up and error runs untimed, so the GPU's real share is somewhat higher); the rest of the
 wall time is the CPU's: G-buffer and reference submission, readback, SSIM and FLIP. After
 each cluster run, a table says where each worker's time went (blurlab.studies.cluster's
 worker_report): context, references, G-buffers, evaluations and idle.
@@ -23,7 +23,7 @@ import time
 import pandas as pd
 
 import blurlab as bl
-from blurlab.studies.cluster import worker_report
+from blurlab.studies.cluster import forget_scenes, worker_report
 from blurlab.studies.sweep import default_grids, grid_points
 
 from common import describe, save
@@ -42,6 +42,13 @@ def main() -> None:
     parser.add_argument("--workers", type=int, nargs="+", default=[1, 2])
     parser.add_argument(
         "--local", action="store_true", help="last, time the sweep in this process, no Dask"
+    )
+    parser.add_argument(
+        "--warm",
+        action="store_true",
+        help="time each cluster as one that has run a sweep before: each worker first runs one "
+        "scene's grids at this size, untimed, then forgets its scenes (compiled programs and "
+        "texture pools stay)",
     )
     parser.add_argument("--json", default=None)
     args = parser.parse_args()
@@ -90,7 +97,7 @@ def main() -> None:
             table = bl.sweep(ctx, **sweep_args)
             run = _run(name, 0.0, time.perf_counter() - start, table)
         else:
-            run, table = _cluster_run(name, n, args.device, sweep_args)
+            run, table = _cluster_run(name, n, args.device, sweep_args, args.warm)
             base = base or run
         first_table = table if first_table is None else first_table
         run["speedup"] = base["wall_s"] / run["wall_s"] if base else float("nan")
@@ -117,25 +124,30 @@ def _print_workers(run: dict) -> None:
     print(f"\n{run['name']}, sweep wall {wall:.1f} s:\n")
     print(
         "| worker | device | tasks | evaluations | context s | references s | G-buffers s "
-        "| evaluations s | idle s |\n|---|---|---|---|---|---|---|---|---|"
+        "| warm-up runs s | evaluations s | idle s |\n|---|---|---|---|---|---|---|---|---|---|"
     )
     for name, r in sorted(run["workers_report"].items()):
         idle = wall - r["context_s"] - r["busy_s"]
         print(
             f"| {name} | {r['device']} | {r['tasks']} | {r['evaluations']} "
             f"| {r['context_s']:.1f} | {r['references_s']:.1f} | {r['g_buffers_s']:.1f} "
-            f"| {r['evaluations_s']:.1f} | {idle:.1f} |"
+            f"| {r['warm_up_s']:.1f} | {r['evaluations_s']:.1f} | {idle:.1f} |"
         )
     busiest = max(r["context_s"] + r["busy_s"] for r in run["workers_report"].values())
     print(f"\nnot on any worker's account (client, scheduler, transfers): {wall - busiest:.1f} s")
 
 
-def _cluster_run(name: str, n: int, device: str, sweep_args: dict):
+def _cluster_run(name: str, n: int, device: str, sweep_args: dict, warm: bool):
     from distributed import Client
 
     start = time.perf_counter()
     with bl.local_cluster(n, device) as cluster, Client(cluster) as client:
         client.wait_for_workers(n, timeout=300)
+        if warm:  # a scene a worker (from the sweep's own, cycled), 16-sample references
+            scenes = [sweep_args["scenes"][i % len(sweep_args["scenes"])] for i in range(n)]
+            warm_args = {**sweep_args, "scenes": scenes, "reference_samples": 16}
+            bl.sweep(None, cluster=client, **warm_args)
+            client.run(forget_scenes)
         startup = time.perf_counter() - start
         start = time.perf_counter()
         table = bl.sweep(None, cluster=client, **sweep_args)

@@ -30,6 +30,8 @@ MAX_CHUNK = 8  # configurations per task unless bl.sweep's chunk_size says other
 # The phases of a scene cache's PhaseClock (studies/evaluation.py) that a scene costs once per
 # worker before its first evaluation: a helper on another worker's scene pays them again.
 SETUP_PHASES = ("references", "g_buffers")
+# Each method's first, untimed run in a task: its compiles and the first use of new textures.
+WARM_UP_PHASE = "warm_up"
 
 _worker_state: dict = {}  # this process as a Dask worker: its Context and scene caches
 
@@ -138,14 +140,13 @@ def worker_context() -> Context:
         start = time.perf_counter()
         _worker_state["ctx"] = Context(worker_device(worker.name))
         _worker_state["scenes"] = OrderedDict()
-        _worker_state["log"] = {
-            "context_s": time.perf_counter() - start,
-            "tasks": 0,
-            "evaluations": 0,
-            "busy_s": 0.0,
-            **{f"{phase}_s": 0.0 for phase in SETUP_PHASES},
-        }
+        _worker_state["log"] = _new_log(time.perf_counter() - start)
     return _worker_state["ctx"]
+
+
+def _new_log(context_s: float) -> dict:
+    phases = {f"{phase}_s": 0.0 for phase in (*SETUP_PHASES, WARM_UP_PHASE)}
+    return {"context_s": context_s, "tasks": 0, "evaluations": 0, "busy_s": 0.0, **phases}
 
 
 def run_chunk(scene, scene_key, jobs, settings) -> tuple[str, list, dict]:
@@ -166,10 +167,10 @@ def run_chunk(scene, scene_key, jobs, settings) -> tuple[str, list, dict]:
     seconds = time.perf_counter() - start
     log = _worker_state["log"]
     setup = 0.0
-    for phase in SETUP_PHASES:
+    for phase in (*SETUP_PHASES, WARM_UP_PHASE):
         spent = cache["clock"].seconds.get(phase, 0.0) - before.get(phase, 0.0)
         log[f"{phase}_s"] += spent
-        setup += spent
+        setup += spent if phase in SETUP_PHASES else 0.0
     log["tasks"] += 1
     log["evaluations"] += len(rows)
     log["busy_s"] += seconds
@@ -180,13 +181,15 @@ def run_chunk(scene, scene_key, jobs, settings) -> tuple[str, list, dict]:
 def worker_report() -> dict:
     """This worker's account since it opened its context (run it with ``client.run``): its
     device, the tasks and evaluations it ran, and where its busy seconds went: opening the
-    context, the scenes' references and G-buffers, and the rest (timed runs and metrics).
-    Idle time is the sweep's wall time less ``context_s`` and ``busy_s``."""
+    context, the scenes' references and G-buffers, each method's first run in a task
+    (``warm_up_s``), and the rest (timed runs and metrics, ``evaluations_s``). Idle time is
+    the sweep's wall time less ``context_s`` and ``busy_s``."""
     if "ctx" not in _worker_state:
-        return {"device": None, "tasks": 0, "evaluations": 0, "busy_s": 0.0, "scenes_kept": []}
+        return {"device": None, **_new_log(0.0), "evaluations_s": 0.0, "scenes_kept": []}
     info = _worker_state["ctx"].info()
     log = dict(_worker_state["log"])
-    log["evaluations_s"] = log["busy_s"] - sum(log[f"{p}_s"] for p in SETUP_PHASES)
+    spent = sum(log[f"{p}_s"] for p in (*SETUP_PHASES, WARM_UP_PHASE))
+    log["evaluations_s"] = log["busy_s"] - spent
     log["device"] = f"EGL device {info['device_index']}: {info['renderer']}"
     log["scenes_kept"] = sorted(index for _, index in _worker_state["scenes"])
     return log
@@ -194,8 +197,11 @@ def worker_report() -> dict:
 
 def forget_scenes() -> None:
     """Drops the frames and references this worker keeps, so that the next sweep renders its
-    scenes anew (run it with ``client.run``)."""
+    scenes anew, and starts its account (worker_report) anew; its context, compiled programs
+    and texture pool stay (run it with ``client.run``)."""
     _worker_state.get("scenes", {}).clear()
+    if "log" in _worker_state:
+        _worker_state["log"] = _new_log(0.0)
 
 
 def worth_helping(left: int, seconds_each: float | None, setup_s: float | None) -> bool:

@@ -66,7 +66,8 @@ def evaluate_scene(
         frames, reference = _scene_inputs(ctx, scene, name, point, settings, cache)
         params = _without_steps(point)
         if (name, backend) not in warmed:
-            blur_steps(ctx, frames, name, backend, **params)
+            with _phase(cache, "warm_up"):
+                blur_steps(ctx, frames, name, backend, **params)
             warmed.add((name, backend))
         runs = []
         for _ in range(settings.repeats):
@@ -211,7 +212,8 @@ class PhaseClock:
 
 def _phase(cache: dict, phase: str):
     """Times a block into the scene cache's PhaseClock, cache["clock"]: the study splits its
-    sweep's time into references, G-buffers and evaluations with it."""
+    sweep's time into references, G-buffers and evaluations with it, and a cluster's workers
+    report their warm-up runs (compiles, first use of new textures) apart too."""
     return cache.setdefault("clock", PhaseClock())(phase)
 
 
