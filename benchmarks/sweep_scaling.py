@@ -6,13 +6,15 @@ machine (wrapping around when there are more workers than GPUs), llvmpipe otherw
 worker then gets an equal share of the cores). The wall time of a sweep runs from bl.sweep's
 call to its table, so it includes each worker's context, shader compiles and references;
 starting the cluster (with --warm, and its untimed warm-up sweep) is timed apart. "GPU-timed"
-adds up every timed pass of every run (warm-up and error runs untimed, so the GPU's real share is somewhat higher); the rest of the
-wall time is the CPU's: G-buffer and reference submission, readback, SSIM and FLIP. After
-each cluster run, a table says where each worker's time went (blurlab.studies.cluster's
-worker_report): context, references, G-buffers, evaluations and idle.
+adds up every timed pass of every run (warm-up and error runs untimed, so the GPU's real share
+is somewhat higher); the rest of the wall time is the CPU's: G-buffer and reference
+submission, readback, SSIM and FLIP. After each cluster run, a table says where each worker's
+time went (blurlab.studies.cluster's worker_report): context, references, G-buffers, warm-up
+runs, evaluations and idle.
 
     python benchmarks/sweep_scaling.py [--device gpu] [--size 1920x1080] [--workers 1 2]
         [--scenes teapot_pass fan] [--metrics psnr,ssim] [--reference-samples N] [--local]
+        [--warm]
 """
 
 from __future__ import annotations
