@@ -10,7 +10,7 @@ adds up every timed pass of every run (warm-up and error runs untimed, so the GP
 is somewhat higher); the rest of the wall time is the CPU's: G-buffer and reference
 submission, readback, SSIM and FLIP. After each cluster run, a table says where each worker's
 time went (blurlab.studies.cluster's worker_report): context, references, G-buffers, warm-up
-runs, evaluations and idle.
+runs, references imported from and exported to other workers, evaluations and idle.
 
     python benchmarks/sweep_scaling.py [--device gpu] [--size 1920x1080] [--workers 1 2]
         [--scenes teapot_pass fan] [--metrics psnr,ssim] [--reference-samples N] [--local]
@@ -126,14 +126,16 @@ def _print_workers(run: dict) -> None:
     print(f"\n{run['name']}, sweep wall {wall:.1f} s:\n")
     print(
         "| worker | device | tasks | evaluations | context s | references s | G-buffers s "
-        "| warm-up runs s | evaluations s | idle s |\n|---|---|---|---|---|---|---|---|---|---|"
+        "| warm-up runs s | imports (s) | exports (s) | evaluations s | idle s |\n"
+        "|---|---|---|---|---|---|---|---|---|---|---|---|"
     )
     for name, r in sorted(run["workers_report"].items()):
         idle = wall - r["context_s"] - r["busy_s"]
         print(
             f"| {name} | {r['device']} | {r['tasks']} | {r['evaluations']} "
             f"| {r['context_s']:.1f} | {r['references_s']:.1f} | {r['g_buffers_s']:.1f} "
-            f"| {r['warm_up_s']:.1f} | {r['evaluations_s']:.1f} | {idle:.1f} |"
+            f"| {r['warm_up_s']:.1f} | {r['imports']} ({r['imports_s']:.1f}) "
+            f"| {r['exports']} ({r['exports_s']:.1f}) | {r['evaluations_s']:.1f} | {idle:.1f} |"
         )
     busiest = max(r["context_s"] + r["busy_s"] for r in run["workers_report"].values())
     print(f"\nnot on any worker's account (client, scheduler, transfers): {wall - busiest:.1f} s")

@@ -5,7 +5,8 @@ spawned processes, and a cluster that hangs is then killed with its whole proces
 
 Writes into FOLDER: local.csv (the sweep in this process), one.csv (one worker), two.csv (two
 workers), resumed.csv (a partial sweep through `blurlab sweep --scheduler`, then the whole
-sweep on the cluster) and workers.json (each worker's report after the two-worker sweep).
+sweep on the cluster), workers.json (each worker's report after the two-worker sweep), and
+helped.csv with helped_workers.json (one scene on two workers, one configuration a chunk).
 """
 
 from __future__ import annotations
@@ -48,6 +49,19 @@ def main(folder: Path) -> None:
                 None, SCENES, GRID, out=folder / "resumed.csv", cluster=cluster, **OPTIONS
             )
             table.to_csv(folder / "resumed_table.csv", index=False)
+            # One scene, a configuration a chunk: the second worker can only help on it.
+            client.run(cluster_module.forget_scenes)
+            bl.sweep(
+                None,
+                SCENES[:1],
+                GRID,
+                out=folder / "helped.csv",
+                cluster=client,
+                chunk_size=1,
+                **OPTIONS,
+            )
+            helped = client.run(cluster_module.worker_report)
+    (folder / "helped_workers.json").write_text(json.dumps(helped))
     (folder / "workers.json").write_text(json.dumps({str(k): v for k, v in reports.items()}))
 
 

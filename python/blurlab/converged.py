@@ -3,6 +3,7 @@ averaged in float32 on the GPU. ``ctx.reference(...)`` and ``bl.reference_sample
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import weakref
 from contextlib import nullcontext
@@ -40,6 +41,21 @@ class Reference:
         if self._color is None:
             self._color = self.texture.download()
         return self._color
+
+    def detached(self) -> Reference:
+        """A copy holding the image in memory and no texture: picklable, for another process
+        (a Dask worker that helps on this scene imports it instead of rendering it again)."""
+        return dataclasses.replace(self, texture=None, _color=self.color)
+
+    def attached(self, ctx) -> Reference:
+        """A detached reference on `ctx`: its image uploaded, the same bits as the original."""
+        if self._color is None:
+            raise ValueError("blurlab: Reference.attached needs a detached reference's image")
+        texture = ctx.pooled(self._color.shape)
+        texture.upload(self._color)
+        result = dataclasses.replace(self, texture=texture)
+        weakref.finalize(result, ctx.recycle, texture)
+        return result
 
 
 # A million sub-frames is hours even on the GPU; more is a mistake, not a reference.

@@ -3,9 +3,10 @@
 Each worker is one process with one thread and owns one EGL device: the one ``BLURLAB_DEVICE``
 names in its environment, else the GPU at its rank (a worker named ``3`` or ``host-3`` takes
 the fourth GPU, wrapping around), else llvmpipe. A worker keeps the frames and references of
-the scenes it has worked on, so a scene's reference is rendered once per worker that evaluates
-it. The client hands out chunks of one scene's configurations, keeping each worker on its scene
-while that scene has work left, and writes rows to the sweep's table and file as chunks return.
+the scenes it has worked on. The client hands out chunks of one scene's configurations, keeping
+each worker on its scene while that scene has work left, and writes rows to the sweep's table
+and file as chunks return. A worker that helps on another's scene imports its references from
+a worker that keeps them, so a scene's reference is rendered once.
 
 ``local_cluster()`` starts workers on this machine: one per GPU, or one per core with llvmpipe.
 """
@@ -32,6 +33,10 @@ MAX_CHUNK = 8  # configurations per task unless bl.sweep's chunk_size says other
 SETUP_PHASES = ("references", "g_buffers")
 # Each method's first, untimed run in a task: its compiles and the first use of new textures.
 WARM_UP_PHASE = "warm_up"
+# A worker's account (worker_report): the phases above, and the references it imported from
+# another worker (uploads) or exported to one (downloads); the rest of its busy time is
+# evaluations (timed runs and metrics).
+ACCOUNT = (*SETUP_PHASES, WARM_UP_PHASE, "imports", "exports")
 
 _worker_state: dict = {}  # this process as a Dask worker: its Context and scene caches
 
@@ -145,27 +150,30 @@ def worker_context() -> Context:
 
 
 def _new_log(context_s: float) -> dict:
-    phases = {f"{phase}_s": 0.0 for phase in (*SETUP_PHASES, WARM_UP_PHASE)}
-    return {"context_s": context_s, "tasks": 0, "evaluations": 0, "busy_s": 0.0, **phases}
+    phases = {f"{phase}_s": 0.0 for phase in ACCOUNT}
+    counts = {"tasks": 0, "evaluations": 0, "imports": 0, "exports": 0}
+    return {"context_s": context_s, **counts, "busy_s": 0.0, **phases}
 
 
-def run_chunk(scene, scene_key, jobs, settings) -> tuple[str, list, dict]:
+def run_chunk(scene, scene_key, jobs, settings, imported=None) -> tuple[str, list, dict]:
     """On a worker: evaluates `jobs` of `scene`; returns (worker name, [(key, row)], costs),
     costs = {"seconds": the task's wall time, "setup_s": what it spent on the scene's
     references and G-buffers, "evaluations": len(jobs)}: the client's estimate of what a
-    helper on this scene would pay before its first evaluation."""
+    helper on this scene would pay before its first evaluation. `imported`: the scene's
+    references from another worker (export_scene_inputs), used unless this worker has them."""
     ctx = worker_context()  # its first call opens the context: counted apart, as context_s
     start = time.perf_counter()
     ctx.make_current()  # a no-op on the thread that made it, which is every task's thread
-    scenes = _worker_state["scenes"]
-    cache = scenes.pop(scene_key, {})
-    scenes[scene_key] = cache
-    while len(scenes) > SCENES_KEPT:
-        scenes.popitem(last=False)
+    log = _worker_state["log"]
+    cache = _scene_cache(scene_key)
+    if imported and "reference" not in cache:
+        for key, value in imported.items():
+            cache[key] = value.attached(ctx) if key.startswith("reference") else value
+        log["imports"] += 1
+        log["imports_s"] += time.perf_counter() - start
     before = dict(cache["clock"].seconds) if "clock" in cache else {}
     rows = list(evaluate_scene(ctx, scene, jobs, settings, cache))
     seconds = time.perf_counter() - start
-    log = _worker_state["log"]
     setup = 0.0
     for phase in (*SETUP_PHASES, WARM_UP_PHASE):
         spent = cache["clock"].seconds.get(phase, 0.0) - before.get(phase, 0.0)
@@ -178,18 +186,52 @@ def run_chunk(scene, scene_key, jobs, settings) -> tuple[str, list, dict]:
     return str(_distributed().get_worker().name), rows, costs
 
 
+def _scene_cache(scene_key) -> dict:
+    """This worker's cache of a scene, made the most recent; the oldest beyond SCENES_KEPT go."""
+    scenes = _worker_state["scenes"]
+    cache = scenes.pop(scene_key, {})
+    scenes[scene_key] = cache
+    while len(scenes) > SCENES_KEPT:
+        scenes.popitem(last=False)
+    return cache
+
+
+# What a helper imports of a scene's cache: its references and the sample count chosen.
+EXPORTED = ("reference", "reference_aa", "default_samples")
+
+
+def export_scene_inputs(scene_key) -> dict | None:
+    """On a worker that holds a scene: its references as images in memory (Reference.detached)
+    for a helper, which then renders neither; None if this worker no longer keeps the scene."""
+    cache = _worker_state.get("scenes", {}).get(scene_key)
+    if cache is None or "reference" not in cache:
+        return None
+    start = time.perf_counter()
+    exported = {
+        key: cache[key].detached() if key.startswith("reference") else cache[key]
+        for key in EXPORTED
+        if key in cache
+    }
+    seconds = time.perf_counter() - start
+    log = _worker_state["log"]
+    log["exports"] += 1
+    log["exports_s"] += seconds
+    log["busy_s"] += seconds
+    return exported
+
+
 def worker_report() -> dict:
     """This worker's account since it opened its context (run it with ``client.run``): its
     device, the tasks and evaluations it ran, and where its busy seconds went: opening the
     context, the scenes' references and G-buffers, each method's first run in a task
-    (``warm_up_s``), and the rest (timed runs and metrics, ``evaluations_s``). Idle time is
-    the sweep's wall time less ``context_s`` and ``busy_s``."""
+    (``warm_up_s``), references imported from and exported to other workers, and the rest
+    (timed runs and metrics, ``evaluations_s``). Idle time is the sweep's wall time less
+    ``context_s`` and ``busy_s``."""
     if "ctx" not in _worker_state:
         return {"device": None, **_new_log(0.0), "evaluations_s": 0.0, "scenes_kept": []}
     info = _worker_state["ctx"].info()
     log = dict(_worker_state["log"])
-    spent = sum(log[f"{p}_s"] for p in (*SETUP_PHASES, WARM_UP_PHASE))
-    log["evaluations_s"] = log["busy_s"] - spent
+    log["evaluations_s"] = log["busy_s"] - sum(log[f"{p}_s"] for p in ACCOUNT)
     log["device"] = f"EGL device {info['device_index']}: {info['renderer']}"
     log["scenes_kept"] = sorted(index for _, index in _worker_state["scenes"])
     return log
@@ -205,12 +247,13 @@ def forget_scenes() -> None:
 
 
 def worth_helping(left: int, seconds_each: float | None, setup_s: float | None) -> bool:
-    """Whether a worker that holds none of a scene should take part of the `left` evaluations
-    another worker is working through: only if that worker alone would need more than twice
-    the scene's setup (its references and G-buffers, which the helper must render again).
-    Without estimates yet it helps."""
+    """Whether a worker should render a scene's inputs again to take part of the `left`
+    evaluations another worker is working through, while none can export them yet: only if
+    that worker alone would need more than twice the scene's setup (its references and
+    G-buffers). Without estimates it waits: the first chunk that returns brings them, and a
+    worker whose references it can import."""
     if seconds_each is None or setup_s is None:
-        return True
+        return False
     return left * seconds_each > 2.0 * setup_s
 
 
@@ -244,8 +287,11 @@ def sweep_on_cluster(cluster, scenes, pending, settings, record, chunk_size, bar
 
     A worker that finishes a chunk gets the next chunk of the scene it works on; when that
     scene has no work left, a scene no worker has started (the one with most work), and only
-    when none is left, part of a scene another worker is on (it then renders that reference
-    too). Rows therefore depend only on the scene and configuration, never on the worker.
+    when none is left, part of a scene another worker is on. It then imports that scene's
+    references from a worker that keeps them (the images travel through Dask) rather than
+    rendering them again; while none can export them yet, it renders them itself only where
+    worth_helping says that pays. Rows therefore depend only on the scene and configuration,
+    never on the worker.
     """
     distributed = _distributed()
     client, own = _connect(cluster)
@@ -263,22 +309,57 @@ def sweep_on_cluster(cluster, scenes, pending, settings, record, chunk_size, bar
         held: dict = {}  # worker: the scenes whose inputs it keeps, oldest first
         setup_s: dict = {}  # scene: what its first chunk on a worker spent on references
         seconds_each: dict = {}  # scene: a chunk's other seconds per evaluation
+        exports: dict = {}  # scene: the future of its exported inputs (export_scene_inputs)
         done = distributed.as_completed()
 
-        def worth_it(worker, i) -> bool:
-            """Helping on scene i pays, or nobody else is working on it."""
+        def estimate(values: dict, i):
+            """Scene i's figure, else the mean over the scenes measured so far, else None."""
+            if i in values:
+                return values[i]
+            return sum(values.values()) / len(values) if values else None
+
+        def holder(worker, i):
+            """A live worker other than `worker` that keeps scene i's inputs, or None."""
+            kept_by = (w for w, kept in held.items() if i in kept and w != worker and w in workers)
+            return next(kept_by, None)
+
+        def can_help(worker, i) -> bool:
+            """Whether `worker` takes part of scene i: it keeps the scene, or nobody else is on
+            it, or another worker can export its inputs, or rendering them again pays."""
             if i in held.get(worker, ()):
                 return True
             covered = any(owner.get(w) == i for w in futures.values() if w != worker)
-            return not covered or worth_helping(len(queues[i]), seconds_each.get(i), setup_s.get(i))
+            if not covered or holder(worker, i) is not None:
+                return True
+            each, setup = estimate(seconds_each, i), estimate(setup_s, i)
+            return worth_helping(len(queues[i]), each, setup)
 
         def next_scene(worker):
             mine = owner.get(worker)
             if mine is not None and queues.get(mine):
                 return mine
             fresh = [i for i in queues if queues[i] and i not in started]
-            left = fresh or [i for i in queues if queues[i] and worth_it(worker, i)]
+            left = fresh or [i for i in queues if queues[i] and can_help(worker, i)]
             return max(left, key=lambda i: len(queues[i])) if left else None
+
+        def imports_for(worker, i):
+            """The export of scene i's inputs for `worker`, if it lacks them and another has
+            them: one export task a scene, run on its holder, whose result Dask moves."""
+            if i in held.get(worker, ()):
+                return None
+            if i not in exports:
+                source = holder(worker, i)
+                if source is None:
+                    return None
+                exports[i] = client.submit(
+                    export_scene_inputs,
+                    (token, i),
+                    workers=[source],
+                    allow_other_workers=False,
+                    pure=False,
+                    priority=1,  # before the holder's next chunk: the helper waits for it
+                )
+            return exports[i]
 
         def assign(worker) -> None:
             i = next_scene(worker)
@@ -301,6 +382,7 @@ def sweep_on_cluster(cluster, scenes, pending, settings, record, chunk_size, bar
                 (token, i),
                 chunk,
                 settings,
+                imports_for(worker, i),
                 workers=[worker],
                 allow_other_workers=True,  # if this worker dies, another takes the chunk
                 pure=False,
@@ -308,6 +390,8 @@ def sweep_on_cluster(cluster, scenes, pending, settings, record, chunk_size, bar
             futures[future] = worker
             scene_of[future] = i
             done.add(future)
+            if not queues[i]:  # its exported images are freed once the chunks holding them end
+                exports.pop(i, None)
 
         scene_of: dict = {}
         for worker in workers:
