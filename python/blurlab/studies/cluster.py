@@ -129,7 +129,12 @@ def local_cluster(n_workers: int | None = None, device: str = "auto", **cluster_
             "blurlab.local_cluster: workers must be processes with one thread each "
             "(a GL context belongs to one thread)"
         )
-    return distributed.LocalCluster(**options)
+    # The sweep's client places every task itself; Dask's work stealing could only move an
+    # export of a scene's references away from the worker that keeps them, making it useless.
+    import dask  # installed with distributed
+
+    with dask.config.set({"distributed.scheduler.work-stealing": False}):
+        return distributed.LocalCluster(**options)
 
 
 def worker_context() -> Context:
@@ -351,11 +356,13 @@ def sweep_on_cluster(cluster, scenes, pending, settings, record, chunk_size, bar
                 source = holder(worker, i)
                 if source is None:
                     return None
+                # Loosely bound: if the holder dies, the export runs elsewhere and returns
+                # None, and the helper renders the scene itself instead of waiting for ever.
                 exports[i] = client.submit(
                     export_scene_inputs,
                     (token, i),
                     workers=[source],
-                    allow_other_workers=False,
+                    allow_other_workers=True,
                     pure=False,
                     priority=1,  # before the holder's next chunk: the helper waits for it
                 )
