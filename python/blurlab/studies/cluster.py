@@ -312,7 +312,7 @@ def sweep_on_cluster(cluster, scenes, pending, settings, record, chunk_size, bar
         started: set = set()
         counts: dict = {}
         held: dict = {}  # worker: the scenes whose inputs it keeps, oldest first
-        setup_s: dict = {}  # scene: what its first chunk on a worker spent on references
+        setup_s: dict = {}  # scene: the most a chunk of it spent on references, G-buffers
         seconds_each: dict = {}  # scene: a chunk's other seconds per evaluation
         exports: dict = {}  # scene: the future of its exported inputs (export_scene_inputs)
         done = distributed.as_completed()
