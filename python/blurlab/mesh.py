@@ -239,7 +239,7 @@ def fan(
     thickness: float = 0.04,
 ) -> Mesh:
     """A fan in the XY plane facing +z: a hub and `blades` flat blades."""
-    parts = [cylinder(hub, thickness * 2, 32).transformed(_rotation_x(math.pi / 2))]
+    parts = [cylinder(hub, thickness * 2, 32).transformed(rotation_x(math.pi / 2))]
     blade = box((radius - hub * 0.5, width, thickness))
     for i in range(blades):
         place = _rotation_z(2 * math.pi * i / blades) @ _translation(
@@ -363,7 +363,8 @@ def _translation(t) -> np.ndarray:
     return m
 
 
-def _rotation_x(angle: float) -> np.ndarray:
+def rotation_x(angle: float) -> np.ndarray:
+    """The 4 x 4 rotation by `angle` radians about the x axis (for Mesh.transformed)."""
     c, s = math.cos(angle), math.sin(angle)
     return np.array([[1, 0, 0, 0], [0, c, -s, 0], [0, s, c, 0], [0, 0, 0, 1.0]])
 

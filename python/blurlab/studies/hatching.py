@@ -30,7 +30,7 @@ def patch_scene(darkness: float, hatched: Material) -> Scene:
     camera = Camera(position=(0, 0, 0.5 / math.tan(math.radians(15))), fov_y=30.0)
     scene = Scene(camera, light, background=(1, 1, 1), name="hatching_patch")
     # 2 × 2 units with uv 0..2: one TAM tile per unit (scale 1) across the view.
-    plane = meshes.plane(2.0, 2.0, uv_repeat=2.0).transformed(meshes._rotation_x(math.pi / 2))
+    plane = meshes.plane(2.0, 2.0, uv_repeat=2.0).transformed(meshes.rotation_x(math.pi / 2))
     scene.add(plane, hatched, name="patch")
     return scene
 
@@ -124,7 +124,7 @@ def pair_scene(scheme: str | None, tam: TAM | None = None, motion: Motion | None
     )
     left = np.eye(4)
     left[0, 3] = -0.7
-    right = meshes._rotation_x(math.radians(60))
+    right = meshes.rotation_x(math.radians(60))
     right[:3, 3] = (0.8, 0.45, 0)
     scene.add(meshes.teapot().transformed(left), surface(2.0), motion, name="teapot")
     scene.add(meshes.torus().transformed(right), surface(4.0), name="torus")
