@@ -25,7 +25,7 @@ import time
 import pandas as pd
 
 import blurlab as bl
-from blurlab.studies.cluster import forget_scenes, worker_report
+from blurlab.studies.cluster import account_table, forget_scenes
 from blurlab.studies.sweep import default_grids, grid_points
 
 from common import describe, save
@@ -118,27 +118,9 @@ def main() -> None:
 
 
 def _print_workers(run: dict) -> None:
-    """Where each worker's share of the sweep's wall time went: opening its context, the
-    scenes' references and G-buffers, the evaluations (timed runs and metrics), and idle
-    (waiting for the client or for work); the client's share is the wall time the busiest
-    worker did not use."""
-    wall = run["wall_s"]
-    print(f"\n{run['name']}, sweep wall {wall:.1f} s:\n")
-    print(
-        "| worker | device | tasks | evaluations | context s | references s | G-buffers s "
-        "| warm-up runs s | imports (s) | exports (s) | evaluations s | idle s |\n"
-        "|---|---|---|---|---|---|---|---|---|---|---|---|"
-    )
-    for name, r in sorted(run["workers_report"].items()):
-        idle = wall - r["context_s"] - r["busy_s"]
-        print(
-            f"| {name} | {r['device']} | {r['tasks']} | {r['evaluations']} "
-            f"| {r['context_s']:.1f} | {r['references_s']:.1f} | {r['g_buffers_s']:.1f} "
-            f"| {r['warm_up_s']:.1f} | {r['imports']} ({r['imports_s']:.1f}) "
-            f"| {r['exports']} ({r['exports_s']:.1f}) | {r['evaluations_s']:.1f} | {idle:.1f} |"
-        )
-    busiest = max(r["context_s"] + r["busy_s"] for r in run["workers_report"].values())
-    print(f"\nnot on any worker's account (client, scheduler, transfers): {wall - busiest:.1f} s")
+    """Where each worker's share of the sweep's wall time went (cluster.account_table)."""
+    print(f"\n{run['name']}, sweep wall {run['wall_s']:.1f} s:\n")
+    print(account_table(run["workers_report"], run["wall_s"]))
 
 
 def _cluster_run(name: str, n: int, device: str, sweep_args: dict, warm: bool):
@@ -156,11 +138,11 @@ def _cluster_run(name: str, n: int, device: str, sweep_args: dict, warm: bool):
         start = time.perf_counter()
         table = bl.sweep(None, cluster=client, **sweep_args)
         wall = time.perf_counter() - start
-        reports = client.run(worker_report)
+    accounts = table.attrs["workers"]
     run = _run(name, startup, wall, table)
     run["workers"] = n
-    run["worker_devices"] = sorted(str(r["device"]) for r in reports.values())
-    run["workers_report"] = {str(worker): r for worker, r in reports.items()}
+    run["worker_devices"] = sorted(str(r["device"]) for r in accounts.values())
+    run["workers_report"] = accounts
     return run, table
 
 

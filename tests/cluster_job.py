@@ -5,7 +5,8 @@ spawned processes, and a cluster that hangs is then killed with its whole proces
 
 Writes into FOLDER: local.csv (the sweep in this process), one.csv (one worker), two.csv (two
 workers), resumed.csv (a partial sweep through `blurlab sweep --scheduler`, then the whole
-sweep on the cluster), workers.json (each worker's report after the two-worker sweep), and
+sweep on the cluster), workers.json (each worker's report after the two-worker sweep),
+two_accounts.json (the same sweep's table.attrs["workers"]), and
 helped.csv with helped_workers.json (one scene on two workers, one configuration a chunk).
 """
 
@@ -35,7 +36,8 @@ def main(folder: Path) -> None:
             client.wait_for_workers(2, timeout=120)
             # The second sweep starts with no frames or references kept.
             client.run(cluster_module.forget_scenes)
-            bl.sweep(None, SCENES, GRID, out=folder / "two.csv", cluster=client, **OPTIONS)
+            two = bl.sweep(None, SCENES, GRID, out=folder / "two.csv", cluster=client, **OPTIONS)
+            (folder / "two_accounts.json").write_text(json.dumps(two.attrs["workers"]))
             reports = client.run(cluster_module.worker_report)
             config = folder / "partial.toml"
             config.write_text(

@@ -154,3 +154,7 @@ def test_a_command_line_cluster_sweeps_the_rows_of_a_local_sweep(command_line_cl
     rows = dict(item.split(":") for item in last.split(","))
     assert sorted(rows) == ["host-0", "host-1"], last
     assert sum(map(int, rows.values())) == len(remote)
+    # Then where each worker's time went: a row per worker, their evaluations adding up.
+    table = [line for line in sweep.stdout.splitlines() if line.startswith("| host-")]
+    assert len(table) == 2, sweep.stdout[-4000:]
+    assert sum(int(line.split("|")[4]) for line in table) == len(remote)

@@ -90,6 +90,24 @@ def test_worker_reports_account_for_every_evaluation_and_second(job):
         assert all(report[f"{phase}_s"] >= 0 for phase in cluster.ACCOUNT)
 
 
+def test_a_cluster_sweeps_table_says_where_each_workers_time_went(job):
+    """table.attrs["workers"]: each worker's account of that sweep alone, which the reports
+    taken after it (started anew just before it) agree with."""
+    accounts = json.loads((job / "two_accounts.json").read_text())
+    reports = json.loads((job / "workers.json").read_text())
+    assert sorted(accounts) == ["0", "1"]  # LocalCluster's worker names
+    assert sum(a["evaluations"] for a in accounts.values()) == 10
+    # The reports are keyed by address, the accounts by name: compared as sorted lists.
+    assert sorted(a["busy_s"] for a in accounts.values()) == pytest.approx(
+        sorted(r["busy_s"] for r in reports.values())
+    )
+    assert sorted(a["evaluations"] for a in accounts.values()) == sorted(
+        r["evaluations"] for r in reports.values()
+    )
+    table = cluster.account_table(accounts, 100.0)
+    assert table.count("| EGL device") == 2 and "not on any worker's account" in table
+
+
 def test_a_helper_renders_a_scene_again_only_where_it_pays():
     # 10 evaluations of 0.5 s left: 5 s alone, against a setup of 2 s to help.
     assert cluster.worth_helping(10, 0.5, 2.0)

@@ -8,6 +8,7 @@ import argparse
 import json
 import re
 import sys
+import time
 from contextlib import contextmanager
 from pathlib import Path
 
@@ -15,7 +16,7 @@ from . import io, scenes
 from .context import Context
 from .methods import blur, method, methods
 from .studies import plots
-from .studies.cluster import local_cluster
+from .studies.cluster import account_table, local_cluster
 from .studies.recommend import recommend
 from .studies.study import run_study, run_sweep_config
 from .twins.patterns import test_pattern
@@ -124,8 +125,12 @@ def _study(args) -> int:
 def _sweep(args) -> int:
     with _cluster(args) as cluster:
         ctx = Context(args.device) if cluster is None else None
+        start = time.perf_counter()
         table = run_sweep_config(ctx, args.config, cluster=cluster)
+        wall = time.perf_counter() - start
     print(f"{len(table)} rows")
+    if "workers" in table.attrs:  # where each worker's time went
+        print(f"\nsweep wall {wall:.1f} s\n{account_table(table.attrs['workers'], wall)}")
     return 0
 
 

@@ -262,6 +262,41 @@ def worth_helping(left: int, seconds_each: float | None, setup_s: float | None) 
     return left * seconds_each > 2.0 * setup_s
 
 
+def account_since(before: dict, after: dict) -> dict:
+    """A worker's account (worker_report) between two reports: counts and seconds subtracted,
+    the rest (device, scenes kept) as they are after."""
+    return {
+        key: value - before.get(key, 0)
+        if isinstance(value, (int, float)) and not isinstance(value, bool)
+        else value
+        for key, value in after.items()
+    }
+
+
+def account_table(accounts: dict, wall_s: float) -> str:
+    """Each worker's account of a sweep (``table.attrs["workers"]``) as a Markdown table:
+    where its share of the `wall_s` seconds went, idle time included; and the wall time on
+    no worker's account (client, scheduler, transfers)."""
+    lines = [
+        "| worker | device | tasks | evaluations | context s | references s | G-buffers s "
+        "| warm-up runs s | imports (s) | exports (s) | evaluations s | idle s |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    for name, r in sorted(accounts.items()):
+        idle = wall_s - r["context_s"] - r["busy_s"]
+        lines.append(
+            f"| {name} | {r['device']} | {r['tasks']} | {r['evaluations']} "
+            f"| {r['context_s']:.1f} | {r['references_s']:.1f} | {r['g_buffers_s']:.1f} "
+            f"| {r['warm_up_s']:.1f} | {r['imports']} ({r['imports_s']:.1f}) "
+            f"| {r['exports']} ({r['exports_s']:.1f}) | {r['evaluations_s']:.1f} | {idle:.1f} |"
+        )
+    busiest = max((r["context_s"] + r["busy_s"] for r in accounts.values()), default=0.0)
+    lines.append(
+        f"\nnot on any worker's account (client, scheduler, transfers): {wall_s - busiest:.1f} s"
+    )
+    return "\n".join(lines)
+
+
 def _scene_copy(scene):
     return scene
 
@@ -287,8 +322,10 @@ def _connect(cluster):
     return distributed.Client(cluster, timeout="60s"), True
 
 
-def sweep_on_cluster(cluster, scenes, pending, settings, record, chunk_size, bar) -> None:
-    """The client's side: hands out chunks, calls ``record(key, row)`` as rows come back.
+def sweep_on_cluster(cluster, scenes, pending, settings, record, chunk_size, bar) -> dict:
+    """The client's side: hands out chunks, calls ``record(key, row)`` as rows come back;
+    returns each worker's account of this sweep, {worker name: worker_report() since its
+    start}.
 
     A worker that finishes a chunk gets the next chunk of the scene it works on; when that
     scene has no work left, a scene no worker has started (the one with most work), and only
@@ -303,6 +340,7 @@ def sweep_on_cluster(cluster, scenes, pending, settings, record, chunk_size, bar
     futures: dict = {}
     try:
         client.wait_for_workers(1, timeout=120)
+        accounts_before = client.run(worker_report)
         queues = {i: deque(jobs) for i, jobs in enumerate(pending) if jobs}
         workers = list(client.nthreads())
         largest = chunk_size or MAX_CHUNK
@@ -430,6 +468,12 @@ def sweep_on_cluster(cluster, scenes, pending, settings, record, chunk_size, bar
                 "blurlab.sweep: the cluster has no workers left; "
                 f"{sum(len(q) for q in queues.values())} evaluations were not run"
             )
+        # Keyed by the workers' names, as the progress bar's rows_per_worker are.
+        names = {w: str(i.get("name", w)) for w, i in client.scheduler_info()["workers"].items()}
+        return {
+            names.get(worker, str(worker)): account_since(accounts_before.get(worker, {}), report)
+            for worker, report in client.run(worker_report).items()
+        }
     finally:
         for future in futures:
             future.cancel()

@@ -23,6 +23,7 @@ from .. import io, metrics, scenes
 from ..context import Context
 from ..methods import blur, method, method_instant
 from . import interactive, objects, peers, plots, workers
+from .cluster import account_table
 from .evaluation import PhaseClock, picture_key
 from .sweep import HDR_METRICS, default_grids, middle_point, sweep
 
@@ -91,6 +92,7 @@ def run_study(
             caches=caches,
         )
         swept = time.perf_counter() - start
+        worker_accounts = table.attrs.get("workers")  # where each worker's time went (cluster)
         if cluster is not None:
             clock.add("sweep_on_cluster", swept)
         else:
@@ -167,9 +169,13 @@ def run_study(
             "phases_s": clock.seconds,
             "phases": {k: PHASES[k] for k in clock.seconds},
         }
+        if worker_accounts is not None:
+            timing["workers"] = worker_accounts
         io.write_text(out / "phases.json", json.dumps(timing, indent=1) + "\n")
         if progress:
             print(_phase_lines(clock))
+            if worker_accounts is not None:
+                print(f"the sweep on the cluster:\n{account_table(worker_accounts, swept)}")
         return path
 
 

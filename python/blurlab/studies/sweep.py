@@ -104,7 +104,9 @@ def sweep(
     `cluster`: run on Dask workers instead of `ctx` (then pass ctx=None): a
     ``distributed.Client``, a cluster such as ``bl.local_cluster()``, or a scheduler address
     ``"tcp://host:8786"``. Each worker renders on its own device and returns rows; they land
-    in the same table and the same `out` file as a local sweep's (docs/distributed.md).
+    in the same table and the same `out` file as a local sweep's (docs/distributed.md), and
+    ``table.attrs["workers"]`` holds where each worker's time went in this sweep
+    (cluster.worker_report; cluster.account_table prints it).
     `chunk_size`: at most this many configurations of one scene per task (default 8; chunks
     shrink towards the end of the sweep so that the workers finish together).
     `caches`: a dict that a local sweep fills, per scene name, with what it rendered (frames
@@ -208,6 +210,7 @@ def sweep(
         if bar:
             bar.update()
 
+    accounts = None
     try:
         if cluster is None:
             for scene, jobs in zip(scene_list, pending, strict=True):
@@ -216,7 +219,7 @@ def sweep(
                     for key, row in evaluate_scene(ctx, scene, jobs, settings, cache):
                         record(key, row)
         elif any(pending):  # a finished sweep needs no cluster
-            dask_cluster.sweep_on_cluster(
+            accounts = dask_cluster.sweep_on_cluster(
                 cluster, scene_list, pending, settings, record, chunk_size, bar
             )
     finally:
@@ -224,7 +227,10 @@ def sweep(
             bar.close()
         if rows_file is not None:
             rows_file.close()
-    return pd.DataFrame([done[key] for key in dict.fromkeys(keys) if key in done])
+    table = pd.DataFrame([done[key] for key in dict.fromkeys(keys) if key in done])
+    if accounts is not None:  # where each worker's time went (cluster.worker_report)
+        table.attrs["workers"] = accounts
+    return table
 
 
 def _key(scene: str, name: str, backend: str, point: dict, size) -> tuple:
