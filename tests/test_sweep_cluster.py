@@ -8,14 +8,12 @@ does not finish in time, so a stuck cluster fails the test instead of hanging th
 from __future__ import annotations
 
 import json
-import os
-import signal
-import subprocess
 import sys
 from pathlib import Path
 
 import pandas as pd
 import pytest
+from process_group import run_or_fail
 
 import blurlab as bl
 from blurlab.studies import cluster
@@ -29,20 +27,7 @@ TIMEOUT_S = 300
 @pytest.fixture(scope="module")
 def job(tmp_path_factory) -> Path:
     folder = tmp_path_factory.mktemp("cluster")
-    process = subprocess.Popen(
-        [sys.executable, str(JOB), str(folder)],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.STDOUT,
-        text=True,
-        start_new_session=True,
-    )
-    try:
-        output, _ = process.communicate(timeout=TIMEOUT_S)
-    except subprocess.TimeoutExpired:
-        os.killpg(process.pid, signal.SIGKILL)
-        output, _ = process.communicate()
-        pytest.fail(f"the cluster sweep did not finish in {TIMEOUT_S} s:\n{output[-4000:]}")
-    assert process.returncode == 0, output[-4000:]
+    run_or_fail([sys.executable, str(JOB), str(folder)], TIMEOUT_S, "the cluster sweep")
     return folder
 
 

@@ -5,13 +5,11 @@ evaluations. The benchmark runs in a process of its own, killed if it does not f
 from __future__ import annotations
 
 import json
-import os
-import signal
-import subprocess
 import sys
 from pathlib import Path
 
 import pytest
+from process_group import run_or_fail
 
 pytest.importorskip("distributed")
 
@@ -44,21 +42,7 @@ def test_sweep_scaling_gives_the_same_rows_and_accounts_for_each_worker(tmp_path
         "--json",
         str(record),
     ] + (["--warm"] if warm else [])
-    process = subprocess.Popen(
-        command,
-        cwd=SCRIPT.parent,
-        stdout=subprocess.PIPE,
-        stderr=subprocess.STDOUT,
-        text=True,
-        start_new_session=True,
-    )
-    try:
-        output, _ = process.communicate(timeout=TIMEOUT_S)
-    except subprocess.TimeoutExpired:
-        os.killpg(process.pid, signal.SIGKILL)
-        output, _ = process.communicate()
-        pytest.fail(f"sweep_scaling.py did not finish in {TIMEOUT_S} s:\n{output[-4000:]}")
-    assert process.returncode == 0, output[-4000:]
+    output = run_or_fail(command, TIMEOUT_S, "sweep_scaling.py", cwd=SCRIPT.parent)
     result = json.loads(record.read_text())
     assert [run["workers"] for run in result["runs"]] == [1, 2]
     for run in result["runs"]:
