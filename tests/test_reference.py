@@ -95,3 +95,18 @@ def test_samples_needed_covers_the_longest_motion(ctx):
 def test_bad_sample_counts(ctx, samples):
     with pytest.raises(ValueError, match="samples N must be an integer in 1"):
         ctx.reference(bl.scenes.fan(), SIZE, samples=samples)
+
+
+def test_a_detached_reference_travels_to_another_process_and_back_bit_for_bit(ctx):
+    """Reference.detached/attached: how a cluster worker hands its reference to a helper."""
+    import pickle
+
+    reference = ctx.reference(bl.scenes.get("fan"), (32, 18), samples=4)
+    detached = pickle.loads(pickle.dumps(reference.detached()))
+    assert detached.texture is None
+    attached = detached.attached(ctx)
+    np.testing.assert_array_equal(attached.texture.download(), reference.texture.download())
+    assert (attached.samples, attached.seed, attached.antialias) == (4, reference.seed, False)
+    np.testing.assert_array_equal(attached.times, reference.times)
+    with pytest.raises(ValueError, match="detached reference's image"):
+        reference.attached(ctx)

@@ -45,7 +45,9 @@ class Reference:
     def detached(self) -> Reference:
         """A copy holding the image in memory and no texture: picklable, for another process
         (a Dask worker that helps on this scene imports it instead of rendering it again)."""
-        return dataclasses.replace(self, texture=None, _color=self.color)
+        # Read back without keeping the copy here: the holder needs only its texture.
+        color = self._color if self._color is not None else self.texture.download()
+        return dataclasses.replace(self, texture=None, _color=color)
 
     def attached(self, ctx) -> Reference:
         """A detached reference on `ctx`: its image uploaded, the same bits as the original."""
