@@ -9,7 +9,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from conftest import random_frame
-from filter_promises import assert_matches_twin, two_sided_frame
+from filter_promises import (
+    assert_finite_for_motion_scale,
+    assert_inside_the_input_range,
+    assert_matches_twin,
+    two_sided_frame,
+)
 
 import blurlab as bl
 from blurlab.methods.coverage import FILM_LAYOUT, FILM_VARIANTS, GATHER_LAYOUT, GATHER_VARIANTS
@@ -29,6 +34,8 @@ METHOD = "gather_coverage"
         ((40, 30), {"tile_percent": 1.0, "samples": 16, "max_blur": 10.0, "soft_z": 0.01}),
         ((160, 90), {"film_filter": 0.5}),
         ((64, 48), {"film_filter": 1.3, "samples": 6}),
+        ((160, 90), {"film_filter": 0.5, "film_through_taps": True}),
+        ((61, 37), {"film_filter": 0.7, "film_through_taps": True, "samples": 5, "seed": 4}),
     ],
 )
 def test_random_frames_match_reference(ctx, rng, size, params):
@@ -301,3 +308,57 @@ def test_every_gather_variant_gives_the_same_bits(ctx, rng, scene):
             outputs[variant] = bl.blur(ctx, frame, METHOD, samples=6).color
     first, *others = outputs.values()
     assert all(other.tobytes() == first.tobytes() for other in others)
+
+
+@pytest.mark.parametrize("scene", ["moire", "edge_exit", "fan"])
+def test_the_film_read_through_the_taps_matches_its_twin_without_a_film_pass(ctx, scene):
+    frame = ctx.render(bl.scenes.get(scene), (160, 90))
+    result = bl.blur(ctx, frame, METHOD, film_filter=0.5, film_through_taps=True)
+    assert_matches_twin(result, frame)
+    assert list(result.timings) == ["tile_flatten", "tile_dilate", "gather"]
+    after = bl.blur(ctx, frame, METHOD, film_filter=0.5).color
+    assert np.abs(result.color - after).max() > 1e-3  # another filter, not the same pass
+
+
+def test_the_film_through_the_taps_on_a_still_frame_is_its_three_tap_kernel(ctx, rng):
+    # A still frame: every tile exits early, and X reads itself through the film filter.
+    frame = random_frame(rng, 37, 23)
+    frame.motion[:] = 0
+    out = bl.blur(ctx, frame, METHOD, film_filter=0.5, film_through_taps=True).color
+    spread = film.film_spread(0.5)
+    np.testing.assert_allclose(out, film.own_color(frame.color, spread), atol=2e-6)
+    # [d/2, 1 - d, d/2] has the Gaussian kernel's variance: a point spreads as far.
+    point = np.zeros((9, 9, 4))
+    point[4, 4] = 1.0
+    spread_out = film.own_color(point, spread)[4, :, 0]
+    gaussian = film.film_filter(point, 0.5)[4, :, 0]
+    offsets = np.arange(9) - 4
+    variance = lambda row: (row * offsets**2).sum() / row.sum()  # noqa: E731
+    assert variance(spread_out) == pytest.approx(variance(gaussian), rel=1e-9)
+    assert spread == pytest.approx(0.2150, abs=1e-4)
+
+
+def test_the_film_through_the_taps_is_off_without_a_film_filter_and_bounded(ctx, rng):
+    frame = two_sided_frame(rng, 48, 27)
+    plain = bl.blur(ctx, frame, METHOD).color
+    assert bl.blur(ctx, frame, METHOD, film_through_taps=True).color.tobytes() == plain.tobytes()
+    assert film.max_tap_sigma() == pytest.approx(0.708, abs=1e-3)
+    with pytest.raises(ValueError, match=r"holds film_filter up to 0\.71 px, not 0\.8"):
+        bl.blur(ctx, frame, METHOD, film_filter=0.8, film_through_taps=True)
+
+
+THROUGH_TAPS = {"film_filter": 0.5, "film_through_taps": True}
+
+
+def test_the_film_through_the_taps_keeps_the_filters_promises(ctx, rng):
+    # Its weights (1 - d)², d(1 - d) and d² are a convex combination: inside the input range.
+    assert_inside_the_input_range(
+        ctx, random_frame(rng, 120, 80), METHOD, max_blur=40.0, **THROUGH_TAPS
+    )
+    for scale in (0.0, 1e30):
+        assert_finite_for_motion_scale(ctx, rng, METHOD, scale, max_blur=50.0, **THROUGH_TAPS)
+    frame = random_frame(rng, 64, 36)
+    frame.color[5, 7] = np.nan  # a NaN texel stays where it is: each read is sanitised
+    result = bl.blur(ctx, frame, METHOD, **THROUGH_TAPS)
+    assert np.isfinite(result.color).all()
+    assert_matches_twin(result, frame)

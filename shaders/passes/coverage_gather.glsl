@@ -6,8 +6,10 @@
 // times the covering color plus the rest times what lies behind X: the mean of the taps behind
 // X that do not reach it where X moves, X itself where it is still. Compute, one invocation
 // per pixel. Variant (blurlab.methods.coverage.GATHER_VARIANTS): GATHER_SKIP_UNWEIGHTED reads a
-// tap's colour only where it weighs on a sum; same bits.
-// NumPy twin: blurlab.twins.coverage.gather_coverage.
+// tap's colour only where it weighs on a sum; same bits. With FILM_THROUGH_TAPS (the option
+// film_through_taps) every colour is read through the film filter instead of a pass after this
+// one: tap k bilinearly at (±d, ±d) px, the signs turning with k; X as the mean of the turns.
+// NumPy twin: blurlab.twins.coverage.gather_coverage (and twins.film's tap_color, own_color).
 #include "common/eevee.glsl"
 #include "common/mcguire2012.glsl"
 #include "common/random.glsl"
@@ -23,6 +25,40 @@ uniform int samples;
 uniform float soft_z;
 uniform float exposure;
 uniform uint seed;
+#ifdef FILM_THROUGH_TAPS
+uniform float film_spread;  // d, px²: the film kernel's variance (twins.film.film_spread)
+
+// The colour at y read through the film filter for tap k: per axis weight 1 - d on y and d on
+// its neighbour, the side each way turning with k % 4 as twins.film.TAP_TURNS.
+vec4 film_tap(ivec2 y, int k, ivec2 size) {
+    int turn = k % 4;
+    ivec2 way = ivec2(turn == 0 || turn == 2 ? 1 : -1, turn == 0 || turn == 3 ? 1 : -1);
+    ivec2 n = clamp(y + way, ivec2(0), size - 1);
+    float d = film_spread;
+    vec4 row = (1.0 - d) * sanitize_color(texelFetch(color, y, 0))
+             + d * sanitize_color(texelFetch(color, ivec2(n.x, y.y), 0));
+    vec4 next_row = (1.0 - d) * sanitize_color(texelFetch(color, ivec2(y.x, n.y), 0))
+                  + d * sanitize_color(texelFetch(color, n, 0));
+    return (1.0 - d) * row + d * next_row;
+}
+
+// X read through the film filter: the mean of the four turns, [d/2, 1 - d, d/2] on each axis.
+vec4 film_own(ivec2 x, ivec2 size) {
+    float d = film_spread;
+    float weights[3] = float[3](0.5 * d, 1.0 - d, 0.5 * d);
+    vec4 sum = vec4(0.0);
+    for (int dy = -1; dy <= 1; ++dy) {
+        int yy = clamp(x.y + dy, 0, size.y - 1);
+        vec4 row = vec4(0.0);
+        for (int dx = -1; dx <= 1; ++dx) {
+            int xx = clamp(x.x + dx, 0, size.x - 1);
+            row += weights[dx + 1] * sanitize_color(texelFetch(color, ivec2(xx, yy), 0));
+        }
+        sum += weights[dy + 1] * row;
+    }
+    return sum;
+}
+#endif
 
 const uvec2 JITTER_SALTS = uvec2(0x510E527Fu, 0x9B05688Cu);
 const float MOVING = 1.0;        // px: shorter half-motions count as still
@@ -72,7 +108,11 @@ vec2 trail_of(vec4 halves, int side) {
 
 vec4 gather_at(ivec2 x) {
     ivec2 size = textureSize(color, 0);
+#ifdef FILM_THROUGH_TAPS
+    vec4 cx = film_own(x, size);
+#else
     vec4 cx = sanitize_color(texelFetch(color, x, 0));
+#endif
     ivec2 tile = jittered_tile(x, float(tile_size), seed, JITTER_SALTS, textureSize(dilated, 0));
     vec4 tile_motion = texelFetch(dilated, tile, 0);
     vec2 lines[2] = vec2[2](clamp_length(tile_motion.xy, reach_limit),
@@ -129,7 +169,11 @@ vec4 gather_at(ivec2 x) {
             // without reading it.
             if (a == 0.0 && b == 0.0) continue;
 #endif
+#ifdef FILM_THROUGH_TAPS
+            vec4 cy = film_tap(y, side * samples + i, size);
+#else
             vec4 cy = sanitize_color(texelFetch(color, y, 0));
+#endif
             cover_sums[side] += a * cy;
             behind_sum += b * cy;
         }

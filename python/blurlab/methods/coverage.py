@@ -6,7 +6,8 @@ directions, Unity's v_alt), and weights that estimate what share of each half-sh
 pixel spends over X, with what lies behind X filling the rest. Passes: engine_eevee's tile
 flatten and tile dilation (shaders/passes/eevee_tile_*.glsl) at this method's tile size and
 limit (methods.eevee.dilated_tiles), then shaders/passes/coverage_gather.glsl, then, where
-film_filter > 0, shaders/passes/film_filter.glsl. NumPy twin:
+film_filter > 0, shaders/passes/film_filter.glsl, unless film_through_taps reads the filter
+through the gather's colour reads instead. NumPy twin:
 blurlab.twins.coverage.gather_coverage.
 """
 
@@ -39,6 +40,13 @@ PARAMS = {
         "temporal reference; 0.5: Blender EEVEE's at its 1.5 px filter size)",
         0,
         4,
+    ),
+    "film_through_taps": Param(
+        False,
+        bool,
+        "read the film filter through the gather's colour reads (each tap bilinear at a turning "
+        "(±d, ±d) px, d the kernel's variance) instead of a pass after it; film_filter up to "
+        f"{film.max_tap_sigma():.2f}",
     ),
 }
 GATHER = Pass("gather", "passes/coverage_gather.glsl", ("samples", "soft_z", "exposure", "seed"))
@@ -117,6 +125,18 @@ def _run_coverage(ctx: Context, frame: Frame, inputs: dict, values: dict, backen
         "dilated": dilated,
     }
     uniforms = {"tile_size": s, "reach_limit": reach_limit}
+    defines = GATHER_LAYOUT.defines()
+    through_taps = values["film_through_taps"] and values["film_filter"] > 0
+    if through_taps:
+        if values["film_filter"] > film.max_tap_sigma():
+            raise ValueError(
+                f"blurlab: gather_coverage film_through_taps reads the film filter as a 3-tap "
+                f"kernel, which holds film_filter up to {film.max_tap_sigma():.2f} px, not "
+                f"{values['film_filter']}; use film_through_taps=False (a pass after the "
+                "gather) for a wider filter"
+            )
+        defines = {**defines, "FILM_THROUGH_TAPS": 1}
+        uniforms["film_spread"] = film.film_spread(values["film_filter"])
     run_pass(
         ctx,
         timings,
@@ -127,10 +147,10 @@ def _run_coverage(ctx: Context, frame: Frame, inputs: dict, values: dict, backen
         {"result": gathered},
         backend,
         uniforms=uniforms,
-        defines=GATHER_LAYOUT.defines(),
+        defines=defines,
     )
     outputs = {"color": gathered, "tiles": tiles, "dilated": dilated}
-    if values["film_filter"] > 0:
+    if values["film_filter"] > 0 and not through_taps:
         outputs.update(color=_film_filter(ctx, timings, values, gathered), unfiltered=gathered)
     return outputs, timings
 

@@ -11,6 +11,7 @@ import numpy as np
 
 from .eevee import EARLY_EXIT, clamp_length, dilated_half_motions, lookup_tile
 from .film import film_filter as apply_film_filter
+from .film import film_spread, own_color, tap_color
 from .hashing import rand
 from .inputs import sanitize_color, sanitize_depth
 from .mcguire2012 import soft_depth_compare
@@ -106,12 +107,18 @@ def gather_coverage(
     exposure: float,
     seed: int,
     film_filter: float,
+    film_through_taps: bool,
     dilated: np.ndarray | None = None,
 ) -> np.ndarray:
     """§17.6: (H, W, C) float64 blurred color. `max_blur` is a percentage of the height;
-    `film_filter` the σ (px) of the Gaussian film filter on the result, 0 for none; `dilated`
-    is the dilated tile grid if already computed."""
+    `film_filter` the σ (px) of the Gaussian film filter on the result, 0 for none; with
+    `film_through_taps`, the filter is read through the taps' colours instead (tap k through
+    film.tap_color, X through film.own_color, at d = film_spread(σ)), not applied after;
+    `dilated` is the dilated tile grid if already computed."""
     color = sanitize_color(color)
+    through_taps = film_through_taps and film_filter > 0
+    spread = film_spread(film_filter) if through_taps else 0.0
+    x_color = own_color(color, spread) if through_taps else color
     depth = sanitize_depth(depth)
     h, w = depth.shape
     s = tile_size(h, tile_percent)
@@ -142,17 +149,22 @@ def gather_coverage(
     # whose way on to t1 crosses X at -τ·next. Each is read as a trail towards X.
     for side, trails in enumerate((prev, -next_)):
         line, own = lines[side], trails
+        first_tap = side * samples  # tap k = side·samples + i turns the film's offsets
         own_moves = np.linalg.norm(own, axis=-1) >= MOVING
         share = 1 / (1 + family_overlap(line, own))
         cover_sum, cover = np.zeros_like(color), np.zeros((h, w))
         spaced, seen = np.zeros((h, w)), np.zeros((h, w))
-        for family, i, count in tap_layout(samples):
+        for tap, (family, i, count) in enumerate(tap_layout(samples)):
             along = np.where((family & own_moves)[..., None], own, line)
             spacing = np.linalg.norm(along, axis=-1) / count * share
             t = (i + tap_offset(j, family, side)) / count
             bent = np.where((family & own_moves)[..., None], bend, 0.0)
             p = np.floor(center + tap_offset_along(along, bent, t)).astype(np.int64)
             py, px = np.clip(p[..., 1], 0, h - 1), np.clip(p[..., 0], 0, w - 1)
+            if through_taps:
+                cy = tap_color(color, px, py, first_tap + tap, spread)
+            else:
+                cy = color[py, px]
             d = np.stack([px - x, py - y], -1).astype(np.float64)
             speed = np.linalg.norm(trails[py, px], axis=-1)
             moving = np.clip(speed - 0.5, 0, 1)
@@ -161,7 +173,7 @@ def gather_coverage(
             in_front = soft_depth_compare(depth, zy, front_extent)
             a = in_front * reaches * moving * spacing / np.maximum(speed, 1)
             cover = cover + a
-            cover_sum = cover_sum + a[..., None] * color[py, px]
+            cover_sum = cover_sum + a[..., None] * cy
             # A still tap in front of a moving X hides the part of X's line behind it: the
             # coverage is estimated from the part that is seen.
             nearer = 1 - soft_depth_compare(zy, depth, soft_z)
@@ -169,17 +181,18 @@ def gather_coverage(
             seen = seen + spacing * (1 - x_moves * nearer * (1 - moving))
             b = (1 - nearer) * (1 - soft_depth_compare(depth, zy, soft_z)) * (1 - reaches)
             behind_weight = behind_weight + b
-            behind_sum = behind_sum + b[..., None] * color[py, px]
+            behind_sum = behind_sum + b[..., None] * cy
         sides.append(
             (cover_sum, cover, np.where(seen > 0, spaced / np.where(seen > 0, seen, 1), 1))
         )
     known = (behind_weight > 0) & x_moves
     background = np.where(
-        known[..., None], behind_sum / np.where(known, behind_weight, 1.0)[..., None], color
+        known[..., None], behind_sum / np.where(known, behind_weight, 1.0)[..., None], x_color
     )
     out = np.zeros_like(color)
     for cover_sum, cover, scale in sides:
         alpha = np.minimum(cover * scale, 1.0)[..., None]
         covering = cover_sum / np.maximum(cover, 1e-12)[..., None]
         out = out + 0.5 * (alpha * covering + (1 - alpha) * background)
-    return apply_film_filter(np.where((longest >= EARLY_EXIT)[..., None], out, color), film_filter)
+    out = np.where((longest >= EARLY_EXIT)[..., None], out, x_color)
+    return out if through_taps else apply_film_filter(out, film_filter)

@@ -34,3 +34,59 @@ def film_filter(color, sigma: float) -> np.ndarray:
             out += weight * color[rows[:, i]][:, cols[:, k]]
             total += weight
     return out / total
+
+
+# film_through_taps reads a pixel through the filter as a bilinear blend that puts weight d on
+# one neighbour per axis; that is a kernel only up to d = 1/2 (the pixel keeps at least half).
+MAX_TAP_SPREAD = 0.5
+
+
+def film_spread(sigma: float) -> float:
+    """d for film_through_taps (docs/spec.md §17.6): the variance, px², of the normalised 1D
+    kernel film_filter applies for `sigma`, out to film_radius(sigma). The 3-tap kernel
+    [d/2, 1 - d, d/2] has the same variance (0.2149 at sigma = 0.5)."""
+    r = film_radius(sigma)
+    weights = [math.exp(-(k * k) / (2 * sigma * sigma)) for k in range(-r, r + 1)]
+    return sum(w * k * k for w, k in zip(weights, range(-r, r + 1), strict=True)) / sum(weights)
+
+
+def max_tap_sigma() -> float:
+    """The largest film_filter sigma whose film_spread stays within MAX_TAP_SPREAD (bisection:
+    the spread grows with sigma)."""
+    low, high = 0.0, 2.0
+    for _ in range(60):
+        middle = (low + high) / 2
+        low, high = (middle, high) if film_spread(middle) <= MAX_TAP_SPREAD else (low, middle)
+    return low
+
+
+# The turn of tap k (k % 4) of film_through_taps: the signs of its offset (±d, ±d) px.
+TAP_TURNS = ((1, 1), (-1, -1), (1, -1), (-1, 1))
+
+
+def tap_color(color, px, py, k: int, spread: float) -> np.ndarray:
+    """The colour of the pixels (px, py) read through the film filter for tap k: bilinear at
+    (±d, ±d) px from each pixel's centre, the signs TAP_TURNS[k % 4]; per axis weight 1 - d on
+    the pixel and d on its neighbour that way, coordinates clamped to the image."""
+    h, w = color.shape[:2]
+    sx, sy = TAP_TURNS[k % 4]
+    nx, ny = np.clip(px + sx, 0, w - 1), np.clip(py + sy, 0, h - 1)
+    d = spread
+    return (1 - d) * ((1 - d) * color[py, px] + d * color[py, nx]) + d * (
+        (1 - d) * color[ny, px] + d * color[ny, nx]
+    )
+
+
+def own_color(color, spread: float) -> np.ndarray:
+    """Every pixel read through the film filter as the mean of its four tap turns: the kernel
+    [d/2, 1 - d, d/2] along each axis, coordinates clamped to the image."""
+    color = np.asarray(color, np.float64)
+    h, w = color.shape[:2]
+    rows = np.clip(np.arange(h)[:, None] + np.array([-1, 0, 1]), 0, h - 1)
+    cols = np.clip(np.arange(w)[:, None] + np.array([-1, 0, 1]), 0, w - 1)
+    kernel = (spread / 2, 1 - spread, spread / 2)
+    out = np.zeros_like(color)
+    for i, wy in enumerate(kernel):
+        row = color[rows[:, i]]
+        out += wy * sum(wx * row[:, cols[:, k]] for k, wx in enumerate(kernel))
+    return out
