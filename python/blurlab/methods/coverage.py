@@ -46,7 +46,7 @@ PARAMS = {
         bool,
         "read the film filter through the gather's colour reads (each tap bilinear at a turning "
         "(±d, ±d) px, d the kernel's variance) instead of a pass after it; film_filter up to "
-        f"{film.max_tap_sigma():.2f}",
+        f"{film.MAX_TAP_SIGMA:.2f}",
     ),
 }
 GATHER = Pass("gather", "passes/coverage_gather.glsl", ("samples", "soft_z", "exposure", "seed"))
@@ -128,10 +128,10 @@ def _run_coverage(ctx: Context, frame: Frame, inputs: dict, values: dict, backen
     defines = GATHER_LAYOUT.defines()
     through_taps = values["film_through_taps"] and values["film_filter"] > 0
     if through_taps:
-        if values["film_filter"] > film.max_tap_sigma():
+        if values["film_filter"] > film.MAX_TAP_SIGMA:
             raise ValueError(
                 f"blurlab: gather_coverage film_through_taps reads the film filter as a 3-tap "
-                f"kernel, which holds film_filter up to {film.max_tap_sigma():.2f} px, not "
+                f"kernel, which holds film_filter up to {film.MAX_TAP_SIGMA:.2f} px, not "
                 f"{values['film_filter']}; use film_through_taps=False (a pass after the "
                 "gather) for a wider filter"
             )

@@ -15,6 +15,30 @@ def film_radius(sigma: float) -> int:
     return math.ceil(3 * sigma)
 
 
+def film_kernel(sigma: float) -> np.ndarray:
+    """The normalised 1D Gaussian of standard deviation `sigma` px at offsets -R..R, R =
+    film_radius(sigma): the filter's 2D weight of (dx, dy) is the product of two of these."""
+    offsets = np.arange(-film_radius(sigma), film_radius(sigma) + 1)
+    weights = np.exp(-(offsets * offsets) / (2 * sigma * sigma))
+    return weights / weights.sum()
+
+
+def separable_filter(color, kernel) -> np.ndarray:
+    """(H, W, C) float64: `color` filtered by the 2D kernel kernel[i]·kernel[k] centred on each
+    pixel (an odd-length 1D `kernel`), coordinates clamped to the image."""
+    color = np.asarray(color, np.float64)
+    h, w = color.shape[:2]
+    r = len(kernel) // 2
+    offsets = np.arange(-r, r + 1)
+    rows = np.clip(np.arange(h)[:, None] + offsets, 0, h - 1)  # (H, 2r+1)
+    cols = np.clip(np.arange(w)[:, None] + offsets, 0, w - 1)
+    out = np.zeros_like(color)
+    for i, wy in enumerate(kernel):
+        row = color[rows[:, i]]
+        out += wy * sum(wx * row[:, cols[:, k]] for k, wx in enumerate(kernel))
+    return out
+
+
 def film_filter(color, sigma: float) -> np.ndarray:
     """(H, W, C) float64: each pixel the Gaussian-weighted mean (standard deviation `sigma` px)
     of the pixels within film_radius(sigma), coordinates clamped to the image; `sigma` = 0
@@ -22,18 +46,7 @@ def film_filter(color, sigma: float) -> np.ndarray:
     color = sanitize_color(color)
     if sigma <= 0:
         return color
-    h, w = color.shape[:2]
-    r = film_radius(sigma)
-    offsets = np.arange(-r, r + 1)
-    rows = np.clip(np.arange(h)[:, None] + offsets, 0, h - 1)  # (H, 2r+1)
-    cols = np.clip(np.arange(w)[:, None] + offsets, 0, w - 1)
-    out, total = np.zeros_like(color), 0.0
-    for i, dy in enumerate(offsets):
-        for k, dx in enumerate(offsets):
-            weight = math.exp(-(dx * dx + dy * dy) / (2 * sigma * sigma))
-            out += weight * color[rows[:, i]][:, cols[:, k]]
-            total += weight
-    return out / total
+    return separable_filter(color, film_kernel(sigma))
 
 
 # film_through_taps reads a pixel through the filter as a bilinear blend that puts weight d on
@@ -42,15 +55,14 @@ MAX_TAP_SPREAD = 0.5
 
 
 def film_spread(sigma: float) -> float:
-    """d for film_through_taps (docs/spec.md §17.6): the variance, px², of the normalised 1D
-    kernel film_filter applies for `sigma`, out to film_radius(sigma). The 3-tap kernel
-    [d/2, 1 - d, d/2] has the same variance (0.2149 at sigma = 0.5)."""
-    r = film_radius(sigma)
-    weights = [math.exp(-(k * k) / (2 * sigma * sigma)) for k in range(-r, r + 1)]
-    return sum(w * k * k for w, k in zip(weights, range(-r, r + 1), strict=True)) / sum(weights)
+    """d for film_through_taps (docs/spec.md §17.6): the variance, px², of film_kernel(sigma).
+    The 3-tap kernel [d/2, 1 - d, d/2] has the same variance (0.2150 at sigma = 0.5)."""
+    kernel = film_kernel(sigma)
+    offsets = np.arange(len(kernel)) - len(kernel) // 2
+    return float((kernel * offsets * offsets).sum())
 
 
-def max_tap_sigma() -> float:
+def _max_tap_sigma() -> float:
     """The largest film_filter sigma whose film_spread stays within MAX_TAP_SPREAD (bisection:
     the spread grows with sigma)."""
     low, high = 0.0, 2.0
@@ -58,6 +70,9 @@ def max_tap_sigma() -> float:
         middle = (low + high) / 2
         low, high = (middle, high) if film_spread(middle) <= MAX_TAP_SPREAD else (low, middle)
     return low
+
+
+MAX_TAP_SIGMA = _max_tap_sigma()  # 0.708 px
 
 
 # The turn of tap k (k % 4) of film_through_taps: the signs of its offset (±d, ±d) px.
@@ -80,13 +95,4 @@ def tap_color(color, px, py, k: int, spread: float) -> np.ndarray:
 def own_color(color, spread: float) -> np.ndarray:
     """Every pixel read through the film filter as the mean of its four tap turns: the kernel
     [d/2, 1 - d, d/2] along each axis, coordinates clamped to the image."""
-    color = np.asarray(color, np.float64)
-    h, w = color.shape[:2]
-    rows = np.clip(np.arange(h)[:, None] + np.array([-1, 0, 1]), 0, h - 1)
-    cols = np.clip(np.arange(w)[:, None] + np.array([-1, 0, 1]), 0, w - 1)
-    kernel = (spread / 2, 1 - spread, spread / 2)
-    out = np.zeros_like(color)
-    for i, wy in enumerate(kernel):
-        row = color[rows[:, i]]
-        out += wy * sum(wx * row[:, cols[:, k]] for k, wx in enumerate(kernel))
-    return out
+    return separable_filter(color, (spread / 2, 1 - spread, spread / 2))
