@@ -21,22 +21,18 @@ import uuid
 from collections import OrderedDict, deque
 
 from ..context import DEVICE_MODES, Context
-from .evaluation import evaluate_scene
+from .evaluation import SETUP_PHASES, WARM_UP, evaluate_scene
 
 INSTALL_HINT = "pip install 'blurlab[distributed]' (or dask[distributed])"
 # Scenes whose frames and references a worker keeps; the client keeps each worker on one scene
 # at a time, so two are enough for the hand-over between scenes.
 SCENES_KEPT = 2
 MAX_CHUNK = 8  # configurations per task unless bl.sweep's chunk_size says otherwise
-# The phases of a scene cache's PhaseClock (studies/evaluation.py) that a scene costs once per
-# worker before its first evaluation: a helper on another worker's scene pays them again.
-SETUP_PHASES = ("references", "g_buffers")
-# Each method's first, untimed run in a task: its compiles and the first use of new textures.
-WARM_UP_PHASE = "warm_up"
-# A worker's account (worker_report): the phases above, and the references it imported from
-# another worker (uploads) or exported to one (downloads); the rest of its busy time is
-# evaluations (timed runs and metrics).
-ACCOUNT = (*SETUP_PHASES, WARM_UP_PHASE, "imports", "exports")
+# A worker's account (worker_report): evaluation's setup phases (a helper on another worker's
+# scene pays them again unless it imports them) and warm-up runs, and the references it
+# imported from another worker (uploads) or exported to one (downloads); the rest of its busy
+# time is evaluations (timed runs and metrics).
+ACCOUNT = (*SETUP_PHASES, WARM_UP, "imports", "exports")
 
 _worker_state: dict = {}  # this process as a Dask worker: its Context and scene caches
 
@@ -180,7 +176,7 @@ def run_chunk(scene, scene_key, jobs, settings, imported=None) -> tuple[str, lis
     rows = list(evaluate_scene(ctx, scene, jobs, settings, cache))
     seconds = time.perf_counter() - start
     setup = 0.0
-    for phase in (*SETUP_PHASES, WARM_UP_PHASE):
+    for phase in (*SETUP_PHASES, WARM_UP):
         spent = cache["clock"].seconds.get(phase, 0.0) - before.get(phase, 0.0)
         log[f"{phase}_s"] += spent
         setup += spent if phase in SETUP_PHASES else 0.0

@@ -34,6 +34,12 @@ class Settings:
     readback_batch: int = 1
 
 
+# The phases a scene cache's PhaseClock (cache["clock"]) counts: what a scene costs once per
+# process before its first evaluation, and each method's first, untimed run in a call of
+# evaluate_scene (its compiles and the first use of new textures).
+REFERENCES, G_BUFFERS, WARM_UP = "references", "g_buffers", "warm_up"
+SETUP_PHASES = (REFERENCES, G_BUFFERS)
+
 LDR_METRICS = ("psnr", "ssim", "flip", "psnr_aa")  # psnr_aa: against the antialiased reference
 # Unclipped, for HDR scenes (docs/spec.md §6.2); computed on the CPU from images read back, as
 # FLIP is.
@@ -66,7 +72,7 @@ def evaluate_scene(
         frames, reference = _scene_inputs(ctx, scene, name, point, settings, cache)
         params = _without_steps(point)
         if (name, backend) not in warmed:
-            with _phase(cache, "warm_up"):
+            with _phase(cache, WARM_UP):
                 blur_steps(ctx, frames, name, backend, **params)
             warmed.add((name, backend))
         runs = []
@@ -221,7 +227,7 @@ def _reference(ctx, scene, settings: Settings, samples: int, cache: dict, antial
     """The scene's temporal (or antialiased) reference with `samples` sub-frames, made once."""
     key = "reference_aa" if antialias else "reference"
     if key not in cache:
-        with _phase(cache, "references"):
+        with _phase(cache, REFERENCES):
             cache[key] = ctx.reference(
                 scene,
                 settings.size,
@@ -258,7 +264,7 @@ def _scene_inputs(ctx, scene, name, point, settings: Settings, cache: dict):
     instant = method_instant(name, params)
     steps = point.get("steps", 1)
     frames = cache.setdefault("frames", {})
-    with _phase(cache, "g_buffers"):
+    with _phase(cache, G_BUFFERS):
         if (instant, 1) not in frames:
             frames[(instant, 1)] = [
                 ctx.render(scene, settings.size, settings.shutter, instant=instant)

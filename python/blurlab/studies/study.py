@@ -24,7 +24,7 @@ from ..context import Context
 from ..methods import blur, method, method_instant
 from . import interactive, objects, peers, plots, workers
 from .cluster import account_table
-from .evaluation import PhaseClock, picture_key
+from .evaluation import SETUP_PHASES, PhaseClock, picture_key
 from .sweep import HDR_METRICS, default_grids, middle_point, sweep
 
 BUDGETS_MS = (0.1, 1.0, 10.0, 100.0)
@@ -96,7 +96,7 @@ def run_study(
         if cluster is not None:
             clock.add("sweep_on_cluster", swept)
         else:
-            for phase in ("references", "g_buffers"):
+            for phase in SETUP_PHASES:
                 spent = sum(
                     c["clock"].seconds.get(phase, 0.0) for c in caches.values() if "clock" in c
                 )
