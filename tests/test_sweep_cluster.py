@@ -69,6 +69,9 @@ def test_worker_reports_account_for_every_evaluation_and_second(job):
     for report in reports:
         assert report["device"].startswith("EGL device")
         assert report["tasks"] >= 1
+        # Each worker was given two chunks at once (CHUNKS_IN_FLIGHT): the second was on the
+        # worker when the first ended.
+        assert report["next_chunk_waiting"] >= 1
         assert report["references_s"] > 0 and report["g_buffers_s"] > 0
         assert report["warm_up_s"] > 0 and report["evaluations_s"] > 0
         # evaluations_s is what the other phases leave of the busy time.

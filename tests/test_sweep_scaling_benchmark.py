@@ -54,4 +54,4 @@ def test_sweep_scaling_gives_the_same_rows_and_accounts_for_each_worker(tmp_path
             assert report["busy_s"] + report["context_s"] <= run["wall_s"] + 1e-6
             # A warm cluster opened its contexts before the timed sweep.
             assert (report["context_s"] == 0) == warm or report["evaluations"] == 0
-    assert "| worker | device | tasks |" in output
+    assert "| worker | device | tasks (next waiting) |" in output

@@ -28,6 +28,10 @@ INSTALL_HINT = "pip install 'blurlab[distributed]' (or dask[distributed])"
 # at a time, so two are enough for the hand-over between scenes.
 SCENES_KEPT = 2
 MAX_CHUNK = 8  # configurations per task unless bl.sweep's chunk_size says otherwise
+# Chunks a worker has at once: the one it runs and the next, so that it starts the next as soon
+# as it finishes one instead of idling while the client hears of it and hands out another (about
+# 45 ms a chunk on four H100s, 1.5-3.6 s a worker over a 46 s sweep: docs/benchmarks.md).
+CHUNKS_IN_FLIGHT = 2
 # A worker's account (worker_report): evaluation's setup phases (a helper on another worker's
 # scene pays them again unless it imports them) and warm-up runs, and the references it
 # imported from another worker (uploads) or exported to one (downloads); the rest of its busy
@@ -152,7 +156,7 @@ def worker_context() -> Context:
 
 def _new_log(context_s: float) -> dict:
     phases = {f"{phase}_s": 0.0 for phase in ACCOUNT}
-    counts = {"tasks": 0, "evaluations": 0, "imports": 0, "exports": 0}
+    counts = {"tasks": 0, "evaluations": 0, "imports": 0, "exports": 0, "next_chunk_waiting": 0}
     return {"context_s": context_s, **counts, "busy_s": 0.0, **phases}
 
 
@@ -181,10 +185,23 @@ def run_chunk(scene, scene_key, jobs, settings, imported=None) -> tuple[str, lis
         log[f"{phase}_s"] += spent
         setup += spent if phase in SETUP_PHASES else 0.0
     log["tasks"] += 1
+    log["next_chunk_waiting"] += int(_chunks_waiting() > 0)
     log["evaluations"] += len(rows)
     log["busy_s"] += seconds
     costs = {"seconds": seconds, "setup_s": setup, "evaluations": len(rows)}
     return str(_distributed().get_worker().name), rows, costs
+
+
+# A task this worker has been given but not yet run (distributed's worker task states).
+NOT_YET_RUN = ("waiting", "ready", "constrained", "fetch", "flight", "missing")
+
+
+def _chunks_waiting() -> int:
+    """Chunks this worker has been given besides the one it runs (CHUNKS_IN_FLIGHT)."""
+    from dask.utils import key_split
+
+    tasks = _distributed().get_worker().state.tasks.values()
+    return sum(key_split(task.key) == "run_chunk" and task.state in NOT_YET_RUN for task in tasks)
 
 
 def _scene_cache(scene_key) -> dict:
@@ -227,7 +244,8 @@ def worker_report() -> dict:
     context, the scenes' references and G-buffers, each method's first run in a task
     (``warm_up_s``), references imported from and exported to other workers, and the rest
     (timed runs and metrics, ``evaluations_s``). Idle time is the sweep's wall time less
-    ``context_s`` and ``busy_s``."""
+    ``context_s`` and ``busy_s``. ``next_chunk_waiting``: the chunks at whose end this worker
+    already had its next one, which it then started without waiting for the client."""
     if "ctx" not in _worker_state:
         return {"device": None, **_new_log(0.0), "evaluations_s": 0.0, "scenes_kept": []}
     info = _worker_state["ctx"].info()
@@ -274,14 +292,16 @@ def account_table(accounts: dict, wall_s: float) -> str:
     where its share of the `wall_s` seconds went, idle time included; and the wall time on
     no worker's account (client, scheduler, transfers)."""
     lines = [
-        "| worker | device | tasks | evaluations | context s | references s | G-buffers s "
+        "| worker | device | tasks (next waiting) | evaluations | context s | references s "
+        "| G-buffers s "
         "| warm-up runs s | imports (s) | exports (s) | evaluations s | idle s |",
         "|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for name, r in sorted(accounts.items()):
         idle = wall_s - r["context_s"] - r["busy_s"]
         lines.append(
-            f"| {name} | {r['device']} | {r['tasks']} | {r['evaluations']} "
+            f"| {name} | {r['device']} | {r['tasks']} ({r['next_chunk_waiting']}) "
+            f"| {r['evaluations']} "
             f"| {r['context_s']:.1f} | {r['references_s']:.1f} | {r['g_buffers_s']:.1f} "
             f"| {r['warm_up_s']:.1f} | {r['imports']} ({r['imports_s']:.1f}) "
             f"| {r['exports']} ({r['exports_s']:.1f}) | {r['evaluations_s']:.1f} | {idle:.1f} |"
@@ -323,8 +343,8 @@ def sweep_on_cluster(cluster, scenes, pending, settings, record, chunk_size, bar
     returns each worker's account of this sweep, {worker name: worker_report() since its
     start}.
 
-    A worker that finishes a chunk gets the next chunk of the scene it works on; when that
-    scene has no work left, a scene no worker has started (the one with most work), and only
+    Each worker has up to CHUNKS_IN_FLIGHT chunks at once. It gets the next chunk of the scene it
+    works on; when that scene has no work left, a scene no worker has started (the one with most work), and only
     when none is left, part of a scene another worker is on. It then imports that scene's
     references from a worker that keeps them (the images travel through Dask) rather than
     rendering them again; while none can export them yet, it renders them itself only where
@@ -349,6 +369,7 @@ def sweep_on_cluster(cluster, scenes, pending, settings, record, chunk_size, bar
         setup_s: dict = {}  # scene: the most a chunk of it spent on references, G-buffers
         seconds_each: dict = {}  # scene: a chunk's other seconds per evaluation
         exports: dict = {}  # scene: the future of its exported inputs (export_scene_inputs)
+        awaited: dict = {}  # (worker, scene): the export its chunks given so far wait for
         done = distributed.as_completed()
 
         def estimate(values: dict, i):
@@ -362,10 +383,17 @@ def sweep_on_cluster(cluster, scenes, pending, settings, record, chunk_size, bar
             kept_by = (w for w, kept in held.items() if i in kept and w != worker and w in workers)
             return next(kept_by, None)
 
+        def will_hold(worker, i) -> bool:
+            """Whether `worker` keeps scene i's inputs, or will once a chunk of scene i that it
+            has already been given runs (its chunks run in the order given)."""
+            return i in held.get(worker, ()) or any(
+                w == worker and scene_of[f] == i for f, w in futures.items()
+            )
+
         def can_help(worker, i) -> bool:
             """Whether `worker` takes part of scene i: it keeps the scene, or nobody else is on
             it, or another worker can export its inputs, or rendering them again pays."""
-            if i in held.get(worker, ()):
+            if will_hold(worker, i):
                 return True
             covered = any(owner.get(w) == i for w in futures.values() if w != worker)
             if not covered or holder(worker, i) is not None:
@@ -383,8 +411,15 @@ def sweep_on_cluster(cluster, scenes, pending, settings, record, chunk_size, bar
 
         def imports_for(worker, i):
             """The export of scene i's inputs for `worker`, if it lacks them and another has
-            them: one export task a scene, run on its holder, whose result Dask moves."""
+            them: one export task a scene, run on its holder, whose result Dask moves. A chunk
+            given while an earlier one still waits for that export waits for it too: without
+            the export among its inputs it would be ready first, run first and render the
+            scene itself."""
             if i in held.get(worker, ()):
+                return None
+            if (worker, i) in awaited:
+                return awaited[worker, i]
+            if will_hold(worker, i):  # a chunk it was given renders them
                 return None
             if i not in exports:
                 source = holder(worker, i)
@@ -400,6 +435,7 @@ def sweep_on_cluster(cluster, scenes, pending, settings, record, chunk_size, bar
                     pure=False,
                     priority=1,  # before the holder's next chunk: the helper waits for it
                 )
+            awaited[worker, i] = exports[i]
             return exports[i]
 
         def assign(worker) -> None:
@@ -435,8 +471,15 @@ def sweep_on_cluster(cluster, scenes, pending, settings, record, chunk_size, bar
                 exports.pop(i, None)
 
         scene_of: dict = {}
-        for worker in workers:
-            assign(worker)
+
+        def fill(worker) -> None:
+            """Gives `worker` chunks until it has CHUNKS_IN_FLIGHT or none is left for it."""
+            for _ in range(CHUNKS_IN_FLIGHT - sum(w == worker for w in futures.values())):
+                assign(worker)
+
+        for _ in range(CHUNKS_IN_FLIGHT):  # a chunk each before any worker's second
+            for worker in workers:
+                assign(worker)
         for future in done:
             worker = futures.pop(future)
             i = scene_of.pop(future)
@@ -445,6 +488,7 @@ def sweep_on_cluster(cluster, scenes, pending, settings, record, chunk_size, bar
                 record(key, row)
             kept = [j for j in held.get(worker, []) if j != i] + [i]
             held[worker] = kept[-SCENES_KEPT:]
+            awaited.pop((worker, i), None)  # it holds the scene now
             if costs["setup_s"] > 0:  # this chunk rendered the scene's inputs
                 setup_s[i] = max(setup_s.get(i, 0.0), costs["setup_s"])
             if costs["evaluations"]:
@@ -453,12 +497,9 @@ def sweep_on_cluster(cluster, scenes, pending, settings, record, chunk_size, bar
             if bar:
                 bar.set_postfix(rows_per_worker=",".join(f"{n}:{c}" for n, c in counts.items()))
             alive = workers = list(client.nthreads())
-            busy = set(futures.values())
             # This worker again (or, if it is gone, any), and workers that joined meanwhile.
-            for target in [worker if worker in alive else None] + alive:
-                if target is not None and target not in busy:
-                    assign(target)
-                    busy.add(target)
+            for target in [worker] + alive if worker in alive else alive:
+                fill(target)
         if any(queues.values()):
             raise RuntimeError(
                 "blurlab.sweep: the cluster has no workers left; "
