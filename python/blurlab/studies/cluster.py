@@ -343,9 +343,9 @@ def sweep_on_cluster(cluster, scenes, pending, settings, record, chunk_size, bar
     returns each worker's account of this sweep, {worker name: worker_report() since its
     start}.
 
-    Each worker has up to CHUNKS_IN_FLIGHT chunks at once. It gets the next chunk of the scene it
-    works on; when that scene has no work left, a scene no worker has started (the one with most work), and only
-    when none is left, part of a scene another worker is on. It then imports that scene's
+    Each worker has up to CHUNKS_IN_FLIGHT chunks at once. It gets the next chunk of the scene
+    it works on; when that scene has no work left, a scene no worker has started (the one with
+    most work), and only when none is left, part of a scene another worker is on. It then imports that scene's
     references from a worker that keeps them (the images travel through Dask) rather than
     rendering them again; while none can export them yet, it renders them itself only where
     worth_helping says that pays. Rows therefore depend only on the scene and configuration,
