@@ -345,11 +345,11 @@ def sweep_on_cluster(cluster, scenes, pending, settings, record, chunk_size, bar
 
     Each worker has up to CHUNKS_IN_FLIGHT chunks at once. It gets the next chunk of the scene
     it works on; when that scene has no work left, a scene no worker has started (the one with
-    most work), and only when none is left, part of a scene another worker is on. It then imports that scene's
-    references from a worker that keeps them (the images travel through Dask) rather than
-    rendering them again; while none can export them yet, it renders them itself only where
-    worth_helping says that pays. Rows therefore depend only on the scene and configuration,
-    never on the worker.
+    most work), and only when none is left, part of a scene another worker is on. It then
+    imports that scene's references from a worker that keeps them (the images travel through
+    Dask) rather than rendering them again; while none can export them yet, it renders them
+    itself only where worth_helping says that pays. Rows therefore depend only on the scene and
+    configuration, never on the worker.
     """
     distributed = _distributed()
     client, own = _connect(cluster)
