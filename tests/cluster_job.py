@@ -3,12 +3,11 @@ spawned processes, and a cluster that hangs is then killed with its whole proces
 
     python tests/cluster_job.py FOLDER
 
-Writes into FOLDER: local.csv (the sweep in this process), one.csv (one worker), order.csv (one
-worker, a configuration a chunk), two.csv (two workers), resumed.csv (a partial sweep through
-`blurlab sweep --scheduler`, then the whole sweep on the cluster), workers.json (each worker's
-report after the two-worker sweep), two_accounts.json (the same sweep's
-table.attrs["workers"]), and helped.csv with helped_workers.json (one scene on two workers, one
-configuration a chunk).
+Writes into FOLDER: local.csv (the sweep in this process), one.csv (one worker), two.csv (two
+workers), resumed.csv (a partial sweep through `blurlab sweep --scheduler`, then the whole
+sweep on the cluster), workers.json (each worker's report after the two-worker sweep),
+two_accounts.json (the same sweep's table.attrs["workers"]), and
+helped.csv with helped_workers.json (one scene on two workers, one configuration a chunk).
 """
 
 from __future__ import annotations
@@ -30,10 +29,6 @@ def main(folder: Path) -> None:
     bl.sweep(bl.Context(), SCENES, GRID, out=folder / "local.csv", **OPTIONS)
     with bl.local_cluster(1) as cluster:
         bl.sweep(None, SCENES, GRID, out=folder / "one.csv", cluster=cluster, **OPTIONS)
-        # A configuration a chunk on one worker: the order in which its rows come back.
-        bl.sweep(
-            None, SCENES, GRID, out=folder / "order.csv", cluster=cluster, chunk_size=1, **OPTIONS
-        )
         cluster.scale(2)
         from distributed import Client
 

@@ -123,26 +123,6 @@ def test_a_helper_imports_the_scene_instead_of_rendering_it(job):
     assert owner["evaluations"] + helper["evaluations"] == len(local)
 
 
-def test_a_worker_renders_the_references_of_new_scenes_first(job):
-    """One worker, a configuration a chunk: it starts the second scene (renders its
-    references) before it finishes the first, so that the end of a sweep is evaluations any
-    worker can share."""
-    order = pd.read_csv(job / "order.csv")["scene"].tolist()
-    assert len(order) == 10 and set(order[:2]) == {"fan", "teapot_pass"}, order
-
-
-def test_a_worker_drops_scenes_without_work_first():
-    cluster_keeps = cluster.SCENES_KEPT
-    order = list(range(cluster_keeps + 1))  # oldest first, the one in use last
-    assert cluster.scenes_to_drop(order[1:], keep=set(order)) == []
-    assert cluster.scenes_to_drop(order, keep=set(order)) == [0]  # all have work: the oldest
-    # Scene 2 has no work left: it goes before the older scenes 0 and 1, which have.
-    assert cluster.scenes_to_drop(order, keep=set(order) - {2}) == [2]
-    # The scene in use stays even without work left.
-    in_use = order[-1]
-    assert in_use not in cluster.scenes_to_drop(order, keep=set())
-
-
 def test_a_cluster_sweep_resumes_from_the_csv_file(job):
     saved = pd.read_csv(job / "resumed.csv")
     assert len(saved) == 10 and not saved.duplicated(["scene", "method", "params"]).any()

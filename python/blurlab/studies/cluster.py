@@ -3,11 +3,10 @@
 Each worker is one process with one thread and owns one EGL device: the one ``BLURLAB_DEVICE``
 names in its environment, else the GPU at its rank (a worker named ``3`` or ``host-3`` takes
 the fourth GPU, wrapping around), else llvmpipe. A worker keeps the frames and references of
-the scenes it has worked on (up to SCENES_KEPT). The client hands out chunks of one scene's
-configurations, new scenes first (their references are rendered early), then each worker's own
-scenes, and writes rows to the sweep's table and file as chunks return. A worker that helps
-on another's scene imports its references from a worker that keeps them, so a scene's
-reference is rendered once.
+the scenes it has worked on. The client hands out chunks of one scene's configurations, keeping
+each worker on its scene while that scene has work left, and writes rows to the sweep's table
+and file as chunks return. A worker that helps on another's scene imports its references from
+a worker that keeps them, so a scene's reference is rendered once.
 
 ``local_cluster()`` starts workers on this machine: one per GPU, or one per core with llvmpipe.
 """
@@ -25,12 +24,9 @@ from ..context import DEVICE_MODES, Context
 from .evaluation import SETUP_PHASES, WARM_UP, evaluate_scene
 
 INSTALL_HINT = "pip install 'blurlab[distributed]' (or dask[distributed])"
-# Scenes whose frames and references a worker keeps. The client lets a worker start a scene
-# nobody has started while it keeps fewer than this many with work left, so that references are
-# rendered early and the end of a sweep is evaluations that any worker can share (importing the
-# references); with 2, the last scene's references were rendered at the end while the other
-# workers waited. About 1 GB of GPU memory a scene at 3840 x 2160.
-SCENES_KEPT = 4
+# Scenes whose frames and references a worker keeps; the client keeps each worker on one scene
+# at a time, so two are enough for the hand-over between scenes.
+SCENES_KEPT = 2
 MAX_CHUNK = 8  # configurations per task unless bl.sweep's chunk_size says otherwise
 # Chunks a worker has at once: the one it runs and the next, so that it starts the next as soon
 # as it finishes one instead of idling while the client hears of it and hands out another (about
@@ -164,18 +160,17 @@ def _new_log(context_s: float) -> dict:
     return {"context_s": context_s, **counts, "busy_s": 0.0, **phases}
 
 
-def run_chunk(scene, scene_key, jobs, settings, imported=None, keep=()) -> tuple[str, list, dict]:
+def run_chunk(scene, scene_key, jobs, settings, imported=None) -> tuple[str, list, dict]:
     """On a worker: evaluates `jobs` of `scene`; returns (worker name, [(key, row)], costs),
     costs = {"seconds": the task's wall time, "setup_s": what it spent on the scene's
     references and G-buffers, "evaluations": len(jobs)}: the client's estimate of what a
     helper on this scene would pay before its first evaluation. `imported`: the scene's
-    references from another worker (export_scene_inputs), used unless this worker has them.
-    `keep`: the keys of scenes with work left, which it drops last (scenes_to_drop)."""
+    references from another worker (export_scene_inputs), used unless this worker has them."""
     ctx = worker_context()  # its first call opens the context: counted apart, as context_s
     start = time.perf_counter()
     ctx.make_current()  # a no-op on the thread that made it, which is every task's thread
     log = _worker_state["log"]
-    cache = _scene_cache(scene_key, keep)
+    cache = _scene_cache(scene_key)
     if imported and "reference" not in cache:
         for key, value in imported.items():
             cache[key] = value.attached(ctx) if key.startswith("reference") else value
@@ -209,25 +204,13 @@ def _chunks_waiting() -> int:
     return sum(key_split(task.key) == "run_chunk" and task.state in NOT_YET_RUN for task in tasks)
 
 
-def scenes_to_drop(order: list, keep) -> list:
-    """Of the scenes a worker keeps, `order` (oldest first, the one in use last), those it drops
-    so that SCENES_KEPT stay: the oldest without work left (not in `keep`) first, then the
-    oldest; never the one in use. The client's mirror of what each worker keeps drops the same."""
-    excess = len(order) - SCENES_KEPT
-    if excess <= 0:
-        return []
-    older = order[:-1]
-    return ([s for s in older if s not in keep] + [s for s in older if s in keep])[:excess]
-
-
-def _scene_cache(scene_key, keep=()) -> dict:
-    """This worker's cache of a scene, made the most recent; beyond SCENES_KEPT, the others go
-    as scenes_to_drop says."""
+def _scene_cache(scene_key) -> dict:
+    """This worker's cache of a scene, made the most recent; the oldest beyond SCENES_KEPT go."""
     scenes = _worker_state["scenes"]
     cache = scenes.pop(scene_key, {})
     scenes[scene_key] = cache
-    for key in scenes_to_drop(list(scenes), set(keep)):
-        del scenes[key]
+    while len(scenes) > SCENES_KEPT:
+        scenes.popitem(last=False)
     return cache
 
 
@@ -419,22 +402,11 @@ def sweep_on_cluster(cluster, scenes, pending, settings, record, chunk_size, bar
             return worth_helping(len(queues[i]), each, setup)
 
         def next_scene(worker):
-            """References first: a scene nobody has started, while `worker` keeps fewer than
-            SCENES_KEPT scenes with work left; else the scene it is on, else another scene it
-            keeps, else part of a scene another worker keeps."""
-            kept = set(held.get(worker, ())) | {
-                scene_of[f] for f, w in futures.items() if w == worker
-            }
-            with_work = [i for i in kept if queues.get(i)]
-            fresh = [i for i in queues if queues[i] and i not in started]
-            if fresh and len(with_work) < SCENES_KEPT:
-                return max(fresh, key=lambda i: len(queues[i]))
             mine = owner.get(worker)
             if mine is not None and queues.get(mine):
                 return mine
-            # Help elsewhere only once its own scenes are done: importing a scene evicts the
-            # oldest it keeps, which must have no work left.
-            left = with_work or [i for i in queues if queues[i] and can_help(worker, i)]
+            fresh = [i for i in queues if queues[i] and i not in started]
+            left = fresh or [i for i in queues if queues[i] and can_help(worker, i)]
             return max(left, key=lambda i: len(queues[i])) if left else None
 
         def imports_for(worker, i):
@@ -481,7 +453,6 @@ def sweep_on_cluster(cluster, scenes, pending, settings, record, chunk_size, bar
                 # A task that returns the scene, not scattered data: if the worker holding it
                 # dies, Dask computes it again from the task instead of losing it.
                 shipped[i] = client.submit(_scene_copy, scenes[i], pure=False)
-            keep = [j for j in queues if queues[j]]
             future = client.submit(
                 run_chunk,
                 shipped[i],
@@ -489,20 +460,17 @@ def sweep_on_cluster(cluster, scenes, pending, settings, record, chunk_size, bar
                 chunk,
                 settings,
                 imports_for(worker, i),
-                [(token, j) for j in keep],
                 workers=[worker],
                 allow_other_workers=True,  # if this worker dies, another takes the chunk
                 pure=False,
             )
             futures[future] = worker
             scene_of[future] = i
-            keep_of[future] = keep
             done.add(future)
             if not queues[i]:  # its exported images are freed once the chunks holding them end
                 exports.pop(i, None)
 
         scene_of: dict = {}
-        keep_of: dict = {}  # chunk: the scenes its worker drops last (run_chunk's `keep`)
 
         def fill(worker) -> None:
             """Gives `worker` chunks until it has CHUNKS_IN_FLIGHT or none is left for it."""
@@ -515,13 +483,11 @@ def sweep_on_cluster(cluster, scenes, pending, settings, record, chunk_size, bar
         for future in done:
             worker = futures.pop(future)
             i = scene_of.pop(future)
-            keep = keep_of.pop(future)
             name, rows, costs = future.result()  # a worker's exception is raised here
             for key, row in rows:
                 record(key, row)
             kept = [j for j in held.get(worker, []) if j != i] + [i]
-            dropped = scenes_to_drop(kept, set(keep))
-            held[worker] = [j for j in kept if j not in dropped]
+            held[worker] = kept[-SCENES_KEPT:]
             awaited.pop((worker, i), None)  # it holds the scene now
             if costs["setup_s"] > 0:  # this chunk rendered the scene's inputs
                 setup_s[i] = max(setup_s.get(i, 0.0), costs["setup_s"])
