@@ -293,8 +293,7 @@ def account_table(accounts: dict, wall_s: float) -> str:
     no worker's account (client, scheduler, transfers)."""
     lines = [
         "| worker | device | tasks (next waiting) | evaluations | context s | references s "
-        "| G-buffers s "
-        "| warm-up runs s | imports (s) | exports (s) | evaluations s | idle s |",
+        "| G-buffers s | warm-up runs s | imports (s) | exports (s) | evaluations s | idle s |",
         "|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for name, r in sorted(accounts.items()):
@@ -415,11 +414,9 @@ def sweep_on_cluster(cluster, scenes, pending, settings, record, chunk_size, bar
             given while an earlier one still waits for that export waits for it too: without
             the export among its inputs it would be ready first, run first and render the
             scene itself."""
-            if i in held.get(worker, ()):
-                return None
             if (worker, i) in awaited:
                 return awaited[worker, i]
-            if will_hold(worker, i):  # a chunk it was given renders them
+            if will_hold(worker, i):  # it keeps them, or a chunk it was given renders them
                 return None
             if i not in exports:
                 source = holder(worker, i)
