@@ -31,7 +31,8 @@ samples instead of choosing N from each scene's motion (auto, as sweeps do).
 
 --variants times gather_coverage's pass layouts instead of the table, on each scene: every
 tile-pass work-group layout (methods.eevee.TILE_PICK_VARIANTS; a layout applies where the
-tile passes run a work group per tile, on a GPU), every gather variant
+tile passes run a work group per tile, on a GPU), the dilation by gather or by scatter
+(methods.eevee.DILATION_VARIANTS), every gather variant
 (methods.coverage.GATHER_VARIANTS) and every film-filter layout
 (methods.coverage.FILM_VARIANTS, at σ = --film-filter or 0.5), ms per pass beside
 reconstruct_guertin2014's total, and whether each gives the right result: the tiles of one
@@ -207,6 +208,14 @@ def coverage_variants(ctx, scene_names, size, runs: int, sigma: float) -> list[d
                 for name, expected in zip(("tiles", "dilated"), one_thread, strict=True)
             )
             rows.append({**base, "layout": f"tiles {variant}", "passes": passes, "right": same})
+        for variant in eevee.DILATION_VARIANTS:
+            with eevee.DILATION_LAYOUT.use(variant):
+                passes, result = median_passes(ctx, frame, method.name, runs)
+            same = all(
+                (result.buffers[name] == expected).all()
+                for name, expected in zip(("tiles", "dilated"), one_thread, strict=True)
+            )
+            rows.append({**base, "layout": f"dilation {variant}", "passes": passes, "right": same})
         first_gather = None
         for variant in coverage.GATHER_VARIANTS:
             with coverage.GATHER_LAYOUT.use(variant):
@@ -240,7 +249,8 @@ def coverage_variants(ctx, scene_names, size, runs: int, sigma: float) -> list[d
 
 
 # The passes each kind of layout changes (the film's are every pass named film*).
-LAYOUT_PASSES = {"tiles": ("tile_flatten", "tile_dilate"), "gather": ("gather",), "film": ()}
+TILE_PASSES = ("reach_keys_clear", "tile_flatten", "tile_dilate", "tile_resolve")
+LAYOUT_PASSES = {"tiles": TILE_PASSES, "dilation": TILE_PASSES, "gather": ("gather",), "film": ()}
 
 
 def layout_summary(rows: list[dict]) -> dict:
@@ -269,6 +279,7 @@ def layout_summary(rows: list[dict]) -> dict:
 
 LAYOUTS = {
     "tiles": eevee.TILE_PICK_LAYOUT,
+    "dilation": eevee.DILATION_LAYOUT,
     "gather": coverage.GATHER_LAYOUT,
     "film": coverage.FILM_LAYOUT,
 }

@@ -3,9 +3,10 @@ filter goals; issue 17: gather_coverage's time against guertin2014's), on one G-
 teapot_pass, in five parts.
 
 1. ``passes``: McGuire 2012 (k = 20, S = 15) and Guertin 2014, with stored and with packed
-   inputs (docs/spec.md §19), and gather_coverage without and with film_filter = 0.5 are each
-   run once with their passes recorded (blurlab.methods.plans.Recorder); the recorded passes
-   are then replayed, each pass alone and each prefix of them (the first pass, the first two,
+   inputs (docs/spec.md §19), and gather_coverage without and with film_filter = 0.5 (and with
+   the dilation by gather instead of scatter, methods.eevee.DILATION_VARIANTS) are each run
+   once with their passes recorded (blurlab.methods.plans.Recorder); the recorded passes are
+   then replayed, each pass alone and each prefix of them (the first pass, the first two,
    ...), 50 times back to back behind busy work (common.back_to_back_ms). So what a pass costs
    on its own and what the pass boundaries add (the GPU drains before a dependent pass) can be
    told apart. Beside them: a pass over one texel, back to back (what any dispatch costs), and
@@ -64,7 +65,7 @@ import numpy as np
 
 import blurlab as bl
 from blurlab._paths import shader_dir
-from blurlab.methods import plans
+from blurlab.methods import eevee, plans
 from blurlab.methods.core import frame_textures, method, resolve_params
 from blurlab.methods.tile_filter import variant_defines
 
@@ -205,7 +206,10 @@ FILTER_RUNS = [  # label, method, parameters
     ("reconstruct_guertin2014 packed", "reconstruct_guertin2014", {"packed_inputs": True}),
     ("gather_coverage", "gather_coverage", {}),
     ("gather_coverage, film_filter=0.5", "gather_coverage", {"film_filter": 0.5}),
+    ("gather_coverage, gather dilation", "gather_coverage", {}),
 ]
+# Runs taken with another dilation than the default (methods.eevee.DILATION_VARIANTS).
+DILATION_OF = {"gather_coverage, gather dilation": "gather"}
 
 
 def recorded_passes(ctx, frame, name: str, params: dict) -> list:
@@ -262,7 +266,8 @@ def filter_passes(ctx, frame, runs: int) -> dict:
     record = {"one_texel_dispatch_ms": one_texel_dispatch_ms(ctx, runs)}
     print(f"one-texel dispatch: {record['one_texel_dispatch_ms']:.4f} ms back to back", flush=True)
     for label, name, params in FILTER_RUNS:
-        passes = recorded_passes(ctx, frame, name, params)
+        with eevee.DILATION_LAYOUT.use(DILATION_OF.get(label, eevee.DILATION_LAYOUT.default)):
+            passes = recorded_passes(ctx, frame, name, params)
         alone = {
             step: statistics.median(
                 back_to_back_ms(ctx, lambda p=[(step, run)]: replay(p)) for _ in range(runs)

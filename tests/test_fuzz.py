@@ -251,7 +251,7 @@ def test_frames_from_any_arrays(ctx, data):
 
 # --- textures ------------------------------------------------------------------------------
 
-TEXTURE_DTYPES = ["uint8", "float16", "float32", ">f4", "<f2", "int8", "int32", "uint16"]
+TEXTURE_DTYPES = ["uint8", "float16", "float32", "uint32", ">f4", "<f2", "int8", "int32", "uint16"]
 TEXTURE_DTYPES += ["float64", "bool", "complex64"]
 
 
@@ -272,7 +272,7 @@ def test_upload_any_array(ctx, array, transpose):
     except BAD_ARGUMENT as error:
         assert_no_gl_error(ctx)
         assert_names(error, "array")
-        ok_dtype = array.dtype.name in ("uint8", "float16", "float32")
+        ok_dtype = array.dtype.name in ("uint8", "float16", "float32", "uint32")
         ok_shape = array.ndim in (2, 3) and array.size > 0
         ok_shape = ok_shape and (array.ndim == 2 or 1 <= array.shape[2] <= 4)
         assert not (ok_dtype and ok_shape), f"valid array refused: {error}"

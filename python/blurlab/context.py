@@ -1,7 +1,8 @@
 """The GL context and what lives in it: textures, compute programs, timers.
 
 Every array that crosses to the GPU has shape (H, W) or (H, W, C), C in 1..4, row 0 at the top
-of the image, dtype uint8, float16 or float32 (DESIGN.md "Arrays").
+of the image, dtype uint8, float16 or float32 (DESIGN.md "Arrays"), or uint32 for integer
+textures that passes update atomically (sampled as usampler2D, bound as r32ui images).
 """
 
 from __future__ import annotations
@@ -21,7 +22,7 @@ from ._paths import shader_dir as _default_shader_dir
 from .converged import reference_render
 from .render import render
 
-TEXTURE_DTYPES = ("uint8", "float16", "float32")
+TEXTURE_DTYPES = ("uint8", "float16", "float32", "uint32")
 DEVICE_MODES = ("auto", "gpu", "software")
 
 

@@ -26,11 +26,16 @@ void store_pick(ivec2 tile, vec4 pick);
 
 uniform float length_steps;  // candidates compare floor(length · length_steps); 0: lengths
 
+// The largest step key: 20 bits less one, so that key + 1 and a 12-bit tile index fit the
+// 32-bit keys of the scatter dilation (common/reach_keys.glsl). 65536 px at 16 steps a px;
+// longer lengths tie. twins.eevee.PICK_KEY_MAX.
+const float PICK_KEY_MAX = 1048574.0;
+
 // What a candidate's length compares as: with length_steps > 0, lengths within the same
 // 1/length_steps px step tie (and go to the first in row order), so that near-equal lengths,
 // which float rounding orders differently on each device, pick alike.
 float pick_key(float len) {
-    return length_steps > 0.0 ? floor(len * length_steps) : len;
+    return length_steps > 0.0 ? min(floor(len * length_steps), PICK_KEY_MAX) : len;
 }
 
 // The pass's main: picks for the tile this invocation (group) serves of a `grid`-sized output.

@@ -25,8 +25,9 @@ PixelType pixel_type(const std::string& dtype) {
   if (dtype == "uint8") return PixelType::u8;
   if (dtype == "float16") return PixelType::f16;
   if (dtype == "float32") return PixelType::f32;
-  throw std::invalid_argument("blurlab: texture dtype must be uint8, float16 or float32, not " +
-                              dtype);
+  if (dtype == "uint32") return PixelType::u32;
+  throw std::invalid_argument(
+      "blurlab: texture dtype must be uint8, float16, float32 or uint32, not " + dtype);
 }
 
 std::string dtype_name(PixelType type) {
@@ -34,6 +35,7 @@ std::string dtype_name(PixelType type) {
     case PixelType::u8: return "uint8";
     case PixelType::f16: return "float16";
     case PixelType::f32: return "float32";
+    case PixelType::u32: return "uint32";
   }
   return "";
 }

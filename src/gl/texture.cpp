@@ -15,10 +15,15 @@ TextureFormat texture_format(PixelType type, int channels) {
   static const GLenum u8[] = {GL_R8, GL_RG8, GL_RGB8, GL_RGBA8};
   static const GLenum f16[] = {GL_R16F, GL_RG16F, GL_RGB16F, GL_RGBA16F};
   static const GLenum f32[] = {GL_R32F, GL_RG32F, GL_RGB32F, GL_RGBA32F};
+  // Unsigned integers (atomic keys): sampled as usampler2D, never filtered.
+  static const GLenum u32[] = {GL_R32UI, GL_RG32UI, GL_RGB32UI, GL_RGBA32UI};
+  static const GLenum integer_layouts[] = {GL_RED_INTEGER, GL_RG_INTEGER, GL_RGB_INTEGER,
+                                           GL_RGBA_INTEGER};
   // Image load/store has no three-channel formats.
   static const char* u8_image[] = {"r8", "rg8", "", "rgba8"};
   static const char* f16_image[] = {"r16f", "rg16f", "", "rgba16f"};
   static const char* f32_image[] = {"r32f", "rg32f", "", "rgba32f"};
+  static const char* u32_image[] = {"r32ui", "rg32ui", "", "rgba32ui"};
   const int i = channels - 1;
   switch (type) {
     case PixelType::u8:
@@ -28,6 +33,10 @@ TextureFormat texture_format(PixelType type, int channels) {
               f16_image[i]};
     case PixelType::f32:
       return {type, channels, f32[i], layouts[i], GL_FLOAT, size_t(4 * channels), f32_image[i]};
+    case PixelType::u32:
+      return {
+          type,        channels, u32[i], integer_layouts[i], GL_UNSIGNED_INT, size_t(4 * channels),
+          u32_image[i]};
   }
   throw std::invalid_argument("blurlab: unknown pixel type");
 }
@@ -109,6 +118,8 @@ void Texture::clear() {
 }
 
 void Texture::clear(const float* value) {
+  if (format_.type == PixelType::u32)
+    throw std::invalid_argument("blurlab: an unsigned integer texture clears to zero only");
   context_->make_current();
   glClearTexImage(id_, 0, format_.pixel_format, GL_FLOAT, value);
   check_gl("texture clear");

@@ -15,14 +15,14 @@ namespace blurlab {
 
 class Context;
 
-enum class PixelType { u8, f16, f32 };
+enum class PixelType { u8, f16, f32, u32 };
 
 struct TextureFormat {
   PixelType type;
   int channels;         // 1..4
   GLenum internal;      // e.g. GL_RGBA32F
-  GLenum pixel_format;  // GL_RED, GL_RG, GL_RGB, GL_RGBA
-  GLenum pixel_type;    // GL_UNSIGNED_BYTE, GL_HALF_FLOAT, GL_FLOAT
+  GLenum pixel_format;  // GL_RED, GL_RG, GL_RGB, GL_RGBA (GL_RED_INTEGER... for u32)
+  GLenum pixel_type;    // GL_UNSIGNED_BYTE, GL_HALF_FLOAT, GL_FLOAT, GL_UNSIGNED_INT
   size_t bytes_per_texel;
   std::string image_layout;  // GLSL image format qualifier, "" where images cannot bind it
 };

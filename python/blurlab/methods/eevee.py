@@ -36,6 +36,8 @@ PARAMS = {
 # passes with sizes of its own.
 FLATTEN = Pass("tile_flatten", "passes/eevee_tile_flatten.glsl", ("exposure",))
 DILATE = Pass("tile_dilate", "passes/eevee_tile_dilate.glsl")
+CLEAR_KEYS = Pass("reach_keys_clear", "passes/reach_keys_clear.glsl")
+RESOLVE = Pass("tile_resolve", "passes/eevee_tile_resolve.glsl")
 GATHER = Pass("gather", "passes/eevee_gather.glsl", tuple(PARAMS))
 
 # The layouts of the tile passes' work group per tile (shaders/common/tile_pick.glsl): the
@@ -54,6 +56,16 @@ TILE_PICK_VARIANTS = {
 # rows_64_subgroup (0.0648 against 0.0667) in the 15-scene medians of the same run, whose later
 # scenes ran slow; it needs no subgroup extension (benchmarks/engines.py --variants, 2026-11-24).
 TILE_PICK_LAYOUT = PassVariants("tile pick", TILE_PICK_VARIANTS, "rows_64")
+
+# How the dilation runs where lengths compare in steps (gather_coverage; docs/spec.md §17.6):
+# each tile gathers from every tile within reach (passes/eevee_tile_dilate.glsl, about 600
+# candidates a tile at 1080p), or the flatten pass scatters each tile's reach by atomic max on
+# 32-bit keys and a small pass resolves them (EEVEE's own way; the same bits). The keys hold
+# a 12-bit tile index (shaders/common/reach_keys.glsl), so larger grids gather, as
+# engine_eevee always does: its exact lengths do not fit a key.
+DILATION_VARIANTS = {"gather": {}, "scatter": {"SCATTER_DILATION": 1}}
+DILATION_LAYOUT = PassVariants("tile dilation", DILATION_VARIANTS, "scatter")
+SCATTER_MAX_TILES = 4096
 
 
 def motion_sides_texture(ctx: Context, frame: Frame):
@@ -92,7 +104,8 @@ def dilated_tiles(
     the exposure). `group_per_tile`: both passes run a work group per tile (laid out as
     TILE_PICK_LAYOUT says), else one thread per tile (same bits either way); None: as
     tile_groups(ctx) says. `length_steps`: lengths compare as twins.eevee.pick_key says (0:
-    exactly, as EEVEE does). Returns (two-sided motion texture, tiles, dilated tiles)."""
+    exactly, as EEVEE does); with steps the dilation runs as DILATION_LAYOUT says. Returns
+    (two-sided motion texture, tiles, dilated tiles)."""
     height, width = size
     grid = (-(-height // tile_size), -(-width // tile_size), 4)
     tiles, dilated = ctx.pooled(grid), ctx.pooled(grid)
@@ -104,6 +117,33 @@ def dilated_tiles(
     layout = {"GROUP_PER_TILE": int(group_per_tile)}
     if group_per_tile:
         layout.update(TILE_PICK_LAYOUT.defines())
+    scatter = DILATION_LAYOUT.defines()
+    if scatter and length_steps > 0 and grid[0] * grid[1] <= SCATTER_MAX_TILES:
+        keys = ctx.pooled((2 * grid[0], grid[1]), "uint32")  # prev keys above next keys
+        run_pass(ctx, timings, CLEAR_KEYS, params, values, {}, {"reach_keys": keys})
+        run_pass(
+            ctx,
+            timings,
+            FLATTEN,
+            params,
+            values,
+            {"motion_sides": sides},
+            {"tiles": tiles, "reach_keys": keys},
+            uniforms={**sized, "max_blur": max_blur},
+            defines={**layout, **scatter},
+            group_per_texel=group_per_tile,
+        )
+        run_pass(
+            ctx,
+            timings,
+            RESOLVE,
+            params,
+            values,
+            {"tiles": tiles, "reach_keys": keys},
+            {"dilated": dilated},
+        )
+        ctx.recycle(keys)
+        return sides, tiles, dilated
     run_pass(
         ctx,
         timings,

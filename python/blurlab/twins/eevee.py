@@ -32,12 +32,19 @@ def clamp_length(v: np.ndarray, max_len: float) -> np.ndarray:
         return v * np.where(n > max_len, max_len / n, 1.0)
 
 
+# The largest step key (shaders/common/tile_pick.glsl): key + 1 and a 12-bit tile index fill the
+# 32-bit keys of the scatter dilation (docs/spec.md §17.6), so lengths past 2^20 - 2 steps tie.
+PICK_KEY_MAX = 2**20 - 2
+
+
 def pick_key(length: np.ndarray, length_steps: float = 0.0) -> np.ndarray:
     """What the tile passes compare a length as (shaders/common/tile_pick.glsl): the length
-    itself, or with length_steps > 0 floor(length · length_steps), so that lengths within one
-    step tie and go to the first candidate in row order."""
+    itself, or with length_steps > 0 floor(length · length_steps) up to PICK_KEY_MAX, so that
+    lengths within one step tie and go to the first candidate in row order."""
     if length_steps > 0:
-        return np.floor(np.asarray(length, np.float32).astype(np.float64) * length_steps)
+        with np.errstate(over="ignore", invalid="ignore"):
+            steps = np.floor(np.asarray(length, np.float32).astype(np.float64) * length_steps)
+        return np.minimum(steps, PICK_KEY_MAX)
     return length
 
 
