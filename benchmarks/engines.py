@@ -58,6 +58,7 @@ import blurlab as bl
 from blurlab.methods import coverage, eevee
 from blurlab.studies import peers
 from blurlab.twins import coverage as coverage_twin
+from blurlab.twins import eevee as eevee_twin
 from blurlab.twins import film as film_twin
 
 from common import (
@@ -185,7 +186,7 @@ def coverage_variants(ctx, scene_names, size, runs: int, sigma: float) -> list[d
         values = method.defaults(frame)
         s = coverage_twin.tile_size(size[1], values["tile_percent"])
         limit = coverage_twin.max_blur_px(size[1], values["max_blur"])
-        _, tiles, dilated = eevee.dilated_tiles(
+        _, tiles, dilated, _ = eevee.dilated_tiles(
             ctx,
             frame,
             {},
@@ -211,8 +212,14 @@ def coverage_variants(ctx, scene_names, size, runs: int, sigma: float) -> list[d
         for variant in eevee.DILATION_VARIANTS:
             with eevee.DILATION_LAYOUT.use(variant):
                 passes, result = median_passes(ctx, frame, method.name, runs)
+            got = result.buffers
+            if "reach_keys" in got:  # resolved by the gather: decode the keys as it does
+                got = {
+                    **got,
+                    "dilated": eevee_twin.resolve_reach_keys(got["reach_keys"], got["tiles"]),
+                }
             same = all(
-                (result.buffers[name] == expected).all()
+                (got[name] == expected).all()
                 for name, expected in zip(("tiles", "dilated"), one_thread, strict=True)
             )
             rows.append({**base, "layout": f"dilation {variant}", "passes": passes, "right": same})
@@ -250,7 +257,13 @@ def coverage_variants(ctx, scene_names, size, runs: int, sigma: float) -> list[d
 
 # The passes each kind of layout changes (the film's are every pass named film*).
 TILE_PASSES = ("reach_keys_clear", "tile_flatten", "tile_dilate", "tile_resolve")
-LAYOUT_PASSES = {"tiles": TILE_PASSES, "dilation": TILE_PASSES, "gather": ("gather",), "film": ()}
+# The dilation's variants move work between the tile passes and the gather: count both.
+LAYOUT_PASSES = {
+    "tiles": TILE_PASSES,
+    "dilation": (*TILE_PASSES, "gather"),
+    "gather": ("gather",),
+    "film": (),
+}
 
 
 def layout_summary(rows: list[dict]) -> dict:
@@ -488,6 +501,13 @@ def main() -> None:
     )
     add_config_argument(parser)
     parser.add_argument("--variants", action="store_true", help="gather_coverage's layouts only")
+    parser.add_argument(
+        "--layout",
+        action="append",
+        default=[],
+        metavar="KIND=VARIANT",
+        help=f"run the table with a pass layout other than the default; KIND: {', '.join(LAYOUTS)}",
+    )
     parser.add_argument("--json", default=None)
     parser.add_argument("--markdown", default=None)
     parser.add_argument("--chart", default=None, help="PNG or SVG: median ms against PSNR")
@@ -511,12 +531,19 @@ def main() -> None:
         record["goal"] = time_goal(ctx, scenes, size, args.runs, sigma, fastest)
         save(args.json, record)
         return
+    for item in args.layout:  # as defaults, so that calls back to back still replay plans
+        kind, _, variant = item.partition("=")
+        if kind not in LAYOUTS:
+            parser.error(f"--layout {item}: KIND is one of {', '.join(LAYOUTS)}")
+        LAYOUTS[kind].make_default(variant)
     names = args.methods.split(",") if args.methods else engine_methods()
     methods = method_runs(names, args.film_filter, args.config)
     if args.peers:
         peers.check_peers([args.peers])
     record = {**describe(ctx), "size": args.size, "runs": args.runs, "methods": names}
     record["film_filter"] = args.film_filter
+    if args.layout:
+        record["layouts"] = list(args.layout)
     # Keys only where asked for: a record of the defaults reads as it always did.
     if args.references != ("temporal",):
         record["references"] = list(args.references)

@@ -207,9 +207,15 @@ FILTER_RUNS = [  # label, method, parameters
     ("gather_coverage", "gather_coverage", {}),
     ("gather_coverage, film_filter=0.5", "gather_coverage", {"film_filter": 0.5}),
     ("gather_coverage, gather dilation", "gather_coverage", {}),
+    ("gather_coverage, scatter dilation", "gather_coverage", {}),
+    ("gather_coverage, keys resolved in the gather", "gather_coverage", {}),
 ]
-# Runs taken with another dilation than the default (methods.eevee.DILATION_VARIANTS).
-DILATION_OF = {"gather_coverage, gather dilation": "gather"}
+# Runs taken with a named dilation (methods.eevee.DILATION_VARIANTS), whatever the default.
+DILATION_OF = {
+    "gather_coverage, gather dilation": "gather",
+    "gather_coverage, scatter dilation": "scatter",
+    "gather_coverage, keys resolved in the gather": "scatter_in_gather",
+}
 
 
 def recorded_passes(ctx, frame, name: str, params: dict) -> list:

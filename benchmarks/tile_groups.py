@@ -48,7 +48,7 @@ def run_mode(ctx, frame, case, group_per_tile: bool):
     params, values, tile_size, limit = case
     timings: dict = {}
     size = frame.color.shape[:2]
-    _, tiles, dilated = eevee.dilated_tiles(
+    _, tiles, dilated, _ = eevee.dilated_tiles(
         ctx, frame, timings, params, values, size, tile_size, limit, group_per_tile
     )
     return timings, tiles, dilated

@@ -38,7 +38,7 @@ def tile_buffers(ctx, frame, tile_size, max_blur, group_per_tile):
     """(tiles, dilated) as the method's passes make them in the given mode, exposure 1."""
     values = {"exposure": 1.0}
     size = frame.color.shape[:2]
-    _, tiles, dilated = eevee.dilated_tiles(
+    _, tiles, dilated, _ = eevee.dilated_tiles(
         ctx, frame, {}, eevee.PARAMS, values, size, tile_size, max_blur, group_per_tile
     )
     arrays = tiles.download(), dilated.download()

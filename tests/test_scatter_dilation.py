@@ -23,7 +23,7 @@ def stepped_tiles(ctx, frame, tile_size, max_blur, group_per_tile, dilation):
     """(tiles, dilated, pass names) with lengths in 1/16 px steps, the dilation as named."""
     timings: dict = {}
     with eevee.DILATION_LAYOUT.use(dilation):
-        _, tiles, dilated = eevee.dilated_tiles(
+        _, tiles, dilated, _ = eevee.dilated_tiles(
             ctx,
             frame,
             timings,
@@ -123,3 +123,20 @@ def test_uint32_textures_round_trip_and_clear(ctx):
     pooled = ctx.pooled((3, 5), "uint32")
     assert pooled.dtype == np.uint32 and pooled.shape == (3, 5)
     assert ctx.gl_errors() == []
+
+
+@pytest.mark.parametrize("scene", ["fast_fan", "camera_yaw"])
+def test_the_gather_can_resolve_the_keys_itself(ctx, scene):
+    # scatter_in_gather: no resolve pass; the keys come back as a buffer, and decoded as the
+    # gather decodes them they are the dilated tiles; the image is the same bits.
+    frame = ctx.render(bl.scenes.get(scene), (160, 90))
+    resolved = bl.blur(ctx, frame, "gather_coverage")
+    with eevee.DILATION_LAYOUT.use("scatter_in_gather"):
+        in_gather = bl.blur(ctx, frame, "gather_coverage")
+    assert list(in_gather.timings) == ["reach_keys_clear", "tile_flatten", "gather"]
+    assert in_gather.color.tobytes() == resolved.color.tobytes()
+    keys = in_gather.buffers["reach_keys"]
+    assert keys.dtype == np.uint32 and keys.shape == (2 * 12, 20)  # 8 px tiles, 12 x 20
+    decoded = twin.resolve_reach_keys(keys, in_gather.buffers["tiles"])
+    assert decoded.tobytes() == resolved.buffers["dilated"].tobytes()
+    assert "dilated" not in in_gather.buffers

@@ -17,3 +17,14 @@ ivec2 reach_source(uint key, int columns) {
     int index = int(REACH_INDEX_MASK - (key & REACH_INDEX_MASK));
     return ivec2(index % columns, index / columns);
 }
+
+// The dilated tile at `tile` (prev xy, next zw) that its keys name, from the flattened `tiles`
+// (columns wide, rows high; the keys 2·rows high); 0 on a side without a key.
+vec4 resolved_reach(usampler2D keys, sampler2D tiles, ivec2 tile) {
+    ivec2 grid = textureSize(tiles, 0);
+    uint prev_key = texelFetch(keys, tile, 0).x;
+    uint next_key = texelFetch(keys, tile + ivec2(0, grid.y), 0).x;
+    vec2 prev = prev_key == 0u ? vec2(0.0) : texelFetch(tiles, reach_source(prev_key, grid.x), 0).xy;
+    vec2 next = next_key == 0u ? vec2(0.0) : texelFetch(tiles, reach_source(next_key, grid.x), 0).zw;
+    return vec4(prev, next);
+}

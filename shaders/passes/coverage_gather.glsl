@@ -18,7 +18,31 @@
 layout(binding = 0) uniform sampler2D color;
 layout(binding = 1) uniform sampler2D depth;
 layout(binding = 2) uniform sampler2D motion_sides;
+#ifdef GATHER_READS_KEYS
+// The scatter dilation's keys, resolved here rather than by a pass of their own
+// (blurlab.methods.eevee.DILATION_VARIANTS scatter_in_gather).
+#include "common/reach_keys.glsl"
+layout(binding = 3) uniform sampler2D tiles;
+layout(binding = 4) uniform usampler2D reach_keys;
+
+ivec2 tile_grid() {
+    return textureSize(tiles, 0);
+}
+
+vec4 dilated_at(ivec2 tile) {
+    return resolved_reach(reach_keys, tiles, tile);
+}
+#else
 layout(binding = 3) uniform sampler2D dilated;
+
+ivec2 tile_grid() {
+    return textureSize(dilated, 0);
+}
+
+vec4 dilated_at(ivec2 tile) {
+    return texelFetch(dilated, tile, 0);
+}
+#endif
 uniform int tile_size;     // px, from tile_percent
 uniform float reach_limit;  // px, from max_blur
 uniform int samples;
@@ -113,8 +137,8 @@ vec4 gather_at(ivec2 x) {
 #else
     vec4 cx = sanitize_color(texelFetch(color, x, 0));
 #endif
-    ivec2 tile = jittered_tile(x, float(tile_size), seed, JITTER_SALTS, textureSize(dilated, 0));
-    vec4 tile_motion = texelFetch(dilated, tile, 0);
+    ivec2 tile = jittered_tile(x, float(tile_size), seed, JITTER_SALTS, tile_grid());
+    vec4 tile_motion = dilated_at(tile);
     vec2 lines[2] = vec2[2](clamp_length(tile_motion.xy, reach_limit),
                             -clamp_length(tile_motion.zw, reach_limit));
     if (max(length(lines[0]), length(lines[1])) < EARLY_EXIT) return cx;

@@ -17,10 +17,6 @@ void main() {
     ivec2 tile = ivec2(gl_GlobalInvocationID.xy);
     ivec2 grid = textureSize(tiles, 0);
     if (any(greaterThanEqual(tile, grid))) return;
-    uint prev_key = texelFetch(reach_keys, tile, 0).x;
-    uint next_key = texelFetch(reach_keys, tile + ivec2(0, grid.y), 0).x;
-    vec2 prev = prev_key == 0u ? vec2(0.0) : texelFetch(tiles, reach_source(prev_key, grid.x), 0).xy;
-    vec2 next = next_key == 0u ? vec2(0.0) : texelFetch(tiles, reach_source(next_key, grid.x), 0).zw;
-    imageStore(dilated, tile, vec4(prev, next));
+    imageStore(dilated, tile, resolved_reach(reach_keys, tiles, tile));
 }
 #endif

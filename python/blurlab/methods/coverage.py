@@ -108,7 +108,7 @@ def _run_coverage(ctx: Context, frame: Frame, inputs: dict, values: dict, backen
     s = twin.tile_size(size[0], values["tile_percent"])
     reach_limit = twin.max_blur_px(size[0], values["max_blur"])
     timings: dict = {}
-    sides, tiles, dilated = dilated_tiles(
+    grids = dilated_tiles(
         ctx,
         frame,
         timings,
@@ -120,14 +120,16 @@ def _run_coverage(ctx: Context, frame: Frame, inputs: dict, values: dict, backen
         length_steps=twin.TILE_LENGTH_STEPS,
     )
     gathered = ctx.pooled((*size, 4))
-    textures = {
-        "color": inputs["color"],
-        "depth": inputs["depth"],
-        "motion_sides": sides,
-        "dilated": dilated,
-    }
+    textures = {"color": inputs["color"], "depth": inputs["depth"], "motion_sides": grids.sides}
     uniforms = {"tile_size": s, "reach_limit": reach_limit}
     defines = GATHER_LAYOUT.defines()
+    if grids.keys is None:
+        textures["dilated"] = grids.dilated
+        tile_buffers = {"tiles": grids.tiles, "dilated": grids.dilated}
+    else:  # the gather resolves the scatter dilation's keys itself
+        textures.update(tiles=grids.tiles, reach_keys=grids.keys)
+        tile_buffers = {"tiles": grids.tiles, "reach_keys": grids.keys}
+        defines["GATHER_READS_KEYS"] = 1
     through_taps = values["film_through_taps"] and values["film_filter"] > 0
     if through_taps:
         if values["film_filter"] > film.MAX_TAP_SIGMA:
@@ -151,7 +153,7 @@ def _run_coverage(ctx: Context, frame: Frame, inputs: dict, values: dict, backen
         uniforms=uniforms,
         defines=defines,
     )
-    outputs = {"color": gathered, "tiles": tiles, "dilated": dilated}
+    outputs = {"color": gathered, **tile_buffers}
     if values["film_filter"] > 0 and not through_taps:
         outputs.update(color=_film_filter(ctx, timings, values, gathered), unfiltered=gathered)
     return outputs, timings

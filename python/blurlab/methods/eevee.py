@@ -13,9 +13,11 @@ packing of its velocity buffer (the G-buffer's float32 motion is read as it is).
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
-from ..context import Context
+from ..context import Context, Texture
 from ..frame import Frame
 from ..twins import eevee as twin
 from .core import SEED, Method, Param, Pass, register, run_pass
@@ -63,7 +65,13 @@ TILE_PICK_LAYOUT = PassVariants("tile pick", TILE_PICK_VARIANTS, "rows_64")
 # 32-bit keys and a small pass resolves them (EEVEE's own way; the same bits). The keys hold
 # a 12-bit tile index (shaders/common/reach_keys.glsl), so larger grids gather, as
 # engine_eevee always does: its exact lengths do not fit a key.
-DILATION_VARIANTS = {"gather": {}, "scatter": {"SCATTER_DILATION": 1}}
+# scatter_in_gather leaves the keys for the gather to resolve (GATHER_READS_KEYS in
+# passes/coverage_gather.glsl): no resolve pass, two dependent reads a pixel instead of one.
+DILATION_VARIANTS = {
+    "gather": {},
+    "scatter": {"SCATTER_DILATION": 1},
+    "scatter_in_gather": {"SCATTER_DILATION": 1, "GATHER_READS_KEYS": 1},
+}
 DILATION_LAYOUT = PassVariants("tile dilation", DILATION_VARIANTS, "scatter")
 SCATTER_MAX_TILES = 4096
 
@@ -87,6 +95,17 @@ def tile_groups(ctx: Context) -> bool:
     return not ctx.software
 
 
+class TileGrids(NamedTuple):
+    """What dilated_tiles makes: the frame's two-sided motion texture, the flattened tiles, and
+    either the dilated tiles or (DILATION_LAYOUT scatter_in_gather) the keys that name them,
+    for the gather to resolve (the other None)."""
+
+    sides: Texture
+    tiles: Texture
+    dilated: Texture | None
+    keys: Texture | None
+
+
 def dilated_tiles(
     ctx: Context,
     frame: Frame,
@@ -104,11 +123,10 @@ def dilated_tiles(
     the exposure). `group_per_tile`: both passes run a work group per tile (laid out as
     TILE_PICK_LAYOUT says), else one thread per tile (same bits either way); None: as
     tile_groups(ctx) says. `length_steps`: lengths compare as twins.eevee.pick_key says (0:
-    exactly, as EEVEE does); with steps the dilation runs as DILATION_LAYOUT says. Returns
-    (two-sided motion texture, tiles, dilated tiles)."""
+    exactly, as EEVEE does); with steps the dilation runs as DILATION_LAYOUT says."""
     height, width = size
     grid = (-(-height // tile_size), -(-width // tile_size), 4)
-    tiles, dilated = ctx.pooled(grid), ctx.pooled(grid)
+    tiles = ctx.pooled(grid)
     sides = motion_sides_texture(ctx, frame)
     if group_per_tile is None:
         group_per_tile = tile_groups(ctx)
@@ -133,6 +151,9 @@ def dilated_tiles(
             defines={**layout, **scatter},
             group_per_texel=group_per_tile,
         )
+        if "GATHER_READS_KEYS" in scatter:
+            return TileGrids(sides, tiles, None, keys)
+        dilated = ctx.pooled(grid)
         run_pass(
             ctx,
             timings,
@@ -143,7 +164,8 @@ def dilated_tiles(
             {"dilated": dilated},
         )
         ctx.recycle(keys)
-        return sides, tiles, dilated
+        return TileGrids(sides, tiles, dilated, None)
+    dilated = ctx.pooled(grid)
     run_pass(
         ctx,
         timings,
@@ -168,13 +190,13 @@ def dilated_tiles(
         defines=layout,
         group_per_texel=group_per_tile,
     )
-    return sides, tiles, dilated
+    return TileGrids(sides, tiles, dilated, None)
 
 
 def _run_eevee(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
     size = inputs["color"].shape[:2]
     timings: dict = {}
-    sides, tiles, dilated = dilated_tiles(
+    sides, tiles, dilated, _ = dilated_tiles(
         ctx, frame, timings, PARAMS, values, size, values["tile_size"], values["max_blur"]
     )
     result = ctx.pooled((*size, 4))

@@ -22,6 +22,16 @@ class PassVariants:
         self.what, self.variants, self.default = what, variants, default
         self._chosen = contextvars.ContextVar(f"blurlab_{what}_variant", default=None)
 
+    def make_default(self, name: str) -> None:
+        """Makes variant `name` the default for the rest of the process (a benchmark's
+        option). Unlike use(), dispatch plans go on being recorded and replayed: call it before
+        the first method runs, as a plan recorded earlier would replay the old default."""
+        if name not in self.variants:
+            raise ValueError(
+                f"blurlab: no {self.what} variant {name!r}; the variants are {list(self.variants)}"
+            )
+        self.default = name
+
     def chosen(self) -> str:
         """The variant in force: the innermost use() block's, else the default."""
         return self._chosen.get() or self.default

@@ -100,6 +100,27 @@ def tile_dilate(
     return out
 
 
+REACH_INDEX_BITS = 12  # shaders/common/reach_keys.glsl
+
+
+def resolve_reach_keys(keys: np.ndarray, tiles: np.ndarray) -> np.ndarray:
+    """The dilated tiles that the scatter dilation's keys name (docs/spec.md §17.6, "Steps 1–2
+    by scatter"; shaders/common/reach_keys.glsl): `keys` (2·rows, columns) uint32, prev keys
+    above next keys, each (k + 1)·2^12 + (4095 − source index); `tiles` (rows, columns, 4) the
+    flattened tiles. A side without a key (0) gets 0."""
+    keys = np.asarray(keys, np.uint32)
+    rows, columns = tiles.shape[:2]
+    mask = (1 << REACH_INDEX_BITS) - 1
+    out = np.zeros(tiles.shape, tiles.dtype)
+    for side in range(2):
+        side_keys = keys[side * rows : (side + 1) * rows]
+        source = mask - (side_keys & mask).astype(np.int64)
+        sy, sx = np.divmod(np.minimum(source, rows * columns - 1), columns)
+        picked = tiles[sy, sx, 2 * side : 2 * side + 2]
+        out[..., 2 * side : 2 * side + 2] = np.where((side_keys > 0)[..., None], picked, 0)
+    return out
+
+
 def lookup_tile(x, y, tile_size: int, seed: int, grid, salts=JITTER_SALTS):
     """§17.2: (tile row, tile column) that pixel (x, y) reads: the tile containing its center
     moved by up to ±1/4 tile per axis, (rand - 1/2)·s/2, clamped to the grid. engine_unity
