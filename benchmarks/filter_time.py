@@ -665,7 +665,10 @@ def coverage_gather_constants(ctx, frame, runs: int) -> dict:
     loops unroll) would pay, as the options' #defines did for the tile filters."""
     mgl = ctx.moderngl()
     height, width = frame.color.shape[:2]
-    passes = recorded_passes(ctx, frame, "gather_coverage", {})
+    # The gather as it reads a resolved dilated grid (the scatter dilation): the source below is
+    # compiled without GATHER_READS_KEYS.
+    with eevee.DILATION_LAYOUT.use("scatter"):
+        passes = recorded_passes(ctx, frame, "gather_coverage", {})
     step, run = passes[-1]
     assert step == "gather", step
     replay(passes)

@@ -62,17 +62,19 @@ TILE_PICK_LAYOUT = PassVariants("tile pick", TILE_PICK_VARIANTS, "rows_64")
 # How the dilation runs where lengths compare in steps (gather_coverage; docs/spec.md §17.6):
 # each tile gathers from every tile within reach (passes/eevee_tile_dilate.glsl, about 600
 # candidates a tile at 1080p), or the flatten pass scatters each tile's reach by atomic max on
-# 32-bit keys and a small pass resolves them (EEVEE's own way; the same bits). The keys hold
-# a 12-bit tile index (shaders/common/reach_keys.glsl), so larger grids gather, as
-# engine_eevee always does: its exact lengths do not fit a key.
-# scatter_in_gather leaves the keys for the gather to resolve (GATHER_READS_KEYS in
-# passes/coverage_gather.glsl): no resolve pass, two dependent reads a pixel instead of one.
+# 32-bit keys and a small pass resolves them (EEVEE's own way; the same bits), or the gather
+# resolves the keys itself (GATHER_READS_KEYS in passes/coverage_gather.glsl: one pass fewer,
+# a dependent read more a pixel; the keys, not the dilated tiles, come back as a buffer). The
+# keys hold a 12-bit tile index (shaders/common/reach_keys.glsl), so larger grids gather, as
+# engine_eevee always does: its exact lengths do not fit a key. On the H100 at 1080p,
+# teapot_pass, back to back: 0.0971 ms gather, 0.0936 scatter, 0.0917 scatter_in_gather
+# (benchmarks/filter_time.py, 2026-11-26); the 15-scene medians rank them the same way.
 DILATION_VARIANTS = {
     "gather": {},
     "scatter": {"SCATTER_DILATION": 1},
     "scatter_in_gather": {"SCATTER_DILATION": 1, "GATHER_READS_KEYS": 1},
 }
-DILATION_LAYOUT = PassVariants("tile dilation", DILATION_VARIANTS, "scatter")
+DILATION_LAYOUT = PassVariants("tile dilation", DILATION_VARIANTS, "scatter_in_gather")
 SCATTER_MAX_TILES = 4096
 
 
