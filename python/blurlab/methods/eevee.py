@@ -138,36 +138,14 @@ def dilated_tiles(
     if group_per_tile:
         layout.update(TILE_PICK_LAYOUT.defines())
     scatter = DILATION_LAYOUT.defines()
-    if scatter and length_steps > 0 and grid[0] * grid[1] <= SCATTER_MAX_TILES:
-        keys = ctx.pooled((2 * grid[0], grid[1]), "uint32")  # prev keys above next keys
-        run_pass(ctx, timings, CLEAR_KEYS, params, values, {}, {"reach_keys": keys})
+    if not (scatter and length_steps > 0 and grid[0] * grid[1] <= SCATTER_MAX_TILES):
+        scatter = {}
+    flattened = {"tiles": tiles}
+    if scatter:  # the flatten also offers each tile's reach to the keys
+        flattened["reach_keys"] = ctx.pooled((2 * grid[0], grid[1]), "uint32")  # prev above next
         run_pass(
-            ctx,
-            timings,
-            FLATTEN,
-            params,
-            values,
-            {"motion_sides": sides},
-            {"tiles": tiles, "reach_keys": keys},
-            uniforms={**sized, "max_blur": max_blur},
-            defines={**layout, **scatter},
-            group_per_texel=group_per_tile,
+            ctx, timings, CLEAR_KEYS, params, values, {}, {"reach_keys": flattened["reach_keys"]}
         )
-        if "GATHER_READS_KEYS" in scatter:
-            return TileGrids(sides, tiles, None, keys)
-        dilated = ctx.pooled(grid)
-        run_pass(
-            ctx,
-            timings,
-            RESOLVE,
-            params,
-            values,
-            {"tiles": tiles, "reach_keys": keys},
-            {"dilated": dilated},
-        )
-        ctx.recycle(keys)
-        return TileGrids(sides, tiles, dilated, None)
-    dilated = ctx.pooled(grid)
     run_pass(
         ctx,
         timings,
@@ -175,11 +153,18 @@ def dilated_tiles(
         params,
         values,
         {"motion_sides": sides},
-        {"tiles": tiles},
-        uniforms=sized,
-        defines=layout,
+        flattened,
+        uniforms={**sized, "max_blur": max_blur} if scatter else sized,
+        defines={**layout, **scatter},
         group_per_texel=group_per_tile,
     )
+    if "GATHER_READS_KEYS" in scatter:
+        return TileGrids(sides, tiles, None, flattened["reach_keys"])
+    dilated = ctx.pooled(grid)
+    if scatter:
+        run_pass(ctx, timings, RESOLVE, params, values, flattened, {"dilated": dilated})
+        ctx.recycle(flattened["reach_keys"])
+        return TileGrids(sides, tiles, dilated, None)
     run_pass(
         ctx,
         timings,
