@@ -22,6 +22,7 @@ from pathlib import Path
 
 import pandas as pd
 import pytest
+from conftest import CLI_DEVICE
 
 import blurlab as bl
 
@@ -67,12 +68,12 @@ def _wait_for_file(path: Path, process: subprocess.Popen, log: Path) -> None:
 @pytest.fixture(scope="module")
 def command_line_cluster(tmp_path_factory):
     """(scheduler address, folder, the workers' names) of a scheduler and two workers started
-    as separate processes from the command line, on llvmpipe."""
+    as separate processes from the command line, on llvmpipe where there is one (else the GPU)."""
     from distributed import Client
 
     folder = tmp_path_factory.mktemp("cli_cluster")
     scheduler_file = folder / "scheduler.json"
-    env = {**os.environ, "BLURLAB_DEVICE": "software"}
+    env = {**os.environ, "BLURLAB_DEVICE": CLI_DEVICE}
     processes = []
     try:
         scheduler_log = folder / "scheduler.log"
@@ -126,12 +127,12 @@ def test_a_command_line_cluster_sweeps_the_rows_of_a_local_sweep(command_line_cl
         capture_output=True,
         text=True,
         timeout=SWEEP_TIMEOUT_S,
-        env={**os.environ, "BLURLAB_DEVICE": "software"},
+        env={**os.environ, "BLURLAB_DEVICE": CLI_DEVICE},
     )
     assert sweep.returncode == 0, (sweep.stdout + sweep.stderr)[-4000:]
     remote = pd.read_csv(folder / "cluster.csv")
     bl.sweep(
-        bl.Context("software"),
+        bl.Context(CLI_DEVICE),
         SCENES,
         GRID,
         SIZE,

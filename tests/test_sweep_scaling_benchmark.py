@@ -9,6 +9,7 @@ import sys
 from pathlib import Path
 
 import pytest
+from conftest import CLI_DEVICE
 from process_group import run_or_fail
 
 pytest.importorskip("distributed")
@@ -24,7 +25,7 @@ def test_sweep_scaling_gives_the_same_rows_and_accounts_for_each_worker(tmp_path
         sys.executable,
         str(SCRIPT),
         "--device",
-        "software",
+        CLI_DEVICE,
         "--size",
         "48x27",
         "--scenes",
