@@ -142,3 +142,23 @@ def test_the_gather_can_resolve_the_keys_itself(ctx, scene):
     decoded = twin.resolve_reach_keys(keys, in_gather.buffers["tiles"])
     assert decoded.tobytes() == resolved.buffers["dilated"].tobytes()
     assert "dilated" not in in_gather.buffers
+
+
+def test_a_texture_of_the_wrong_kind_is_refused(ctx):
+    # GL reads a float texture through a usampler2D (or the reverse) as undefined values, not
+    # an error: the pass says which sampler or image wants which kind instead.
+    resolve = ctx.shader_pass("passes/eevee_tile_resolve.glsl")
+    tiles, dilated = ctx.empty((3, 4, 4)), ctx.empty((3, 4, 4))
+    with pytest.raises(ValueError, match="sampler 'reach_keys' reads integers.*uint32"):
+        resolve.run({"tiles": tiles, "reach_keys": ctx.empty((6, 4))}, {"dilated": dilated})
+    with pytest.raises(ValueError, match="sampler 'tiles' reads floats"):
+        keys = ctx.empty((6, 4), "uint32")
+        resolve.run(
+            {"tiles": ctx.empty((3, 4, 4), "uint32"), "reach_keys": keys}, {"dilated": dilated}
+        )
+    clear = ctx.shader_pass("passes/reach_keys_clear.glsl")
+    with pytest.raises(ValueError, match="image 'reach_keys' reads integers"):
+        clear.run({}, {"reach_keys": ctx.empty((6, 4))})
+    resolve.run({"tiles": tiles, "reach_keys": ctx.empty((6, 4), "uint32")}, {"dilated": dilated})
+    assert not dilated.download().any()  # no keys: nothing kept
+    assert ctx.gl_errors() == []

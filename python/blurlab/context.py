@@ -206,7 +206,9 @@ class ShaderPass:
         group_per_texel: bool = False,
     ) -> None:
         """Runs the shader once per texel of the first output (``group_per_texel``: one work
-        group per texel). Every sampler and image of the shader must be named."""
+        group per texel). Every sampler and image of the shader must be named, each with a
+        texture of the kind it reads: uint32 for usampler2D and r32ui images, another dtype
+        for the rest."""
         self._core.run(
             {name: texture._core for name, texture in inputs.items()},
             {name: texture._core for name, texture in outputs.items()},

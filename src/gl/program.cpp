@@ -284,6 +284,12 @@ bool is_image_type(GLenum type) {
   return glsl_type_name(type).find("image") != std::string::npos;
 }
 
+bool is_integer_texture_type(GLenum type) {
+  const std::string name = glsl_type_name(type);
+  return name.rfind("isampler", 0) == 0 || name.rfind("usampler", 0) == 0 ||
+         name.rfind("iimage", 0) == 0 || name.rfind("uimage", 0) == 0;
+}
+
 std::string glsl_type_name(GLenum type) {
   auto it = type_names().find(type);
   if (it != type_names().end()) return it->second;

@@ -53,6 +53,8 @@ struct FragmentOutput {
 
 bool is_sampler_type(GLenum type);
 bool is_image_type(GLenum type);
+// Whether a sampler or image type reads integers (isampler2D, usampler2D, uimage2D...).
+bool is_integer_texture_type(GLenum type);
 // The GLSL name of a uniform type ("vec2", "mat4", "sampler2D"), or its GL enum in hex.
 std::string glsl_type_name(GLenum type);
 // Values that Program::set_uniform takes per array element: 1..4 for scalars and vectors, 16 for

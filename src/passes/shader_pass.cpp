@@ -64,9 +64,13 @@ const ShaderPass::Units& ShaderPass::units(const Program& p, const NamedTextures
   Units u;
   for (const TextureUnitBinding& b : units_of(p, inputs, is_sampler_type, "sampler"))
     u.samplers.push_back(b.unit);
+  for (const auto& [name, texture] : inputs)
+    u.integer_samplers.push_back(is_integer_texture_type(p.uniforms().at(name).type));
   if (backend == Backend::compute) {
     for (const TextureUnitBinding& b : units_of(p, outputs, is_image_type, "image"))
       u.images.push_back(b.unit);
+    for (const auto& [name, texture] : outputs)
+      u.integer_images.push_back(is_integer_texture_type(p.uniforms().at(name).type));
   } else {
     std::vector<std::string> known;
     for (const auto& [name, output] : p.outputs()) known.push_back(name);
@@ -77,10 +81,28 @@ const ShaderPass::Units& ShaderPass::units(const Program& p, const NamedTextures
   return units_.emplace(std::make_pair(&p, names), std::move(u)).first->second;
 }
 
+void ShaderPass::check_kinds(const Program& p, const Units& u, const NamedTextures& inputs,
+                             const NamedTextures& outputs) const {
+  auto check = [&](const NamedTextures& given, const std::vector<bool>& integer, const char* what) {
+    for (size_t i = 0; i < integer.size(); ++i) {
+      const bool uint_texture = given[i].second->format().type == PixelType::u32;
+      if (uint_texture != integer[i])
+        throw std::invalid_argument(
+            "blurlab: " + p.name() + ": " + what + " '" + given[i].first + "' reads " +
+            (integer[i] ? "integers" : "floats") + ", but its texture is " +
+            (uint_texture ? "uint32" : "not an integer texture") + "; give it a " +
+            (integer[i] ? "uint32" : "uint8, float16 or float32") + " texture");
+    }
+  };
+  check(inputs, u.integer_samplers, "sampler");
+  check(outputs, u.integer_images, "image");
+}
+
 void ShaderPass::run(const NamedTextures& inputs, const NamedTextures& outputs,
                      const UniformValues& uniforms, Backend backend, bool group_per_texel) {
   Program& p = program(backend);
   const Units& u = units(p, inputs, outputs, backend);
+  check_kinds(p, u, inputs, outputs);
   std::vector<TextureUnitBinding> textures;
   textures.reserve(inputs.size());
   for (size_t i = 0; i < inputs.size(); ++i) textures.push_back({u.samplers[i], inputs[i].second});
@@ -99,6 +121,7 @@ ResolvedRun ShaderPass::resolve(const NamedTextures& inputs, const NamedTextures
   ResolvedRun r;
   Program& p = program(backend);
   const Units& u = units(p, inputs, outputs, backend);
+  check_kinds(p, u, inputs, outputs);
   auto index_of = [&](const Texture* t) {
     for (size_t i = 0; i < textures.size(); ++i)
       if (textures[i] == t) return i;

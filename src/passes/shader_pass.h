@@ -88,7 +88,14 @@ class ShaderPass : public PostProcessPass {
   struct Units {
     std::vector<int> samplers;
     std::vector<int> images;
+    // Per sampler and image, in the order given: whether the shader reads it as integers.
+    std::vector<bool> integer_samplers;
+    std::vector<bool> integer_images;
   };
+  // Throws unless each texture's kind (uint32 or not) is what its sampler or image reads: GL
+  // gives undefined values, not an error, for a float texture read as integers or the reverse.
+  void check_kinds(const Program& p, const Units& u, const NamedTextures& inputs,
+                   const NamedTextures& outputs) const;
   const Units& units(const Program& p, const NamedTextures& inputs, const NamedTextures& outputs,
                      Backend backend);
   std::map<std::pair<const Program*, std::string>, Units> units_;
