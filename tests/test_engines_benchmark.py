@@ -165,3 +165,16 @@ def test_eevee_rows_score_against_both_references_and_match_the_film_filter(ctx)
     # film-filtered sharp frame matches it where nothing moves, far better than PSNR overall.
     assert math.isfinite(row["film_match_flat_db"])
     assert row["film_match_flat_db"] > row["psnr"] + 3
+
+
+def test_every_layout_times_and_checks_on_a_small_scene(ctx):
+    # --variants in-process, tiny: every layout of every kind gives the right tiles (or keys
+    # that decode to them) and image, and the time goal runs with the fastest of each kind.
+    rows = engines.coverage_variants(ctx, ["fan"], (48, 27), 1, 0.5)
+    layouts = {row["layout"] for row in rows}
+    assert {"dilation gather", "dilation scatter", "dilation scatter_in_gather"} <= layouts
+    assert all(row["right"] for row in rows), [r["layout"] for r in rows if not r["right"]]
+    summary = engines.layout_summary(rows)
+    assert set(summary["fastest"]) == set(engines.LAYOUTS)
+    goal = engines.time_goal(ctx, ["fan"], (48, 27), 1, 0.5, summary["fastest"])
+    assert goal["b2b_ms"]["median_of_ratios"] > 0
