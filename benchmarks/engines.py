@@ -213,22 +213,17 @@ def coverage_variants(ctx, scene_names, size, runs: int, sigma: float) -> list[d
         one_thread = (tiles.download(), dilated.download())
         ctx.recycle(tiles, dilated)
         base = {"scene": scene_name, "guertin_ms": sum(guertin.values())}
-        for variant in eevee.TILE_PICK_VARIANTS:
-            with eevee.TILE_PICK_LAYOUT.use(variant):
-                passes, result = median_passes(ctx, frame, method.name, runs)
-            same = all(
-                (got == expected).all()
-                for got, expected in zip(tile_grids(result), one_thread, strict=True)
-            )
-            rows.append({**base, "layout": f"tiles {variant}", "passes": passes, "right": same})
-        for variant in eevee.DILATION_VARIANTS:
-            with eevee.DILATION_LAYOUT.use(variant):
-                passes, result = median_passes(ctx, frame, method.name, runs)
-            same = all(
-                (got == expected).all()
-                for got, expected in zip(tile_grids(result), one_thread, strict=True)
-            )
-            rows.append({**base, "layout": f"dilation {variant}", "passes": passes, "right": same})
+        for kind in ("tiles", "dilation"):  # each layout's tiles against one thread's
+            for variant in LAYOUTS[kind].variants:
+                with LAYOUTS[kind].use(variant):
+                    passes, result = median_passes(ctx, frame, method.name, runs)
+                same = all(
+                    (got == expected).all()
+                    for got, expected in zip(tile_grids(result), one_thread, strict=True)
+                )
+                rows.append(
+                    {**base, "layout": f"{kind} {variant}", "passes": passes, "right": same}
+                )
         first_gather = None
         for variant in coverage.GATHER_VARIANTS:
             with coverage.GATHER_LAYOUT.use(variant):
