@@ -22,19 +22,20 @@ std::vector<std::string> names_of(const Program& p, bool (*kind)(GLenum)) {
   return names;
 }
 
-// The units of `given`, each of which must be a uniform of `kind`; every such uniform must be
-// given, or the shader would read whatever an earlier pass left at its unit.
-std::vector<TextureUnitBinding> units_of(const Program& p, const NamedTextures& given,
-                                         bool (*kind)(GLenum), const char* what) {
+// The units of `given` into `units` and whether each reads integers into `integer`, in the
+// order given; each must be a uniform of `kind`, and every such uniform must be given, or the
+// shader would read whatever an earlier pass left at its unit.
+void units_of(const Program& p, const NamedTextures& given, bool (*kind)(GLenum), const char* what,
+              std::vector<int>& units, std::vector<bool>& integer) {
   const std::vector<std::string> known = names_of(p, kind);
-  std::vector<TextureUnitBinding> units;
   std::set<std::string> seen;
   for (const auto& [name, texture] : given) {
     auto it = p.uniforms().find(name);
     if (it == p.uniforms().end() || !kind(it->second.type))
       throw std::invalid_argument("blurlab: " + p.name() + " has no " + what + " '" + name +
                                   "'; its " + what + "s are: " + joined(known));
-    units.push_back({it->second.unit, texture});
+    units.push_back(it->second.unit);
+    integer.push_back(is_integer_texture_type(it->second.type));
     seen.insert(name);
   }
   std::vector<std::string> missing;
@@ -43,7 +44,6 @@ std::vector<TextureUnitBinding> units_of(const Program& p, const NamedTextures& 
   if (!missing.empty())
     throw std::invalid_argument("blurlab: " + p.name() + ": no texture given for its " + what +
                                 "(s) " + joined(missing));
-  return units;
 }
 
 }  // namespace
@@ -62,15 +62,9 @@ const ShaderPass::Units& ShaderPass::units(const Program& p, const NamedTextures
   if (outputs.empty())
     throw std::invalid_argument("blurlab: " + p.name() + " needs at least one output");
   Units u;
-  for (const TextureUnitBinding& b : units_of(p, inputs, is_sampler_type, "sampler"))
-    u.samplers.push_back(b.unit);
-  for (const auto& [name, texture] : inputs)
-    u.integer_samplers.push_back(is_integer_texture_type(p.uniforms().at(name).type));
+  units_of(p, inputs, is_sampler_type, "sampler", u.samplers, u.integer_samplers);
   if (backend == Backend::compute) {
-    for (const TextureUnitBinding& b : units_of(p, outputs, is_image_type, "image"))
-      u.images.push_back(b.unit);
-    for (const auto& [name, texture] : outputs)
-      u.integer_images.push_back(is_integer_texture_type(p.uniforms().at(name).type));
+    units_of(p, outputs, is_image_type, "image", u.images, u.integer_images);
   } else {
     std::vector<std::string> known;
     for (const auto& [name, output] : p.outputs()) known.push_back(name);

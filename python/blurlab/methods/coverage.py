@@ -5,9 +5,10 @@ engine_unity's, taps along the neighbourhood's and X's own motion (Guertin 2014'
 directions, Unity's v_alt), and weights that estimate what share of each half-shutter a moving
 pixel spends over X, with what lies behind X filling the rest. Passes: engine_eevee's tile
 flatten and dilation at this method's tile size and limit (methods.eevee.dilated_tiles), the
-dilation by scatter (keys cleared, the flatten offering each tile's reach by atomic max, the
-keys resolved: shaders/passes/reach_keys_clear.glsl, eevee_tile_flatten.glsl,
-eevee_tile_resolve.glsl; §17.6), then shaders/passes/coverage_gather.glsl, then, where
+dilation by scatter (keys cleared, the flatten offering each tile's reach by atomic max:
+shaders/passes/reach_keys_clear.glsl, eevee_tile_flatten.glsl; §17.6), then
+shaders/passes/coverage_gather.glsl, which resolves the keys itself unless
+eevee.DILATION_LAYOUT says a pass of their own does (eevee_tile_resolve.glsl), then, where
 film_filter > 0, shaders/passes/film_filter.glsl, unless film_through_taps reads the filter
 through the gather's colour reads instead. NumPy twin:
 blurlab.twins.coverage.gather_coverage.

@@ -75,7 +75,7 @@ DILATION_VARIANTS = {
     "scatter_in_gather": {"SCATTER_DILATION": 1, "GATHER_READS_KEYS": 1},
 }
 DILATION_LAYOUT = PassVariants("tile dilation", DILATION_VARIANTS, "scatter_in_gather")
-SCATTER_MAX_TILES = 4096
+SCATTER_MAX_TILES = 2**twin.REACH_INDEX_BITS  # the tiles a key's index can name
 
 
 def motion_sides_texture(ctx: Context, frame: Frame):

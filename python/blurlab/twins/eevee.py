@@ -32,9 +32,10 @@ def clamp_length(v: np.ndarray, max_len: float) -> np.ndarray:
         return v * np.where(n > max_len, max_len / n, 1.0)
 
 
-# The largest step key (shaders/common/tile_pick.glsl): key + 1 and a 12-bit tile index fill the
+REACH_INDEX_BITS = 12  # the source tile index in the scatter dilation's keys (reach_keys.glsl)
+# The largest step key (shaders/common/tile_pick.glsl): key + 1 and the tile index fill the
 # 32-bit keys of the scatter dilation (docs/spec.md §17.6), so lengths past 2^20 - 2 steps tie.
-PICK_KEY_MAX = 2**20 - 2
+PICK_KEY_MAX = 2 ** (32 - REACH_INDEX_BITS) - 2
 
 
 def pick_key(length: np.ndarray, length_steps: float = 0.0) -> np.ndarray:
@@ -98,9 +99,6 @@ def tile_dilate(
                     better[..., None], v, out[..., 2 * side : 2 * side + 2]
                 )
     return out
-
-
-REACH_INDEX_BITS = 12  # shaders/common/reach_keys.glsl
 
 
 def resolve_reach_keys(keys: np.ndarray, tiles: np.ndarray) -> np.ndarray:
