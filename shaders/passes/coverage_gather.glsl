@@ -95,16 +95,21 @@ float cross2(vec2 a, vec2 b) {
     return a.x * b.y - a.y * b.x;
 }
 
-// How far (0..1) the trail of a pixel at offset d, moving by v towards X, passes over X. The
-// trail is the parabola through the pixel's three positions, d = τ·v + τ(1 − τ)·bend.
-float trail_reaches(vec2 d, vec2 v, vec2 bend) {
-    float len = length(v);
-    float dist = length(d);
-    vec2 unit = len > 0.0 ? v / len : vec2(0.0);
-    float along = len > 0.0 ? dot(d, unit) : dist;
-    float tau = len > 0.0 ? clamp(along / len, 0.0, 1.0) : 0.0;
-    float off_line = cross2(d, unit) - tau * (1.0 - tau) * cross2(bend, unit);
-    float across = len > 0.0 ? abs(off_line) : dist;
+// How far (0..1) the trail of a pixel at offset d, moving by v (len = |v|) towards X, passes
+// over X. The trail is the parabola through the pixel's three positions,
+// d = τ·v + τ(1 − τ)·bend. The square roots and divisions of a tap are what the H100 spends
+// most on (docs/benchmarks.md, "What a tap costs"), so |d| is taken only for a still pixel and
+// 1/|v| once.
+float trail_reaches(vec2 d, vec2 v, float len, vec2 bend) {
+    if (len <= 0.0) {  // a still pixel reaches within ACROSS px
+        float dist = length(d);
+        return clamp(1.0 - dist, 0.0, 1.0) * clamp(ACROSS - dist, 0.0, 1.0);
+    }
+    float inverse = 1.0 / len;
+    vec2 unit = v * inverse;
+    float along = dot(d, unit);
+    float tau = clamp(along * inverse, 0.0, 1.0);
+    float across = abs(cross2(d, unit) - tau * (1.0 - tau) * cross2(bend, unit));
     float ahead = along > -0.5 ? 1.0 : 0.0;
     float widest = ACROSS + ACROSS_SHARE * len;
     return clamp(len + 1.0 - along, 0.0, 1.0) * ahead * clamp(widest - across, 0.0, 1.0);
@@ -118,11 +123,19 @@ float family_overlap(vec2 line, vec2 own) {
     return clamp(dot(line, own) / max(length(line) * lo, 1e-12), 0.0, 1.0);
 }
 
+// A half-motion scaled and clamped to reach_limit: clamp_length with the square root taken
+// only where it clamps.
+vec2 clamped_half(vec2 m) {
+    vec2 v = scaled_motion(m, exposure);
+    float n2 = dot(v, v);
+    if (n2 > reach_limit * reach_limit) v *= reach_limit * inversesqrt(n2);
+    return v;
+}
+
 // A pixel's half-motions: xy its prev half, zw its next half, scaled and clamped.
 vec4 halves_at(ivec2 y) {
     vec4 m = texelFetch(motion_sides, y, 0);
-    return vec4(clamp_length(scaled_motion(m.xy, exposure), reach_limit),
-                clamp_length(scaled_motion(m.zw, exposure), reach_limit));
+    return vec4(clamped_half(m.xy), clamped_half(m.zw));
 }
 
 // The half-motion of a side read as a trail towards X: prev, or minus next.
@@ -162,30 +175,40 @@ vec4 gather_at(ivec2 x) {
         vec2 own = owns[side];
         bool own_moves = length(own) >= MOVING;
         float share = 1.0 / (1.0 + family_overlap(lines[side], own));
+        // What a family's taps share: the line they follow, their spacing, 1/count and the
+        // offset of their jitter (family 0 the tile's line, family 1 X's own motion).
+        vec2 along_0 = lines[side], along_1 = own_moves ? own : lines[side];
+        float per_tap_0 = 1.0 / float(counts[0]), per_tap_1 = 1.0 / float(counts[1]);
+        float spacing_0 = length(along_0) * per_tap_0 * share;
+        float spacing_1 = length(along_1) * per_tap_1 * share;
+        float offset_0 = fract(j + 0.25 * float(side)), offset_1 = fract(j + 0.5 + 0.25 * float(side));
+        vec2 bend_1 = own_moves ? x_bend : vec2(0.0);
         cover_sums[side] = vec4(0.0);
         float cover = 0.0, spaced = 0.0, seen = 0.0;
         for (int i = 0; i < samples; ++i) {
-            int family = i % 2;
-            vec2 along = (family == 1 && own_moves) ? own : lines[side];
-            float count = float(counts[family]);
-            float spacing = length(along) / count * share;
-            float t = (float(i / 2) + fract(j + 0.5 * float(family) + 0.25 * float(side))) / count;
+            bool family_1 = (i & 1) == 1;
+            vec2 along = family_1 ? along_1 : along_0;
+            float spacing = family_1 ? spacing_1 : spacing_0;
+            float t = (float(i >> 1) + (family_1 ? offset_1 : offset_0)) * (family_1 ? per_tap_1 : per_tap_0);
             // X's own family follows X's arc: the parabola through its three positions.
-            vec2 bent = (family == 1 && own_moves) ? x_bend * (t * (1.0 + t)) : vec2(0.0);
+            vec2 bent = family_1 ? bend_1 * (t * (1.0 + t)) : vec2(0.0);
             ivec2 y = clamp(ivec2(floor(center + along * t + bent)), ivec2(0), size - 1);
             vec4 halves = halves_at(y);
             vec2 vy = trail_of(halves, side);
             float speed = length(vy);
             float moving = clamp(speed - 0.5, 0.0, 1.0);
             float zy = sanitize_depth(texelFetch(depth, y, 0).x);
-            float reaches = trail_reaches(vec2(y - x), vy, 0.5 * (halves.zw - halves.xy));
-            float a = soft_depth_compare(zx, zy, front_extent) * reaches * moving * spacing
+            float reaches = trail_reaches(vec2(y - x), vy, speed, 0.5 * (halves.zw - halves.xy));
+            // soft_depth_compare(zx, zy, e) = clamp(1 - dz / e) and (zy, zx, e) = clamp(1 + dz / e)
+            float dz = zx == zy ? 0.0 : zy - zx;
+            float behind_soft = dz / soft_z;
+            float a = clamp(1.0 - dz / front_extent, 0.0, 1.0) * reaches * moving * spacing
                     / max(speed, 1.0);
             // A still tap in front of a moving X hides the part of X's line behind it.
-            float nearer = 1.0 - soft_depth_compare(zy, zx, soft_z);
+            float nearer = 1.0 - clamp(1.0 + behind_soft, 0.0, 1.0);
             spaced += spacing;
             seen += spacing * (1.0 - (x_moves ? 1.0 : 0.0) * nearer * (1.0 - moving));
-            float b = (1.0 - nearer) * (1.0 - soft_depth_compare(zx, zy, soft_z)) * (1.0 - reaches);
+            float b = (1.0 - nearer) * (1.0 - clamp(1.0 - behind_soft, 0.0, 1.0)) * (1.0 - reaches);
             cover += a;
             behind_weight += b;
 #ifdef GATHER_SKIP_UNWEIGHTED
