@@ -1,6 +1,6 @@
 """Where the time of the tile filters and of gather_coverage goes on one context (issue 19: the
 filter goals; issue 17: gather_coverage's time against guertin2014's), on one G-buffer of
-teapot_pass, in five parts.
+teapot_pass (or --scene), in six parts.
 
 1. ``passes``: McGuire 2012 (k = 20, S = 15) and Guertin 2014, with stored and with packed
    inputs (docs/spec.md §19), and gather_coverage without and with film_filter = 0.5 (and with
@@ -44,13 +44,19 @@ teapot_pass, in five parts.
 5. ``barriers``: a pass over one texel and one over the frame, back to back, with the memory
    barrier every blurlab pass ends with (all bits), with only the bits a following pass's
    texel fetches and image accesses need, and with none.
+6. ``coverage_costs``: gather_coverage's gather through moderngl as it is and with one kind of
+   work taken out of every tap at a time (a fetch, the sanitising of an input, the trail test;
+   COVERAGE_COSTS), with everything but X's own reads and write taken out, with 4 and 6 taps a
+   half-shutter and with its reach cut to 40 px: which work holds the pass. The edits give
+   other images; they time, they do not filter.
 
 Medians over --runs: on a GPU by GL timer queries (50 dispatches back to back behind busy work,
 and one dispatch under its own timer); on llvmpipe by glFinish and a wall clock, which ranks
 nothing.
 
     python benchmarks/filter_time.py [--device gpu] [--size 1920x1080]
-        [--parts passes,fetch,fetch_clamped,dispatch,coverage,barriers] [--runs 20] [--json f]
+        [--parts passes,fetch,fetch_clamped,dispatch,coverage,barriers,coverage_costs]
+        [--scene teapot_pass] [--runs 20] [--json f]
 """
 
 from __future__ import annotations
@@ -71,7 +77,7 @@ from blurlab.methods.tile_filter import variant_defines
 
 from common import back_to_back_ms, describe, open_context, save, spin_up
 
-PARTS = ("passes", "fetch", "fetch_clamped", "dispatch", "coverage", "barriers")
+PARTS = ("passes", "fetch", "fetch_clamped", "dispatch", "coverage", "barriers", "coverage_costs")
 K = 20  # McGuire 2012's tile side at the issue's configuration
 SAMPLES = 15
 
@@ -561,7 +567,8 @@ def moderngl_dispatch(mgl, current, inputs: dict, units: dict, output, groups):
         shader = current()
         for name, unit in units.items():
             inputs[name].use(unit)
-            shader[name] = unit
+            if name in shader:  # an edit of the source may leave a sampler unread
+                shader[name] = unit
         output.bind_to_image(0, read=False, write=True)
         shader.run(*groups)
         mgl.memory_barrier()
@@ -572,7 +579,13 @@ def moderngl_dispatch(mgl, current, inputs: dict, units: dict, output, groups):
 def wrapped_inputs(mgl, run) -> dict:
     """The recorded pass's input textures, wrapped for moderngl (not owned: never released)."""
     return {
-        name: mgl.external_texture(texture.glo, texture.shape[1::-1], 4, 0, "f4")
+        name: mgl.external_texture(
+            texture.glo,
+            (texture.width, texture.height),
+            texture.channels,
+            0,
+            "u4" if texture.dtype == np.uint32 else "f4",
+        )
         for name, texture in run.inputs.items()
     }
 
@@ -706,6 +719,104 @@ def coverage_gather_constants(ctx, frame, runs: int) -> dict:
     return record
 
 
+# Part 6: edits of the gather's source that each take one kind of work out of every tap, to
+# tell which kind holds the pass. None gives gather_coverage's image (timing only): each takes
+# out what it names and leaves the rest of a tap's work as it is.
+TAP_LINE = "ivec2 y = clamp(ivec2(floor(center + along * t + bent)), ivec2(0), size - 1);"
+COVERAGE_COSTS = {  # label: (text of coverage_gather.glsl, what replaces it), ...
+    "taps read next to X (texture caches always hit)": (
+        (TAP_LINE, TAP_LINE + " y = clamp(x + ivec2(i % 2, side), ivec2(0), size - 1);"),
+    ),
+    "no depth fetch at the taps (read from colour alpha)": (
+        (
+            "float zy = sanitize_depth(texelFetch(depth, y, 0).x);",
+            "float zy = sanitize_depth(texelFetch(color, y, 0).w);",
+        ),
+    ),
+    "no colour fetch at the taps": (
+        ("vec4 cy = sanitize_color(texelFetch(color, y, 0));", "vec4 cy = vec4(zy);"),
+    ),
+    "no motion fetch at the taps (X's own)": (
+        ("vec4 halves = halves_at(y);", "vec4 halves = x_halves;"),
+    ),
+    "no trail test (every tap reaches)": (
+        (
+            "float reaches = trail_reaches(vec2(y - x), vy, speed, 0.5 * (halves.zw - halves.xy));",
+            "float reaches = 1.0;",
+        ),
+    ),
+    "taps' colour not sanitised": (
+        (
+            "vec4 cy = sanitize_color(texelFetch(color, y, 0));",
+            "vec4 cy = texelFetch(color, y, 0);",
+        ),
+    ),
+    "taps' depth not sanitised": (
+        (
+            "float zy = sanitize_depth(texelFetch(depth, y, 0).x);",
+            "float zy = texelFetch(depth, y, 0).x;",
+        ),
+    ),
+    "motion not sanitised (X's and the taps')": (
+        ("vec2 v = scaled_motion(m, exposure);", "vec2 v = m * exposure;"),
+    ),
+    "early exit everywhere (X, its tile, the write)": (
+        ("if (max(length(lines[0]), length(lines[1])) < EARLY_EXIT) return cx;", "return cx;"),
+    ),
+}
+
+
+def coverage_costs(ctx, frame, runs: int) -> dict:
+    """Part 6: gather_coverage's gather (as the default dilation feeds it, keys resolved in the
+    gather) through moderngl as it is and with each edit of COVERAGE_COSTS; with 4 and 6 taps
+    a half-shutter, to price a tap; and with its reach cut to 40 px."""
+    mgl = ctx.moderngl()
+    height, width = frame.color.shape[:2]
+    passes = recorded_passes(ctx, frame, "gather_coverage", {})
+    step, run = passes[-1]
+    assert step == "gather", step
+    replay(passes)
+    groups = (-(-width // 16), -(-height // 16))
+    units = {"color": 0, "depth": 1, "motion_sides": 2, "tiles": 3, "reach_keys": 4}
+    wrapped = wrapped_inputs(mgl, run)
+    output = mgl.texture((width, height), 4, dtype="f4")
+    source = expanded_source(
+        "passes/coverage_gather.glsl", {"STAGE_COMPUTE": 1, "GATHER_READS_KEYS": 1}
+    )
+    expected = run.outputs["result"].download()
+    record: dict = {}
+    variants = {"same source": ((), {})}
+    variants |= {label: (edits, {}) for label, edits in COVERAGE_COSTS.items()}
+    variants |= {f"{n} taps a half-shutter": ((), {"samples": n}) for n in (4, 6)}
+    # Taps within 40 px, guertin2014's reach at 1080p, instead of 324: what the texture caches
+    # lose to the long reach (the keys' tiles still reach as far).
+    variants["reach limited to 40 px"] = ((), {"reach_limit": 40.0})
+    for label, (edits, uniforms) in variants.items():
+        variant = source
+        for old, new in edits:
+            assert old in variant, f"{label}: the gather has no {old!r}"
+            variant = variant.replace(old, new)
+        program = mgl.compute_shader(variant)
+        for name, value in (run.uniforms | uniforms).items():
+            if name in program:
+                program[name] = value
+        dispatch = moderngl_dispatch(
+            mgl, lambda program=program: program, wrapped, units, output, groups
+        )
+        one, in_a_row = dispatch_ms(ctx, mgl, dispatch, runs)
+        mgl.finish()
+        image = np.frombuffer(output.read(), np.float32).reshape(height, width, 4)
+        record[label] = {
+            "one_dispatch_ms": one,
+            "back_to_back_ms": in_a_row,
+            "same_bits": bool(np.array_equal(image, expected)),
+        }
+        print(f"{label:52s} one dispatch {one:.4f} ms, back to back {in_a_row:.4f} ms", flush=True)
+        program.release()
+    output.release()
+    return record
+
+
 # glMemoryBarrier bits (GL 4.5): every blurlab pass ends with GL_ALL_BARRIER_BITS.
 BARRIERS = {
     "all bits (as blurlab)": 0xFFFFFFFF,
@@ -760,6 +871,7 @@ def main() -> None:
     parser.add_argument("--size", default="1920x1080")
     parser.add_argument("--runs", type=int, default=20)
     parser.add_argument("--parts", default=",".join(PARTS))
+    parser.add_argument("--scene", default="teapot_pass", help="a built-in or failure scene")
     parser.add_argument("--json")
     args = parser.parse_args()
     size = tuple(int(v) for v in args.size.split("x"))
@@ -768,7 +880,7 @@ def main() -> None:
     if parts - set(PARTS):
         parser.error(f"unknown parts {sorted(parts - set(PARTS))}; choose from {PARTS}")
     record = {**describe(ctx), "size": args.size, "runs": args.runs}
-    frame = ctx.render(bl.scenes.teapot_pass(), size)
+    frame = ctx.render(bl.scenes.get(args.scene), size)
     if "passes" in parts:
         record["passes"] = filter_passes(ctx, frame, args.runs)
         save(args.json, record)  # before moderngl shares the context
@@ -784,6 +896,8 @@ def main() -> None:
         record["coverage"] = coverage_gather_constants(ctx, frame, args.runs)
     if "barriers" in parts:
         record["barriers"] = barrier_costs(ctx, frame, args.runs)
+    if "coverage_costs" in parts:
+        record["coverage_costs"] = coverage_costs(ctx, frame, args.runs)
     save(args.json, record)
 
 

@@ -74,3 +74,14 @@ def test_barrier_costs_time_every_barrier_on_both_sizes(ctx, frame):
     record = filter_time.barrier_costs(ctx, frame, runs=1)
     assert len(record) == 2 * len(filter_time.BARRIERS)
     assert all(row["back_to_back_ms"] > 0 for row in record.values())
+
+
+def test_coverage_costs_edit_the_gather_that_blurlab_runs(ctx, frame):
+    # The unedited source through moderngl gives blurlab's bits, so the edits' times compare
+    # with the real gather's; every edit finds its text (coverage_costs asserts it), and the ones
+    # that take out work the image depends on change it.
+    record = filter_time.coverage_costs(ctx, frame, runs=1)
+    assert record["same source"]["same_bits"]
+    assert set(filter_time.COVERAGE_COSTS) < set(record)
+    assert not record["early exit everywhere (X, its tile, the write)"]["same_bits"]
+    assert not record["4 taps a half-shutter"]["same_bits"]
