@@ -766,6 +766,56 @@ COVERAGE_COSTS = {  # label: (text of coverage_gather.glsl, what replaces it), .
 }
 
 
+# Part 6 also times rewrites of the gather that give its very image (the record's same_bits
+# says whether they do) with other instructions: candidates for the shader. On the H100 none of
+# these was faster on all three scenes tried (docs/benchmarks.md, "What a tap costs").
+TAP_CENTRE = "    vec2 center = vec2(x) + 0.5;\n"
+FLOAT_TAP = (  # the tap's texel found in floats and read at its centre: no int/float conversion
+    (
+        TAP_CENTRE,
+        TAP_CENTRE + "    vec2 xf = vec2(x), last = vec2(size - 1), texel = 1.0 / vec2(size);\n",
+    ),
+    (
+        TAP_LINE,
+        "vec2 yf = clamp(floor(center + along * t + bent), vec2(0.0), last);"
+        " vec2 uv = (yf + 0.5) * texel;",
+    ),
+    (
+        "vec4 halves = halves_at(y);",
+        "vec4 m = textureLod(motion_sides, uv, 0.0);"
+        " vec4 halves = vec4(clamped_half(m.xy), clamped_half(m.zw));",
+    ),
+    ("texelFetch(depth, y, 0).x", "textureLod(depth, uv, 0.0).x"),
+    (
+        "vec4 cy = sanitize_color(texelFetch(color, y, 0));",
+        "vec4 cy = sanitize_color(textureLod(color, uv, 0.0));",
+    ),
+    ("trail_reaches(vec2(y - x),", "trail_reaches(yf - xf,"),
+)
+FLOAT_PAIR = (  # the pair index counted in a float: no conversion of i >> 1
+    (
+        "        for (int i = 0; i < samples; ++i) {\n",
+        "        float pair = 0.0;\n        for (int i = 0; i < samples; ++i) {\n",
+    ),
+    ("float t = (float(i >> 1) +", "float t = (pair +"),
+    (
+        "            // X's own family follows",
+        "            pair += family_1 ? 1.0 : 0.0;\n            // X's own family follows",
+    ),
+)
+COVERAGE_CANDIDATES = {
+    "candidate: tap texel in floats, read at its centre": FLOAT_TAP,
+    "candidate: pair index in a float": FLOAT_PAIR,
+    "candidate: both": FLOAT_TAP + FLOAT_PAIR,
+    "candidate: colour read only where weighted (GATHER_SKIP_UNWEIGHTED)": (
+        (
+            "#define STAGE_COMPUTE 1\n",
+            "#define STAGE_COMPUTE 1\n#define GATHER_SKIP_UNWEIGHTED 1\n",
+        ),
+    ),
+}
+
+
 def coverage_costs(ctx, frame, runs: int) -> dict:
     """Part 6: gather_coverage's gather (as the default dilation feeds it, keys resolved in the
     gather) through moderngl as it is and with each edit of COVERAGE_COSTS; with 4 and 6 taps
@@ -786,7 +836,9 @@ def coverage_costs(ctx, frame, runs: int) -> dict:
     expected = run.outputs["result"].download()
     record: dict = {}
     variants = {"same source": ((), {})}
-    variants |= {label: (edits, {}) for label, edits in COVERAGE_COSTS.items()}
+    variants |= {
+        label: (edits, {}) for label, edits in (COVERAGE_COSTS | COVERAGE_CANDIDATES).items()
+    }
     variants |= {f"{n} taps a half-shutter": ((), {"samples": n}) for n in (4, 6)}
     # Taps within 40 px, guertin2014's reach at 1080p, instead of 324: what the texture caches
     # lose to the long reach (the keys' tiles still reach as far).
