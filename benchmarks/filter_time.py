@@ -695,28 +695,38 @@ def coverage_gather_constants(ctx, frame, runs: int) -> dict:
     one, in_a_row = dispatch_ms(ctx, mgl, lambda: replay([passes[-1]]), runs)
     record["blurlab"] = {"one_dispatch_ms": one, "back_to_back_ms": in_a_row}
     print(f"{'gather, blurlab':34s} one dispatch {one:.4f} ms, back to back {in_a_row:.4f} ms")
+    bound = (wrapped, units, output, groups)
     for label, names in {"same source": (), **GATHER_CONSTANTS}.items():
         variant = with_constants(source, run.uniforms, names, ("samples", "tile_size"), label)
-        program = mgl.compute_shader(variant)
-        for name, value in run.uniforms.items():
-            if name in program:
-                program[name] = value
-
-        dispatch = moderngl_dispatch(
-            mgl, lambda program=program: program, wrapped, units, output, groups
+        record[label] = gather_variant_row(ctx, mgl, variant, run.uniforms, bound, expected, runs)
+        row = record[label]
+        print(
+            f"{'gather, ' + label:34s} one dispatch {row['one_dispatch_ms']:.4f} ms,"
+            f" back to back {row['back_to_back_ms']:.4f} ms"
         )
-        one, in_a_row = dispatch_ms(ctx, mgl, dispatch, runs)
-        mgl.finish()
-        image = np.frombuffer(output.read(), np.float32).reshape(height, width, 4)
-        record[label] = {
-            "one_dispatch_ms": one,
-            "back_to_back_ms": in_a_row,
-            "same_bits": bool(np.array_equal(image, expected)),
-        }
-        print(f"{'gather, ' + label:34s} one dispatch {one:.4f} ms, back to back {in_a_row:.4f} ms")
-        program.release()
     output.release()
     return record
+
+
+def gather_variant_row(ctx, mgl, variant: str, uniforms: dict, bound, expected, runs) -> dict:
+    """Parts 4 and 6: a variant of the gather's source compiled by moderngl, its `uniforms` set
+    (those it still declares), dispatched over bound = (inputs, units, output image, groups)
+    and timed; whether its image has the bits of `expected`."""
+    inputs, units, output, groups = bound
+    program = mgl.compute_shader(variant)
+    for name, value in uniforms.items():
+        if name in program:
+            program[name] = value
+    dispatch = moderngl_dispatch(mgl, lambda: program, inputs, units, output, groups)
+    one, in_a_row = dispatch_ms(ctx, mgl, dispatch, runs)
+    mgl.finish()
+    image = np.frombuffer(output.read(), np.float32).reshape(expected.shape)
+    program.release()
+    return {
+        "one_dispatch_ms": one,
+        "back_to_back_ms": in_a_row,
+        "same_bits": bool(np.array_equal(image, expected)),
+    }
 
 
 # Part 6: edits of the gather's source that each take one kind of work out of every tap, to
@@ -818,8 +828,9 @@ COVERAGE_CANDIDATES = {
 
 def coverage_costs(ctx, frame, runs: int) -> dict:
     """Part 6: gather_coverage's gather (as the default dilation feeds it, keys resolved in the
-    gather) through moderngl as it is and with each edit of COVERAGE_COSTS; with 4 and 6 taps
-    a half-shutter, to price a tap; and with its reach cut to 40 px."""
+    gather) through moderngl as it is, with each edit of COVERAGE_COSTS and each rewrite of
+    COVERAGE_CANDIDATES; with 4 and 6 taps a half-shutter, to price a tap; and with its reach
+    cut to 40 px."""
     mgl = ctx.moderngl()
     height, width = frame.color.shape[:2]
     passes = recorded_passes(ctx, frame, "gather_coverage", {})
@@ -843,28 +854,19 @@ def coverage_costs(ctx, frame, runs: int) -> dict:
     # Taps within 40 px, guertin2014's reach at 1080p, instead of 324: what the texture caches
     # lose to the long reach (the keys' tiles still reach as far).
     variants["reach limited to 40 px"] = ((), {"reach_limit": 40.0})
+    bound = (wrapped, units, output, groups)
     for label, (edits, uniforms) in variants.items():
         variant = source
         for old, new in edits:
             assert old in variant, f"{label}: the gather has no {old!r}"
             variant = variant.replace(old, new)
-        program = mgl.compute_shader(variant)
-        for name, value in (run.uniforms | uniforms).items():
-            if name in program:
-                program[name] = value
-        dispatch = moderngl_dispatch(
-            mgl, lambda program=program: program, wrapped, units, output, groups
+        row = gather_variant_row(ctx, mgl, variant, run.uniforms | uniforms, bound, expected, runs)
+        record[label] = row
+        print(
+            f"{label:52s} one dispatch {row['one_dispatch_ms']:.4f} ms,"
+            f" back to back {row['back_to_back_ms']:.4f} ms",
+            flush=True,
         )
-        one, in_a_row = dispatch_ms(ctx, mgl, dispatch, runs)
-        mgl.finish()
-        image = np.frombuffer(output.read(), np.float32).reshape(height, width, 4)
-        record[label] = {
-            "one_dispatch_ms": one,
-            "back_to_back_ms": in_a_row,
-            "same_bits": bool(np.array_equal(image, expected)),
-        }
-        print(f"{label:52s} one dispatch {one:.4f} ms, back to back {in_a_row:.4f} ms", flush=True)
-        program.release()
     output.release()
     return record
 
