@@ -97,9 +97,8 @@ float cross2(vec2 a, vec2 b) {
 
 // How far (0..1) the trail of a pixel at offset d, moving by v (len = |v|) towards X, passes
 // over X. The trail is the parabola through the pixel's three positions,
-// d = τ·v + τ(1 − τ)·bend. The square roots and divisions of a tap are what the H100 spends
-// most on (docs/benchmarks.md, "What a tap costs"), so |d| is taken only for a still pixel and
-// 1/|v| once.
+// d = τ·v + τ(1 − τ)·bend. A tap is held by its arithmetic on the H100 (docs/benchmarks.md,
+// "What a tap costs"), so |d| is taken only for a still pixel and 1/|v| once.
 float trail_reaches(vec2 d, vec2 v, float len, vec2 bend) {
     if (len <= 0.0) {  // a still pixel reaches within ACROSS px
         float dist = length(d);
@@ -181,7 +180,8 @@ vec4 gather_at(ivec2 x) {
         float per_tap_0 = 1.0 / float(counts[0]), per_tap_1 = 1.0 / float(counts[1]);
         float spacing_0 = length(along_0) * per_tap_0 * share;
         float spacing_1 = length(along_1) * per_tap_1 * share;
-        float offset_0 = fract(j + 0.25 * float(side)), offset_1 = fract(j + 0.5 + 0.25 * float(side));
+        float offset_0 = fract(j + 0.25 * float(side));
+        float offset_1 = fract(j + 0.5 + 0.25 * float(side));
         vec2 bend_1 = own_moves ? x_bend : vec2(0.0);
         cover_sums[side] = vec4(0.0);
         float cover = 0.0, spaced = 0.0, seen = 0.0;
@@ -189,7 +189,8 @@ vec4 gather_at(ivec2 x) {
             bool family_1 = (i & 1) == 1;
             vec2 along = family_1 ? along_1 : along_0;
             float spacing = family_1 ? spacing_1 : spacing_0;
-            float t = (float(i >> 1) + (family_1 ? offset_1 : offset_0)) * (family_1 ? per_tap_1 : per_tap_0);
+            float t = (float(i >> 1) + (family_1 ? offset_1 : offset_0))
+                    * (family_1 ? per_tap_1 : per_tap_0);
             // X's own family follows X's arc: the parabola through its three positions.
             vec2 bent = family_1 ? bend_1 * (t * (1.0 + t)) : vec2(0.0);
             ivec2 y = clamp(ivec2(floor(center + along * t + bent)), ivec2(0), size - 1);
