@@ -47,8 +47,10 @@ teapot_pass (or --scene), in six parts.
 6. ``coverage_costs``: gather_coverage's gather through moderngl as it is and with one kind of
    work taken out of every tap at a time (a fetch, the sanitising of an input, the trail test;
    COVERAGE_COSTS), with everything but X's own reads and write taken out, with 4 and 6 taps a
-   half-shutter and with its reach cut to 40 px: which work holds the pass. The edits give
-   other images; they time, they do not filter.
+   half-shutter and with its reach cut to 40 px: which work holds the pass. Then with its
+   inputs read as half floats (HALF_INPUTS: motion, colour, colour with the depth in alpha), as
+   an engine's G-buffer would store them. The edits give other images; they time, they do not
+   filter.
 
 Medians over --runs: on a GPU by GL timer queries (50 dispatches back to back behind busy work,
 and one dispatch under its own timer); on llvmpipe by glFinish and a wall clock, which ranks
@@ -726,6 +728,7 @@ def gather_variant_row(ctx, mgl, variant: str, uniforms: dict, bound, expected, 
         "one_dispatch_ms": one,
         "back_to_back_ms": in_a_row,
         "same_bits": bool(np.array_equal(image, expected)),
+        "largest_change": float(np.max(np.abs(image - expected))),
     }
 
 
@@ -854,21 +857,57 @@ def coverage_costs(ctx, frame, runs: int) -> dict:
     # Taps within 40 px, guertin2014's reach at 1080p, instead of 324: what the texture caches
     # lose to the long reach (the keys' tiles still reach as far).
     variants["reach limited to 40 px"] = ((), {"reach_limit": 40.0})
-    bound = (wrapped, units, output, groups)
-    for label, (edits, uniforms) in variants.items():
+    halves = half_inputs(mgl, run)
+    for label, (edits, inputs) in HALF_INPUTS.items():
+        variants[label] = (edits, {}, {name: halves[key] for name, key in inputs.items()})
+    for label, (edits, uniforms, *swapped) in variants.items():
         variant = source
         for old, new in edits:
             assert old in variant, f"{label}: the gather has no {old!r}"
             variant = variant.replace(old, new)
+        bound = (wrapped | (swapped[0] if swapped else {}), units, output, groups)
         row = gather_variant_row(ctx, mgl, variant, run.uniforms | uniforms, bound, expected, runs)
         record[label] = row
         print(
             f"{label:52s} one dispatch {row['one_dispatch_ms']:.4f} ms,"
-            f" back to back {row['back_to_back_ms']:.4f} ms",
+            f" back to back {row['back_to_back_ms']:.4f} ms"
+            + ("" if row["same_bits"] else f", largest change {row['largest_change']:.2e}"),
             flush=True,
         )
+    for texture in halves.values():
+        texture.release()
     output.release()
     return record
+
+
+# Part 6 also reads the gather's inputs as half floats (RGBA16F), as an engine's G-buffer would
+# write them (EEVEE keeps its two-sided motion in rgba16f): what fewer bytes a tap would save.
+# Timing only; the record's largest_change says how far the image moved. label: (edits of the
+# source, {sampler: texture of half_inputs}).
+HALF_INPUTS = {
+    "half inputs: motion RGBA16F": ((), {"motion_sides": "motion"}),
+    "half inputs: colour RGBA16F": ((), {"color": "color"}),
+    "half inputs: motion and colour RGBA16F": ((), {"motion_sides": "motion", "color": "color"}),
+    "half inputs: motion RGBA16F, colour + depth RGBA16F": (
+        COVERAGE_COSTS["no depth fetch at the taps (read from colour alpha)"],
+        {"motion_sides": "motion", "color": "color_depth"},
+    ),
+}
+
+
+def half_inputs(mgl, run) -> dict:
+    """RGBA16F copies of the gather's inputs: motion (both halves), color, and color_depth
+    (colour with the depth in its alpha), rounded to nearest by NumPy."""
+    motion = run.inputs["motion_sides"].download()
+    color = run.inputs["color"].download()
+    depth = run.inputs["depth"].download().reshape(color.shape[:2])
+    # The background's depth lies past the largest half (65504): clamped there.
+    color_depth = np.concatenate([color[..., :3], np.minimum(depth, 65504.0)[..., None]], axis=-1)
+    height, width = color.shape[:2]
+    return {
+        name: mgl.texture((width, height), 4, image.astype(np.float16).tobytes(), dtype="f2")
+        for name, image in {"motion": motion, "color": color, "color_depth": color_depth}.items()
+    }
 
 
 # glMemoryBarrier bits (GL 4.5): every blurlab pass ends with GL_ALL_BARRIER_BITS.

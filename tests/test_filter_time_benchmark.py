@@ -87,3 +87,6 @@ def test_coverage_costs_edit_the_gather_that_blurlab_runs(ctx, frame):
     assert not record["4 taps a half-shutter"]["same_bits"]
     # The candidates are rewrites that must keep the image, so their times compare like for like.
     assert all(record[label]["same_bits"] for label in filter_time.COVERAGE_CANDIDATES)
+    # Half-float colour moves the image by its rounding alone: under a half's step at 1.
+    assert 0.0 < record["half inputs: colour RGBA16F"]["largest_change"] < 1e-3
+    assert set(filter_time.HALF_INPUTS) < set(record)
