@@ -849,23 +849,24 @@ def coverage_costs(ctx, frame, runs: int) -> dict:
     )
     expected = run.outputs["result"].download()
     record: dict = {}
-    variants = {"same source": ((), {})}
+    # label: (edits of the source, uniforms changed, inputs swapped)
+    variants = {"same source": ((), {}, {})}
     variants |= {
-        label: (edits, {}) for label, edits in (COVERAGE_COSTS | COVERAGE_CANDIDATES).items()
+        label: (edits, {}, {}) for label, edits in (COVERAGE_COSTS | COVERAGE_CANDIDATES).items()
     }
-    variants |= {f"{n} taps a half-shutter": ((), {"samples": n}) for n in (4, 6)}
+    variants |= {f"{n} taps a half-shutter": ((), {"samples": n}, {}) for n in (4, 6)}
     # Taps within 40 px, guertin2014's reach at 1080p, instead of 324: what the texture caches
     # lose to the long reach (the keys' tiles still reach as far).
-    variants["reach limited to 40 px"] = ((), {"reach_limit": 40.0})
+    variants["reach limited to 40 px"] = ((), {"reach_limit": 40.0}, {})
     halves = half_inputs(mgl, run)
     for label, (edits, inputs) in HALF_INPUTS.items():
         variants[label] = (edits, {}, {name: halves[key] for name, key in inputs.items()})
-    for label, (edits, uniforms, *swapped) in variants.items():
+    for label, (edits, uniforms, swapped) in variants.items():
         variant = source
         for old, new in edits:
             assert old in variant, f"{label}: the gather has no {old!r}"
             variant = variant.replace(old, new)
-        bound = (wrapped | (swapped[0] if swapped else {}), units, output, groups)
+        bound = (wrapped | swapped, units, output, groups)
         row = gather_variant_row(ctx, mgl, variant, run.uniforms | uniforms, bound, expected, runs)
         record[label] = row
         print(
