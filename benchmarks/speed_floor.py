@@ -28,14 +28,19 @@
    geometry, transform only, constant outputs, then the background triangle); with triangle
    and fragment counts, and the first call on a fresh context split into shader build, mesh
    uploads, material textures, target allocation, first pass, second pass;
-6. with --study, `blurlab study` (run_study, default scenes and grids, all three metrics) at
+6. the three-pass floor ("still"): each filter, compute with packed inputs (and a half-float
+   result), back to back on teapot_pass and on the same frame with its motion set to zero,
+   where every tile's NeighborMax is 0 and every pixel leaves the reconstruct at its early exit
+   (docs/spec.md §3), reading only its own texels: what the filter would cost if its taps were
+   free, against the goal;
+7. with --study, `blurlab study` (run_study, default scenes and grids, all three metrics) at
    --size, with the phases it times itself (phases.json): references, G-buffers, evaluations,
    images, charts, per-object table, HTML.
 
 Medians over --runs; GL timer queries on a GPU, glFinish + wall clock on llvmpipe.
 
     python benchmarks/speed_floor.py [--device gpu] [--size 1920x1080] [--study] [--json f]
-        [--parts filters,sweep,metrics,raster] [--ssim-layouts pixel16,column4,...]
+        [--parts filters,sweep,metrics,raster,still] [--ssim-layouts pixel16,column4,...]
         [--raster-scenes teapot_pass,textured_spin,vehicle]
 """
 
@@ -66,7 +71,8 @@ from blurlab.render import (
 
 from common import back_to_back_ms, describe, open_context, save, spin_up
 
-PARTS = ("filters", "sweep", "metrics", "raster")  # what --parts can choose
+PARTS = ("filters", "sweep", "metrics", "raster", "still")  # what --parts can choose
+GOALS_MS = {"reconstruct_mcguire2012": 0.035, "reconstruct_guertin2014": 0.040}  # issue 19
 FILTERS = {
     "reconstruct_mcguire2012": {"k": 20, "samples": 15},
     "reconstruct_guertin2014": {},
@@ -168,6 +174,51 @@ def filters(ctx, frame, runs: int) -> dict:
         print(f"| {name}: compute stored / packed | | {packing:.2f}x | | |")
     out["pack_inputs_ms"] = frame.timings["pack_inputs"].ms  # once per frame, first call
     print(f"| packing pass (once per frame) | | {out['pack_inputs_ms']:.4f} | | |")
+    return out
+
+
+def three_pass_floor(ctx, frame, runs: int) -> dict:
+    """Item 6: each filter back to back (and per pass) on `frame` and on a still copy of it."""
+    still = bl.Frame(
+        color=frame.color,
+        depth=frame.depth,
+        motion=np.zeros_like(frame.motion),
+        object_id=frame.object_id,
+    )
+    ways = {
+        "packed": {"packed_inputs": True},
+        "packed half": {"packed_inputs": True, "half_result": True},
+    }
+    out = {}
+    print(
+        "\n| filter / inputs | goal, ms | teapot_pass, back to back | still frame, back to back | "
+        "still frame per pass | floor / goal |"
+    )
+    print("|---|---|---|---|---|---|")
+    for name, filter_params in FILTERS.items():
+        out[name] = {}
+        for label, way in ways.items():
+            params = {**filter_params, **way}
+            row = {}
+            for which, source in (("moving", frame), ("still", still)):
+                call = lambda source=source, name=name, params=params: bl.blur(  # noqa: E731
+                    ctx, source, name, timed=False, **params
+                )
+                row[f"{which}_back_to_back_ms"] = back_to_back_ms(ctx, call)
+            per_pass: dict = {}
+            for _ in range(runs):
+                result = bl.blur(ctx, still, name, **params)
+                for p, t in result.timings.items():
+                    per_pass.setdefault(p, []).append(t.ms)
+                del result
+            row["still_passes_ms"] = {p: statistics.median(v) for p, v in per_pass.items()}
+            row["floor_over_goal"] = row["still_back_to_back_ms"] / GOALS_MS[name]
+            out[name][label] = row
+            passes = ", ".join(f"{p} {v:.4f}" for p, v in row["still_passes_ms"].items())
+            print(
+                f"| {name} / {label} | {GOALS_MS[name]} | {row['moving_back_to_back_ms']:.4f} | "
+                f"{row['still_back_to_back_ms']:.4f} | {passes} | {row['floor_over_goal']:.2f}x |"
+            )
     return out
 
 
@@ -838,7 +889,7 @@ def main() -> None:
 def measure_filters_and_metrics(
     ctx, size: tuple[int, int], args, parts: set, layouts: list, record: dict
 ) -> None:
-    """Items 1 to 4 (those in `parts`) and 6 of the module's list, on teapot_pass."""
+    """Items 1 to 4 and 6 (those in `parts`) and 7 of the module's list, on teapot_pass."""
     scene = bl.scenes.teapot_pass()
     frame = ctx.render(scene, size)
     reference = ctx.reference(scene, size, samples=64, progress=False)
@@ -855,6 +906,8 @@ def measure_filters_and_metrics(
         record["sweep"] = sweep_rate(ctx, frame, reference, args.evaluations, args.readback_batch)
     if "metrics" in parts:
         record["metrics"] = metric_times(ctx, frame, reference, args.runs, layouts)
+    if "still" in parts:
+        record["three_pass_floor"] = three_pass_floor(ctx, frame, args.runs)
     if args.study:
         record["study"] = study_phases(ctx, size)
 
