@@ -100,39 +100,52 @@ def wall_ms(fn, runs: int) -> float:
     return statistics.median(samples)
 
 
+WAYS_OF_INPUTS = {  # label suffix -> the filter's options
+    "": {"packed_inputs": False},
+    " packed": {"packed_inputs": True},
+    " packed half": {"packed_inputs": True, "half_result": True},  # RGBA16F result too
+}
+
+
+def table_header(*columns: str) -> None:
+    """Prints a Markdown table's header after a blank line."""
+    print("\n| " + " | ".join(columns) + " |")
+    print("|" + "---|" * len(columns))
+
+
+def pass_medians(ctx, frame, name: str, runs: int, **params) -> dict:
+    """Median GPU ms of each pass of `name` on `frame` over `runs` timed calls."""
+    per_pass: dict = {}
+    for _ in range(runs):
+        result = bl.blur(ctx, frame, name, **params)
+        for p, t in result.timings.items():
+            per_pass.setdefault(p, []).append(t.ms)
+        del result  # its textures go back to the pool before the next call
+    return {p: statistics.median(v) for p, v in per_pass.items()}
+
+
 def filters(ctx, frame, runs: int) -> dict:
     """Each filter per backend with the stored inputs ("compute", "fragment"), with packed
     inputs ("compute packed", "fragment packed"; the frame is packed once, before timing) and
     with packed inputs and a half-float result ("compute packed half", "fragment packed half")."""
     out = {}
-    ways_of_inputs = {  # label suffix -> the options
-        "": {"packed_inputs": False},
-        " packed": {"packed_inputs": True},
-        " packed half": {"packed_inputs": True, "half_result": True},  # RGBA16F result too
-    }
-    print(
-        "\n| filter / backend | per pass, ms | GPU total, ms | calls back to back, GPU ms | "
-        "Python call, first 20, ms (/ GPU) | Python call, steady, ms | its CPU, ms | call / GPU |"
-    )
-    print("|---|---|---|---|---|---|---|---|")
+    table_header(
+        "filter / backend", "per pass, ms", "GPU total, ms", "calls back to back, GPU ms",
+        "Python call, first 20, ms (/ GPU)", "Python call, steady, ms", "its CPU, ms",
+        "call / GPU",
+    )  # fmt: skip
     for name, stored_params in FILTERS.items():
         out[name] = {}
-        ways = itertools.product(bl.method(name).backends, ways_of_inputs)
+        ways = itertools.product(bl.method(name).backends, WAYS_OF_INPUTS)
         for backend, suffix in ways:
-            params = {**stored_params, **ways_of_inputs[suffix]}
+            params = {**stored_params, **WAYS_OF_INPUTS[suffix]}
             label = backend + suffix
             spin_up(
                 lambda name=name, backend=backend, params=params: bl.blur(
                     ctx, frame, name, backend=backend, **params
                 )
             )
-            per_pass: dict = {}
-            for _ in range(runs):
-                result = bl.blur(ctx, frame, name, backend=backend, **params)
-                for p, t in result.timings.items():
-                    per_pass.setdefault(p, []).append(t.ms)
-                del result
-            medians = {p: statistics.median(v) for p, v in per_pass.items()}
+            medians = pass_medians(ctx, frame, name, runs, backend=backend, **params)
             total = sum(medians.values())
             # A Python call as a sweep makes it: untimed, the GPU finished once after the loop.
             # The first 20 include the call that only notes the parameters and the one that
@@ -161,7 +174,7 @@ def filters(ctx, frame, runs: int) -> dict:
                 f"({first[0] / total:.2f}x) | {call:.4f} | {cpu:.4f} | {call / total:.2f} |"
             )
         both = out[name]
-        for suffix in ways_of_inputs:
+        for suffix in WAYS_OF_INPUTS:
             if "fragment" + suffix in both:
                 fragment, compute = both["fragment" + suffix], both["compute" + suffix]
                 ratio = fragment["total_ms"] / compute["total_ms"]
@@ -185,16 +198,12 @@ def three_pass_floor(ctx, frame, runs: int) -> dict:
         motion=np.zeros_like(frame.motion),
         object_id=frame.object_id,
     )
-    ways = {
-        "packed": {"packed_inputs": True},
-        "packed half": {"packed_inputs": True, "half_result": True},
-    }
+    ways = {suffix.strip(): way for suffix, way in WAYS_OF_INPUTS.items() if way["packed_inputs"]}
     out = {}
-    print(
-        "\n| filter / inputs | goal, ms | teapot_pass, back to back | still frame, back to back | "
-        "still frame per pass | floor / goal |"
-    )
-    print("|---|---|---|---|---|---|")
+    table_header(
+        "filter / inputs", "goal, ms", "teapot_pass, back to back", "still frame, back to back",
+        "still frame per pass", "floor / goal",
+    )  # fmt: skip
     for name, filter_params in FILTERS.items():
         out[name] = {}
         for label, way in ways.items():
@@ -205,13 +214,7 @@ def three_pass_floor(ctx, frame, runs: int) -> dict:
                     ctx, source, name, timed=False, **params
                 )
                 row[f"{which}_back_to_back_ms"] = back_to_back_ms(ctx, call)
-            per_pass: dict = {}
-            for _ in range(runs):
-                result = bl.blur(ctx, still, name, **params)
-                for p, t in result.timings.items():
-                    per_pass.setdefault(p, []).append(t.ms)
-                del result
-            row["still_passes_ms"] = {p: statistics.median(v) for p, v in per_pass.items()}
+            row["still_passes_ms"] = pass_medians(ctx, still, name, runs, **params)
             row["floor_over_goal"] = row["still_back_to_back_ms"] / GOALS_MS[name]
             out[name][label] = row
             passes = ", ".join(f"{p} {v:.4f}" for p, v in row["still_passes_ms"].items())
