@@ -10,6 +10,8 @@ import statistics
 import time
 from pathlib import Path
 
+import blurlab as bl
+
 # Seconds of untimed calls before a timed set: an H100 left idle (by CPU work, or a benchmark's
 # checks) clocks down, and the next set then timed 2-4x slow (engines.py --variants and
 # speed_floor.py's metrics, 2026-11-24).
@@ -104,6 +106,18 @@ def spin_up(call, seconds: float = SPIN_UP_S) -> None:
     start = time.perf_counter()
     while time.perf_counter() - start < seconds:
         call()
+
+
+def median_passes(ctx, frame, method: str, runs: int, **params) -> tuple[dict, object]:
+    """Median ms of each pass of `method` over `runs` timed runs after common.SPIN_UP_S of
+    untimed ones, and the last run's result."""
+    spin_up(lambda: bl.blur(ctx, frame, method, **params))
+    times: dict[str, list] = {}
+    for _ in range(runs):
+        result = bl.blur(ctx, frame, method, **params)
+        for key, timing in result.timings.items():
+            times.setdefault(key, []).append(timing.ms)
+    return {key: statistics.median(ms) for key, ms in times.items()}, result
 
 
 def back_to_back_ms(ctx, call, calls: int = 50, busy_ms: float = 20.0, warm=None) -> float:

@@ -65,10 +65,10 @@ from common import (
     add_config_argument,
     back_to_back_ms,
     describe,
+    median_passes,
     method_runs,
     open_context,
     save,
-    spin_up,
 )
 
 BASELINES = ("reconstruct_guertin2014", "reconstruct_mcguire2012")
@@ -162,18 +162,6 @@ def calls_ms(ctx, frame, method: str, **params) -> float:
     """GPU ms per untimed call of `method` on `frame`, calls issued back to back
     (common.back_to_back_ms): no per-pass timers, no GPU waiting for Python."""
     return back_to_back_ms(ctx, lambda: bl.blur(ctx, frame, method, timed=False, **params))
-
-
-def median_passes(ctx, frame, method: str, runs: int, **params) -> tuple[dict, object]:
-    """Median ms of each pass of `method` over `runs` timed runs after common.SPIN_UP_S of
-    untimed ones, and the last run's result."""
-    spin_up(lambda: bl.blur(ctx, frame, method, **params))
-    times: dict[str, list] = {}
-    for _ in range(runs):
-        result = bl.blur(ctx, frame, method, **params)
-        for key, timing in result.timings.items():
-            times.setdefault(key, []).append(timing.ms)
-    return {key: statistics.median(ms) for key, ms in times.items()}, result
 
 
 def tile_grids(result) -> tuple:

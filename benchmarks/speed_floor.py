@@ -69,7 +69,7 @@ from blurlab.render import (
     target_shapes,
 )
 
-from common import back_to_back_ms, describe, open_context, save, spin_up
+from common import back_to_back_ms, describe, median_passes, open_context, save, spin_up
 
 PARTS = ("filters", "sweep", "metrics", "raster", "still")  # what --parts can choose
 GOALS_MS = {"reconstruct_mcguire2012": 0.035, "reconstruct_guertin2014": 0.040}  # issue 19
@@ -113,17 +113,6 @@ def table_header(*columns: str) -> None:
     print("|" + "---|" * len(columns))
 
 
-def pass_medians(ctx, frame, name: str, runs: int, **params) -> dict:
-    """Median GPU ms of each pass of `name` on `frame` over `runs` timed calls."""
-    per_pass: dict = {}
-    for _ in range(runs):
-        result = bl.blur(ctx, frame, name, **params)
-        for p, t in result.timings.items():
-            per_pass.setdefault(p, []).append(t.ms)
-        del result  # its textures go back to the pool before the next call
-    return {p: statistics.median(v) for p, v in per_pass.items()}
-
-
 def filters(ctx, frame, runs: int) -> dict:
     """Each filter per backend with the stored inputs ("compute", "fragment"), with packed
     inputs ("compute packed", "fragment packed"; the frame is packed once, before timing) and
@@ -140,12 +129,7 @@ def filters(ctx, frame, runs: int) -> dict:
         for backend, suffix in ways:
             params = {**stored_params, **WAYS_OF_INPUTS[suffix]}
             label = backend + suffix
-            spin_up(
-                lambda name=name, backend=backend, params=params: bl.blur(
-                    ctx, frame, name, backend=backend, **params
-                )
-            )
-            medians = pass_medians(ctx, frame, name, runs, backend=backend, **params)
+            medians, _ = median_passes(ctx, frame, name, runs, backend=backend, **params)
             total = sum(medians.values())
             # A Python call as a sweep makes it: untimed, the GPU finished once after the loop.
             # The first 20 include the call that only notes the parameters and the one that
@@ -214,7 +198,7 @@ def three_pass_floor(ctx, frame, runs: int) -> dict:
                     ctx, source, name, timed=False, **params
                 )
                 row[f"{which}_back_to_back_ms"] = back_to_back_ms(ctx, call)
-            row["still_passes_ms"] = pass_medians(ctx, still, name, runs, **params)
+            row["still_passes_ms"], _ = median_passes(ctx, still, name, runs, **params)
             row["floor_over_goal"] = row["still_back_to_back_ms"] / GOALS_MS[name]
             out[name][label] = row
             passes = ", ".join(f"{p} {v:.4f}" for p, v in row["still_passes_ms"].items())
