@@ -31,8 +31,8 @@
 6. the three-pass floor ("still"): each filter, compute with packed inputs (and a half-float
    result), back to back on teapot_pass and on the same frame with its motion set to zero,
    where every tile's NeighborMax is 0 and every pixel leaves the reconstruct at its early exit
-   (docs/spec.md §3), reading only its own texels: what the filter would cost if its taps were
-   free, against the goal;
+   (docs/spec.md §3.4 step 2), reading only its own texels: what the filter would cost if its
+   taps were free, against the goal;
 7. with --study, `blurlab study` (run_study, default scenes and grids, all three metrics) at
    --size, with the phases it times itself (phases.json): references, G-buffers, evaluations,
    images, charts, per-object table, HTML.
