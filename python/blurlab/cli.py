@@ -215,7 +215,8 @@ class _Parser(argparse.ArgumentParser):
 USER_ERRORS = (ValueError, TypeError, LookupError, OSError, RuntimeError, ImportError)
 
 
-def main(argv: list[str] | None = None) -> int:
+def build_parser() -> argparse.ArgumentParser:
+    """The `blurlab` command line; docs/cli.md is printed from it (blurlab.cli_reference)."""
     parser = _Parser(prog="blurlab", description=__doc__)
     parser.add_argument(
         "--debug", action="store_true", help="show the Python traceback of an error"
@@ -289,6 +290,11 @@ def main(argv: list[str] | None = None) -> int:
     sweep = sub.add_parser("sweep", help="run the sweep a TOML configuration describes")
     sweep.add_argument("config", help="TOML file: scenes, methods, size, shutter, ...")
     _add_cluster_options(sweep)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = build_parser()
     args = parser.parse_args(argv)
     commands = {
         "info": _info,
