@@ -21,6 +21,7 @@ import pandas as pd
 
 from .. import io, metrics, scenes
 from ..context import Context
+from ..docs_link import docs_url
 from ..methods import blur, method, method_instant
 from . import interactive, objects, peers, plots, workers
 from .cluster import account_table
@@ -509,9 +510,10 @@ def _html(info, size, table, sections, curves, per_object=None, peer_rows=None, 
                 f"</td><td style='text-align:left'>{e(PHASES[phase])}</td></tr>"
             )
         parts.append("</table>")
+    docs = docs_url("study")  # the built site, or the checkout's pages (blurlab.docs_link)
+    where = f"<a href='{e(docs)}'>blurlab's docs</a>" if docs else "docs/study.md in its source"
     parts.append(
-        "<p>Made by <code>blurlab study</code>; see docs/ for the methods and what each "
-        "number means.</p>"
+        f"<p>Made by <code>blurlab study</code>; {where} say what each method and number means.</p>"
     )
     return "\n".join(parts)
 
