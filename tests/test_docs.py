@@ -51,6 +51,14 @@ def test_site_builds_strict(tmp_path):
     assert (tmp_path / "api" / "context.html").is_file()
     # The example report is part of the site, so the pages' links to it work.
     assert (tmp_path / "study-h100-1080p" / "report.html").is_file()
+    # Offline: no page loads a script, a style sheet or a font from elsewhere.
+    loads = re.compile(r"<(?:script|link)\b[^>]*(?:src|href)=[\"']?(?:https?:)?//", re.IGNORECASE)
+    remote = [
+        str(page.relative_to(tmp_path))
+        for page in tmp_path.rglob("*.html")
+        if "study-h100-1080p" not in page.parts and loads.search(page.read_text())
+    ]
+    assert not remote, remote
 
 
 def test_docs_cite_spec_sections_not_issue_numbers():
