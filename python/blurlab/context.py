@@ -21,6 +21,7 @@ from . import _core
 from ._paths import shader_dir as _default_shader_dir
 from .converged import reference_render
 from .render import render
+from .sizes import DEFAULT_SIZE
 
 TEXTURE_DTYPES = ("uint8", "float16", "float32", "uint32")
 DEVICE_MODES = ("auto", "gpu", "software")
@@ -429,7 +430,7 @@ class Context:
     def render(
         self,
         scene,
-        size=(640, 360),
+        size=DEFAULT_SIZE,
         shutter=None,
         instant="center",
         motion_format="rg32f",
@@ -451,7 +452,7 @@ class Context:
     def reference(
         self,
         scene,
-        size=(640, 360),
+        size=DEFAULT_SIZE,
         shutter=None,
         samples: int | str = 256,
         stratified: bool = True,

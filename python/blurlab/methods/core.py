@@ -20,6 +20,7 @@ from ..context import Context, Texture, Timing
 from ..converged import accumulate
 from ..frame import Frame
 from ..render import check_shutter, instant_time
+from ..sizes import DEFAULT_SIZE
 from . import plans
 from .params import (
     FLOAT32_MAX,
@@ -221,7 +222,7 @@ def render_and_blur(
     ctx: Context,
     scene,
     name: str,
-    size=(640, 360),
+    size=DEFAULT_SIZE,
     shutter=None,
     backend: str | None = None,
     steps: int = 1,
@@ -263,7 +264,7 @@ def step_shutters(shutter: tuple[float, float], steps: int) -> list[tuple[float,
 
 
 def render_steps(
-    ctx: Context, scene, name: str, steps: int = 1, size=(640, 360), shutter=None, **params
+    ctx: Context, scene, name: str, steps: int = 1, size=DEFAULT_SIZE, shutter=None, **params
 ) -> list[Frame]:
     """The G-buffers that `blur_steps` needs: one per sub-interval of the shutter, each at the
     instant method `name` expects within it, its motion over the sub-interval."""

@@ -22,6 +22,7 @@ import pandas as pd
 from .. import io, metrics, scenes
 from ..context import Context
 from ..methods import blur, method, method_instant
+from ..sizes import DEFAULT_SIZE
 from . import interactive, objects, peers, plots, workers
 from .cluster import account_table
 from .evaluation import SETUP_PHASES, PhaseClock, picture_key
@@ -49,7 +50,7 @@ PHASES = {
 def run_study(
     ctx: Context,
     scene_names=None,
-    size=(640, 360),
+    size=DEFAULT_SIZE,
     out="out/study",
     reference_samples: int | None = None,
     metrics=None,
@@ -547,7 +548,7 @@ def run_sweep_config(
         ctx,
         config.get("scenes", scenes.names()),
         config.get("methods"),
-        tuple(config.get("size", (640, 360))),
+        tuple(config.get("size", DEFAULT_SIZE)),
         config.get("shutter"),
         config.get("reference_samples"),
         tuple(config.get("metrics", ("psnr",))),
