@@ -1,5 +1,5 @@
 """engine_eevee: the post-process motion blur of Blender EEVEE-Next, written from the algorithm
-as issue 17 and Blender's user manual (Render > Motion Blur) describe it, not from Blender's
+as Blender's user manual (Render > Motion Blur) describes it, not from Blender's
 sources: docs/spec.md §17.2. Three passes on the two-sided motion of §17.1: tile flatten
 (shaders/passes/eevee_tile_flatten.glsl), dilation along each tile's motion
 (eevee_tile_dilate.glsl) and the gather over both half-shutters (eevee_gather.glsl). NumPy

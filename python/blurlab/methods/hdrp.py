@@ -1,6 +1,6 @@
 """engine_hdrp: the motion blur of Unity's High Definition Render Pipeline, written from the
-algorithm as issue 17 describes it and from HDRP's public manual (the Motion Blur volume
-override), not from Unity's sources: docs/spec.md §17.4. Four passes: velocity setup with the
+algorithm of docs/spec.md §17.4 and from HDRP's public manual (the Motion Blur volume override),
+not from Unity's sources. Four passes: velocity setup with the
 camera clamp modes, polar velocity and linear depth in B10G11R11 codes
 (shaders/passes/hdrp_velocity_setup.glsl); per-tile min and max (hdrp_tile_min_max.glsl); the
 3 x 3 neighbourhood, or the scatter variant, and the tile classes early-out / fast / slow

@@ -1,6 +1,6 @@
-"""Recorded dispatch plans (issue 19: a Python call of a method must cost little more than its
-GPU time). The first untimed run of a method on a frame with a given set of parameters is
-recorded pass by pass; later identical calls replay the recording through one C++ call
+"""Recorded dispatch plans (docs/spec.md §18: a Python call of a method must cost little more
+than its GPU time). The first untimed run of a method on a frame with a given set of parameters
+is recorded pass by pass; later identical calls replay the recording through one C++ call
 (_core.DispatchPlan) that binds the programs, textures, uniforms and work-group counts resolved
 when it was recorded, instead of validating parameters, building uniform dicts and looking up
 programs and units pass by pass. docs/spec.md §18 says when a run is recorded and replayed.

@@ -1,6 +1,6 @@
 """engine_unity: the motion blur of Unity's PostProcessing v2 (the KinoMotion lineage, after
-McGuire et al. 2012), written from the algorithm as issue 17 describes it, not from Unity's
-sources: docs/spec.md §17.3. Velocity setup with 10-bit velocity and depth
+McGuire et al. 2012), written from the algorithm of docs/spec.md §17.3, not from Unity's
+sources. Velocity setup with 10-bit velocity and depth
 (shaders/passes/unity_velocity_setup.glsl), TileMax by three 2 x 2 reductions and one of
 tile/8 (unity_tile_reduce.glsl), NeighborMax with a 1.01 bias toward the center
 (unity_neighbor_max.glsl), reconstruction along NeighborMax and v_alt (unity_reconstruct.glsl).

@@ -1,7 +1,7 @@
-"""engine_unreal: the motion blur of Unreal Engine 4, written from the algorithm as issue 17
-describes it, from Unreal's public documentation of its settings and from Jimenez 2014 ("Next
+"""engine_unreal: the motion blur of Unreal Engine 4, written from the algorithm of docs/spec.md
+§17.5, from Unreal's public documentation of its settings and from Jimenez 2014 ("Next
 Generation Post Processing in Call of Duty: Advanced Warfare", whose filter UE4's follows), not
-from Epic's sources: docs/spec.md §17.5. Velocity flatten into the 11:11:10 polar texel
+from Epic's sources. Velocity flatten into the 11:11:10 polar texel
 (shaders/passes/unreal_velocity_flatten.glsl), min/max per 16 x 16 tile (unreal_tile_minmax.glsl),
 scatter-as-gather over the 7 x 7 tiles around each tile with the tile's class
 (unreal_neighbor_dilate.glsl), and the reconstruction whose path (skip, fast, slow) is chosen

@@ -353,7 +353,7 @@ def _scene_section(
 
 
 # zlib level of the report's full-size PNGs: 1 encodes in about 2/3 of the default 6's time,
-# for files about 30 % larger (docs/benchmarks.md, issue 19).
+# for files about 30 % larger (docs/benchmarks.md).
 REPORT_PNG_COMPRESSION = 1
 
 
