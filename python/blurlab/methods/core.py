@@ -31,7 +31,16 @@ from .params import (
     as_float32,
     is_auto,
 )
-from .passes import Pass, choice_defines, frame_textures, pass_uniforms, run_pass, timed, timers
+from .passes import (
+    Pass,
+    PassRunner,
+    choice_defines,
+    frame_textures,
+    pass_uniforms,
+    run_pass,
+    timed,
+    timers,
+)
 from .registry import (
     KINDS,
     Method,
@@ -56,6 +65,7 @@ __all__ = [
     "Method",
     "Param",
     "Pass",
+    "PassRunner",
     "as_float32",
     "blur",
     "blur_steps",

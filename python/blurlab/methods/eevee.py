@@ -20,7 +20,7 @@ import numpy as np
 from ..context import Context, Texture
 from ..frame import Frame
 from ..twins import eevee as twin
-from .core import SEED, Method, Param, Pass, register, run_pass
+from .core import SEED, Method, Param, Pass, PassRunner, register
 from .tile_filter import TILE_FILTER_PARAMS
 from .variants import PassVariants
 
@@ -126,6 +126,7 @@ def dilated_tiles(
     TILE_PICK_LAYOUT says), else one thread per tile (same bits either way); None: as
     tile_groups(ctx) says. `length_steps`: lengths compare as twins.eevee.pick_key says (0:
     exactly, as EEVEE does); with steps the dilation runs as DILATION_LAYOUT says."""
+    passes = PassRunner(ctx, params, values, timings)
     height, width = size
     grid = (-(-height // tile_size), -(-width // tile_size), 4)
     tiles = ctx.pooled(grid)
@@ -143,15 +144,9 @@ def dilated_tiles(
     flattened = {"tiles": tiles}
     if scatter:  # the flatten also offers each tile's reach to the keys
         flattened["reach_keys"] = ctx.pooled((2 * grid[0], grid[1]), "uint32")  # prev above next
-        run_pass(
-            ctx, timings, CLEAR_KEYS, params, values, {}, {"reach_keys": flattened["reach_keys"]}
-        )
-    run_pass(
-        ctx,
-        timings,
+        passes.run(CLEAR_KEYS, {}, {"reach_keys": flattened["reach_keys"]})
+    passes.run(
         FLATTEN,
-        params,
-        values,
         {"motion_sides": sides},
         flattened,
         uniforms={**sized, "max_blur": max_blur} if scatter else sized,
@@ -162,15 +157,11 @@ def dilated_tiles(
         return TileGrids(sides, tiles, None, flattened["reach_keys"])
     dilated = ctx.pooled(grid)
     if scatter:
-        run_pass(ctx, timings, RESOLVE, params, values, flattened, {"dilated": dilated})
+        passes.run(RESOLVE, flattened, {"dilated": dilated})
         ctx.recycle(flattened["reach_keys"])
         return TileGrids(sides, tiles, dilated, None)
-    run_pass(
-        ctx,
-        timings,
+    passes.run(
         DILATE,
-        params,
-        values,
         {"tiles": tiles},
         {"dilated": dilated},
         uniforms={**sized, "max_blur": max_blur},
@@ -182,9 +173,9 @@ def dilated_tiles(
 
 def _run_eevee(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
     size = inputs["color"].shape[:2]
-    timings: dict = {}
+    passes = PassRunner(ctx, PARAMS, values)
     sides, tiles, dilated, _ = dilated_tiles(
-        ctx, frame, timings, PARAMS, values, size, values["tile_size"], values["max_blur"]
+        ctx, frame, passes.timings, PARAMS, values, size, values["tile_size"], values["max_blur"]
     )
     result = ctx.pooled((*size, 4))
     textures = {
@@ -193,8 +184,8 @@ def _run_eevee(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: 
         "motion_sides": sides,
         "dilated": dilated,
     }
-    run_pass(ctx, timings, GATHER, PARAMS, values, textures, {"result": result}, backend)
-    return {"color": result, "tiles": tiles, "dilated": dilated}, timings
+    passes.run(GATHER, textures, {"result": result}, backend)
+    return {"color": result, "tiles": tiles, "dilated": dilated}, passes.timings
 
 
 register(

@@ -12,11 +12,11 @@ from collections.abc import Callable
 
 import numpy as np
 
-from ..context import Context, Timing
+from ..context import Context
 from ..frame import Frame
 from ..render import render_targets
 from ..twins import gathers as twin
-from .core import PARAM_SCALE_MAX, Method, Param, Pass, register, run_pass
+from .core import PARAM_SCALE_MAX, Method, Param, Pass, PassRunner, register
 
 EDGES = ("clamp", "ignore", "guard")
 
@@ -55,10 +55,10 @@ def run_gather(step: Pass, params: dict[str, Param], reach: Callable[[dict], flo
         def on(textures):
             height, width = textures["color"].shape[:2]
             result = ctx.pooled((height, width, 4))
-            timings: dict[str, Timing] = {}
+            passes = PassRunner(ctx, params, values)
             gathered = {"color": textures["color"], "motion": textures["motion"]}
-            run_pass(ctx, timings, step, params, values, gathered, {"result": result}, backend)
-            return result, timings
+            passes.run(step, gathered, {"result": result}, backend)
+            return result, passes.timings
 
         color, timings = with_edge(ctx, frame, inputs, values["edge"], reach(values), on)
         return {"color": color}, timings

@@ -23,7 +23,7 @@ from ..frame import Frame
 from ..twins import hdrp as twin
 from ..twins.small_float import UF11_MANTISSA, largest_finite
 from .camera_only import camera_motion_uniforms
-from .core import FLOAT32_MAX, SEED, Method, Param, Pass, register, run_pass
+from .core import FLOAT32_MAX, SEED, Method, Param, Pass, PassRunner, register
 from .gathers import BOX_PARAMS
 
 # Lengths are stored as unsigned 11-bit floats (§17.4): longer ones would all read as this.
@@ -85,66 +85,39 @@ _NO_CAMERA = {
 def _run_hdrp(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
     height, width = inputs["color"].shape[:2]
     tile = twin.tile_size(values["scatter"])
-    timings: dict = {}
+    passes = PassRunner(ctx, PARAMS, values)
     velocity = ctx.pooled((height, width, 4))
     if frame.camera is None:
         camera = _NO_CAMERA
     else:
         camera = {**camera_motion_uniforms(frame.camera), "has_camera": True}
-    run_pass(
-        ctx,
-        timings,
+    passes.run(
         SETUP,
-        PARAMS,
-        values,
         {"depth": inputs["depth"], "motion": inputs["motion"]},
         {"velocity": velocity},
         uniforms=camera,
     )
     grid = (-(-height // tile), -(-width // tile))
     tiles = ctx.pooled((*grid, 4))
-    run_pass(
-        ctx,
-        timings,
-        TILE_MIN_MAX,
-        PARAMS,
-        values,
-        {"velocity": velocity},
-        {"tiles": tiles},
-        uniforms={"tile": tile},
-    )
+    passes.run(TILE_MIN_MAX, {"velocity": velocity}, {"tiles": tiles}, uniforms={"tile": tile})
     neighborhood = ctx.pooled((*grid, 4))
     radius = twin.scatter_radius(tile, twin.reach_px((width, height), values), grid)
-    run_pass(
-        ctx,
-        timings,
+    passes.run(
         NEIGHBORHOOD,
-        PARAMS,
-        values,
         {"tiles": tiles},
         {"neighborhood": neighborhood},
         uniforms={"tile": tile, "radius": radius},
     )
     result = ctx.pooled((height, width, 4))
     textures = {"color": inputs["color"], "velocity": velocity, "neighborhood": neighborhood}
-    run_pass(
-        ctx,
-        timings,
-        RECONSTRUCT,
-        PARAMS,
-        values,
-        textures,
-        {"result": result},
-        backend,
-        uniforms={"tile": tile},
-    )
+    passes.run(RECONSTRUCT, textures, {"result": result}, backend, uniforms={"tile": tile})
     outputs = {
         "color": result,
         "velocity": velocity,
         "tiles": tiles,
         "neighborhood": neighborhood,
     }
-    return outputs, timings
+    return outputs, passes.timings
 
 
 register(

@@ -7,7 +7,7 @@ import contextvars
 import math
 from collections.abc import Callable
 from contextlib import contextmanager
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from ..context import Context, Texture, Timing
 from ..frame import Frame
@@ -96,6 +96,41 @@ def run_pass(
         )
         recorder.timing_names.append(step.name)
     _timed(ctx, timings, step.name, run)
+
+
+@dataclass
+class PassRunner:
+    """The passes of one method call: `run` is run_pass with the call's context, its timings,
+    the method's parameter declarations and their validated values bound once."""
+
+    ctx: Context
+    params: dict[str, Param]
+    values: dict
+    timings: dict = field(default_factory=dict)
+
+    def run(
+        self,
+        step: Pass,
+        inputs: dict[str, Texture],
+        outputs: dict[str, Texture],
+        backend: str = "compute",
+        uniforms: dict | None = None,
+        defines: dict | None = None,
+        group_per_texel: bool = False,
+    ) -> None:
+        run_pass(
+            self.ctx,
+            self.timings,
+            step,
+            self.params,
+            self.values,
+            inputs,
+            outputs,
+            backend,
+            uniforms,
+            defines,
+            group_per_texel,
+        )
 
 
 _TIMED: contextvars.ContextVar[bool] = contextvars.ContextVar("blurlab_timed", default=True)

@@ -17,7 +17,7 @@ from __future__ import annotations
 from ..context import Context
 from ..frame import Frame
 from ..twins import unity as twin
-from .core import FLOAT32_MAX, SEED, Method, Param, Pass, register, run_pass
+from .core import FLOAT32_MAX, SEED, Method, Param, Pass, PassRunner, register
 from .tile_filter import TILE_FILTER_PARAMS
 from .urho3d import PARAMS as URHO3D_PARAMS
 
@@ -44,14 +44,10 @@ def _run_unity(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: 
     height, width = inputs["color"].shape[:2]
     radius = twin.max_radius_px(height, values["max_radius"])
     tile = twin.tile_size(height, values["max_radius"])
-    timings: dict = {}
+    passes = PassRunner(ctx, PARAMS, values)
     velocity = ctx.pooled((height, width, 4))
-    run_pass(
-        ctx,
-        timings,
+    passes.run(
         SETUP,
-        PARAMS,
-        values,
         {"depth": inputs["depth"], "motion": inputs["motion"]},
         {"velocity": velocity},
         uniforms={"radius": radius},
@@ -60,40 +56,19 @@ def _run_unity(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: 
     for step, block in [*((r, 2) for r in REDUCTIONS), (TILE_MAX, tile // 8)]:
         h, w = level.shape[:2]
         reduced = ctx.pooled((-(-h // block), -(-w // block), 4))
-        run_pass(
-            ctx,
-            timings,
-            step,
-            PARAMS,
-            values,
-            {"codes": level},
-            {"reduced": reduced},
-            uniforms={"block": block},
-        )
+        passes.run(step, {"codes": level}, {"reduced": reduced}, uniforms={"block": block})
         made.append(reduced)
         level = reduced
     neighbors = ctx.pooled(level.shape[:2] + (4,))
-    run_pass(
-        ctx, timings, NEIGHBOR_MAX, PARAMS, values, {"tiles": level}, {"neighbor_max": neighbors}
-    )
+    passes.run(NEIGHBOR_MAX, {"tiles": level}, {"neighbor_max": neighbors})
     result = ctx.pooled((height, width, 4))
     textures = {"color": inputs["color"], "velocity": velocity, "neighbor_max": neighbors}
     uniforms = {"radius": radius, "tile": tile}
-    run_pass(
-        ctx,
-        timings,
-        RECONSTRUCT,
-        PARAMS,
-        values,
-        textures,
-        {"result": result},
-        backend,
-        uniforms=uniforms,
-    )
+    passes.run(RECONSTRUCT, textures, {"result": result}, backend, uniforms=uniforms)
     for texture in made[:-1]:
         ctx.recycle(texture)
     outputs = {"color": result, "velocity": velocity, "tile_max": level, "neighbor_max": neighbors}
-    return outputs, timings
+    return outputs, passes.timings
 
 
 register(
