@@ -12,7 +12,7 @@ from ..context import Context
 from ..frame import Frame
 from ..render import camera_matrices
 from .core import Method, Pass, PassRunner, register
-from .gathers import BOX_PARAMS, GATHER_BOX, box_reach, with_edge
+from .gathers import BOX_PARAMS, GATHER_BOX, box_instant, box_reach, with_edge
 
 
 def camera_motion_uniforms(camera: dict) -> dict:
@@ -62,7 +62,7 @@ register(
     Method(
         name="camera_only",
         kind="gather",
-        instant=lambda v: "center" if v.get("direction") == "centered" else "close",
+        instant=box_instant,
         params=BOX_PARAMS,
         backends=("compute", "fragment"),
         run=_run_camera_only,

@@ -150,9 +150,7 @@ register(
     Method(
         name="gather_coverage",
         kind="gather",
-        instant="center",
         params=PARAMS,
-        backends=("compute",),
         run=_run_coverage,
         default_grid={"samples": [4, 8, 16], "max_blur": [15.0, 30.0]},
         twin=twin.gather_coverage,

@@ -192,9 +192,7 @@ register(
     Method(
         name="engine_eevee",
         kind="gather",
-        instant="center",
         params=PARAMS,
-        backends=("compute",),
         run=_run_eevee,
         default_grid={"samples": [4, 8, 16], "max_blur": [32.0, 128.0]},
         twin=twin.engine_eevee,

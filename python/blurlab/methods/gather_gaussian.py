@@ -23,7 +23,6 @@ register(
     Method(
         name="gather_gaussian",
         kind="gather",
-        instant="center",
         params=PARAMS,
         backends=("compute", "fragment"),
         run=run_gather(GATHER, PARAMS, reach=lambda values: 0.5),

@@ -103,11 +103,16 @@ def box_reach(values: dict) -> float:
     return values["intensity"] * (0.5 if values["direction"] == "centered" else 1.0)
 
 
+def box_instant(values: dict) -> str:
+    """Taps around X read the G-buffer at the shutter's center, taps behind it at its close."""
+    return "center" if values.get("direction") == "centered" else "close"
+
+
 register(
     Method(
         name="gather_box",
         kind="gather",
-        instant=lambda v: "center" if v.get("direction") == "centered" else "close",
+        instant=box_instant,
         params=BOX_PARAMS,
         backends=("compute", "fragment"),
         run=run_gather(GATHER_BOX, BOX_PARAMS, box_reach),

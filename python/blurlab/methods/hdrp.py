@@ -124,9 +124,7 @@ register(
     Method(
         name="engine_hdrp",
         kind="gather",
-        instant="center",
         params=PARAMS,
-        backends=("compute",),
         run=_run_hdrp,
         default_grid=[{"samples": [4, 8, 12]}, {"scatter": [True]}],
         twin=twin.engine_hdrp,

@@ -31,7 +31,6 @@ register(
     Method(
         name="reconstruct_mcguire2012",
         kind="filter",
-        instant="center",
         params=PARAMS,
         backends=("compute", "fragment"),
         run=run_filter(PARAMS, RECONSTRUCT, diagonal_reach=False),

@@ -62,46 +62,10 @@ def choice_defines(params: dict[str, Param], names) -> dict[str, int]:
     return defines
 
 
-def run_pass(
-    ctx: Context,
-    timings: dict,
-    step: Pass,
-    params: dict[str, Param],
-    values: dict,
-    inputs: dict[str, Texture],
-    outputs: dict[str, Texture],
-    backend: str = "compute",
-    uniforms: dict | None = None,
-    defines: dict | None = None,
-    group_per_texel: bool = False,
-) -> None:
-    """Runs `step` with the method's validated `values` (and any pass-level `uniforms`), timed
-    under step.name."""
-    extra = tuple(sorted(defines.items())) if defines else ()
-
-    def make():
-        all_defines = {**choice_defines(params, step.params), **dict(extra)}
-        return ctx.shader_pass(step.shader, all_defines)
-
-    shader = ctx.cached(("run_pass", step, id(params), extra), make)
-    all_uniforms = {**pass_uniforms(params, values, step.params), **(uniforms or {})}
-
-    def run():
-        shader.run(inputs, outputs, all_uniforms, backend, group_per_texel)
-
-    recorder = plans.active_recorder()
-    if recorder is not None:
-        recorder.runs.append(
-            plans.RecordedRun(shader, inputs, outputs, all_uniforms, backend, group_per_texel)
-        )
-        recorder.timing_names.append(step.name)
-    _timed(ctx, timings, step.name, run)
-
-
 @dataclass
 class PassRunner:
-    """The passes of one method call: `run` is run_pass with the call's context, its timings,
-    the method's parameter declarations and their validated values bound once."""
+    """The passes of one method call: the call's context and timings, the method's parameter
+    declarations and their validated values, bound once for every pass the call runs."""
 
     ctx: Context
     params: dict[str, Param]
@@ -118,19 +82,44 @@ class PassRunner:
         defines: dict | None = None,
         group_per_texel: bool = False,
     ) -> None:
-        run_pass(
-            self.ctx,
-            self.timings,
-            step,
-            self.params,
-            self.values,
-            inputs,
-            outputs,
-            backend,
-            uniforms,
-            defines,
-            group_per_texel,
-        )
+        """Runs `step` with the method's validated values (and any pass-level `uniforms`),
+        timed under step.name."""
+        ctx, params = self.ctx, self.params
+        extra = tuple(sorted(defines.items())) if defines else ()
+
+        def make():
+            all_defines = {**choice_defines(params, step.params), **dict(extra)}
+            return ctx.shader_pass(step.shader, all_defines)
+
+        shader = ctx.cached(("PassRunner", step, id(params), extra), make)
+        all_uniforms = {**pass_uniforms(params, self.values, step.params), **(uniforms or {})}
+
+        def run():
+            shader.run(inputs, outputs, all_uniforms, backend, group_per_texel)
+
+        recorder = plans.active_recorder()
+        if recorder is not None:
+            recorder.runs.append(
+                plans.RecordedRun(shader, inputs, outputs, all_uniforms, backend, group_per_texel)
+            )
+            recorder.timing_names.append(step.name)
+        _timed(ctx, self.timings, step.name, run)
+
+
+def run_pass(
+    ctx: Context,
+    timings: dict,
+    step: Pass,
+    params: dict[str, Param],
+    values: dict,
+    inputs: dict[str, Texture],
+    outputs: dict[str, Texture],
+    backend: str = "compute",
+    **options,
+) -> None:
+    """One pass outside a PassRunner: PassRunner(ctx, params, values, timings).run(...), with
+    `options` its uniforms, defines and group_per_texel."""
+    PassRunner(ctx, params, values, timings).run(step, inputs, outputs, backend, **options)
 
 
 _TIMED: contextvars.ContextVar[bool] = contextvars.ContextVar("blurlab_timed", default=True)
@@ -148,8 +137,9 @@ def timers(on: bool):
 
 def timed(ctx: Context, timings: dict, name: str, fn: Callable) -> None:
     """Runs one pass, timed by the context's clock unless blur(timed=False) asked otherwise
-    (the Timing then says clock "untimed" and NaN ms). GPU work run this way, outside run_pass,
-    is not recorded: a method run that has any is never replayed (blurlab.methods.plans)."""
+    (the Timing then says clock "untimed" and NaN ms). GPU work run this way, outside
+    PassRunner.run, is not recorded: a method run that has any is never replayed
+    (blurlab.methods.plans)."""
     recorder = plans.active_recorder()
     if recorder is not None:
         recorder.unfit()

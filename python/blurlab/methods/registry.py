@@ -23,18 +23,18 @@ from .params import Param, is_auto, typed
 KINDS = ("filter", "gather", "render", "sequence")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class Method:
     """A registered method: everything the rest of blurlab needs to know about it."""
 
     name: str
     kind: str  # one of KINDS
-    # "center" or "close": the G-buffer time the method expects, or a function of the params
-    instant: str | Callable[[dict], str]
     params: dict[str, Param]
-    backends: tuple[str, ...]
     # (ctx, frame, inputs: dict[str, Texture], params, backend) -> (outputs, timings)
     run: Callable
+    # "center" or "close": the G-buffer time the method expects, or a function of the params
+    instant: str | Callable[[dict], str] = "center"
+    backends: tuple[str, ...] = ("compute",)  # the first is the default
     doc: str = ""
     # The grid `blurlab study` and `bl.sweep` use by default: {param: [values]} or a list of
     # them (their union); {} is the defaults alone.

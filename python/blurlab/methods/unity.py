@@ -75,9 +75,7 @@ register(
     Method(
         name="engine_unity",
         kind="gather",
-        instant="center",
         params=PARAMS,
-        backends=("compute",),
         run=_run_unity,
         default_grid={"samples": [4, 10, 32]},
         twin=twin.engine_unity,

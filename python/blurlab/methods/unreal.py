@@ -65,9 +65,7 @@ register(
     Method(
         name="engine_unreal",
         kind="gather",
-        instant="center",
         params=PARAMS,
-        backends=("compute",),
         run=_run_unreal,
         default_grid={"quality": [1, 2, 3, 4]},
         twin=twin.engine_unreal,

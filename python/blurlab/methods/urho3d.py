@@ -57,7 +57,6 @@ register(
     Method(
         name="reconstruct_urho3d",
         kind="filter",
-        instant="center",
         params=PARAMS,
         backends=("fragment",),
         run=_run_urho3d,
