@@ -154,7 +154,6 @@ register(
         run=_run_coverage,
         default_grid={"samples": [4, 8, 16], "max_blur": [15.0, 30.0]},
         twin=twin.gather_coverage,
-        twin_inputs=("color", "depth", "motion_prev", "motion_next"),
         doc="The engines' best parts combined: two-sided motion, dilation along each tile's "
         "motion, tiles and limit relative to the height, taps along the tile's and X's own "
         "motion, weighted by the share of each half-shutter a trail spends over X, the "

@@ -196,7 +196,6 @@ register(
         run=_run_eevee,
         default_grid={"samples": [4, 8, 16], "max_blur": [32.0, 128.0]},
         twin=twin.engine_eevee,
-        twin_inputs=("color", "depth", "motion_prev", "motion_next"),
         doc="Blender EEVEE-Next's post-process motion blur, from its described algorithm: 32 px "
         "tiles, dilation along each tile's motion, 8 samples on each half-shutter of the "
         "two-sided motion, jittered tile lookup, soft depth comparison. docs/spec.md §17.2.",

@@ -81,7 +81,6 @@ register(
         backends=("compute", "fragment"),
         run=run_gather(GATHER_WEIGHTED, WEIGHTED_PARAMS, lambda v: 1.5),
         twin=twin.gather_weighted,
-        twin_inputs=("color", "motion"),
         doc="ogldev tutorial 41: taps along M/2 with weights 0.4/0.3/0.2/0.1. docs/spec.md §4.",
     )
 )
@@ -118,7 +117,6 @@ register(
         run=run_gather(GATHER_BOX, BOX_PARAMS, box_reach),
         default_grid={"taps": [5, 10, 20]},
         twin=twin.gather_box,
-        twin_inputs=("color", "motion"),
         gallery=True,
         doc='"Blurry things": n equal taps along the motion, backward or centered. '
         "docs/spec.md §4.",

@@ -128,7 +128,6 @@ register(
         run=_run_hdrp,
         default_grid=[{"samples": [4, 8, 12]}, {"scatter": [True]}],
         twin=twin.engine_hdrp,
-        twin_inputs=("color", "depth", "motion", "camera"),
         doc="Unity HDRP's motion blur, from its described algorithm and manual: velocity polar "
         "with linear depth in B10G11R11 codes, camera clamp modes, 32 px min/max tiles (16 px "
         "scattered), 3 x 3 neighbourhood, early-out / fast / slow path per tile. "

@@ -42,7 +42,8 @@ class Method:
     # The NumPy twin: twin(*frame arrays named by twin_inputs, **params) -> (H, W, C) color,
     # keyword-only parameters named as in `params`, with no defaults of their own.
     twin: Callable | None = None
-    twin_inputs: tuple[str, ...] = ("color", "depth", "motion")
+    # The frame arrays the twin takes positionally; None: its positional parameters' names.
+    twin_inputs: tuple[str, ...] | None = None
     # Parameters whose time/error curves the study report draws (the thesis's tables 5.2/5.3).
     study_curves: tuple[str, ...] = ()
     # Shown in the failure suite's image gallery (one or two methods of each kind).
@@ -54,6 +55,8 @@ class Method:
     def __post_init__(self):
         if self.kind not in KINDS:
             raise ValueError(f"blurlab: method kind {self.kind!r} is not one of {KINDS}")
+        if self.twin_inputs is None and self.twin is not None:
+            object.__setattr__(self, "twin_inputs", twin_positionals(self.twin))
 
     @property
     def renders(self) -> bool:
@@ -81,6 +84,13 @@ class Method:
         return self.twin(
             *arrays, **{k: v for k, v in values.items() if taken is None or k in taken}
         )
+
+
+def twin_positionals(twin: Callable) -> tuple[str, ...]:
+    """The names of a NumPy twin's positional parameters: the frame arrays it takes."""
+    positional = (inspect.Parameter.POSITIONAL_ONLY, inspect.Parameter.POSITIONAL_OR_KEYWORD)
+    parameters = inspect.signature(twin).parameters.values()
+    return tuple(p.name for p in parameters if p.kind in positional)
 
 
 def twin_keywords(twin: Callable) -> set[str] | None:
