@@ -413,6 +413,11 @@ def write_pictures(
     return html_text, encodes
 
 
+def _html_table(table: pd.DataFrame, number: str = ".4g") -> str:
+    """A table of the report: no index, each float as `number` formats it."""
+    return table.to_html(index=False, float_format=lambda v: f"{v:{number}}", border=0)
+
+
 def _html(info, size, table, sections, curves, per_object=None, peer_rows=None, clock=None) -> str:
     e = html.escape
     when = datetime.datetime.now().strftime("%Y-%m-%d %H:%M")
@@ -472,7 +477,7 @@ def _html(info, size, table, sections, curves, per_object=None, peer_rows=None, 
             if c in s["rows"] and s["rows"][c].notna().any()
         ]
         shown = s["rows"][columns].sort_values("total_ms")
-        parts.append(shown.to_html(index=False, float_format=lambda v: f"{v:.4g}", border=0))
+        parts.append(_html_table(shown))
     if per_object is not None:
         parts.append(
             "<h2>Per object: the OGRE paper's Table 1, with accuracy (textured_spin)</h2>"
@@ -481,7 +486,7 @@ def _html(info, size, table, sections, curves, per_object=None, peer_rows=None, 
             "N/4 time slices (4 jittered renders each: the same N renders). Times are the whole "
             "frame's. Data: <a href='per_object.csv'>per_object.csv</a>.</p>"
         )
-        parts.append(per_object.to_html(index=False, float_format=lambda v: f"{v:.2f}", border=0))
+        parts.append(_html_table(per_object, ".2f"))
     if peer_rows is not None:
         parts.append(
             "<h2>Peers: Blender's EEVEE</h2><p>The same scenes rendered by EEVEE, scored "
@@ -492,9 +497,7 @@ def _html(info, size, table, sections, curves, per_object=None, peer_rows=None, 
         )
         columns = ("scene", "method", "psnr", "ssim", "flip", "psnr_aa", "time", "note")
         shown = [c for c in columns if c in peer_rows]
-        parts.append(
-            peer_rows[shown].to_html(index=False, float_format=lambda v: f"{v:.4g}", border=0)
-        )
+        parts.append(_html_table(peer_rows[shown]))
     for title, image in curves:
         parts.append(f"<h2>{e(title)}</h2><p><img src='{e(image)}'></p>")
     if clock is not None:
