@@ -5,6 +5,10 @@ because a file from outside is untrusted: indices and ranges are bounded, buffer
 from the file itself, a data: URI or a file inside the file's own folder, and nothing is
 downloaded. Scene time is the animation's time in seconds; the motion of every node is its
 animation sampled at t, so any shutter, instant or reference works on it unchanged.
+
+The package reads a file in layers: document (the container, URIs and the checks of untrusted
+values), accessors, animation (nodes, channels, the default shutter), skins, meshes, materials,
+and build, which assembles the Scene and its camera.
 """
 
 from __future__ import annotations

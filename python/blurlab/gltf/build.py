@@ -24,6 +24,7 @@ from .skins import JointSkin, joint_skin
 
 
 def build_scene(file: GltfFile, animation, camera, size_hint, shutter) -> Scene:
+    """The Scene of `file`'s scene: what blurlab.gltf.load returns, its arguments as given."""
     doc = file.doc
     nodes, order = node_hierarchy(file, animation)
     if shutter is None:
