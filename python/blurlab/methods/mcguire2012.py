@@ -21,11 +21,7 @@ from .tile_filter import (
 )
 
 PARAMS = {**TILE_FILTER_PARAMS, **FILTER_OPTIONS}
-RECONSTRUCT = Pass(
-    "reconstruct",
-    "passes/reconstruct_mcguire2012.glsl",
-    uniform_names({**TILE_FILTER_PARAMS, **FILTER_OPTIONS}),
-)
+RECONSTRUCT = Pass("reconstruct", "passes/reconstruct_mcguire2012.glsl", uniform_names(PARAMS))
 
 register(
     Method(
