@@ -15,19 +15,25 @@ from pathlib import Path
 from . import io, scenes
 from .context import Context
 from .methods import blur, method, methods
+from .sizes import DEFAULT_SIZE
 from .studies import plots
 from .studies.cluster import account_table, local_cluster
 from .studies.recommend import recommend
 from .studies.study import run_study, run_sweep_config
 from .twins.patterns import test_pattern
 
+DEFAULT_SIZE_TEXT = "{}x{}".format(*DEFAULT_SIZE)
+SIZE_HELP = f"WxH (default {DEFAULT_SIZE_TEXT})"
+
 
 def parse_size(text: str) -> tuple[int, int]:
-    """'640x360' -> (640, 360)."""
+    """'WxH' -> (W, H)."""
     try:
         width, height = (int(part) for part in text.lower().split("x"))
     except ValueError:
-        raise argparse.ArgumentTypeError(f"size must look like 640x360, not {text!r}") from None
+        raise argparse.ArgumentTypeError(
+            f"size must look like {DEFAULT_SIZE_TEXT}, not {text!r}"
+        ) from None
     if width < 1 or height < 1:
         raise argparse.ArgumentTypeError(f"size must be positive, not {text!r}")
     return width, height
@@ -233,7 +239,7 @@ def build_parser() -> argparse.ArgumentParser:
         "demo", help="render the built-in scenes, blur them, write pictures and G-buffers"
     )
     demo.add_argument("--out", default="out/demo", help="output folder (default: out/demo)")
-    demo.add_argument("--size", type=parse_size, default=(640, 360), help="WxH (default 640x360)")
+    demo.add_argument("--size", type=parse_size, default=DEFAULT_SIZE, help=SIZE_HELP)
     demo.add_argument("--seed", type=int, default=0)
     demo.add_argument(
         "--method",
@@ -254,7 +260,7 @@ def build_parser() -> argparse.ArgumentParser:
         default=None,
         help="built-in scenes and .gltf/.glb files (default: every built-in scene)",
     )
-    study.add_argument("--size", type=parse_size, default=(640, 360), help="WxH (default 640x360)")
+    study.add_argument("--size", type=parse_size, default=DEFAULT_SIZE, help=SIZE_HELP)
     study.add_argument("--out", default="out/study", help="output folder (default: out/study)")
     study.add_argument(
         "--reference-samples",
@@ -283,7 +289,7 @@ def build_parser() -> argparse.ArgumentParser:
     advice.add_argument(
         "scene", help="a built-in scene (blurlab.scenes.names()) or a .gltf/.glb file"
     )
-    advice.add_argument("--size", type=parse_size, default=(640, 360), help="WxH (default 640x360)")
+    advice.add_argument("--size", type=parse_size, default=DEFAULT_SIZE, help=SIZE_HELP)
     advice.add_argument("--budget-ms", type=float, default=None, help="GPU ms per frame at most")
     advice.add_argument("--target-psnr", type=float, default=None, help="PSNR in dB at least")
     advice.add_argument("--metric", choices=("psnr", "ssim"), default="psnr")

@@ -21,6 +21,7 @@ from .. import scenes
 from ..context import Context
 from ..methods import method
 from ..scene import Scene
+from ..sizes import DEFAULT_SIZE
 from .sweep import default_grids, sweep
 
 METRICS = ("psnr", "ssim")  # the metrics an answer can rank by; higher is better for both
@@ -67,7 +68,7 @@ def recommendation_grids() -> dict:
 def recommend(
     ctx: Context,
     scene: Scene | str | os.PathLike,
-    size=(640, 360),
+    size=DEFAULT_SIZE,
     budget_ms: float | None = None,
     target_psnr: float | None = None,
     metric: str = "psnr",

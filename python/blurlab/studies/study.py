@@ -23,6 +23,7 @@ from .. import io, metrics, scenes
 from ..context import Context
 from ..docs_link import docs_url
 from ..methods import blur, method, method_instant
+from ..sizes import DEFAULT_SIZE
 from . import interactive, objects, peers, plots, workers
 from .cluster import account_table
 from .evaluation import SETUP_PHASES, PhaseClock, picture_key
@@ -50,7 +51,7 @@ PHASES = {
 def run_study(
     ctx: Context,
     scene_names=None,
-    size=(640, 360),
+    size=DEFAULT_SIZE,
     out="out/study",
     reference_samples: int | None = None,
     metrics=None,
@@ -353,7 +354,7 @@ def _scene_section(
 
 
 # zlib level of the report's full-size PNGs: 1 encodes in about 2/3 of the default 6's time,
-# for files about 30 % larger (docs/benchmarks.md, issue 19).
+# for files about 30 % larger (docs/benchmarks.md).
 REPORT_PNG_COMPRESSION = 1
 
 
@@ -411,6 +412,11 @@ def write_pictures(
         f"<img src='{name}_crops.png'></a></p>"
     )
     return html_text, encodes
+
+
+def _html_table(table: pd.DataFrame, number: str = ".4g") -> str:
+    """A table of the report: no index, each float as `number` formats it."""
+    return table.to_html(index=False, float_format=lambda v: f"{v:{number}}", border=0)
 
 
 def _html(info, size, table, sections, curves, per_object=None, peer_rows=None, clock=None) -> str:
@@ -472,7 +478,7 @@ def _html(info, size, table, sections, curves, per_object=None, peer_rows=None, 
             if c in s["rows"] and s["rows"][c].notna().any()
         ]
         shown = s["rows"][columns].sort_values("total_ms")
-        parts.append(shown.to_html(index=False, float_format=lambda v: f"{v:.4g}", border=0))
+        parts.append(_html_table(shown))
     if per_object is not None:
         parts.append(
             "<h2>Per object: the OGRE paper's Table 1, with accuracy (textured_spin)</h2>"
@@ -481,7 +487,7 @@ def _html(info, size, table, sections, curves, per_object=None, peer_rows=None, 
             "N/4 time slices (4 jittered renders each: the same N renders). Times are the whole "
             "frame's. Data: <a href='per_object.csv'>per_object.csv</a>.</p>"
         )
-        parts.append(per_object.to_html(index=False, float_format=lambda v: f"{v:.2f}", border=0))
+        parts.append(_html_table(per_object, ".2f"))
     if peer_rows is not None:
         parts.append(
             "<h2>Peers: Blender's EEVEE</h2><p>The same scenes rendered by EEVEE, scored "
@@ -492,9 +498,7 @@ def _html(info, size, table, sections, curves, per_object=None, peer_rows=None, 
         )
         columns = ("scene", "method", "psnr", "ssim", "flip", "psnr_aa", "time", "note")
         shown = [c for c in columns if c in peer_rows]
-        parts.append(
-            peer_rows[shown].to_html(index=False, float_format=lambda v: f"{v:.4g}", border=0)
-        )
+        parts.append(_html_table(peer_rows[shown]))
     for title, image in curves:
         parts.append(f"<h2>{e(title)}</h2><p><img src='{e(image)}'></p>")
     if clock is not None:
@@ -549,7 +553,7 @@ def run_sweep_config(
         ctx,
         config.get("scenes", scenes.names()),
         config.get("methods"),
-        tuple(config.get("size", (640, 360))),
+        tuple(config.get("size", DEFAULT_SIZE)),
         config.get("shutter"),
         config.get("reference_samples"),
         tuple(config.get("metrics", ("psnr",))),

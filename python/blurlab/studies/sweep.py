@@ -26,6 +26,7 @@ from ..context import Context
 from ..methods import check_param, check_steps, method, methods
 from ..render import check_size
 from ..scene import Scene
+from ..sizes import DEFAULT_SIZE
 from . import cluster as dask_cluster
 from .evaluation import HDR_METRICS, LDR_METRICS, Settings, evaluate_scene
 
@@ -77,7 +78,7 @@ def sweep(
     ctx: Context | None,
     scenes: Iterable,
     methods_and_grids=None,
-    size=(640, 360),
+    size=DEFAULT_SIZE,
     shutter=None,
     reference_samples: int | None = None,
     metrics: Sequence[str] | None = None,
