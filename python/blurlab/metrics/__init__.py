@@ -14,8 +14,8 @@ unclipped metrics of HDR scenes (docs/spec.md §6.2: `hdr_flip`, `psnr_tm`, `ssi
 
 # The import order is the registry's: the order of the metrics' columns in sweep tables.
 # isort: off
-from .registry import Metric, REDUCTIONS, REFERENCES, get, reference_page, register
-from .registry import registered, unregister
+from .registry import Metric, REDUCTIONS, REFERENCES, check_names, cpu_scores, default_names
+from .registry import get, reference_page, register, registered, unregister
 from .reductions import (
     PREPARED_SSIM_LAYOUT,
     SSIM_LAYOUT,
@@ -27,7 +27,7 @@ from .reductions import (
     prepare_reference,
 )
 from .flip_gpu import gpu_flip, gpu_flip_map
-from .queue import MetricBatches, MetricQueue
+from .queue import MetricBatches, MetricQueue, issue_reductions, reduced_values
 from .ldr import (
     LUMINANCE,
     error_map,
@@ -61,6 +61,11 @@ from .hdr import (
 # isort: on
 
 __all__ = [
+    "reduced_values",
+    "issue_reductions",
+    "default_names",
+    "cpu_scores",
+    "check_names",
     "ACES",
     "FLIP_TARGET",
     "HDR_METRICS",
