@@ -7,6 +7,7 @@ and PSNR against the antialiased reference are registered here, with their GPU t
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -178,14 +179,12 @@ def gpu_psnr(ctx, reference, test) -> float:
     return psnr_from_mse(gpu_mse(ctx, reference, test))
 
 
-PSNR_DOC = (
-    "Peak signal-to-noise ratio of linear RGB clipped to [0, 1]: 10·log10(1 / MSE) dB, MSE "
-    "the mean squared difference over pixels and the three channels; +inf for identical images."
-)
-register(
+PSNR = register(
     Metric(
         name="psnr",
-        doc=PSNR_DOC,
+        doc="Peak signal-to-noise ratio of linear RGB clipped to [0, 1]: 10·log10(1 / MSE) dB, "
+        "MSE the mean squared difference over pixels and the three channels; +inf for identical "
+        "images.",
         spec="§6",
         higher_is_better=True,
         range=(0.0, math.inf),
@@ -231,23 +230,16 @@ register(
         default=True,
     )
 )
+# The same PSNR against the other reference (docs/spec.md §11 "Which reference, for what").
 register(
-    Metric(
+    dataclasses.replace(
+        PSNR,
         name="psnr_aa",
         doc="PSNR as `psnr` defines it, against the antialiased reference: sub-pixel "
         "positions jittered as well as times, what a path tracer converges to. It also counts "
         "the aliasing of still edges, so it is lower and flatter than `psnr`.",
         spec="§11",
-        higher_is_better=True,
-        range=(0.0, math.inf),
-        numpy=psnr,
         label="PSNR against the antialiased reference",
-        unit="dB",
         reference="antialiased",
-        gpu=gpu_psnr,
-        reduction="squared_error",
-        from_reduction=psnr_from_mse,
-        tolerance=1e-3,
-        default=True,
     )
 )
