@@ -287,18 +287,16 @@ def _metric_item(name: str) -> str:
 
 
 def _peer_notes(peer_rows, scene: str) -> str:
-    """Why the peers have no numbers on `scene`, where they have none (their rows' notes, e.g.
-    a material Blender cannot render): a paragraph of the scene's section, or ""."""
+    """Why peers have no numbers on `scene`, where they have none (their rows' notes, e.g. a
+    material Blender cannot render): a paragraph of the scene's section, or ""."""
     if peer_rows.empty:
         return ""
     noted = peer_rows[(peer_rows["scene"] == scene) & (peer_rows["note"].fillna("") != "")]
-    if noted.empty:
-        return ""
     items = "".join(
-        f"<li>{html.escape(label)}: {html.escape(note)}</li>"
-        for label, note in zip(noted["method"], noted["note"], strict=True)
+        f"<li>{html.escape(', '.join(group['method']))}: {html.escape(note)}</li>"
+        for note, group in noted.groupby("note", sort=False)
     )
-    return f"<p>No peer row on this scene (peers.csv):</p><ul>{items}</ul>"
+    return f"<p>Peers not scored on this scene (peers.csv):</p><ul>{items}</ul>" if items else ""
 
 
 def _ranking_metric(rows) -> str:
