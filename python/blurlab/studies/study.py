@@ -278,14 +278,6 @@ def _metric_columns(rows) -> list[str]:
     return [n for n in registered() if n in rows and rows[n].notna().any()]
 
 
-def _metric_item(name: str) -> str:
-    metric = get(name)
-    return (
-        f"<li><code>{html.escape(name)}</code>: {html.escape(metric.axis_title)} "
-        f"(docs/spec.md {metric.spec})</li>"
-    )
-
-
 def _peer_notes(peer_rows, scene: str) -> str:
     """Why peers have no numbers on `scene`, where they have none (their rows' notes, e.g. a
     material Blender cannot render): a paragraph of the scene's section, or ""."""
@@ -479,7 +471,12 @@ def _html(info, size, table, sections, curves, per_object=None, peer_rows=None, 
         "measured against the converged reference of the same shutter (the mean of N renders). "
         "Time is the sum of the method's passes; methods that render (accumulation, "
         "stochastic) include their renders. The metrics (docs/metrics.md):</p>",
-        "<ul>" + "".join(_metric_item(name) for name in _metric_columns(table)) + "</ul>",
+        "<ul>"
+        + "".join(
+            f"<li><code>{e(n)}</code>: {e(get(n).axis_title)} (docs/spec.md {get(n).spec})</li>"
+            for n in _metric_columns(table)
+        )
+        + "</ul>",
     ]
     for s in sections:
         parts.append(
