@@ -67,6 +67,15 @@ def peer_table(
     return pd.DataFrame(rows)
 
 
+def unscored(rows: pd.DataFrame, scene: str) -> dict[str, list[str]]:
+    """{note: labels} of the peer `rows` (peer_table's) that have no numbers on `scene`, by the
+    note that says why (e.g. a material Blender cannot render)."""
+    if rows.empty:
+        return {}
+    noted = rows[(rows["scene"] == scene) & (rows["note"].fillna("") != "")]
+    return {note: list(group["method"]) for note, group in noted.groupby("note", sort=False)}
+
+
 def peer_rows(
     ctx: Context,
     name: str,

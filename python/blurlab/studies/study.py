@@ -278,19 +278,6 @@ def _metric_columns(rows) -> list[str]:
     return [n for n in registered() if n in rows and rows[n].notna().any()]
 
 
-def _peer_notes(peer_rows, scene: str) -> str:
-    """Why peers have no numbers on `scene`, where they have none (their rows' notes, e.g. a
-    material Blender cannot render): a paragraph of the scene's section, or ""."""
-    if peer_rows.empty:
-        return ""
-    noted = peer_rows[(peer_rows["scene"] == scene) & (peer_rows["note"].fillna("") != "")]
-    items = "".join(
-        f"<li>{html.escape(', '.join(group['method']))}: {html.escape(note)}</li>"
-        for note, group in noted.groupby("note", sort=False)
-    )
-    return f"<p>Peers not scored on this scene (peers.csv):</p><ul>{items}</ul>" if items else ""
-
-
 def _ranking_metric(rows) -> str:
     """The metric the rows are ranked by: the first the charts offer (plots.charted_metrics:
     on HDR scenes an HDR one, as clipped PSNR cannot see their lights)."""
@@ -470,7 +457,8 @@ def _html(info, size, table, sections, curves, per_object=None, peer_rows=None, 
         "<p>Each method runs on the G-buffer rendered at the instant it expects; its error is "
         "measured against the converged reference of the same shutter (the mean of N renders). "
         "Time is the sum of the method's passes; methods that render (accumulation, "
-        "stochastic) include their renders. The metrics (docs/metrics.md):</p>",
+        f"stochastic) include their renders. The <a href='{e(docs_url('metrics'))}'>metrics</a>:"
+        "</p>",
         "<ul>"
         + "".join(
             f"<li><code>{e(n)}</code>: {e(get(n).axis_title)} (docs/spec.md {get(n).spec})</li>"
@@ -502,8 +490,10 @@ def _html(info, size, table, sections, curves, per_object=None, peer_rows=None, 
             )
         parts.append("</table>")
         parts.append(s["chart"])
-        if peer_rows is not None:
-            parts.append(_peer_notes(peer_rows, s["scene"]))
+        unscored = peers.unscored(peer_rows, s["scene"]) if peer_rows is not None else {}
+        if unscored:  # why a peer has no numbers here (its rows' notes)
+            items = [f"<li>{e(', '.join(who))}: {e(why)}</li>" for why, who in unscored.items()]
+            parts.append("<p>Peers not scored on this scene:</p><ul>" + "".join(items) + "</ul>")
         parts.append(
             f"<p>The same chart as a picture: <a href='{e(s['name'])}_pareto.png'>"
             f"{e(s['name'])}_pareto.png</a></p>"
