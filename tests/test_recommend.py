@@ -103,7 +103,7 @@ def test_the_reference_reports_an_auto_n(ctx):
 
 @pytest.fixture(scope="module")
 def fan_answers(ctx):
-    return advice.measured(ctx, bl.scenes.get("fan"), (64, 36), "fan-test")
+    return advice.measured(ctx, bl.scenes.get("fan"), (64, 36))
 
 
 def test_recommend_for_a_target_is_the_cheapest_row_that_reaches_it(ctx, fan_answers):

@@ -13,6 +13,7 @@ a worker that keeps them, so a scene's reference is rendered once.
 
 from __future__ import annotations
 
+import json
 import math
 import os
 import re
@@ -328,13 +329,39 @@ def check_cluster(cluster) -> None:
         )
 
 
-def _connect(cluster):
+def connect(cluster):
     """(client, whether this call made it) for a Client, a cluster or a scheduler address."""
     distributed = _distributed()
     check_cluster(cluster)
     if isinstance(cluster, distributed.Client):
         return cluster, False
     return distributed.Client(cluster, timeout="60s"), True
+
+
+def _device_info() -> dict:
+    """On a worker: the device part of a row's identity, from its context."""
+    info = worker_context().info()
+    return {"device": info["device"], "renderer": info["renderer"]}
+
+
+def cluster_device(client) -> dict:
+    """The device every worker renders on ({"device", "renderer"}, a part of each row's
+    identity), asked of each worker in a task (a GL context belongs to the task thread).
+    Raises where the workers render on different kinds of device: their rows would differ
+    by worker, and a resumed sweep could not say which rows it may keep."""
+    client.wait_for_workers(1, timeout=120)
+    futures = [
+        client.submit(_device_info, workers=[w], allow_other_workers=False, pure=False)
+        for w in client.nthreads()
+    ]
+    found = {json.dumps(d, sort_keys=True) for d in client.gather(futures)}
+    if len(found) != 1:
+        raise RuntimeError(
+            "blurlab.sweep: the cluster's workers render on different devices "
+            f"({sorted(found)}); a sweep's rows must not depend on the worker. Run one "
+            "sweep per kind of device (BLURLAB_DEVICE or separate clusters)"
+        )
+    return json.loads(found.pop())
 
 
 def sweep_on_cluster(cluster, scenes, pending, settings, record, chunk_size, bar) -> dict:
@@ -351,7 +378,7 @@ def sweep_on_cluster(cluster, scenes, pending, settings, record, chunk_size, bar
     configuration, never on the worker.
     """
     distributed = _distributed()
-    client, own = _connect(cluster)
+    client, own = connect(cluster)
     futures: dict = {}
     try:
         client.wait_for_workers(1, timeout=120)

@@ -41,6 +41,17 @@ REFERENCES, G_BUFFERS, WARM_UP = "references", "g_buffers", "warm_up"
 SETUP_PHASES = (REFERENCES, G_BUFFERS)
 
 
+# How a sweep's references are made besides N and antialias (ctx.reference's arguments): part
+# of every row's identity (blurlab.studies.identity).
+REFERENCE_OPTIONS = {"stratified": True, "seed": 0, "guard": 0}
+
+
+def reference_kinds(metric_names) -> list[str]:
+    """The references (metrics.REFERENCES: temporal, antialiased) that `metric_names` score
+    against, in the registry's order."""
+    return [k for k in m.REFERENCES if any(m.get(n).reference == k for n in metric_names)]
+
+
 def scene_metrics(scene: Scene) -> tuple[str, ...]:
     """The metrics a sweep computes on `scene` when none are named: the registered defaults,
     the HDR ones on HDR scenes only (`Scene.hdr`, docs/spec.md §6.2)."""
@@ -58,7 +69,7 @@ def evaluate_scene(
     info = ctx.info()
     wanted = settings.metrics if settings.metrics is not None else scene_metrics(scene)
     chosen = [m.get(n) for n in wanted]
-    kinds = [k for k in m.REFERENCES if any(metric.reference == k for metric in chosen)]
+    kinds = reference_kinds(wanted)
     # Timing first, every configuration back to back: the GPU stays busy, so its clocks stay
     # up. Computing SSIM and FLIP between runs left it idle long enough to clock down, and
     # single runs after that were several times slower on the H100. Each method runs once
@@ -225,6 +236,7 @@ def _reference(ctx, scene, settings: Settings, samples: int, cache: dict, antial
                 samples=samples,
                 progress=False,
                 antialias=antialias,
+                **REFERENCE_OPTIONS,
             )
     return cache[key]
 

@@ -2,10 +2,10 @@
 
 A small sweep answers it: every sweepable method on its default grid, plus the "auto" point of
 each parameter that has a rule (k and samples of the tile filters), with PSNR and SSIM reduced
-on the GPU. The sweep is cached per scene, device and size, so asking again with another budget
-or target costs nothing. The answer is the cheapest configuration that reaches `target_psnr`,
-or the most accurate one within `budget_ms`, or, with both, the cheapest that reaches the
-target within the budget; the rows behind it come with it. docs/recommend.md.
+on the GPU. The sweep is cached per scene (name and content), device and size, so asking again
+with another budget or target costs nothing. The answer is the cheapest configuration that
+reaches `target_psnr`, or the most accurate one within `budget_ms`, or, with both, the cheapest
+that reaches the target within the budget; the rows behind it come with it. docs/recommend.md.
 """
 
 from __future__ import annotations
@@ -23,12 +23,14 @@ from ..methods import method
 from ..metrics import get, registered
 from ..scene import Scene
 from ..sizes import DEFAULT_SIZE
-from .sweep import default_grids, sweep
+from .evaluation import Settings
+from .identity import row_identity
+from .sweep import default_grids, device_of, scene_identity, sweep
 
 # What every recommendation's sweep measures: PSNR (target_psnr reads it) and SSIM, from one
 # fused GPU pass (docs/spec.md §6). A `metric` to rank by beside them is measured too.
 MEASURED = ("psnr", "ssim")
-_CACHE: dict[tuple, pd.DataFrame] = {}
+_CACHE: dict[str, pd.DataFrame] = {}
 
 
 @dataclass
@@ -94,13 +96,8 @@ def recommend(
         raise ValueError(
             f"blurlab.recommend: metric must be one of {ranking_metrics()}, not {metric!r}"
         )
-    # A scene named (built-in or file) is the same scene whenever it is named; another is itself.
-    named = isinstance(scene, (str, os.PathLike))
-    identity = str(scene) if named else id(scene)
-    scene = scenes.get(scene) if named else scene
-    table = measured(
-        ctx, scene, size, identity, progress, tuple(dict.fromkeys(MEASURED + (metric,)))
-    )
+    scene = scenes.get(scene) if isinstance(scene, (str, os.PathLike)) else scene
+    table = measured(ctx, scene, size, progress, tuple(dict.fromkeys(MEASURED + (metric,))))
     rows = table
     if budget_ms is not None:
         rows = rows[rows["total_ms"] <= budget_ms]
@@ -137,11 +134,14 @@ def ranking_metrics() -> list[str]:
 
 
 def measured(
-    ctx: Context, scene: Scene, size, identity, progress: bool = False, metrics=MEASURED
+    ctx: Context, scene: Scene, size, progress: bool = False, metrics=MEASURED
 ) -> pd.DataFrame:
-    """The sweep behind recommend() for this scene (`identity`), device and size, measuring
-    `metrics`, run once and cached."""
-    key = (identity, ctx.info()["renderer"], tuple(int(v) for v in size), tuple(metrics))
+    """The sweep behind recommend() for this scene, device and size, measuring `metrics`, run
+    once and cached by the identity a sweep's rows have (blurlab.studies.identity: the
+    scene's name and content, size, shutter, reference, metrics, device, blurlab's version),
+    so an edited scene file is measured anew."""
+    settings = Settings((int(size[0]), int(size[1])), None, None, tuple(metrics), repeats=3)
+    key = row_identity(scene_identity(scene, settings, device_of(ctx)))
     if key not in _CACHE:
         table = sweep(
             ctx,

@@ -6,7 +6,7 @@ those with a GPU reduction (squared error, SSIM, FLIP) on the GPU against the re
 reading the sums of a batch of evaluations back at once (docs/spec.md §6.3), the others from
 the images read back. Rows are
 appended to a CSV file as they are made, so an interrupted sweep keeps every finished row and
-a rerun with the same file skips them. With a Dask cluster the same evaluations run on its
+a rerun with the same file skips those whose identity (blurlab.studies.identity) is its own. With a Dask cluster the same evaluations run on its
 workers, a scene's configurations split into chunks (blurlab.studies.cluster).
 """
 
@@ -17,6 +17,7 @@ import io
 import itertools
 import json
 import math
+import os
 from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 
@@ -26,11 +27,18 @@ from .. import scenes as builtin_scenes
 from ..context import Context
 from ..methods import check_param, check_steps, method, methods
 from ..metrics import check_names
-from ..render import check_size
+from ..render import check_shutter, check_size
 from ..scene import Scene
 from ..sizes import DEFAULT_SIZE
 from . import cluster as dask_cluster
-from .evaluation import Settings, evaluate_scene
+from . import identity
+from .evaluation import (
+    REFERENCE_OPTIONS,
+    Settings,
+    evaluate_scene,
+    reference_kinds,
+    scene_metrics,
+)
 
 
 def default_grids() -> dict:
@@ -70,7 +78,7 @@ def middle_point(grid) -> dict:
 
 
 def _scene(item) -> Scene:
-    return builtin_scenes.get(item) if isinstance(item, str) else item
+    return builtin_scenes.get(item) if isinstance(item, (str, os.PathLike)) else item
 
 
 def sweep(
@@ -98,8 +106,12 @@ def sweep(
     scene's reference; None picks max(64, 2 × the longest motion in pixels), at most 1024.
     `metrics`: names of registered metrics (bl.metrics.registered()), checked before any work;
     None computes each scene's defaults (bl.metrics.default_names: the HDR ones on HDR scenes).
-    `out`: a CSV file that rows are appended to as they finish; rows already in it are
-    skipped (a row cut short by a crash is dropped and evaluated again). Each pass time is the
+    `out`: a CSV file that rows are appended to as they finish; a row already in it with the
+    same identity (blurlab.studies.identity: scene name and content, method, backend,
+    parameters, size, shutter, reference, device, metrics, blurlab's version; the `identity`
+    column) is returned instead of evaluated again. Rows of other configurations stay in the
+    file beside this sweep's and are never returned by it; a row cut short by a crash is
+    dropped and evaluated again (docs/reliability.md, "Resuming a sweep"). Each pass time is the
     median of `repeats` runs, all configurations of a scene timed back to back before any error
     is computed (a GPU left idle while the CPU computes FLIP clocks down).
 
@@ -181,16 +193,35 @@ def sweep(
         repeats,
         readback_batch,
     )
-    done = _finished_keys(path)
-    # Every evaluation asked for, in table order, and per scene those not yet in `out`.
+    client, own_client = (None, False)
+    if cluster is not None:
+        client, own_client = dask_cluster.connect(cluster)
+    try:
+        device = dask_cluster.cluster_device(client) if client is not None else device_of(ctx)
+    except BaseException:
+        if own_client:
+            client.close()
+        raise
+    done = _finished_rows(path)
+    # Every evaluation asked for, in table order, by its identity, and per scene those whose
+    # identity no row of `out` has.
     keys = []
+    columns: dict[str, dict] = {}  # identity: the columns that spell it out
     pending: list[list[tuple]] = [[] for _ in scene_list]
     for i, scene in enumerate(scene_list):
+        shared = scene_identity(scene, settings, device)
         for name, grid in methods_and_grids.items():
             backend = (backends or {}).get(name)
             for point in grid_points(grid):
-                key = _key(scene.name, name, backend or method(name).backends[0], point, size)
+                parts = {
+                    **shared,
+                    "method": name,
+                    "backend": backend or method(name).backends[0],
+                    "params": json.dumps(point, sort_keys=True),
+                }
+                key = identity.row_identity(parts)
                 keys.append(key)
+                columns[key] = _identity_columns(key, shared)
                 if key not in done:
                     pending[i].append((name, point, backend, key))
     bar = None
@@ -202,7 +233,8 @@ def sweep(
 
     rows_file = _RowFile(path) if path is not None else None
 
-    def record(key: tuple, row: dict) -> None:
+    def record(key: str, row: dict) -> None:
+        row.update(columns[key])
         if rows_file is not None:
             rows_file.append(row)
         done[key] = row
@@ -217,11 +249,13 @@ def sweep(
                 if jobs:
                     for key, row in evaluate_scene(ctx, scene, jobs, settings, cache):
                         record(key, row)
-        elif any(pending):  # a finished sweep needs no cluster
+        elif any(pending):
             accounts = dask_cluster.sweep_on_cluster(
-                cluster, scene_list, pending, settings, record, chunk_size, bar
+                client, scene_list, pending, settings, record, chunk_size, bar
             )
     finally:
+        if own_client:
+            client.close()
         if bar:
             bar.close()
         if rows_file is not None:
@@ -232,29 +266,65 @@ def sweep(
     return table
 
 
-def _key(scene: str, name: str, backend: str, point: dict, size) -> tuple:
-    return (scene, name, backend, json.dumps(point, sort_keys=True), int(size[0]), int(size[1]))
+def device_of(ctx: Context) -> dict:
+    """The device part of a row's identity: the context's kind and renderer."""
+    info = ctx.info()
+    return {"device": info["device"], "renderer": info["renderer"]}
 
 
-def _finished_keys(path: Path | None) -> dict:
+def scene_identity(scene: Scene, settings: Settings, device: dict) -> dict:
+    """What every row of `scene` in a sweep shares of its identity (blurlab.studies.identity):
+    the scene's name and content, size, shutter, reference, metric set, device and blurlab's
+    version; a row adds its method, backend and parameters."""
+    wanted = settings.metrics if settings.metrics is not None else scene_metrics(scene)
+    shutter = check_shutter(scene.shutter if settings.shutter is None else settings.shutter)
+    return {
+        "scene": scene.name,
+        identity.SCENE_DIGEST: identity.scene_digest(scene),
+        "width": settings.size[0],
+        "height": settings.size[1],
+        "shutter": [float(shutter[0]), float(shutter[1])],
+        identity.REFERENCE: {
+            "samples": "auto" if settings.reference_samples is None else settings.reference_samples,
+            # which of the temporal and the antialiased reference (docs/spec.md §11) it needs
+            "kinds": reference_kinds(wanted),
+            **REFERENCE_OPTIONS,
+        },
+        identity.METRIC_SET: list(wanted),
+        **device,
+        identity.VERSION: identity.version(),
+    }
+
+
+def _identity_columns(key: str, shared: dict) -> dict:
+    """The columns a row gets beside evaluation's: its identity hash and the components that
+    no other column spells out already (the reference's definition, the metric set, the
+    scene's digest, blurlab's version)."""
+    return {
+        identity.IDENTITY: key,
+        identity.SCENE_DIGEST: shared[identity.SCENE_DIGEST],
+        identity.REFERENCE: json.dumps(shared[identity.REFERENCE], sort_keys=True),
+        identity.METRIC_SET: json.dumps(shared[identity.METRIC_SET]),
+        identity.VERSION: shared[identity.VERSION],
+    }
+
+
+def _finished_rows(path: Path | None) -> dict:
+    """{identity: row} of the finished rows in `path`. Rows of other configurations stay in
+    the file but are never returned for this one; rows without an identity (files written
+    before rows had one) are evaluated again."""
     if path is None or not path.exists() or path.stat().st_size == 0:
         return {}
     _drop_partial_line(path)
-    table = pd.read_csv(path)
+    text = {c: str for c in (identity.IDENTITY, identity.SCENE_DIGEST, identity.VERSION)}
+    table = pd.read_csv(path, dtype=text)
+    if identity.IDENTITY not in table:
+        return {}
     done = {}
     for row in table.to_dict("records"):
         row = {k: v for k, v in row.items() if not (isinstance(v, float) and math.isnan(v))}
-        if not {"scene", "method", "backend", "params", "width", "height"} <= set(row):
-            continue  # not a finished row: evaluate it again
-        done[
-            _key(
-                row["scene"],
-                row["method"],
-                row["backend"],
-                json.loads(row["params"]),
-                (row["width"], row["height"]),
-            )
-        ] = row
+        if isinstance(row.get(identity.IDENTITY), str):
+            done[row[identity.IDENTITY]] = row
     return done
 
 
