@@ -5,7 +5,7 @@ tests/test_sweep_faults.py; run in a process group of its own (tests/process_gro
 
 Writes FOLDER/local.csv (the sweep in this process), FOLDER/killed.csv (the sweep on the
 cluster) and FOLDER/killed.json ({"pid": the worker killed, "rows_before": rows in the file
-when it was killed}).
+when it was killed, "addresses": the scheduler's and the workers' addresses}).
 """
 
 from __future__ import annotations
@@ -39,6 +39,7 @@ def main(folder: Path) -> None:
         client.wait_for_workers(2, timeout=120)
         pids = client.run(os.getpid)
         victim = pids[sorted(pids)[-1]]
+        addresses = [cluster.scheduler_address, *pids]  # every one listens on loopback
         outcome = {}
 
         def run():
@@ -56,7 +57,9 @@ def main(folder: Path) -> None:
         thread.join(timeout=240)
         if "error" in outcome or thread.is_alive():
             raise SystemExit(f"the sweep did not complete: {outcome or 'still running'}")
-    (folder / "killed.json").write_text(json.dumps({"pid": victim, "rows_before": before}))
+    (folder / "killed.json").write_text(
+        json.dumps({"pid": victim, "rows_before": before, "addresses": addresses})
+    )
 
 
 if __name__ == "__main__":

@@ -7,6 +7,9 @@ from __future__ import annotations
 import os
 import signal
 import subprocess
+import sys
+import time
+from pathlib import Path
 
 import pytest
 
@@ -30,3 +33,38 @@ def run_or_fail(command: list[str], timeout_s: float, what: str, cwd=None) -> st
         pytest.fail(f"{what} did not finish in {timeout_s} s:\n{output[-4000:]}")
     assert process.returncode == 0, output[-4000:]
     return output
+
+
+START_TIMEOUT_S = 120  # how long a scheduler gets to write its file
+
+
+def start_in_group(arguments: list[str], log: Path, env: dict) -> subprocess.Popen:
+    """`python -m ARGUMENTS` in a process group of its own, its output to `log`."""
+    with log.open("w") as out:
+        return subprocess.Popen(
+            [sys.executable, "-m", *arguments],
+            stdout=out,
+            stderr=subprocess.STDOUT,
+            env=env,
+            start_new_session=True,
+        )
+
+
+def stop_group(process: subprocess.Popen) -> None:
+    """Ends start_in_group's process and its children: SIGTERM, then SIGKILL."""
+    if process.poll() is None:
+        os.killpg(process.pid, signal.SIGTERM)
+        try:
+            process.wait(timeout=20)
+        except subprocess.TimeoutExpired:
+            os.killpg(process.pid, signal.SIGKILL)
+            process.wait()
+
+
+def wait_for_file(path: Path, process: subprocess.Popen, log: Path) -> None:
+    """Waits for a scheduler's file; fails the test with its log if it never comes."""
+    deadline = time.monotonic() + START_TIMEOUT_S
+    while not path.exists() or not path.read_text().strip():
+        if process.poll() is not None or time.monotonic() > deadline:
+            pytest.fail(f"the scheduler did not start:\n{log.read_text()[-4000:]}")
+        time.sleep(0.2)

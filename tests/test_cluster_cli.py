@@ -14,15 +14,13 @@ from __future__ import annotations
 import json
 import os
 import re
-import signal
 import subprocess
 import sys
-import time
-from pathlib import Path
 
 import pandas as pd
 import pytest
 from conftest import CLI_DEVICE
+from process_group import start_in_group, stop_group, wait_for_file
 
 import blurlab as bl
 
@@ -34,35 +32,6 @@ SIZE = (64, 36)
 REFERENCE_SAMPLES = 16
 START_TIMEOUT_S = 120
 SWEEP_TIMEOUT_S = 300
-
-
-def _start(arguments: list[str], log: Path, env: dict) -> subprocess.Popen:
-    with log.open("w") as out:
-        return subprocess.Popen(
-            [sys.executable, "-m", *arguments],
-            stdout=out,
-            stderr=subprocess.STDOUT,
-            env=env,
-            start_new_session=True,
-        )
-
-
-def _stop(process: subprocess.Popen) -> None:
-    if process.poll() is None:
-        os.killpg(process.pid, signal.SIGTERM)
-        try:
-            process.wait(timeout=20)
-        except subprocess.TimeoutExpired:
-            os.killpg(process.pid, signal.SIGKILL)
-            process.wait()
-
-
-def _wait_for_file(path: Path, process: subprocess.Popen, log: Path) -> None:
-    deadline = time.monotonic() + START_TIMEOUT_S
-    while not path.exists() or not path.read_text().strip():
-        if process.poll() is not None or time.monotonic() > deadline:
-            pytest.fail(f"the scheduler did not start:\n{log.read_text()[-4000:]}")
-        time.sleep(0.2)
 
 
 @pytest.fixture(scope="module")
@@ -78,17 +47,17 @@ def command_line_cluster(tmp_path_factory):
     try:
         scheduler_log = folder / "scheduler.log"
         processes.append(
-            _start(
+            start_in_group(
                 ["dask", "scheduler", "--host", "127.0.0.1", "--port", "0", "--no-dashboard"]
                 + ["--scheduler-file", str(scheduler_file)],
                 scheduler_log,
                 env,
             )
         )
-        _wait_for_file(scheduler_file, processes[0], scheduler_log)
+        wait_for_file(scheduler_file, processes[0], scheduler_log)
         address = json.loads(scheduler_file.read_text())["address"]
         processes.append(
-            _start(
+            start_in_group(
                 ["dask", "worker", address, "--nthreads", "1", "--nworkers", "2"]
                 + ["--name", "host", "--no-dashboard"],
                 folder / "worker.log",
@@ -101,7 +70,7 @@ def command_line_cluster(tmp_path_factory):
         yield address, folder, names
     finally:
         for process in reversed(processes):
-            _stop(process)
+            stop_group(process)
 
 
 def _without_timings(table: pd.DataFrame) -> pd.DataFrame:

@@ -84,6 +84,7 @@ def test_a_cluster_sweep_survives_a_killed_worker(tmp_path):
     local = pd.read_csv(tmp_path / "local.csv")
     cluster = pd.read_csv(tmp_path / "killed.csv")
     assert 3 <= killed["rows_before"] < len(local)  # killed mid-sweep
+    assert all(a.startswith("tcp://127.0.0.1:") for a in killed["addresses"])  # loopback only
     assert cluster["identity"].is_unique and len(cluster) == len(local)
     columns = EXACT + ["device", "renderer", "shutter", "reference"]
     sort = ["identity"]

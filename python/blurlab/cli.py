@@ -17,7 +17,7 @@ from .context import Context
 from .methods import blur, method, methods
 from .sizes import DEFAULT_SIZE
 from .studies import plots
-from .studies.cluster import account_table, local_cluster
+from .studies.cluster import account_table, local_cluster, scheduler_client
 from .studies.recommend import ranking_metrics, recommend
 from .studies.study import run_study, run_sweep_config
 from .twins.patterns import test_pattern
@@ -95,8 +95,12 @@ def _demo(args) -> int:
 @contextmanager
 def _cluster(args):
     """The cluster that --scheduler or --workers asks for, or None (this process renders)."""
+    tls = (args.tls_ca, args.tls_cert, args.tls_key)
+    if any(tls) and not args.scheduler:
+        raise ValueError("--tls-ca, --tls-cert and --tls-key go with --scheduler tls://...")
     if args.scheduler:
-        yield args.scheduler
+        with scheduler_client(args.scheduler, *tls) as client:
+            yield client
     elif args.workers:
         if not isinstance(args.device, str):
             raise ValueError(
@@ -145,7 +149,8 @@ def _add_cluster_options(parser) -> None:
     group.add_argument(
         "--scheduler",
         metavar="ADDRESS",
-        help="run the sweep on the Dask cluster at this scheduler address (tcp://host:8786); "
+        help="run the sweep on the Dask cluster at this scheduler address (tls://host:8786 "
+        "with the --tls options; plain tcp:// is for a trusted network only); "
         "each worker renders on its own device (docs/distributed.md)",
     )
     group.add_argument(
@@ -154,6 +159,16 @@ def _add_cluster_options(parser) -> None:
         metavar="N",
         help="run the sweep on N local Dask workers: one per GPU, or N llvmpipe workers",
     )
+    for name, what in (
+        ("ca", "the CA certificate"),
+        ("cert", "this client's certificate"),
+        ("key", "this client's private key"),
+    ):
+        parser.add_argument(
+            f"--tls-{name}",
+            metavar="PEM",
+            help=f"with --scheduler tls://...: {what} (docs/distributed.md, 'Securing a cluster')",
+        )
 
 
 def _recommend(args) -> int:

@@ -8,7 +8,9 @@ each worker on its scene while that scene has work left, and writes rows to the 
 and file as chunks return. A worker that helps on another's scene imports its references from
 a worker that keeps them, so a scene's reference is rendered once.
 
-``local_cluster()`` starts workers on this machine: one per GPU, or one per core with llvmpipe.
+``local_cluster()`` starts workers on this machine, listening on its loopback only: one per GPU,
+or one per core with llvmpipe. Other machines' schedulers are reached over TLS
+(``scheduler_client``); a plain tcp:// one on another host gets a warning.
 """
 
 from __future__ import annotations
@@ -19,6 +21,7 @@ import os
 import re
 import time
 import uuid
+import warnings
 from collections import OrderedDict, deque
 
 from ..context import DEVICE_MODES, Context
@@ -125,6 +128,15 @@ def local_cluster(n_workers: int | None = None, device: str = "auto", **cluster_
         "env": env,
     }
     options.update(cluster_kwargs)
+    # Its scheduler and workers listen on this machine's loopback only: Dask runs the code its
+    # clients send, so an open port would let anyone on the network run code here.
+    options.setdefault("host", "127.0.0.1")
+    if not is_loopback(str(options["host"])):
+        raise ValueError(
+            "blurlab.local_cluster listens on this machine's loopback only, not on "
+            f"host={options['host']!r}; for workers on other machines start a TLS scheduler "
+            "(docs/distributed.md, 'Securing a cluster')"
+        )
     if options["threads_per_worker"] != 1 or not options["processes"]:
         raise ValueError(
             "blurlab.local_cluster: workers must be processes with one thread each "
@@ -330,12 +342,84 @@ def check_cluster(cluster) -> None:
 
 
 def connect(cluster):
-    """(client, whether this call made it) for a Client, a cluster or a scheduler address."""
+    """(client, whether this call made it) for a Client, a cluster or a scheduler address
+    (a plain tcp:// one that is not on this machine gets exposed_warning's warning)."""
     distributed = _distributed()
     check_cluster(cluster)
     if isinstance(cluster, distributed.Client):
         return cluster, False
+    if isinstance(cluster, str):
+        warn_if_exposed(cluster)
     return distributed.Client(cluster, timeout="60s"), True
+
+
+LOOPBACK_HOSTS = ("localhost", "127.0.0.1", "::1", "[::1]")
+
+
+def is_loopback(address: str) -> bool:
+    """Whether a scheduler address ('tcp://host:port', 'host:port') names this machine's
+    loopback interface."""
+    rest = address.split("://", 1)[-1]
+    host = rest.rsplit(":", 1)[0] if rest.count(":") == 1 or rest.startswith("[") else rest
+    return host in LOOPBACK_HOSTS or host.startswith("127.")
+
+
+def warn_if_exposed(address: str) -> None:
+    """Warns where a sweep would go to a scheduler over plain TCP on another host: Dask runs
+    whatever code its clients send, so anyone who can reach that port can run code on every
+    worker, and rows travel unencrypted."""
+    scheme = address.split("://", 1)[0] if "://" in address else "tcp"
+    if scheme == "tcp" and not is_loopback(address):
+        warnings.warn(
+            f"blurlab: the Dask scheduler {address} is reached over plain TCP: anyone who can "
+            "reach its port can run code on every worker, and results travel unencrypted. "
+            "Use a tls:// scheduler with certificates (blurlab sweep --scheduler tls://... "
+            "--tls-ca --tls-cert --tls-key; docs/distributed.md, 'Securing a cluster')",
+            UserWarning,
+            stacklevel=3,
+        )
+
+
+def tls_security(ca_file, cert_file, key_file):
+    """A ``distributed.Security`` for a client of a TLS scheduler: the CA that signed the
+    scheduler's and workers' certificates, and this client's certificate and key (PEM files).
+    Encryption is required: the client refuses a plain tcp:// scheduler."""
+    paths = {"CA": ca_file, "certificate": cert_file, "key": key_file}
+    for what, path in paths.items():
+        if path is None or not os.path.isfile(path):
+            raise FileNotFoundError(
+                f"blurlab: the TLS {what} file {path!r} was not found; a TLS client needs "
+                "--tls-ca, --tls-cert and --tls-key (PEM files, docs/distributed.md)"
+            )
+    return _distributed().Security(
+        tls_ca_file=str(ca_file),
+        tls_client_cert=str(cert_file),
+        tls_client_key=str(key_file),
+        require_encryption=True,
+    )
+
+
+def scheduler_client(address: str, tls_ca=None, tls_cert=None, tls_key=None):
+    """A ``distributed.Client`` of the scheduler at `address`: with TLS files, a tls://
+    address and its Security (tls_security); without, a plain one (warn_if_exposed)."""
+    tls = (tls_ca, tls_cert, tls_key)
+    if any(tls) and not all(tls):
+        raise ValueError("blurlab: TLS needs all three of --tls-ca, --tls-cert and --tls-key")
+    scheme = address.split("://", 1)[0] if "://" in address else "tcp"
+    if all(tls) and scheme != "tls":
+        raise ValueError(
+            f"blurlab: TLS certificates were given, but the scheduler address {address!r} is "
+            "not tls://; give its tls:// address"
+        )
+    if scheme == "tls" and not all(tls):
+        raise ValueError(
+            f"blurlab: the scheduler {address} speaks TLS; give --tls-ca, --tls-cert and "
+            "--tls-key (docs/distributed.md, 'Securing a cluster')"
+        )
+    if not all(tls):
+        warn_if_exposed(address)
+        return _distributed().Client(address, timeout="60s")
+    return _distributed().Client(address, security=tls_security(*tls), timeout="60s")
 
 
 def _device_info() -> dict:

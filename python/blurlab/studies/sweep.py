@@ -4,9 +4,9 @@ Each scene's G-buffer is rendered once per instant its methods need and its refe
 each evaluation runs the method and computes the registered metrics asked for (blurlab.metrics):
 those with a GPU reduction (squared error, SSIM, FLIP) on the GPU against the reference,
 reading the sums of a batch of evaluations back at once (docs/spec.md §6.3), the others from
-the images read back. Rows are
-appended to a CSV file as they are made, so an interrupted sweep keeps every finished row and
-a rerun with the same file skips those whose identity (blurlab.studies.identity) is its own. With a Dask cluster the same evaluations run on its
+the images read back. Rows are appended to a CSV file as they are made, so an interrupted
+sweep keeps every finished row and a rerun with the same file skips those whose identity
+(blurlab.studies.identity) is its own. With a Dask cluster the same evaluations run on its
 workers, a scene's configurations split into chunks (blurlab.studies.cluster).
 """
 
