@@ -4,6 +4,7 @@ suite."""
 
 from __future__ import annotations
 
+import json
 import os
 import signal
 import subprocess
@@ -68,3 +69,32 @@ def wait_for_file(path: Path, process: subprocess.Popen, log: Path) -> None:
         if process.poll() is not None or time.monotonic() > deadline:
             pytest.fail(f"the scheduler did not start:\n{log.read_text()[-4000:]}")
         time.sleep(0.2)
+
+
+def start_dask_cluster(folder: Path, env: dict, processes: list, options=()) -> str:
+    """Starts, from the command line on 127.0.0.1, `dask scheduler` and a `dask worker`
+    process of two one-thread workers named host-0 and host-1, both given `options` (with
+    "--protocol tls" among them only the scheduler takes that one), each in a process group
+    of its own appended to `processes` (stop them with stop_group). Returns the scheduler's
+    address once its file is written."""
+    scheduler_file, log = folder / "scheduler.json", folder / "scheduler.log"
+    common = ["--host", "127.0.0.1", "--no-dashboard", *options]
+    processes.append(
+        start_in_group(
+            ["dask", "scheduler", "--port", "0", "--scheduler-file", str(scheduler_file), *common],
+            log,
+            env,
+        )
+    )
+    wait_for_file(scheduler_file, processes[-1], log)
+    address = json.loads(scheduler_file.read_text())["address"]
+    worker = [o for o in common if o not in ("--protocol", "tls")]
+    processes.append(
+        start_in_group(
+            ["dask", "worker", address, "--nthreads", "1", "--nworkers", "2", "--name", "host"]
+            + worker,
+            folder / "worker.log",
+            env,
+        )
+    )
+    return address

@@ -20,7 +20,7 @@ import sys
 import pandas as pd
 import pytest
 from conftest import CLI_DEVICE
-from process_group import start_in_group, stop_group, wait_for_file
+from process_group import START_TIMEOUT_S, start_dask_cluster, stop_group
 
 import blurlab as bl
 
@@ -30,7 +30,6 @@ SCENES = ["fan", "teapot_pass"]
 GRID = {"reconstruct_mcguire2012": {"k": [8, 16]}, "gather_box": {"taps": [4]}}
 SIZE = (64, 36)
 REFERENCE_SAMPLES = 16
-START_TIMEOUT_S = 120
 SWEEP_TIMEOUT_S = 300
 
 
@@ -41,29 +40,10 @@ def command_line_cluster(tmp_path_factory):
     from distributed import Client
 
     folder = tmp_path_factory.mktemp("cli_cluster")
-    scheduler_file = folder / "scheduler.json"
     env = {**os.environ, "BLURLAB_DEVICE": CLI_DEVICE}
     processes = []
     try:
-        scheduler_log = folder / "scheduler.log"
-        processes.append(
-            start_in_group(
-                ["dask", "scheduler", "--host", "127.0.0.1", "--port", "0", "--no-dashboard"]
-                + ["--scheduler-file", str(scheduler_file)],
-                scheduler_log,
-                env,
-            )
-        )
-        wait_for_file(scheduler_file, processes[0], scheduler_log)
-        address = json.loads(scheduler_file.read_text())["address"]
-        processes.append(
-            start_in_group(
-                ["dask", "worker", address, "--nthreads", "1", "--nworkers", "2"]
-                + ["--name", "host", "--no-dashboard"],
-                folder / "worker.log",
-                env,
-            )
-        )
+        address = start_dask_cluster(folder, env, processes)
         with Client(address, timeout=START_TIMEOUT_S) as client:
             client.wait_for_workers(2, timeout=START_TIMEOUT_S)
             names = sorted(w["name"] for w in client.scheduler_info()["workers"].values())

@@ -16,7 +16,7 @@ import warnings
 import pandas as pd
 import pytest
 from conftest import CLI_DEVICE
-from process_group import START_TIMEOUT_S, start_in_group, stop_group, wait_for_file
+from process_group import START_TIMEOUT_S, start_dask_cluster, stop_group
 
 import blurlab as bl
 from blurlab.studies import cluster as dask_cluster
@@ -58,30 +58,12 @@ def tls_cluster(tmp_path_factory):
     make_certificates(folder)
     make_certificates(folder, ca="rogue_ca", names=("rogue",))
     pem = {name: str(folder / name) for name in ("ca.pem", "node.pem", "node.key")}
-    tls = ["--tls-ca-file", pem["ca.pem"], "--tls-cert", pem["node.pem"], "--tls-key"]
-    tls.append(pem["node.key"])
+    tls = ["--protocol", "tls", "--tls-ca-file", pem["ca.pem"], "--tls-cert", pem["node.pem"]]
+    tls += ["--tls-key", pem["node.key"]]
     env = {**os.environ, "BLURLAB_DEVICE": CLI_DEVICE}
     processes = []
     try:
-        log = folder / "scheduler.log"
-        processes.append(
-            start_in_group(
-                ["dask", "scheduler", "--protocol", "tls", "--host", "127.0.0.1", "--port", "0"]
-                + ["--no-dashboard", "--scheduler-file", str(folder / "scheduler.json"), *tls],
-                log,
-                env,
-            )
-        )
-        wait_for_file(folder / "scheduler.json", processes[0], log)
-        address = json.loads((folder / "scheduler.json").read_text())["address"]
-        processes.append(
-            start_in_group(
-                ["dask", "worker", address, "--nthreads", "1", "--nworkers", "2", "--name"]
-                + ["host", "--no-dashboard", "--host", "127.0.0.1", *tls],
-                folder / "worker.log",
-                env,
-            )
-        )
+        address = start_dask_cluster(folder, env, processes, tls)
         security = dask_cluster.tls_security(
             *(folder / name for name in ("ca.pem", "client.pem", "client.key"))
         )

@@ -303,7 +303,7 @@ class Context:
         array = _check_array(array)
         self._check_size(array.shape[1], array.shape[0])
         channels = array.shape[2] if array.ndim == 3 else 1
-        core = self._core.texture(array.shape[1], array.shape[0], channels, array.dtype.name)
+        core = self._new_texture(array.shape[1], array.shape[0], channels, array.dtype.name)
         texture = Texture(self, core, array.shape)
         core.upload(array.reshape(array.shape[0], array.shape[1], channels))
         return texture
@@ -331,9 +331,25 @@ class Context:
             )
         self._check_size(shape[1], shape[0])
         channels = shape[2] if len(shape) == 3 else 1
-        core = self._core.texture(shape[1], shape[0], channels, np.dtype(dtype).name)
+        core = self._new_texture(shape[1], shape[0], channels, np.dtype(dtype).name)
         core.clear()
         return Texture(self, core, shape)
+
+    def _new_texture(self, width: int, height: int, channels: int, dtype_name: str):
+        """A texture from the core; where the driver is out of memory, a GLError that says
+        what was asked for and what to do (the context stays usable)."""
+        try:
+            return self._core.texture(width, height, channels, dtype_name)
+        except _core.GLError as error:
+            if "OUT_OF_MEMORY" not in str(error):
+                raise
+            mib = width * height * channels * np.dtype(dtype_name).itemsize / 2**20
+            raise _core.GLError(
+                f"blurlab: a {width}x{height} texture of {channels} {dtype_name} channels "
+                f"({mib:,.0f} MiB) does not fit in the device's memory (GL_OUT_OF_MEMORY; "
+                "llvmpipe refuses any texture over 1 GiB). Use a smaller size, or free "
+                "textures and references you no longer need; this context is still usable"
+            ) from None
 
     def _check_size(self, width: int, height: int) -> None:
         limit = self.max_texture_size
