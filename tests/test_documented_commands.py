@@ -1,7 +1,7 @@
 """Every command the README and docs/ give a user runs as written.
 
 Commands are the lines of fenced ```console blocks that start with the prompt `$ `, one command
-a line (docs/STYLE.md's convention). Each page's `blurlab ...` and `python -m blurlab ...`
+a line. Each page's `blurlab ...` and `python -m blurlab ...`
 commands run verbatim through bash, in order, in one empty folder per page, with this tree's
 blurlab first on the path; each must exit 0 within COMMAND_TIMEOUT_S. `make ...` commands are
 .ci/run's to run: a test checks that .ci/run runs each one the docs give.
