@@ -93,3 +93,28 @@ def assert_inside_input_range(out: np.ndarray, color: np.ndarray, tolerance: flo
     for c in range(color.shape[-1]):
         lo, hi = color[..., c].min(), color[..., c].max()
         assert lo - tolerance <= out[..., c].min() and out[..., c].max() <= hi + tolerance, c
+
+
+def assert_blur_refuses(ctx, rng, method: str, params: dict, error: type, message: str):
+    """bl.blur(method, **params) on a small random frame raises `error` matching `message`: a
+    bad parameter is named with its allowed range."""
+    with pytest.raises(error, match=message):
+        bl.blur(ctx, random_frame(rng, 16, 16), method, **params)
+
+
+def assert_timings_name(ctx, rng, method: str, passes: list[str], **params):
+    """bl.blur(method) reports a time for each of `passes`, in order, and a positive total;
+    returns the result."""
+    result = bl.blur(ctx, random_frame(rng, 64, 36), method, **params)
+    assert list(result.timings) == passes
+    assert result.total_ms > 0
+    return result
+
+
+def assert_close_to_reference(color: np.ndarray, expected: np.ndarray):
+    """The GPU's `color` against its NumPy twin: at least 99.9% of pixels within 1e-3 on every
+    channel, and a mean absolute error of at most 1e-4."""
+    error = np.abs(color - expected)
+    within = (error.max(axis=-1) <= 1e-3).mean()
+    assert within >= 0.999, f"{within:.5f} of pixels within 1e-3"
+    assert error.mean() <= 1e-4, f"mean absolute error {error.mean():.2e}"
