@@ -32,6 +32,17 @@ def count_example() -> None:
     EXAMPLES["count"] += 1
 
 
+def pytest_sessionfinish(session):
+    """Under pytest-xdist each worker counts its own examples and hands the count back."""
+    if hasattr(session.config, "workeroutput"):
+        session.config.workeroutput["hypothesis_examples"] = EXAMPLES["count"]
+
+
+@pytest.hookimpl(optionalhook=True)
+def pytest_testnodedown(node, error):
+    EXAMPLES["count"] += getattr(node, "workeroutput", {}).get("hypothesis_examples", 0)
+
+
 def pytest_terminal_summary(terminalreporter):
     if EXAMPLES["count"]:
         terminalreporter.write_line(f"hypothesis: {EXAMPLES['count']} examples run")
