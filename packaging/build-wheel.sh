@@ -10,7 +10,7 @@
 #   bash packaging/build-wheel.sh                     (what `make wheel` runs)
 #   PYTHON=python3.12 bash packaging/build-wheel.sh   (another interpreter, with its headers)
 #   NO_ISOLATION=1 ...   build with the interpreter's own scikit-build-core, pybind11 and glad2
-#                        instead of fetching them (tests/test_wheel.py; a machine offline)
+#                        instead of fetching them (a machine offline; benchmarks/gpu.sh)
 #   TOOLCHAIN=system ... the machine's own CC/CXX instead of zig; auditwheel then picks the tag
 #                        that the machine's glibc and libstdc++ allow (benchmarks/gpu.sh uses it
 #                        to build a wheel on a machine whose Python this one lacks)
