@@ -50,8 +50,8 @@ COLOR_OUTPUTS = ("color", "color_with_history")
 # 474 rendered-scene colors: largest difference 0.263, mean 0.00115, 0.58% of values beyond
 # 0.05; the random frame's channel means within 0.0059). Rasterization and float rounding move
 # edges by a pixel, so a few values differ much and the rest hardly at all. The images are
-# stored as float16, which rounds values below 2 by at most 2**-11; that is added to `largest`
-# and `mean`.
+# stored as float16, which rounds a value by at most 2**-11 of its magnitude (2**-25 below
+# 2**-14); the bound for an image's largest value is added to `largest` and `mean`.
 IMAGE_TOLERANCE = {
     "largest": 0.5,  # every value of a rendered scene's color
     "mean": 0.004,  # mean absolute difference of a rendered scene's color
@@ -59,7 +59,6 @@ IMAGE_TOLERANCE = {
     "share_beyond": 0.01,  # ... and at most this share of the values may
     "channel_mean": 0.015,  # the random frame's colors: each channel's mean
 }
-FLOAT16_ROUNDING = 2.0**-11
 
 
 def random_frame() -> bl.Frame:
@@ -274,12 +273,13 @@ def load_images(path: Path = IMAGES_FILE) -> dict:
 def color_problems(made: np.ndarray, stored: np.ndarray) -> list[str]:
     """How a rendered scene's color `made` breaks IMAGE_TOLERANCE against its float16 copy."""
     difference = np.abs(made.astype(np.float64) - stored.astype(np.float64))
+    rounding = float(np.abs(stored).max()) * 2.0**-11 + 2.0**-25  # float16's, at most
     problems = []
-    largest = IMAGE_TOLERANCE["largest"] + FLOAT16_ROUNDING
+    largest = IMAGE_TOLERANCE["largest"] + rounding
     if difference.max() > largest:
         where = tuple(int(i) for i in np.unravel_index(difference.argmax(), difference.shape))
         problems.append(f"differs by {difference.max():.4g} > {largest:.4g} at (y, x, c) {where}")
-    mean = IMAGE_TOLERANCE["mean"] + FLOAT16_ROUNDING
+    mean = IMAGE_TOLERANCE["mean"] + rounding
     if difference.mean() > mean:
         problems.append(f"mean difference {difference.mean():.4g} > {mean:.4g}")
     share = (difference > IMAGE_TOLERANCE["beyond"]).mean()
