@@ -189,3 +189,13 @@ def test_recommend_measures_an_edited_file_anew(ctx, tmp_path, monkeypatch):
     _spinning_box(path, 80.0)
     bl.recommend(ctx, path, SIZE, target_psnr=20)
     assert len(calls) == 2 and calls[0] != calls[1]
+
+
+def test_a_texture_file_named_by_path_is_part_of_the_content(tmp_path):
+    image = tmp_path / "t.png"
+    bl.io.write(image, np.full((4, 4, 3), 0.5, np.float32))
+    scene = bl.scenes.get("fan")
+    scene.objects[0].material.texture = str(image)
+    before = identity.scene_digest(scene)
+    bl.io.write(image, np.full((4, 4, 3), 0.25, np.float32))
+    assert identity.scene_digest(scene) != before

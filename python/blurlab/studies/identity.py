@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..scene import Scene
+from ..scene import Material, Scene
 
 # The row columns that spell the identity out, beside the hash in IDENTITY.
 IDENTITY = "identity"
@@ -109,6 +109,8 @@ def _feed(h, value, seen: set) -> None:
             fields = dict(getattr(value, "__dict__", {}))
         if isinstance(value, Scene):
             fields.pop("source", None)  # where it was loaded from is not what it draws
+        if isinstance(value, Material) and isinstance(fields.get("texture"), str):
+            fields["texture"] = Path(fields["texture"])  # a texture named by path: its bytes
         _feed(h, fields, seen)
         h.update(b")")
 

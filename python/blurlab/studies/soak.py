@@ -29,6 +29,7 @@ from .sweep import middle_point, sweep_methods
 
 SAMPLES = 20  # samples of memory and objects along a run, besides its start and end
 COMPARED = ("psnr", "ssim")  # the metrics each evaluation computes and the rows compare
+READBACK_BATCH = 16  # evaluations whose metrics are read back together, as bl.sweep's default
 
 
 def configurations() -> list[tuple[str, dict]]:
@@ -78,7 +79,12 @@ def soak(ctx: Context, evaluations: int, size, scene: str = "fan", reference_sam
     configs = configurations()
     jobs = [(name, point, None, i) for i, (name, point) in enumerate(configs)]
     settings = evaluation.Settings(
-        (int(size[0]), int(size[1])), None, reference_samples, COMPARED, repeats=1
+        (int(size[0]), int(size[1])),
+        None,
+        reference_samples,
+        COMPARED,
+        repeats=1,
+        readback_batch=READBACK_BATCH,
     )
     the_scene = scenes.get(scene)
     cache: dict = {}
