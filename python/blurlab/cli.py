@@ -1,6 +1,6 @@
-"""The ``blurlab`` command: ``info``, ``demo``, ``methods``, ``study`` and ``sweep``. User errors
-(bad names, values, sizes, files) print one line ``blurlab: error: ...`` and exit with status 2;
-``--debug`` shows the traceback instead."""
+"""The ``blurlab`` command: ``info``, ``demo``, ``methods``, ``study``, ``sweep`` and ``bench``.
+User errors (bad names, values, sizes, files) print one line ``blurlab: error: ...`` and exit
+with status 2; ``--debug`` shows the traceback instead."""
 
 from __future__ import annotations
 
@@ -289,6 +289,10 @@ def main(argv: list[str] | None = None) -> int:
     sweep = sub.add_parser("sweep", help="run the sweep a TOML configuration describes")
     sweep.add_argument("config", help="TOML file: scenes, methods, size, shutter, ...")
     _add_cluster_options(sweep)
+    bench = sub.add_parser("bench", help="run, list and record the registered benchmarks")
+    from .bench import command as bench_command  # imported here: the core never needs it
+
+    bench_command.add_arguments(bench, parse_size)
     args = parser.parse_args(argv)
     commands = {
         "info": _info,
@@ -297,6 +301,7 @@ def main(argv: list[str] | None = None) -> int:
         "recommend": _recommend,
         "study": _study,
         "sweep": _sweep,
+        "bench": lambda args: bench_command.main(args, args.device),
     }
     try:
         return commands[args.command](args)
