@@ -1,5 +1,5 @@
-"""The benchmark registry (blurlab.bench): every benchmark runs on llvmpipe at its tiny preset
-and gives a valid record with finite figures; records are validated on write and read, and
+"""The benchmark registry (blurlab.studies.bench): every benchmark runs on llvmpipe at its tiny
+preset and gives a valid record with finite figures; records are validated on write and read, and
 merged by (benchmark, device); `blurlab bench`'s options refuse bad input; docs/benchmarks.md
 is the records file's Markdown."""
 
@@ -11,9 +11,9 @@ from pathlib import Path
 
 import pytest
 
-import blurlab.bench as bench
-from blurlab.bench import core, report, timing
+import blurlab.studies.bench as bench
 from blurlab.cli import main
+from blurlab.studies.bench import core, report, timing
 
 ROOT = Path(__file__).resolve().parents[1]
 ASSETS = ROOT.parent / "shared" / "assets" / "gltf"

@@ -16,6 +16,7 @@ from . import io, scenes
 from .context import Context
 from .methods import blur, method, methods
 from .studies import plots
+from .studies.bench import command as bench_command
 from .studies.cluster import account_table, local_cluster
 from .studies.recommend import recommend
 from .studies.study import run_study, run_sweep_config
@@ -290,8 +291,6 @@ def main(argv: list[str] | None = None) -> int:
     sweep.add_argument("config", help="TOML file: scenes, methods, size, shutter, ...")
     _add_cluster_options(sweep)
     bench = sub.add_parser("bench", help="run, list and record the registered benchmarks")
-    from .bench import command as bench_command  # imported here: the core never needs it
-
     bench_command.add_arguments(bench, parse_size)
     args = parser.parse_args(argv)
     commands = {

@@ -6,7 +6,7 @@ from __future__ import annotations
 import statistics
 import time
 
-from ..methods import blur
+from ...methods import blur, method, methods
 
 # Seconds of untimed calls before a timed set: an H100 left idle (by CPU work, or a
 # benchmark's checks) clocks down, and the next set then timed 2-4x slow.
@@ -92,6 +92,21 @@ def per_call_us(ctx, call, calls: int, clock=time.perf_counter) -> float:
     return 1e6 * (clock() - start) / calls
 
 
+def tile_filters() -> list[str]:
+    """The tile-based reconstruction filters (kind "filter", docs/spec.md §3), in registry order."""
+    return [name for name in methods() if method(name).kind == "filter"]
+
+
+def optioned_filters() -> list[str]:
+    """The tile filters that take the filter options and packed inputs (docs/spec.md §19)."""
+    return [name for name in tile_filters() if "packed_inputs" in method(name).params]
+
+
+def film_method() -> str:
+    """The method with a film filter (docs/spec.md §17.6): the engines' parts combined."""
+    return next(name for name in methods() if "film_filter" in method(name).params)
+
+
 def split(text: str) -> list[str]:
     """A comma-separated parameter's items ("" -> [])."""
     return [item for item in text.split(",") if item]
@@ -121,13 +136,13 @@ def method_config(text: str) -> tuple[str, dict]:
 
 def method_runs(names: list[str], film_filter: float = 0.0, configs: str = "") -> list[tuple]:
     """(label, method, parameters) for each method at its defaults; with film_filter > 0,
-    gather_coverage once more with its Gaussian film filter of that σ (docs/spec.md §17.6);
+    film_method() once more with its Gaussian film filter of that σ (docs/spec.md §17.6);
     then a row for each of `configs` (METHOD:KEY=VALUE,...; items separated by ';'), labelled
     with its parameters."""
     runs = [(name, name, {}) for name in names]
     if film_filter > 0:
-        label = f"gather_coverage, film_filter={film_filter:g}"
-        runs.append((label, "gather_coverage", {"film_filter": film_filter}))
+        label = f"{film_method()}, film_filter={film_filter:g}"
+        runs.append((label, film_method(), {"film_filter": film_filter}))
     for item in filter(None, configs.split(";")):
         method, params = method_config(item)
         label = ", ".join([method] + [f"{key}={value}" for key, value in params.items()])

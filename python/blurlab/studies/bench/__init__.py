@@ -1,7 +1,7 @@
-"""Benchmarks as a registry (blurlab.bench.core): each benchmark is registered once, with its
-parameters, sizes and runner, by one of the modules imported here; `blurlab bench` runs them
-and keeps their latest records in benchmarks/records.jsonl, from which docs/benchmarks.md is
-generated (blurlab.bench.report). The core package never imports this one."""
+"""Benchmarks as a registry (core.py): each benchmark is registered once, with its parameters,
+sizes and runner, by one of the modules imported here; `blurlab bench` runs them and keeps
+their latest records in benchmarks/records.jsonl, from which report.py generates
+docs/benchmarks.md. The core never imports the studies, this package among them."""
 
 from . import frame, filters, sweeps, quality  # noqa: F401, I001  (each registers its own)
 from .core import (

@@ -9,12 +9,12 @@ import time
 
 import numpy as np
 
-from .. import hatching as hatching_schemes
-from .. import scenes, tam
-from ..frame import MOTION_FORMATS
-from ..methods.core import Param
-from ..render import stored_motion
-from ..studies import hatching
+from ... import hatching as hatching_schemes
+from ... import scenes, tam
+from ...frame import MOTION_FORMATS
+from ...methods.core import Param
+from ...render import stored_motion
+from .. import hatching
 from .core import Benchmark, register
 from .timing import per_call_us, split, wall_ms
 

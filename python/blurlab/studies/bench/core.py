@@ -23,8 +23,9 @@ from dataclasses import dataclass, field
 from numbers import Integral, Real
 from pathlib import Path
 
-from ..context import Context
-from ..methods.core import Param
+from ... import __version__
+from ...context import Context
+from ...methods.core import Param
 
 PRESETS = ("tiny", "software", "gpu")  # CI's size, llvmpipe's records, the GPU's records
 CLOCKS = ("gl_time_elapsed", "wall_glfinish")
@@ -41,8 +42,8 @@ RECORD_KEYS = (
     "tables",
 )
 SIGNIFICANT = 5  # digits a figure keeps in a record: more is noise, and makes the file long
-# The checkout's records file, where there is a checkout (python/blurlab/bench -> root).
-ROOT = Path(__file__).resolve().parents[3]
+# The checkout's records file, where there is a checkout (python/blurlab/studies/bench -> root).
+ROOT = Path(__file__).resolve().parents[4]
 RECORDS = ROOT / "benchmarks" / "records.jsonl"
 
 
@@ -190,8 +191,6 @@ def parse_value(bench: Benchmark, key: str, text: str):
 def commit() -> str:
     """The tree's `git describe` (with -dirty where the code differs from it), or the package
     version where there is no checkout or no git."""
-    from .. import __version__
-
     try:
         described = subprocess.run(
             ["git", "describe", "--always", "--tags"],

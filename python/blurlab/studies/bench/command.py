@@ -7,6 +7,7 @@ import json
 import sys
 import time
 
+from ...context import Context
 from .core import (
     RECORDS,
     Unavailable,
@@ -87,8 +88,6 @@ def main(args, device) -> int:
     chosen = names() if args.names == ["all"] else args.names
     benches = [benchmark(name) for name in chosen]
     givens = [_given(b, args.param) for b in benches]  # every --param checked before a run
-    from ..context import Context
-
     requested = args.bench_device or device
     ctx = Context(int(requested) if str(requested).isdigit() else requested)
     records = []

@@ -6,17 +6,22 @@ from __future__ import annotations
 import itertools
 import statistics
 
-from .. import metrics, scenes
-from ..converged import default_reference_samples
-from ..methods import blur, method_instant, methods, plans
-from ..methods.core import Param
+from ... import metrics, scenes
+from ...converged import default_reference_samples
+from ...methods import blur, method, method_instant, methods, plans
+from ...methods.core import Param
 from .core import Benchmark, register
-from .timing import median_passes, per_call_us, split, untimed_calls_ms
+from .timing import (
+    median_passes,
+    optioned_filters,
+    per_call_us,
+    split,
+    tile_filters,
+    untimed_calls_ms,
+)
 
 RUNS = Param(10, int, "timed runs (medians over them)", 1, 10_000)
 SIZES = {"tiny": (64, 36), "software": (640, 360), "gpu": (1920, 1080)}
-TARGET = {"k": 20, "samples": 15}  # the filters' target configuration
-FILTERS = {"reconstruct_mcguire2012": TARGET, "reconstruct_guertin2014": {}}
 PASSES = ("tile_max", "neighbor_max", "reconstruct")
 
 
@@ -59,50 +64,48 @@ register(
 def _filters(ctx, size, p, out) -> None:
     frame = ctx.render(scenes.teapot_pass(), size)
     rows = []
-    configs = [
-        ("reconstruct_mcguire2012", "compute", TARGET),
-        ("reconstruct_mcguire2012", "fragment", TARGET),
-        ("reconstruct_mcguire2012", "compute, packed inputs", {**TARGET, "packed_inputs": True}),
-        ("reconstruct_urho3d", "fragment", TARGET),
-        ("reconstruct_guertin2014", "compute", {}),
-        ("reconstruct_guertin2014", "compute, packed inputs", {"packed_inputs": True}),
-    ]
+    configs = []  # (filter, label, backend, parameters): every backend, packed inputs too
+    for name in tile_filters():
+        configs += [(name, backend, backend, {}) for backend in method(name).backends]
+        if "packed_inputs" in method(name).params:
+            configs.append((name, "compute, packed inputs", None, {"packed_inputs": True}))
     totals = {}
-    for name, label, params in configs:
-        backend = "fragment" if label == "fragment" and name.endswith("2012") else None
+    for name, label, backend, params in configs:
         passes, _ = median_passes(ctx, frame, name, p["runs"], backend=backend, **params)
         queued = untimed_calls_ms(ctx, frame, name, backend, **params)
         short = name.removeprefix("reconstruct_")
-        totals[(short, label)] = passes["total"]
+        totals[(name, label)] = passes["total"]
         out.figure(f"{short} {label}", passes["total"], "ms")
         out.figure(f"{short} {label}, calls back to back", queued, "ms")
         rows.append([short, label, *(passes.get(k, float("nan")) for k in PASSES)])
         rows[-1] += [passes["total"], queued]
-    ratio = totals[("mcguire2012", "fragment")] / totals[("mcguire2012", "compute")]
-    out.figure("mcguire2012 fragment / compute", ratio, "x")
+    both = [n for n in tile_filters() if {"compute", "fragment"} <= set(method(n).backends)]
+    for name in both:
+        ratio = totals[(name, "fragment")] / totals[(name, "compute")]
+        out.figure(f"{name.removeprefix('reconstruct_')} fragment / compute", ratio, "x")
     out.table(
-        "k = 20, S = 15 (guertin2014 at its defaults), teapot_pass; per-pass timers",
+        "each tile filter at its defaults (k = 20, S = 15) on teapot_pass; per-pass timers",
         [("filter", ""), ("backend", "")]
         + [(k, "ms") for k in PASSES]
         + [("total", "ms"), ("calls back to back", "ms")],
         rows,
     )
+    swept = both[0]  # the first registered filter: McGuire 2012, as in the Urho3D thesis
     for title, key, values, fixed in (
-        ("the Urho3D thesis's Table 5.2: S sweep at k = 32", "samples", p["s_sweep"], {"k": 32}),
-        ("the thesis's Table 5.3: k sweep at S = 12", "k", p["k_sweep"], {"samples": 12}),
+        ("Table 5.2 of the Urho3D thesis: S sweep at k = 32", "samples", p["s_sweep"], {"k": 32}),
+        ("Table 5.3: k sweep at S = 12", "k", p["k_sweep"], {"samples": 12}),
     ):
         rows = []
         for value in (int(v) for v in split(values)):
             params = {**fixed, key: value}
-            totals = [
-                median_passes(ctx, frame, "reconstruct_mcguire2012", p["runs"], backend=b, **params)
+            compute, fragment = (
+                median_passes(ctx, frame, swept, p["runs"], backend=b, **params)[0]["total"]
                 for b in ("compute", "fragment")
-            ]
-            compute, fragment = (t[0]["total"] for t in totals)
+            )
             rows.append([value, compute, fragment, fragment / compute])
         if rows:
             out.table(
-                title,
+                f"{swept}, {title}",
                 [(key, ""), ("compute total", "ms"), ("fragment total", "ms"), ("ratio", "x")],
                 rows,
             )
@@ -111,8 +114,8 @@ def _filters(ctx, size, p, out) -> None:
 register(
     Benchmark(
         "filters",
-        "the tile filters pass by pass: McGuire 2012 compute against fragment, Urho3D, "
-        "Guertin 2014, packed inputs; the thesis's S and k sweeps",
+        "the tile filters pass by pass on every backend, with packed inputs where they take "
+        "them, per-pass timers and calls back to back; the Urho3D thesis's S and k sweeps",
         {
             "runs": RUNS,
             "s_sweep": Param("5,8,12,15,20,25", object, "S values at k = 32 (comma-separated)"),
@@ -134,10 +137,11 @@ BLOCKY_K = 32
 
 
 def _stable_filter(ctx, size, p, out) -> None:
-    configs = [(m, label, 20, o) for m in FILTERS for label, o in OPTIONS.items()]
+    filters = optioned_filters()
+    configs = [(m, label, 20, o) for m in filters for label, o in OPTIONS.items()]
     configs += [
         (m, "jitter_tiles" if o else "", BLOCKY_K, o)
-        for m in FILTERS
+        for m in filters
         for o in ({}, OPTIONS["jitter_tiles"])
     ]
     rows = []
@@ -164,7 +168,7 @@ def _stable_filter(ctx, size, p, out) -> None:
             short = m.removeprefix("reconstruct_")
             rows.append([name, short, label, k, metrics.psnr_from_mse(mse), ssim])
             rows[-1] += [statistics.median(ms), blocky]
-    for m in FILTERS:
+    for m in filters:
         short = m.removeprefix("reconstruct_")
         for label in OPTIONS:
             mine = [r for r in rows if r[1] == short and r[2] == label and r[3] == 20]
@@ -183,8 +187,8 @@ def _stable_filter(ctx, size, p, out) -> None:
 register(
     Benchmark(
         "stable_filter",
-        "Guertin 2014 against McGuire 2012 and each filter option on every failure and "
-        "built-in scene: PSNR, SSIM, ms, tile blockiness",
+        "the tile filters with packed inputs (Guertin 2014, McGuire 2012) and each filter "
+        "option on every failure and built-in scene: PSNR, SSIM, ms, tile blockiness",
         {
             "runs": Param(5, int, "timed rounds (medians)", 1, 1000),
             "scenes": Param("", object, "comma-separated scenes (empty: failure + built-in)"),
@@ -203,10 +207,10 @@ def _call_overhead(ctx, size, p, out) -> None:
     frame = ctx.render(scene, size)
     reference = ctx.reference(scene, size, samples=16, progress=False)
     rows = []
-    for name, params in FILTERS.items():
+    for name in optioned_filters():
 
-        def call(i, name=name, params=params):
-            blur(ctx, frame, name, timed=False, **params)
+        def call(i, name=name):
+            blur(ctx, frame, name, timed=False)
 
         ordinary, planned = [], []
         for _ in range(p["rounds"]):  # the two paths in turn: load hits both alike
@@ -216,16 +220,16 @@ def _call_overhead(ctx, size, p, out) -> None:
             call(0)
             call(0)  # noted, then recorded: later calls replay the plan
             planned.append(per_call_us(ctx, call, p["calls"]))
-        gpu = statistics.median(
-            1e3 * blur(ctx, frame, name, **params).total_ms for _ in range(p["rounds"])
-        )
+        gpu = statistics.median(1e3 * blur(ctx, frame, name).total_ms for _ in range(p["rounds"]))
         short = name.removeprefix("reconstruct_")
         out.figure(f"{short} call, planned", min(planned), "µs")
         rows.append([short, min(ordinary), min(planned), gpu])
 
+    swept = tile_filters()[0]
+
     def evaluate(i):
         k, s = GRID[i % len(GRID)]
-        color = blur(ctx, frame, "reconstruct_mcguire2012", k=k, samples=s, timed=False)
+        color = blur(ctx, frame, swept, k=k, samples=s, timed=False)
         metrics.gpu_mse_ssim(ctx, reference.texture, color.textures["color"])
 
     ordinary, planned = [], []

@@ -16,28 +16,37 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from .. import metrics, scenes
-from ..methods import blur, method, method_instant, methods
-from ..methods.core import Param
-from ..studies import failures, peers
-from ..studies.recommend import recommend
-from ..studies.study import run_study
-from ..studies.sweep import sweep, sweep_methods
+from ... import blender, metrics, scenes
+from ...blender import crosscheck
+from ...context import Context
+from ...methods import blur, method, method_instant, methods
+from ...methods.core import Param
+from .. import failures, peers
+from ..recommend import recommend
+from ..study import run_study
+from ..sweep import sweep, sweep_methods
 from .core import ROOT, Benchmark, Unavailable, register
-from .timing import median_passes, method_runs, split, untimed_calls_ms
+from .timing import (
+    film_method,
+    median_passes,
+    method_runs,
+    optioned_filters,
+    split,
+    untimed_calls_ms,
+)
 
-BASELINES = ("reconstruct_guertin2014", "reconstruct_mcguire2012")
-COMBINED = "gather_coverage"  # the filter built from the engines' best parts (spec §17.6)
 REFERENCES = {"temporal": "", "antialiased": peers.ANTIALIASED}
 EEVEE = "eevee (Blender)"
 EEVEE_POST_PROCESS = ((EEVEE, 1, 1),)  # EEVEE's real-time filter: 1 render sample, 1 step
 SIZES = {"tiny": (64, 36), "software": (320, 180), "gpu": (1920, 1080)}
+GPU_SCENES = "teapot_pass,fan,skinned_arm,vehicle,near_plane"  # the GPU presets' scenes
 
 
 def engine_methods() -> list[str]:
-    """The engines' methods, the filter that combines them, then the filters they are
-    measured against."""
-    return [n for n in methods() if n.startswith("engine_")] + [COMBINED, *BASELINES]
+    """The engines' methods, the filter that combines them (film_method), then the tile
+    filters they are measured against."""
+    engines = [n for n in methods() if n.startswith("engine_")]
+    return engines + [film_method(), *optioned_filters()]
 
 
 def _engine_scene(ctx, name, size, p, runs, references) -> list[dict]:
@@ -62,10 +71,10 @@ def _engine_scene(ctx, name, size, p, runs, references) -> list[dict]:
         for reference, suffix in REFERENCES.items():
             if reference in references:
                 image = rendered[suffix != ""].color
-                row |= {m + suffix: score(image, color) for m, score in peers.SCORES.items()}
+                row |= {m + suffix: peers.SCORES[m](image, color) for m in split(p["metrics"])}
         rows.append(row)
     if p["peers"]:
-        wanted = tuple(m + REFERENCES[r] for r in references for m in peers.SCORES)
+        wanted = tuple(m + REFERENCES[r] for r in references for m in split(p["metrics"]))
         rows += peers.peer_rows(
             ctx,
             name,
@@ -88,6 +97,11 @@ def _engines(ctx, size, p, out) -> None:
         )
     if p["peers"]:
         peers.check_peers([p["peers"]])
+    if "psnr" not in split(p["metrics"]) or set(split(p["metrics"])) - set(peers.SCORES):
+        raise ValueError(
+            f"blurlab: engines metrics {p['metrics']!r}: names from {', '.join(peers.SCORES)}, "
+            "comma-separated, psnr among them"
+        )
     runs = method_runs(split(p["methods"]) or engine_methods(), p["film_filter"], p["config"])
     names = split(p["scenes"]) or scenes.names() + scenes.names("failure")
     rows = []
@@ -99,11 +113,11 @@ def _engines(ctx, size, p, out) -> None:
     for label, row in medians.iterrows():
         out.figure(f"{label}: median PSNR", row.psnr, "dB")
         out.figure(f"{label}: median ms", row.ms, "ms")
-    if BASELINES[0] in medians.index and COMBINED in medians.index:
-        by = timed.pivot(index="scene", columns="method", values="b2b_ms")
-        ratio = statistics.median(by[COMBINED] / by[BASELINES[0]])
-        out.figure(f"{COMBINED} / {BASELINES[0]}, calls back to back (median)", ratio, "x")
-    scores = [m + REFERENCES[r] for r in references for m in peers.SCORES]
+    by = timed.pivot(index="scene", columns="method", values="b2b_ms")
+    for baseline in (n for n in optioned_filters() if film_method() in by and n in by):
+        ratio = statistics.median(by[film_method()] / by[baseline])
+        out.figure(f"{film_method()} / {baseline}, calls back to back (median)", ratio, "x")
+    scores = [m + REFERENCES[r] for r in references for m in split(p["metrics"])]
     columns = [("scene", ""), ("method", ""), ("ms", "ms"), ("calls back to back", "ms")]
     columns += [(s, "dB" if s.startswith("psnr") else "") for s in scores]
     keys = ["scene", "method", "ms", "b2b_ms", *scores]
@@ -121,8 +135,8 @@ def _engines(ctx, size, p, out) -> None:
 register(
     Benchmark(
         "engines",
-        "the engines' methods, gather_coverage and the tile filters side by side on every "
-        "built-in and failure scene: PSNR, SSIM, FLIP, ms",
+        "the engines' methods, the filter that combines them and the tile filters side by side "
+        "on every built-in and failure scene: PSNR, SSIM, FLIP, ms",
         {
             "runs": Param(5, int, "timed runs per method (medians)", 1, 1000),
             "scenes": Param("", object, "comma-separated scenes (empty: built-in + failure)"),
@@ -132,12 +146,19 @@ register(
                 "temporal", object, "comma-separated: temporal, antialiased (docs/spec.md §11)"
             ),
             "reference_samples": Param(0, int, "N of the references (0: from the motion)", 0),
-            "film_filter": Param(0.0, float, "σ px of an extra gather_coverage row (0: none)", 0),
+            "metrics": Param("psnr,ssim,flip", object, "comma-separated, from psnr, ssim, flip"),
+            "film_filter": Param(
+                0.0, float, "σ px of an extra row with a film filter (0: none)", 0
+            ),
             "config": Param("", object, "extra rows: METHOD:KEY=VALUE,... separated by ';'"),
         },
         _engines,
         SIZES,
-        {"tiny": {"runs": 1, "scenes": "thin_bar", "reference_samples": 8}, "gpu": {"runs": 10}},
+        {
+            "tiny": {"runs": 1, "scenes": "thin_bar", "reference_samples": 8},
+            # FLIP and SSIM run in NumPy: at 1080p on every scene they would take minutes
+            "gpu": {"runs": 10, "metrics": "psnr,ssim", "scenes": GPU_SCENES},
+        },
     )
 )
 
@@ -193,8 +214,8 @@ register(
             "repeats": Param(3, int, "timed runs per method", 1, 100),
         },
         _hdr,
-        {"tiny": (32, 18), "software": (160, 90), "gpu": (640, 360)},
-        {"tiny": {"scenes": "sparks", "methods": "reconstruct_mcguire2012", "repeats": 1}},
+        {"tiny": (32, 18), "software": (160, 90), "gpu": (320, 180)},
+        {"tiny": {"scenes": "sparks", "repeats": 1}},
     )
 )
 
@@ -224,7 +245,7 @@ register(
             "frames": Param(16, int, "frames of the flicker animation", 2, 1000),
         },
         _failures,
-        {"tiny": (32, 18), "software": (160, 90), "gpu": (640, 360)},
+        {"tiny": (32, 18), "software": (160, 90), "gpu": (320, 180)},
         {"tiny": {"scenes": "thin_bar", "frames": 2}},
     )
 )
@@ -317,7 +338,7 @@ register(
             "budgets_ms": Param("0.1,1,10", object, "comma-separated budgets, ms"),
         },
         _recommend,
-        {"tiny": (48, 27), "software": (160, 90), "gpu": (1920, 1080)},
+        {"tiny": (48, 27), "software": (160, 90), "gpu": (640, 360)},
         {"tiny": {"scenes": "fan", "budgets_ms": "10"}},
     )
 )
@@ -361,16 +382,13 @@ register(
             "models": Param("", object, "comma-separated model names (empty: all)"),
         },
         _content,
-        {"tiny": (48, 27), "software": (320, 180), "gpu": (1920, 1080)},
+        {"tiny": (48, 27), "software": (320, 180), "gpu": (640, 360)},
         {"tiny": {"models": "BoxAnimated"}},
     )
 )
 
 
 def _crosscheck(ctx, size, p, out) -> None:
-    from .. import blender
-    from ..blender import crosscheck
-
     rows = []
     for name in split(p["scenes"]) or list(crosscheck.SCENES):
         scene = crosscheck.SCENES[name]()
@@ -442,8 +460,6 @@ def _snapshot(ctx) -> tuple[int, float, float | None]:
 
 
 def _reliability(ctx, size, p, out) -> None:
-    from ..context import Context
-
     scene = scenes.teapot_pass()
     names = [n for n in methods() if not method(n).renders]
 
