@@ -56,7 +56,7 @@ register(
         },
         _methods,
         SIZES,
-        {"tiny": {"runs": 1, "reference_samples": 4}},
+        {"tiny": {"runs": 1, "reference_samples": 4}, "software": {"runs": 5}},
     )
 )
 
@@ -123,7 +123,11 @@ register(
         },
         _filters,
         SIZES,
-        {"tiny": {"runs": 1, "s_sweep": "5", "k_sweep": "4"}, "gpu": {"runs": 20}},
+        {
+            "tiny": {"runs": 1, "s_sweep": "5", "k_sweep": "4"},
+            "software": {"runs": 5},
+            "gpu": {"runs": 20},
+        },
     )
 )
 
@@ -195,7 +199,7 @@ register(
         },
         _stable_filter,
         {"tiny": (64, 36), "software": (320, 180), "gpu": (1920, 1080)},
-        {"tiny": {"runs": 1, "scenes": "thin_bar"}, "gpu": {"runs": 10}},
+        {"tiny": {"runs": 1, "scenes": "thin_bar"}, "software": {"runs": 3}, "gpu": {"runs": 10}},
     )
 )
 
@@ -260,6 +264,6 @@ register(
         },
         _call_overhead,
         {"tiny": (16, 16), "software": (160, 90), "gpu": (1920, 1080)},
-        {"tiny": {"calls": 5, "rounds": 1}},
+        {"tiny": {"calls": 5, "rounds": 1}, "software": {"calls": 100, "rounds": 3}},
     )
 )

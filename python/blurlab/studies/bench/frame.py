@@ -159,7 +159,7 @@ register(
         },
         _hatching,
         {"tiny": (64, 36), "software": (640, 360), "gpu": (1920, 1080)},
-        {"tiny": {"runs": 1, "measure": False}},
+        {"tiny": {"runs": 1, "measure": False}, "software": {"runs": 5, "frames": 16}},
     )
 )
 
@@ -198,7 +198,7 @@ register(
         },
         _reference_loop,
         {"tiny": (64, 36), "software": (640, 360), "gpu": (1920, 1080)},
-        {"tiny": {"scenes": "teapot_pass", "samples": 4, "runs": 1}},
+        {"tiny": {"scenes": "teapot_pass", "samples": 4, "runs": 1}, "software": {"samples": 64}},
     )
 )
 

@@ -38,7 +38,6 @@ from .timing import (
 REFERENCES = {"temporal": "", "antialiased": peers.ANTIALIASED}
 EEVEE = "eevee (Blender)"
 EEVEE_POST_PROCESS = ((EEVEE, 1, 1),)  # EEVEE's real-time filter: 1 render sample, 1 step
-SIZES = {"tiny": (64, 36), "software": (320, 180), "gpu": (1920, 1080)}
 GPU_SCENES = "teapot_pass,fan,skinned_arm,vehicle,near_plane"  # the GPU presets' scenes
 
 
@@ -153,9 +152,10 @@ register(
             "config": Param("", object, "extra rows: METHOD:KEY=VALUE,... separated by ';'"),
         },
         _engines,
-        SIZES,
+        {"tiny": (64, 36), "software": (160, 90), "gpu": (1920, 1080)},
         {
             "tiny": {"runs": 1, "scenes": "thin_bar", "reference_samples": 8},
+            "software": {"runs": 3},
             # FLIP and SSIM run in NumPy: at 1080p on every scene they would take minutes
             "gpu": {"runs": 10, "metrics": "psnr,ssim", "scenes": GPU_SCENES},
         },
@@ -215,7 +215,7 @@ register(
         },
         _hdr,
         {"tiny": (32, 18), "software": (160, 90), "gpu": (320, 180)},
-        {"tiny": {"scenes": "sparks", "repeats": 1}},
+        {"tiny": {"scenes": "sparks", "repeats": 1}, "software": {"repeats": 1}},
     )
 )
 
@@ -293,7 +293,7 @@ register(
             "fixed_k": Param(",".join(map(str, FIXED_K)), object, "fixed k values to beat"),
         },
         _auto_k,
-        {"tiny": (64, 36), "software": (320, 180), "gpu": (1920, 1080)},
+        {"tiny": (64, 36), "software": (160, 90), "gpu": (1920, 1080)},
         {"tiny": {"scenes": "fan", "fixed_k": "8,20"}},
     )
 )
@@ -382,7 +382,7 @@ register(
             "models": Param("", object, "comma-separated model names (empty: all)"),
         },
         _content,
-        {"tiny": (48, 27), "software": (320, 180), "gpu": (640, 360)},
+        {"tiny": (48, 27), "software": (160, 90), "gpu": (640, 360)},
         {"tiny": {"models": "BoxAnimated"}},
     )
 )

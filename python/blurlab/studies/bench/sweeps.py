@@ -74,7 +74,11 @@ register(
         },
         _sweep_throughput,
         SIZES,
-        {"tiny": {"evaluations": 4, "ssim_repeats": 1}, "gpu": {"evaluations": 2000}},
+        {
+            "tiny": {"evaluations": 4, "ssim_repeats": 1},
+            "software": {"evaluations": 100, "ssim_repeats": 5},
+            "gpu": {"evaluations": 2000},
+        },
     )
 )
 
@@ -173,7 +177,7 @@ register(
                 "reference_samples": 8,
                 "repeats": 1,
             },
-            "software": {"metrics": "psnr,ssim", "repeats": 1},
+            "software": {"metrics": "psnr,ssim", "repeats": 1, "scenes": "teapot_pass,fan"},
             "gpu": {"metrics": "psnr,ssim", "repeats": 1},
         },
         needs=("distributed",),
@@ -214,6 +218,6 @@ register(
         },
         _study,
         {"tiny": (48, 27), "software": (160, 90), "gpu": (1920, 1080)},
-        {"tiny": {"scenes": "fan"}},
+        {"tiny": {"scenes": "fan"}, "software": {"scenes": "teapot_pass,fan"}},
     )
 )
