@@ -190,7 +190,8 @@ def _reference_loop(ctx, size, p, out) -> None:
 register(
     Benchmark(
         "reference_loop",
-        "ctx.reference per sub-frame: wall clock beside the GPU time it reports",
+        "the reference's sub-frames: wall clock of ctx.reference per sub-frame beside the GPU "
+        "time it reports",
         {
             "scenes": Param("teapot_pass,vehicle", object, "comma-separated built-in scenes"),
             "samples": Param(256, int, "sub-frames of each reference", 1, 65536),

@@ -286,8 +286,8 @@ def _auto_k(ctx, size, p, out) -> None:
 register(
     Benchmark(
         "auto_k",
-        'k="auto" against every fixed k on every built-in and failure scene, for each tile '
-        "filter that offers it",
+        'the k = "auto" rule against every fixed k on every built-in and failure scene, for '
+        "each tile filter that offers it",
         {
             "scenes": Param("", object, "comma-separated scenes (empty: built-in + failure)"),
             "fixed_k": Param(",".join(map(str, FIXED_K)), object, "fixed k values to beat"),
@@ -331,8 +331,8 @@ def _recommend(ctx, size, p, out) -> None:
 register(
     Benchmark(
         "recommend",
-        "`blurlab recommend` for every built-in scene at several time budgets: the answer, its "
-        "time and its error",
+        "the answers of `blurlab recommend` for every built-in scene at several time budgets: "
+        "each answer, its time and its error",
         {
             "scenes": Param("", object, "comma-separated scenes (empty: every built-in)"),
             "budgets_ms": Param("0.1,1,10", object, "comma-separated budgets, ms"),

@@ -211,7 +211,7 @@ def _study(ctx, size, p, out) -> None:
 register(
     Benchmark(
         "study",
-        "`blurlab study` as a user runs it: the command's wall time and the phases it times",
+        "the wall time of `blurlab study` as a user runs it, and the phases the study times",
         {
             "runs": Param(1, int, "runs of the command", 1, 100),
             "scenes": Param("", object, "comma-separated scenes (empty: the study's default)"),
