@@ -12,6 +12,7 @@ from .core import (
     RECORDS,
     Unavailable,
     benchmark,
+    commit,
     merged,
     names,
     parse_value,
@@ -88,6 +89,7 @@ def main(args, device) -> int:
     chosen = names() if args.names == ["all"] else args.names
     benches = [benchmark(name) for name in chosen]
     givens = [_given(b, args.param) for b in benches]  # every --param checked before a run
+    commit()  # the code this process loaded, before anything runs
     requested = args.bench_device or device
     ctx = Context(int(requested) if str(requested).isdigit() else requested)
     records = []

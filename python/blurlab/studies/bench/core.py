@@ -14,6 +14,7 @@ made, written and read.
 from __future__ import annotations
 
 import datetime
+import functools
 import json
 import math
 import subprocess
@@ -188,9 +189,11 @@ def parse_value(bench: Benchmark, key: str, text: str):
     return check_value(bench, key, value)
 
 
+@functools.cache
 def commit() -> str:
     """The tree's `git describe` (with -dirty where the code differs from it), or the package
-    version where there is no checkout or no git."""
+    version where there is no checkout or no git; taken once a process, so that a long run's
+    records name the code it loaded, not a commit made while it ran."""
     try:
         described = subprocess.run(
             ["git", "describe", "--always", "--tags"],
