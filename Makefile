@@ -4,7 +4,7 @@ PYTHON ?= python3
 PIP := $(PYTHON) -m pip
 OUT ?= out/study
 
-.PHONY: deps install demo test lint format benchmark-transfer wheel
+.PHONY: deps install demo test lint format benchmark-transfer wheel docs
 
 deps:
 	bash .ci/install-deps
@@ -33,6 +33,11 @@ format:
 	$(PYTHON) -m ruff format python tests benchmarks
 	$(PYTHON) -m ruff check --fix python tests benchmarks
 	clang-format -i src/*/*.cpp src/*/*.h
+
+# The documentation site, offline, into site/ (mkdocs.yml; warnings are errors).
+docs: deps
+	$(PIP) install -q ".[docs]"
+	NO_MKDOCS_2_WARNING=1 $(PYTHON) -m mkdocs build --strict
 
 # The manylinux wheel and the sdist, into dist/ (packaging/build-wheel.sh; README "Install").
 wheel: deps

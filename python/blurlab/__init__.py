@@ -18,6 +18,7 @@ from .methods import (
 )
 from .motion import Bone, Keyframe, Motion, Skeleton, quaternion
 from .scene import Camera, DirectionalLight, Material, Scene
+from .sizes import DEFAULT_SIZE
 
 # The studies sit above the core (the core never imports them); the package offers the most
 # used ones by name.
@@ -29,6 +30,7 @@ from .studies.sweep import sweep  # noqa: E402
 __version__ = "0.1.0"
 
 __all__ = [
+    "DEFAULT_SIZE",
     "MOTION_FORMATS",
     "BlurResult",
     "Bone",

@@ -1,6 +1,6 @@
-"""The ``blurlab`` command: ``info``, ``demo``, ``methods``, ``study``, ``sweep`` and ``bench``.
-User errors (bad names, values, sizes, files) print one line ``blurlab: error: ...`` and exit
-with status 2; ``--debug`` shows the traceback instead."""
+"""The ``blurlab`` command: ``info``, ``demo``, ``methods``, ``metrics``, ``study``, ``sweep``
+and ``bench``. User errors (bad names, values, sizes, files) print one line
+``blurlab: error: ...`` and exit with status 2; ``--debug`` shows the traceback instead."""
 
 from __future__ import annotations
 
@@ -12,23 +12,29 @@ import time
 from contextlib import contextmanager
 from pathlib import Path
 
-from . import io, scenes
+from . import io, metrics, scenes
 from .context import Context
 from .methods import blur, method, methods
+from .sizes import DEFAULT_SIZE
 from .studies import plots
 from .studies.bench import command as bench_command
 from .studies.cluster import account_table, local_cluster
-from .studies.recommend import recommend
+from .studies.recommend import ranking_metrics, recommend
 from .studies.study import run_study, run_sweep_config
 from .twins.patterns import test_pattern
 
+DEFAULT_SIZE_TEXT = "{}x{}".format(*DEFAULT_SIZE)
+SIZE_HELP = f"WxH (default {DEFAULT_SIZE_TEXT})"
+
 
 def parse_size(text: str) -> tuple[int, int]:
-    """'640x360' -> (640, 360)."""
+    """'WxH' -> (W, H)."""
     try:
         width, height = (int(part) for part in text.lower().split("x"))
     except ValueError:
-        raise argparse.ArgumentTypeError(f"size must look like 640x360, not {text!r}") from None
+        raise argparse.ArgumentTypeError(
+            f"size must look like {DEFAULT_SIZE_TEXT}, not {text!r}"
+        ) from None
     if width < 1 or height < 1:
         raise argparse.ArgumentTypeError(f"size must be positive, not {text!r}")
     return width, height
@@ -178,6 +184,12 @@ def _methods(args) -> int:
     return 0
 
 
+def _metrics(args) -> int:
+    """Prints docs/metrics.md: every registered metric, from the registry."""
+    print(metrics.reference_page(), end="")
+    return 0
+
+
 def method_table(m) -> str:
     """A method's parameters as a Markdown table, from their declarations."""
     instant = "depends on the parameters" if callable(m.instant) else m.instant
@@ -216,7 +228,8 @@ class _Parser(argparse.ArgumentParser):
 USER_ERRORS = (ValueError, TypeError, LookupError, OSError, RuntimeError, ImportError)
 
 
-def main(argv: list[str] | None = None) -> int:
+def build_parser() -> argparse.ArgumentParser:
+    """The `blurlab` command line; docs/cli.md is printed from it (blurlab.cli_reference)."""
     parser = _Parser(prog="blurlab", description=__doc__)
     parser.add_argument(
         "--debug", action="store_true", help="show the Python traceback of an error"
@@ -233,7 +246,7 @@ def main(argv: list[str] | None = None) -> int:
         "demo", help="render the built-in scenes, blur them, write pictures and G-buffers"
     )
     demo.add_argument("--out", default="out/demo", help="output folder (default: out/demo)")
-    demo.add_argument("--size", type=parse_size, default=(640, 360), help="WxH (default 640x360)")
+    demo.add_argument("--size", type=parse_size, default=DEFAULT_SIZE, help=SIZE_HELP)
     demo.add_argument("--seed", type=int, default=0)
     demo.add_argument(
         "--method",
@@ -245,6 +258,9 @@ def main(argv: list[str] | None = None) -> int:
         "methods", help="list the registered methods and their parameters (defaults, ranges)"
     )
     listing.add_argument("name", nargs="?", help="one method (default: all)")
+    sub.add_parser(
+        "metrics", help="print every registered metric: direction, range, definition (Markdown)"
+    )
     study = sub.add_parser(
         "study", help="the main job: every scene x method x grid, report.html + results.csv"
     )
@@ -254,7 +270,7 @@ def main(argv: list[str] | None = None) -> int:
         default=None,
         help="built-in scenes and .gltf/.glb files (default: every built-in scene)",
     )
-    study.add_argument("--size", type=parse_size, default=(640, 360), help="WxH (default 640x360)")
+    study.add_argument("--size", type=parse_size, default=DEFAULT_SIZE, help=SIZE_HELP)
     study.add_argument("--out", default="out/study", help="output folder (default: out/study)")
     study.add_argument(
         "--reference-samples",
@@ -265,9 +281,9 @@ def main(argv: list[str] | None = None) -> int:
     study.add_argument(
         "--metrics",
         default="auto",
-        help="comma-separated names; auto (default): psnr,ssim,flip,psnr_aa and, on HDR "
-        "scenes, hdr_flip,psnr_tm,ssim_tm,log_lum_error,energy_ratio; psnr_aa is PSNR against "
-        "the antialiased reference",
+        help="comma-separated names (blurlab metrics lists them); auto (default): "
+        f"{','.join(metrics.default_names(False))} and, on HDR scenes, "
+        f"{','.join(n for n in metrics.default_names(True) if metrics.get(n).hdr)}",
     )
     study.add_argument(
         "--peers",
@@ -283,20 +299,26 @@ def main(argv: list[str] | None = None) -> int:
     advice.add_argument(
         "scene", help="a built-in scene (blurlab.scenes.names()) or a .gltf/.glb file"
     )
-    advice.add_argument("--size", type=parse_size, default=(640, 360), help="WxH (default 640x360)")
+    advice.add_argument("--size", type=parse_size, default=DEFAULT_SIZE, help=SIZE_HELP)
     advice.add_argument("--budget-ms", type=float, default=None, help="GPU ms per frame at most")
     advice.add_argument("--target-psnr", type=float, default=None, help="PSNR in dB at least")
-    advice.add_argument("--metric", choices=("psnr", "ssim"), default="psnr")
+    advice.add_argument("--metric", choices=ranking_metrics(), default="psnr")
     sweep = sub.add_parser("sweep", help="run the sweep a TOML configuration describes")
     sweep.add_argument("config", help="TOML file: scenes, methods, size, shutter, ...")
     _add_cluster_options(sweep)
     bench = sub.add_parser("bench", help="run, list and record the registered benchmarks")
     bench_command.add_arguments(bench, parse_size)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = build_parser()
     args = parser.parse_args(argv)
     commands = {
         "info": _info,
         "demo": _demo,
         "methods": _methods,
+        "metrics": _metrics,
         "recommend": _recommend,
         "study": _study,
         "sweep": _sweep,

@@ -21,6 +21,7 @@ from . import _core
 from ._paths import shader_dir as _default_shader_dir
 from .converged import reference_render
 from .render import render
+from .sizes import DEFAULT_SIZE
 
 TEXTURE_DTYPES = ("uint8", "float16", "float32", "uint32")
 DEVICE_MODES = ("auto", "gpu", "software")
@@ -429,7 +430,7 @@ class Context:
     def render(
         self,
         scene,
-        size=(640, 360),
+        size=DEFAULT_SIZE,
         shutter=None,
         instant="center",
         motion_format="rg32f",
@@ -448,32 +449,9 @@ class Context:
         """
         return render(self, scene, size, shutter, instant, motion_format, maxlen, jitter=jitter)
 
-    def reference(
-        self,
-        scene,
-        size=(640, 360),
-        shutter=None,
-        samples: int | str = 256,
-        stratified: bool = True,
-        seed: int = 0,
-        progress: bool | None = None,
-        guard: int = 0,
-        antialias: bool = False,
-    ):
-        """The converged reference of `scene` over `shutter`: the mean of `samples` full renders
-        at t_i = t0 + (i + u_i)/N·(t1 - t0), u_i = 0.5 or hashed when `stratified`
-        (docs/spec.md §1), accumulated in float32 on the GPU; a progress bar for N >= 64.
-        `samples="auto"` takes N from the scene's motion: max(64, 2 x the longest motion in
-        pixels), at most 1024, as sweeps do; the Reference says so (`auto`).
-
-        ``antialias=True`` also gives each sub-frame a sub-pixel position: (time, x, y) from an
-        Owen-scrambled Sobol sequence (`seed` picks the scramble), so the mean is the one-pixel
-        box-filtered image a path tracer converges to. ``antialias=False`` (the default)
-        samples pixel centers as the methods' G-buffers do, isolating motion-blur error from
-        aliasing (docs/spec.md §11)."""
-        return reference_render(
-            self, scene, size, shutter, samples, stratified, seed, progress, guard, antialias
-        )
+    # ctx.reference(scene, size, shutter, samples, ...): its parameters and doc are
+    # reference_render's, declared once there.
+    reference = reference_render
 
     @property
     def native(self) -> _core.Context:

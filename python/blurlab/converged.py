@@ -15,6 +15,7 @@ from .frame import Frame
 from .render import check_shutter, check_size, render, render_targets
 from .sampling import shutter_samples
 from .scene import Scene
+from .sizes import DEFAULT_SIZE
 from .twins.accumulation import sample_times
 
 
@@ -67,7 +68,7 @@ MAX_SAMPLES = 1 << 20
 def reference_render(
     ctx,
     scene: Scene,
-    size,
+    size=DEFAULT_SIZE,
     shutter=None,
     samples: int | str = 256,
     stratified: bool = True,
@@ -76,8 +77,17 @@ def reference_render(
     guard: int = 0,
     antialias: bool = False,
 ) -> Reference:  # noqa: E501
-    """The mean of `samples` renders at t_i = t0 + (i + u_i)/N·(t1 - t0) (docs/spec.md §1);
-    with `antialias`, at scrambled Sobol (time, x, y): time and sub-pixel position together."""
+    """The converged reference of `scene` over `shutter` (``ctx.reference``): the mean of
+    `samples` full renders at t_i = t0 + (i + u_i)/N·(t1 - t0), u_i = 0.5 or hashed when
+    `stratified` (docs/spec.md §1), accumulated in float32 on the GPU; a progress bar for
+    N >= 64. `samples="auto"` takes N from the scene's motion: max(64, 2 x the longest motion in
+    pixels), at most 1024, as sweeps do; the Reference says so (`auto`).
+
+    ``antialias=True`` also gives each sub-frame a sub-pixel position: (time, x, y) from an
+    Owen-scrambled Sobol sequence (`seed` picks the scramble), so the mean is the one-pixel
+    box-filtered image a path tracer converges to. ``antialias=False`` (the default) samples
+    pixel centers as the methods' G-buffers do, isolating motion-blur error from aliasing
+    (docs/spec.md §11)."""
     if not isinstance(scene, Scene):
         raise TypeError(f"blurlab: reference needs a blurlab Scene, not {type(scene).__name__}")
     auto = isinstance(samples, str) and samples == "auto"
@@ -114,8 +124,8 @@ def reference_render(
         from tqdm.auto import tqdm
 
         iterator = tqdm(times, desc=f"reference N={samples}", unit="sub-frame", leave=False)
-    # No wait for the GPU per sub-frame (issue 19): GL timer queries time each sub-frame and are
-    # read once after the loop; a wall clock (software contexts) can only time by waiting
+    # No wait for the GPU per sub-frame (docs/spec.md §11): GL timer queries time each sub-frame
+    # and are read once after the loop; a wall clock (software contexts) can only time by waiting
     # (glFinish), so there one timer spans the whole loop instead.
     per_subframe = not ctx.software
     timings = []

@@ -13,6 +13,7 @@ import numpy as np
 from . import _core
 from .frame import MOTION_FORMATS, Frame
 from .scene import Scene
+from .sizes import DEFAULT_SIZE
 
 INSTANTS = ("center", "close", "open")
 
@@ -104,7 +105,7 @@ def camera_matrices(scene: Scene, size, times, guard: int = 0, jitter=(0.0, 0.0)
 def render(
     ctx,
     scene: Scene,
-    size=(640, 360),
+    size=DEFAULT_SIZE,
     shutter=None,
     instant: str | float = "center",
     motion_format: str = "rg32f",

@@ -13,7 +13,7 @@ float quantize_small_float(float x, int mantissa_bits) {
     uint bits = floatBitsToUint(x);
     // Normal values (2^-14 <= x, finite, positive), nearly every one, first and in one test:
     // rounding on the bits. Behind three tests it cost the H100 what a half-float filter
-    // result saves in bandwidth (docs/benchmarks.md, "Where issue 19 stands … (sixth stop)").
+    // result saves in bandwidth (docs/benchmarks.md).
     if (bits >= 0x38800000u && bits < 0x7f800000u) {
         uint drop = uint(23 - mantissa_bits);
         uint rounded = ((bits + ((1u << (drop - 1u)) - 1u) + ((bits >> drop) & 1u)) >> drop) << drop;

@@ -4,6 +4,9 @@
 // row-major order among equal lengths, and its shortest length. Compute, one thread per tile.
 // NumPy twin: blurlab.twins.hdrp.tile_min_max.
 
+float block_key(vec2 code) { return code.x; }
+#include "common/block_extremes.glsl"
+
 layout(binding = 0) uniform sampler2D velocity;
 uniform int tile;
 
@@ -13,19 +16,6 @@ layout(binding = 0, rgba32f) uniform writeonly image2D tiles;
 void main() {
     ivec2 t = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(t, imageSize(tiles)))) return;
-    ivec2 origin = t * tile;
-    ivec2 end = min(origin + tile, textureSize(velocity, 0));
-    vec2 best = vec2(0.0, 0.5);
-    float best_length = -1.0, shortest = 3.4e38;
-    for (int y = origin.y; y < end.y; ++y) {
-        for (int x = origin.x; x < end.x; ++x) {
-            vec2 c = texelFetch(velocity, ivec2(x, y), 0).xy;
-            if (c.x > best_length) {
-                best = c;
-                best_length = c.x;
-            }
-            shortest = min(shortest, c.x);
-        }
-    }
-    imageStore(tiles, t, vec4(best, shortest, 0.0));
+    BlockExtremes e = block_extremes(velocity, t * tile, tile, vec2(0.0, 0.5), -1.0);
+    imageStore(tiles, t, vec4(e.longest, e.shortest, 0.0));
 }

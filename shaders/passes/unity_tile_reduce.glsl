@@ -5,6 +5,9 @@
 // output texel. NumPy twin: blurlab.twins.unity.reduce_max.
 #include "common/unity.glsl"
 
+float block_key(vec2 code) { return code_key(code); }
+#include "common/block_extremes.glsl"
+
 layout(binding = 0) uniform sampler2D codes;
 uniform int block;  // block side, texels
 
@@ -14,19 +17,6 @@ layout(binding = 0, rgba32f) uniform writeonly image2D reduced;
 void main() {
     ivec2 out_texel = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(out_texel, imageSize(reduced)))) return;
-    ivec2 origin = out_texel * block;
-    ivec2 end = min(origin + block, textureSize(codes, 0));
-    vec2 best = vec2(0.0);
-    float best_key = -1.0;
-    for (int y = origin.y; y < end.y; ++y) {
-        for (int x = origin.x; x < end.x; ++x) {
-            vec2 c = texelFetch(codes, ivec2(x, y), 0).xy;
-            float k = code_key(c);
-            if (k > best_key) {
-                best = c;
-                best_key = k;
-            }
-        }
-    }
-    imageStore(reduced, out_texel, vec4(best, 0.0, 0.0));
+    BlockExtremes e = block_extremes(codes, out_texel * block, block, vec2(0.0), -1.0);
+    imageStore(reduced, out_texel, vec4(e.longest, 0.0, 0.0));
 }

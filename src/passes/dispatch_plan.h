@@ -1,9 +1,9 @@
-// A recorded sequence of ShaderPass runs, replayed by one call (issue 19: a Python call of a
-// method must cost little more than its GPU time). Recording resolves each run once: programs,
-// texture and image units, uniforms converted to GL's types, work-group counts. A replay binds
-// the textures it is given in the recorded places, uploads the uniforms and dispatches, with no
-// name lookups and one GL error check at the end. The textures are arguments of each replay,
-// so one plan serves every call that has textures of the recorded sizes and formats.
+// A recorded sequence of ShaderPass runs, replayed by one call (docs/spec.md §18: a Python call of
+// a method must cost little more than its GPU time). Recording resolves each run once: programs,
+// texture and image units, uniforms converted to GL's types, work-group counts. A replay binds the
+// textures it is given in the recorded places, uploads the uniforms and dispatches, with no name
+// lookups and one GL error check at the end. The textures are arguments of each replay, so one plan
+// serves every call that has textures of the recorded sizes and formats.
 #pragma once
 
 #include <memory>

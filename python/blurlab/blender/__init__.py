@@ -29,6 +29,7 @@ import numpy as np
 from .. import capture, io
 from ..render import check_shutter, check_size
 from ..scene import Scene
+from ..sizes import DEFAULT_SIZE
 
 CHILD = Path(__file__).with_name("child.py")
 ENGINES = {"CYCLES": "CYCLES", "EEVEE": "BLENDER_EEVEE"}
@@ -187,7 +188,7 @@ def export(scene: Scene, size, shutter, keys: int) -> tuple[dict, dict]:
 
 def render(
     scene: Scene,
-    size=(640, 360),
+    size=DEFAULT_SIZE,
     shutter=None,
     engine: str = "CYCLES",
     samples: int | None = None,

@@ -1,7 +1,7 @@
 """Motion-blur methods by name: ``bl.methods()`` lists them, ``bl.blur(ctx, frame, name, ...)``
-runs one. The core (parameters, registry, blur, steps, timing) is in ``core``; each method or
-family is a module of its own that registers itself on import, below. A new method is a new
-module here, its shader, its NumPy twin and its test (docs/adding_a_method.md).
+runs one. The core is ``core`` (blur, steps) with ``params``, ``registry`` and ``passes``; each
+method or family is a module of its own that registers itself on import, below. A new method
+is a new module here, its shader, its NumPy twin and its test (docs/adding_a_method.md).
 """
 
 # Each module registers its methods on import; the order here is the registry's, which is the

@@ -35,13 +35,11 @@ register(
     Method(
         name="accumulation",
         kind="render",
-        instant="center",
         params={
             "samples": Param(8, int, "sub-frames N; 4-32 shows the banding", 1, 4096),
             "stratified": Param("uniform", ("uniform", "stratified"), "sub-frame times"),
             "seed": SEED,
         },
-        backends=("compute",),
         run=_run_accumulation,
         default_grid={"samples": [4, 8, 16]},
         renders_for=lambda n: {"samples": n},

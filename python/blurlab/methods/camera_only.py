@@ -8,11 +8,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..context import Context, Timing
+from ..context import Context
 from ..frame import Frame
 from ..render import camera_matrices
-from .core import Method, Pass, register, run_pass
-from .gathers import BOX_PARAMS, GATHER_BOX, box_reach, with_edge
+from .core import Method, Pass, PassRunner, register
+from .gathers import BOX_PARAMS, GATHER_BOX, box_instant, box_reach, with_edge
 
 
 def camera_motion_uniforms(camera: dict) -> dict:
@@ -44,23 +44,15 @@ def _run_camera_only(ctx: Context, frame: Frame, inputs: dict, values: dict, bac
         if guard:  # the margin's frustum, as render_targets widened it
             camera = camera_matrices(frame.scene, frame.size, tuple(camera["times"]), guard)
         motion, result = ctx.pooled((height, width, 2)), ctx.pooled((height, width, 4))
-        timings: dict[str, Timing] = {}
-        run_pass(
-            ctx,
-            timings,
-            CAMERA_MOTION,
-            BOX_PARAMS,
-            values,
-            {"depth": textures["depth"]},
-            {"motion": motion},
-            uniforms=camera_motion_uniforms(camera),
+        passes = PassRunner(ctx, BOX_PARAMS, values)
+        uniforms = camera_motion_uniforms(camera)
+        passes.run(
+            CAMERA_MOTION, {"depth": textures["depth"]}, {"motion": motion}, uniforms=uniforms
         )
         gathered = {"color": textures["color"], "motion": motion}
-        run_pass(
-            ctx, timings, GATHER_BOX, BOX_PARAMS, values, gathered, {"result": result}, backend
-        )
+        passes.run(GATHER_BOX, gathered, {"result": result}, backend)
         ctx.recycle(motion)
-        return result, timings
+        return result, passes.timings
 
     color, timings = with_edge(ctx, frame, inputs, values["edge"], box_reach(values), on)
     return {"color": color}, timings
@@ -70,7 +62,7 @@ register(
     Method(
         name="camera_only",
         kind="gather",
-        instant=lambda v: "center" if v.get("direction") == "centered" else "close",
+        instant=box_instant,
         params=BOX_PARAMS,
         backends=("compute", "fragment"),
         run=_run_camera_only,

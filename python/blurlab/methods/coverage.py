@@ -20,7 +20,7 @@ from ..context import Context
 from ..frame import Frame
 from ..twins import coverage as twin
 from ..twins import film
-from .core import SEED, Method, Param, Pass, register, run_pass
+from .core import SEED, Method, Param, Pass, PassRunner, register
 from .eevee import dilated_tiles
 from .tile_filter import TILE_FILTER_PARAMS
 from .variants import PassVariants
@@ -76,8 +76,9 @@ FILM_VARIANTS = {
 FILM_LAYOUT = PassVariants("film filter", FILM_VARIANTS, "separable_shared")
 
 
-def _film_filter(ctx: Context, timings: dict, values: dict, gathered):
+def _film_filter(passes: PassRunner, gathered):
     """Step 4 of §17.6 on `gathered`, as FILM_LAYOUT says: the filtered texture."""
+    ctx, values = passes.ctx, passes.values
     size = gathered.shape[:2]
     variant = FILM_LAYOUT.defines()
     defines = {**variant, "FILM_RADIUS": film.film_radius(values["film_filter"])}
@@ -88,12 +89,8 @@ def _film_filter(ctx: Context, timings: dict, values: dict, gathered):
     else:
         rows, steps = None, [(FILM, gathered, filtered, None)]
     for step, source, target, columns in steps:
-        run_pass(
-            ctx,
-            timings,
+        passes.run(
             step,
-            PARAMS,
-            values,
             {"color": source},
             {"result": target},
             uniforms={} if columns is None else {"film_columns": columns},
@@ -108,11 +105,11 @@ def _run_coverage(ctx: Context, frame: Frame, inputs: dict, values: dict, backen
     size = inputs["color"].shape[:2]
     s = twin.tile_size(size[0], values["tile_percent"])
     reach_limit = twin.max_blur_px(size[0], values["max_blur"])
-    timings: dict = {}
+    passes = PassRunner(ctx, PARAMS, values)
     grids = dilated_tiles(
         ctx,
         frame,
-        timings,
+        passes.timings,
         PARAMS,
         values,
         size,
@@ -142,35 +139,21 @@ def _run_coverage(ctx: Context, frame: Frame, inputs: dict, values: dict, backen
             )
         defines = {**defines, "FILM_THROUGH_TAPS": 1}
         uniforms["film_spread"] = film.film_spread(values["film_filter"])
-    run_pass(
-        ctx,
-        timings,
-        GATHER,
-        PARAMS,
-        values,
-        textures,
-        {"result": gathered},
-        backend,
-        uniforms=uniforms,
-        defines=defines,
-    )
+    passes.run(GATHER, textures, {"result": gathered}, backend, uniforms=uniforms, defines=defines)
     outputs = {"color": gathered, **tile_buffers}
     if values["film_filter"] > 0 and not through_taps:
-        outputs.update(color=_film_filter(ctx, timings, values, gathered), unfiltered=gathered)
-    return outputs, timings
+        outputs.update(color=_film_filter(passes, gathered), unfiltered=gathered)
+    return outputs, passes.timings
 
 
 register(
     Method(
         name="gather_coverage",
         kind="gather",
-        instant="center",
         params=PARAMS,
-        backends=("compute",),
         run=_run_coverage,
         default_grid={"samples": [4, 8, 16], "max_blur": [15.0, 30.0]},
         twin=twin.gather_coverage,
-        twin_inputs=("color", "depth", "motion_prev", "motion_next"),
         doc="The engines' best parts combined: two-sided motion, dilation along each tile's "
         "motion, tiles and limit relative to the height, taps along the tile's and X's own "
         "motion, weighted by the share of each half-shutter a trail spends over X, the "

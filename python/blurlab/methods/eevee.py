@@ -1,5 +1,5 @@
 """engine_eevee: the post-process motion blur of Blender EEVEE-Next, written from the algorithm
-as issue 17 and Blender's user manual (Render > Motion Blur) describe it, not from Blender's
+as Blender's user manual (Render > Motion Blur) describes it, not from Blender's
 sources: docs/spec.md §17.2. Three passes on the two-sided motion of §17.1: tile flatten
 (shaders/passes/eevee_tile_flatten.glsl), dilation along each tile's motion
 (eevee_tile_dilate.glsl) and the gather over both half-shutters (eevee_gather.glsl). NumPy
@@ -20,7 +20,7 @@ import numpy as np
 from ..context import Context, Texture
 from ..frame import Frame
 from ..twins import eevee as twin
-from .core import SEED, Method, Param, Pass, register, run_pass
+from .core import SEED, Method, Param, Pass, PassRunner, register
 from .tile_filter import TILE_FILTER_PARAMS
 from .variants import PassVariants
 
@@ -126,6 +126,7 @@ def dilated_tiles(
     TILE_PICK_LAYOUT says), else one thread per tile (same bits either way); None: as
     tile_groups(ctx) says. `length_steps`: lengths compare as twins.eevee.pick_key says (0:
     exactly, as EEVEE does); with steps the dilation runs as DILATION_LAYOUT says."""
+    passes = PassRunner(ctx, params, values, timings)
     height, width = size
     grid = (-(-height // tile_size), -(-width // tile_size), 4)
     tiles = ctx.pooled(grid)
@@ -143,15 +144,9 @@ def dilated_tiles(
     flattened = {"tiles": tiles}
     if scatter:  # the flatten also offers each tile's reach to the keys
         flattened["reach_keys"] = ctx.pooled((2 * grid[0], grid[1]), "uint32")  # prev above next
-        run_pass(
-            ctx, timings, CLEAR_KEYS, params, values, {}, {"reach_keys": flattened["reach_keys"]}
-        )
-    run_pass(
-        ctx,
-        timings,
+        passes.run(CLEAR_KEYS, {}, {"reach_keys": flattened["reach_keys"]})
+    passes.run(
         FLATTEN,
-        params,
-        values,
         {"motion_sides": sides},
         flattened,
         uniforms={**sized, "max_blur": max_blur} if scatter else sized,
@@ -162,15 +157,11 @@ def dilated_tiles(
         return TileGrids(sides, tiles, None, flattened["reach_keys"])
     dilated = ctx.pooled(grid)
     if scatter:
-        run_pass(ctx, timings, RESOLVE, params, values, flattened, {"dilated": dilated})
+        passes.run(RESOLVE, flattened, {"dilated": dilated})
         ctx.recycle(flattened["reach_keys"])
         return TileGrids(sides, tiles, dilated, None)
-    run_pass(
-        ctx,
-        timings,
+    passes.run(
         DILATE,
-        params,
-        values,
         {"tiles": tiles},
         {"dilated": dilated},
         uniforms={**sized, "max_blur": max_blur},
@@ -182,9 +173,9 @@ def dilated_tiles(
 
 def _run_eevee(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
     size = inputs["color"].shape[:2]
-    timings: dict = {}
+    passes = PassRunner(ctx, PARAMS, values)
     sides, tiles, dilated, _ = dilated_tiles(
-        ctx, frame, timings, PARAMS, values, size, values["tile_size"], values["max_blur"]
+        ctx, frame, passes.timings, PARAMS, values, size, values["tile_size"], values["max_blur"]
     )
     result = ctx.pooled((*size, 4))
     textures = {
@@ -193,21 +184,18 @@ def _run_eevee(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: 
         "motion_sides": sides,
         "dilated": dilated,
     }
-    run_pass(ctx, timings, GATHER, PARAMS, values, textures, {"result": result}, backend)
-    return {"color": result, "tiles": tiles, "dilated": dilated}, timings
+    passes.run(GATHER, textures, {"result": result}, backend)
+    return {"color": result, "tiles": tiles, "dilated": dilated}, passes.timings
 
 
 register(
     Method(
         name="engine_eevee",
         kind="gather",
-        instant="center",
         params=PARAMS,
-        backends=("compute",),
         run=_run_eevee,
         default_grid={"samples": [4, 8, 16], "max_blur": [32.0, 128.0]},
         twin=twin.engine_eevee,
-        twin_inputs=("color", "depth", "motion_prev", "motion_next"),
         doc="Blender EEVEE-Next's post-process motion blur, from its described algorithm: 32 px "
         "tiles, dilation along each tile's motion, 8 samples on each half-shutter of the "
         "two-sided motion, jittered tile lookup, soft depth comparison. docs/spec.md §17.2.",

@@ -23,13 +23,11 @@ register(
     Method(
         name="gather_gaussian",
         kind="gather",
-        instant="center",
         params=PARAMS,
         backends=("compute", "fragment"),
         run=run_gather(GATHER, PARAMS, reach=lambda values: 0.5),
         default_grid={"taps": [5, 9, 17], "sigma": [0.25]},
         twin=twin.gather_gaussian,
-        twin_inputs=("color", "motion"),
         doc="n taps along the motion around the pixel, weighted exp(-s²/2σ²). docs/spec.md §4.",
     )
 )

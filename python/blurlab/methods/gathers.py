@@ -12,11 +12,11 @@ from collections.abc import Callable
 
 import numpy as np
 
-from ..context import Context, Timing
+from ..context import Context
 from ..frame import Frame
 from ..render import render_targets
 from ..twins import gathers as twin
-from .core import PARAM_SCALE_MAX, Method, Param, Pass, register, run_pass
+from .core import PARAM_SCALE_MAX, Method, Param, Pass, PassRunner, register
 
 EDGES = ("clamp", "ignore", "guard")
 
@@ -55,10 +55,10 @@ def run_gather(step: Pass, params: dict[str, Param], reach: Callable[[dict], flo
         def on(textures):
             height, width = textures["color"].shape[:2]
             result = ctx.pooled((height, width, 4))
-            timings: dict[str, Timing] = {}
+            passes = PassRunner(ctx, params, values)
             gathered = {"color": textures["color"], "motion": textures["motion"]}
-            run_pass(ctx, timings, step, params, values, gathered, {"result": result}, backend)
-            return result, timings
+            passes.run(step, gathered, {"result": result}, backend)
+            return result, passes.timings
 
         color, timings = with_edge(ctx, frame, inputs, values["edge"], reach(values), on)
         return {"color": color}, timings
@@ -81,7 +81,6 @@ register(
         backends=("compute", "fragment"),
         run=run_gather(GATHER_WEIGHTED, WEIGHTED_PARAMS, lambda v: 1.5),
         twin=twin.gather_weighted,
-        twin_inputs=("color", "motion"),
         doc="ogldev tutorial 41: taps along M/2 with weights 0.4/0.3/0.2/0.1. docs/spec.md §4.",
     )
 )
@@ -103,17 +102,21 @@ def box_reach(values: dict) -> float:
     return values["intensity"] * (0.5 if values["direction"] == "centered" else 1.0)
 
 
+def box_instant(values: dict) -> str:
+    """Taps around X read the G-buffer at the shutter's center, taps behind it at its close."""
+    return "center" if values.get("direction") == "centered" else "close"
+
+
 register(
     Method(
         name="gather_box",
         kind="gather",
-        instant=lambda v: "center" if v.get("direction") == "centered" else "close",
+        instant=box_instant,
         params=BOX_PARAMS,
         backends=("compute", "fragment"),
         run=run_gather(GATHER_BOX, BOX_PARAMS, box_reach),
         default_grid={"taps": [5, 10, 20]},
         twin=twin.gather_box,
-        twin_inputs=("color", "motion"),
         gallery=True,
         doc='"Blurry things": n equal taps along the motion, backward or centered. '
         "docs/spec.md §4.",

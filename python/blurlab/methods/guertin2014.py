@@ -35,7 +35,6 @@ register(
     Method(
         name="reconstruct_guertin2014",
         kind="filter",
-        instant="center",
         params=PARAMS,
         backends=("compute", "fragment"),
         run=run_filter(PARAMS, RECONSTRUCT, diagonal_reach=True),

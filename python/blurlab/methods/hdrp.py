@@ -1,6 +1,6 @@
 """engine_hdrp: the motion blur of Unity's High Definition Render Pipeline, written from the
-algorithm as issue 17 describes it and from HDRP's public manual (the Motion Blur volume
-override), not from Unity's sources: docs/spec.md §17.4. Four passes: velocity setup with the
+algorithm of docs/spec.md §17.4 and from HDRP's public manual (the Motion Blur volume override),
+not from Unity's sources. Four passes: velocity setup with the
 camera clamp modes, polar velocity and linear depth in B10G11R11 codes
 (shaders/passes/hdrp_velocity_setup.glsl); per-tile min and max (hdrp_tile_min_max.glsl); the
 3 x 3 neighbourhood, or the scatter variant, and the tile classes early-out / fast / slow
@@ -23,7 +23,7 @@ from ..frame import Frame
 from ..twins import hdrp as twin
 from ..twins.small_float import UF11_MANTISSA, largest_finite
 from .camera_only import camera_motion_uniforms
-from .core import FLOAT32_MAX, SEED, Method, Param, Pass, register, run_pass
+from .core import FLOAT32_MAX, SEED, Method, Param, Pass, PassRunner, register
 from .gathers import BOX_PARAMS
 
 # Lengths are stored as unsigned 11-bit floats (§17.4): longer ones would all read as this.
@@ -85,79 +85,49 @@ _NO_CAMERA = {
 def _run_hdrp(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
     height, width = inputs["color"].shape[:2]
     tile = twin.tile_size(values["scatter"])
-    timings: dict = {}
+    passes = PassRunner(ctx, PARAMS, values)
     velocity = ctx.pooled((height, width, 4))
     if frame.camera is None:
         camera = _NO_CAMERA
     else:
         camera = {**camera_motion_uniforms(frame.camera), "has_camera": True}
-    run_pass(
-        ctx,
-        timings,
+    passes.run(
         SETUP,
-        PARAMS,
-        values,
         {"depth": inputs["depth"], "motion": inputs["motion"]},
         {"velocity": velocity},
         uniforms=camera,
     )
     grid = (-(-height // tile), -(-width // tile))
     tiles = ctx.pooled((*grid, 4))
-    run_pass(
-        ctx,
-        timings,
-        TILE_MIN_MAX,
-        PARAMS,
-        values,
-        {"velocity": velocity},
-        {"tiles": tiles},
-        uniforms={"tile": tile},
-    )
+    passes.run(TILE_MIN_MAX, {"velocity": velocity}, {"tiles": tiles}, uniforms={"tile": tile})
     neighborhood = ctx.pooled((*grid, 4))
     radius = twin.scatter_radius(tile, twin.reach_px((width, height), values), grid)
-    run_pass(
-        ctx,
-        timings,
+    passes.run(
         NEIGHBORHOOD,
-        PARAMS,
-        values,
         {"tiles": tiles},
         {"neighborhood": neighborhood},
         uniforms={"tile": tile, "radius": radius},
     )
     result = ctx.pooled((height, width, 4))
     textures = {"color": inputs["color"], "velocity": velocity, "neighborhood": neighborhood}
-    run_pass(
-        ctx,
-        timings,
-        RECONSTRUCT,
-        PARAMS,
-        values,
-        textures,
-        {"result": result},
-        backend,
-        uniforms={"tile": tile},
-    )
+    passes.run(RECONSTRUCT, textures, {"result": result}, backend, uniforms={"tile": tile})
     outputs = {
         "color": result,
         "velocity": velocity,
         "tiles": tiles,
         "neighborhood": neighborhood,
     }
-    return outputs, timings
+    return outputs, passes.timings
 
 
 register(
     Method(
         name="engine_hdrp",
         kind="gather",
-        instant="center",
         params=PARAMS,
-        backends=("compute",),
         run=_run_hdrp,
         default_grid=[{"samples": [4, 8, 12]}, {"scatter": [True]}],
         twin=twin.engine_hdrp,
-        twin_inputs=("color", "depth", "motion", "camera"),
         doc="Unity HDRP's motion blur, from its described algorithm and manual: velocity polar "
         "with linear depth in B10G11R11 codes, camera clamp modes, 32 px min/max tiles (16 px "
         "scattered), 3 x 3 neighbourhood, early-out / fast / slow path per tile. "

@@ -21,17 +21,12 @@ from .tile_filter import (
 )
 
 PARAMS = {**TILE_FILTER_PARAMS, **FILTER_OPTIONS}
-RECONSTRUCT = Pass(
-    "reconstruct",
-    "passes/reconstruct_mcguire2012.glsl",
-    uniform_names({**TILE_FILTER_PARAMS, **FILTER_OPTIONS}),
-)
+RECONSTRUCT = Pass("reconstruct", "passes/reconstruct_mcguire2012.glsl", uniform_names(PARAMS))
 
 register(
     Method(
         name="reconstruct_mcguire2012",
         kind="filter",
-        instant="center",
         params=PARAMS,
         backends=("compute", "fragment"),
         run=run_filter(PARAMS, RECONSTRUCT, diagonal_reach=False),

@@ -1,14 +1,14 @@
-"""Recorded dispatch plans (issue 19: a Python call of a method must cost little more than its
-GPU time). The first untimed run of a method on a frame with a given set of parameters is
-recorded pass by pass; later identical calls replay the recording through one C++ call
+"""Recorded dispatch plans (docs/spec.md §18: a Python call of a method must cost little more
+than its GPU time). The first untimed run of a method on a frame with a given set of parameters
+is recorded pass by pass; later identical calls replay the recording through one C++ call
 (_core.DispatchPlan) that binds the programs, textures, uniforms and work-group counts resolved
 when it was recorded, instead of validating parameters, building uniform dicts and looking up
 programs and units pass by pass. docs/spec.md §18 says when a run is recorded and replayed.
 
-A recording is kept only when the run was nothing but run_pass calls over the frame's textures,
-the method's own outputs and scratch textures it writes before reading them: anything else (a
-tile-class restriction, a pass run outside run_pass, a lookup texture) makes it unfit, and such
-calls always take the ordinary path.
+A recording is kept only when the run was nothing but PassRunner.run calls over the frame's
+textures, the method's own outputs and scratch textures it writes before reading them: anything
+else (a tile-class restriction, a pass run outside PassRunner.run, a lookup texture) makes it
+unfit, and such calls always take the ordinary path.
 """
 
 from __future__ import annotations
@@ -77,7 +77,8 @@ def active_recorder() -> Recorder | None:
 
 @contextmanager
 def recording(recorder: Recorder | None):
-    """Inside the block, run_pass and timed report to `recorder` (None: nothing is recorded)."""
+    """Inside the block, PassRunner.run and timed report to `recorder` (None: nothing is
+    recorded)."""
     token = _RECORDER.set(recorder)
     try:
         yield recorder

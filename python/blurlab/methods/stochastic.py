@@ -52,12 +52,10 @@ register(
     Method(
         name="stochastic",
         kind="render",
-        instant="center",
         params={
             "slices": Param(4, int, "time slices K; 4 K jittered renders", 1, 64),
             "seed": SEED,
         },
-        backends=("compute",),
         run=_run_stochastic,
         default_grid={"slices": [2, 4, 8]},
         renders_for=lambda n: {"slices": max(1, n // len(ROTATED_GRID))},  # 4 renders a slice

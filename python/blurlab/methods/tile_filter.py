@@ -14,9 +14,9 @@ import weakref
 
 import numpy as np
 
-from ..context import Context, Timing
+from ..context import Context
 from ..frame import Frame
-from .core import FLOAT32_MAX, PARAM_SCALE_MAX, SEED, Param, Pass, run_pass
+from .core import FLOAT32_MAX, PARAM_SCALE_MAX, SEED, Param, Pass, PassRunner
 from .variants import PassVariants
 
 
@@ -153,51 +153,36 @@ def largest_tile_for_one_thread(ctx: Context) -> int:
     return 32 if ctx.software else 8
 
 
-def tile_passes(
-    ctx: Context,
-    motion,
-    params: dict,
-    values: dict,
-    backend: str,
-    diagonal_reach=False,
-):
+def tile_passes(passes: PassRunner, motion, backend: str, diagonal_reach=False):
     """TileMax (§3.2) and NeighborMax (§3.3, or the direction-keeping dilation of
-    docs/guertin2014.md): (tiles, neighbors, timings)."""
+    docs/guertin2014.md), run by `passes`: (tiles, neighbors)."""
+    ctx = passes.ctx
     height, width = motion.shape[:2]
-    k = values["k"]
+    k = passes.values["k"]
     grid = (-(-height // k), -(-width // k), 2)
     tiles, neighbors = ctx.pooled(grid), ctx.pooled(grid)
-    timings: dict[str, Timing] = {}
     group_per_tile = k > largest_tile_for_one_thread(ctx)
     defines = {}
     if backend == "compute":
         defines["GROUP_PER_TILE"] = int(group_per_tile)  # common/group_pick.glsl
         if group_per_tile:
             defines.update(TILE_MAX_LAYOUT.defines())
-    run_pass(
-        ctx,
-        timings,
+    passes.run(
         TILE_MAX,
-        params,
-        values,
         {"motion": motion},
         {"tile_max": tiles},
         backend,
         defines=defines,
         group_per_texel=group_per_tile,
     )
-    run_pass(
-        ctx,
-        timings,
+    passes.run(
         NEIGHBOR_MAX,
-        params,
-        values,
         {"tile_max": tiles},
         {"neighbor_max": neighbors},
         backend,
         uniforms={"diagonal_reach": diagonal_reach},
     )
-    return tiles, neighbors, timings
+    return tiles, neighbors
 
 
 PACK_INPUTS = "passes/pack_inputs.comp"
@@ -237,23 +222,14 @@ def run_filter(params: dict[str, Param], reconstruct: Pass, diagonal_reach: bool
         else:
             textures = {key: inputs[key] for key in ("color", "depth", "motion")}
             motion = inputs["motion"]
-        tiles, neighbors, timings = tile_passes(
-            ctx, motion, params, values, backend, diagonal_reach
-        )
+        passes = PassRunner(ctx, params, values)
+        tiles, neighbors = tile_passes(passes, motion, backend, diagonal_reach)
         result_type = "float16" if values["half_result"] else "float32"
         result = ctx.pooled(inputs["color"].shape[:2] + (4,), result_type)
         textures["neighbor_max"] = neighbors
-        run_pass(
-            ctx,
-            timings,
-            reconstruct,
-            params,
-            values,
-            textures,
-            {"result": result},
-            backend,
-            defines=variant_defines(values),
+        passes.run(
+            reconstruct, textures, {"result": result}, backend, defines=variant_defines(values)
         )
-        return {"color": result, "tile_max": tiles, "neighbor_max": neighbors}, timings
+        return {"color": result, "tile_max": tiles, "neighbor_max": neighbors}, passes.timings
 
     return run

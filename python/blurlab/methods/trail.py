@@ -44,7 +44,6 @@ register(
             "alpha": Param(0.5, float, "weight of the current frame", 0, 1),
             "history": Param(None, object, "the previous frame's BlurResult (None: first frame)"),
         },
-        backends=("compute",),
         run=_run_trail,
         doc="Urho3D thesis §2.3.1: out_n = α·C_n + (1 - α)·out_{n-1}, feedback over a "
         "sequence. docs/spec.md §4.",

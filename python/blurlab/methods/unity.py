@@ -1,6 +1,6 @@
 """engine_unity: the motion blur of Unity's PostProcessing v2 (the KinoMotion lineage, after
-McGuire et al. 2012), written from the algorithm as issue 17 describes it, not from Unity's
-sources: docs/spec.md §17.3. Velocity setup with 10-bit velocity and depth
+McGuire et al. 2012), written from the algorithm of docs/spec.md §17.3, not from Unity's
+sources. Velocity setup with 10-bit velocity and depth
 (shaders/passes/unity_velocity_setup.glsl), TileMax by three 2 x 2 reductions and one of
 tile/8 (unity_tile_reduce.glsl), NeighborMax with a 1.01 bias toward the center
 (unity_neighbor_max.glsl), reconstruction along NeighborMax and v_alt (unity_reconstruct.glsl).
@@ -17,7 +17,7 @@ from __future__ import annotations
 from ..context import Context
 from ..frame import Frame
 from ..twins import unity as twin
-from .core import FLOAT32_MAX, SEED, Method, Param, Pass, register, run_pass
+from .core import FLOAT32_MAX, SEED, Method, Param, Pass, PassRunner, register
 from .tile_filter import TILE_FILTER_PARAMS
 from .urho3d import PARAMS as URHO3D_PARAMS
 
@@ -44,14 +44,10 @@ def _run_unity(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: 
     height, width = inputs["color"].shape[:2]
     radius = twin.max_radius_px(height, values["max_radius"])
     tile = twin.tile_size(height, values["max_radius"])
-    timings: dict = {}
+    passes = PassRunner(ctx, PARAMS, values)
     velocity = ctx.pooled((height, width, 4))
-    run_pass(
-        ctx,
-        timings,
+    passes.run(
         SETUP,
-        PARAMS,
-        values,
         {"depth": inputs["depth"], "motion": inputs["motion"]},
         {"velocity": velocity},
         uniforms={"radius": radius},
@@ -60,49 +56,26 @@ def _run_unity(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: 
     for step, block in [*((r, 2) for r in REDUCTIONS), (TILE_MAX, tile // 8)]:
         h, w = level.shape[:2]
         reduced = ctx.pooled((-(-h // block), -(-w // block), 4))
-        run_pass(
-            ctx,
-            timings,
-            step,
-            PARAMS,
-            values,
-            {"codes": level},
-            {"reduced": reduced},
-            uniforms={"block": block},
-        )
+        passes.run(step, {"codes": level}, {"reduced": reduced}, uniforms={"block": block})
         made.append(reduced)
         level = reduced
     neighbors = ctx.pooled(level.shape[:2] + (4,))
-    run_pass(
-        ctx, timings, NEIGHBOR_MAX, PARAMS, values, {"tiles": level}, {"neighbor_max": neighbors}
-    )
+    passes.run(NEIGHBOR_MAX, {"tiles": level}, {"neighbor_max": neighbors})
     result = ctx.pooled((height, width, 4))
     textures = {"color": inputs["color"], "velocity": velocity, "neighbor_max": neighbors}
     uniforms = {"radius": radius, "tile": tile}
-    run_pass(
-        ctx,
-        timings,
-        RECONSTRUCT,
-        PARAMS,
-        values,
-        textures,
-        {"result": result},
-        backend,
-        uniforms=uniforms,
-    )
+    passes.run(RECONSTRUCT, textures, {"result": result}, backend, uniforms=uniforms)
     for texture in made[:-1]:
         ctx.recycle(texture)
     outputs = {"color": result, "velocity": velocity, "tile_max": level, "neighbor_max": neighbors}
-    return outputs, timings
+    return outputs, passes.timings
 
 
 register(
     Method(
         name="engine_unity",
         kind="gather",
-        instant="center",
         params=PARAMS,
-        backends=("compute",),
         run=_run_unity,
         default_grid={"samples": [4, 10, 32]},
         twin=twin.engine_unity,

@@ -1,7 +1,7 @@
-"""engine_unreal: the motion blur of Unreal Engine 4, written from the algorithm as issue 17
-describes it, from Unreal's public documentation of its settings and from Jimenez 2014 ("Next
+"""engine_unreal: the motion blur of Unreal Engine 4, written from the algorithm of docs/spec.md
+§17.5, from Unreal's public documentation of its settings and from Jimenez 2014 ("Next
 Generation Post Processing in Call of Duty: Advanced Warfare", whose filter UE4's follows), not
-from Epic's sources: docs/spec.md §17.5. Velocity flatten into the 11:11:10 polar texel
+from Epic's sources. Velocity flatten into the 11:11:10 polar texel
 (shaders/passes/unreal_velocity_flatten.glsl), min/max per 16 x 16 tile (unreal_tile_minmax.glsl),
 scatter-as-gather over the 7 x 7 tiles around each tile with the tile's class
 (unreal_neighbor_dilate.glsl), and the reconstruction whose path (skip, fast, slow) is chosen
@@ -23,7 +23,7 @@ from __future__ import annotations
 from ..context import Context
 from ..frame import Frame
 from ..twins import unreal as twin
-from .core import FLOAT32_MAX, SEED, Method, Param, Pass, register, run_pass
+from .core import FLOAT32_MAX, SEED, Method, Param, Pass, PassRunner, register
 from .tile_filter import TILE_FILTER_PARAMS
 
 PARAMS = {
@@ -48,54 +48,24 @@ def _run_unreal(ctx: Context, frame: Frame, inputs: dict, values: dict, backend:
     velocity = ctx.pooled((height, width, 4))
     tiles, neighbors = ctx.pooled(grid), ctx.pooled(grid)
     result = ctx.pooled((height, width, 4))
-    timings: dict = {}
+    passes = PassRunner(ctx, PARAMS, values)
     depth_motion = {"depth": inputs["depth"], "motion": inputs["motion"]}
     at_radius = {"radius": radius}
-    run_pass(
-        ctx,
-        timings,
-        FLATTEN,
-        PARAMS,
-        values,
-        depth_motion,
-        {"velocity": velocity},
-        uniforms=at_radius,
-    )
-    run_pass(ctx, timings, TILE_MINMAX, PARAMS, values, {"velocity": velocity}, {"tiles": tiles})
-    run_pass(
-        ctx,
-        timings,
-        NEIGHBOR_DILATE,
-        PARAMS,
-        values,
-        {"tiles": tiles},
-        {"neighbors": neighbors},
-        uniforms=at_radius,
-    )
+    passes.run(FLATTEN, depth_motion, {"velocity": velocity}, uniforms=at_radius)
+    passes.run(TILE_MINMAX, {"velocity": velocity}, {"tiles": tiles})
+    passes.run(NEIGHBOR_DILATE, {"tiles": tiles}, {"neighbors": neighbors}, uniforms=at_radius)
     textures = {"color": inputs["color"], "velocity": velocity, "neighbors": neighbors}
     uniforms = {**at_radius, "taps": twin.SAMPLES_BY_QUALITY[values["quality"]]}
-    run_pass(
-        ctx,
-        timings,
-        RECONSTRUCT,
-        PARAMS,
-        values,
-        textures,
-        {"result": result},
-        backend,
-        uniforms=uniforms,
-    )
+    passes.run(RECONSTRUCT, textures, {"result": result}, backend, uniforms=uniforms)
     outputs = {"color": result, "velocity": velocity, "tiles": tiles, "neighbors": neighbors}
-    return outputs, timings
+    return outputs, passes.timings
 
 
 register(
     Method(
         name="engine_unreal",
         kind="gather",
-        instant="center",
         params=PARAMS,
-        backends=("compute",),
         run=_run_unreal,
         default_grid={"quality": [1, 2, 3, 4]},
         twin=twin.engine_unreal,

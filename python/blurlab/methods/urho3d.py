@@ -10,7 +10,7 @@ from __future__ import annotations
 from ..context import Context
 from ..frame import Frame
 from ..twins import urho3d as twin
-from .core import FLOAT32_MAX, Method, Param, Pass, register, run_pass
+from .core import FLOAT32_MAX, Method, Param, Pass, PassRunner, register
 from .tile_filter import TILE_FILTER_PARAMS, tile_passes
 
 
@@ -37,7 +37,8 @@ RECONSTRUCT = Pass(
 
 
 def _run_urho3d(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
-    tiles, neighbors, timings = tile_passes(ctx, inputs["motion"], PARAMS, values, backend)
+    passes = PassRunner(ctx, PARAMS, values)
+    tiles, neighbors = tile_passes(passes, inputs["motion"], backend)
     result = ctx.pooled(inputs["color"].shape[:2] + (4,))
     seed = values["seed"]
     jitter = ctx.cached(("urho3d_jitter", seed), lambda: ctx.upload(twin.jitter_texture(seed)))
@@ -48,15 +49,14 @@ def _run_urho3d(ctx: Context, frame: Frame, inputs: dict, values: dict, backend:
         "neighbor_max": neighbors,
         "jitter": jitter,
     }
-    run_pass(ctx, timings, RECONSTRUCT, PARAMS, values, textures, {"result": result}, backend)
-    return {"color": result, "tile_max": tiles, "neighbor_max": neighbors}, timings
+    passes.run(RECONSTRUCT, textures, {"result": result}, backend)
+    return {"color": result, "tile_max": tiles, "neighbor_max": neighbors}, passes.timings
 
 
 register(
     Method(
         name="reconstruct_urho3d",
         kind="filter",
-        instant="center",
         params=PARAMS,
         backends=("fragment",),
         run=_run_urho3d,

@@ -18,6 +18,7 @@ import pandas as pd
 from .. import metrics, scenes
 from ..converged import default_reference_samples
 from ..methods import blur, method, methods
+from ..sizes import DEFAULT_SIZE
 
 TEXTURES = ("low contrast", "medium contrast", "high contrast", "rainbow")
 RENDERS = (8, 16, 32)
@@ -43,7 +44,7 @@ def object_boxes(frame) -> dict[int, tuple[int, int, int, int]]:
 
 
 def object_errors(
-    ctx, size=(640, 360), renders=RENDERS, reference_samples=None, reference=None
+    ctx, size=DEFAULT_SIZE, renders=RENDERS, reference_samples=None, reference=None
 ) -> pd.DataFrame:
     """One row per sphere of textured_spin and render count: its texture and rotation, the
     PSNR of accumulation and of stochastic blur inside the sphere's box, and their times.

@@ -1,5 +1,5 @@
 """engine_eevee, docs/spec.md §17.2, in NumPy float64: the post-process motion blur of Blender
-EEVEE-Next as its algorithm is described (issue 17, Blender's user manual), on the two-sided
+EEVEE-Next as its algorithm is described (Blender's user manual), on the two-sided
 motion of §17.1. One function per pass; the GPU passes (shaders/passes/eevee_tile_flatten.glsl,
 eevee_tile_dilate.glsl, eevee_gather.glsl) must match them.
 """

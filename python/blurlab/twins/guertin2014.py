@@ -9,17 +9,8 @@ from __future__ import annotations
 import numpy as np
 
 from .hashing import rand
-from .inputs import pack_half, round_to_half, sanitize_color, sanitize_depth
-from .mcguire2012 import (
-    cone,
-    cylinder,
-    exits_early,
-    half_velocity,
-    len_half,
-    neighborhood,
-    sample_count,
-    soft_depth_compare,
-)
+from .inputs import round_to_half
+from .mcguire2012 import cone, cylinder, filter_start, len_half, soft_depth_compare
 
 
 def _direction(v: np.ndarray) -> np.ndarray:
@@ -90,16 +81,12 @@ def reconstruct_guertin2014(
     already computed; the options (0 is off) are those of docs/guertin2014.md, and
     packed_inputs reads the inputs as docs/spec.md §19 packs them; half_result rounds the
     result to half floats as the RGBA16F target holds it."""
-    if packed_inputs:  # docs/spec.md §19: what the packed textures hold
-        color, depth, motion = pack_half(color, depth, motion)
-    color = sanitize_color(color)
-    depth = sanitize_depth(depth)
+    options = (jitter_tiles, adaptive_samples, early_exit, packed_inputs)
+    start = filter_start(
+        color, depth, motion, neighbor, k, samples, exposure, seed, options, diagonal_reach=True
+    )
+    color, depth, v, x, y, vn, vn_length, moving, n = start
     h, w = depth.shape
-    v = half_velocity(motion, exposure, k)
-    x, y, vn = neighborhood(v, k, seed, jitter_tiles, neighbor, diagonal_reach=True)
-    vn_length = np.linalg.norm(vn, axis=-1)
-    moving = ~exits_early(vn_length, early_exit)
-    n = sample_count(vn_length, samples, adaptive_samples)
 
     vx = v
     wn = _direction(vn)

@@ -1,5 +1,5 @@
 """engine_hdrp, docs/spec.md §17.4, in NumPy float64: the motion blur of Unity's High Definition
-Render Pipeline as issue 17 and HDRP's public manual describe it. One function per pass; the GPU
+Render Pipeline as HDRP's public manual describes it. One function per pass; the GPU
 passes (shaders/passes/hdrp_*.glsl) must match them.
 
 Velocities travel polar, (length in px, turn), and depth as it is, in the unsigned small floats

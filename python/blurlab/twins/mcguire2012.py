@@ -5,6 +5,8 @@ in NumPy float64: one function per pass, vectorized over pixels. The GPU passes
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from .hashing import rand
@@ -142,6 +144,39 @@ def neighborhood(v, k, seed, jitter_tiles, neighbor, diagonal_reach=False):
     return x, y, neighbor[ty, tx]
 
 
+class FilterStart(NamedTuple):
+    """What §3.4's filters (McGuire 2012, Guertin 2014) read before their taps."""
+
+    color: np.ndarray  # (H, W, C) sanitized
+    depth: np.ndarray  # (H, W) sanitized
+    v: np.ndarray  # (H, W, 2) half-velocity
+    x: np.ndarray  # pixel columns
+    y: np.ndarray  # pixel rows
+    vn: np.ndarray  # the NeighborMax each pixel reads
+    vn_length: np.ndarray
+    moving: np.ndarray  # False where the pixel exits early and keeps its color
+    n: np.ndarray  # samples per pixel
+
+
+def filter_start(
+    color, depth, motion, neighbor, k, samples, exposure, seed, options, diagonal_reach=False
+) -> FilterStart:
+    """The inputs (packed as docs/spec.md §19 packs them where packed_inputs), the
+    half-velocity, the NeighborMax read, the early exit and the sample count. `options`:
+    (jitter_tiles, adaptive_samples, early_exit, packed_inputs), as the filters take them."""
+    jitter_tiles, adaptive_samples, early_exit, packed_inputs = options
+    if packed_inputs:  # docs/spec.md §19: what the packed textures hold
+        color, depth, motion = pack_half(color, depth, motion)
+    v = half_velocity(motion, exposure, k)
+    x, y, vn = neighborhood(v, k, seed, jitter_tiles, neighbor, diagonal_reach)
+    vn_length = np.linalg.norm(vn, axis=-1)
+    moving = ~exits_early(vn_length, early_exit)
+    n = sample_count(vn_length, samples, adaptive_samples)
+    return FilterStart(
+        sanitize_color(color), sanitize_depth(depth), v, x, y, vn, vn_length, moving, n
+    )
+
+
 def reconstruct_mcguire2012(
     color,
     depth,
@@ -163,16 +198,10 @@ def reconstruct_mcguire2012(
     (jitter_tiles, adaptive_samples, early_exit; 0 is off) and packed_inputs (docs/spec.md
     §19: the inputs rounded as the packed textures hold them), half_result (the result rounded to
     half floats as the RGBA16F target holds it). `neighbor` is NeighborMax if already computed."""
-    if packed_inputs:  # docs/spec.md §19: what the packed textures hold
-        color, depth, motion = pack_half(color, depth, motion)
-    color = sanitize_color(color)
-    depth = sanitize_depth(depth)
+    options = (jitter_tiles, adaptive_samples, early_exit, packed_inputs)
+    start = filter_start(color, depth, motion, neighbor, k, samples, exposure, seed, options)
+    color, depth, v, x, y, vn, vn_length, moving, n = start
     h, w = depth.shape
-    v = half_velocity(motion, exposure, k)
-    x, y, vn = neighborhood(v, k, seed, jitter_tiles, neighbor)
-    vn_length = np.linalg.norm(vn, axis=-1)
-    moving = ~exits_early(vn_length, early_exit)
-    n = sample_count(vn_length, samples, adaptive_samples)
 
     vx = v
     weight = 1 / len_half(vx)

@@ -1,5 +1,5 @@
 """engine_unity, docs/spec.md §17.3, in NumPy float64: the motion blur of Unity's
-PostProcessing v2 (the KinoMotion lineage) as its algorithm is described (issue 17). One
+PostProcessing v2 (the KinoMotion lineage) as its algorithm is described. One
 function per pass; the GPU passes (shaders/passes/unity_*.glsl) must match them.
 
 Velocities travel as 10-bit codes c in 0..1023, as in the engine's 10:10:10:2 buffer:

@@ -1,5 +1,5 @@
 """engine_unreal, docs/spec.md §17.5, in NumPy float64: the motion blur of Unreal Engine 4 as
-its algorithm is described (issue 17; Jimenez 2014, which it follows). One function per pass;
+its algorithm is described (Jimenez 2014, which it follows). One function per pass;
 the GPU passes (shaders/passes/unreal_*.glsl) must match them.
 
 Velocities travel as polar 11-bit codes and depths as 10-bit floats (twins.polar_fixed_point).

@@ -1,0 +1,138 @@
+"""Method parameters: the declaration (`Param`) and the one check every value passes before a
+method runs. Each parameter is declared once, in its method's module."""
+
+from __future__ import annotations
+
+import math
+import struct
+from collections.abc import Callable
+from dataclasses import dataclass
+from numbers import Integral, Real
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class Param:
+    """One parameter of a method: its default, its type and, for numbers, its allowed range.
+
+    Every value passes through ``typed`` before a method runs, so a method never sees a value
+    of the wrong type or outside [low, high]: the error names the method, the parameter, the
+    value and what is allowed.
+    """
+
+    default: object  # a value, or a callable(frame) -> value
+    kind: object  # int, float, bool, a tuple of allowed strings, or object (anything)
+    doc: str
+    low: float | None = None  # inclusive bounds for int and float parameters
+    high: float | None = None
+    low_open: bool = False  # True: the value must be > low (e.g. soft_z > 0)
+    # The rule that `"auto"` stands for: auto(frame, values) -> a value, where `values` holds
+    # the call's other parameters (so a rule may read, say, the exposure); None: no "auto".
+    auto: Callable | None = None
+
+    def allowed(self) -> str:
+        """What values are allowed, in words (for error messages and docs)."""
+        values = self._allowed_values()
+        return values + ', or "auto"' if self.auto is not None else values
+
+    def _allowed_values(self) -> str:
+        if isinstance(self.kind, tuple):
+            return "one of " + ", ".join(repr(k) for k in self.kind)
+        if self.kind is bool:
+            return "True or False"
+        if self.kind is object:
+            return "any value"
+        if self.low is not None and self.high is not None and not self.low_open:
+            if self.kind is int:
+                return f"{_num(self.low)}..{_num(self.high)}"
+            return f"[{_num(self.low)}, {_num(self.high)}]"
+        bounds = []
+        if self.low is not None:
+            bounds.append(f"{'>' if self.low_open else '>='} {_num(self.low)}")
+        if self.high is not None:
+            bounds.append(f"<= {_num(self.high)}")
+        return "finite" + "".join(" and " + b for b in bounds) if bounds else "finite"
+
+
+SEED_MAX = 2**32 - 1
+FLOAT32_MAX = float(np.finfo(np.float32).max)  # float parameters go to the GPU as float32
+# Exposure and intensity scale motion, which the passes read as at most 2^20 px per component
+# (shaders/common/inputs.glsl, docs/reliability.md); up to 1000 x that, tap positions stay
+# below 2^31 px, where GLSL's float-to-int conversion is defined.
+PARAM_SCALE_MAX = 1000.0
+# Every method with random choices (jitter, stochastic times) takes this one seed parameter.
+SEED = Param(0, int, "seed of the method's random choices", 0, SEED_MAX)
+
+
+def _num(x: float) -> str:
+    if float(x).is_integer() and abs(x) >= 2**16:
+        exponent = math.log2(abs(x) + (1 if x < 0 else 0))
+        if exponent.is_integer():
+            return f"2^{int(exponent)}" if x > 0 else f"-2^{int(exponent)}"
+        if math.log2(x + 1).is_integer():
+            return f"2^{int(math.log2(x + 1))}-1"
+    return f"{x:g}"
+
+
+def is_auto(value) -> bool:
+    return isinstance(value, str) and value == "auto"
+
+
+def typed(method_name: str, key: str, value, p: Param):
+    """`value` as parameter `key` of method `method_name` takes it (parameter declarations):
+    the one place where every method's parameters are type- and range-checked. Every error
+    names the method, the parameter, the value and what is allowed."""
+    where = f"blurlab: {method_name} parameter {key}"
+    kind = p.kind
+    if kind is object:
+        return value
+    if kind is bool:
+        if not isinstance(value, (bool, np.bool_)):
+            raise TypeError(f"{where} must be True or False, not {_show(value)}")
+        return bool(value)
+    if isinstance(kind, tuple):
+        # Compare strings only: `value in kind` on an array or other odd object may itself raise.
+        if not isinstance(value, str) or value not in kind:
+            raise ValueError(f"{where} must be {p.allowed()}, not {_show(value)}")
+        return value
+    if kind is int:
+        if isinstance(value, bool) or not isinstance(value, Integral):
+            raise TypeError(f"{where} must be an integer ({p.allowed()}), not {_show(value)}")
+        value = int(value)
+    else:
+        if isinstance(value, bool) or not isinstance(value, Real):
+            raise TypeError(f"{where} must be a number ({p.allowed()}), not {_show(value)}")
+        try:
+            value = float(value)
+        except OverflowError:  # an int beyond float's range
+            value = math.inf
+        if not math.isfinite(value):
+            raise ValueError(f"{where} must be finite ({p.allowed()}), not {_show(value)}")
+    # The GPU gets float32: check the value it will see (1e-50 is 0 there, 1e39 is inf).
+    seen = as_float32(value) if kind is float else value
+    if kind is float and not math.isfinite(seen):
+        raise ValueError(f"{where} = {_show(value)} overflows float32 ({p.allowed()})")
+    too_low = p.low is not None and (seen <= p.low if p.low_open else seen < p.low)
+    too_high = p.high is not None and seen > p.high
+    if too_low or too_high:
+        closed = p.low is not None and p.high is not None and not p.low_open
+        verb = "is outside" if closed else "must be"
+        raise ValueError(f"{where} = {_show(value)} {verb} {p.allowed()}")
+    return value
+
+
+_FLOAT32 = struct.Struct("f")
+
+
+def as_float32(value: float) -> float:
+    """`value` rounded to float32 as the GPU receives it; ±inf where it overflows."""
+    try:
+        return _FLOAT32.unpack(_FLOAT32.pack(value))[0]
+    except OverflowError:
+        return math.copysign(math.inf, value)
+
+
+def _show(value) -> str:
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."

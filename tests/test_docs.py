@@ -1,0 +1,84 @@
+"""The documentation site: it builds with no warning, its generated CLI page is current, and its
+pages say what is true now (docs/spec.md sections, not an issue tracker's numbers)."""
+
+from __future__ import annotations
+
+import importlib.util
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from blurlab import cli_reference
+from blurlab.docs_link import DOCS_URL_VARIABLE, docs_url
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def test_cli_page_is_current():
+    """docs/cli.md is `python -m blurlab.cli_reference`'s output: every subcommand and option."""
+    text = (ROOT / "docs" / "cli.md").read_text()
+    assert text == cli_reference.markdown(), (
+        "docs/cli.md is out of date: regenerate it with "
+        "`python -m blurlab.cli_reference > docs/cli.md`"
+    )
+
+
+def test_cli_page_lists_every_subcommand_and_option():
+    text = cli_reference.markdown()
+    parser = cli_reference.build_parser()
+    for name, _help, sub in cli_reference.subcommands(parser):
+        assert f"## blurlab {name}\n" in text
+        for option in cli_reference.arguments(sub):
+            for flag in option.option_strings:
+                assert f"`{flag}" in text, (name, flag)
+
+
+@pytest.mark.skipif(importlib.util.find_spec("mkdocs") is None, reason="mkdocs not installed")
+def test_site_builds_strict(tmp_path):
+    """`mkdocs build --strict`, as `make docs` runs it: a broken link, a page missing from the
+    nav or a docstring mkdocstrings cannot read fails here."""
+    done = subprocess.run(
+        [sys.executable, "-m", "mkdocs", "build", "--strict", "--site-dir", str(tmp_path)],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert done.returncode == 0, done.stderr[-4000:]
+    assert (tmp_path / "api" / "context.html").is_file()
+    # The example report is part of the site, so the pages' links to it work.
+    assert (tmp_path / "study-h100-1080p" / "report.html").is_file()
+    # Offline: no page loads a script, a style sheet or a font from elsewhere.
+    loads = re.compile(r"<(?:script|link)\b[^>]*(?:src|href)=[\"']?(?:https?:)?//", re.IGNORECASE)
+    remote = [
+        str(page.relative_to(tmp_path))
+        for page in tmp_path.rglob("*.html")
+        if "study-h100-1080p" not in page.parts and loads.search(page.read_text())
+    ]
+    assert not remote, remote
+
+
+def test_docs_cite_spec_sections_not_issue_numbers():
+    pages = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
+    cited = [
+        f"{page.relative_to(ROOT)}:{number}: {line.strip()}"
+        for page in pages
+        for number, line in enumerate(page.read_text().splitlines(), 1)
+        if re.search(r"\bissues? ?#?[0-9]+", line, re.IGNORECASE)
+    ]
+    assert not cited, "cite docs/spec.md sections instead:\n" + "\n".join(cited)
+
+
+def test_report_links_to_the_docs(monkeypatch, tmp_path):
+    """The study report's link: the configured site, else the source checkout's own pages."""
+    monkeypatch.setenv(DOCS_URL_VARIABLE, "https://example.org/blurlab/")
+    assert docs_url("study") == "https://example.org/blurlab/study.html"
+    monkeypatch.delenv(DOCS_URL_VARIABLE)
+    local = docs_url("study")
+    assert local.startswith("file:")
+    assert local.endswith(("site/study.html", "docs/study.md"))
+    with pytest.raises(ValueError, match="no docs page"):
+        docs_url("no_such_page")
