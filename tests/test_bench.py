@@ -13,7 +13,7 @@ import pytest
 
 import blurlab.studies.bench as bench
 from blurlab.cli import main
-from blurlab.studies.bench import core, report, timing
+from blurlab.studies.bench import core, filters, report, timing
 
 ROOT = Path(__file__).resolve().parents[1]
 # The glTF models beside the checkout; a git worktree sits one folder deeper.
@@ -161,3 +161,17 @@ def test_benchmarks_md_is_generated_from_the_records():
 def test_every_record_in_the_tree_is_of_a_registered_benchmark():
     records = bench.read_records(ROOT / "benchmarks" / "records.jsonl")
     assert {r["benchmark"] for r in records} <= set(bench.names())
+
+
+def test_every_pass_layout_gives_the_default_layouts_image(ctx):
+    """The layouts benchmark times every variant of every pass with alternatives; each gives the
+    default layout's image, bit for bit (the film filter's to float rounding)."""
+    record = bench.run_benchmark(ctx, "layouts", "tiny")
+    (table,) = record["tables"]
+    names = [c["name"] for c in table["columns"]]
+    rows = [dict(zip(names, row, strict=True)) for row in table["rows"]]
+    expected = {(layout.what, v) for layout, _, _ in filters.layout_runs() for v in layout.variants}
+    assert {(r["pass"], r["layout"]) for r in rows} == expected
+    for row in rows:
+        bound = 1e-5 if row["pass"] == "film filter" else 0.0
+        assert row["largest difference from the default"] <= bound, row

@@ -6,12 +6,15 @@ from __future__ import annotations
 import itertools
 import statistics
 
+import numpy as np
+
 from ... import metrics, scenes
 from ...converged import default_reference_samples
-from ...methods import blur, method, method_instant, methods, plans
+from ...methods import blur, coverage, eevee, method, method_instant, methods, plans, tile_filter
 from ...methods.core import Param
 from .core import Benchmark, register
 from .timing import (
+    film_method,
     median_passes,
     optioned_filters,
     per_call_us,
@@ -265,5 +268,69 @@ register(
         _call_overhead,
         {"tiny": (16, 16), "software": (160, 90), "gpu": (1920, 1080)},
         {"tiny": {"calls": 5, "rounds": 1}, "software": {"calls": 100, "rounds": 3}},
+    )
+)
+
+
+def layout_runs() -> list[tuple]:
+    """(layout, method, parameters) of every pass with alternative layouts
+    (methods.variants.PassVariants), each with a method that runs that pass."""
+    return [
+        (tile_filter.TILE_MAX_LAYOUT, tile_filters()[0], {}),
+        (eevee.TILE_PICK_LAYOUT, film_method(), {}),
+        (eevee.DILATION_LAYOUT, film_method(), {}),
+        (coverage.GATHER_LAYOUT, film_method(), {}),
+        (coverage.FILM_LAYOUT, film_method(), {"film_filter": FILM_SIGMA}),
+    ]
+
+
+FILM_SIGMA = 0.5  # px: the film filter the film layouts run with
+
+
+def _layouts(ctx, size, p, out) -> None:
+    rows = []
+    for scene in split(p["scenes"]):
+        frame = ctx.render(scenes.get(scene), size)
+        for layout, name, params in layout_runs():
+            default = blur(ctx, frame, name, timed=False, **params).color
+            for variant in layout.variants:
+                with layout.use(variant):
+                    passes, _ = median_passes(ctx, frame, name, p["runs"], **params)
+                    queued = untimed_calls_ms(ctx, frame, name, **params)
+                    color = blur(ctx, frame, name, timed=False, **params).color
+                difference = float(np.abs(color - default).max())
+                label = f"{layout.what} {variant}"
+                out.figure(f"{scene}, {label}: calls back to back", queued, "ms")
+                out.figure(f"{scene}, {label}: largest difference from the default", difference, "")
+                rows.append([scene, layout.what, variant, variant == layout.default, name])
+                rows[-1] += [passes["total"], queued, difference]
+    out.table(
+        "each layout of a pass inside the method that runs it (the other passes at their "
+        f"defaults; film filter σ = {FILM_SIGMA} px); on llvmpipe the tile passes run one thread "
+        "per tile, so their work-group layouts time the same code",
+        [("scene", ""), ("pass", ""), ("layout", ""), ("default", "bool"), ("method", "")]
+        + [("per-pass timers", "ms"), ("calls back to back", "ms")]
+        + [("largest difference from the default", "")],
+        rows,
+    )
+
+
+register(
+    Benchmark(
+        "layouts",
+        "every alternative layout of the passes that have them (TileMax, the tile pick and "
+        "dilation, the coverage gather, the film filter): time and the image against the "
+        "default layout's",
+        {
+            "runs": RUNS,
+            "scenes": Param("teapot_pass,near_plane", object, "comma-separated scenes"),
+        },
+        _layouts,
+        SIZES,
+        {
+            "tiny": {"runs": 1, "scenes": "teapot_pass"},
+            "software": {"runs": 3, "scenes": "teapot_pass"},
+            "gpu": {"runs": 20},
+        },
     )
 )

@@ -8,22 +8,29 @@ import time
 
 from ...methods import blur, method, methods
 
-# Seconds of untimed calls before a timed set: an H100 left idle (by CPU work, or a
+# Seconds of untimed calls before a timed set on a GPU: an H100 left idle (by CPU work, or a
 # benchmark's checks) clocks down, and the next set then timed 2-4x slow.
 SPIN_UP_S = 0.25
 
 
-def spin_up(call, seconds: float = SPIN_UP_S) -> None:
-    """Calls `call()` untimed for `seconds`, so the GPU's clocks are up when timing starts."""
-    start = time.perf_counter()
-    while time.perf_counter() - start < seconds:
+def gpu_clock(ctx) -> bool:
+    """Whether `ctx` times passes with GPU timer queries (else glFinish and a wall clock)."""
+    return ctx.info()["timer"] == "gl_time_elapsed"
+
+
+def spin_up(ctx, call) -> None:
+    """Calls `call()` untimed: once (compiled, pooled, JIT-compiled on llvmpipe), and on a GPU
+    clock for SPIN_UP_S, so that the GPU's clocks are up when timing starts."""
+    start, spin = time.perf_counter(), gpu_clock(ctx)
+    call()
+    while spin and time.perf_counter() - start < SPIN_UP_S:
         call()
 
 
 def median_passes(ctx, frame, method: str, runs: int, **params) -> tuple[dict, object]:
-    """Median ms of each pass of `method` over `runs` timed runs after SPIN_UP_S of untimed
+    """Median ms of each pass of `method` over `runs` timed runs after spin_up's untimed
     ones, and the median of their sums under the key "total"; and the clock."""
-    spin_up(lambda: blur(ctx, frame, method, **params))
+    spin_up(ctx, lambda: blur(ctx, frame, method, **params))
     times: dict[str, list] = {}
     totals = []
     for _ in range(runs):
@@ -43,9 +50,8 @@ def back_to_back_ms(ctx, call, calls: int = 50, busy_ms: float = 20.0) -> float:
     the calls. Per-pass timers each hold a pass's ramp-up and drain; a timer around a lone call
     also holds the gaps where the GPU waited for Python. On a wall clock (llvmpipe) there is
     nothing to overlap: the calls are timed as they run."""
-    spin_up(call)  # compiled, pooled, planned and the clocks up before the clock
-    gpu_clock = ctx.info()["timer"] == "gl_time_elapsed"
-    if gpu_clock:
+    spin_up(ctx, call)  # compiled, pooled, planned and the clocks up before the clock
+    if gpu_clock(ctx):
         busy = ctx.shader_pass("passes/accumulate.comp")
         color, total = ctx.pooled((2048, 2048, 4)), ctx.pooled((2048, 2048, 4))
 
@@ -59,7 +65,7 @@ def back_to_back_ms(ctx, call, calls: int = 50, busy_ms: float = 20.0) -> float:
     with ctx.timer() as timing:
         for _ in range(calls):
             call()
-    if gpu_clock:
+    if gpu_clock(ctx):
         ctx.recycle(color, total)
     return timing.ms / calls
 
