@@ -49,4 +49,4 @@ wheel: deps
 	PYTHON=$(PYTHON) bash packaging/build-wheel.sh
 
 benchmark-transfer: install
-	$(PYTHON) benchmarks/transfer.py
+	$(PYTHON) -m blurlab bench transfer
