@@ -10,22 +10,22 @@ buffers, programs, queries, meshes) and, where the driver reports it, free video
 process's). The rows of the last cycle must equal the first cycle's, bit for bit but for the
 pass times: a long run gives the numbers a short one does.
 
-    python -m blurlab.studies.soak --evaluations 20000 --size 64x36 [--device software]
+    blurlab bench soak [--device software] [--param evaluations=20000] [--size 64x36]
 """
 
 from __future__ import annotations
 
-import argparse
 import gc
-import json
 import os
-import sys
 import time
 
-from ..context import Context
-from ..methods import method
-from . import evaluation
-from .sweep import middle_point, sweep_methods
+from ... import scenes
+from ...context import Context
+from ...methods import method
+from ...methods.core import Param
+from .. import evaluation
+from ..sweep import middle_point, sweep_methods
+from .core import Benchmark, register
 
 SAMPLES = 20  # samples of memory and objects along a run, besides its start and end
 COMPARED = ("psnr", "ssim")  # the metrics each evaluation computes and the rows compare
@@ -72,8 +72,6 @@ def soak(ctx: Context, evaluations: int, size, scene: str = "fan", reference_sam
     samples (sample()), at the start (after one warm-up cycle, which compiles every program and
     fills the texture pool), along the run and at its end, the seconds of the run, and whether
     the last cycle's rows equal the first's (`same_rows`), with both cycles' rows."""
-    from .. import scenes
-
     if isinstance(evaluations, bool) or not isinstance(evaluations, int) or evaluations < 1:
         raise ValueError(f"blurlab soak: evaluations must be an integer >= 1, not {evaluations!r}")
     configs = configurations()
@@ -142,35 +140,53 @@ def figures(result: dict) -> dict:
     }
 
 
-def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m blurlab.studies.soak", description=__doc__)
-    parser.add_argument("--evaluations", type=int, default=20000)
-    parser.add_argument("--size", default="64x36", help="WIDTHxHEIGHT")
-    parser.add_argument("--device", default="auto")
-    parser.add_argument("--scene", default="fan")
-    parser.add_argument("--json", help="write the record (figures, samples, device) here")
-    args = parser.parse_args(argv)
-    size = tuple(int(v) for v in args.size.lower().split("x"))
-    device = int(args.device) if args.device.isdigit() else args.device
-    ctx = Context(device)
-    info = ctx.info()
-    result = soak(ctx, args.evaluations, size, args.scene)
-    record = {
-        "device": info["device"],
-        "renderer": info["renderer"],
-        "size": list(size),
-        "scene": args.scene,
-        "figures": figures(result),
-        "video_memory": "reported" if ctx.memory() else "not reported by the driver",
-        "samples": result["samples"],
-    }
-    print(json.dumps(record["figures"], indent=1))
-    print(f"device: {info['renderer']}; video memory {record['video_memory']}")
-    if args.json:
-        with open(args.json, "w") as f:
-            json.dump(record, f, indent=1)
-    return 0 if result["same_rows"] else 1
+def _soak(ctx, size, p, out) -> None:
+    result = soak(ctx, p["evaluations"], size, p["scene"])
+    if not result["same_rows"]:
+        raise RuntimeError(
+            "blurlab: soak: the last cycle's rows differ from the first's: "
+            f"{result['first_rows']} then {result['last_rows']}"
+        )
+    f = figures(result)
+    out.figure("evaluations", f["evaluations"], "")
+    out.figure("seconds", f["seconds"], "s")
+    out.figure("evaluations per second", f["evaluations_per_s"], "1/s")
+    out.figure("RSS at the start", f["rss_start_mib"], "MiB")
+    out.figure("RSS at the end", f["rss_end_mib"], "MiB")
+    out.figure("RSS growth", f["rss_growth_mib"], "MiB")
+    out.figure("live GL objects at the start", f["gl_objects_start"], "")
+    out.figure("live GL objects at the end", f["gl_objects_end"], "")
+    out.figure("live GL objects growth", f["gl_objects_growth"], "")
+    if f["vram_available_start_mib"] is not None:
+        out.figure("free video memory at the start", f["vram_available_start_mib"], "MiB")
+        out.figure("free video memory at the end", f["vram_available_end_mib"], "MiB")
+    out.figure("rows of the last cycle equal to the first's", 1, "yes")
+    unreported = "not reported by the driver"
+    out.table(
+        "samples along the run (free video memory: NVIDIA's GL_NVX_gpu_memory_info)",
+        [("evaluations", ""), ("seconds", "s"), ("RSS", "MiB"), ("live GL objects", "")]
+        + [("free video memory", "MiB")],
+        [
+            [s["evaluations"], s["seconds"], s["rss_mib"], s["gl_objects"]]
+            + [unreported if s["vram_available_mib"] is None else s["vram_available_mib"]]
+            for s in result["samples"]
+        ],
+    )
 
 
-if __name__ == "__main__":
-    sys.exit(main())
+register(
+    Benchmark(
+        "soak",
+        "N sweep evaluations in one process: RSS, live GL objects and free video memory along "
+        "the way, and the last cycle's rows against the first's",
+        {
+            "evaluations": Param(
+                20_000, int, "sweep evaluations after the warm-up cycle", 1, 10_000_000
+            ),  # fmt: skip
+            "scene": Param("fan", object, "the built-in scene evaluated"),
+        },
+        _soak,
+        {"tiny": (32, 18), "software": (64, 36), "gpu": (1920, 1080)},
+        {"tiny": {"evaluations": 40}, "gpu": {"evaluations": 200_000}},
+    )
+)
