@@ -198,32 +198,12 @@ def sweep(
         client, own_client = dask_cluster.connect(cluster)
     try:
         device = dask_cluster.cluster_device(client) if client is not None else device_of(ctx)
+        plan = _plan(scene_list, methods_and_grids, backends, settings, device, path)
     except BaseException:
         if own_client:
             client.close()
         raise
-    done = _finished_rows(path)
-    # Every evaluation asked for, in table order, by its identity, and per scene those whose
-    # identity no row of `out` has.
-    keys = []
-    columns: dict[str, dict] = {}  # identity: the columns that spell it out
-    pending: list[list[tuple]] = [[] for _ in scene_list]
-    for i, scene in enumerate(scene_list):
-        shared = scene_identity(scene, settings, device)
-        for name, grid in methods_and_grids.items():
-            backend = (backends or {}).get(name)
-            for point in grid_points(grid):
-                parts = {
-                    **shared,
-                    "method": name,
-                    "backend": backend or method(name).backends[0],
-                    "params": json.dumps(point, sort_keys=True),
-                }
-                key = identity.row_identity(parts)
-                keys.append(key)
-                columns[key] = _identity_columns(key, shared)
-                if key not in done:
-                    pending[i].append((name, point, backend, key))
+    keys, columns, pending, done = plan
     bar = None
     if progress:
         from tqdm.auto import tqdm
@@ -264,6 +244,33 @@ def sweep(
     if accounts is not None:  # where each worker's time went (cluster.worker_report)
         table.attrs["workers"] = accounts
     return table
+
+
+def _plan(scene_list, methods_and_grids, backends, settings: Settings, device: dict, path):
+    """(keys, columns, pending, done): every evaluation asked for, in table order, by its
+    identity; {identity: the columns that spell it out}; per scene, the jobs whose identity
+    no row of `path` has; and {identity: row} of the rows `path` holds."""
+    done = _finished_rows(path)
+    keys = []
+    columns: dict[str, dict] = {}
+    pending: list[list[tuple]] = [[] for _ in scene_list]
+    for i, scene in enumerate(scene_list):
+        shared = scene_identity(scene, settings, device)
+        for name, grid in methods_and_grids.items():
+            backend = (backends or {}).get(name)
+            for point in grid_points(grid):
+                parts = {
+                    **shared,
+                    "method": name,
+                    "backend": backend or method(name).backends[0],
+                    "params": json.dumps(point, sort_keys=True),
+                }
+                key = identity.row_identity(parts)
+                keys.append(key)
+                columns[key] = _identity_columns(key, shared)
+                if key not in done:
+                    pending[i].append((name, point, backend, key))
+    return keys, columns, pending, done
 
 
 def device_of(ctx: Context) -> dict:
