@@ -72,13 +72,19 @@ def test_running_out_of_memory_fails_clearly_and_the_context_stays_usable(ctx):
     most = 1 if ctx.software else vram["total"] // (4 * 2**20) + 2
     before = picture(ctx)
     held = []
-    with pytest.raises(bl.GLError, match="does not fit in the device's memory"):
+    refused = None
+    try:
         for _ in range(most):
             held.append(ctx.empty((HUGE, HUGE, 4)))
+    except bl.GLError as error:
+        refused = str(error)
     held.clear()
     gc.collect()
     assert ctx.gl_errors() == []
     assert np.array_equal(picture(ctx), before)
+    if refused is None:  # a driver that pages video memory out instead of refusing
+        pytest.skip(f"{4 * most} GiB of textures were placed without GL_OUT_OF_MEMORY")
+    assert "does not fit in the device's memory" in refused and "16384x16384" in refused
 
 
 def test_a_sweep_too_large_for_the_device_leaves_no_row(ctx, tmp_path):
