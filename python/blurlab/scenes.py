@@ -542,7 +542,13 @@ def describe(name: str) -> str:
 FILE_SUFFIXES = (".gltf", ".glb")
 
 
-def gltf(path, animation: int | None = 0, camera=None, size_hint=None, shutter=None) -> Scene:
+def gltf(
+    path,
+    animation: int | str | list | None = gltf_files.ALL_ANIMATIONS,
+    camera=None,
+    size_hint=None,
+    shutter=None,
+) -> Scene:
     """A scene from a glTF 2.0 file (.gltf or .glb), animated: `blurlab.gltf.load`."""
     return gltf_files.load(path, animation, camera, size_hint, shutter)
 
