@@ -18,6 +18,7 @@ from .methods import (
 )
 from .motion import Bone, Keyframe, Motion, Skeleton, quaternion
 from .scene import Camera, DirectionalLight, Material, Scene
+from .shutters import shutter
 from .sizes import DEFAULT_SIZE
 
 # The studies sit above the core (the core never imports them); the package offers the most
@@ -68,6 +69,7 @@ __all__ = [
     "reference_samples_needed",
     "render_and_blur",
     "render_steps",
+    "shutter",
     "metrics",
     "failures",
     "plots",
