@@ -2,6 +2,7 @@
 
 from . import blender, capture, gltf, hatching, io, mesh, metrics, scenes, tam, twins
 from ._core import GLError, ShaderError
+from .blur_scales import CameraHeld
 from .context import ComputeProgram, Context, PendingDownload, Texture, Timing
 from .converged import Reference, reference_samples_needed
 from .frame import MOTION_FORMATS, Frame
@@ -36,6 +37,7 @@ __all__ = [
     "BlurResult",
     "Bone",
     "Camera",
+    "CameraHeld",
     "ComputeProgram",
     "Context",
     "DirectionalLight",
