@@ -188,3 +188,15 @@ def test_identity_at_scale_1_and_bad_scales():
     scene.objects[1].motion_blur = 2.0  # set after the fact: refused when rendered
     with pytest.raises(ValueError, match="motion_blur of held"):
         scaled_scene(scene, SHUTTER)
+
+
+@pytest.mark.parametrize(("name", "subject"), [("fps_weapon", "weapon"), ("tracked_car", "car")])
+def test_the_two_scenes_keep_their_subject_still_on_screen_while_the_rest_blurs(ctx, name, subject):
+    scene = bl.scenes.get(name)
+    frame = ctx.render(scene, (160, 90))
+    ids = [i for i, obj in enumerate(scene.objects) if obj.name == subject]
+    held = inner(np.isin(frame.object_id, ids))
+    speed = np.linalg.norm(frame.motion, axis=-1)
+    assert held.sum() > 50
+    assert speed[held].max() < 0.01  # carried (weapon) or tracked (car): still on screen
+    assert np.median(speed[~np.isin(frame.object_id, ids)]) > 3  # the world behind blurs

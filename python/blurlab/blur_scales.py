@@ -12,14 +12,10 @@ from __future__ import annotations
 import dataclasses
 import math
 from numbers import Real
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .motion import Motion
-
-if TYPE_CHECKING:  # scene.py checks its scales here: no import back at run time
-    from .scene import Scene
 
 
 def check_blur_scale(value, what: str) -> float:
@@ -76,10 +72,11 @@ class TimeScaledSkeleton:
         return self.skeleton.matrices(blur_time(self.scale, t, self.centre))
 
 
-def scaled_scene(scene: Scene, shutter: tuple[float, float]) -> Scene:
-    """`scene` with its blur scales applied around the centre of `shutter`: the scene itself
-    when every scale is 1 (nothing changes, not a bit), else a copy whose objects and camera
-    move on scaled time and whose scales are 1 (so applying it again changes nothing)."""
+def scaled_scene(scene, shutter: tuple[float, float]):
+    """The bl.Scene `scene` (not imported here: scene.py imports this module) with its blur
+    scales applied around the centre of `shutter`: the scene itself when every scale is 1
+    (nothing changes, not a bit), else a copy whose objects and camera move on scaled time and
+    whose scales are 1 (so applying it again changes nothing)."""
     camera_scale = check_blur_scale(scene.camera_motion_blur, "camera_motion_blur")
     scales = [
         check_blur_scale(obj.motion_blur, f"motion_blur of {obj.name}") for obj in scene.objects
