@@ -49,11 +49,13 @@ def test_bad_shutter_arguments_say_what_is_allowed(kwargs, message):
         bl.shutter(**kwargs)
 
 
-def blender_export(scene: str, folder: Path) -> tuple[Path, dict]:
-    """Blender's own export of `scene` (tests/blender_export.py) and Blender's evaluation."""
+def blender_export(scene: str, folder: Path, size=None, samples=0) -> tuple[Path, dict]:
+    """Blender's own export of `scene` (tests/blender_export.py) and Blender's evaluation; with
+    a size, Cycles' still and motion-blurred renders beside it (OUT.still.exr, OUT.blur.exr)."""
     out = folder / f"{scene}.glb"
+    rendering = [] if size is None else [*map(str, size), str(samples)]
     result = subprocess.run(
-        [sys.executable, str(EXPORTER), scene, str(out)],
+        [sys.executable, str(EXPORTER), scene, str(out), *rendering],
         capture_output=True,
         text=True,
         timeout=300,
