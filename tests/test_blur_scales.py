@@ -200,3 +200,13 @@ def test_the_two_scenes_keep_their_subject_still_on_screen_while_the_rest_blurs(
     assert held.sum() > 50
     assert speed[held].max() < 0.01  # carried (weapon) or tracked (car): still on screen
     assert np.median(speed[~np.isin(frame.object_id, ids)]) > 3  # the world behind blurs
+
+
+@pytest.mark.skipif(not bl.blender.available(), reason="bpy is not installed")
+def test_blender_renders_the_scales_as_blurlab_evaluates_them(ctx):
+    scene, size = two_movers(0.0), (48, 27)
+    held = inner(ctx.render(scene, size, (CENTRE, CENTRE)).object_id == 1)
+    blurred = bl.blender.render(scene, size, SHUTTER, samples=16, steps=3).color
+    still = bl.blender.render(scene, size, SHUTTER, samples=16, instant=CENTRE).color
+    assert held.sum() > 10
+    assert np.abs(blurred[held] - still[held]).max() < 1e-3  # held: as sharp as the instant
