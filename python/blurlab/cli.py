@@ -1,5 +1,5 @@
-"""The ``blurlab`` command: ``info``, ``demo``, ``methods``, ``metrics``, ``study`` and
-``sweep``. User errors (bad names, values, sizes, files) print one line
+"""The ``blurlab`` command: ``info``, ``demo``, ``methods``, ``metrics``, ``study``, ``sweep``
+and ``bench``. User errors (bad names, values, sizes, files) print one line
 ``blurlab: error: ...`` and exit with status 2; ``--debug`` shows the traceback instead."""
 
 from __future__ import annotations
@@ -17,6 +17,7 @@ from .context import Context
 from .methods import blur, method, methods
 from .sizes import DEFAULT_SIZE
 from .studies import plots
+from .studies.bench import command as bench_command
 from .studies.cluster import account_table, local_cluster
 from .studies.recommend import ranking_metrics, recommend
 from .studies.study import run_study, run_sweep_config
@@ -327,6 +328,8 @@ def build_parser() -> argparse.ArgumentParser:
     sweep = sub.add_parser("sweep", help="run the sweep a TOML configuration describes")
     sweep.add_argument("config", help="TOML file: scenes, methods, size, shutter, ...")
     _add_cluster_options(sweep)
+    bench = sub.add_parser("bench", help="run, list and record the registered benchmarks")
+    bench_command.add_arguments(bench, parse_size)
     return parser
 
 
@@ -341,6 +344,7 @@ def main(argv: list[str] | None = None) -> int:
         "recommend": _recommend,
         "study": _study,
         "sweep": _sweep,
+        "bench": lambda args: bench_command.main(args, args.device),
     }
     try:
         return commands[args.command](args)
