@@ -82,3 +82,21 @@ def test_report_links_to_the_docs(monkeypatch, tmp_path):
     assert local.endswith(("site/study.html", "docs/study.md"))
     with pytest.raises(ValueError, match="no docs page"):
         docs_url("no_such_page")
+
+
+def test_report_without_docs_to_link_names_the_pages(ctx, monkeypatch, tmp_path):
+    """An installed wheel carries no docs (docs_url gives None): the report still writes, and
+    names the pages where it would link them (this crashed `blurlab study` from a wheel)."""
+    import blurlab.docs_link as docs_link
+    from blurlab.studies.study import run_study
+
+    monkeypatch.setattr(docs_link, "docs_url", lambda page: None)
+    assert (
+        docs_link.docs_anchor("study", "the docs") == "the docs (docs/study.md in blurlab's source)"
+    )
+    report = run_study(
+        ctx, ["fan"], size=(32, 18), out=tmp_path, grids={"gather_box": {}}, progress=False
+    ).read_text()
+    assert "docs/metrics.md in blurlab's source" in report
+    assert "docs/study.md in blurlab's source" in report
+    assert "href='None'" not in report
