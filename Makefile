@@ -37,8 +37,12 @@ format:
 	clang-format -i src/*/*.cpp src/*/*.h
 
 # The documentation site, offline, into site/ (mkdocs.yml; warnings are errors).
-docs: deps
+# The site's example report is made first, by the code the site documents (docs/study.md); its
+# links to the docs are relative (BLURLAB_DOCS_URL=..), into the site it sits in.
+docs: install
 	$(PIP) install -q ".[docs]"
+	BLURLAB_DOCS_URL=.. $(PYTHON) -m blurlab study --size 160x90 --scenes teapot_pass fan \
+		--out docs/example-report
 	NO_MKDOCS_2_WARNING=1 $(PYTHON) -m mkdocs build --strict
 
 # The manylinux wheel and the sdist, into dist/ (packaging/build-wheel.sh; README "Install").

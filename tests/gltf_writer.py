@@ -75,10 +75,15 @@ class GltfBuilder:
         self.doc.meshes.append(g.Mesh(primitives=[primitive]))
         return len(self.doc.meshes) - 1
 
-    def animate(self, node: int, path: str, times, values, interpolation="LINEAR"):
-        if not self.doc.animations:
+    def animate(
+        self, node: int, path: str, times, values, interpolation="LINEAR", animation=0, name=None
+    ):
+        """A channel of animation number `animation` (made, named `name`, when it is new)."""
+        while len(self.doc.animations) <= animation:
             self.doc.animations.append(g.Animation(samplers=[], channels=[]))
-        animation = self.doc.animations[0]
+        if name is not None:
+            self.doc.animations[animation].name = name
+        animation = self.doc.animations[animation]
         animation.samplers.append(
             g.AnimationSampler(
                 input=self.accessor(np.asarray(times).reshape(-1, 1)),

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import importlib.util
 import re
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -37,26 +38,44 @@ def test_cli_page_lists_every_subcommand_and_option():
 
 
 @pytest.mark.skipif(importlib.util.find_spec("mkdocs") is None, reason="mkdocs not installed")
-def test_site_builds_strict(tmp_path):
-    """`mkdocs build --strict`, as `make docs` runs it: a broken link, a page missing from the
-    nav or a docstring mkdocstrings cannot read fails here."""
+def test_site_builds_strict(ctx, monkeypatch, tmp_path):
+    """`mkdocs build --strict`, as `make docs` runs it, on a copy of the docs with the example
+    report made first (small here): a broken link, a page missing from the nav or a docstring
+    mkdocstrings cannot read fails here."""
+    from blurlab.studies.study import run_study
+
+    source = tmp_path / "source"
+    shutil.copytree(ROOT / "docs", source / "docs", ignore=shutil.ignore_patterns("example-report"))
+    shutil.copy(ROOT / "mkdocs.yml", source)
+    (source / "python").symlink_to(ROOT / "python")
+    monkeypatch.setenv(DOCS_URL_VARIABLE, "..")
+    run_study(
+        ctx,
+        ["fan"],
+        size=(32, 18),
+        out=source / "docs" / "example-report",
+        grids={"gather_box": {}},
+        progress=False,
+    )
+    site = tmp_path / "site"
     done = subprocess.run(
-        [sys.executable, "-m", "mkdocs", "build", "--strict", "--site-dir", str(tmp_path)],
-        cwd=ROOT,
+        [sys.executable, "-m", "mkdocs", "build", "--strict", "--site-dir", str(site)],
+        cwd=source,
         capture_output=True,
         text=True,
         timeout=300,
     )
     assert done.returncode == 0, done.stderr[-4000:]
-    assert (tmp_path / "api" / "context.html").is_file()
-    # The example report is part of the site, so the pages' links to it work.
-    assert (tmp_path / "study-h100-1080p" / "report.html").is_file()
+    assert (site / "api" / "context.html").is_file()
+    # The example report is part of the site, and its docs link leads back into it.
+    report = (site / "example-report" / "report.html").read_text()
+    assert "href='../study.html'" in report and (site / "study.html").is_file()
     # Offline: no page loads a script, a style sheet or a font from elsewhere.
     loads = re.compile(r"<(?:script|link)\b[^>]*(?:src|href)=[\"']?(?:https?:)?//", re.IGNORECASE)
     remote = [
-        str(page.relative_to(tmp_path))
-        for page in tmp_path.rglob("*.html")
-        if "study-h100-1080p" not in page.parts and loads.search(page.read_text())
+        str(page.relative_to(site))
+        for page in site.rglob("*.html")
+        if "example-report" not in page.parts and loads.search(page.read_text())
     ]
     assert not remote, remote
 
@@ -82,3 +101,21 @@ def test_report_links_to_the_docs(monkeypatch, tmp_path):
     assert local.endswith(("site/study.html", "docs/study.md"))
     with pytest.raises(ValueError, match="no docs page"):
         docs_url("no_such_page")
+
+
+def test_report_without_docs_to_link_names_the_pages(ctx, monkeypatch, tmp_path):
+    """An installed wheel carries no docs (docs_url gives None): the report still writes, and
+    names the pages where it would link them (this crashed `blurlab study` from a wheel)."""
+    import blurlab.docs_link as docs_link
+    from blurlab.studies.study import run_study
+
+    monkeypatch.setattr(docs_link, "docs_url", lambda page: None)
+    assert (
+        docs_link.docs_anchor("study", "the docs") == "the docs (docs/study.md in blurlab's source)"
+    )
+    report = run_study(
+        ctx, ["fan"], size=(32, 18), out=tmp_path, grids={"gather_box": {}}, progress=False
+    ).read_text()
+    assert "docs/metrics.md in blurlab's source" in report
+    assert "docs/study.md in blurlab's source" in report
+    assert "href='None'" not in report

@@ -72,7 +72,7 @@ def test_every_group_layout_gives_the_same_bits(
 ):
     # Layouts with fewer invocations than a tile's candidates and with more (4 px tiles: 16
     # pixels for up to 256 invocations); the *_subgroup ones reduce in shared memory where the
-    # driver lacks subgroup operations (llvmpipe), so on a GPU benchmarks/engines.py
+    # driver lacks subgroup operations (llvmpipe), so on a GPU `blurlab bench layouts`
     # --variants checks their bits again.
     frame = tied_frame(rng, *size, scale)
     threads = tile_buffers(ctx, frame, tile_size, max_blur, group_per_tile=False)

@@ -80,7 +80,7 @@ def test_tile_passes_are_engine_eevees_at_this_methods_sizes(ctx, rng):
 
 
 def test_near_equal_lengths_tie_and_go_to_the_first_tile(ctx):
-    # The moire gap's cause (docs/engines_history.md): a turning disc moves many pixels and tiles
+    # The moire gap's cause (docs/engines.md): a turning disc moves many pixels and tiles
     # almost equally fast, and exact lengths that float rounding orders differently on the GPU
     # and in the twin picked other tiles, so whole tiles differed. Lengths compare in steps of
     # 1/16 px: here the later pixel is longer by 1e-5 px (exactly, not only by rounding), and

@@ -1,6 +1,8 @@
 """Fuzzing the glTF reader: 1000 mutated .gltf and 1000 mutated .glb files from a seeded
-mutator. Every file either loads into a scene that renders (or refuses clearly to) or raises
-GltfError naming the file: no other exception, no crash, and none takes longer than 5 s."""
+mutator, and 300 files with several animations, their animations mutated, each loaded with a
+random `animation` choice. Every file either loads into a scene that renders (or refuses clearly
+to) or raises GltfError naming the file (or, for a malformed choice, a TypeError or ValueError
+saying what is allowed): no other exception, no crash, and none takes longer than 5 s."""
 
 from __future__ import annotations
 
@@ -93,14 +95,17 @@ def mutate_bytes(data: bytes, rng: random.Random) -> bytes:
     return bytes(data)
 
 
-def _load_all(ctx, paths) -> tuple[int, float]:
+def _load_all(ctx, paths, animations=None) -> tuple[int, float]:
     loaded, slowest = 0, 0.0
-    for path in paths:
+    for k, path in enumerate(paths):
         start = time.perf_counter()
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
-                scene = bl.scenes.gltf(path)
+                if animations is None:
+                    scene = bl.scenes.gltf(path)
+                else:
+                    scene = bl.scenes.gltf(path, animation=animations[k])
             loaded += 1
             try:  # a scene that loads renders, or says clearly why not (a transform overflows)
                 frame = ctx.render(scene, (16, 16))
@@ -109,6 +114,8 @@ def _load_all(ctx, paths) -> tuple[int, float]:
                 assert str(error).startswith("blurlab")
         except GltfError as error:
             assert path.name in str(error)
+        except (TypeError, ValueError) as error:  # a malformed choice, refused before reading
+            assert animations is not None and str(error).startswith("blurlab.gltf: animation")
         except Exception as error:  # noqa: BLE001 - the point of the test
             pytest.fail(f"{path.name}: {type(error).__name__}: {error}")
         slowest = max(slowest, time.perf_counter() - start)
@@ -143,6 +150,48 @@ def test_mutated_glb_files_load_or_fail_clearly(ctx, tmp_path):
         paths.append(path)
     loaded, slowest = _load_all(ctx, paths)
     print(f"glb fuzz: {loaded}/{len(paths)} loaded, the rest refused; slowest {slowest:.3f} s")
+    assert slowest < SLOWEST_ALLOWED_S
+    assert 0 < loaded < len(paths)
+
+
+ANIMATION_CHOICES = [
+    "all", None, 0, 1, 2, 3, -1, 10**9, "Slide", "Spin", "Spin again", "missing", "", [0, 1],
+    ["Slide", 2], [1, 2], [2, 2], [0, "Slide"], [], ["all"], ["all", 0], [None], True, 1.5,
+    ("Spin",), {"a": 1}, np.int64(1),
+]  # fmt: skip
+
+
+def several_animations() -> GltfBuilder:
+    """Three named animations on a parent and its child: Slide and Spin drive different
+    nodes, "Spin again" drives the child's rotation as Spin does."""
+    b = GltfBuilder()
+    p, n, i = box_triangles()
+    child = b.node(root=False, mesh=b.mesh(p, i, n), translation=[1, 0, 0])
+    parent = b.node(mesh=b.mesh(p, i, n), children=[child])
+    b.animate(parent, "translation", [0, 1], [[0, 0, 0], [1, 0, 0]], animation=0, name="Slide")
+    turn = [[0, 0, 0, 1], [0, 0, 0.7071, 0.7071]]
+    b.animate(child, "rotation", [0, 1], turn, animation=1, name="Spin")
+    b.animate(child, "rotation", [0, 2], turn, "STEP", animation=2, name="Spin again")
+    b.animate(parent, "scale", [0, 1], [[1, 1, 1], [2, 2, 2]], animation=2)
+    return b
+
+
+def test_mutated_animations_and_random_choices_load_or_fail_clearly(ctx, tmp_path):
+    rng = random.Random(20261127)
+    base = json.loads(several_animations().save(tmp_path / "base.gltf").read_text())
+    paths, choices = [], []
+    for k in range(300):
+        doc = json.loads(json.dumps(base))
+        if k % 3:  # two in three files have their animations mutated
+            mutate_json(doc["animations"], rng)
+        path = tmp_path / f"a{k}.gltf"
+        path.write_text(json.dumps(doc))
+        paths.append(path)
+        choices.append(rng.choice(ANIMATION_CHOICES))
+    loaded, slowest = _load_all(ctx, paths, choices)
+    print(
+        f"animation fuzz: {loaded}/{len(paths)} loaded, the rest refused; slowest {slowest:.3f} s"
+    )
     assert slowest < SLOWEST_ALLOWED_S
     assert 0 < loaded < len(paths)
 

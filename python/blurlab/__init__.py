@@ -2,6 +2,7 @@
 
 from . import blender, capture, gltf, hatching, io, mesh, metrics, scenes, tam, twins
 from ._core import GLError, ShaderError
+from .blur_scales import CameraHeld
 from .context import ComputeProgram, Context, PendingDownload, Texture, Timing
 from .converged import Reference, reference_samples_needed
 from .frame import MOTION_FORMATS, Frame
@@ -18,6 +19,7 @@ from .methods import (
 )
 from .motion import Bone, Keyframe, Motion, Skeleton, quaternion
 from .scene import Camera, DirectionalLight, Material, Scene
+from .shutters import shutter
 from .sizes import DEFAULT_SIZE
 
 # The studies sit above the core (the core never imports them); the package offers the most
@@ -35,6 +37,7 @@ __all__ = [
     "BlurResult",
     "Bone",
     "Camera",
+    "CameraHeld",
     "ComputeProgram",
     "Context",
     "DirectionalLight",
@@ -68,6 +71,7 @@ __all__ = [
     "reference_samples_needed",
     "render_and_blur",
     "render_steps",
+    "shutter",
     "metrics",
     "failures",
     "plots",

@@ -40,6 +40,15 @@ def parse_size(text: str) -> tuple[int, int]:
     return width, height
 
 
+def parse_animation(text: str):
+    """--animation: "all", "none" (the rest pose), or indices and names separated by commas
+    (blurlab.gltf.load's `animation`)."""
+    if text in ("all", "none"):
+        return None if text == "none" else text
+    items = [int(part) if part.strip().isdigit() else part.strip() for part in text.split(",")]
+    return items[0] if len(items) == 1 else items
+
+
 def parse_device(text: str) -> str | int:
     return int(text) if text.isdigit() else text
 
@@ -176,7 +185,13 @@ def _recommend(args) -> int:
     """One line with the answer, then the table it was chosen from (fastest first)."""
     if args.budget_ms is None and args.target_psnr is None:
         raise ValueError("recommend needs --budget-ms, --target-psnr or both")
-    scene = scenes.get(args.scene)  # a built-in name or a .gltf/.glb file: fails before the GPU
+    # A built-in name or a .gltf/.glb file: fails before the GPU.
+    if scenes.is_file(args.scene):
+        scene = scenes.gltf(args.scene, animation=args.animation)
+    elif args.animation != "all":
+        raise ValueError(f"--animation is for .gltf/.glb files; {args.scene!r} is built in")
+    else:
+        scene = scenes.get(args.scene)
     ctx = Context(args.device)
     answer = recommend(
         ctx, scene, args.size, args.budget_ms, args.target_psnr, args.metric, progress=True
@@ -318,6 +333,13 @@ def build_parser() -> argparse.ArgumentParser:
     advice.add_argument("--budget-ms", type=float, default=None, help="GPU ms per frame at most")
     advice.add_argument("--target-psnr", type=float, default=None, help="PSNR in dB at least")
     advice.add_argument("--metric", choices=ranking_metrics(), default="psnr")
+    advice.add_argument(
+        "--animation",
+        type=parse_animation,
+        default="all",
+        help="a file's animations to play: all (default; refused where two drive one property),"
+        " none, or indices and names separated by commas",
+    )
     sweep = sub.add_parser("sweep", help="run the sweep a TOML configuration describes")
     sweep.add_argument("config", help="TOML file: scenes, methods, size, shutter, ...")
     _add_cluster_options(sweep)

@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .blur_scales import scaled_scene
 from .frame import Frame
 from .render import check_shutter, check_size, render, render_targets
 from .sampling import shutter_samples
@@ -110,6 +111,7 @@ def reference_render(
         )
     size = check_size(size, ctx.max_texture_size)
     shutter = check_shutter(scene.shutter if shutter is None else shutter)
+    scene = scaled_scene(scene, shutter)  # blur scales pivot on the shutter's centre (§12.1)
     positions = None
     if antialias:
         times, positions = shutter_samples(shutter, samples, seed)

@@ -13,6 +13,7 @@ An installed wheel carries no docs: there ``docs_url`` returns None unless the v
 
 from __future__ import annotations
 
+import html
 import os
 import re
 from pathlib import Path
@@ -38,3 +39,13 @@ def docs_url(page: str) -> str | None:
         raise ValueError(f"no docs page {page!r}: {source} does not exist")
     built = _CHECKOUT / "site" / f"{page}.html"
     return (built if built.is_file() else source).as_uri()
+
+
+def docs_anchor(page: str, text: str) -> str:
+    """HTML for a link to docs page `page` reading `text`; where there is nothing to link to (an
+    installed wheel, BLURLAB_DOCS_URL unset) the text with the page's source path instead, so a
+    report written anywhere still says where to read."""
+    url = docs_url(page)
+    if url is None:
+        return f"{html.escape(text)} (docs/{page}.md in blurlab's source)"
+    return f"<a href='{html.escape(url)}'>{html.escape(text)}</a>"

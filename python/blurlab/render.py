@@ -11,6 +11,7 @@ from numbers import Real
 import numpy as np
 
 from . import _core
+from .blur_scales import scaled_scene
 from .frame import MOTION_FORMATS, Frame
 from .scene import Scene
 from .sizes import DEFAULT_SIZE
@@ -118,6 +119,7 @@ def render(
         raise TypeError(f"blurlab: render needs a blurlab Scene, not {type(scene).__name__}")
     size = check_size(size, ctx.max_texture_size)
     shutter = check_shutter(scene.shutter if shutter is None else shutter)
+    scene = scaled_scene(scene, shutter)  # the frame keeps it: its methods pivot on this t_c
     time = instant_time(instant, shutter)
     if motion_format not in MOTION_FORMATS:
         raise ValueError(

@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from . import io
+from .blur_scales import check_blur_scale
 from .hatching import Hatching, hatch
 from .mesh import Mesh
 from .motion import Motion, Skeleton
@@ -215,6 +216,8 @@ class SceneObject:
     motion: Motion | None
     skeleton: Skeleton | None
     name: str
+    # How much of its motion the shutter blurs, in [0, 1]: 0 renders sharp (docs/spec.md §12.1).
+    motion_blur: float = 1.0
 
     def model(self, t: float) -> np.ndarray:
         return np.eye(4) if self.motion is None else _checked(self.motion.transform(t), self.name)
@@ -231,6 +234,8 @@ class Scene:
     name: str = "scene"
     objects: list[SceneObject] = field(default_factory=list)
     source: Path | None = None  # the file a scene was loaded from (blurlab.gltf), for reports
+    # How much of the camera's motion the shutter blurs, in [0, 1] (docs/spec.md §12.1).
+    camera_motion_blur: float = 1.0
 
     @property
     def hdr(self) -> bool:
@@ -239,6 +244,7 @@ class Scene:
         return any(float(obj.material.radiance.max()) > 1.0 for obj in self.objects)
 
     def __post_init__(self):
+        check_blur_scale(self.camera_motion_blur, "camera_motion_blur")
         b = np.asarray(self.background, dtype=np.float64)
         self.background = _finite(np.append(b, 1.0) if b.shape == (3,) else b, "background", 4)
 
@@ -249,8 +255,12 @@ class Scene:
         motion: Motion | None = None,
         skeleton: Skeleton | None = None,
         name: str | None = None,
+        motion_blur: float = 1.0,
     ) -> SceneObject:
-        """Adds an object; its object id in the G-buffer is its index in `objects`."""
+        """Adds an object; its object id in the G-buffer is its index in `objects`.
+        ``motion_blur`` in [0, 1] scales how much of its motion is blurred (docs/spec.md
+        §12.1): 0 draws it sharp at the shutter's centre, as engines draw a first-person
+        weapon."""
         if not isinstance(mesh, Mesh):
             raise TypeError(f"blurlab: scene.add needs a blurlab Mesh, not {type(mesh).__name__}")
         if mesh.skinned != (skeleton is not None):
@@ -260,7 +270,9 @@ class Scene:
                 f"blurlab: mesh uses bone {int(mesh.bone_indices.max())}, "
                 f"the skeleton has {len(skeleton.bones)}"
             )
-        obj = SceneObject(mesh, material or Material(), motion, skeleton, name or mesh.name)
+        name = name or mesh.name
+        obj = SceneObject(mesh, material or Material(), motion, skeleton, name, motion_blur)
+        check_blur_scale(motion_blur, f"motion_blur of {name}")
         self.objects.append(obj)
         return obj
 

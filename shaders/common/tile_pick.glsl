@@ -4,7 +4,7 @@
 // there is none. pick_tiles() runs it in one of two modes (#define GROUP_PER_TILE): one invocation per tile
 // scanning all its candidates, or a work group per tile whose invocations share them out, then
 // merge their picks (common/group_pick.glsl: same bits either way). The group's layout is a
-// variant (blurlab.methods.eevee.TILE_PICK_VARIANTS, timed by benchmarks/engines.py
+// variant (blurlab.methods.eevee.TILE_PICK_VARIANTS, timed by `blurlab bench layouts`
 // --variants): by default 16 x 16 invocations each taking every 16th candidate of every 16th
 // row; with TILE_PICK_THREADS N invocations in a row taking candidates t, t + N, ... in row
 // order; TILE_PICK_SUBGROUP adds the subgroup reduction. The including pass defines consider()

@@ -6,7 +6,7 @@
 // small tiles (group_per_tile = false) one thread per tile, since a group per 4 x 4 tile leaves
 // most threads idle and barriers cost llvmpipe dearly; for large tiles one work group per tile,
 // each thread scanning part of it, then a reduction. The group's layout is a variant (§3.2,
-// blurlab.methods.tile_filter.TILE_MAX_VARIANTS), measured by benchmarks/speed_floor.py:
+// blurlab.methods.tile_filter.TILE_MAX_VARIANTS), measured by `blurlab bench layouts`:
 //   default           8 x 8 threads, thread (i, j) scans pixels (i + 8a, j + 8b), shared-memory
 //                     reduction in 6 barrier steps;
 //   TILE_MAX_THREADS  N threads in a row, thread t scans the pixels t, t + N, ... of the tile in

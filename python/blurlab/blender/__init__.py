@@ -27,6 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import capture, io
+from ..blur_scales import scaled_scene
 from ..render import check_shutter, check_size
 from ..scene import Scene
 from ..sizes import DEFAULT_SIZE
@@ -255,6 +256,7 @@ def render(
         isinstance(instant, Real) and shutter[0] <= instant <= shutter[1]
     ):
         raise ValueError(f"blurlab.blender: instant {instant!r} is outside the shutter {shutter}")
+    scene = scaled_scene(scene, shutter)  # the blur scales, keyed as blurlab evaluates them
     # What Blender cannot reproduce is refused first: that needs no bpy.
     description, arrays = export(scene, (width, height), shutter, keys)
     if python is None:

@@ -1,7 +1,7 @@
 """The cross-check of docs/crosscheck.md: three scenes of its own (a box, an occluder in front
 of a still object, a sphere under a moving camera) and the measurements that compare a blurlab
 image with a Blender one: object masks, coverage centroids, PSNR by region. Used by
-benchmarks/crosscheck.py and notebooks/05_crosscheck.ipynb."""
+the crosscheck benchmark (`blurlab bench crosscheck`) and notebooks/05_crosscheck.ipynb."""
 
 from __future__ import annotations
 

@@ -17,7 +17,14 @@ from pathlib import Path
 
 from ..scene import Camera, Scene
 from .accessors import MAX_ACCESSOR_VALUES
-from .animation import DEFAULT_SHUTTER_S, MAX_NODES, CameraNodeMotion, NodeMotion
+from .animation import (
+    ALL_ANIMATIONS,
+    DEFAULT_SHUTTER_S,
+    MAX_NODES,
+    CameraNodeMotion,
+    NodeMotion,
+    check_animation_choice,
+)
 from .build import build_scene
 from .document import MAX_FILE_BYTES, MAX_JSON_VALUES, GltfError, GltfFile
 from .materials import MAX_IMAGE_PIXELS
@@ -25,6 +32,7 @@ from .meshes import MAX_VERTICES
 from .skins import JointSkin
 
 __all__ = [
+    "ALL_ANIMATIONS",
     "DEFAULT_SHUTTER_S",
     "MAX_ACCESSOR_VALUES",
     "MAX_FILE_BYTES",
@@ -42,14 +50,17 @@ __all__ = [
 
 def load(
     path,
-    animation: int | None = 0,
+    animation: int | str | list | None = ALL_ANIMATIONS,
     camera: int | Camera | None = None,
     size_hint=None,
     shutter=None,
 ) -> Scene:
     """A `bl.Scene` from a .gltf or .glb file (docs/spec.md §15).
 
-    ``animation``: index of the animation that moves the scene, or None for the rest pose.
+    ``animation``: which of the file's animations move the scene (docs/spec.md §15.1): "all"
+    (every one; two that drive the same property of a node are refused, naming both), an index,
+    a name, a list of indices and names, or None for the rest pose. A warning names the file's
+    animations that are left out.
     ``camera``: None (the file's first camera, or one framing the scene's bounds when the file
     has none), the index of one of the file's cameras, or a `bl.Camera`.
     ``size_hint``: (W, H) the scene will mostly be rendered at; the framing camera fits the
@@ -57,6 +68,7 @@ def load(
     1/60 s opening where the animation moves fastest (docs/spec.md §15).
     """
     path = Path(path)
+    check_animation_choice(animation)
     try:
         return build_scene(GltfFile(path), animation, camera, size_hint, shutter)
     except GltfError:

@@ -5,6 +5,7 @@ at t, so any shutter, instant or reference works on it unchanged."""
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -156,31 +157,111 @@ def _rest(file: GltfFile, i: int, node):
     }
 
 
+ALL_ANIMATIONS = "all"
+
+
+def check_animation_choice(animation):
+    """`animation` as load() takes it, checked before the file is read: None, "all", an index,
+    a name, or a non-empty list of indices and names without repeats (docs/spec.md §15.1)."""
+    allowed = 'None, "all", an index, a name, or a list of indices and names'
+    items = list(animation) if isinstance(animation, (list, tuple)) else [animation]
+    if isinstance(animation, (list, tuple)) and not items:
+        raise ValueError(f"blurlab.gltf: animation is an empty list; allowed: {allowed}")
+    for item in items:
+        if animation is None:
+            continue
+        if isinstance(item, bool) or not isinstance(item, (int, np.integer, str)):
+            raise TypeError(f"blurlab.gltf: animation {item!r} is not allowed; allowed: {allowed}")
+        if isinstance(item, (int, np.integer)) and item < 0:
+            raise ValueError(f"blurlab.gltf: animation index {item} is negative")
+    if isinstance(animation, (list, tuple)) and ALL_ANIMATIONS in items:
+        raise ValueError(f'blurlab.gltf: animation list {items!r}: "all" stands alone')
+    keys = [int(i) if isinstance(i, (int, np.integer)) else i for i in items]
+    if len(set(keys)) != len(keys):
+        raise ValueError(f"blurlab.gltf: animation list {list(items)!r} names one twice")
+
+
+def describe_animation(file: GltfFile, index: int) -> str:
+    name = (file.doc.animations or [])[index].name
+    return f"animation {index}" + (f" {name!r}" if isinstance(name, str) and name else "")
+
+
+def chosen_animations(file: GltfFile, animation) -> list[int]:
+    """The indices of the file's animations that `animation` picks, in the order asked for
+    (docs/spec.md §15.1)."""
+    animations = file.doc.animations or []
+    if animation is None:
+        chosen = []
+    elif animation == ALL_ANIMATIONS:
+        chosen = list(range(len(animations)))
+    else:
+        items = animation if isinstance(animation, (list, tuple)) else [animation]
+        chosen = [_animation_index(file, item) for item in items]
+        if len(set(chosen)) != len(chosen):
+            file.fail(f"animation {list(items)!r} picks one animation twice")
+    return chosen
+
+
+def _animation_index(file: GltfFile, item) -> int:
+    animations = file.doc.animations or []
+    if not isinstance(item, str):
+        if not animations:
+            file.fail(f"animation {item} asked for; the file has none")
+        return file.index(int(item), len(animations), "animation")
+    matches = [i for i, entry in enumerate(animations) if entry.name == item]
+    if len(matches) != 1:
+        names = [entry.name for entry in animations]
+        how = "no animation" if not matches else f"{len(matches)} animations"
+        file.fail(f"{how} named {item!r}; the file's animations are {names}")
+    return matches[0]
+
+
 def animation_channels(
     file: GltfFile, animation, node_count: int, rest
 ) -> dict[int, list[Channel]]:
-    animations = file.doc.animations or []
-    if animation is None or not animations:
-        if animation not in (None, 0):
-            file.fail(f"animation {animation} asked for; the file has none")
-        return {}
-    chosen = animations[file.index(animation, len(animations), "animation")]
-    samplers = chosen.samplers or []
+    """The channels of every chosen animation by node. Two of them driving the same (node,
+    property) is refused, naming both: which one plays is the caller's choice."""
     out: dict[int, list[Channel]] = {}
-    for c, channel in enumerate(chosen.channels or []):
-        target = channel.target
-        if target is None or target.node is None:
-            continue  # a channel without a node may be ignored (glTF 2.0, 3.11)
-        node = file.index(target.node, node_count, f"animation channel {c} node")
-        if target.path == "weights":
-            file.fail("it animates morph target weights; morph targets are not supported")
-        if target.path not in _TRS_PATHS:
-            file.fail(f"animation channel {c} targets {target.path!r}")
-        if isinstance(rest[node], np.ndarray):
-            file.fail(f"node {node} has a matrix and is animated (glTF forbids that)")
-        sampler = samplers[file.index(channel.sampler, len(samplers), f"channel {c} sampler")]
-        out.setdefault(node, []).append(_channel(file, sampler, target.path, c))
+    driven_by: dict[tuple[int, str], int] = {}
+    chosen_ones = chosen_animations(file, animation)
+    for a in chosen_ones:
+        chosen = file.doc.animations[a]
+        samplers = chosen.samplers or []
+        for c, channel in enumerate(chosen.channels or []):
+            target = channel.target
+            if target is None or target.node is None:
+                continue  # a channel without a node may be ignored (glTF 2.0, 3.11)
+            node = file.index(target.node, node_count, f"animation channel {c} node")
+            if target.path == "weights":
+                file.fail("it animates morph target weights; morph targets are not supported")
+            if target.path not in _TRS_PATHS:
+                file.fail(f"animation channel {c} targets {target.path!r}")
+            if isinstance(rest[node], np.ndarray):
+                file.fail(f"node {node} has a matrix and is animated (glTF forbids that)")
+            other = driven_by.setdefault((node, target.path), a)
+            if other == a and any(ch.path == target.path for ch in out.get(node, ())):
+                file.fail(f"{describe_animation(file, a)} drives node {node} {target.path} twice")
+            if other != a:
+                file.fail(
+                    f"{describe_animation(file, other)} and {describe_animation(file, a)} both "
+                    f"drive the {target.path} of node {node} ({file.doc.nodes[node].name!r}); "
+                    "choose which to play with animation= (an index, a name or a list)"
+                )
+            sampler = samplers[file.index(channel.sampler, len(samplers), f"channel {c} sampler")]
+            out.setdefault(node, []).append(_channel(file, sampler, target.path, c))
+    _warn_of_those_left_out(file, chosen_ones)
     return out
+
+
+def _warn_of_those_left_out(file: GltfFile, chosen: list[int]):
+    count = len(file.doc.animations or [])
+    left_out = [describe_animation(file, i) for i in range(count) if i not in chosen]
+    if left_out:
+        played = ", ".join(describe_animation(file, i) for i in chosen) or "none (the rest pose)"
+        warnings.warn(
+            f"blurlab.gltf: {file.path.name}: plays {played}; left out {', '.join(left_out)}",
+            stacklevel=6,  # the caller of blurlab.gltf.load
+        )
 
 
 def _channel(file: GltfFile, sampler, path: str, c: int) -> Channel:

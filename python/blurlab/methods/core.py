@@ -16,6 +16,7 @@ from numbers import Integral
 
 import numpy as np
 
+from ..blur_scales import scaled_scene
 from ..context import Context, Texture, Timing
 from ..converged import accumulate
 from ..frame import Frame
@@ -281,6 +282,7 @@ def render_steps(
     steps = check_steps(name, steps)
     shutter = check_shutter(scene.shutter if shutter is None else shutter)
     instant = method_instant(name, params)
+    scene = scaled_scene(scene, shutter)  # every step pivots on the whole shutter's centre
     return [ctx.render(scene, size, sub, instant=instant) for sub in step_shutters(shutter, steps)]
 
 

@@ -54,7 +54,7 @@ PARAMS = {
 }
 GATHER = Pass("gather", "passes/coverage_gather.glsl", ("samples", "soft_z", "exposure", "seed"))
 # The gather's variants (shaders/passes/coverage_gather.glsl): every tap reads its colour, or
-# only the taps that weigh on a sum do (fewer reads, a branch). Same bits; benchmarks/engines.py
+# only the taps that weigh on a sum do (fewer reads, a branch). Same bits; `blurlab bench layouts`
 # --variants times both: on the H100 at 1080p fetch_all was as fast or faster (0.0628 against
 # 0.0647 ms on teapot_pass, medians over 15 scenes 0.168 and 0.171, 2026-11-24), so it is the
 # default, without the branch.
@@ -66,7 +66,7 @@ FILM_COLUMNS = Pass("film_columns", "passes/film_filter.glsl", ("film_filter",))
 # The film filter's layouts (shaders/passes/film_filter.glsl): one pass of (2R + 1)² taps; two
 # of 2R + 1 (rows, then columns) with an RGBA32F image between them; or one whose work group
 # filters its rows in shared memory, then its columns there. Same kernel, sums in another
-# order; benchmarks/engines.py --variants times them. On the H100 at 1080p, σ = 0.5, teapot_pass:
+# order; `blurlab bench layouts` times them. On the H100 at 1080p, σ = 0.5, teapot_pass:
 # 0.113 ms direct, 0.079 separable (two passes), 0.044 separable_shared (2026-11-24).
 FILM_VARIANTS = {
     "direct": {},

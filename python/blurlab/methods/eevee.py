@@ -43,7 +43,7 @@ RESOLVE = Pass("tile_resolve", "passes/eevee_tile_resolve.glsl")
 GATHER = Pass("gather", "passes/eevee_gather.glsl", tuple(PARAMS))
 
 # The layouts of the tile passes' work group per tile (shaders/common/tile_pick.glsl): the
-# #defines of each. All give the same bits; benchmarks/engines.py --variants times them.
+# #defines of each. All give the same bits; `blurlab bench layouts` times them.
 TILE_PICK_VARIANTS = {
     "grid_16x16": {},
     "rows_64": {"TILE_PICK_THREADS": 64},
@@ -56,7 +56,7 @@ TILE_PICK_VARIANTS = {
 # rows_64 measured fastest on the H100 at 1080p where its clocks held (teapot_pass: flatten +
 # dilate 0.044 ms against grid_16x16's 0.056, rows_64_subgroup's 0.049), and second to
 # rows_64_subgroup (0.0648 against 0.0667) in the 15-scene medians of the same run, whose later
-# scenes ran slow; it needs no subgroup extension (benchmarks/engines.py --variants, 2026-11-24).
+# scenes ran slow; it needs no subgroup extension (the layouts benchmark, 2026-11-24).
 TILE_PICK_LAYOUT = PassVariants("tile pick", TILE_PICK_VARIANTS, "rows_64")
 
 # How the dilation runs where lengths compare in steps (gather_coverage; docs/spec.md §17.6):
@@ -68,7 +68,7 @@ TILE_PICK_LAYOUT = PassVariants("tile pick", TILE_PICK_VARIANTS, "rows_64")
 # keys hold a 12-bit tile index (shaders/common/reach_keys.glsl), so larger grids gather, as
 # engine_eevee always does: its exact lengths do not fit a key. On the H100 at 1080p,
 # teapot_pass, back to back: 0.0971 ms gather, 0.0936 scatter, 0.0917 scatter_in_gather
-# (benchmarks/filter_time.py, 2026-11-26); the 15-scene medians rank them the same way.
+# (docs/performance.md, 2026-11-26); the 15-scene medians rank them the same way.
 DILATION_VARIANTS = {
     "gather": {},
     "scatter": {"SCATTER_DILATION": 1},
@@ -93,7 +93,7 @@ def tile_groups(ctx: Context) -> bool:
     tile's pixels or sources, then reduce) rather than one thread per tile: on a GPU one thread
     per tile leaves it mostly idle (about 2000 threads at 1080p). llvmpipe runs a group's
     threads as SIMD lanes and its barriers are costly: there groups took 4 to 34 times as long
-    (benchmarks/tile_groups.py at 640 x 360), so it keeps one thread per tile."""
+    (measured at 640 x 360; docs/performance.md), so it keeps one thread per tile."""
     return not ctx.software
 
 

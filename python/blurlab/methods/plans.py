@@ -62,7 +62,7 @@ def enabled() -> bool:
 @contextmanager
 def disabled():
     """Inside the block, every call takes the ordinary path: nothing is recorded or replayed.
-    For measuring what plans save (benchmarks/call_overhead.py) and for ruling them out."""
+    For measuring what plans save (`blurlab bench call_overhead`) and for ruling them out."""
     token = _ENABLED.set(False)
     try:
         yield

@@ -126,7 +126,7 @@ NEIGHBOR_MAX = Pass("neighbor_max", "passes/neighbor_max.glsl")
 
 
 # The layouts of TileMax's work group per tile (shaders/passes/tile_max.glsl's header; docs/spec.md
-# §3.2): the #defines of each. All give the same bits; benchmarks/speed_floor.py times them.
+# §3.2): the #defines of each. All give the same bits; `blurlab bench layouts` times them.
 TILE_MAX_VARIANTS = {
     "strided_8x8": {},
     "strided_8x8_subgroup": {"TILE_MAX_SUBGROUP": 1},
@@ -148,7 +148,7 @@ tile_max_variant = TILE_MAX_LAYOUT.use
 def largest_tile_for_one_thread(ctx: Context) -> int:
     """Largest tile side that one thread of TileMax scans. On a GPU a work group per tile pays
     off above 8 x 8 pixels; llvmpipe runs a group's threads as SIMD lanes and its barriers are
-    costly, so there one thread per tile is faster up to 32 x 32 (benchmarks/reconstruct.py,
+    costly, so there one thread per tile is faster up to 32 x 32 (docs/performance.md,
     docs/benchmarks.md)."""
     return 32 if ctx.software else 8
 

@@ -37,7 +37,7 @@ def mse_ssim_of_totals(totals, shape) -> tuple[float, float]:
 
 
 # Work-group layouts of the SSIM pass, (tile columns, tile rows, output rows per invocation);
-# every layout gives the same value up to float rounding, and benchmarks/speed_floor.py times
+# every layout gives the same value up to float rounding, and docs/performance.md gives the times of
 # them all. Tiles 32 pixels wide (shaders/passes/ssim.comp): "column4" computes four pixels down
 # a column per invocation (the vertical blur reads each row's moments once for up to four
 # outputs), "column2x32" two in 32 x 32 tiles; "pixel16" is the one-pixel-per-invocation layout

@@ -1,4 +1,4 @@
-"""Peers in the study (`blurlab study --peers eevee`) and in benchmarks/engines.py: Blender's
+"""Peers in the study (`blurlab study --peers eevee`) and in the engines benchmark: Blender's
 EEVEE rendering the same scenes, scored against the same references as the methods. Their time
 is Blender's wall time on its own device, not a GPU pass time, and the table says so."""
 

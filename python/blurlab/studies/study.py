@@ -21,7 +21,7 @@ import pandas as pd
 
 from .. import io, metrics, scenes
 from ..context import Context
-from ..docs_link import docs_url
+from ..docs_link import docs_anchor
 from ..methods import blur, method, method_instant
 from ..metrics import check_names, get, registered
 from ..sizes import DEFAULT_SIZE
@@ -457,7 +457,7 @@ def _html(info, size, table, sections, curves, per_object=None, peer_rows=None, 
         "<p>Each method runs on the G-buffer rendered at the instant it expects; its error is "
         "measured against the converged reference of the same shutter (the mean of N renders). "
         "Time is the sum of the method's passes; methods that render (accumulation, "
-        f"stochastic) include their renders. The <a href='{e(docs_url('metrics'))}'>metrics</a>:"
+        f"stochastic) include their renders. The {docs_anchor('metrics', 'metrics')}:"
         "</p>",
         "<ul>"
         + "".join(
@@ -542,8 +542,9 @@ def _html(info, size, table, sections, curves, per_object=None, peer_rows=None, 
                 f"</td><td style='text-align:left'>{e(PHASES[phase])}</td></tr>"
             )
         parts.append("</table>")
-    docs = docs_url("study")  # the built site, or the checkout's pages (blurlab.docs_link)
-    where = f"<a href='{e(docs)}'>blurlab's docs</a>" if docs else "docs/study.md in its source"
+    where = docs_anchor(
+        "study", "blurlab's docs"
+    )  # the built site, the checkout's pages, or a name
     parts.append(
         f"<p>Made by <code>blurlab study</code>; {where} say what each method and number means.</p>"
     )

@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 import sys
 import time
+import traceback
 
 from ...context import Context
 from .core import (
@@ -92,7 +93,7 @@ def main(args, device) -> int:
     commit()  # the code this process loaded, before anything runs
     requested = args.bench_device or device
     ctx = Context(int(requested) if str(requested).isdigit() else requested)
-    records = []
+    records, failed = [], []
     for bench, given in zip(benches, givens, strict=True):
         start = time.perf_counter()
         preset = "tiny" if args.tiny else None
@@ -101,9 +102,18 @@ def main(args, device) -> int:
         except Unavailable as why:
             print(f"bench {bench.name}: skipped: {why}", file=sys.stderr)
             continue
+        except Exception:  # one broken benchmark must not cost the others' records
+            if len(benches) == 1:
+                raise
+            failed.append(bench.name)
+            print(f"bench {bench.name}: FAILED\n{traceback.format_exc()}", file=sys.stderr)
+            continue
         records.append(record)
         if args.record:  # written as each finishes: a run cut short keeps what it made
             write_records(merged(read_records(args.record), [record]), args.record)
         print(json.dumps(record) if args.json else record_markdown(record), flush=True)
         print(f"bench {bench.name}: {time.perf_counter() - start:.1f} s", file=sys.stderr)
+    if failed:
+        print(f"bench: {len(failed)} failed: {', '.join(failed)}", file=sys.stderr)
+        return 1
     return 0

@@ -17,6 +17,7 @@ import datetime
 import functools
 import json
 import math
+import os
 import subprocess
 import time
 from collections.abc import Callable
@@ -193,7 +194,12 @@ def parse_value(bench: Benchmark, key: str, text: str):
 def commit() -> str:
     """The tree's `git describe` (with -dirty where the code differs from it), or the package
     version where there is no checkout or no git; taken once a process, so that a long run's
-    records name the code it loaded, not a commit made while it ran."""
+    records name the code it loaded, not a commit made while it ran. ``BLURLAB_COMMIT``, where
+    set, names it instead: a copy of a tree without its git folder (the lent GPU machine gets
+    one) is told which commit it is by whoever copied it."""
+    given = os.environ.get("BLURLAB_COMMIT", "").strip()
+    if given:
+        return given
     try:
         described = subprocess.run(
             ["git", "describe", "--always", "--tags"],

@@ -194,7 +194,12 @@ def _study(ctx, size, p, out) -> None:
             command += ["--size", f"{size[0]}x{size[1]}", "--out", folder]
             command += ["--scenes", *split(p["scenes"])] if p["scenes"] else []
             start = time.perf_counter()
-            subprocess.run(command, check=True, capture_output=True, text=True)
+            done = subprocess.run(command, capture_output=True, text=True)
+            if done.returncode != 0:  # say why, not only that it failed
+                raise RuntimeError(
+                    f"{' '.join(command[2:])} exited with {done.returncode}: "
+                    + done.stderr.strip()[-2000:]
+                )
             wall = time.perf_counter() - start
             phases = json.loads((Path(folder) / "phases.json").read_text())
         shown = ", ".join(f"{k} {v:.1f}" for k, v in phases["phases_s"].items())
