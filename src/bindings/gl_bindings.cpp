@@ -76,8 +76,9 @@ py::array download(const Texture& texture) {
   return out;
 }
 
-// One thread reads mapped pinned memory at about 7 GB/s on the H100 host (`blurlab bench transfer`);
-// large images are copied by several threads so the copy does not halve download throughput.
+// One thread reads mapped pinned memory at about 7 GB/s on the H100 host (`blurlab bench
+// transfer`); large images are copied by several threads so the copy does not halve download
+// throughput.
 void parallel_copy(void* dst, const void* src, size_t bytes) {
   constexpr size_t kChunk = size_t(4) << 20;
   const size_t workers =
