@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 import blurlab as bl
+from blurlab.methods.layers import TRANSLUCENCY
 from blurlab.particles import Particle, particles
 from blurlab.translucency import resolve_fragments
 from blurlab.twins import translucency as twin
@@ -213,3 +214,83 @@ def test_particles_outside_their_lifetime_are_not_drawn():
 def test_particle_arguments_are_checked(kwargs, error):
     with pytest.raises(error):
         particles(bl.Scene(), [Particle((0, 0, 0), **kwargs)])
+
+
+APPROACHES = TRANSLUCENCY.kind
+
+
+@pytest.mark.parametrize("translucency", APPROACHES)
+def test_every_approach_leaves_opaque_frames_as_they_are(translucency):
+    ctx = bl.Context()
+    frame = ctx.render(bl.scenes.teapot_pass(), size=SIZE)
+    plain = bl.blur(ctx, frame, "reconstruct_mcguire2012").color
+    chosen = bl.blur(ctx, frame, "reconstruct_mcguire2012", translucency=translucency).color
+    np.testing.assert_array_equal(chosen, plain)
+
+
+def test_the_options_are_checked():
+    ctx = bl.Context()
+    frame = ctx.render(glass_and_sparks(), size=SIZE)
+    with pytest.raises(ValueError, match="translucency must be one of 'composite'"):
+        bl.blur(ctx, frame, "gather_box", translucency="sorted")
+    with pytest.raises(ValueError, match=r"motion_coverage = 2.0 is outside \[0, 1\]"):
+        bl.blur(ctx, frame, "gather_box", translucency="composite_motion", motion_coverage=2.0)
+
+
+def test_composite_is_the_plain_blur_of_the_engine_image():
+    ctx = bl.Context()
+    frame = ctx.render(glass_and_sparks(), size=SIZE, instant="close")
+    plain = bl.Frame(frame.color, frame.depth, frame.motion, frame.object_id, frame.shutter)
+    plain.time = frame.time
+    ours = bl.blur(ctx, frame, "gather_weighted", translucency="composite").color
+    np.testing.assert_array_equal(ours, bl.blur(ctx, plain, "gather_weighted").color)
+
+
+@pytest.mark.parametrize("coverage", [0.3, 0.9])
+def test_composite_motion_matches_its_numpy_twin(coverage):
+    ctx = bl.Context()
+    frame = ctx.render(glass_and_sparks(), size=SIZE, instant="close")
+    result = bl.blur(
+        ctx, frame, "gather_weighted", translucency="composite_motion", motion_coverage=coverage
+    )
+    motion, depth = twin.chosen_motion(
+        frame.translucent,
+        frame.translucent_motion,
+        frame.translucent_depth,
+        frame.motion,
+        frame.depth,
+        coverage,
+    )
+    np.testing.assert_array_equal(result.buffers["chosen_motion"], motion)
+    np.testing.assert_array_equal(result.buffers["chosen_depth"], depth)
+    assert np.array_equal(motion, frame.motion) == (coverage > 0.8)  # no pane is that opaque
+
+
+@pytest.mark.parametrize("translucency", ["unblurred", "layered"])
+def test_over_matches_its_numpy_twin(translucency):
+    ctx = bl.Context()
+    frame = ctx.render(glass_and_sparks(), size=SIZE)
+    result = bl.blur(ctx, frame, "reconstruct_mcguire2012", translucency=translucency)
+    opaque = result.buffers["opaque_blurred"]
+    opaque_alone = bl.Frame(frame.opaque_color, frame.depth, frame.motion, frame.object_id)
+    opaque_alone.shutter, opaque_alone.time = frame.shutter, frame.time
+    np.testing.assert_array_equal(
+        opaque, bl.blur(ctx, opaque_alone, "reconstruct_mcguire2012").color
+    )
+    layer = frame.translucent
+    if translucency == "layered":
+        alone = bl.Frame(
+            frame.translucent, frame.translucent_depth, frame.translucent_motion, frame.object_id
+        )
+        alone.shutter, alone.time = frame.shutter, frame.time
+        layer = bl.blur(ctx, alone, "reconstruct_mcguire2012").color
+    np.testing.assert_allclose(result.color, twin.over(layer, opaque), atol=1e-6)
+
+
+def test_render_and_blur_takes_the_option():
+    ctx = bl.Context()
+    _, result = bl.render_and_blur(
+        ctx, glass_and_sparks(), "gather_box", size=SIZE, translucency="layered"
+    )
+    assert "translucency_over" in result.timings and "translucent_gather_box" in result.timings
+    assert result.params["translucency"] == "layered"

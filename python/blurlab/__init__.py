@@ -17,6 +17,7 @@ from .methods import (
     render_steps,
 )
 from .motion import Bone, Keyframe, Motion, Skeleton, quaternion
+from .particles import Particle, particles
 from .scene import Camera, DirectionalLight, Material, Scene
 from .sizes import DEFAULT_SIZE
 
@@ -44,6 +45,7 @@ __all__ = [
     "Material",
     "Mesh",
     "Motion",
+    "Particle",
     "PendingDownload",
     "Reference",
     "Scene",
@@ -62,6 +64,7 @@ __all__ = [
     "mesh",
     "method",
     "method_instant",
+    "particles",
     "methods",
     "quaternion",
     "recommend",

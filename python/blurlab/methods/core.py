@@ -21,7 +21,7 @@ from ..converged import accumulate
 from ..frame import Frame
 from ..render import check_shutter, instant_time
 from ..sizes import DEFAULT_SIZE
-from . import plans
+from . import layers, plans
 from .params import (
     FLOAT32_MAX,
     PARAM_SCALE_MAX,
@@ -125,17 +125,38 @@ class BlurResult:
 
 
 def blur(
-    ctx: Context, frame: Frame, name: str, backend: str | None = None, timed: bool = True, **params
+    ctx: Context,
+    frame: Frame,
+    name: str,
+    backend: str | None = None,
+    timed: bool = True,
+    translucency: str = layers.TRANSLUCENCY.default,
+    motion_coverage: float = layers.MOTION_COVERAGE.default,
+    **params,
 ) -> BlurResult:
     """Runs method `name` on `frame` (rendered, or built from your arrays) with `params`
     (unknown names are an error); returns a BlurResult. `timed=False` skips the per-pass
     timers (their waits for the GPU), for sweeps that only want the error; an untimed call
     made a third time on the same frame with the same parameters replays a plan recorded by
-    the second (docs/spec.md §18), same bits at a fraction of the CPU cost."""
+    the second (docs/spec.md §18), same bits at a fraction of the CPU cost.
+
+    `translucency` ("composite", "composite_motion", "unblurred", "layered") and
+    `motion_coverage` choose how a frame's translucent layer is blurred (docs/spec.md §20.4,
+    blurlab.methods.layers); frames without one are blurred as they are."""
     if not isinstance(ctx, Context):
         raise TypeError(f"blurlab: blur needs a blurlab Context, not {type(ctx).__name__}")
     if not isinstance(frame, Frame):
         raise TypeError(f"blurlab: blur needs a blurlab Frame, not {type(frame).__name__}")
+    translucency, motion_coverage = layers.checked(name, translucency, motion_coverage)
+    if frame.layered and translucency != "composite":
+        return layers.blur_layers(
+            ctx,
+            frame,
+            name,
+            translucency,
+            motion_coverage,
+            lambda layer: blur(ctx, layer, name, backend, timed, **params),
+        )
     planned = not timed and plans.enabled()
     if planned:
         replayed = _replay(ctx, frame, name, backend, params)
@@ -280,7 +301,8 @@ def render_steps(
     instant method `name` expects within it, its motion over the sub-interval."""
     steps = check_steps(name, steps)
     shutter = check_shutter(scene.shutter if shutter is None else shutter)
-    instant = method_instant(name, params)
+    method_params = {k: v for k, v in params.items() if k not in layers.LAYER_PARAMS}
+    instant = method_instant(name, method_params)
     return [ctx.render(scene, size, sub, instant=instant) for sub in step_shutters(shutter, steps)]
 
 

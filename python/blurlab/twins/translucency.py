@@ -74,3 +74,21 @@ def strength(surface, motion) -> np.ndarray:
     additive = motion[..., 3] == ADDITIVE
     brightest = np.minimum(1.0, surface[..., :3].max(axis=-1))
     return np.where(additive, brightest, surface[..., 3])
+
+
+def chosen_motion(translucent, translucent_motion, translucent_depth, motion, depth, coverage):
+    """composite_motion (§20.4): (motion, depth) of the translucent layer's dominant fragment
+    where its coverage a ≥ `coverage` and it has one, the opaque layer's elsewhere."""
+    own = (np.asarray(translucent)[..., 3] >= coverage) & np.isfinite(translucent_depth)
+    return (
+        np.where(own[..., None], translucent_motion, motion),
+        np.where(own, translucent_depth, depth),
+    )
+
+
+def over(layer, opaque) -> np.ndarray:
+    """The layer (Σ, a) over the opaque colour, premultiplied: Σ + (1 − a)·opaque (§20.4)."""
+    layer, opaque = np.asarray(layer, np.float64), np.asarray(opaque, np.float64)
+    out = opaque.copy()
+    out[..., :3] = layer[..., :3] + (1 - layer[..., 3:]) * opaque[..., :3]
+    return out
