@@ -294,3 +294,35 @@ def test_render_and_blur_takes_the_option():
     )
     assert "translucency_over" in result.timings and "translucent_gather_box" in result.timings
     assert result.params["translucency"] == "layered"
+
+
+def test_five_transparency_scenes_are_tagged():
+    names = bl.scenes.names("transparency")
+    assert len(names) >= 5 and not set(names) & set(bl.scenes.names("failure"))
+    for name in names:
+        assert bl.scenes.describe(name)
+
+
+@pytest.mark.parametrize("name", bl.scenes.names("transparency"))
+def test_transparency_references_do_not_depend_on_the_object_order(ctx, name):
+    first = ctx.reference(bl.scenes.get(name), size=SIZE, samples=4, progress=False).color
+    for seed in (3, 4):
+        scene = bl.scenes.get(name)
+        random.Random(seed).shuffle(scene.objects)
+        shuffled = ctx.reference(scene, size=SIZE, samples=4, progress=False).color
+        np.testing.assert_allclose(shuffled, first, atol=1e-6)
+
+
+@pytest.mark.parametrize("name", bl.scenes.names("transparency"))
+def test_transparency_scenes_show_their_surfaces(ctx, name):
+    scene = bl.scenes.get(name)
+    frame = ctx.render(scene, size=SIZE)
+    translucent = any(obj.material.translucent for obj in scene.objects)
+    assert frame.layered == translucent
+    if translucent:
+        assert (frame.translucent[..., 3] > 0.1).mean() > 0.01 or frame.translucent.max() > 0.1
+    else:  # the masked leaves cut holes: some of their quad shows the wall behind
+        assert any(obj.material.blend == "mask" for obj in scene.objects)
+    for translucency in APPROACHES:
+        out = bl.blur(ctx, frame, "reconstruct_mcguire2012", translucency=translucency).color
+        assert np.isfinite(out).all()
