@@ -283,8 +283,22 @@ def test_over_matches_its_numpy_twin(translucency):
             frame.translucent, frame.translucent_depth, frame.translucent_motion, frame.object_id
         )
         alone.shutter, alone.time = frame.shutter, frame.time
-        layer = bl.blur(ctx, alone, "reconstruct_mcguire2012").color
+        # At the centre instant the coverage gather blurs the layer (layer_filter="auto").
+        assert result.params["layer_filter"] == "gather_coverage"
+        layer = bl.blur(ctx, alone, "gather_coverage").color
     np.testing.assert_allclose(result.color, twin.over(layer, opaque), atol=1e-6)
+
+
+@pytest.mark.parametrize("layer_filter", ["same", "gather_coverage"])
+def test_layer_filter_chooses_what_blurs_the_translucent_layer(layer_filter):
+    ctx = bl.Context()
+    frame = ctx.render(glass_and_sparks(), size=SIZE)
+    name = "reconstruct_mcguire2012"
+    result = bl.blur(ctx, frame, name, translucency="layered", layer_filter=layer_filter, k=8)
+    expected = name if layer_filter == "same" else "gather_coverage"
+    assert result.params["layer_filter"] == expected
+    assert result.params["k"] == 8
+    assert any(key.startswith("translucent_") for key in result.timings)
 
 
 def test_render_and_blur_takes_the_option():

@@ -132,6 +132,7 @@ def blur(
     timed: bool = True,
     translucency: str = layers.TRANSLUCENCY.default,
     motion_coverage: float = layers.MOTION_COVERAGE.default,
+    layer_filter: str = layers.LAYER_FILTER.default,
     **params,
 ) -> BlurResult:
     """Runs method `name` on `frame` (rendered, or built from your arrays) with `params`
@@ -140,23 +141,27 @@ def blur(
     made a third time on the same frame with the same parameters replays a plan recorded by
     the second (docs/spec.md §18), same bits at a fraction of the CPU cost.
 
-    `translucency` ("composite", "composite_motion", "unblurred", "layered") and
-    `motion_coverage` choose how a frame's translucent layer is blurred (docs/spec.md §20.4,
+    `translucency` ("composite", "composite_motion", "unblurred", "layered"), `motion_coverage`
+    and `layer_filter` choose how a frame's translucent layer is blurred (docs/spec.md §20.4,
     blurlab.methods.layers); frames without one are blurred as they are."""
     if not isinstance(ctx, Context):
         raise TypeError(f"blurlab: blur needs a blurlab Context, not {type(ctx).__name__}")
     if not isinstance(frame, Frame):
         raise TypeError(f"blurlab: blur needs a blurlab Frame, not {type(frame).__name__}")
-    translucency, motion_coverage = layers.checked(name, translucency, motion_coverage)
-    if frame.layered and translucency != "composite":
-        return layers.blur_layers(
-            ctx,
-            frame,
-            name,
-            translucency,
-            motion_coverage,
-            lambda layer: blur(ctx, layer, name, backend, timed, **params),
-        )
+    options = layers.checked(
+        name,
+        translucency=translucency,
+        motion_coverage=motion_coverage,
+        layer_filter=layer_filter,
+    )
+    if frame.layered and options["translucency"] != "composite":
+
+        def blur_layer(layer: Frame, method_name: str) -> BlurResult:
+            if method_name == name:  # the call's method, backend and parameters
+                return blur(ctx, layer, name, backend, timed, **params)
+            return blur(ctx, layer, method_name, timed=timed)
+
+        return layers.blur_layers(ctx, frame, name, **options, blur=blur_layer)
     planned = not timed and plans.enabled()
     if planned:
         replayed = _replay(ctx, frame, name, backend, params)

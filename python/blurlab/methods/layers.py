@@ -38,16 +38,23 @@ MOTION_COVERAGE = Param(
     0.0,
     1.0,
 )
-LAYER_PARAMS = {"translucency": TRANSLUCENCY, "motion_coverage": MOTION_COVERAGE}
+LAYER_FILTER = Param(
+    "auto",
+    ("auto", "same", "gather_coverage"),
+    "layered: what blurs the translucent layer; auto is gather_coverage on a frame rendered at "
+    "the shutter's centre (its instant), the call's own method otherwise",
+)
+LAYER_PARAMS = {
+    "translucency": TRANSLUCENCY,
+    "motion_coverage": MOTION_COVERAGE,
+    "layer_filter": LAYER_FILTER,
+}
 
 
-def checked(name: str, translucency, motion_coverage) -> tuple[str, float]:
-    """The two options as blur takes them; errors name the method, the option and what is
+def checked(name: str, **options) -> dict:
+    """The options as blur takes them; errors name the method, the option and what is
     allowed."""
-    return (
-        typed(name, "translucency", translucency, TRANSLUCENCY),
-        typed(name, "motion_coverage", motion_coverage, MOTION_COVERAGE),
-    )
+    return {key: typed(name, key, value, LAYER_PARAMS[key]) for key, value in options.items()}
 
 
 def layer_textures(ctx: Context, frame: Frame) -> dict:
@@ -83,10 +90,17 @@ def layer_frame(frame: Frame, color, depth, motion, textures: dict) -> Frame:
 
 
 def blur_layers(
-    ctx: Context, frame: Frame, name: str, translucency: str, motion_coverage: float, blur
+    ctx: Context,
+    frame: Frame,
+    name: str,
+    translucency: str,
+    motion_coverage: float,
+    layer_filter: str,
+    blur,
 ):
-    """Runs `blur` (blurlab.methods.core.blur with the call's method, backend, timing and
-    parameters bound) on the layers that `translucency` needs and composites them: a
+    """Runs `blur(layer_frame, method)` (blurlab.methods.core.blur with the call's backend,
+    timing and, for its own method, parameters bound) on the layers that `translucency` needs
+    and composites them: a
     BlurResult whose textures add "opaque_blurred" (unblurred, layered) or "chosen_motion" and
     "chosen_depth" (composite_motion), and whose timings add the layer passes: "translucent_"
     + the method's passes for the layered blur, "translucency_motion", "translucency_over"."""
@@ -120,7 +134,7 @@ def blur_layers(
             chosen_motion.download(),
             {"color": textures["color"], "depth": chosen_depth, "motion": chosen_motion},
         )
-        result = blur(derived)
+        result = blur(derived, name)
         result.params = {
             **result.params,
             **{"translucency": translucency, "motion_coverage": motion_coverage},
@@ -133,14 +147,18 @@ def blur_layers(
     if "motion_sides" in textures:
         opaque_textures["motion_sides"] = textures["motion_sides"]
     opaque = layer_frame(frame, frame.opaque_color, frame.depth, frame.motion, opaque_textures)
-    result = blur(opaque)
+    result = blur(opaque, name)
     result.params = {**result.params, "translucency": translucency}
     layer = textures["translucent"]
     if translucency == "layered":
         translucent = layer_frame(
             frame, frame.translucent, frame.translucent_depth, frame.translucent_motion, {}
         )
-        layer_result = blur(translucent)
+        centre = frame.instant_fraction == 0.5
+        own = layer_filter == "same" or (layer_filter == "auto" and not centre)
+        layer_method = name if own else "gather_coverage"
+        layer_result = blur(translucent, layer_method)
+        result.params["layer_filter"] = layer_method
         layer = layer_result.textures["color"]
         extra.update({f"translucent_{k}": t for k, t in layer_result.timings.items()})
     out = ctx.pooled((height, width, 4))
