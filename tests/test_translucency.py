@@ -340,3 +340,19 @@ def test_transparency_scenes_show_their_surfaces(ctx, name):
     for translucency in APPROACHES:
         out = bl.blur(ctx, frame, "reconstruct_mcguire2012", translucency=translucency).color
         assert np.isfinite(out).all()
+
+
+def test_the_transparency_study_measures_every_approach(ctx):
+    from blurlab.studies import transparency
+
+    names, methods = ["moving_glass", "foliage_spin"], ["gather_coverage"]
+    table = transparency.evaluate(ctx, names, methods, (32, 18), reference_samples=8)
+    assert len(table) == len(names) * len(methods) * len(APPROACHES)
+    assert np.isfinite(table[["psnr", "flip"]].to_numpy()).all()
+    summary = transparency.summary(table)
+    assert list(summary["median_per_approach"].index) == list(APPROACHES)
+    gains = summary["median_gain_per_scene"]["psnr"]
+    assert gains["foliage_spin"] == 0.0  # masked, no translucent layer: every approach alike
+    assert gains["moving_glass"] > 0.5  # the pane's own motion, which only layered follows
+    cost = transparency.layer_cost(ctx, "moving_glass", "gather_coverage", (32, 18), runs=2)
+    assert cost["layered_ms"] > 0 and cost["ratio"] == cost["layered_ms"] / cost["composite_ms"]

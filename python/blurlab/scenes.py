@@ -171,6 +171,16 @@ def _flat(name: str, camera: Camera | None = None) -> Scene:
     )
 
 
+def _turning(fov_y: float, spin_rate: float) -> Camera:
+    """The camera at (0, 0, 4) looking at the origin, turning about +y at `spin_rate` rad/s."""
+    return Camera(
+        (0.0, 0.0, 4.0),
+        (0.0, 0.0, 0.0),
+        fov_y=fov_y,
+        motion=Motion.linear(spin_axis=(0, 1, 0), spin_rate=spin_rate),
+    )
+
+
 def _wall(scene: Scene, texture=None, z: float = -1.0, size: float = 12.0) -> None:
     wall = mesh.plane(size, size).transformed(_rotate_x(math.pi / 2) @ _move(0, 0, z))
     scene.add(
@@ -274,13 +284,7 @@ def subpixel() -> Scene:
 
 def camera_yaw() -> Scene:
     """The camera turning fast: screen paths curve, straight motion vectors approximate them."""
-    camera = Camera(
-        (0.0, 0.0, 4.0),
-        (0.0, 0.0, 0.0),
-        fov_y=60,
-        motion=Motion.linear(spin_axis=(0, 1, 0), spin_rate=9.0),
-    )
-    scene = _flat("camera_yaw", camera)
+    scene = _flat("camera_yaw", _turning(60, 9.0))
     _wall(scene, size=30.0)
     scene.add(mesh.box((0.5, 0.5, 0.5)), Material((0.8, 0.3, 0.3)), Motion.static((0, 0, 1.0)))
     return scene
@@ -495,6 +499,13 @@ def neon_pan() -> Scene:
 # --- transparency: where translucent surfaces break post-process blur (docs/transparency.md) ---
 
 
+def _before_wall(name: str, camera: Camera | None = None, wall: float = 12.0) -> Scene:
+    """A flat-lit scene with the checkered wall behind, for the transparency cases."""
+    scene = _flat(name, camera)
+    _wall(scene, size=wall)
+    return scene
+
+
 def _facing(position) -> Motion:
     """Turns mesh.plane (normal +y) to face the camera (+z) at `position`."""
     return Motion.static(position, quaternion((1, 0, 0), math.pi / 2))
@@ -523,8 +534,7 @@ def leaves(size: int = 64, count: int = 5) -> np.ndarray:
 
 def car_behind_window() -> Scene:
     """A car driving behind a still, streaked window: the glass takes the car's motion."""
-    scene = _flat("car_behind_window")
-    _wall(scene)
+    scene = _before_wall("car_behind_window")
     scene.add(
         mesh.box((1.2, 0.5, 0.4)),
         Material((0.85, 0.15, 0.1)),
@@ -538,8 +548,7 @@ def car_behind_window() -> Scene:
 
 def moving_glass() -> Scene:
     """A streaked glass pane sliding over a still wall: the pane writes no motion."""
-    scene = _flat("moving_glass")
-    _wall(scene)
+    scene = _before_wall("moving_glass")
     glass = Material(texture=streaked_glass(tint=(0.9, 0.7, 0.4)), blend="blend")
     scene.add(
         mesh.plane(1.2, 1.2),
@@ -556,8 +565,7 @@ def moving_glass() -> Scene:
 
 def sparks_over_mover() -> Scene:
     """Additive sparks flying up over a box moving the other way."""
-    scene = _flat("sparks_over_mover")
-    _wall(scene)
+    scene = _before_wall("sparks_over_mover")
     scene.add(
         mesh.box((0.8, 0.8, 0.3)),
         Material((0.2, 0.4, 0.85)),
@@ -583,15 +591,8 @@ def sparks_over_mover() -> Scene:
 
 def smoke_pan() -> Scene:
     """Soft alpha smoke near the camera while the camera pans over a wall and a post."""
-    camera = Camera(
-        (0.0, 0.0, 4.0),
-        (0.0, 0.0, 0.0),
-        fov_y=45,
-        motion=Motion.linear(spin_axis=(0, 1, 0), spin_rate=4.0),
-    )
-    scene = _flat("smoke_pan", camera)
+    scene = _before_wall("smoke_pan", _turning(45, 4.0), wall=30.0)
     scene.max_layers = 32
-    _wall(scene, size=30.0)
     scene.add(mesh.box((0.3, 1.6, 0.3)), Material((0.8, 0.6, 0.2)), Motion.static((0.5, 0, 0)))
     rng = np.random.default_rng(5)
     smoke = [
@@ -610,8 +611,7 @@ def smoke_pan() -> Scene:
 
 def foliage_spin() -> Scene:
     """Alpha-masked leaves spinning in front of a wall: cut-out edges, no translucency."""
-    scene = _flat("foliage_spin")
-    _wall(scene)
+    scene = _before_wall("foliage_spin")
     foliage = Material(texture=leaves(), blend="mask", alpha_cutoff=0.5)
     spin = Motion.linear(
         (0, 0, 0.5),
