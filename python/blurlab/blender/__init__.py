@@ -154,6 +154,7 @@ def export(scene: Scene, size, shutter, keys: int) -> tuple[dict, dict]:
         if texture is not None:
             arrays[f"texture{i}"] = texture.astype(np.float32)
             arrays[f"uvs{i}"] = obj.mesh.uvs
+        m = obj.material
         objects.append(
             {
                 "name": f"{i:03d}_{obj.name}",
@@ -161,6 +162,12 @@ def export(scene: Scene, size, shutter, keys: int) -> tuple[dict, dict]:
                 "diffuse": albedo.tolist(),
                 "textured": texture is not None,
                 "skinned": obj.skeleton is not None,
+                # docs/spec.md §20.1: alpha (× the texture's, in Blender's nodes), blend mode
+                # and cutoff; the emitted radiance, added untextured as blurlab adds it.
+                "radiance": m.radiance.tolist(),
+                "alpha": float(m.alpha * m.color[3]),
+                "blend": m.blend,
+                "alpha_cutoff": float(m.alpha_cutoff),
             }
         )
     arrays["camera"] = np.stack([Y_UP_TO_Z_UP @ camera.world(t) for t in times])
@@ -182,6 +189,10 @@ def export(scene: Scene, size, shutter, keys: int) -> tuple[dict, dict]:
             "strength": math.pi * strength,
         },
         "background": [float(v) for v in scene.background[:3]],
+        # Every translucent or masked surface a camera ray passes is one transparent bounce.
+        "transparent_bounces": 0
+        if all(obj.material.blend == "opaque" for obj in scene.objects)
+        else 2 * scene.max_layers + 2,
     }
     return description, arrays
 
