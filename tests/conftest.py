@@ -32,6 +32,17 @@ def count_example() -> None:
     EXAMPLES["count"] += 1
 
 
+def pytest_sessionfinish(session):
+    """Under pytest-xdist each worker counts its own examples and hands the count back."""
+    if hasattr(session.config, "workeroutput"):
+        session.config.workeroutput["hypothesis_examples"] = EXAMPLES["count"]
+
+
+@pytest.hookimpl(optionalhook=True)
+def pytest_testnodedown(node, error):
+    EXAMPLES["count"] += getattr(node, "workeroutput", {}).get("hypothesis_examples", 0)
+
+
 def pytest_terminal_summary(terminalreporter):
     if EXAMPLES["count"]:
         terminalreporter.write_line(f"hypothesis: {EXAMPLES['count']} examples run")
@@ -93,3 +104,28 @@ def assert_inside_input_range(out: np.ndarray, color: np.ndarray, tolerance: flo
     for c in range(color.shape[-1]):
         lo, hi = color[..., c].min(), color[..., c].max()
         assert lo - tolerance <= out[..., c].min() and out[..., c].max() <= hi + tolerance, c
+
+
+def assert_blur_refuses(ctx, rng, method: str, params: dict, error: type, message: str):
+    """bl.blur(method, **params) on a small random frame raises `error` matching `message`: a
+    bad parameter is named with its allowed range."""
+    with pytest.raises(error, match=message):
+        bl.blur(ctx, random_frame(rng, 16, 16), method, **params)
+
+
+def assert_timings_name(ctx, rng, method: str, passes: list[str], **params):
+    """bl.blur(method) reports a time for each of `passes`, in order, and a positive total;
+    returns the result."""
+    result = bl.blur(ctx, random_frame(rng, 64, 36), method, **params)
+    assert list(result.timings) == passes
+    assert result.total_ms > 0
+    return result
+
+
+def assert_close_to_reference(color: np.ndarray, expected: np.ndarray):
+    """The GPU's `color` against its NumPy twin: at least 99.9% of pixels within 1e-3 on every
+    channel, and a mean absolute error of at most 1e-4."""
+    error = np.abs(color - expected)
+    within = (error.max(axis=-1) <= 1e-3).mean()
+    assert within >= 0.999, f"{within:.5f} of pixels within 1e-3"
+    assert error.mean() <= 1e-4, f"mean absolute error {error.mean():.2e}"

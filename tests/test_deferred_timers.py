@@ -1,4 +1,4 @@
-"""Context.deferred_timers (issue 19): timers read together after one wait, as the reference
+"""Context.deferred_timers: timers read together after one wait, as the reference
 loop uses them instead of waiting twice per sub-frame."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Recorded dispatch plans (blurlab.methods.plans, issue 19): an untimed call seen before is
+"""Recorded dispatch plans (blurlab.methods.plans): an untimed call seen before is
 replayed by one C++ call. A replay must give the ordinary path's bits, fresh outputs that do not
 disturb results still held, and the same errors for bad input; runs a plan cannot replay (tile
 classes, "auto", timed calls, lookup textures) must take the ordinary path."""

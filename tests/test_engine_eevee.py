@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import random_frame
+from conftest import assert_blur_refuses, assert_timings_name, random_frame
 from filter_promises import assert_matches_twin, two_sided_frame
 
 import blurlab as bl
@@ -91,11 +91,8 @@ def test_two_sided_motion_is_what_it_reads(ctx, rng):
     ],
 )
 def test_bad_parameters_name_the_range(ctx, rng, params, error, message):
-    with pytest.raises(error, match=message):
-        bl.blur(ctx, random_frame(rng, 16, 16), METHOD, **params)
+    assert_blur_refuses(ctx, rng, METHOD, params, error, message)
 
 
 def test_timings_name_every_pass(ctx, rng):
-    result = bl.blur(ctx, random_frame(rng, 64, 36), METHOD)
-    assert list(result.timings) == ["tile_flatten", "tile_dilate", "gather"]
-    assert result.total_ms > 0
+    assert_timings_name(ctx, rng, METHOD, ["tile_flatten", "tile_dilate", "gather"])

@@ -9,7 +9,7 @@ import math
 
 import numpy as np
 import pytest
-from conftest import random_frame
+from conftest import assert_blur_refuses, assert_timings_name, random_frame
 from filter_promises import assert_matches_twin
 
 import blurlab as bl
@@ -247,11 +247,10 @@ def test_sample_count_keeps_taps_a_pixel_apart():
     ],
 )
 def test_bad_parameters_name_the_range(ctx, rng, params, error, message):
-    with pytest.raises(error, match=message):
-        bl.blur(ctx, random_frame(rng, 16, 16), METHOD, **params)
+    assert_blur_refuses(ctx, rng, METHOD, params, error, message)
 
 
 def test_timings_name_every_pass(ctx, rng):
-    result = bl.blur(ctx, random_frame(rng, 64, 36), METHOD)
-    assert list(result.timings) == ["velocity_setup", "tile_min_max", "neighborhood", "reconstruct"]
-    assert result.total_ms > 0
+    assert_timings_name(
+        ctx, rng, METHOD, ["velocity_setup", "tile_min_max", "neighborhood", "reconstruct"]
+    )

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import random_frame
+from conftest import assert_blur_refuses, assert_timings_name, random_frame
 from filter_promises import (
     assert_finite_for_motion_scale,
     assert_inside_the_input_range,
@@ -237,14 +237,11 @@ def test_a_bar_covers_its_trail_by_its_width_over_its_motion(ctx):
     ],
 )
 def test_bad_parameters_name_the_range(ctx, rng, params, error, message):
-    with pytest.raises(error, match=message):
-        bl.blur(ctx, random_frame(rng, 16, 16), METHOD, **params)
+    assert_blur_refuses(ctx, rng, METHOD, params, error, message)
 
 
 def test_timings_name_every_pass(ctx, rng):
-    result = bl.blur(ctx, random_frame(rng, 64, 36), METHOD)
-    assert list(result.timings) == [*TILE_PASSES, "gather"]
-    assert result.total_ms > 0
+    assert_timings_name(ctx, rng, METHOD, [*TILE_PASSES, "gather"])
     filtered = bl.blur(ctx, random_frame(rng, 64, 36), METHOD, film_filter=0.5)
     two_passes = FILM_LAYOUT.chosen() == "separable"
     passes = ["film_rows", "film_columns"] if two_passes else ["film"]

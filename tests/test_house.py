@@ -1,4 +1,4 @@
-"""The rules of the house (issue 15), checked on the tree itself: a method lives in one place,
+"""The rules of the house, checked on the tree itself: a method lives in one place,
 each parameter is declared once, no module reaches into a Context's private members, no import
 cycles."""
 

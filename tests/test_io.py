@@ -94,7 +94,7 @@ def test_corrupt_and_missing_files_raise_clearly(tmp_path):
 
 def test_written_files_get_the_processs_normal_permissions(tmp_path):
     """Atomic writes go through a 0600 temporary file; the result must still be 0666 less the
-    umask, so a web server or a colleague can read it (issue 20)."""
+    umask, so a web server or a colleague can read it."""
     previous = os.umask(0o022)
     try:
         png = bl.io.write(tmp_path / "a.png", np.zeros((4, 4, 3), np.float32))
@@ -107,7 +107,7 @@ def test_written_files_get_the_processs_normal_permissions(tmp_path):
 
 
 def test_srgb8_by_table_gives_the_formulas_bytes_at_every_step():
-    # srgb8 looks codes up in a table (issue 19: 10-40x faster on the study's pictures); the
+    # srgb8 looks codes up in a table (10-40x faster than the formulas on the study's pictures); the
     # bytes must be those of the float64 transfer function, right at each code's first value
     # and one float below it, for float32 and float64 input alike.
     formula = lambda x: np.round(bl.io.linear_to_srgb(x) * 255.0).astype(np.uint8)  # noqa: E731

@@ -1,4 +1,4 @@
-"""Packed filter inputs (docs/spec.md §19, issue 19): colour and motion + depth as half floats,
+"""Packed filter inputs (docs/spec.md §19): colour and motion + depth as half floats,
 packed once per frame by shaders/passes/pack_inputs.comp, read by reconstruct_mcguire2012 and
 reconstruct_guertin2014 with packed_inputs=True; NumPy twin blurlab.twins.inputs.pack_half. And
 their results as half floats (half_result=True), rounded as blurlab.twins.inputs.round_to_half."""

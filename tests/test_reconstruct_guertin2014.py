@@ -6,7 +6,13 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import assert_inside_input_range, random_frame
+from conftest import (
+    assert_blur_refuses,
+    assert_close_to_reference,
+    assert_inside_input_range,
+    assert_timings_name,
+    random_frame,
+)
 
 import blurlab as bl
 from blurlab.twins import guertin2014 as ref
@@ -17,10 +23,7 @@ METHOD = "reconstruct_guertin2014"
 
 def assert_matches_reference(result, frame):
     expected = ref.reconstruct_guertin2014(frame.color, frame.depth, frame.motion, **result.params)
-    error = np.abs(result.color - expected)
-    within = (error.max(axis=-1) <= 1e-3).mean()
-    assert within >= 0.999, f"{within:.5f} of pixels within 1e-3"
-    assert error.mean() <= 1e-4, f"mean absolute error {error.mean():.2e}"
+    assert_close_to_reference(result.color, expected)
 
 
 @pytest.mark.parametrize("backend", ["compute", "fragment"])
@@ -138,11 +141,8 @@ def test_nearer_the_reference_than_2012_on_the_fan(ctx):
     ],
 )
 def test_bad_parameters_name_the_range(ctx, rng, params, error, message):
-    with pytest.raises(error, match=message):
-        bl.blur(ctx, random_frame(rng, 16, 16), METHOD, **params)
+    assert_blur_refuses(ctx, rng, METHOD, params, error, message)
 
 
 def test_timings_name_every_pass(ctx, rng):
-    result = bl.blur(ctx, random_frame(rng, 64, 36), METHOD)
-    assert list(result.timings) == ["tile_max", "neighbor_max", "reconstruct"]
-    assert result.total_ms > 0
+    assert_timings_name(ctx, rng, METHOD, ["tile_max", "neighbor_max", "reconstruct"])

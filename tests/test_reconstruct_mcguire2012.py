@@ -5,17 +5,14 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import assert_inside_input_range, random_frame
+from conftest import assert_close_to_reference, assert_inside_input_range, random_frame
 
 import blurlab as bl
 
 
 def assert_matches_reference(result, frame, **params):
     expected = bl.method("reconstruct_mcguire2012").twin_output(frame, **params)
-    error = np.abs(result.color - expected)
-    within = (error.max(axis=-1) <= 1e-3).mean()
-    assert within >= 0.999, f"{within:.5f} of pixels within 1e-3"
-    assert error.mean() <= 1e-4, f"mean absolute error {error.mean():.2e}"
+    assert_close_to_reference(result.color, expected)
 
 
 @pytest.mark.parametrize("backend", ["compute", "fragment"])

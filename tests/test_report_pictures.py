@@ -1,4 +1,4 @@
-"""The study report's pictures made without matplotlib figures (issue 19): error maps coloured
+"""The study report's pictures made without matplotlib figures: error maps coloured
 by a lookup table, crops cut from the arrays, images averaged down for the grid, PNG
 compression; and the phases a study times."""
 
@@ -225,7 +225,7 @@ def test_charts_draw_in_processes_or_inline_alike(tmp_path):
 
 def test_the_per_object_table_takes_the_sweeps_reference_and_gives_the_same_rows(ctx):
     # The study hands textured_spin's reference from its sweep to the per-object table
-    # instead of rendering it again (issue 19): the same rows but for the times.
+    # instead of rendering it again: the same rows but for the times.
     objects = importlib.import_module("blurlab.studies.objects")
     from blurlab.converged import default_reference_samples
 

@@ -93,9 +93,8 @@ def test_interrupted_sweep_keeps_finished_rows(ctx, tmp_path, monkeypatch):
             raise KeyboardInterrupt
         return real(*args, **kwargs)
 
-    monkeypatch.setattr(evaluation, "blur_steps", interrupt_after_three)
-    with pytest.raises(KeyboardInterrupt):
-        sw.sweep(
+    def run(**options):
+        return sw.sweep(
             ctx,
             ["fan"],
             GRID,
@@ -105,21 +104,15 @@ def test_interrupted_sweep_keeps_finished_rows(ctx, tmp_path, monkeypatch):
             out=out,
             progress=False,
             repeats=1,
-            readback_batch=2,
+            **options,
         )
+
+    monkeypatch.setattr(evaluation, "blur_steps", interrupt_after_three)
+    with pytest.raises(KeyboardInterrupt):
+        run(readback_batch=2)
     assert len(pd.read_csv(out)) == 2
     monkeypatch.undo()
-    table = sw.sweep(
-        ctx,
-        ["fan"],
-        GRID,
-        SIZE,
-        reference_samples=8,
-        metrics=("psnr",),
-        out=out,
-        progress=False,
-        repeats=1,
-    )
+    table = run()
     assert len(table) == 5 and len(pd.read_csv(out)) == 5
 
 
@@ -269,7 +262,7 @@ def test_study_writes_the_report(tmp_path, capsys):
     finally:
         os.umask(previous)
     report = (tmp_path / "report.html").read_text()
-    # Readable by others under a 022 umask, like any file the process makes (issue 20).
+    # Readable by others under a 022 umask, like any file the process makes.
     for written in ("report.html", "results.csv", "teapot_pass_reference.png"):
         assert (tmp_path / written).stat().st_mode & 0o777 == 0o644, written
     # A budget nothing fits says so and names the fastest, instead of printing nan.
@@ -294,7 +287,7 @@ def test_study_writes_the_report(tmp_path, capsys):
         10
     ).all(axis=None)
     assert "OGRE paper's Table 1" in report
-    # Each phase timed (issue 19), in phases.json, the report and the console; they add up to
+    # Each phase timed, in phases.json, the report and the console; they add up to
     # the whole run, less the HTML and JSON writes.
     timing = json.loads((tmp_path / "phases.json").read_text())
     phases = timing["phases_s"]

@@ -1,6 +1,6 @@
-"""The ``blurlab`` command: ``info``, ``demo``, ``methods``, ``study`` and ``sweep``. User errors
-(bad names, values, sizes, files) print one line ``blurlab: error: ...`` and exit with status 2;
-``--debug`` shows the traceback instead."""
+"""The ``blurlab`` command: ``info``, ``demo``, ``methods``, ``metrics``, ``study``, ``sweep``
+and ``bench``. User errors (bad names, values, sizes, files) print one line
+``blurlab: error: ...`` and exit with status 2; ``--debug`` shows the traceback instead."""
 
 from __future__ import annotations
 
@@ -12,13 +12,14 @@ import time
 from contextlib import contextmanager
 from pathlib import Path
 
-from . import io, scenes
+from . import io, metrics, scenes
 from .context import Context
 from .methods import blur, method, methods
 from .sizes import DEFAULT_SIZE
 from .studies import plots
+from .studies.bench import command as bench_command
 from .studies.cluster import account_table, local_cluster
-from .studies.recommend import recommend
+from .studies.recommend import ranking_metrics, recommend
 from .studies.study import run_study, run_sweep_config
 from .twins.patterns import test_pattern
 
@@ -183,6 +184,12 @@ def _methods(args) -> int:
     return 0
 
 
+def _metrics(args) -> int:
+    """Prints docs/metrics.md: every registered metric, from the registry."""
+    print(metrics.reference_page(), end="")
+    return 0
+
+
 def method_table(m) -> str:
     """A method's parameters as a Markdown table, from their declarations."""
     instant = "depends on the parameters" if callable(m.instant) else m.instant
@@ -251,6 +258,9 @@ def build_parser() -> argparse.ArgumentParser:
         "methods", help="list the registered methods and their parameters (defaults, ranges)"
     )
     listing.add_argument("name", nargs="?", help="one method (default: all)")
+    sub.add_parser(
+        "metrics", help="print every registered metric: direction, range, definition (Markdown)"
+    )
     study = sub.add_parser(
         "study", help="the main job: every scene x method x grid, report.html + results.csv"
     )
@@ -271,9 +281,9 @@ def build_parser() -> argparse.ArgumentParser:
     study.add_argument(
         "--metrics",
         default="auto",
-        help="comma-separated names; auto (default): psnr,ssim,flip,psnr_aa and, on HDR "
-        "scenes, hdr_flip,psnr_tm,ssim_tm,log_lum_error,energy_ratio; psnr_aa is PSNR against "
-        "the antialiased reference",
+        help="comma-separated names (blurlab metrics lists them); auto (default): "
+        f"{','.join(metrics.default_names(False))} and, on HDR scenes, "
+        f"{','.join(n for n in metrics.default_names(True) if metrics.get(n).hdr)}",
     )
     study.add_argument(
         "--peers",
@@ -292,10 +302,12 @@ def build_parser() -> argparse.ArgumentParser:
     advice.add_argument("--size", type=parse_size, default=DEFAULT_SIZE, help=SIZE_HELP)
     advice.add_argument("--budget-ms", type=float, default=None, help="GPU ms per frame at most")
     advice.add_argument("--target-psnr", type=float, default=None, help="PSNR in dB at least")
-    advice.add_argument("--metric", choices=("psnr", "ssim"), default="psnr")
+    advice.add_argument("--metric", choices=ranking_metrics(), default="psnr")
     sweep = sub.add_parser("sweep", help="run the sweep a TOML configuration describes")
     sweep.add_argument("config", help="TOML file: scenes, methods, size, shutter, ...")
     _add_cluster_options(sweep)
+    bench = sub.add_parser("bench", help="run, list and record the registered benchmarks")
+    bench_command.add_arguments(bench, parse_size)
     return parser
 
 
@@ -306,9 +318,11 @@ def main(argv: list[str] | None = None) -> int:
         "info": _info,
         "demo": _demo,
         "methods": _methods,
+        "metrics": _metrics,
         "recommend": _recommend,
         "study": _study,
         "sweep": _sweep,
+        "bench": lambda args: bench_command.main(args, args.device),
     }
     try:
         return commands[args.command](args)

@@ -40,16 +40,11 @@ class Settings:
 REFERENCES, G_BUFFERS, WARM_UP = "references", "g_buffers", "warm_up"
 SETUP_PHASES = (REFERENCES, G_BUFFERS)
 
-LDR_METRICS = ("psnr", "ssim", "flip", "psnr_aa")  # psnr_aa: against the antialiased reference
-# Unclipped, for HDR scenes (docs/spec.md §6.2); computed on the CPU from images read back, as
-# FLIP is.
-HDR_METRICS = tuple(m.HDR_METRICS)
-
 
 def scene_metrics(scene: Scene) -> tuple[str, ...]:
-    """The metrics a sweep computes on `scene` when none are named: the LDR ones, and on HDR
-    scenes (`Scene.hdr`) the HDR ones too (docs/spec.md §6.2)."""
-    return LDR_METRICS + (HDR_METRICS if scene.hdr else ())
+    """The metrics a sweep computes on `scene` when none are named: the registered defaults,
+    the HDR ones on HDR scenes only (`Scene.hdr`, docs/spec.md §6.2)."""
+    return m.default_names(scene.hdr)
 
 
 def evaluate_scene(
@@ -62,6 +57,8 @@ def evaluate_scene(
     size = settings.size
     info = ctx.info()
     wanted = settings.metrics if settings.metrics is not None else scene_metrics(scene)
+    chosen = [m.get(n) for n in wanted]
+    kinds = [k for k in m.REFERENCES if any(metric.reference == k for metric in chosen)]
     # Timing first, every configuration back to back: the GPU stays busy, so its clocks stay
     # up. Computing SSIM and FLIP between runs left it idle long enough to clock down, and
     # single runs after that were several times slower on the H100. Each method runs once
@@ -103,31 +100,30 @@ def evaluate_scene(
             "total_ms": statistics.median(sum(r.values()) for r in runs),
             "repeats": settings.repeats,
             "clock": clock,
-            "psnr": None,  # filled in from the GPU's sums below
             # What the parameters given as "auto" chose on this scene.
             **{f"auto_{k}": json.dumps(v) for k, v in result.auto.items()},
         }
-        # Every LDR metric is reduced on the GPU (docs/spec.md §6): no image is read back for it.
-        gpu = {}  # column: the value, or its index in the batch's queue
-        if "ssim" in wanted:  # PSNR and SSIM from one pass against the prepared reference
-            gpu["mse_ssim"] = queue.mse_ssim(_prepared_reference(ctx, reference, cache), color)
-            row["ssim"] = None
-        else:
-            gpu["mse"] = queue.mse(color, reference.texture)
-        if "flip" in wanted:
-            gpu["flip"] = queue.flip(reference.texture, color)
-            row["flip"] = None
-        if "psnr_aa" in wanted:  # against the antialiased reference (§11)
-            antialiased = _reference(ctx, scene, settings, reference.samples, cache, True).texture
-            gpu["mse_aa"] = queue.mse(color, antialiased)
-            row["psnr_aa"] = None
+        # The metrics with a GPU reduction are reduced there (docs/spec.md §6): no image is
+        # read back for them. Their columns come in the order asked, filled in when read back.
+        row.update(dict.fromkeys(wanted))
+        references = _references(ctx, scene, settings, kinds, reference, cache)
+        gpu = m.issue_reductions(
+            queue,
+            chosen,
+            {kind: ref.texture for kind, ref in references.items()},
+            lambda kind, refs=references: _prepared_reference(ctx, refs[kind], cache, kind),
+            color,
+        )
         # The pictures a caller shows (the study's middle points): kept, not blurred again.
         kept_as = picture_key(name, point)
         if kept_as in cache.get("keep_colours", ()):
             cache.setdefault("colours", {})[kept_as] = result.color
-        hdr = [name for name in wanted if name in m.HDR_METRICS]
-        if hdr:  # with "exposure", the one psnr_tm, ssim_tm and the report's pictures use
-            row.update(m.hdr_scores(reference.color, result.color, hdr))
+        on_cpu = [metric.name for metric in chosen if metric.reduction is None]
+        if on_cpu:  # from the images read back
+            colours = {kind: ref.color for kind, ref in references.items()}
+            row.update(m.cpu_scores(on_cpu, colours, result.color))
+            if any(m.get(n).hdr for n in on_cpu):  # the one psnr_tm, ssim_tm and pictures use
+                row["exposure"] = m.exposure(reference.color)
         row.update(
             {
                 "device": info["device"],
@@ -142,11 +138,11 @@ def evaluate_scene(
         # still reads them first (GL runs commands in the order issued).
         del result, color
         if batches is None:
-            yield _finished_row(key, row, gpu)
+            yield _finished_row(key, row, gpu, chosen)
         else:
-            yield from _read_rows(batches.add((key, row, gpu)))
+            yield from _read_rows(batches.add((key, row, gpu)), chosen)
     if batches is not None:
-        yield from _read_rows(batches.flush())
+        yield from _read_rows(batches.flush(), chosen)
 
 
 class _ImmediateMetrics:
@@ -172,24 +168,18 @@ def picture_key(method_name: str, point: dict) -> tuple[str, str]:
     return method_name, json.dumps(point, sort_keys=True)
 
 
-def _read_rows(ready: list) -> Iterator[tuple[tuple, dict]]:
-    """The finished rows of MetricBatches' (item, values) pairs, items (key, row, {column:
+def _read_rows(ready: list, chosen: list) -> Iterator[tuple[tuple, dict]]:
+    """The finished rows of MetricBatches' (item, values) pairs, items (key, row, {reduction:
     index in values})."""
     for (key, row, indices), values in ready:
-        yield _finished_row(key, row, {column: values[i] for column, i in indices.items()})
+        got = {reduction: values[i] for reduction, i in indices.items()}
+        yield _finished_row(key, row, got, chosen)
 
 
-def _finished_row(key: tuple, row: dict, got: dict) -> tuple[tuple, dict]:
-    """(key, row) with its GPU metrics filled in from `got`, {column: value}."""
-    if "mse_ssim" in got:
-        mse, row["ssim"] = got["mse_ssim"]
-    else:
-        mse = got["mse"]
-    row["psnr"] = m.psnr_from_mse(mse)
-    if "flip" in got:
-        row["flip"] = got["flip"]
-    if "mse_aa" in got:
-        row["psnr_aa"] = m.psnr_from_mse(got["mse_aa"])
+def _finished_row(key: tuple, row: dict, got: dict, chosen: list) -> tuple[tuple, dict]:
+    """(key, row) with the GPU metrics of `chosen` filled in from `got`, the values of
+    metrics.issue_reductions' reductions."""
+    row.update(m.reduced_values(chosen, got))
     return key, row
 
 
@@ -239,17 +229,26 @@ def _reference(ctx, scene, settings: Settings, samples: int, cache: dict, antial
     return cache[key]
 
 
-def _prepared_reference(ctx, reference, cache: dict) -> m.PreparedReference:
-    """`reference` prepared for gpu_mse_ssim, once per reference the scene's cache holds (kept
-    beside it, so that a new reference is prepared anew)."""
-    held = cache.get("prepared_reference")
+def _references(ctx, scene, settings: Settings, kinds, temporal, cache: dict) -> dict:
+    """{kind: the scene's reference} for `kinds` (metrics.REFERENCES): the temporal one given,
+    the antialiased one (docs/spec.md §11) of the same N, made once."""
+    return {
+        kind: temporal
+        if kind == "temporal"
+        else _reference(ctx, scene, settings, temporal.samples, cache, antialias=True)
+        for kind in kinds
+    }
+
+
+def _prepared_reference(ctx, reference, cache: dict, kind: str) -> m.PreparedReference:
+    """`reference` prepared for gpu_mse_ssim, once per reference of each kind the scene's
+    cache holds (kept beside it, so that a new reference is prepared anew)."""
+    prepared = cache.setdefault("prepared_references", {})
+    held = prepared.get(kind)
     if held is None or held[0] is not reference:
         if held is not None:
             held[1].release()
-        held = cache["prepared_reference"] = (
-            reference,
-            m.prepare_reference(ctx, reference.texture),
-        )
+        held = prepared[kind] = (reference, m.prepare_reference(ctx, reference.texture))
     return held[1]
 
 

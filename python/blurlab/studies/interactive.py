@@ -13,17 +13,8 @@ import json
 
 import pandas as pd
 
-from .plots import HIGHER_IS_BETTER, pareto_front
-
-METRIC_TITLES = {
-    "psnr": "PSNR (dB), higher is better",
-    "ssim": "SSIM, higher is better",
-    "flip": "FLIP, lower is better",
-    "psnr_tm": "PSNR after tone mapping (dB), higher is better",
-    "ssim_tm": "SSIM after tone mapping, higher is better",
-    "hdr_flip": "HDR-FLIP, lower is better",
-    "log_lum_error": "log2-luminance error (stops), lower is better",
-}
+from ..metrics import get, registered
+from .plots import charted_metrics, pareto_front
 
 
 def _plotly():
@@ -35,9 +26,10 @@ def _plotly():
 def pareto_chart(rows: pd.DataFrame, title: str = ""):
     """A plotly Figure of one scene's rows: total_ms against each metric the rows have."""
     go = _plotly()
-    metrics = [m for m in HIGHER_IS_BETTER if m in rows and rows[m].notna().any()]
+    metrics = charted_metrics(rows)
     if not metrics:
-        raise ValueError("blurlab: the rows have none of the metrics " + ", ".join(METRIC_TITLES))
+        charted = [n for n in registered() if get(n).higher_is_better is not None]
+        raise ValueError("blurlab: the rows have none of the charted metrics " + ", ".join(charted))
     first = metrics[0]
     fig = go.Figure()
     for name, group in rows.groupby("method", sort=True):
@@ -75,7 +67,7 @@ def pareto_chart(rows: pd.DataFrame, title: str = ""):
             {
                 "label": metric.upper(),
                 "method": "update",
-                "args": [{"y": ys, "x": xs}, {"yaxis.title.text": METRIC_TITLES[metric]}],
+                "args": [{"y": ys, "x": xs}, {"yaxis.title.text": get(metric).axis_title}],
             }
         )
     axis_buttons = [
@@ -85,7 +77,7 @@ def pareto_chart(rows: pd.DataFrame, title: str = ""):
     fig.update_layout(
         title={"text": title, "x": 0.0, "xanchor": "left", "y": 0.98, "yanchor": "top"},
         xaxis={"title": {"text": "ms per frame (the method's passes)"}, "type": "log"},
-        yaxis={"title": {"text": METRIC_TITLES[first]}},
+        yaxis={"title": {"text": get(first).axis_title}},
         height=460,
         margin={"t": 110, "r": 10, "l": 60, "b": 50},
         legend={"title": {"text": "click to hide / show"}},

@@ -21,9 +21,14 @@ EEVEE_ROWS = (
     ("EEVEE post-process (1 sample, 1 step)", 1, 1),
     ("EEVEE default (64 samples, 1 step)", 64, 1),
 )
-# The scores a peer row can carry: each metric against the temporal reference under its own
-# name, and against the antialiased one (docs/spec.md §11) with "_aa" after it.
-SCORES = {"psnr": metrics.psnr, "ssim": metrics.ssim, "flip": metrics.flip}
+# The scores a peer row can carry: each registered LDR metric of the temporal reference
+# (NumPy implementations: a peer's image is an array), under its own name, and against the
+# antialiased reference (docs/spec.md §11) with "_aa" after it.
+SCORES = {
+    name: metrics.get(name).numpy
+    for name in metrics.registered()
+    if not metrics.get(name).hdr and metrics.get(name).reference == "temporal"
+}
 ANTIALIASED = "_aa"
 
 
@@ -43,11 +48,13 @@ def peer_table(
     scenes: dict,
     size,
     reference_samples: dict,
-    wanted: tuple[str, ...],
+    wanted: tuple[str, ...] | None = None,
     configurations=EEVEE_ROWS,
 ) -> pd.DataFrame:
-    """peer_rows for each of `scenes`, against references of the sweep's N for that scene
-    (`reference_samples`), rendered only for the scenes Blender can reproduce."""
+    """peer_rows for each of `scenes` ({name: Scene}), against references of the sweep's N for
+    that scene (`reference_samples`), rendered only for the scenes Blender can reproduce.
+    `wanted`: the metrics, as a sweep takes them; None: each scene's defaults, as a sweep
+    computes them (metrics.default_names)."""
     rows = []
     for name, scene in scenes.items():
         n = reference_samples[name]
@@ -55,8 +62,18 @@ def peer_table(
         def reference(antialias: bool, scene=scene, n=n) -> Reference:
             return ctx.reference(scene, size, samples=n, antialias=antialias, progress=False)
 
-        rows += peer_rows(ctx, name, scene, size, reference, wanted, configurations)
+        scores = metrics.default_names(scene.hdr) if wanted is None else wanted
+        rows += peer_rows(ctx, name, scene, size, reference, scores, configurations)
     return pd.DataFrame(rows)
+
+
+def unscored(rows: pd.DataFrame, scene: str) -> dict[str, list[str]]:
+    """{note: labels} of the peer `rows` (peer_table's) that have no numbers on `scene`, by the
+    note that says why (e.g. a material Blender cannot render)."""
+    if rows.empty:
+        return {}
+    noted = rows[(rows["scene"] == scene) & (rows["note"].fillna("") != "")]
+    return {note: list(group["method"]) for note, group in noted.groupby("note", sort=False)}
 
 
 def peer_rows(

@@ -14,19 +14,7 @@ import pandas as pd
 
 from ..io import srgb8, srgb_to_linear
 from ..methods.tile_filter import FILTER_OPTIONS
-from ..metrics import error_map, tone_map
-
-# HDR metrics first: a scene that has them is charted by them (the LDR ones clip its lights).
-# energy_ratio is best at 1, neither higher nor lower, so it is not charted.
-HIGHER_IS_BETTER = {
-    "psnr_tm": True,
-    "ssim_tm": True,
-    "hdr_flip": False,
-    "log_lum_error": False,
-    "psnr": True,
-    "ssim": True,
-    "flip": False,
-}
+from ..metrics import error_map, get, registered, tone_map
 
 
 def _pyplot():
@@ -41,15 +29,30 @@ def _pyplot():
     return plt
 
 
+def charted_metrics(rows: pd.DataFrame) -> list[str]:
+    """The registered metrics that `rows` has values of, in the order charts offer them and
+    the study ranks by the first: HDR metrics first (a scene that has them is charted by them:
+    the LDR ones clip its lights), then in registry order. A metric with no direction (best
+    at a value, as energy_ratio) is tabled, not charted."""
+    names = [
+        n
+        for n in registered()
+        if get(n).higher_is_better is not None and n in rows and rows[n].notna().any()
+    ]
+    return sorted(names, key=lambda n: not get(n).hdr)
+
+
 def pareto_front(table: pd.DataFrame, metric: str = "psnr") -> pd.DataFrame:
-    """Rows no other row beats in both time (lower) and `metric` (better), sorted by time."""
-    better = HIGHER_IS_BETTER[metric]
-    rows = table.sort_values(["total_ms", metric], ascending=[True, not better])
+    """Rows no other row beats in both time (lower) and `metric` (better, as the registry says
+    which way), sorted by time."""
+    goodness = get(metric).goodness(table[metric])
+    # By position: the table's own index may repeat labels.
+    order = pd.DataFrame({"ms": table["total_ms"].to_numpy(), "goodness": goodness.to_numpy()})
+    order = order.sort_values(["ms", "goodness"], ascending=[True, False])
     front, best = [], -np.inf
-    for _, row in rows.iterrows():
-        value = row[metric] if better else -row[metric]
+    for position, value in order["goodness"].items():
         if value > best:
-            front.append(row)
+            front.append(table.iloc[position])
             best = value
     return pd.DataFrame(front)
 
@@ -103,16 +106,7 @@ def pareto(
         ax.axvline(budget_ms, color="gray", ls="--", lw=1, label=label)
     ax.set_xscale("log")
     ax.set_xlabel(f"time per frame, ms ({rows['clock'].iloc[0]}, {rows['renderer'].iloc[0]})")
-    ax.set_ylabel(
-        metric.upper()
-        + (
-            " (dB, higher is better)"
-            if metric in ("psnr", "psnr_tm")
-            else " (higher is better)"
-            if HIGHER_IS_BETTER[metric]
-            else " (lower is better)"
-        )
-    )
+    ax.set_ylabel(get(metric).axis_title)
     ax.set_title(
         f"{scene}: speed against accuracy, {rows['width'].iloc[0]}x{rows['height'].iloc[0]}"
     )

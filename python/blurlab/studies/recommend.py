@@ -20,11 +20,14 @@ import pandas as pd
 from .. import scenes
 from ..context import Context
 from ..methods import method
+from ..metrics import get, registered
 from ..scene import Scene
 from ..sizes import DEFAULT_SIZE
 from .sweep import default_grids, sweep
 
-METRICS = ("psnr", "ssim")  # the metrics an answer can rank by; higher is better for both
+# What every recommendation's sweep measures: PSNR (target_psnr reads it) and SSIM, from one
+# fused GPU pass (docs/spec.md §6). A `metric` to rank by beside them is measured too.
+MEASURED = ("psnr", "ssim")
 _CACHE: dict[tuple, pd.DataFrame] = {}
 
 
@@ -75,7 +78,8 @@ def recommend(
     progress: bool = False,
 ) -> Recommendation:
     """The cheapest method and parameters that reach `target_psnr` (dB), or the most accurate
-    by `metric` ("psnr" or "ssim") within `budget_ms` (the method's GPU time per frame, by the
+    by `metric` (one of ranking_metrics(); which way is better, the registry says) within
+    `budget_ms` (the method's GPU time per frame, by the
     context's clock); with both, the cheapest that reaches the target within the budget.
     Returns a Recommendation whose `table` holds the rows it was chosen from; `method` is None
     where no row qualifies (its str() then names the fastest row)."""
@@ -86,13 +90,17 @@ def recommend(
             isinstance(value, bool) or not isinstance(value, (int, float)) or not value > 0
         ):
             raise ValueError(f"blurlab.recommend: {name} must be a number > 0, not {value!r}")
-    if metric not in METRICS:
-        raise ValueError(f"blurlab.recommend: metric must be one of {METRICS}")
+    if metric not in ranking_metrics():
+        raise ValueError(
+            f"blurlab.recommend: metric must be one of {ranking_metrics()}, not {metric!r}"
+        )
     # A scene named (built-in or file) is the same scene whenever it is named; another is itself.
     named = isinstance(scene, (str, os.PathLike))
     identity = str(scene) if named else id(scene)
     scene = scenes.get(scene) if named else scene
-    table = measured(ctx, scene, size, identity, progress)
+    table = measured(
+        ctx, scene, size, identity, progress, tuple(dict.fromkeys(MEASURED + (metric,)))
+    )
     rows = table
     if budget_ms is not None:
         rows = rows[rows["total_ms"] <= budget_ms]
@@ -108,10 +116,11 @@ def recommend(
     table = table.assign(chosen=False)
     if rows.empty:
         return Recommendation(None, {}, None, table, question)
+    rows = rows.assign(goodness=get(metric).goodness(rows[metric]))
     if target_psnr is not None:
-        best = rows.sort_values(["total_ms", metric], ascending=[True, False]).index[0]
+        best = rows.sort_values(["total_ms", "goodness"], ascending=[True, False]).index[0]
     else:
-        best = rows.sort_values([metric, "total_ms"], ascending=[False, True]).index[0]
+        best = rows.sort_values(["goodness", "total_ms"], ascending=[False, True]).index[0]
     table.loc[best, "chosen"] = True
     row = table.loc[best].to_dict()
     params = json.loads(row["params"])
@@ -122,17 +131,24 @@ def recommend(
     return Recommendation(row["method"], params, row, table, question)
 
 
-def measured(ctx: Context, scene: Scene, size, identity, progress: bool = False) -> pd.DataFrame:
-    """The sweep behind recommend() for this scene (`identity`), device and size, run once and
-    cached."""
-    key = (identity, ctx.info()["renderer"], tuple(int(v) for v in size))
+def ranking_metrics() -> list[str]:
+    """The registered metrics an answer can rank by: those with a direction."""
+    return [n for n in registered() if get(n).higher_is_better is not None]
+
+
+def measured(
+    ctx: Context, scene: Scene, size, identity, progress: bool = False, metrics=MEASURED
+) -> pd.DataFrame:
+    """The sweep behind recommend() for this scene (`identity`), device and size, measuring
+    `metrics`, run once and cached."""
+    key = (identity, ctx.info()["renderer"], tuple(int(v) for v in size), tuple(metrics))
     if key not in _CACHE:
         table = sweep(
             ctx,
             [scene],
             recommendation_grids(),
             size,
-            metrics=("psnr", "ssim"),
+            metrics=metrics,
             progress=progress,
             repeats=3,
         )

@@ -23,11 +23,12 @@ from .. import io, metrics, scenes
 from ..context import Context
 from ..docs_link import docs_url
 from ..methods import blur, method, method_instant
+from ..metrics import check_names, get, registered
 from ..sizes import DEFAULT_SIZE
 from . import interactive, objects, peers, plots, workers
 from .cluster import account_table
 from .evaluation import SETUP_PHASES, PhaseClock, picture_key
-from .sweep import HDR_METRICS, default_grids, middle_point, sweep
+from .sweep import default_grids, middle_point, sweep
 
 BUDGETS_MS = (0.1, 1.0, 10.0, 100.0)
 
@@ -64,13 +65,22 @@ def run_study(
     """Runs the study and returns the path of report.html. With `cluster` (as bl.sweep takes
     it) the sweep runs on Dask workers; `ctx` still renders the report's images. `metrics`
     as bl.sweep takes them: None measures HDR scenes (bl.scenes.names("hdr")) with the HDR
-    metrics too, ranks them by psnr_tm and shows their images tone-mapped. `peer_names`
-    ("eevee") adds Blender's EEVEE as rows scored against the same references (peers.csv).
+    metrics too, ranks them by an HDR metric and shows their images tone-mapped. `peer_names`
+    ("eevee") adds Blender's EEVEE as rows scored against the same references with the same
+    metrics (peers.csv); a scene Blender cannot reproduce gets rows that say why, and its
+    section of the report says so too.
     Each phase is timed (PHASES): phases.json, the report's last table and, with `progress`,
     the console. `chart_processes`: how many processes draw the matplotlib charts (default
     default_chart_processes(); 0 draws them in this one)."""
     clock = PhaseClock()
     peer_names = peers.check_peers(peer_names)
+    if metrics is not None:  # checked before any work
+        metrics = check_names(metrics, "blurlab study")
+        if all(get(n).higher_is_better is None for n in metrics):
+            raise ValueError(
+                f"blurlab study: ranks each scene by a metric with a direction; {list(metrics)} "
+                "has none"
+            )
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     with chart_pool(chart_processes) as charts:
@@ -148,10 +158,13 @@ def run_study(
                 with clock("peers"):
                     peer_rows = peers.peer_table(
                         ctx,
-                        {name: scenes.get(name) for name in names},
+                        {
+                            s["scene"]: scenes.get(item)
+                            for s, item in zip(sections, names, strict=True)
+                        },
                         size,
-                        {s["name"]: s["reference_samples"] for s in sections},
-                        tuple(metrics),
+                        {s["scene"]: s["reference_samples"] for s in sections},
+                        metrics,
                     )
                     peer_rows.to_csv(out / "peers.csv", index=False)
             with clock("images"):
@@ -260,9 +273,15 @@ def _parameter_curves(
     return curves
 
 
+def _metric_columns(rows) -> list[str]:
+    """The registered metrics that `rows` has values of, in registry order."""
+    return [n for n in registered() if n in rows and rows[n].notna().any()]
+
+
 def _ranking_metric(rows) -> str:
-    """psnr_tm where the rows have it (HDR scenes: PSNR would clip their lights), else psnr."""
-    return "psnr_tm" if "psnr_tm" in rows and rows["psnr_tm"].notna().any() else "psnr"
+    """The metric the rows are ranked by: the first the charts offer (plots.charted_metrics:
+    on HDR scenes an HDR one, as clipped PSNR cannot see their lights)."""
+    return plots.charted_metrics(rows)[0]
 
 
 @dataclasses.dataclass
@@ -327,7 +346,8 @@ def _scene_section(
     for budget in BUDGETS_MS:
         within = rows[rows["total_ms"] <= budget]
         if len(within):
-            top = within.sort_values(rank, ascending=False).iloc[0]
+            ranked = get(rank).goodness(within[rank]).sort_values(ascending=False)
+            top = within.loc[ranked.index[0]]
             best.append((budget, top["method"], top["params"], top["total_ms"], top[rank]))
         else:  # say so, and how fast the fastest configuration is, for comparison
             fastest = rows.sort_values("total_ms").iloc[0]
@@ -342,6 +362,7 @@ def _scene_section(
             )
     return {
         "name": name,
+        "scene": scene.name,
         "title": scene.name if scene.source is None else f"{scene.name} (from {scene.source})",
         "rows": rows,
         "best": best,
@@ -435,11 +456,15 @@ def _html(info, size, table, sections, curves, per_object=None, peer_rows=None, 
         f"{len(table)} evaluations · data: <a href='results.csv'>results.csv</a></p>",
         "<p>Each method runs on the G-buffer rendered at the instant it expects; its error is "
         "measured against the converged reference of the same shutter (the mean of N renders). "
-        "PSNR of linear color clipped to [0, 1] (higher is better), SSIM of luminance (higher "
-        "is better), FLIP (lower is better); psnr_aa is PSNR against the antialiased reference "
-        "(sub-pixel positions as well as times: what a path tracer converges to), which also "
-        "counts the aliasing of still edges. Time is the sum of the method's passes; methods "
-        "that render (accumulation, stochastic) include their renders.</p>",
+        "Time is the sum of the method's passes; methods that render (accumulation, "
+        f"stochastic) include their renders. The <a href='{e(docs_url('metrics'))}'>metrics</a>:"
+        "</p>",
+        "<ul>"
+        + "".join(
+            f"<li><code>{e(n)}</code>: {e(get(n).axis_title)} (docs/spec.md {get(n).spec})</li>"
+            for n in _metric_columns(table)
+        )
+        + "</ul>",
     ]
     for s in sections:
         parts.append(
@@ -448,7 +473,8 @@ def _html(info, size, table, sections, curves, per_object=None, peer_rows=None, 
         if s["exposure"] is not None:
             parts.append(
                 "<p><b>HDR scene</b>: its lights are far brighter than 1, so it is ranked by "
-                "PSNR after tone mapping and every image below is tone-mapped alike: Reinhard's "
+                f"{e(get(s['rank']).label)} and every image below is tone-mapped alike: "
+                "Reinhard's "
                 f"x / (1 + x) per channel of x = {s['exposure']:.4g} × the linear colour (the "
                 "exposure that brings the reference's log-average luminance to 0.18), then "
                 "sRGB. Error maps are of these tone-mapped images; see docs/hdr.md.</p>"
@@ -464,6 +490,10 @@ def _html(info, size, table, sections, curves, per_object=None, peer_rows=None, 
             )
         parts.append("</table>")
         parts.append(s["chart"])
+        unscored = peers.unscored(peer_rows, s["scene"]) if peer_rows is not None else {}
+        if unscored:  # why a peer has no numbers here (its rows' notes)
+            items = [f"<li>{e(', '.join(who))}: {e(why)}</li>" for why, who in unscored.items()]
+            parts.append("<p>Peers not scored on this scene:</p><ul>" + "".join(items) + "</ul>")
         parts.append(
             f"<p>The same chart as a picture: <a href='{e(s['name'])}_pareto.png'>"
             f"{e(s['name'])}_pareto.png</a></p>"
@@ -472,11 +502,9 @@ def _html(info, size, table, sections, curves, per_object=None, peer_rows=None, 
             "<p>Each image at full size on click, with its error map (the colour bar is "
             "shared by the scene):</p>" + s["gallery"]
         )
-        columns = ["method", "params", "total_ms", "psnr"] + [
-            c
-            for c in ("ssim", "flip", "psnr_aa", *HDR_METRICS, "exposure")
-            if c in s["rows"] and s["rows"][c].notna().any()
-        ]
+        columns = ["method", "params", "total_ms", *_metric_columns(s["rows"])]
+        if "exposure" in s["rows"] and s["rows"]["exposure"].notna().any():
+            columns.append("exposure")
         shown = s["rows"][columns].sort_values("total_ms")
         parts.append(_html_table(shown))
     if per_object is not None:
@@ -496,7 +524,7 @@ def _html(info, size, table, sections, curves, per_object=None, peer_rows=None, 
             "GPU pass time: do not read it against the methods' milliseconds. Data: "
             "<a href='peers.csv'>peers.csv</a>.</p>"
         )
-        columns = ("scene", "method", "psnr", "ssim", "flip", "psnr_aa", "time", "note")
+        columns = ("scene", "method", *registered(), "time", "note")
         shown = [c for c in columns if c in peer_rows]
         parts.append(_html_table(peer_rows[shown]))
     for title, image in curves:

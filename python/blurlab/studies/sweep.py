@@ -1,9 +1,10 @@
 """Sweeps: scenes × methods × parameter grids → one row per evaluation, in a pandas DataFrame.
 
 Each scene's G-buffer is rendered once per instant its methods need and its reference once;
-each evaluation runs the method, reduces the squared error and, if asked, the SSIM and FLIP
-maps against the reference on the GPU, reading the sums of a batch of evaluations back
-at once (docs/spec.md §6.3). Rows are
+each evaluation runs the method and computes the registered metrics asked for (blurlab.metrics):
+those with a GPU reduction (squared error, SSIM, FLIP) on the GPU against the reference,
+reading the sums of a batch of evaluations back at once (docs/spec.md §6.3), the others from
+the images read back. Rows are
 appended to a CSV file as they are made, so an interrupted sweep keeps every finished row and
 a rerun with the same file skips them. With a Dask cluster the same evaluations run on its
 workers, a scene's configurations split into chunks (blurlab.studies.cluster).
@@ -24,11 +25,12 @@ import pandas as pd
 from .. import scenes as builtin_scenes
 from ..context import Context
 from ..methods import check_param, check_steps, method, methods
+from ..metrics import check_names
 from ..render import check_size
 from ..scene import Scene
 from ..sizes import DEFAULT_SIZE
 from . import cluster as dask_cluster
-from .evaluation import HDR_METRICS, LDR_METRICS, Settings, evaluate_scene
+from .evaluation import Settings, evaluate_scene
 
 
 def default_grids() -> dict:
@@ -37,9 +39,6 @@ def default_grids() -> dict:
     return {name: method(name).default_grid for name in sweep_methods()}
 
 
-# psnr, ssim and flip are against the temporal reference (pixel centers, as the methods sample);
-# psnr_aa against the antialiased one (docs/spec.md §11 "Which reference, for what").
-METRICS = LDR_METRICS + HDR_METRICS
 MAX_SIZE = 16384  # the largest GL_MAX_TEXTURE_SIZE of the devices blurlab meets
 
 
@@ -97,6 +96,8 @@ def sweep(
     None for every single-frame method with its default grid; a post-process method's grid may
     also vary `steps` (bl.blur_steps). `reference_samples`: N of each
     scene's reference; None picks max(64, 2 × the longest motion in pixels), at most 1024.
+    `metrics`: names of registered metrics (bl.metrics.registered()), checked before any work;
+    None computes each scene's defaults (bl.metrics.default_names: the HDR ones on HDR scenes).
     `out`: a CSV file that rows are appended to as they finish; rows already in it are
     skipped (a row cut short by a crash is dropped and evaluated again). Each pass time is the
     median of `repeats` runs, all configurations of a scene timed back to back before any error
@@ -147,11 +148,8 @@ def sweep(
     # The size now, not when the first scene renders (a cluster's workers check their own
     # device's limit again).
     size = check_size(size, ctx.max_texture_size if ctx is not None else MAX_SIZE)
-    if isinstance(metrics, str):
-        raise TypeError(f"blurlab.sweep: metrics is a list of names, not the string {metrics!r}")
-    unknown = set(metrics or ()) - set(METRICS)
-    if unknown:
-        raise ValueError(f"blurlab.sweep: unknown metrics {sorted(unknown)}; choose from {METRICS}")
+    if metrics is not None:
+        metrics = check_names(metrics, "blurlab.sweep")
     if methods_and_grids is None:
         methods_and_grids = sweep_methods()
     if not isinstance(methods_and_grids, Mapping):
@@ -179,7 +177,7 @@ def sweep(
         (int(size[0]), int(size[1])),
         None if shutter is None else tuple(shutter),
         reference_samples,
-        None if metrics is None else tuple(metrics),
+        metrics,
         repeats,
         readback_batch,
     )

@@ -1,0 +1,33 @@
+"""Benchmarks as a registry (core.py): each benchmark is registered once, with its parameters,
+sizes and runner, by one of the modules imported here; `blurlab bench` runs them and keeps
+their latest records in benchmarks/records.jsonl, from which report.py generates
+docs/benchmarks.md. The core never imports the studies, this package among them."""
+
+from . import frame, filters, sweeps, quality  # noqa: F401, I001  (each registers its own)
+from .core import (
+    Benchmark,
+    Measured,
+    Unavailable,
+    benchmark,
+    merged,
+    names,
+    read_records,
+    register,
+    run_benchmark,
+    validate,
+    write_records,
+)
+
+__all__ = [
+    "Benchmark",
+    "Measured",
+    "Unavailable",
+    "benchmark",
+    "merged",
+    "names",
+    "read_records",
+    "register",
+    "run_benchmark",
+    "validate",
+    "write_records",
+]

@@ -1,0 +1,517 @@
+"""Benchmarks of what the methods get right, with their time beside: the engines side by side,
+HDR scenes, the failure suite, k="auto", `blurlab recommend`, real content, Blender's
+cross-check, and resource use over long loops."""
+
+from __future__ import annotations
+
+import gc
+import json
+import os
+import statistics
+import tempfile
+import time
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from ... import blender, metrics, scenes
+from ...blender import crosscheck
+from ...context import Context
+from ...methods import blur, method, method_instant, methods
+from ...methods.core import Param
+from .. import failures, peers
+from ..recommend import recommend
+from ..study import run_study
+from ..sweep import sweep, sweep_methods
+from .core import ROOT, Benchmark, Unavailable, register
+from .timing import (
+    film_method,
+    median_passes,
+    method_runs,
+    optioned_filters,
+    split,
+    untimed_calls_ms,
+)
+
+REFERENCES = {"temporal": "", "antialiased": peers.ANTIALIASED}
+EEVEE = "eevee (Blender)"
+EEVEE_POST_PROCESS = ((EEVEE, 1, 1),)  # EEVEE's real-time filter: 1 render sample, 1 step
+GPU_SCENES = "teapot_pass,fan,skinned_arm,vehicle,near_plane"  # the GPU presets' scenes
+
+
+def engine_methods() -> list[str]:
+    """The engines' methods, the filter that combines them (film_method), then the tile
+    filters they are measured against."""
+    engines = [n for n in methods() if n.startswith("engine_")]
+    return engines + [film_method(), *optioned_filters()]
+
+
+def _engine_scene(ctx, name, size, p, runs, references) -> list[dict]:
+    """Every row's pass times first, back to back, then every row's errors: the CPU metrics
+    leave the GPU idle, and an idle GPU clocks down."""
+    scene = scenes.get(name)
+    frame = ctx.render(scene, size)
+    samples = p["reference_samples"] or "auto"
+    rendered = {False: ctx.reference(scene, size, samples=samples, progress=False)}
+    if "antialiased" in references:
+        n = rendered[False].samples
+        rendered[True] = ctx.reference(scene, size, samples=n, antialias=True, progress=False)
+    timed = {}
+    for label, name_, params in runs:
+        passes, _ = median_passes(ctx, frame, name_, p["runs"], **params)
+        queued = untimed_calls_ms(ctx, frame, name_, **params)
+        timed[label] = (passes["total"], queued)
+    rows = []
+    for label, name_, params in runs:
+        color = blur(ctx, frame, name_, timed=False, **params).color
+        row = {"scene": name, "method": label, "ms": timed[label][0], "b2b_ms": timed[label][1]}
+        for reference, suffix in REFERENCES.items():
+            if reference in references:
+                image = rendered[suffix != ""].color
+                row |= {m + suffix: peers.SCORES[m](image, color) for m in split(p["metrics"])}
+        rows.append(row)
+    if p["peers"]:
+        wanted = tuple(m + REFERENCES[r] for r in references for m in split(p["metrics"]))
+        rows += peers.peer_rows(
+            ctx,
+            name,
+            scene,
+            size,
+            rendered.__getitem__,
+            wanted,
+            EEVEE_POST_PROCESS,
+            p["film_filter"],
+        )
+    return rows
+
+
+def _engines(ctx, size, p, out) -> None:
+    references = split(p["references"])
+    if "temporal" not in references or set(references) - set(REFERENCES):
+        raise ValueError(
+            f"blurlab: engines references {p['references']!r}: names from "
+            f"{', '.join(REFERENCES)}, comma-separated, temporal among them"
+        )
+    if p["peers"]:
+        peers.check_peers([p["peers"]])
+    if "psnr" not in split(p["metrics"]) or set(split(p["metrics"])) - set(peers.SCORES):
+        raise ValueError(
+            f"blurlab: engines metrics {p['metrics']!r}: names from {', '.join(peers.SCORES)}, "
+            "comma-separated, psnr among them"
+        )
+    runs = method_runs(split(p["methods"]) or engine_methods(), p["film_filter"], p["config"])
+    names = split(p["scenes"]) or scenes.names() + scenes.names("failure")
+    rows = []
+    for name in names:
+        rows += _engine_scene(ctx, name, size, p, runs, references)
+    table = pd.DataFrame(rows)
+    timed = table[table.method != EEVEE]
+    medians = timed.groupby("method", sort=False)[["psnr", "ms", "b2b_ms"]].median()
+    for label, row in medians.iterrows():
+        out.figure(f"{label}: median PSNR", row.psnr, "dB")
+        out.figure(f"{label}: median ms", row.ms, "ms")
+    by = timed.pivot(index="scene", columns="method", values="b2b_ms")
+    for baseline in (n for n in optioned_filters() if film_method() in by and n in by):
+        ratio = statistics.median(by[film_method()] / by[baseline])
+        out.figure(f"{film_method()} / {baseline}, calls back to back (median)", ratio, "x")
+    scores = [m + REFERENCES[r] for r in references for m in split(p["metrics"])]
+    columns = [("scene", ""), ("method", ""), ("per-pass timers", "ms")]
+    columns.append(("calls back to back", "ms"))
+    columns += [(s, "dB" if s.startswith("psnr") else "") for s in scores]
+    keys = ["scene", "method", "ms", "b2b_ms", *scores]
+    if "film_match_flat_db" in table:
+        columns.append(("EEVEE film match, flat", "dB"))
+        keys.append("film_match_flat_db")
+    cells = table.reindex(columns=keys).astype(object).where(table.reindex(columns=keys).notna())
+    out.table(
+        "at their defaults; errors against the converged reference(s)",
+        columns,
+        [[None if v is None else v for v in row] for row in cells.values.tolist()],
+    )
+
+
+register(
+    Benchmark(
+        "engines",
+        "the engines' methods, the filter that combines them and the tile filters side by side "
+        "on every built-in and failure scene: PSNR, SSIM, FLIP, ms",
+        {
+            "runs": Param(5, int, "timed runs per method (medians)", 1, 1000),
+            "scenes": Param("", object, "comma-separated scenes (empty: built-in + failure)"),
+            "methods": Param("", object, "comma-separated methods (empty: the engines' set)"),
+            "peers": Param("", ("", *peers.PEERS), "Blender's EEVEE too (needs bpy)"),
+            "references": Param(
+                "temporal", object, "comma-separated: temporal, antialiased (docs/spec.md §11)"
+            ),
+            "reference_samples": Param(0, int, "N of the references (0: from the motion)", 0),
+            "metrics": Param("psnr,ssim,flip", object, "comma-separated, from psnr, ssim, flip"),
+            "film_filter": Param(
+                0.0, float, "σ px of an extra row with a film filter (0: none)", 0
+            ),
+            "config": Param("", object, "extra rows: METHOD:KEY=VALUE,... separated by ';'"),
+        },
+        _engines,
+        {"tiny": (64, 36), "software": (160, 90), "gpu": (1920, 1080)},
+        {
+            "tiny": {"runs": 1, "scenes": "thin_bar", "reference_samples": 8},
+            "software": {"runs": 3},
+            # FLIP and SSIM run in NumPy: at 1080p on every scene they would take minutes
+            "gpu": {"runs": 10, "metrics": "psnr,ssim", "scenes": GPU_SCENES},
+        },
+    )
+)
+
+HDR_SCORES = ("hdr_flip", "psnr_tm", "ssim_tm", "log_lum_error", "energy_ratio")
+
+
+def _hdr(ctx, size, p, out) -> None:
+    names = split(p["methods"]) or sweep_methods()
+    rows = []
+    for scene_name in split(p["scenes"]) or scenes.names("hdr"):
+        scene = scenes.get(scene_name)
+        table = sweep(
+            ctx,
+            [scene],
+            {n: {} for n in names},
+            size,
+            metrics=("psnr",),
+            repeats=p["repeats"],
+            progress=False,
+        )
+        timed = table.set_index("method")
+        samples = int(table["reference_samples"].iloc[0])
+        reference = ctx.reference(scene, size, samples=samples, progress=False).color
+        for name in names:
+            frame = ctx.render(scene, size, instant=method_instant(name, {}))
+            image = blur(ctx, frame, name, timed=False).color
+            scores = metrics.hdr_scores(reference, image)
+            rows.append(
+                [scene_name, name, *(scores[k] for k in HDR_SCORES)]
+                + [metrics.psnr(reference, image), timed.loc[name, "total_ms"]]
+            )
+    frame = pd.DataFrame(rows, columns=["scene", "method", *HDR_SCORES, "psnr", "ms"])
+    for name, flip in frame.groupby("method", sort=False)["hdr_flip"].median().items():
+        out.figure(f"{name}: median HDR-FLIP", flip, "")
+    out.table(
+        "each method at its defaults; psnr clipped to [0, 1] (the LDR metric), for contrast "
+        "(docs/spec.md §6.2)",
+        [("scene", ""), ("method", ""), ("HDR-FLIP", ""), ("PSNR tone-mapped", "dB")]
+        + [("SSIM tone-mapped", ""), ("log-luminance error", ""), ("energy ratio", "")]
+        + [("PSNR clipped", "dB"), ("time", "ms")],
+        rows,
+    )
+
+
+register(
+    Benchmark(
+        "hdr",
+        "every single-frame method on the HDR scenes: HDR-FLIP, tone-mapped PSNR and SSIM, "
+        "log-luminance error, energy ratio, ms",
+        {
+            "scenes": Param("", object, "comma-separated HDR scenes (empty: all)"),
+            "methods": Param("", object, "comma-separated methods (empty: the sweepable ones)"),
+            "repeats": Param(3, int, "timed runs per method", 1, 100),
+        },
+        _hdr,
+        {"tiny": (32, 18), "software": (160, 90), "gpu": (320, 180)},
+        {"tiny": {"scenes": "sparks", "repeats": 1}, "software": {"repeats": 1}},
+    )
+)
+
+
+def _failures(ctx, size, p, out) -> None:
+    names = split(p["scenes"]) or None
+    table = failures.evaluate(ctx, names, size=size, frames=p["frames"], progress=False)
+    for name, psnr in table.groupby("method", sort=False)["psnr"].median().items():
+        out.figure(f"{name}: median PSNR", psnr, "dB")
+    keys = ["scene", "method", "psnr", "ssim", "nan", "inf", "outside_input_range", "flicker"]
+    units = ["", "", "dB", "", "pixels", "pixels", "pixels", ""]
+    shown = table[keys].astype(object).where(table[keys].notna(), None)
+    out.table(
+        "every single-frame method at its defaults on every failure scene",
+        list(zip(keys, units, strict=True)),
+        shown.values.tolist(),
+    )
+
+
+register(
+    Benchmark(
+        "failures",
+        "the failure-case table: every single-frame method on every failure scene (PSNR, "
+        "SSIM, NaN/Inf, out-of-range colours, flicker)",
+        {
+            "scenes": Param("", object, "comma-separated failure scenes (empty: all)"),
+            "frames": Param(16, int, "frames of the flicker animation", 2, 1000),
+        },
+        _failures,
+        {"tiny": (32, 18), "software": (160, 90), "gpu": (320, 180)},
+        {"tiny": {"scenes": "thin_bar", "frames": 2}},
+    )
+)
+
+FIXED_K = (4, 8, 12, 16, 20, 24, 32, 40, 48, 64, 80, 96, 128)
+
+
+def _auto_k(ctx, size, p, out) -> None:
+    filters = [n for n in methods() if "k" in method(n).params and method(n).params["k"].auto]
+    fixed = [int(k) for k in split(p["fixed_k"])]
+    names = split(p["scenes"]) or scenes.names() + scenes.names("failure")
+    grids = {name: {"k": [*fixed, "auto"]} for name in filters}
+    table = sweep(ctx, names, grids, size, metrics=("psnr",), progress=False, repeats=1)
+    rows, losses = [], []
+    for (scene, name), group in table.groupby(["scene", "method"], sort=False):
+        ks = [json.loads(params)["k"] for params in group["params"]]
+        psnr = dict(zip(ks, group["psnr"], strict=True))
+        best = max(fixed, key=lambda k: psnr[k])
+        losses.append(psnr["auto"] - psnr[best])
+        chosen = json.loads(group[[k == "auto" for k in ks]].iloc[0]["auto_k"])
+        short = name.removeprefix("reconstruct_")
+        rows.append([scene, short, best, psnr[best], str(chosen), psnr["auto"], losses[-1]])
+    out.figure(
+        "(scene, filter) with auto within 0.1 dB of the best fixed k",
+        sum(loss >= -0.1 for loss in losses),
+        f"of {len(losses)}",
+    )
+    out.figure("auto − best fixed k, median", statistics.median(losses), "dB")
+    out.figure("auto − best fixed k, worst", min(losses), "dB")
+    out.table(
+        f'k = "auto" against fixed k ({p["fixed_k"]}), PSNR against the reference',
+        [("scene", ""), ("filter", ""), ("best fixed k", ""), ("its PSNR", "dB")]
+        + [("auto k", ""), ("auto PSNR", "dB"), ("auto − best", "dB")],
+        rows,
+    )
+
+
+register(
+    Benchmark(
+        "auto_k",
+        'the k = "auto" rule against every fixed k on every built-in and failure scene, for '
+        "each tile filter that offers it",
+        {
+            "scenes": Param("", object, "comma-separated scenes (empty: built-in + failure)"),
+            "fixed_k": Param(",".join(map(str, FIXED_K)), object, "fixed k values to beat"),
+        },
+        _auto_k,
+        {"tiny": (64, 36), "software": (160, 90), "gpu": (1920, 1080)},
+        {"tiny": {"scenes": "fan", "fixed_k": "8,20"}},
+    )
+)
+
+
+def _recommend(ctx, size, p, out) -> None:
+    rows = []
+    budgets = [float(b) for b in split(p["budgets_ms"])]
+    for scene in split(p["scenes"]) or scenes.names():
+        for budget in budgets:
+            answer = recommend(ctx, scene, size, budget_ms=budget)
+            if answer.row is None:
+                rows.append([scene, budget, str(answer), None, None, None])
+            else:
+                row = answer.row
+                label = f"{answer.method} {json.dumps(answer.params)}"
+                rows.append([scene, budget, label, row["total_ms"], row["psnr"], row["ssim"]])
+    for budget in budgets:
+        met = [r[4] for r in rows if r[1] == budget and r[4] is not None]
+        out.figure(
+            f"budget {budget:g} ms: scenes answered", len(met), f"of {len(rows) // len(budgets)}"
+        )
+        if met:
+            out.figure(
+                f"budget {budget:g} ms: median PSNR of the answers", statistics.median(met), "dB"
+            )
+    out.table(
+        "`blurlab recommend --budget-ms B` per scene",
+        [("scene", ""), ("budget", "ms"), ("recommended", ""), ("time", "ms")]
+        + [("PSNR", "dB"), ("SSIM", "")],
+        rows,
+    )
+
+
+register(
+    Benchmark(
+        "recommend",
+        "the answers of `blurlab recommend` for every built-in scene at several time budgets: "
+        "each answer, its time and its error",
+        {
+            "scenes": Param("", object, "comma-separated scenes (empty: every built-in)"),
+            "budgets_ms": Param("0.1,1,10", object, "comma-separated budgets, ms"),
+        },
+        _recommend,
+        {"tiny": (48, 27), "software": (160, 90), "gpu": (640, 360)},
+        {"tiny": {"scenes": "fan", "budgets_ms": "10"}},
+    )
+)
+
+ASSETS = ROOT.parent / "shared" / "assets" / "gltf"  # beside the checkout
+
+
+def _content(ctx, size, p, out) -> None:
+    folder = Path(p["assets"]) if p["assets"] else ASSETS
+    models = sorted(folder.glob("*/*.gltf")) + sorted(folder.glob("*/*.glb"))
+    models = [m for m in models if not p["models"] or m.stem in split(p["models"])]
+    if not models:
+        raise Unavailable(f"benchmark content: no glTF sample models in {folder}")
+    with tempfile.TemporaryDirectory() as study_out:
+        start = time.perf_counter()
+        run_study(ctx, [str(m) for m in models], size=size, out=study_out, progress=False)
+        out.figure("study of the models, wall", time.perf_counter() - start, "s")
+        table = pd.read_csv(Path(study_out) / "results.csv")
+    rows = []
+    for (scene, name), group in table.groupby(["scene", "method"], sort=True):
+        best = group.sort_values("psnr", ascending=False).iloc[0]
+        rows.append([scene, name, best.psnr, best.ssim, best.flip, best.total_ms, best.params])
+    best = pd.DataFrame(rows, columns=["scene", "method", "psnr", "ssim", "flip", "ms", "p"])
+    for name, psnr in best.groupby("method")["psnr"].median().items():
+        out.figure(f"{name}: median best PSNR", psnr, "dB")
+    out.table(
+        "the Khronos glTF sample models through the study: each method's best configuration",
+        [("model", ""), ("method", ""), ("best PSNR", "dB"), ("its SSIM", "")]
+        + [("its FLIP", ""), ("its time", "ms"), ("parameters", "")],
+        rows,
+    )
+
+
+register(
+    Benchmark(
+        "content",
+        "real content: the Khronos glTF sample models loaded, rendered and put through the "
+        "study; each method's best PSNR and its time",
+        {
+            "assets": Param("", object, "folder of glTF models (empty: shared/assets/gltf)"),
+            "models": Param("", object, "comma-separated model names (empty: all)"),
+        },
+        _content,
+        {"tiny": (48, 27), "software": (160, 90), "gpu": (640, 360)},
+        {"tiny": {"models": "BoxAnimated"}},
+    )
+)
+
+
+def _crosscheck(ctx, size, p, out) -> None:
+    rows = []
+    for name in split(p["scenes"]) or list(crosscheck.SCENES):
+        scene = crosscheck.SCENES[name]()
+        tracked = crosscheck.mask_scene(scene, crosscheck.TRACKED[name])
+        overlaps = []
+        for instant in scene.shutter:  # geometry without blur at shutter open and close
+            cycles = blender.render(tracked, size, samples=p["instant_samples"], instant=instant)
+            ours = ctx.reference(
+                tracked, size, (instant, instant), samples=256, antialias=True, progress=False
+            )
+            overlaps.append(crosscheck.iou(cycles.color[..., 0], ours.color[..., 0]))
+        cycles = blender.render(scene, size, samples=p["cycles_samples"], seed=0)
+        n = p["reference_samples"]
+        antialiased = ctx.reference(scene, size, samples=n, antialias=True, progress=False)
+        temporal = ctx.reference(scene, size, samples=n, progress=False).color
+        where = np.ones(temporal.shape[:2], bool)
+        reference_db = crosscheck.psnr_in(antialiased.color, cycles.color, where)
+        out.figure(f"{name}: antialiased reference against Cycles", reference_db, "dB")
+        row = [name, min(overlaps), reference_db]
+        for label, name_, params in method_runs(sweep_methods()):
+            frame = ctx.render(scene, size, instant=method_instant(name_, params))
+            color = blur(ctx, frame, name_, timed=False, **params).color
+            rows.append(row + [label, crosscheck.psnr_in(color, cycles.color, where)])
+    out.table(
+        "blurlab against Blender's Cycles (docs/crosscheck.md)",
+        [("scene", ""), ("geometry IoU, worst instant", ""), ("reference vs Cycles", "dB")]
+        + [("method", ""), ("method vs Cycles", "dB")],
+        rows,
+    )
+
+
+register(
+    Benchmark(
+        "crosscheck",
+        "blurlab against Blender's Cycles: geometry at the shutter's ends, the reference and "
+        "every method against Cycles (needs bpy)",
+        {
+            "scenes": Param("", object, "comma-separated cross-check scenes (empty: all)"),
+            "cycles_samples": Param(2048, int, "Cycles samples per pixel", 1, 1 << 20),
+            "instant_samples": Param(512, int, "Cycles samples of the unblurred frames", 1),
+            "reference_samples": Param(1024, int, "sub-frames of blurlab's references", 1),
+        },
+        _crosscheck,
+        {"tiny": (32, 18), "software": (160, 90), "gpu": (160, 90)},
+        {
+            "tiny": {
+                "scenes": "box",
+                "cycles_samples": 4,
+                "instant_samples": 4,
+                "reference_samples": 16,
+            },
+            "software": {"cycles_samples": 256, "instant_samples": 64, "reference_samples": 256},
+        },
+        needs=("bpy",),
+    )
+)
+
+
+def _rss_mib() -> float:
+    with open("/proc/self/statm") as f:
+        return int(f.read().split()[1]) * os.sysconf("SC_PAGE_SIZE") / 2**20
+
+
+def _snapshot(ctx) -> tuple[int, float, float | None]:
+    gc.collect()
+    ctx.finish()
+    vram = ctx.memory()
+    return sum(ctx.live_objects().values()), _rss_mib(), vram["available"] / 1024 if vram else None
+
+
+def _reliability(ctx, size, p, out) -> None:
+    scene = scenes.teapot_pass()
+    names = [n for n in methods() if not method(n).renders]
+
+    def cycle(i):
+        name = names[i % len(names)]
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            frame = ctx.render(scene, size, instant=method_instant(name, {}))
+            color = blur(ctx, frame, name).color
+        if not np.isfinite(color).all():
+            raise RuntimeError(f"blurlab: reliability: {name} gave a non-finite colour")
+
+    for i in range(len(names)):
+        cycle(i)  # every method compiled and pooled
+    objects, rss, vram = _snapshot(ctx)
+    start = time.perf_counter()
+    for i in range(p["cycles"]):
+        cycle(i)
+    out.figure(
+        "render + blur + readback cycle", (time.perf_counter() - start) * 1e3 / p["cycles"], "ms"
+    )
+    objects_after, rss_after, vram_after = _snapshot(ctx)
+    out.figure("live GL objects gained over the cycles", objects_after - objects, "")
+    out.figure("RSS gained over the cycles", rss_after - rss, "MiB")
+    if vram is not None:
+        out.figure("free video memory lost over the cycles", vram - vram_after, "MiB")
+    rss = _rss_mib()
+    start = time.perf_counter()
+    for _ in range(p["contexts"]):
+        other = Context(ctx.info()["device"])
+        other.upload(np.ones((size[1], size[0], 4), np.float32)).download()
+        del other
+    gc.collect()
+    out.figure(
+        "context create + use + destroy", (time.perf_counter() - start) * 1e3 / p["contexts"], "ms"
+    )
+    out.figure("RSS gained over the contexts", _rss_mib() - rss, "MiB")
+    out.figure("GL errors", len(ctx.gl_errors()), "")
+
+
+register(
+    Benchmark(
+        "reliability",
+        "resource use over long loops: render + blur + readback cycles and context "
+        "create/destroy cycles (live GL objects, RSS, free video memory, ms each)",
+        {
+            "cycles": Param(1000, int, "render + blur + readback cycles", 1, 1_000_000),
+            "contexts": Param(100, int, "context create/use/destroy cycles", 1, 100_000),
+        },
+        _reliability,
+        {"tiny": (32, 18), "software": (320, 180), "gpu": (1920, 1080)},
+        {"tiny": {"cycles": 4, "contexts": 2}, "software": {"cycles": 300, "contexts": 30}},
+    )
+)

@@ -1,0 +1,177 @@
+"""The benchmark registry (blurlab.studies.bench): every benchmark runs on llvmpipe at its tiny
+preset and gives a valid record with finite figures; records are validated on write and read, and
+merged by (benchmark, device); `blurlab bench`'s options refuse bad input; docs/benchmarks.md
+is the records file's Markdown."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import pytest
+
+import blurlab.studies.bench as bench
+from blurlab.cli import main
+from blurlab.studies.bench import core, filters, report, timing
+
+ROOT = Path(__file__).resolve().parents[1]
+# The glTF models beside the checkout; a git worktree sits one folder deeper.
+ASSETS = [p / "shared" / "assets" / "gltf" for p in ROOT.parents[:2]]
+
+
+@pytest.mark.parametrize("name", bench.names())
+def test_every_benchmark_runs_at_its_tiny_preset(ctx, name):
+    given = {}
+    if name == "content":
+        given["assets"] = str(next((p for p in ASSETS if p.exists()), ASSETS[0]))
+    try:
+        record = bench.run_benchmark(ctx, name, "tiny", given=given)
+    except bench.Unavailable as why:
+        pytest.skip(str(why))
+    bench.validate(json.loads(json.dumps(record)))  # survives the file's round trip
+    assert record["device"] == "llvmpipe" and record["clock"] == "wall_glfinish"
+    assert all(math.isfinite(f["value"]) for f in record["figures"])
+    assert set(bench.benchmark(name).params) <= set(record["params"])
+    for table in record["tables"]:
+        assert table["rows"], table["name"]
+
+
+def test_sweep_scaling_gives_the_same_rows_on_one_and_two_warm_workers(ctx):
+    pytest.importorskip("distributed")
+    given = {"workers": "1,2", "warm": True, "scenes": "fan,thin_bar"}
+    record = bench.run_benchmark(ctx, "sweep_scaling", "tiny", given=given)
+    figures = {f["name"]: f["value"] for f in record["figures"]}
+    assert figures["2 worker(s): same rows as the first"] == 1
+
+
+def record(name="transfer", device="llvmpipe", value=1.0) -> dict:
+    return {
+        "benchmark": name,
+        "params": {"runs": 1},
+        "device": device,
+        "driver": {"renderer": "r", "gl_version": "v"},
+        "clock": "wall_glfinish",
+        "commit": "abc",
+        "date": "2026-01-01",
+        "wall_s": 0.1,
+        "figures": [{"name": "upload GB/s", "value": value, "unit": "GB/s"}],
+        "tables": [{"name": "t", "columns": [{"name": "a", "unit": "ms"}], "rows": [[1.0]]}],
+    }
+
+
+@pytest.mark.parametrize(
+    "broken, message",
+    [
+        (lambda r: r.pop("commit"), "keys must be"),
+        (lambda r: r.update(clock="sundial"), "clock must be"),
+        (lambda r: r["figures"][0].update(value=float("nan")), "finite number"),
+        (lambda r: r["figures"][0].pop("unit"), "name, value and unit"),
+        (lambda r: r["tables"][0]["rows"].append([1, 2]), "every row needs 1 cells"),
+        (lambda r: r.update(figures=[]), "at least one figure"),
+    ],
+)
+def test_a_broken_record_is_refused_on_write_and_the_file_is_left_alone(tmp_path, broken, message):
+    path = tmp_path / "records.jsonl"
+    bench.write_records([record()], path)
+    before = path.read_text()
+    bad = record()
+    broken(bad)
+    with pytest.raises(ValueError, match=message):
+        bench.write_records([record("gbuffer"), bad], path)
+    assert path.read_text() == before
+
+
+def test_records_merge_by_benchmark_and_device(tmp_path):
+    path = tmp_path / "records.jsonl"
+    bench.write_records([record(), record(device="NVIDIA H100"), record("gbuffer")], path)
+    new = tmp_path / "new.jsonl"
+    bench.write_records([record(device="NVIDIA H100", value=2.0)], new)
+    assert main(["bench", "--record", str(path), "--merge", str(new)]) == 0
+    records = bench.read_records(path)
+    assert [(r["benchmark"], r["device"]) for r in records] == [
+        ("gbuffer", "llvmpipe"),
+        ("transfer", "NVIDIA H100"),
+        ("transfer", "llvmpipe"),
+    ]
+    assert records[1]["figures"][0]["value"] == 2.0
+    assert len(path.read_text().splitlines()) == 3  # one compact line a record
+
+
+def test_parameters_are_checked_against_their_declaration():
+    transfer = bench.benchmark("transfer")
+    assert core.parse_value(transfer, "runs", "3") == 3
+    with pytest.raises(ValueError, match="runs = 0 must be 1..10000"):
+        core.parse_value(transfer, "runs", "0")
+    with pytest.raises(ValueError, match="must be an integer"):
+        core.parse_value(transfer, "runs", "many")
+    with pytest.raises(ValueError, match="no parameter 'speed'; its parameters: runs, depth"):
+        core.parse_value(transfer, "speed", "1")
+    with pytest.raises(ValueError, match="must be one of '', 'eevee'"):
+        core.check_value(bench.benchmark("engines"), "peers", "cycles")
+
+
+@pytest.mark.parametrize(
+    "argv, message",
+    [
+        (["bench", "nothing"], "no benchmark 'nothing'"),
+        (["bench", "transfer", "--param", "runs"], "give KEY=VALUE"),
+        (["bench", "transfer", "--param", "runs=-1"], "runs = -1 must be"),
+        (["bench"], "name a benchmark, or all"),
+        (["bench", "motion_formats", "--size", "8x8"], "has no image size"),
+    ],
+)
+def test_the_command_refuses_bad_input_in_one_line(capsys, argv, message):
+    with pytest.raises(SystemExit) as exit:
+        main(["--device", "software", *argv])
+    assert exit.value.code == 2
+    assert message in capsys.readouterr().err
+
+
+def test_list_names_every_benchmark_with_its_doc(capsys):
+    assert main(["bench", "--list"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert [line.split()[0] for line in lines] == bench.names()
+    assert all(bench.benchmark(line.split()[0]).doc in line for line in lines)
+
+
+def test_config_rows_carry_their_parameters_and_bad_ones_are_refused():
+    config = timing.method_config("gather_coverage:samples=16,film_filter=0.5,seed=3")
+    assert config == ("gather_coverage", {"samples": 16, "film_filter": 0.5, "seed": 3})
+    assert timing.method_config("gather_coverage:packed_inputs=true")[1] == {"packed_inputs": True}
+    runs = timing.method_runs(["a"], 0.5, "gather_coverage:samples=4;gather_box:seed=1")
+    assert runs[1] == ("gather_coverage, film_filter=0.5", "gather_coverage", {"film_filter": 0.5})
+    assert runs[2] == ("gather_coverage, samples=4", "gather_coverage", {"samples": 4})
+    assert len(runs) == 4
+    for bad in ("gather_coverage:samples", ":samples=4", "gather_coverage:samples=many"):
+        with pytest.raises(ValueError, match="METHOD:KEY=VALUE"):
+            timing.method_config(bad)
+
+
+def test_benchmarks_md_is_generated_from_the_records():
+    text = (ROOT / "docs" / "benchmarks.md").read_text()
+    expected = report.markdown(bench.read_records(ROOT / "benchmarks" / "records.jsonl"))
+    if text != expected:  # not `assert ==`: pytest's diff of two long pages takes a minute
+        pytest.fail(
+            "docs/benchmarks.md is out of date: regenerate it with "
+            "`blurlab bench --markdown > docs/benchmarks.md`"
+        )
+
+
+def test_every_record_in_the_tree_is_of_a_registered_benchmark():
+    records = bench.read_records(ROOT / "benchmarks" / "records.jsonl")
+    assert {r["benchmark"] for r in records} <= set(bench.names())
+
+
+def test_every_pass_layout_gives_the_default_layouts_image(ctx):
+    """The layouts benchmark times every variant of every pass with alternatives; each gives the
+    default layout's image, bit for bit (the film filter's to float rounding)."""
+    record = bench.run_benchmark(ctx, "layouts", "tiny")
+    (table,) = record["tables"]
+    names = [c["name"] for c in table["columns"]]
+    rows = [dict(zip(names, row, strict=True)) for row in table["rows"]]
+    expected = {(layout.what, v) for layout, _, _ in filters.layout_runs() for v in layout.variants}
+    assert {(r["pass"], r["layout"]) for r in rows} == expected
+    for row in rows:
+        bound = 1e-5 if row["pass"] == "film filter" else 0.0
+        assert row["largest difference from the default"] <= bound, row
