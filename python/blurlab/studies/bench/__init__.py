@@ -3,7 +3,7 @@ sizes and runner, by one of the modules imported here; `blurlab bench` runs them
 their latest records in benchmarks/records.jsonl, from which report.py generates
 docs/benchmarks.md. The core never imports the studies, this package among them."""
 
-from . import frame, filters, sweeps, quality  # noqa: F401, I001  (each registers its own)
+from . import frame, filters, sweeps, quality, transparency  # noqa: F401, I001  (each registers its own)
 from .core import (
     Benchmark,
     Measured,
