@@ -356,3 +356,13 @@ def test_the_transparency_study_measures_every_approach(ctx):
     assert gains["moving_glass"] > 0.5  # the pane's own motion, which only layered follows
     cost = transparency.layer_cost(ctx, "moving_glass", "gather_coverage", (32, 18), runs=2)
     assert cost["layered_ms"] > 0 and cost["ratio"] == cost["layered_ms"] / cost["composite_ms"]
+
+
+@pytest.mark.parametrize("name", ["accumulation", "stochastic"])
+def test_rendering_methods_composite_every_sub_frame_themselves(ctx, name):
+    frame = ctx.render(glass_and_sparks(), size=SIZE)
+    plain = bl.blur(ctx, frame, name).color
+    for translucency in APPROACHES:
+        np.testing.assert_array_equal(
+            bl.blur(ctx, frame, name, translucency=translucency).color, plain
+        )

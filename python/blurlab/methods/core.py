@@ -143,7 +143,9 @@ def blur(
 
     `translucency` ("composite", "composite_motion", "unblurred", "layered"), `motion_coverage`
     and `layer_filter` choose how a frame's translucent layer is blurred (docs/spec.md §20.4,
-    blurlab.methods.layers); frames without one are blurred as they are."""
+    blurlab.methods.layers); frames without one are blurred as they are, and so are frames given
+    to methods that render their own sub-frames (accumulation, stochastic), which draw every
+    sub-frame's translucent surfaces as the reference does."""
     if not isinstance(ctx, Context):
         raise TypeError(f"blurlab: blur needs a blurlab Context, not {type(ctx).__name__}")
     if not isinstance(frame, Frame):
@@ -154,7 +156,7 @@ def blur(
         motion_coverage=motion_coverage,
         layer_filter=layer_filter,
     )
-    if frame.layered and options["translucency"] != "composite":
+    if frame.layered and options["translucency"] != "composite" and not method(name).renders:
 
         def blur_layer(layer: Frame, method_name: str) -> BlurResult:
             if method_name == name:  # the call's method, backend and parameters

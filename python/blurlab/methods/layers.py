@@ -12,7 +12,8 @@ framework-level option of ``blur`` and ``render_and_blur``, ``translucency``, an
   then out = Σ′ + (1 − a′)·opaque′.
 
 Frames without a translucent layer (opaque scenes, or frames built from arrays without one) are
-blurred as they are under every option.
+blurred as they are under every option, and so is every frame given to a method that renders
+its own sub-frames (accumulation, stochastic): each of its sub-frames is composited exactly.
 """
 
 from __future__ import annotations
