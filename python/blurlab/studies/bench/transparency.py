@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import statistics
 
+from ... import metrics
 from ...methods.core import Param
 from .. import transparency
 from .core import Benchmark, register
@@ -96,5 +97,44 @@ register(
             },
             "gpu": {"runs": 20},
         },
+    )
+)
+
+
+def _transparency_cycles(ctx, size, p, out) -> None:
+    from ... import blender  # noqa: PLC0415 (bpy is an optional extra: checked by `needs`)
+    from ...blender import crosscheck  # noqa: PLC0415
+
+    rows = []
+    for name, make in crosscheck.TRANSLUCENT_SCENES.items():
+        scene = make()
+        cycles = blender.render(scene, size, samples=p["cycles_samples"], seed=1).color
+        shutter = blender.cycles_shutter(scene.shutter)
+        reference = ctx.reference(
+            scene, size, shutter, samples=p["reference_samples"], antialias=True, progress=False
+        ).color
+        psnr = metrics.psnr(reference, cycles)
+        rows.append([name, psnr])
+        out.figure(f"{name}: PSNR of Cycles against the antialiased reference", psnr, "dB")
+    out.table(
+        "Cycles (box filter) against blurlab's antialiased reference",
+        [("scene", ""), ("PSNR", "dB")],
+        rows,
+    )
+
+
+register(
+    Benchmark(
+        "transparency_cycles",
+        "Cycles' transparent and emission shader mixes against blurlab's antialiased reference "
+        "on translucent scenes (needs bpy)",
+        {
+            "cycles_samples": Param(4096, int, "Cycles samples per pixel", 1, 1 << 20),
+            "reference_samples": Param(8192, int, "sub-frames of blurlab's reference", 1),
+        },
+        _transparency_cycles,
+        {"tiny": (32, 18), "software": (320, 180), "gpu": (320, 180)},
+        {"tiny": {"cycles_samples": 16, "reference_samples": 16}},
+        needs=("bpy",),
     )
 )
