@@ -137,18 +137,10 @@ def glass_and_sparks(seed=None):
     scene.add(bl.mesh.box((1, 1, 0.05)), glass, bl.Motion.linear((-1, 0, 1), (90, 0, 0)))
     tint = bl.Material(color=(0.2, 0.2, 0.9), alpha=0.6, blend="blend")
     scene.add(bl.mesh.box((1, 0.5, 0.05)), tint, bl.Motion.static((0, 0, 1.5)))
-    sparks = [
-        Particle(
-            (0.3 * i - 0.8, 0.0, 2.0),
-            velocity=(0, 40, 0),
-            size=0.4,
-            color=(1.0, 0.8, 0.3),
-            alpha=0.7,
-            blend="additive" if i % 2 else "blend",
-        )
-        for i in range(6)
-    ]
-    particles(scene, sparks)
+    for i in range(6):  # blended and additive in turn
+        blend = "additive" if i % 2 else "blend"
+        spark = Particle((0.3 * i - 0.8, 0.0, 2.0), (0, 40, 0), 0.4, (1.0, 0.8, 0.3), 0.7, blend)
+        particles(scene, [spark], f"spark {i}")
     if seed is not None:
         random.Random(seed).shuffle(scene.objects)
     return scene

@@ -25,6 +25,11 @@ def main(folder: Path) -> None:
     frames = [1.0 + k / keys for k in range(keys + 1)]  # one frame = the shutter
     configure(bpy, scene, job)
     world(bpy, scene, job["background"])
+    if "gltf" in job:  # the file as Blender's own importer makes it, through its camera
+        bpy.ops.import_scene.gltf(filepath=job["gltf"])
+        scene.camera = next(o for o in scene.objects if o.type == "CAMERA")
+        finish(bpy, scene, job, folder)
+        return
     camera = camera_object(bpy, job)
     scene.collection.objects.link(camera)
     scene.camera = camera
@@ -49,6 +54,11 @@ def main(folder: Path) -> None:
         scene.frame_set(int(math.floor(frame)), subframe=frame - math.floor(frame))
     if job["passes"]:
         passes(scene)
+    finish(bpy, scene, job, folder)
+
+
+def finish(bpy, scene, job, folder: Path) -> None:
+    """Renders the scene into render.exr and writes result.json."""
     scene.render.filepath = str(folder / "render.exr")
     started = time.perf_counter()
     bpy.ops.render.render(write_still=True)
