@@ -103,7 +103,7 @@ class GltfBuilder:
         self.doc.skins.append(g.Skin(joints=list(joints), inverseBindMatrices=self.accessor(flat)))
         return len(self.doc.skins) - 1
 
-    def texture_material(self, png_bytes: bytes, factor=(1, 1, 1, 1)) -> int:
+    def texture_material(self, png_bytes: bytes, factor=(1, 1, 1, 1), **alpha) -> int:
         while len(self.blob) % 4:
             self.blob.append(0)
         self.doc.bufferViews.append(
@@ -114,13 +114,19 @@ class GltfBuilder:
             g.Image(bufferView=len(self.doc.bufferViews) - 1, mimeType="image/png")
         )
         self.doc.textures.append(g.Texture(source=len(self.doc.images) - 1))
-        return self.material(factor, texture=len(self.doc.textures) - 1)
+        return self.material(factor, texture=len(self.doc.textures) - 1, **alpha)
 
-    def material(self, factor=(1, 1, 1, 1), texture=None) -> int:
+    def material(self, factor=(1, 1, 1, 1), texture=None, alpha_mode=None, alpha_cutoff=None):
+        """A material's index; `alpha_mode` and `alpha_cutoff` as glTF's alphaMode, alphaCutoff."""
         pbr = g.PbrMetallicRoughness(baseColorFactor=list(factor), metallicFactor=0)
         if texture is not None:
             pbr.baseColorTexture = g.TextureInfo(index=texture)
-        self.doc.materials.append(g.Material(pbrMetallicRoughness=pbr))
+        material = g.Material(pbrMetallicRoughness=pbr)
+        if alpha_mode is not None:
+            material.alphaMode = alpha_mode
+        if alpha_cutoff is not None:
+            material.alphaCutoff = alpha_cutoff
+        self.doc.materials.append(material)
         return len(self.doc.materials) - 1
 
     def camera(self, yfov: float, znear: float, zfar: float | None) -> int:

@@ -272,14 +272,16 @@ def test_ignored_material_features_are_named_once(tmp_path):
     p, n, i = box_triangles()
     material = b.material()
     b.doc.materials[material].normalTexture = {"index": 0}
-    b.doc.materials[material].alphaMode = "BLEND"
+    b.doc.materials[material].occlusionTexture = {"index": 0}
+    b.doc.materials[material].alphaMode = "BLEND"  # honoured (docs/spec.md §20), not ignored
     b.node(mesh=b.mesh(p, i, n, material=material))
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         bl.scenes.gltf(b.save(tmp_path / "features.gltf"))
     messages = [str(w.message) for w in caught if "blurlab.gltf" in str(w.message)]
     assert len(messages) == 1
-    assert "normalTexture" in messages[0] and "alphaMode BLEND" in messages[0]
+    assert "normalTexture" in messages[0] and "occlusionTexture" in messages[0]
+    assert "alphaMode" not in messages[0]
 
 
 def test_emissive_factor_and_strength_become_hdr_emission(tmp_path):

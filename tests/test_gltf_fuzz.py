@@ -26,16 +26,19 @@ SLOWEST_ALLOWED_S = 5.0
 ODD_VALUES = [
     -1, 0, 1, 2, 3, 7, 255, 65535, 2**31, 10**9, 10**18, -(10**9), 0.5, -0.0, 1e308, -1e308,
     "x", "", None, True, [], {}, [1, 2], {"a": 1}, "../../etc/passwd", "http://example.com/a",
+    math.nan, "BLEND", "MASK", "blend",
 ]  # fmt: skip
 
 
 def rich_document() -> GltfBuilder:
-    """Nodes in a hierarchy, a skin, every interpolation, a texture and a camera."""
+    """Nodes in a hierarchy, a skin, every interpolation, a texture, a camera, and BLEND and
+    MASK materials (docs/spec.md §20)."""
     b = GltfBuilder()
     p, n, i = box_triangles()
     png = bytes_io.BytesIO()
     Image.fromarray(np.full((2, 2, 4), 200, np.uint8), "RGBA").save(png, format="PNG")
-    material = b.texture_material(png.getvalue(), factor=(0.9, 0.5, 0.2, 1.0))
+    material = b.texture_material(png.getvalue(), factor=(0.9, 0.5, 0.2, 0.8), alpha_mode="BLEND")
+    masked = b.material((0.3, 0.6, 0.3, 0.7), alpha_mode="MASK", alpha_cutoff=0.4)
     child = b.node(root=False, mesh=b.mesh(p, i, n, uvs=np.zeros((len(p), 2)), material=material))
     parent = b.node(children=[child], translation=[0.5, 0, 0])
     j1 = b.node(root=False, translation=[1, 0, 0])
@@ -43,7 +46,7 @@ def rich_document() -> GltfBuilder:
     skin = b.skin([j0, j1], [np.eye(4), np.eye(4)])
     joints = np.tile([0, 1, 0, 0], (len(p), 1))
     weights = np.tile([0.5, 0.5, 0, 0], (len(p), 1))
-    b.node(mesh=b.mesh(p, i, n, joints=joints, weights=weights), skin=skin)
+    b.node(mesh=b.mesh(p, i, n, joints=joints, weights=weights, material=masked), skin=skin)
     b.animate(parent, "translation", [0, 1], [[0, 0, 0], [1, 0, 0]])
     b.animate(child, "rotation", [0, 1], [[0, 0, 0, 1], [0, 0, 0.7071, 0.7071]], "STEP")
     b.animate(j1, "scale", [0, 1], [[0, 0, 0], [1, 1, 1], [0, 0, 0]] * 2, "CUBICSPLINE")
@@ -201,3 +204,31 @@ def test_the_unmutated_base_files_load(tmp_path):
         scene = bl.scenes.gltf(rich_document().save(tmp_path / f"base{suffix}"))
         assert len(scene.objects) == 2
         assert math.isclose(scene.camera.fov_y, math.degrees(0.8))
+
+
+@pytest.mark.parametrize(
+    "field, value, message",
+    [
+        ("alphaMode", "ADDITIVE", "alphaMode 'ADDITIVE' is not one of"),
+        ("alphaMode", "blend", "alphaMode 'blend' is not one of"),
+        ("alphaMode", 2, "alphaMode .2. is not one of"),
+        ("alphaCutoff", 1.5, r"alphaCutoff 1.5 is outside \[0, 1\]"),
+        ("alphaCutoff", -0.1, r"alphaCutoff -0.1 is outside \[0, 1\]"),
+        ("alphaCutoff", math.nan, "alphaCutoff must be 1 finite numbers"),
+    ],
+)
+def test_bad_alpha_fields_are_refused(tmp_path, field, value, message):
+    doc = json.loads(rich_document().save(tmp_path / "base.gltf").read_text())
+    doc["materials"][0][field] = value
+    path = tmp_path / "bad.gltf"
+    path.write_text(json.dumps(doc, allow_nan=True))
+    with pytest.raises(GltfError, match=message):
+        bl.scenes.gltf(path)
+
+
+def test_blend_and_mask_materials_are_honoured(tmp_path):
+    scene = bl.scenes.gltf(rich_document().save(tmp_path / "base.gltf"))
+    blends = sorted((obj.material.blend, obj.material.alpha) for obj in scene.objects)
+    assert blends == [("blend", pytest.approx(0.8)), ("mask", pytest.approx(0.7))]
+    cutoffs = sorted(obj.material.alpha_cutoff for obj in scene.objects)
+    assert cutoffs == pytest.approx([0.4, 0.5])

@@ -18,6 +18,7 @@ from .methods import (
     render_steps,
 )
 from .motion import Bone, Keyframe, Motion, Skeleton, quaternion
+from .particles import Particle, particles
 from .scene import Camera, DirectionalLight, Material, Scene
 from .shutters import shutter
 from .sizes import DEFAULT_SIZE
@@ -47,6 +48,7 @@ __all__ = [
     "Material",
     "Mesh",
     "Motion",
+    "Particle",
     "PendingDownload",
     "Reference",
     "Scene",
@@ -65,6 +67,7 @@ __all__ = [
     "mesh",
     "method",
     "method_instant",
+    "particles",
     "methods",
     "quaternion",
     "recommend",

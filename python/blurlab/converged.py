@@ -13,7 +13,7 @@ import numpy as np
 
 from .blur_scales import scaled_scene
 from .frame import Frame
-from .render import check_shutter, check_size, render, render_targets
+from .render import check_fragment_capacity, check_shutter, check_size, render, render_targets
 from .sampling import shutter_samples
 from .scene import Scene
 from .sizes import DEFAULT_SIZE
@@ -131,17 +131,35 @@ def reference_render(
     # (glFinish), so there one timer spans the whole loop instead.
     per_subframe = not ctx.software
     timings = []
+    # Translucent surfaces (docs/spec.md §20): every sub-frame's fragment count is checked once,
+    # after the loop, so the loop never waits for the GPU.
+    most_fragments = ctx.pooled((1, 1), "uint32") if scene.translucent else None
+    if most_fragments is not None:
+        most_fragments.clear()
     with nullcontext() if per_subframe else ctx.timer() as whole, ctx.deferred_timers() as timers:
         sub_frame_timers = timers if per_subframe else False  # False: the pass runs untimed
         for i, t in enumerate(iterator):
             jitter = (0.0, 0.0) if positions is None else tuple(0.5 - positions[i])
             targets, _, timing = render_targets(
-                ctx, scene, size, shutter, float(t), guard, jitter, timers=sub_frame_timers
+                ctx,
+                scene,
+                size,
+                shutter,
+                float(t),
+                guard,
+                jitter,
+                timers=sub_frame_timers,
+                most_fragments=most_fragments,
             )
             with timers.timer() if per_subframe else nullcontext() as add:
                 accumulate(ctx, targets["color"], total, 1.0 / samples)
             ctx.recycle(*targets.values())
             timings += [timing, add]
+    if most_fragments is not None:
+        try:
+            check_fragment_capacity(most_fragments, scene)
+        finally:
+            ctx.recycle(most_fragments)
     if per_subframe:
         elapsed, clock = sum(timing.ms for timing in timings), timings[-1].clock
     else:

@@ -27,6 +27,13 @@ class Frame:
                (as it is when read) as constant velocity: f·M and (1 − f)·M, f the instant's
                place in the shutter.
 
+    opaque_color, translucent, translucent_motion, translucent_depth  scenes with translucent
+               surfaces (docs/spec.md §20): then `color` is the composite an engine shows and
+               depth, motion and object_id are the opaque layer's; these hold the opaque colour
+               (H, W, 4), the translucent layer apart as premultiplied colour Σ and coverage a
+               (H, W, 4), and its dominant fragment's motion (H, W, 2) and depth (H, W, +inf
+               where none). All four or none (opaque frames).
+
     Arrays of any real dtype are converted to float32. Non-finite values are kept as given;
     every method reads them as docs/reliability.md says (NaN color as 0, NaN or non-positive
     depth as far, NaN or infinite motion as none), so they never spread through a blur.
@@ -46,6 +53,10 @@ class Frame:
     scene: object = field(default=None, repr=False)  # the Scene a rendered frame came from
     motion_prev: np.ndarray | None = field(default=None, repr=False)
     motion_next: np.ndarray | None = field(default=None, repr=False)
+    opaque_color: np.ndarray | None = field(default=None, repr=False)
+    translucent: np.ndarray | None = field(default=None, repr=False)
+    translucent_motion: np.ndarray | None = field(default=None, repr=False)
+    translucent_depth: np.ndarray | None = field(default=None, repr=False)
     # Recorded dispatch plans of the methods run on this frame (blurlab.methods.plans), by
     # method, backend and given parameters: set by blur, never by a constructor or a copy.
     plans: dict = field(default_factory=dict, init=False, repr=False, compare=False)
@@ -80,6 +91,29 @@ class Frame:
         if not isinstance(self.motion_format, str) or self.motion_format not in MOTION_FORMATS:
             raise ValueError(f"blurlab: motion_format must be one of {MOTION_FORMATS}")
         self._two_sided_motion()
+        self._translucent_layer()
+
+    def _translucent_layer(self):
+        """docs/spec.md §20: checks the translucent layer's arrays (all four or none)."""
+        given = [getattr(self, name) is not None for name in TRANSLUCENT_LAYER]
+        if not any(given):
+            return
+        if not all(given):
+            raise ValueError(f"blurlab: give all of {TRANSLUCENT_LAYER}, or none")
+        h, w = self.color.shape[:2]
+        for name, channels in zip(TRANSLUCENT_LAYER, (4, 4, 2, 1), strict=True):
+            value = getattr(self, name)
+            if name == "translucent_depth" and isinstance(value, np.ndarray) and value.ndim == 2:
+                value = value[..., None]
+            value = _float_image(value, name, (channels,))
+            if value.shape[:2] != (h, w):
+                raise ValueError(f"blurlab: {name} has shape {value.shape}, color is {(h, w)}")
+            setattr(self, name, value[..., 0] if channels == 1 else value)
+
+    @property
+    def layered(self) -> bool:
+        """Whether the frame carries a translucent layer (docs/spec.md §20)."""
+        return self.translucent is not None
 
     def _two_sided_motion(self):
         """docs/spec.md §17.1: checks the given halves (both or neither)."""
@@ -144,6 +178,7 @@ class Frame:
 
 
 TWO_SIDED = ("motion_prev", "motion_next")
+TRANSLUCENT_LAYER = ("opaque_color", "translucent", "translucent_motion", "translucent_depth")
 
 
 def _two_sided_property(name: str) -> property:

@@ -15,6 +15,7 @@ from .blur_scales import scaled_scene
 from .frame import MOTION_FORMATS, Frame
 from .scene import Scene
 from .sizes import DEFAULT_SIZE
+from .translucency import check_fragment_capacity, translucent_layer
 
 INSTANTS = ("center", "close", "open")
 
@@ -134,6 +135,16 @@ def render(
         ctx, scene, size, shutter, time, guard, jitter, sides=True
     )
     timings = {"gbuffer": timing}
+    layers = {}
+    if "translucent" in targets:
+        check_fragment_capacity(targets["most_fragments"], scene)
+        motion_depth = targets["translucent_motion"].download()
+        layers = {
+            "opaque_color": targets["opaque_color"].download(),
+            "translucent": targets["translucent"].download(),
+            "translucent_motion": motion_depth[..., :2].copy(),
+            "translucent_depth": motion_depth[..., 2].copy(),
+        }
     if motion_format != "rg32f":
         exact = targets["motion"]
         targets["motion"], timings["motion_encoding"] = encode_motion(
@@ -152,6 +163,7 @@ def render(
         timings=timings,
         textures=targets,  # the GPU copies, so methods need not upload them again
         scene=scene,
+        **layers,
     )
     # The targets go back to the pool when the frame is freed: frame.textures live as long as
     # the frame does.
@@ -169,6 +181,7 @@ def render_targets(
     jitter=(0.0, 0.0),
     sides: bool = False,
     timers=None,
+    most_fragments=None,
 ):
     """Runs the G-buffer pass into pooled textures: (targets, camera matrices, Timing).
     `sides` adds the target "motion_sides": M_prev in RG, M_next in BA (docs/spec.md §17.1).
@@ -179,6 +192,10 @@ def render_targets(
     match), for methods whose taps leave the image ("Blurry things": guard band). `jitter`
     = (dx, dy) pixels moves the image content, so that the pixel centers show the points at
     (x + 0.5 - dx, y + 0.5 - dy) of the unjittered image (sub-pixel sample positions).
+
+    Scenes with translucent surfaces get the targets of `translucent_layer`; `most_fragments`
+    (a cleared 1 x 1 uint32 texture) collects their largest fragment count over several calls,
+    else each call adds its own as targets["most_fragments"].
     """
     if isinstance(guard, bool) or not isinstance(guard, int) or guard < 0:
         raise ValueError(f"blurlab: guard must be an integer >= 0 pixels, not {guard!r}")
@@ -197,7 +214,7 @@ def render_targets(
         "ambient": f32(scene.light.ambient),
         "background": f32(scene.background),
     }
-    draws = []
+    draws, layered = [], []
     for object_id, obj in enumerate(scene.objects):
         m = obj.material
         draw = _core.GBufferDraw()
@@ -206,14 +223,16 @@ def render_targets(
         if obj.skeleton is not None:
             draw.bones = f32([obj.skeleton.matrices(t) for t in times])
         draw.object_id = object_id
-        draw.material.color = f32(m.color)
+        draw.material.color = f32(m.color * (1.0, 1.0, 1.0, m.alpha))
+        draw.material.alpha_mode = getattr(_core.AlphaMode, m.blend)
+        draw.material.alpha_cutoff = float(m.alpha_cutoff)
         draw.material.emission = f32(m.radiance)
         draw.material.specular = float(m.specular)
         draw.material.shininess = float(m.shininess)
         draw.material.texture = ctx.gpu_material_texture(m)
         if m.hatch is not None:
             m.hatch.draw(ctx, draw.material.hatching)
-        draws.append(draw)
+        (layered if m.translucent else draws).append(draw)
     # Every target is fully overwritten (the background pass covers every pixel), so pooled
     # textures need no clearing.
     targets = {
@@ -233,6 +252,10 @@ def render_targets(
             draws,
             motion_sides=targets["motion_sides"].native if sides else None,
         )
+        if layered:
+            translucent_layer(
+                ctx, gbuffer, targets, camera_uniforms, light, layered, scene, most_fragments
+            )
     return targets, camera, timing
 
 

@@ -105,6 +105,25 @@ class DirectionalLight:
         self.ambient = _finite(self.ambient, "ambient", 3)
 
 
+# How a material's alpha is used (docs/spec.md §20).
+BLEND_MODES = ("opaque", "mask", "blend", "additive")
+TRANSLUCENT_MODES = ("blend", "additive")
+
+
+def _unit_interval(value, what: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise TypeError(f"blurlab: {what} must be a number in [0, 1], not {value!r}")
+    if not (math.isfinite(value) and 0.0 <= value <= 1.0):
+        raise ValueError(f"blurlab: {what} must be in [0, 1], not {value}")
+    return float(value)
+
+
+# Translucent fragments a pixel holds (Scene.max_layers): the default, and the most a
+# sort in one compute invocation is given (docs/spec.md §20).
+DEFAULT_LAYERS = 16
+MAX_LAYERS = 64
+
+
 # The brightest emission a material may have: 10^4 × a white surface, what the HDR scenes need
 # (headlights, sparks) with room to spare, and far inside float32.
 MAX_EMISSION_STRENGTH = 1.0e4
@@ -118,7 +137,12 @@ class Material:
 
     Emissive surfaces add the radiance `emission` × `emission_strength` (colour in [0, 1] per
     channel, strength in [0, 10^4]) to their shading, unclamped (docs/spec.md §12): headlights,
-    neon and sparks in HDR scenes."""
+    neon and sparks in HDR scenes.
+
+    Alpha (docs/spec.md §20) is ``alpha`` × the colour's fourth component × the texture's alpha
+    channel. ``blend``: "opaque" ignores it; "mask" keeps the surface where alpha ≥
+    ``alpha_cutoff`` and drops it elsewhere; "blend" composites it over what lies behind
+    (premultiplied over); "additive" adds alpha × its colour to what lies behind."""
 
     color: tuple = (0.8, 0.8, 0.8)
     texture: str | Path | np.ndarray | None = None
@@ -127,6 +151,14 @@ class Material:
     hatch: object = None  # a blurlab.hatching.Hatching, made by Material.hatching
     emission: tuple = (0.0, 0.0, 0.0)
     emission_strength: float = 0.0
+    alpha: float = 1.0
+    blend: str = "opaque"
+    alpha_cutoff: float = 0.5
+
+    @property
+    def translucent(self) -> bool:
+        """Whether the surface is drawn into the translucent layer (blend or additive)."""
+        return self.blend in TRANSLUCENT_MODES
 
     @classmethod
     def hatching(
@@ -174,6 +206,12 @@ class Material:
             raise ValueError(
                 f"blurlab: emission_strength must be in [0, {MAX_EMISSION_STRENGTH:g}], "
                 f"not {strength}"
+            )
+        self.alpha = _unit_interval(self.alpha, "material alpha")
+        self.alpha_cutoff = _unit_interval(self.alpha_cutoff, "material alpha_cutoff")
+        if not isinstance(self.blend, str) or self.blend not in BLEND_MODES:
+            raise ValueError(
+                f"blurlab: material blend must be one of {BLEND_MODES}, not {self.blend!r}"
             )
         if self.hatch is not None:
             if not isinstance(self.hatch, Hatching):
@@ -236,6 +274,9 @@ class Scene:
     source: Path | None = None  # the file a scene was loaded from (blurlab.gltf), for reports
     # How much of the camera's motion the shutter blurs, in [0, 1] (docs/spec.md §12.1).
     camera_motion_blur: float = 1.0
+    # Translucent fragments kept per pixel in front of the opaque surface (docs/spec.md §20);
+    # more raise OverflowError, never drop silently.
+    max_layers: int = DEFAULT_LAYERS
 
     @property
     def hdr(self) -> bool:
@@ -243,8 +284,18 @@ class Scene:
         that clipping to [0, 1] would lose, and sweeps add the HDR metrics (docs/hdr.md)."""
         return any(float(obj.material.radiance.max()) > 1.0 for obj in self.objects)
 
+    @property
+    def translucent(self) -> bool:
+        """Whether some object is drawn into the translucent layer (docs/spec.md §20)."""
+        return any(obj.material.translucent for obj in self.objects)
+
     def __post_init__(self):
         check_blur_scale(self.camera_motion_blur, "camera_motion_blur")
+        layers = self.max_layers
+        if isinstance(layers, bool) or not isinstance(layers, int) or not 1 <= layers <= MAX_LAYERS:
+            raise ValueError(
+                f"blurlab: scene max_layers must be an integer in 1..{MAX_LAYERS}, not {layers!r}"
+            )
         b = np.asarray(self.background, dtype=np.float64)
         self.background = _finite(np.append(b, 1.0) if b.shape == (3,) else b, "background", 4)
 

@@ -46,6 +46,32 @@ const int hatching = HATCHING;  // 0 none, 1 six_way, 2 threshold: one program e
 uniform float hatching_scale;
 layout(binding = 1) uniform sampler2D tam_low;   // six_way: tones 1–3; threshold: thresholds
 layout(binding = 2) uniform sampler2D tam_high;  // six_way: tones 4–6
+// Alpha (docs/spec.md §20): 0 opaque, 1 mask (discarded below alpha_cutoff), 2 blend, 3 additive.
+uniform int alpha_mode;
+uniform float alpha_cutoff;
+
+#if LAYERS
+// Fragment lists of translucent surfaces (docs/spec.md §20, src/passes/gbuffer.h): fragment k of
+// pixel (x, y) is stored at texel (x, y + k·H); the count includes fragments past the capacity.
+layout(binding = 0, r32ui) uniform coherent uimage2D fragment_counts;
+layout(binding = 1, rgba32f) uniform writeonly image2D fragment_surface;
+layout(binding = 2, rgba32f) uniform writeonly image2D fragment_motion;
+layout(binding = 3) uniform sampler2D opaque_depth;
+uniform int layer_capacity;
+
+// Appends this fragment unless the opaque surface hides it: premultiplied colour and coverage
+// (additive surfaces cover nothing), then depth, motion and the alpha mode.
+void append_fragment(vec4 color, float depth, vec2 motion) {
+    ivec2 p = ivec2(gl_FragCoord.xy);
+    if (!(depth < texelFetch(opaque_depth, p, 0).r)) return;
+    float alpha = clamp(color.a, 0.0, 1.0);
+    uint index = imageAtomicAdd(fragment_counts, p, 1u);
+    if (index >= uint(layer_capacity)) return;
+    ivec2 q = ivec2(p.x, p.y + int(index) * int(size.y));
+    imageStore(fragment_surface, q, vec4(color.rgb * alpha, alpha_mode == 3 ? 0.0 : alpha));
+    imageStore(fragment_motion, q, vec4(depth, motion, float(alpha_mode)));
+}
+#endif
 
 // Clip position -> pixel position, x right, y down (the projection has y flipped). w is the
 // point's view depth. A point closer than the near plane at t0 or t1 (or behind the eye) has no
@@ -78,6 +104,7 @@ void main() {
     }
     vec4 albedo = material_color;
     if (has_texture) albedo *= texture(albedo_map, surface.uv);
+    if (alpha_mode == 1 && albedo.a < alpha_cutoff) discard;
     vec3 n = normalize(surface.normal);
     vec3 v = normalize(eye - surface.world);
     if (dot(n, v) < 0.0) n = -n;  // two-sided: the inside of the teapot is lit too
@@ -109,4 +136,7 @@ void main() {
     // The surface point seen at this pixel center at the instant is at gl_FragCoord.xy then
     // (its instant clip position, divided): the two halves of its motion meet there.
     out_motion_sides = vec4(gl_FragCoord.xy - open, close - gl_FragCoord.xy);
+#if LAYERS
+    append_fragment(out_color, out_depth, out_motion);
+#endif
 }

@@ -145,8 +145,16 @@ void bind_passes(py::module_& m) {
       .def_readwrite("tam_low", &GBufferHatching::tam_low)
       .def_readwrite("tam_high", &GBufferHatching::tam_high);
 
+  py::enum_<AlphaMode>(m, "AlphaMode")
+      .value("opaque", AlphaMode::opaque)
+      .value("mask", AlphaMode::mask)
+      .value("blend", AlphaMode::blend)
+      .value("additive", AlphaMode::additive);
+
   py::class_<GBufferMaterial> material(m, "GBufferMaterial");
   material.def(py::init<>())
+      .def_readwrite("alpha_mode", &GBufferMaterial::alpha_mode)
+      .def_readwrite("alpha_cutoff", &GBufferMaterial::alpha_cutoff)
       .def_readwrite("specular", &GBufferMaterial::specular)
       .def_readwrite("shininess", &GBufferMaterial::shininess)
       .def_readwrite("texture", &GBufferMaterial::texture)
@@ -188,7 +196,9 @@ void bind_passes(py::module_& m) {
           [](GBufferPass& pass, std::shared_ptr<Texture> color, std::shared_ptr<Texture> depth,
              std::shared_ptr<Texture> motion, std::shared_ptr<Texture> object_id,
              const py::dict& camera, const py::dict& light, const std::vector<GBufferDraw>& draws,
-             std::shared_ptr<Texture> motion_sides) {
+             std::shared_ptr<Texture> motion_sides, std::shared_ptr<Texture> fragment_counts,
+             std::shared_ptr<Texture> fragment_surface, std::shared_ptr<Texture> fragment_motion,
+             std::shared_ptr<Texture> opaque_depth) {
             GBufferCamera c;
             copy_floats(&c.view_projection[0][0], camera["view_projection"].cast<Floats>(), 48,
                         "view_projection");
@@ -203,11 +213,15 @@ void bind_passes(py::module_& m) {
             copy_floats(l.color, light["color"].cast<Floats>(), 3, "light color");
             copy_floats(l.ambient, light["ambient"].cast<Floats>(), 3, "ambient");
             copy_floats(l.background, light["background"].cast<Floats>(), 4, "background");
-            pass.render({color, depth, motion, object_id, motion_sides}, c, l, draws);
+            pass.render({color, depth, motion, object_id, motion_sides, fragment_counts,
+                         fragment_surface, fragment_motion, opaque_depth},
+                        c, l, draws);
           },
           py::arg("color"), py::arg("depth"), py::arg("motion"), py::arg("object_id"),
           py::arg("camera"), py::arg("light"), py::arg("draws"),
-          py::arg("motion_sides") = py::none());
+          py::arg("motion_sides") = py::none(), py::arg("fragment_counts") = py::none(),
+          py::arg("fragment_surface") = py::none(), py::arg("fragment_motion") = py::none(),
+          py::arg("opaque_depth") = py::none());
 
   py::class_<PostProcessPass, std::shared_ptr<PostProcessPass>>(m, "PostProcessPass");
 

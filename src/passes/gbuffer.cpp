@@ -28,15 +28,16 @@ GBufferPass::~GBufferPass() {
   });
 }
 
-const GBufferPass::Variant& GBufferPass::variant(GBufferHatching::Scheme scheme) {
+const GBufferPass::Variant& GBufferPass::variant(GBufferHatching::Scheme scheme, bool layers) {
   // Python can make the enum from any int.
   if (scheme < GBufferHatching::Scheme::none || scheme > GBufferHatching::Scheme::threshold)
     throw std::invalid_argument(
         "blurlab: a draw's hatching scheme is not a GBufferHatching.Scheme");
-  Variant& made = variants_[static_cast<int>(scheme)];
+  Variant& made = variants_[layers ? 1 : 0][static_cast<int>(scheme)];
   if (made.program) return made;
   made.program = Program::graphics(context_, "passes/gbuffer.vert", "passes/gbuffer.frag",
-                                   {{"HATCHING", std::to_string(static_cast<int>(scheme))}});
+                                   {{"HATCHING", std::to_string(static_cast<int>(scheme))},
+                                    {"LAYERS", layers ? "1" : "0"}});
   const GLuint id = made.program->id();
   made.locations.view_projection = glGetUniformLocation(id, "view_projection");
   made.locations.sky_from_clip = glGetUniformLocation(id, "sky_from_clip");
@@ -58,6 +59,9 @@ const GBufferPass::Variant& GBufferPass::variant(GBufferHatching::Scheme scheme)
   made.locations.has_texture = glGetUniformLocation(id, "has_texture");
   made.locations.object_id = glGetUniformLocation(id, "object_id");
   made.locations.hatching_scale = glGetUniformLocation(id, "hatching_scale");
+  made.locations.alpha_mode = glGetUniformLocation(id, "alpha_mode");
+  made.locations.alpha_cutoff = glGetUniformLocation(id, "alpha_cutoff");
+  made.locations.layer_capacity = glGetUniformLocation(id, "layer_capacity");
   return made;
 }
 
@@ -116,6 +120,26 @@ void GBufferPass::render(const GBufferTargets& targets, const GBufferCamera& cam
   const Texture* sides = targets.motion_sides.get();
   if (sides && (sides->width() != width || sides->height() != height))
     throw std::invalid_argument("blurlab: G-buffer targets differ in size");
+  const Texture* lists[4] = {targets.fragment_counts.get(), targets.fragment_surface.get(),
+                             targets.fragment_motion.get(), targets.opaque_depth.get()};
+  const bool layers = lists[0] != nullptr;
+  int capacity = 0;
+  if (layers) {
+    for (const Texture* t : lists)
+      if (!t) throw std::invalid_argument("blurlab: fragment lists need all four of their targets");
+    capacity = lists[1]->height() / height;
+    if (lists[0]->width() != width || lists[0]->height() != height ||
+        lists[3]->width() != width || lists[3]->height() != height || capacity < 1 ||
+        lists[1]->width() != width || lists[1]->height() != capacity * height ||
+        lists[2]->width() != width || lists[2]->height() != capacity * height)
+      throw std::invalid_argument(
+          "blurlab: fragment lists must be W x H (counts, opaque depth) and W x kH (fragments)");
+    if (lists[0]->format().internal != GL_R32UI || lists[1]->format().internal != GL_RGBA32F ||
+        lists[2]->format().internal != GL_RGBA32F || lists[3]->format().internal != GL_R32F)
+      throw std::invalid_argument(
+          "blurlab: fragment lists need (H, W) uint32 counts, (kH, W, 4) float32 fragments and "
+          "(H, W) float32 opaque depth");
+  }
 
   context_->make_current();
   resize_depth(width, height);
@@ -142,20 +166,37 @@ void GBufferPass::render(const GBufferTargets& targets, const GBufferCamera& cam
   glDepthMask(GL_TRUE);
   glClearDepth(1.0);
   glClear(GL_DEPTH_BUFFER_BIT);
+  if (layers) {
+    // Fragment lists: every fragment of every draw reaches the shader, whatever the order of
+    // the draws; the shader tests it against the opaque depth itself.
+    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    glDepthMask(GL_FALSE);
+    glBindImageTexture(0, lists[0]->id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
+    glBindImageTexture(1, lists[1]->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glBindImageTexture(2, lists[2]->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glBindTextureUnit(3, lists[3]->id());
+  }
 
   // Each variant a draw uses gets this frame's uniforms once, when the first draw needs it.
   bool framed[3] = {false, false, false};
   auto use = [&](GBufferHatching::Scheme scheme) -> const Variant& {
-    const Variant& chosen = variant(scheme);
+    const Variant& chosen = variant(scheme, layers);
     const int index = static_cast<int>(scheme);
-    if (!framed[index]) set_frame_uniforms(chosen, camera, light, width, height);
+    if (!framed[index]) {
+      set_frame_uniforms(chosen, camera, light, width, height);
+      if (layers) glProgramUniform1i(chosen.program->id(), chosen.locations.layer_capacity, capacity);
+    }
     framed[index] = true;
     glUseProgram(chosen.program->id());
     return chosen;
   };
 
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
+  if (layers) {
+    glDisable(GL_DEPTH_TEST);
+  } else {
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+  }
   for (const GBufferDraw& draw : draws) {
     if (!draw.mesh) throw std::invalid_argument("blurlab: a draw has no mesh");
     const size_t bone_floats = size_t(draw.bone_count) * 3 * 16;
@@ -188,6 +229,8 @@ void GBufferPass::render(const GBufferTargets& targets, const GBufferCamera& cam
     glProgramUniform1f(id, at.material_shininess, draw.material.shininess);
     glProgramUniform1i(id, at.has_texture, draw.material.texture ? 1 : 0);
     glProgramUniform1i(id, at.object_id, draw.object_id);
+    glProgramUniform1i(id, at.alpha_mode, static_cast<int>(draw.material.alpha_mode));
+    glProgramUniform1f(id, at.alpha_cutoff, draw.material.alpha_cutoff);
     if (draw.material.texture) glBindTextureUnit(0, draw.material.texture->id());
     if (hatching.scheme != GBufferHatching::Scheme::none) {
       const bool six_way = hatching.scheme == GBufferHatching::Scheme::six_way;
@@ -199,7 +242,9 @@ void GBufferPass::render(const GBufferTargets& targets, const GBufferCamera& cam
     glProgramUniform1f(id, at.hatching_scale, hatching.scale);
     draw.mesh->draw();
   }
-  draw_background(use(GBufferHatching::Scheme::none));
+  if (!layers) draw_background(use(GBufferHatching::Scheme::none));
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glDepthMask(GL_TRUE);
   glBindVertexArray(0);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   glMemoryBarrier(GL_ALL_BARRIER_BITS);

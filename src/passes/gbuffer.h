@@ -55,8 +55,14 @@ struct GBufferHatching {
   std::shared_ptr<Texture> tam_high;  // six_way: tones 4–6 in RGB; threshold: unused
 };
 
+// How a material's alpha is used (docs/spec.md §20): opaque ignores it; mask discards fragments
+// with alpha < cutoff; blend and additive are translucent, drawn only into fragment lists.
+enum class AlphaMode { opaque = 0, mask = 1, blend = 2, additive = 3 };
+
 struct GBufferMaterial {
   float color[4] = {1, 1, 1, 1};
+  AlphaMode alpha_mode = AlphaMode::opaque;
+  float alpha_cutoff = 0.5f;
   float emission[3] = {0, 0, 0};  // emitted radiance (colour x strength), added unclamped
   float specular = 0.0f;
   float shininess = 32.0f;
@@ -76,6 +82,13 @@ struct GBufferDraw {
 struct GBufferTargets {
   std::shared_ptr<Texture> color, depth, motion, object_id;
   std::shared_ptr<Texture> motion_sides;  // optional: two-sided motion (docs/spec.md §17.1)
+  // Optional, all or none: per-pixel fragment lists of translucent surfaces (docs/spec.md §20).
+  // Given, the pass writes no colour, depth or motion target and draws no background: each
+  // fragment nearer than `opaque_depth` (R32F, linear) is appended to its pixel's list. Fragment
+  // k of pixel (x, y) goes to texel (x, y + k·H) of `fragment_surface` (premultiplied colour,
+  // coverage) and `fragment_motion` (depth, motion, alpha mode); `fragment_counts` (R32UI,
+  // cleared by the caller) counts every fragment, those past the capacity too.
+  std::shared_ptr<Texture> fragment_counts, fragment_surface, fragment_motion, opaque_depth;
 };
 
 class GBufferPass {
@@ -94,21 +107,22 @@ class GBufferPass {
     GLint view_projection, sky_from_clip, sky_projection, eye, near, size, light_direction,
         light_color, ambient, background_color, background, model, bone_count, material_color,
         material_emission, material_specular, material_shininess, has_texture, object_id,
-        hatching_scale;
+        hatching_scale, alpha_mode, alpha_cutoff, layer_capacity;
   };
-  // One program per hatching scheme (HATCHING = 0, 1, 2), each with only its scheme's code:
-  // llvmpipe runs every branch of a shader, taken or not. Built on first use.
+  // One program per hatching scheme (HATCHING = 0, 1, 2) and target (LAYERS = 0: the G-buffer,
+  // 1: fragment lists), each with only its own code: llvmpipe runs every branch of a shader,
+  // taken or not. Built on first use.
   struct Variant {
     std::shared_ptr<Program> program;
     Locations locations{};
   };
-  const Variant& variant(GBufferHatching::Scheme scheme);
+  const Variant& variant(GBufferHatching::Scheme scheme, bool layers = false);
   void resize_depth(int width, int height);
   void set_frame_uniforms(const Variant& variant, const GBufferCamera& camera,
                           const GBufferLight& light, int width, int height);
   void draw_background(const Variant& variant);
   std::shared_ptr<Context> context_;
-  Variant variants_[3];
+  Variant variants_[2][3];
   std::unique_ptr<Buffer> bones_;
   size_t bones_capacity_ = 0;
   GLuint framebuffer_ = 0, depth_buffer_ = 0, empty_vao_ = 0;

@@ -155,6 +155,7 @@ def export(scene: Scene, size, shutter, keys: int) -> tuple[dict, dict]:
         if texture is not None:
             arrays[f"texture{i}"] = texture.astype(np.float32)
             arrays[f"uvs{i}"] = obj.mesh.uvs
+        m = obj.material
         objects.append(
             {
                 "name": f"{i:03d}_{obj.name}",
@@ -162,6 +163,12 @@ def export(scene: Scene, size, shutter, keys: int) -> tuple[dict, dict]:
                 "diffuse": albedo.tolist(),
                 "textured": texture is not None,
                 "skinned": obj.skeleton is not None,
+                # docs/spec.md §20.1: alpha (× the texture's, in Blender's nodes), blend mode
+                # and cutoff; the emitted radiance, added untextured as blurlab adds it.
+                "radiance": m.radiance.tolist(),
+                "alpha": float(m.alpha * m.color[3]),
+                "blend": m.blend,
+                "alpha_cutoff": float(m.alpha_cutoff),
             }
         )
     arrays["camera"] = np.stack([Y_UP_TO_Z_UP @ camera.world(t) for t in times])
@@ -183,6 +190,10 @@ def export(scene: Scene, size, shutter, keys: int) -> tuple[dict, dict]:
             "strength": math.pi * strength,
         },
         "background": [float(v) for v in scene.background[:3]],
+        # Every translucent or masked surface a camera ray passes is one transparent bounce.
+        "transparent_bounces": 0
+        if all(obj.material.blend == "opaque" for obj in scene.objects)
+        else 2 * scene.max_layers + 2,
     }
     return description, arrays
 
@@ -271,30 +282,85 @@ def render(
         instant=None if instant is None else float(instant),
         passes=passes is not None,
     )
-    with tempfile.TemporaryDirectory(prefix="blurlab blender ") as folder:
-        folder = Path(folder)
-        (folder / "job.json").write_text(json.dumps(description))
-        np.savez(folder / "arrays.npz", **arrays)
-        started = time.perf_counter()
-        log = run_child(Path(python), folder, timeout)
-        wall = time.perf_counter() - started
-        result_file, image = folder / "result.json", folder / "render.exr"
-        if not (result_file.is_file() and image.is_file()):
-            raise BlenderError(f"blurlab.blender: Blender wrote no image.\n{tail(log)}")
-        result = json.loads(result_file.read_text())
+
+    def read(image: Path) -> np.ndarray:
         if passes is None:
-            color = io.read(image).astype(np.float32)
-        else:  # the caller's file is whole or absent: copied only once Blender has finished
-            partial = Path(passes).with_name(Path(passes).name + ".partial")
-            shutil.copyfile(image, partial)
-            os.replace(partial, passes)
-            color = capture.read_exr(passes, convention="blender")["color"]
+            return io.read(image).astype(np.float32)
+        # The caller's file is whole or absent: copied only once Blender has finished.
+        partial = Path(passes).with_name(Path(passes).name + ".partial")
+        shutil.copyfile(image, partial)
+        os.replace(partial, passes)
+        return capture.read_exr(passes, convention="blender")["color"]
+
+    color, result, wall, log = run_job(Path(python), description, arrays, timeout, read)
     if color.shape != (height, width, 4):
         raise BlenderError(f"blurlab.blender: Blender wrote a {color.shape} image.\n{tail(log)}")
     settings = result["settings"]
     if engine_name == "CYCLES" and instant is None:
         settings["shutter_spanned"] = cycles_shutter(shutter)  # what the image integrates
     return BlenderRender(color, settings, wall, result["render_s"], result["device"], log)
+
+
+def run_job(python: Path, description: dict, arrays: dict, timeout: float, read):
+    """Writes the job into a temporary folder, runs child.py on it and returns (read(the
+    rendered EXR's path), child.py's result, wall seconds, its log)."""
+    with tempfile.TemporaryDirectory(prefix="blurlab blender ") as folder:
+        folder = Path(folder)
+        (folder / "job.json").write_text(json.dumps(description))
+        np.savez(folder / "arrays.npz", **arrays)
+        started = time.perf_counter()
+        log = run_child(python, folder, timeout)
+        wall = time.perf_counter() - started
+        result_file, image = folder / "result.json", folder / "render.exr"
+        if not (result_file.is_file() and image.is_file()):
+            raise BlenderError(f"blurlab.blender: Blender wrote no image.\n{tail(log)}")
+        return read(image), json.loads(result_file.read_text()), wall, log
+
+
+def render_gltf(
+    path: str | os.PathLike,
+    size=DEFAULT_SIZE,
+    samples: int = 128,
+    seed: int = 0,
+    background=(0.0, 0.0, 0.0),
+    timeout: float = 1800.0,
+    python: str | os.PathLike | None = None,
+) -> BlenderRender:
+    """A glTF file as Blender imports it (its own glTF importer: materials, alpha modes,
+    cameras), rendered still by Cycles through the file's first camera with the same settings
+    as `render` (box filter, no bounces beyond the transparent ones). `background`: linear RGB
+    seen by camera rays only. The cross-check of docs/spec.md §15 and §20.1."""
+    width, height = check_size(size, MAX_SIZE)
+    path = Path(path)
+    if not path.is_file():
+        raise FileNotFoundError(f"blurlab.blender: no glTF file {str(path)!r}")
+    if isinstance(samples, bool) or not isinstance(samples, int) or not 1 <= samples <= 1 << 20:
+        raise ValueError(f"blurlab.blender: samples must be an integer in 1..2^20, not {samples!r}")
+    if python is None:
+        if not available():
+            raise ImportError(INSTALL)
+        python = sys.executable
+    description = {
+        "gltf": str(path.resolve()),
+        "size": [width, height],
+        "shutter": [0.0, 1.0],
+        "keys": 1,
+        "objects": [],
+        "sun": None,
+        "background": [float(v) for v in background][:3],
+        "transparent_bounces": 64,
+        "engine": "CYCLES",
+        "samples": samples,
+        "steps": 1,
+        "seed": seed,
+        "instant": 0.0,
+        "passes": False,
+    }
+    read = lambda image: io.read(image).astype(np.float32)  # noqa: E731
+    color, result, wall, log = run_job(Path(python), description, {}, timeout, read)
+    if color.shape != (height, width, 4):
+        raise BlenderError(f"blurlab.blender: Blender wrote a {color.shape} image.\n{tail(log)}")
+    return BlenderRender(color, result["settings"], wall, result["render_s"], result["device"], log)
 
 
 def run_child(python: Path, folder: Path, timeout: float) -> str:

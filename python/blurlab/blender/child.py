@@ -25,6 +25,11 @@ def main(folder: Path) -> None:
     frames = [1.0 + k / keys for k in range(keys + 1)]  # one frame = the shutter
     configure(bpy, scene, job)
     world(bpy, scene, job["background"])
+    if "gltf" in job:  # the file as Blender's own importer makes it, through its camera
+        bpy.ops.import_scene.gltf(filepath=job["gltf"])
+        scene.camera = next(o for o in scene.objects if o.type == "CAMERA")
+        finish(bpy, scene, job, folder)
+        return
     camera = camera_object(bpy, job)
     scene.collection.objects.link(camera)
     scene.camera = camera
@@ -49,6 +54,11 @@ def main(folder: Path) -> None:
         scene.frame_set(int(math.floor(frame)), subframe=frame - math.floor(frame))
     if job["passes"]:
         passes(scene)
+    finish(bpy, scene, job, folder)
+
+
+def finish(bpy, scene, job, folder: Path) -> None:
+    """Renders the scene into render.exr and writes result.json."""
     scene.render.filepath = str(folder / "render.exr")
     started = time.perf_counter()
     bpy.ops.render.render(write_still=True)
@@ -90,6 +100,7 @@ def configure(bpy, scene, job) -> None:
         cycles.max_bounces = 0
         for bounce in ("diffuse", "glossy", "transmission", "volume", "transparent_max"):
             setattr(cycles, f"{bounce}_bounces", 0)
+        cycles.transparent_max_bounces = job.get("transparent_bounces", 0)
         cycles.pixel_filter_type = "BOX"
         cycles.filter_width = 1.0
         cycles.seed = job["seed"]
@@ -209,6 +220,7 @@ def image(bpy, name, rgba):
     height, width = rgba.shape[:2]
     result = bpy.data.images.new(name, width, height, alpha=True, float_buffer=True)
     result.colorspace_settings.name = "Linear Rec.709"
+    result.alpha_mode = "CHANNEL_PACKED"  # colour and alpha apart: neither scales the other
     result.pixels.foreach_set(np.ascontiguousarray(rgba, dtype=np.float32).ravel())
     result.update()
     return result
@@ -246,9 +258,57 @@ def material(bpy, description, texture=None):
     add = nodes.new("ShaderNodeAddShader")
     links.new(emission.outputs["Emission"], add.inputs[0])
     links.new(diffuse.outputs["BSDF"], add.inputs[1])
+    shaded = add.outputs["Shader"]
+    if any(v > 0 for v in description.get("radiance", (0, 0, 0))):
+        glow = nodes.new("ShaderNodeEmission")
+        glow.inputs["Color"].default_value = (*description["radiance"], 1.0)
+        glow.inputs["Strength"].default_value = 1.0
+        lit = nodes.new("ShaderNodeAddShader")
+        links.new(shaded, lit.inputs[0])
+        links.new(glow.outputs["Emission"], lit.inputs[1])
+        shaded = lit.outputs["Shader"]
     output = nodes.new("ShaderNodeOutputMaterial")
-    links.new(add.outputs["Shader"], output.inputs["Surface"])
+    links.new(alpha_blend(nodes, links, description, shaded, texture), output.inputs["Surface"])
     return mat
+
+
+def alpha_blend(nodes, links, description, shaded, texture):
+    """docs/spec.md §20.1 as shader mixes: mask keeps the surface where alpha >= cutoff and is
+    transparent elsewhere; blend mixes it with a transparent BSDF by alpha; additive adds
+    alpha x the surface to a white transparent BSDF. Alpha = the material's x the texture's."""
+    blend = description.get("blend", "opaque")
+    if blend == "opaque":
+        return shaded
+    alpha = nodes.new("ShaderNodeMath")
+    alpha.operation = "MULTIPLY"
+    alpha.inputs[0].default_value = description["alpha"]
+    alpha.inputs[1].default_value = 1.0
+    if texture is not None:
+        sampled = next(n for n in nodes if n.bl_idname == "ShaderNodeTexImage")
+        links.new(sampled.outputs["Alpha"], alpha.inputs[1])
+    factor = alpha.outputs["Value"]
+    if blend == "mask":
+        kept = nodes.new("ShaderNodeMath")
+        kept.operation = "GREATER_THAN"  # alpha > cutoff - 1e-7: alpha >= cutoff in float32
+        links.new(factor, kept.inputs[0])
+        kept.inputs[1].default_value = description["alpha_cutoff"] - 1e-7
+        factor = kept.outputs["Value"]
+    clear = nodes.new("ShaderNodeBsdfTransparent")
+    clear.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
+    mix = nodes.new("ShaderNodeMixShader")
+    links.new(factor, mix.inputs["Fac"])
+    if blend == "additive":  # alpha x surface, then added to what lies behind
+        black = nodes.new("ShaderNodeEmission")
+        black.inputs["Strength"].default_value = 0.0
+        links.new(black.outputs["Emission"], mix.inputs[1])
+        links.new(shaded, mix.inputs[2])
+        add = nodes.new("ShaderNodeAddShader")
+        links.new(clear.outputs["BSDF"], add.inputs[0])
+        links.new(mix.outputs["Shader"], add.inputs[1])
+        return add.outputs["Shader"]
+    links.new(clear.outputs["BSDF"], mix.inputs[1])
+    links.new(shaded, mix.inputs[2])
+    return mix.outputs["Shader"]
 
 
 def sun(bpy, description):

@@ -54,7 +54,50 @@ def backdrop(position):
     return Motion.static(position, rotation=quaternion((1, 0, 0), np.pi / 2))
 
 
+def glass_scene() -> Scene:
+    """A tinted pane (blend) and a small additive square crossing over a still backdrop:
+    translucency as Cycles' transparent-BSDF mixes draw it (docs/spec.md §20.1)."""
+    camera = Camera((0.0, 0.0, 5.0), (0, 0, 0), fov_y=40)
+    scene = Scene(camera, UNLIT, background=(0.05, 0.05, 0.1, 1), shutter=(0, 0.5), name="glass")
+    scene.add(mesh.plane(3.0, 1.6), Material((0.3, 0.5, 0.8)), backdrop((0, -0.1, -1.0)))
+    pane = Material((0.9, 0.6, 0.2), alpha=0.4, blend="blend")
+    scene.add(mesh.plane(0.8, 0.8), pane, facing_motion((-0.8, 0, 0), (2.4, 0, 0)), name="pane")
+    glow = Material((0.2, 0.9, 0.3), alpha=0.6, blend="additive")
+    scene.add(mesh.plane(0.3, 0.3), glow, facing_motion((0.6, -0.3, 0.5), (-1.5, 1.0, 0)))
+    return scene
+
+
+def particles_scene() -> Scene:
+    """Soft round particles (alpha from a texture), blended and additive, drifting over a still
+    backdrop."""
+    from ..particles import Particle, particles  # noqa: PLC0415 (particles imports scene)
+
+    camera = Camera((0.0, 0.0, 5.0), (0, 0, 0), fov_y=40)
+    scene = Scene(camera, UNLIT, background=(0.05, 0.05, 0.1, 1), shutter=(0, 0.5), name="puffs")
+    scene.add(mesh.plane(3.0, 1.6), Material((0.6, 0.3, 0.3)), backdrop((0, -0.1, -1.0)))
+    puffs = [
+        Particle(
+            (-0.9 + 0.45 * i, 0.1 * (i % 3) - 0.1, 0.2 * i),
+            velocity=(0.8, 0.4, 0),
+            size=0.7,
+            color=(0.8, 0.8, 0.85),
+            alpha=0.5,
+            blend="additive" if i % 2 else "blend",
+        )
+        for i in range(5)
+    ]
+    particles(scene, puffs, "puff")
+    return scene
+
+
+def facing_motion(start, velocity) -> Motion:
+    """A plane (mesh.plane lies in xz) turned to face +z, moving linearly."""
+    return Motion.linear(start, velocity, rotation=quaternion((1, 0, 0), np.pi / 2))
+
+
 SCENES = {"box": box_scene, "occluder": occluder_scene, "sphere_camera": sphere_camera_scene}
+# Translucent scenes whose Cycles ground truth the transparency_cycles benchmark compares.
+TRANSLUCENT_SCENES = {"glass": glass_scene, "puffs": particles_scene}
 TRACKED = {"box": "box", "occluder": "bar", "sphere_camera": "sphere"}
 
 

@@ -45,8 +45,9 @@ def read_material(file: GltfFile, index, cache: dict) -> Material:
             f"material {index}: emission {emission.tolist()} x {strength} is outside colour "
             f"[0, 1] x strength [0, {MAX_EMISSION_STRENGTH:g}]"
         )
-    if m.alphaMode not in (None, "OPAQUE"):
-        file.ignored.add(f"alphaMode {m.alphaMode}")
+    blend, cutoff = alpha_mode(file, m, index)
+    if not 0.0 <= color[3] <= 1.0:
+        file.fail(f"material {index}: baseColorFactor alpha {color[3]} is outside [0, 1]")
     if extensions:
         file.ignored.add("material extensions " + ", ".join(sorted(extensions)))
     lit = bool(np.any(emission > 0))
@@ -55,8 +56,29 @@ def read_material(file: GltfFile, index, cache: dict) -> Material:
         texture=texture,
         emission=tuple(float(e) for e in emission),
         emission_strength=float(strength) if lit else 0.0,
+        alpha=float(color[3]) if blend != "opaque" else 1.0,
+        blend=blend,
+        alpha_cutoff=cutoff,
     )
     return cache[index]
+
+
+# glTF's alphaMode as blurlab's Material.blend (docs/spec.md §15, §20).
+ALPHA_MODES = {"OPAQUE": "opaque", "MASK": "mask", "BLEND": "blend"}
+
+
+def alpha_mode(file: GltfFile, material, index: int) -> tuple[str, float]:
+    """(blend, alpha_cutoff) of a glTF material: alphaMode (default OPAQUE) and alphaCutoff
+    (default 0.5, MASK only), checked."""
+    mode = material.alphaMode if material.alphaMode is not None else "OPAQUE"
+    if not isinstance(mode, str) or mode not in ALPHA_MODES:
+        file.fail(f"material {index}: alphaMode {mode!r} is not one of {sorted(ALPHA_MODES)}")
+    cutoff = 0.5
+    if material.alphaCutoff is not None:
+        cutoff = file.floats([material.alphaCutoff], f"material {index} alphaCutoff", 1)[0]
+        if not 0.0 <= cutoff <= 1.0:
+            file.fail(f"material {index}: alphaCutoff {cutoff} is outside [0, 1]")
+    return ALPHA_MODES[mode], float(cutoff)
 
 
 def base_color_texture(file: GltfFile, info, material: int) -> np.ndarray:

@@ -22,7 +22,7 @@ from ..converged import accumulate
 from ..frame import Frame
 from ..render import check_shutter, instant_time
 from ..sizes import DEFAULT_SIZE
-from . import plans
+from . import layers, plans
 from .params import (
     FLOAT32_MAX,
     PARAM_SCALE_MAX,
@@ -126,17 +126,45 @@ class BlurResult:
 
 
 def blur(
-    ctx: Context, frame: Frame, name: str, backend: str | None = None, timed: bool = True, **params
+    ctx: Context,
+    frame: Frame,
+    name: str,
+    backend: str | None = None,
+    timed: bool = True,
+    translucency: str = layers.TRANSLUCENCY.default,
+    motion_coverage: float = layers.MOTION_COVERAGE.default,
+    layer_filter: str = layers.LAYER_FILTER.default,
+    **params,
 ) -> BlurResult:
     """Runs method `name` on `frame` (rendered, or built from your arrays) with `params`
     (unknown names are an error); returns a BlurResult. `timed=False` skips the per-pass
     timers (their waits for the GPU), for sweeps that only want the error; an untimed call
     made a third time on the same frame with the same parameters replays a plan recorded by
-    the second (docs/spec.md §18), same bits at a fraction of the CPU cost."""
+    the second (docs/spec.md §18), same bits at a fraction of the CPU cost.
+
+    `translucency` ("composite", "composite_motion", "unblurred", "layered"), `motion_coverage`
+    and `layer_filter` choose how a frame's translucent layer is blurred (docs/spec.md §20.4,
+    blurlab.methods.layers); frames without one are blurred as they are, and so are frames given
+    to methods that render their own sub-frames (accumulation, stochastic), which draw every
+    sub-frame's translucent surfaces as the reference does."""
     if not isinstance(ctx, Context):
         raise TypeError(f"blurlab: blur needs a blurlab Context, not {type(ctx).__name__}")
     if not isinstance(frame, Frame):
         raise TypeError(f"blurlab: blur needs a blurlab Frame, not {type(frame).__name__}")
+    options = layers.checked(
+        name,
+        translucency=translucency,
+        motion_coverage=motion_coverage,
+        layer_filter=layer_filter,
+    )
+    if frame.layered and options["translucency"] != "composite" and not method(name).renders:
+
+        def blur_layer(layer: Frame, method_name: str) -> BlurResult:
+            if method_name == name:  # the call's method, backend and parameters
+                return blur(ctx, layer, name, backend, timed, **params)
+            return blur(ctx, layer, method_name, timed=timed)
+
+        return layers.blur_layers(ctx, frame, name, **options, blur=blur_layer)
     planned = not timed and plans.enabled()
     if planned:
         replayed = _replay(ctx, frame, name, backend, params)
@@ -281,7 +309,8 @@ def render_steps(
     instant method `name` expects within it, its motion over the sub-interval."""
     steps = check_steps(name, steps)
     shutter = check_shutter(scene.shutter if shutter is None else shutter)
-    instant = method_instant(name, params)
+    method_params = {k: v for k, v in params.items() if k not in layers.LAYER_PARAMS}
+    instant = method_instant(name, method_params)
     scene = scaled_scene(scene, shutter)  # every step pivots on the whole shutter's centre
     return [ctx.render(scene, size, sub, instant=instant) for sub in step_shutters(shutter, steps)]
 

@@ -1,7 +1,8 @@
 """The failure-case suite: every single-frame method on every failure scene (bl.scenes.names
-("failure")), measured for error against the reference, NaN/Inf, colors outside the input
-range, flicker over an animation, the jitter's noise, and sensitivity to k and soft_z.
-docs/failure_cases.md explains each failure with these numbers."""
+("failure"), and the transparency cases of bl.scenes.names("transparency")), measured for error
+against the reference, NaN/Inf, colors outside the input range, flicker over an animation, the
+jitter's noise, and sensitivity to k and soft_z. docs/failure_cases.md explains each failure
+with these numbers."""
 
 from __future__ import annotations
 
@@ -50,7 +51,7 @@ def evaluate(
 ) -> pd.DataFrame:
     """One row per (failure scene, method) at the method's default parameters; HDR scenes
     (bl.scenes.names("hdr") may be given too) get the HDR metrics as well."""
-    scene_names = list(scene_names or scenes.names("failure"))
+    scene_names = list(scene_names or scenes.names("failure") + scenes.names("transparency"))
     methods = list(methods or sweep_methods())
     rows = []
     bar = None

@@ -1,0 +1,177 @@
+"""The four ways to blur translucent surfaces (docs/spec.md §20.4), for every method: one
+framework-level option of ``blur`` and ``render_and_blur``, ``translucency``, and its threshold
+``motion_coverage``, declared here once.
+
+- "composite": blur the composite an engine shows, with the opaque layer's motion (engines'
+  default). The plain blur of the frame, bit for bit.
+- "composite_motion": the same, but where the translucent layer's coverage reaches
+  `motion_coverage` its dominant fragment writes its own motion and depth (HDRP's option).
+- "unblurred": blur the opaque layer, then composite the translucent layer over it unblurred
+  (Unreal's order).
+- "layered": blur the opaque layer and the translucent (Σ, a) layer each with its own motion,
+  then out = Σ′ + (1 − a′)·opaque′.
+
+Frames without a translucent layer (opaque scenes, or frames built from arrays without one) are
+blurred as they are under every option, and so is every frame given to a method that renders
+its own sub-frames (accumulation, stochastic): each of its sub-frames is composited exactly.
+"""
+
+from __future__ import annotations
+
+import weakref
+
+import numpy as np
+
+from ..context import Context
+from ..frame import Frame
+from .params import Param, typed
+from .passes import timed
+
+TRANSLUCENCY = Param(
+    "composite",
+    ("composite", "composite_motion", "unblurred", "layered"),
+    "how translucent surfaces are blurred (docs/spec.md §20.4)",
+)
+MOTION_COVERAGE = Param(
+    0.5,
+    float,
+    "composite_motion: the translucent coverage from which a surface writes its own motion",
+    0.0,
+    1.0,
+)
+LAYER_FILTER = Param(
+    "auto",
+    ("auto", "same", "gather_coverage"),
+    "layered: what blurs the translucent layer; auto is gather_coverage on a frame rendered at "
+    "the shutter's centre (its instant), the call's own method otherwise",
+)
+LAYER_PARAMS = {
+    "translucency": TRANSLUCENCY,
+    "motion_coverage": MOTION_COVERAGE,
+    "layer_filter": LAYER_FILTER,
+}
+
+
+def checked(name: str, **options) -> dict:
+    """The options as blur takes them; errors name the method, the option and what is
+    allowed."""
+    return {key: typed(name, key, value, LAYER_PARAMS[key]) for key, value in options.items()}
+
+
+def layer_textures(ctx: Context, frame: Frame) -> dict:
+    """The frame's translucent layer on `ctx`: the rendered textures, or uploaded arrays."""
+    textures = frame.textures
+    names = ("opaque_color", "translucent", "translucent_motion")
+    if all(k in textures and textures[k].context is ctx for k in names):
+        return textures
+    packed = np.concatenate(
+        [
+            frame.translucent_motion,
+            frame.translucent_depth[..., None],
+            np.zeros(frame.translucent_depth.shape + (1,), np.float32),
+        ],
+        axis=-1,
+    )
+    uploaded = {
+        "opaque_color": ctx.upload(frame.opaque_color),
+        "translucent": ctx.upload(frame.translucent),
+        "translucent_motion": ctx.upload(np.ascontiguousarray(packed)),
+    }
+    frame.textures = {**frame.textures, **uploaded}
+    return uploaded
+
+
+def layer_frame(frame: Frame, color, depth, motion, textures: dict) -> Frame:
+    """A frame of the same shutter, instant and camera as `frame` with other arrays and the
+    textures that hold them."""
+    kept = ("object_id", "shutter", "time", "motion_format", "camera", "scene")
+    derived = Frame(color, depth, motion, **{key: getattr(frame, key) for key in kept})
+    derived.textures = textures
+    return derived
+
+
+def blur_layers(
+    ctx: Context,
+    frame: Frame,
+    name: str,
+    translucency: str,
+    motion_coverage: float,
+    layer_filter: str,
+    blur,
+):
+    """Runs `blur(layer_frame, method)` (blurlab.methods.core.blur with the call's backend,
+    timing and, for its own method, parameters bound) on the layers that `translucency` needs
+    and composites them: a
+    BlurResult whose textures add "opaque_blurred" (unblurred, layered) or "chosen_motion" and
+    "chosen_depth" (composite_motion), and whose timings add the layer passes: "translucent_"
+    + the method's passes for the layered blur, "translucency_motion", "translucency_over"."""
+    textures = {**frame.textures, **layer_textures(ctx, frame)}
+    base = {key: textures[key] for key in ("depth", "motion") if key in textures}
+    height, width = frame.depth.shape
+    extra: dict = {}
+    if translucency == "composite_motion":
+        chosen_motion, chosen_depth = ctx.pooled((height, width, 2)), ctx.pooled((height, width))
+        inputs = {
+            "translucent": textures["translucent"],
+            "translucent_motion": textures["translucent_motion"],
+            "motion": ctx.upload(frame.motion) if "motion" not in base else base["motion"],
+            "depth": ctx.upload(frame.depth) if "depth" not in base else base["depth"],
+        }
+        select = ctx.shader_pass("passes/translucency_motion.comp")
+        timed(
+            ctx,
+            extra,
+            "translucency_motion",
+            lambda: select.run(
+                inputs,
+                {"chosen_motion": chosen_motion, "chosen_depth": chosen_depth},
+                {"motion_coverage": motion_coverage},
+            ),
+        )
+        derived = layer_frame(
+            frame,
+            frame.color,
+            chosen_depth.download(),
+            chosen_motion.download(),
+            {"color": textures["color"], "depth": chosen_depth, "motion": chosen_motion},
+        )
+        result = blur(derived, name)
+        result.params = {
+            **result.params,
+            **{"translucency": translucency, "motion_coverage": motion_coverage},
+        }
+        result.timings.update(extra)
+        result.textures.update({"chosen_motion": chosen_motion, "chosen_depth": chosen_depth})
+        weakref.finalize(result, ctx.recycle, chosen_motion, chosen_depth)
+        return result
+    opaque_textures = {"color": textures["opaque_color"], **base}
+    if "motion_sides" in textures:
+        opaque_textures["motion_sides"] = textures["motion_sides"]
+    opaque = layer_frame(frame, frame.opaque_color, frame.depth, frame.motion, opaque_textures)
+    result = blur(opaque, name)
+    result.params = {**result.params, "translucency": translucency}
+    layer = textures["translucent"]
+    if translucency == "layered":
+        translucent = layer_frame(
+            frame, frame.translucent, frame.translucent_depth, frame.translucent_motion, {}
+        )
+        centre = frame.instant_fraction == 0.5
+        own = layer_filter == "same" or (layer_filter == "auto" and not centre)
+        layer_method = name if own else "gather_coverage"
+        layer_result = blur(translucent, layer_method)
+        result.params["layer_filter"] = layer_method
+        layer = layer_result.textures["color"]
+        extra.update({f"translucent_{k}": t for k, t in layer_result.timings.items()})
+    out = ctx.pooled((height, width, 4))
+    over = ctx.shader_pass("passes/translucency_over.comp")
+    timed(
+        ctx,
+        extra,
+        "translucency_over",
+        lambda: over.run({"layer": layer, "opaque": result.textures["color"]}, {"result": out}),
+    )
+    result.textures["opaque_blurred"] = result.textures["color"]
+    result.textures["color"] = out
+    result.timings.update(extra)
+    weakref.finalize(result, ctx.recycle, out)
+    return result

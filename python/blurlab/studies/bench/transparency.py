@@ -1,0 +1,140 @@
+"""The transparency benchmark: the four ways to blur translucency (docs/spec.md §20.4) on the
+transparency scenes, for the reconstruction filters, the coverage gather and the engines'
+filters, against the antialiased reference; and what the layered approach costs next to the
+method alone (docs/transparency.md)."""
+
+from __future__ import annotations
+
+import statistics
+
+from ... import metrics
+from ...methods.core import Param
+from .. import transparency
+from .core import Benchmark, register
+from .timing import split
+
+
+def _transparency(ctx, size, p, out) -> None:
+    methods = split(p["methods"]) or list(transparency.METHODS)
+    table = transparency.evaluate(
+        ctx, split(p["scenes"]) or None, methods, size, p["reference_samples"] or None
+    )
+    summary = transparency.summary(table)
+    for approach, row in summary["median_per_approach"].iterrows():
+        out.figure(f"{approach}: median PSNR", row.psnr, "dB")
+        out.figure(f"{approach}: median FLIP", row.flip, "")
+    out.figure(
+        "layered − best of the other three, median over (scene, method): PSNR",
+        summary["median_layered_gain_db"],
+        "dB",
+    )
+    out.figure(
+        "best of the other three − layered, median over (scene, method): FLIP",
+        summary["median_layered_gain_flip"],
+        "",
+    )
+    per_scene = table.groupby(["scene", "translucency"])[["psnr", "flip"]].median()
+    gain = summary["median_gain_per_scene"]
+    out.table(
+        "median over the methods, per scene and approach",
+        [("scene", ""), ("translucency", ""), ("PSNR", "dB"), ("FLIP", "")],
+        [[s, a, row.psnr, row.flip] for (s, a), row in per_scene.iterrows()],
+    )
+    out.table(
+        "layered's margin over the best other approach, median over the methods",
+        [("scene", ""), ("PSNR", "dB"), ("FLIP", "")],
+        [[s, row.psnr, row.flip] for s, row in gain.iterrows()],
+    )
+    out.table(
+        "every scene, method and approach",
+        [
+            ("scene", ""),
+            ("method", ""),
+            ("translucency", ""),
+            ("PSNR", "dB"),
+            ("FLIP", ""),
+            ("reference samples", ""),
+        ],
+        table[["scene", "method", "translucency", "psnr", "flip", "reference_samples"]]
+        .to_numpy()
+        .tolist(),
+    )
+    costs = [
+        transparency.layer_cost(ctx, p["cost_scene"], method, size, p["runs"]) for method in methods
+    ]
+    out.table(
+        f"time on {p['cost_scene']}: the method alone (composite) and layered, medians",
+        [("method", ""), ("composite", "ms"), ("layered", "ms"), ("layered / composite", "x")],
+        [[c["method"], c["composite_ms"], c["layered_ms"], c["ratio"]] for c in costs],
+    )
+    out.figure(
+        "layered / composite time, median over the methods",
+        statistics.median(c["ratio"] for c in costs),
+        "x",
+    )
+
+
+register(
+    Benchmark(
+        "transparency",
+        "the four ways to blur translucency on the transparency scenes: PSNR and FLIP against "
+        "the antialiased reference per approach, layered's margin, and its cost",
+        {
+            "scenes": Param("", object, "comma-separated scenes (empty: the transparency tag)"),
+            "methods": Param("", object, "comma-separated methods (empty: filters and engines)"),
+            "reference_samples": Param(0, int, "N of the references (0: from the motion)", 0),
+            "cost_scene": Param("moving_glass", object, "the scene the costs are timed on"),
+            "runs": Param(5, int, "timed runs per method and approach (medians)", 1, 1000),
+        },
+        _transparency,
+        {"tiny": (48, 27), "software": (640, 360), "gpu": (1920, 1080)},
+        {
+            "tiny": {
+                "scenes": "moving_glass,sparks_over_mover",
+                "methods": "reconstruct_mcguire2012,gather_coverage",
+                "reference_samples": 8,
+                "runs": 1,
+            },
+            "gpu": {"runs": 20},
+        },
+    )
+)
+
+
+def _transparency_cycles(ctx, size, p, out) -> None:
+    from ... import blender  # noqa: PLC0415 (bpy is an optional extra: checked by `needs`)
+    from ...blender import crosscheck  # noqa: PLC0415
+
+    rows = []
+    for name, make in crosscheck.TRANSLUCENT_SCENES.items():
+        scene = make()
+        cycles = blender.render(scene, size, samples=p["cycles_samples"], seed=1).color
+        shutter = blender.cycles_shutter(scene.shutter)
+        reference = ctx.reference(
+            scene, size, shutter, samples=p["reference_samples"], antialias=True, progress=False
+        ).color
+        psnr = metrics.psnr(reference, cycles)
+        rows.append([name, psnr])
+        out.figure(f"{name}: PSNR of Cycles against the antialiased reference", psnr, "dB")
+    out.table(
+        "Cycles (box filter) against blurlab's antialiased reference",
+        [("scene", ""), ("PSNR", "dB")],
+        rows,
+    )
+
+
+register(
+    Benchmark(
+        "transparency_cycles",
+        "Cycles' transparent and emission shader mixes against blurlab's antialiased reference "
+        "on translucent scenes (needs bpy)",
+        {
+            "cycles_samples": Param(4096, int, "Cycles samples per pixel", 1, 1 << 20),
+            "reference_samples": Param(8192, int, "sub-frames of blurlab's reference", 1),
+        },
+        _transparency_cycles,
+        {"tiny": (32, 18), "software": (320, 180), "gpu": (320, 180)},
+        {"tiny": {"cycles_samples": 16, "reference_samples": 16}},
+        needs=("bpy",),
+    )
+)

@@ -1,0 +1,114 @@
+"""The four ways to blur translucency (docs/spec.md §20.4) measured on the transparency scenes
+(bl.scenes.names("transparency")): PSNR and FLIP of each (scene, method, approach) against the
+antialiased reference, their medians per approach, what the layered approach gains over the
+best of the other three, and what the translucent layer costs next to today's filter.
+docs/transparency.md shows the numbers of the transparency benchmark."""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from .. import metrics, scenes
+from ..converged import default_reference_samples
+from ..methods import blur, method_instant
+from ..methods.layers import TRANSLUCENCY
+from . import plots
+
+APPROACHES = TRANSLUCENCY.kind
+# The reconstruction filters, the coverage gather and the engines' filters.
+METHODS = (
+    "reconstruct_mcguire2012",
+    "reconstruct_guertin2014",
+    "reconstruct_urho3d",
+    "gather_coverage",
+    "engine_eevee",
+    "engine_unity",
+    "engine_hdrp",
+    "engine_unreal",
+)
+
+
+def evaluate(ctx, scene_names=None, methods=METHODS, size=(320, 180), reference_samples=None):
+    """One row per (scene, method, approach): psnr and flip against the antialiased reference
+    of the scene's shutter (N = reference_samples, or max(64, 2 x the longest motion))."""
+    rows = []
+    for name in scene_names or scenes.names("transparency"):
+        scene = scenes.get(name)
+        n = reference_samples or default_reference_samples(ctx.render(scene, size))
+        reference = ctx.reference(scene, size, samples=n, antialias=True, progress=False)
+        frames = {}
+        for method in methods:
+            instant = method_instant(method)
+            if instant not in frames:
+                frames[instant] = ctx.render(scene, size, instant=instant)
+            for approach in APPROACHES:
+                out = blur(ctx, frames[instant], method, timed=False, translucency=approach)
+                rows.append(
+                    {
+                        "scene": name,
+                        "method": method,
+                        "translucency": approach,
+                        "psnr": metrics.psnr(out.color, reference.color),
+                        "flip": metrics.gpu_flip(ctx, reference.texture, out.textures["color"]),
+                        "reference_samples": n,
+                    }
+                )
+    return pd.DataFrame(rows)
+
+
+def summary(table: pd.DataFrame) -> dict:
+    """Median psnr and flip per approach, and the layered approach's margin over the best of
+    the other three per (scene, method) (psnr: layered − best; flip: best − layered; positive
+    when layered is better), as medians and per scene."""
+    medians = table.groupby("translucency")[["psnr", "flip"]].median().reindex(list(APPROACHES))
+    wide = table.pivot_table(index=["scene", "method"], columns="translucency")
+    others = [a for a in APPROACHES if a != "layered"]
+    gain = pd.DataFrame(
+        {
+            "psnr": wide["psnr"]["layered"] - wide["psnr"][others].max(axis=1),
+            "flip": wide["flip"][others].min(axis=1) - wide["flip"]["layered"],
+        }
+    )
+    return {
+        "median_per_approach": medians,
+        "layered_gain": gain,
+        "median_layered_gain_db": float(gain["psnr"].median()),
+        "median_layered_gain_flip": float(gain["flip"].median()),
+        "median_gain_per_scene": gain.groupby(level="scene").median(),
+    }
+
+
+def layer_cost(ctx, scene_name: str, method: str, size, runs: int = 10) -> dict:
+    """GPU time of `method` on the scene's frame as engines run it (translucency="composite")
+    and with the layered approach (a second blur of the translucent layer and the compositing
+    pass), median over `runs` timed calls each, and their ratio."""
+    scene = scenes.get(scene_name)
+    frame = ctx.render(scene, size, instant=method_instant(method))
+    times = {}
+    for approach in ("composite", "layered"):
+        blur(ctx, frame, method, translucency=approach)  # compiles, warms up
+        times[approach] = float(
+            np.median(
+                [blur(ctx, frame, method, translucency=approach).total_ms for _ in range(runs)]
+            )
+        )
+    return {
+        "scene": scene_name,
+        "method": method,
+        "composite_ms": times["composite"],
+        "layered_ms": times["layered"],
+        "ratio": times["layered"] / times["composite"],
+    }
+
+
+def gallery(ctx, scene_name: str, size, method: str = "gather_coverage", reference_samples=None):
+    """A figure: the antialiased reference and `method` under each approach, with |error|."""
+    scene = scenes.get(scene_name)
+    n = reference_samples or default_reference_samples(ctx.render(scene, size))
+    reference = ctx.reference(scene, size, samples=n, antialias=True, progress=False)
+    frame = ctx.render(scene, size, instant=method_instant(method))
+    images = {a: blur(ctx, frame, method, translucency=a).color for a in APPROACHES}
+    return plots.image_grid(
+        reference.color, images, title=f"{scene_name} ({method}): {scenes.describe(scene_name)}"
+    )
