@@ -29,8 +29,7 @@ from .studies import failures, plots  # noqa: E402
 from .studies.cluster import local_cluster  # noqa: E402
 from .studies.recommend import recommend  # noqa: E402
 from .studies.sweep import sweep  # noqa: E402
-
-__version__ = "0.1.0"
+from .version import __version__ as __version__  # noqa: E402
 
 __all__ = [
     "DEFAULT_SIZE",

@@ -9,6 +9,7 @@ import numpy as np
 
 from .. import mesh
 from ..motion import Motion, quaternion
+from ..particles import Particle, particles
 from ..scene import Camera, DirectionalLight, Material, Scene
 
 UNLIT = DirectionalLight(color=(0, 0, 0), ambient=(1, 1, 1))
@@ -70,8 +71,6 @@ def glass_scene() -> Scene:
 def particles_scene() -> Scene:
     """Soft round particles (alpha from a texture), blended and additive, drifting over a still
     backdrop."""
-    from ..particles import Particle, particles  # noqa: PLC0415 (particles imports scene)
-
     camera = Camera((0.0, 0.0, 5.0), (0, 0, 0), fov_y=40)
     scene = Scene(camera, UNLIT, background=(0.05, 0.05, 0.1, 1), shutter=(0, 0.5), name="puffs")
     scene.add(mesh.plane(3.0, 1.6), Material((0.6, 0.3, 0.3)), backdrop((0, -0.1, -1.0)))

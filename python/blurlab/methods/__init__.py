@@ -30,6 +30,7 @@ from .core import (
     render_and_blur,
     render_steps,
 )
+from .registry import translucent_layer_method
 
 __all__ = [
     "KINDS",
@@ -46,4 +47,5 @@ __all__ = [
     "register",
     "render_and_blur",
     "render_steps",
+    "translucent_layer_method",
 ]

@@ -154,6 +154,7 @@ register(
         run=_run_coverage,
         default_grid={"samples": [4, 8, 16], "max_blur": [15.0, 30.0]},
         twin=twin.gather_coverage,
+        translucent_layer=True,
         doc="The engines' best parts combined: two-sided motion, dilation along each tile's "
         "motion, tiles and limit relative to the height, taps along the tile's and X's own "
         "motion, weighted by the share of each half-shutter a trail spends over X, the "

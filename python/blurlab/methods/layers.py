@@ -26,6 +26,7 @@ from ..context import Context
 from ..frame import Frame
 from .params import Param, typed
 from .passes import timed
+from .registry import method, methods, translucent_layer_method
 
 TRANSLUCENCY = Param(
     "composite",
@@ -41,10 +42,12 @@ MOTION_COVERAGE = Param(
 )
 LAYER_FILTER = Param(
     "auto",
-    ("auto", "same", "gather_coverage"),
-    "layered: what blurs the translucent layer; auto is gather_coverage on a frame rendered at "
-    "the shutter's centre (its instant), the call's own method otherwise",
+    object,  # checked by layer_filter_method: "auto", "same" or a one-frame method's name
+    "layered: what blurs the translucent layer: auto (the method registered with "
+    "translucent_layer, the coverage gather, on a frame rendered at the shutter's centre; the "
+    "call's own method otherwise), same, or a filter or gather method's name",
 )
+LAYER_FILTER_KINDS = ("filter", "gather")
 LAYER_PARAMS = {
     "translucency": TRANSLUCENCY,
     "motion_coverage": MOTION_COVERAGE,
@@ -55,7 +58,16 @@ LAYER_PARAMS = {
 def checked(name: str, **options) -> dict:
     """The options as blur takes them; errors name the method, the option and what is
     allowed."""
-    return {key: typed(name, key, value, LAYER_PARAMS[key]) for key, value in options.items()}
+    values = {key: typed(name, key, value, LAYER_PARAMS[key]) for key, value in options.items()}
+    if "layer_filter" in values:
+        chosen = values["layer_filter"]
+        allowed = [n for n in methods() if method(n).kind in LAYER_FILTER_KINDS]
+        if not isinstance(chosen, str) or chosen not in ("auto", "same", *allowed):
+            raise ValueError(
+                f"blurlab: {name} parameter layer_filter must be 'auto', 'same' or one of "
+                f"{', '.join(allowed)}, not {chosen!r}"
+            )
+    return values
 
 
 def layer_textures(ctx: Context, frame: Frame) -> dict:
@@ -156,8 +168,10 @@ def blur_layers(
             frame, frame.translucent, frame.translucent_depth, frame.translucent_motion, {}
         )
         centre = frame.instant_fraction == 0.5
-        own = layer_filter == "same" or (layer_filter == "auto" and not centre)
-        layer_method = name if own else "gather_coverage"
+        if layer_filter == "auto":
+            layer_method = translucent_layer_method() if centre else name
+        else:
+            layer_method = name if layer_filter == "same" else layer_filter
         layer_result = blur(translucent, layer_method)
         result.params["layer_filter"] = layer_method
         layer = layer_result.textures["color"]

@@ -48,6 +48,9 @@ class Method:
     study_curves: tuple[str, ...] = ()
     # Shown in the failure suite's image gallery (one or two methods of each kind).
     gallery: bool = False
+    # The method that blurs the translucent layer in the layered approach when its
+    # layer_filter is "auto" (docs/spec.md §20.4); one method says so.
+    translucent_layer: bool = False
     # For a "render" method: the parameters under which it makes n renders, so that studies
     # compare such methods at equal cost (the per-object table of blurlab.studies.objects).
     renders_for: Callable[[int], dict] | None = None
@@ -125,6 +128,15 @@ def method_instant(name: str, params: dict | None = None) -> str:
     if callable(m.instant):
         return m.instant(resolve_params(m, None, params or {}, frame_free=True))
     return m.instant
+
+
+def translucent_layer_method() -> str:
+    """The name of the method registered with translucent_layer=True: what blurs the
+    translucent layer by default (docs/spec.md §20.4)."""
+    chosen = [name for name, m in _REGISTRY.items() if m.translucent_layer]
+    if len(chosen) != 1:
+        raise RuntimeError(f"blurlab: exactly one method blurs the translucent layer, not {chosen}")
+    return chosen[0]
 
 
 def method(name: str) -> Method:

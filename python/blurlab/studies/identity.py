@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from ..scene import Material, Scene
+from ..version import __version__
 
 # The row columns that spell the identity out, beside the hash in IDENTITY.
 IDENTITY = "identity"
@@ -134,6 +135,4 @@ def row_identity(components: dict) -> str:
 
 def version() -> str:
     """blurlab's version, part of every identity: a release may change what a method returns."""
-    from .. import __version__  # the package's, set once its modules (this one too) are loaded
-
     return __version__

@@ -9,6 +9,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
+from .. import methods as method_registry
 from .. import metrics, scenes
 from ..converged import default_reference_samples
 from ..methods import blur, method_instant
@@ -16,23 +17,20 @@ from ..methods.layers import TRANSLUCENCY
 from . import plots
 
 APPROACHES = TRANSLUCENCY.kind
-# The reconstruction filters, the coverage gather and the engines' filters.
-METHODS = (
-    "reconstruct_mcguire2012",
-    "reconstruct_guertin2014",
-    "reconstruct_urho3d",
-    "gather_coverage",
-    "engine_eevee",
-    "engine_unity",
-    "engine_hdrp",
-    "engine_unreal",
-)
 
 
-def evaluate(ctx, scene_names=None, methods=METHODS, size=(320, 180), reference_samples=None):
+def single_frame_methods() -> list[str]:
+    """Every post-process method that blurs one frame (the registry's filters and gathers):
+    each takes every translucency option (docs/spec.md §20.4)."""
+    kinds = ("filter", "gather")
+    return [n for n in method_registry.methods() if method_registry.method(n).kind in kinds]
+
+
+def evaluate(ctx, scene_names=None, methods=None, size=(320, 180), reference_samples=None):
     """One row per (scene, method, approach): psnr and flip against the antialiased reference
     of the scene's shutter (N = reference_samples, or max(64, 2 x the longest motion))."""
     rows = []
+    methods = methods or single_frame_methods()
     for name in scene_names or scenes.names("transparency"):
         scene = scenes.get(name)
         n = reference_samples or default_reference_samples(ctx.render(scene, size))
@@ -102,8 +100,10 @@ def layer_cost(ctx, scene_name: str, method: str, size, runs: int = 10) -> dict:
     }
 
 
-def gallery(ctx, scene_name: str, size, method: str = "gather_coverage", reference_samples=None):
-    """A figure: the antialiased reference and `method` under each approach, with |error|."""
+def gallery(ctx, scene_name: str, size, method: str | None = None, reference_samples=None):
+    """A figure: the antialiased reference and `method` (default: the method that blurs the
+    translucent layer, the coverage gather) under each approach, with |error|."""
+    method = method or method_registry.translucent_layer_method()
     scene = scenes.get(scene_name)
     n = reference_samples or default_reference_samples(ctx.render(scene, size))
     reference = ctx.reference(scene, size, samples=n, antialias=True, progress=False)

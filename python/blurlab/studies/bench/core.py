@@ -25,9 +25,9 @@ from dataclasses import dataclass, field
 from numbers import Integral, Real
 from pathlib import Path
 
-from ... import __version__
 from ...context import Context
 from ...methods.core import Param
+from ...version import __version__
 
 PRESETS = ("tiny", "software", "gpu")  # CI's size, llvmpipe's records, the GPU's records
 CLOCKS = ("gl_time_elapsed", "wall_glfinish")

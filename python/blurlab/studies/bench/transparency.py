@@ -7,7 +7,8 @@ from __future__ import annotations
 
 import statistics
 
-from ... import metrics
+from ... import blender, metrics
+from ...blender import crosscheck
 from ...methods.core import Param
 from .. import transparency
 from .core import Benchmark, register
@@ -15,7 +16,7 @@ from .timing import split
 
 
 def _transparency(ctx, size, p, out) -> None:
-    methods = split(p["methods"]) or list(transparency.METHODS)
+    methods = split(p["methods"]) or transparency.single_frame_methods()
     table = transparency.evaluate(
         ctx, split(p["scenes"]) or None, methods, size, p["reference_samples"] or None
     )
@@ -102,9 +103,6 @@ register(
 
 
 def _transparency_cycles(ctx, size, p, out) -> None:
-    from ... import blender  # noqa: PLC0415 (bpy is an optional extra: checked by `needs`)
-    from ...blender import crosscheck  # noqa: PLC0415
-
     rows = []
     for name, make in crosscheck.TRANSLUCENT_SCENES.items():
         scene = make()

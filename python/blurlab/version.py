@@ -1,0 +1,3 @@
+"""blurlab's version, declared once: the package, records and result identities read it."""
+
+__version__ = "0.1.0"
