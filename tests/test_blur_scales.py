@@ -77,11 +77,15 @@ def inner(mask: np.ndarray) -> np.ndarray:
     return m
 
 
+# Motion this small is float rounding of two equal projections, not motion (see below).
+STILL_PX = 1e-5
+
+
 def far_from_motion(frame, tile=20, reach=2) -> np.ndarray:
     """Pixels more than `reach` tiles of `tile` px from any tile with motion: what the filters'
     tile neighbourhoods (k = 20 px by default) never mix into a moving pixel's blur."""
     height, width = frame.motion.shape[:2]
-    moving = np.abs(frame.motion).max(axis=-1) > 0
+    moving = np.abs(frame.motion).max(axis=-1) > STILL_PX
     ty, tx = np.nonzero(moving)
     ty, tx = ty // tile, tx // tile
     y, x = np.mgrid[:height, :width] // tile
@@ -121,7 +125,9 @@ def test_an_object_at_scale_0_is_the_sharp_render_in_the_reference_and_every_met
     frame = ctx.render(scene, SIZE)
     held = inner(sharp(ctx, scene).object_id == 1)
     assert held.sum() > 40
-    assert np.abs(frame.motion[held]).max() == 0  # no motion of its own at scale 0
+    # No motion of its own at scale 0: the two equal projections differ by float rounding
+    # alone (exactly 0 on llvmpipe, up to 1e-6 px on an H200).
+    assert np.abs(frame.motion[held]).max() <= STILL_PX
     blurred = ctx.render(two_movers(1.0), SIZE)
     assert np.abs(blurred.motion[held]).max() > 10  # the same object at scale 1 moves far
     check_sharp_everywhere(ctx, scene, held, "motion_blur=0")

@@ -255,7 +255,12 @@ def test_composite_motion_matches_its_numpy_twin(coverage):
     )
     np.testing.assert_array_equal(result.buffers["chosen_motion"], motion)
     np.testing.assert_array_equal(result.buffers["chosen_depth"], depth)
-    assert np.array_equal(motion, frame.motion) == (coverage > 0.8)  # no pane is that opaque
+    # At 0.3 the panes cover enough to write their own motion, which differs from what lies
+    # behind them; whether anything reaches 0.9 depends on how the sparks overlap as rasterized.
+    reaches = (frame.translucent[..., 3] >= coverage) & np.isfinite(frame.translucent_depth)
+    own = np.any(frame.translucent_motion != frame.motion, axis=-1) & reaches
+    assert own.any() == (not np.array_equal(motion, frame.motion))
+    assert coverage > 0.5 or own.any()
 
 
 @pytest.mark.parametrize("translucency", ["unblurred", "layered"])

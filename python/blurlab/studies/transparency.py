@@ -9,10 +9,11 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from .. import methods as method_registry
 from .. import metrics, scenes
 from ..converged import default_reference_samples
-from ..methods import blur, method_instant
+from ..methods import blur, method_instant, translucent_layer_method
+from ..methods import method as method_info
+from ..methods import methods as method_names
 from ..methods.layers import TRANSLUCENCY
 from . import plots
 
@@ -23,7 +24,7 @@ def single_frame_methods() -> list[str]:
     """Every post-process method that blurs one frame (the registry's filters and gathers):
     each takes every translucency option (docs/spec.md §20.4)."""
     kinds = ("filter", "gather")
-    return [n for n in method_registry.methods() if method_registry.method(n).kind in kinds]
+    return [n for n in method_names() if method_info(n).kind in kinds]
 
 
 def evaluate(ctx, scene_names=None, methods=None, size=(320, 180), reference_samples=None):
@@ -103,7 +104,7 @@ def layer_cost(ctx, scene_name: str, method: str, size, runs: int = 10) -> dict:
 def gallery(ctx, scene_name: str, size, method: str | None = None, reference_samples=None):
     """A figure: the antialiased reference and `method` (default: the method that blurs the
     translucent layer, the coverage gather) under each approach, with |error|."""
-    method = method or method_registry.translucent_layer_method()
+    method = method or translucent_layer_method()
     scene = scenes.get(scene_name)
     n = reference_samples or default_reference_samples(ctx.render(scene, size))
     reference = ctx.reference(scene, size, samples=n, antialias=True, progress=False)
