@@ -281,3 +281,26 @@ def test_no_cpp_parameter_struct_restates_defaults():
         if re.search(r"struct \w*Params\b", p.read_text())
     ]
     assert not offenders
+
+
+MAX_MODULE_LINES = 600
+
+
+def test_no_module_is_over_600_lines():
+    """A module that outgrows this is split by concern (as gltf/, metrics/ and scenes/ were)."""
+    long = {
+        str(path.relative_to(ROOT)): n
+        for path in python_files(PACKAGE)
+        if (n := len(path.read_text().splitlines())) > MAX_MODULE_LINES
+    }
+    assert not long, f"modules over {MAX_MODULE_LINES} lines: {long}"
+
+
+def test_the_default_size_is_declared_once():
+    """Every default size reads blurlab.DEFAULT_SIZE; its numbers appear only where it is set."""
+    written = [
+        str(path.relative_to(ROOT))
+        for path in python_files(PACKAGE)
+        if re.search(r"640, ?360|640x360", path.read_text())
+    ]
+    assert written == ["python/blurlab/sizes.py"], written

@@ -21,13 +21,16 @@ import os
 import re
 import time
 import uuid
-import warnings
 from collections import OrderedDict, deque
 
 from ..context import DEVICE_MODES, Context
 from .evaluation import SETUP_PHASES, WARM_UP, evaluate_scene
+from .scheduler import INSTALL_HINT as INSTALL_HINT
+from .scheduler import is_loopback as is_loopback
+from .scheduler import require_distributed, warn_if_exposed
+from .scheduler import scheduler_client as scheduler_client
+from .scheduler import tls_security as tls_security
 
-INSTALL_HINT = "pip install 'blurlab[distributed]' (or dask[distributed])"
 # Scenes whose frames and references a worker keeps; the client keeps each worker on one scene
 # at a time, so two are enough for the hand-over between scenes.
 SCENES_KEPT = 2
@@ -43,14 +46,6 @@ CHUNKS_IN_FLIGHT = 2
 ACCOUNT = (*SETUP_PHASES, WARM_UP, "imports", "exports")
 
 _worker_state: dict = {}  # this process as a Dask worker: its Context and scene caches
-
-
-def _distributed():
-    try:
-        import distributed
-    except ImportError:
-        raise ImportError(f"blurlab: sweeps on a cluster need Dask: {INSTALL_HINT}") from None
-    return distributed
 
 
 def parse_device(text: str, what: str = "BLURLAB_DEVICE") -> str | int:
@@ -96,7 +91,7 @@ def local_cluster(n_workers: int | None = None, device: str = "auto", **cluster_
     llvmpipe. Other keyword arguments go to ``LocalCluster`` (e.g. ``memory_limit``). Close it
     when done (``with bl.local_cluster() as cluster: ...``).
     """
-    distributed = _distributed()
+    distributed = require_distributed()
     if device not in DEVICE_MODES:
         raise ValueError(
             f"blurlab.local_cluster: device must be one of {DEVICE_MODES}, not {device!r}"
@@ -153,7 +148,7 @@ def local_cluster(n_workers: int | None = None, device: str = "auto", **cluster_
 def worker_context() -> Context:
     """This worker's Context, opened on its first task."""
     if "ctx" not in _worker_state:
-        worker = _distributed().get_worker()
+        worker = require_distributed().get_worker()
         if worker.state.nthreads != 1:
             raise RuntimeError(
                 f"blurlab: worker {worker.name} has {worker.state.nthreads} threads; a GL "
@@ -202,7 +197,7 @@ def run_chunk(scene, scene_key, jobs, settings, imported=None) -> tuple[str, lis
     log["evaluations"] += len(rows)
     log["busy_s"] += seconds
     costs = {"seconds": seconds, "setup_s": setup, "evaluations": len(rows)}
-    return str(_distributed().get_worker().name), rows, costs
+    return str(require_distributed().get_worker().name), rows, costs
 
 
 # A task this worker has been given but not yet run (distributed's worker task states).
@@ -213,7 +208,7 @@ def _chunks_waiting() -> int:
     """Chunks this worker has been given besides the one it runs (CHUNKS_IN_FLIGHT)."""
     from dask.utils import key_split
 
-    tasks = _distributed().get_worker().state.tasks.values()
+    tasks = require_distributed().get_worker().state.tasks.values()
     return sum(key_split(task.key) == "run_chunk" and task.state in NOT_YET_RUN for task in tasks)
 
 
@@ -331,7 +326,7 @@ def _scene_copy(scene):
 
 def check_cluster(cluster) -> None:
     """Raises unless `cluster` is a Client, a cluster object or a scheduler address."""
-    distributed = _distributed()
+    distributed = require_distributed()
     if not (
         isinstance(cluster, (distributed.Client, str)) or hasattr(cluster, "scheduler_address")
     ):
@@ -344,82 +339,13 @@ def check_cluster(cluster) -> None:
 def connect(cluster):
     """(client, whether this call made it) for a Client, a cluster or a scheduler address
     (a plain tcp:// one that is not on this machine gets exposed_warning's warning)."""
-    distributed = _distributed()
+    distributed = require_distributed()
     check_cluster(cluster)
     if isinstance(cluster, distributed.Client):
         return cluster, False
     if isinstance(cluster, str):
         warn_if_exposed(cluster)
     return distributed.Client(cluster, timeout="60s"), True
-
-
-LOOPBACK_HOSTS = ("localhost", "127.0.0.1", "::1", "[::1]")
-
-
-def is_loopback(address: str) -> bool:
-    """Whether a scheduler address ('tcp://host:port', 'host:port') names this machine's
-    loopback interface."""
-    rest = address.split("://", 1)[-1]
-    host = rest.rsplit(":", 1)[0] if rest.count(":") == 1 or rest.startswith("[") else rest
-    return host in LOOPBACK_HOSTS or host.startswith("127.")
-
-
-def warn_if_exposed(address: str) -> None:
-    """Warns where a sweep would go to a scheduler over plain TCP on another host: Dask runs
-    whatever code its clients send, so anyone who can reach that port can run code on every
-    worker, and rows travel unencrypted."""
-    scheme = address.split("://", 1)[0] if "://" in address else "tcp"
-    if scheme == "tcp" and not is_loopback(address):
-        warnings.warn(
-            f"blurlab: the Dask scheduler {address} is reached over plain TCP: anyone who can "
-            "reach its port can run code on every worker, and results travel unencrypted. "
-            "Use a tls:// scheduler with certificates (blurlab sweep --scheduler tls://... "
-            "--tls-ca --tls-cert --tls-key; docs/distributed.md, 'Securing a cluster')",
-            UserWarning,
-            stacklevel=3,
-        )
-
-
-def tls_security(ca_file, cert_file, key_file):
-    """A ``distributed.Security`` for a client of a TLS scheduler: the CA that signed the
-    scheduler's and workers' certificates, and this client's certificate and key (PEM files).
-    Encryption is required: the client refuses a plain tcp:// scheduler."""
-    paths = {"CA": ca_file, "certificate": cert_file, "key": key_file}
-    for what, path in paths.items():
-        if path is None or not os.path.isfile(path):
-            raise FileNotFoundError(
-                f"blurlab: the TLS {what} file {path!r} was not found; a TLS client needs "
-                "--tls-ca, --tls-cert and --tls-key (PEM files, docs/distributed.md)"
-            )
-    return _distributed().Security(
-        tls_ca_file=str(ca_file),
-        tls_client_cert=str(cert_file),
-        tls_client_key=str(key_file),
-        require_encryption=True,
-    )
-
-
-def scheduler_client(address: str, tls_ca=None, tls_cert=None, tls_key=None):
-    """A ``distributed.Client`` of the scheduler at `address`: with TLS files, a tls://
-    address and its Security (tls_security); without, a plain one (warn_if_exposed)."""
-    tls = (tls_ca, tls_cert, tls_key)
-    if any(tls) and not all(tls):
-        raise ValueError("blurlab: TLS needs all three of --tls-ca, --tls-cert and --tls-key")
-    scheme = address.split("://", 1)[0] if "://" in address else "tcp"
-    if all(tls) and scheme != "tls":
-        raise ValueError(
-            f"blurlab: TLS certificates were given, but the scheduler address {address!r} is "
-            "not tls://; give its tls:// address"
-        )
-    if scheme == "tls" and not all(tls):
-        raise ValueError(
-            f"blurlab: the scheduler {address} speaks TLS; give --tls-ca, --tls-cert and "
-            "--tls-key (docs/distributed.md, 'Securing a cluster')"
-        )
-    if not all(tls):
-        warn_if_exposed(address)
-        return _distributed().Client(address, timeout="60s")
-    return _distributed().Client(address, security=tls_security(*tls), timeout="60s")
 
 
 def _device_info() -> dict:
@@ -461,7 +387,7 @@ def sweep_on_cluster(cluster, scenes, pending, settings, record, chunk_size, bar
     itself only where worth_helping says that pays. Rows therefore depend only on the scene and
     configuration, never on the worker.
     """
-    distributed = _distributed()
+    distributed = require_distributed()
     client, own = connect(cluster)
     futures: dict = {}
     try:

@@ -12,6 +12,7 @@ from ... import metrics, scenes
 from ...converged import default_reference_samples
 from ...methods import blur, coverage, eevee, method, method_instant, methods, plans, tile_filter
 from ...methods.core import Param
+from ...sizes import DEFAULT_SIZE
 from .core import Benchmark, register
 from .timing import (
     film_method,
@@ -24,7 +25,7 @@ from .timing import (
 )
 
 RUNS = Param(10, int, "timed runs (medians over them)", 1, 10_000)
-SIZES = {"tiny": (64, 36), "software": (640, 360), "gpu": (1920, 1080)}
+SIZES = {"tiny": (64, 36), "software": DEFAULT_SIZE, "gpu": (1920, 1080)}
 PASSES = ("tile_max", "neighbor_max", "reconstruct")
 
 

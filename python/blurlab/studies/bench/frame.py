@@ -14,6 +14,7 @@ from ... import scenes, tam
 from ...frame import MOTION_FORMATS
 from ...methods.core import Param
 from ...render import stored_motion
+from ...sizes import DEFAULT_SIZE
 from .. import hatching
 from .core import Benchmark, register
 from .timing import per_call_us, split, wall_ms
@@ -98,7 +99,7 @@ register(
         "the G-buffer pass of a scene, and ctx.render as a Python caller sees it",
         {"scene": SCENE, "runs": RUNS},
         _gbuffer,
-        {"tiny": (64, 36), "software": (640, 360), "gpu": (1920, 1080)},
+        {"tiny": (64, 36), "software": DEFAULT_SIZE, "gpu": (1920, 1080)},
         {"tiny": {"runs": 2}},
     )
 )
@@ -158,7 +159,7 @@ register(
             "frames": Param(32, int, "frames of the temporal-coherence animation", 2, 1000),
         },
         _hatching,
-        {"tiny": (64, 36), "software": (640, 360), "gpu": (1920, 1080)},
+        {"tiny": (64, 36), "software": DEFAULT_SIZE, "gpu": (1920, 1080)},
         {"tiny": {"runs": 1, "measure": False}, "software": {"runs": 5, "frames": 16}},
     )
 )
@@ -198,7 +199,7 @@ register(
             "runs": Param(3, int, "references per scene (medians)", 1, 1000),
         },
         _reference_loop,
-        {"tiny": (64, 36), "software": (640, 360), "gpu": (1920, 1080)},
+        {"tiny": (64, 36), "software": DEFAULT_SIZE, "gpu": (1920, 1080)},
         {"tiny": {"scenes": "teapot_pass", "samples": 4, "runs": 1}, "software": {"samples": 64}},
     )
 )

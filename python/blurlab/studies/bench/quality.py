@@ -21,6 +21,7 @@ from ...blender import crosscheck
 from ...context import Context
 from ...methods import blur, method, method_instant, methods
 from ...methods.core import Param
+from ...sizes import DEFAULT_SIZE
 from .. import failures, peers
 from ..recommend import recommend
 from ..study import run_study
@@ -339,7 +340,7 @@ register(
             "budgets_ms": Param("0.1,1,10", object, "comma-separated budgets, ms"),
         },
         _recommend,
-        {"tiny": (48, 27), "software": (160, 90), "gpu": (640, 360)},
+        {"tiny": (48, 27), "software": (160, 90), "gpu": DEFAULT_SIZE},
         {"tiny": {"scenes": "fan", "budgets_ms": "10"}},
     )
 )
@@ -383,7 +384,7 @@ register(
             "models": Param("", object, "comma-separated model names (empty: all)"),
         },
         _content,
-        {"tiny": (48, 27), "software": (160, 90), "gpu": (640, 360)},
+        {"tiny": (48, 27), "software": (160, 90), "gpu": DEFAULT_SIZE},
         {"tiny": {"models": "BoxAnimated"}},
     )
 )

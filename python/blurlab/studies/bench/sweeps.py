@@ -14,13 +14,14 @@ from pathlib import Path
 from ... import metrics, scenes
 from ...methods import blur
 from ...methods.core import Param
+from ...sizes import DEFAULT_SIZE
 from ..cluster import forget_scenes, local_cluster
 from ..sweep import default_grids, grid_points, sweep
 from .core import Benchmark, register
 from .filters import GRID
 from .timing import split, tile_filters, wall_ms
 
-SIZES = {"tiny": (64, 36), "software": (640, 360), "gpu": (1920, 1080)}
+SIZES = {"tiny": (64, 36), "software": DEFAULT_SIZE, "gpu": (1920, 1080)}
 
 
 def _sweep_throughput(ctx, size, p, out) -> None:

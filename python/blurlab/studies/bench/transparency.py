@@ -10,6 +10,7 @@ import statistics
 from ... import blender, metrics
 from ...blender import crosscheck
 from ...methods.core import Param
+from ...sizes import DEFAULT_SIZE
 from .. import transparency
 from .core import Benchmark, register
 from .timing import split
@@ -88,7 +89,7 @@ register(
             "runs": Param(5, int, "timed runs per method and approach (medians)", 1, 1000),
         },
         _transparency,
-        {"tiny": (48, 27), "software": (640, 360), "gpu": (1920, 1080)},
+        {"tiny": (48, 27), "software": DEFAULT_SIZE, "gpu": (1920, 1080)},
         {
             "tiny": {
                 "scenes": "moving_glass,sparks_over_mover",
