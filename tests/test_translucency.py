@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 import blurlab as bl
+from blurlab import translucency as fragment_lists
 from blurlab.methods.layers import TRANSLUCENCY
 from blurlab.particles import Particle, particles
 from blurlab.translucency import resolve_fragments
@@ -363,3 +364,23 @@ def test_rendering_methods_composite_every_sub_frame_themselves(ctx, name):
         np.testing.assert_array_equal(
             bl.blur(ctx, frame, name, translucency=translucency).color, plain
         )
+
+
+def test_fragment_layout_folds_into_columns_where_one_column_is_too_tall():
+    assert fragment_lists.fragment_layout(16, 1080, 1920, 32768) == (16, 1)
+    assert fragment_lists.fragment_layout(32, 1080, 1920, 32768) == (16, 2)  # 34560 rows: folded
+    assert fragment_lists.fragment_layout(5, 90, 160, 400) == (3, 2)
+    with pytest.raises(ValueError, match="do not fit a texture of at most 256"):
+        fragment_lists.fragment_layout(64, 90, 160, 256)
+
+
+def test_a_folded_fragment_layout_gives_the_same_frame(ctx, monkeypatch):
+    """Fragments stored in two columns of blocks (as 1080p with 32 fragments a pixel needs)
+    give the same G-buffer bits as one column."""
+    scene = bl.scenes.smoke_pan()
+    size = (64, 36)
+    one = ctx.render(scene, size)
+    monkeypatch.setattr(fragment_lists, "fragment_layout", lambda k, h, w, most: (-(-k // 2), 2))
+    two = ctx.render(scene, size)
+    for name in ("color", "opaque_color", "translucent", "translucent_motion", "translucent_depth"):
+        np.testing.assert_array_equal(getattr(one, name), getattr(two, name), err_msg=name)

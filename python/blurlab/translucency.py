@@ -7,6 +7,21 @@ from __future__ import annotations
 from .scene import MAX_LAYERS, Scene
 
 
+def fragment_layout(capacity: int, height: int, width: int, max_size: int) -> tuple[int, int]:
+    """(rows, columns) of H x W blocks that hold `capacity` fragments per pixel in one texture no
+    side of which exceeds `max_size` (GL_MAX_TEXTURE_SIZE): fragment k of pixel (x, y) lies at
+    texel (x + (k // rows)·W, y + (k % rows)·H). One column while capacity·H fits (1080p holds
+    30 fragments a pixel in one column of 32768 rows), as few columns as needed beyond."""
+    most_rows = max_size // height
+    columns = -(-capacity // most_rows) if most_rows else 0
+    if not most_rows or columns * width > max_size:
+        raise ValueError(
+            f"blurlab: {capacity} translucent fragments per pixel at {width}x{height} do not fit "
+            f"a texture of at most {max_size} per side; lower scene.max_layers or the size"
+        )
+    return -(-capacity // columns), columns
+
+
 def translucent_layer(
     ctx, gbuffer, targets, camera_uniforms, light, draws, scene, most_fragments=None
 ) -> None:
@@ -20,8 +35,9 @@ def translucent_layer(
     capacity = scene.max_layers
     counts = ctx.pooled((height, width), "uint32")
     counts.clear()
-    surface = ctx.pooled((capacity * height, width, 4))
-    motion = ctx.pooled((capacity * height, width, 4))
+    rows, columns = fragment_layout(capacity, height, width, ctx.max_texture_size)
+    surface = ctx.pooled((rows * height, columns * width, 4))
+    motion = ctx.pooled((rows * height, columns * width, 4))
     natives = [targets[name].native for name in ("color", "depth", "motion", "object_id")]
     gbuffer.render(
         *natives,
@@ -54,17 +70,19 @@ def translucent_layer(
             "translucent_motion": targets["translucent_motion"],
             "most_fragments": most_fragments,
         },
+        capacity,
     )
     ctx.recycle(counts, surface, motion)
 
 
-def resolve_fragments(ctx, lists: dict, outputs: dict) -> None:
+def resolve_fragments(ctx, lists: dict, outputs: dict, capacity: int | None = None) -> None:
     """Sorts and composites fragment lists on the GPU (shaders/passes/translucent_resolve.comp;
     NumPy twin: blurlab.twins.translucency.resolve). `lists`: "opaque_color", "fragment_counts"
-    (H, W) uint32, "fragment_surface" and "fragment_motion" (kH, W, 4); `outputs`: "composite",
-    "translucent", "translucent_motion" (H, W, 4) and "most_fragments" (1 x 1 uint32)."""
+    (H, W) uint32, "fragment_surface" and "fragment_motion" in fragment_layout's blocks (one
+    column, (kH, W, 4), where `capacity` is not given); `outputs`: "composite", "translucent",
+    "translucent_motion" (H, W, 4) and "most_fragments" (1 x 1 uint32)."""
     height = lists["fragment_counts"].shape[0]
-    capacity = lists["fragment_surface"].shape[0] // height
+    capacity = capacity or lists["fragment_surface"].shape[0] // height
     resolve = ctx.shader_pass("passes/translucent_resolve.comp", {"CAPACITY": capacity})
     resolve.run(lists, outputs)
 

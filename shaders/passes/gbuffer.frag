@@ -67,7 +67,9 @@ void append_fragment(vec4 color, float depth, vec2 motion) {
     float alpha = clamp(color.a, 0.0, 1.0);
     uint index = imageAtomicAdd(fragment_counts, p, 1u);
     if (index >= uint(layer_capacity)) return;
-    ivec2 q = ivec2(p.x, p.y + int(index) * int(size.y));
+    // fragment_layout's blocks (blurlab.translucency): as many rows of H x W as the image holds.
+    int rows = imageSize(fragment_surface).y / int(size.y);
+    ivec2 q = ivec2(p.x + int(index) / rows * int(size.x), p.y + int(index) % rows * int(size.y));
     imageStore(fragment_surface, q, vec4(color.rgb * alpha, alpha_mode == 3 ? 0.0 : alpha));
     imageStore(fragment_motion, q, vec4(depth, motion, float(alpha_mode)));
 }

@@ -43,9 +43,10 @@ void main() {
     uint count = texelFetch(fragment_counts, p, 0).r;
     if (count > 0u) imageAtomicMax(most_fragments, ivec2(0), count);
     int n = int(min(count, uint(CAPACITY)));
+    int rows = textureSize(fragment_surface, 0).y / size.y;  // fragment_layout's blocks
     // Insertion sort as the fragments are read: index 0 is the backmost.
     for (int k = 0; k < n; ++k) {
-        ivec2 q = ivec2(p.x, p.y + k * size.y);
+        ivec2 q = ivec2(p.x + k / rows * size.x, p.y + k % rows * size.y);
         vec4 s = texelFetch(fragment_surface, q, 0), m = texelFetch(fragment_motion, q, 0);
         int j = k;
         while (j > 0 && behind(s, m, surfaces[j - 1], motions[j - 1])) {

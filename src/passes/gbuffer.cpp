@@ -35,9 +35,9 @@ const GBufferPass::Variant& GBufferPass::variant(GBufferHatching::Scheme scheme,
         "blurlab: a draw's hatching scheme is not a GBufferHatching.Scheme");
   Variant& made = variants_[layers ? 1 : 0][static_cast<int>(scheme)];
   if (made.program) return made;
-  made.program = Program::graphics(context_, "passes/gbuffer.vert", "passes/gbuffer.frag",
-                                   {{"HATCHING", std::to_string(static_cast<int>(scheme))},
-                                    {"LAYERS", layers ? "1" : "0"}});
+  made.program = Program::graphics(
+      context_, "passes/gbuffer.vert", "passes/gbuffer.frag",
+      {{"HATCHING", std::to_string(static_cast<int>(scheme))}, {"LAYERS", layers ? "1" : "0"}});
   const GLuint id = made.program->id();
   made.locations.view_projection = glGetUniformLocation(id, "view_projection");
   made.locations.sky_from_clip = glGetUniformLocation(id, "sky_from_clip");
@@ -127,13 +127,17 @@ void GBufferPass::render(const GBufferTargets& targets, const GBufferCamera& cam
   if (layers) {
     for (const Texture* t : lists)
       if (!t) throw std::invalid_argument("blurlab: fragment lists need all four of their targets");
-    capacity = lists[1]->height() / height;
-    if (lists[0]->width() != width || lists[0]->height() != height ||
-        lists[3]->width() != width || lists[3]->height() != height || capacity < 1 ||
-        lists[1]->width() != width || lists[1]->height() != capacity * height ||
-        lists[2]->width() != width || lists[2]->height() != capacity * height)
+    // Fragments lie in blocks of W x H, `rows` down and `columns` across
+    // (blurlab.translucency.fragment_layout), so capacity x H may exceed the largest texture.
+    const int rows = lists[1]->height() / height, columns = lists[1]->width() / width;
+    capacity = rows * columns;
+    if (lists[0]->width() != width || lists[0]->height() != height || lists[3]->width() != width ||
+        lists[3]->height() != height || capacity < 1 || lists[1]->width() != columns * width ||
+        lists[1]->height() != rows * height || lists[2]->width() != lists[1]->width() ||
+        lists[2]->height() != lists[1]->height())
       throw std::invalid_argument(
-          "blurlab: fragment lists must be W x H (counts, opaque depth) and W x kH (fragments)");
+          "blurlab: fragment lists must be W x H (counts, opaque depth) and blocks of W x H "
+          "(fragments)");
     if (lists[0]->format().internal != GL_R32UI || lists[1]->format().internal != GL_RGBA32F ||
         lists[2]->format().internal != GL_RGBA32F || lists[3]->format().internal != GL_R32F)
       throw std::invalid_argument(
@@ -184,7 +188,8 @@ void GBufferPass::render(const GBufferTargets& targets, const GBufferCamera& cam
     const int index = static_cast<int>(scheme);
     if (!framed[index]) {
       set_frame_uniforms(chosen, camera, light, width, height);
-      if (layers) glProgramUniform1i(chosen.program->id(), chosen.locations.layer_capacity, capacity);
+      if (layers)
+        glProgramUniform1i(chosen.program->id(), chosen.locations.layer_capacity, capacity);
     }
     framed[index] = true;
     glUseProgram(chosen.program->id());

@@ -85,7 +85,8 @@ struct GBufferTargets {
   // Optional, all or none: per-pixel fragment lists of translucent surfaces (docs/spec.md §20).
   // Given, the pass writes no colour, depth or motion target and draws no background: each
   // fragment nearer than `opaque_depth` (R32F, linear) is appended to its pixel's list. Fragment
-  // k of pixel (x, y) goes to texel (x, y + k·H) of `fragment_surface` (premultiplied colour,
+  // k of pixel (x, y) goes to texel (x + (k / rows)·W, y + (k % rows)·H) of `fragment_surface`
+  // (blocks of W x H, blurlab.translucency.fragment_layout; premultiplied colour,
   // coverage) and `fragment_motion` (depth, motion, alpha mode); `fragment_counts` (R32UI,
   // cleared by the caller) counts every fragment, those past the capacity too.
   std::shared_ptr<Texture> fragment_counts, fragment_surface, fragment_motion, opaque_depth;
