@@ -65,7 +65,8 @@ if [ "${NO_ISOLATION:-0}" = 1 ]; then
 fi
 
 mkdir -p dist
-version="$("$python" -c 'import tomllib; print(tomllib.load(open("pyproject.toml", "rb"))["project"]["version"])')"
+# The version is declared once, in python/blurlab/version.py (pyproject.toml reads it too).
+version="$("$python" -c 'import re; print(re.search(r"__version__ = \"(.+)\"", open("python/blurlab/version.py").read()).group(1))')"
 rm -f "dist/blurlab-$version.tar.gz"
 "$python" -m build --sdist "${build_isolation[@]}" --outdir dist . >/dev/null
 # Unpacked at a fixed place, so that the CMake build folder below stays valid and a second
