@@ -164,8 +164,35 @@ def blur_layers(
     result.params = {**result.params, "translucency": translucency}
     layer = textures["translucent"]
     if translucency == "layered":
+        # The layer's motion, depth and two-sided motion stay on the GPU: made from the
+        # rendered layer by one pass, not uploaded from the frame's arrays on every call.
+        layer_inputs = {
+            "motion": ctx.pooled((height, width, 2)),
+            "depth": ctx.pooled((height, width)),
+            "motion_sides": ctx.pooled((height, width, 4)),
+        }
+        split = ctx.shader_pass("passes/translucent_split.comp")
+        share_prev = np.float32(frame.instant_fraction)
+        timed(
+            ctx,
+            extra,
+            "translucent_split",
+            lambda: split.run(
+                {"translucent_motion": textures["translucent_motion"]},
+                {
+                    "layer_motion": layer_inputs["motion"],
+                    "layer_depth": layer_inputs["depth"],
+                    "layer_sides": layer_inputs["motion_sides"],
+                },
+                {"share_prev": share_prev, "share_next": np.float32(1.0 - share_prev)},
+            ),
+        )
         translucent = layer_frame(
-            frame, frame.translucent, frame.translucent_depth, frame.translucent_motion, {}
+            frame,
+            frame.translucent,
+            frame.translucent_depth,
+            frame.translucent_motion,
+            {"color": textures["translucent"], **layer_inputs},
         )
         centre = frame.instant_fraction == 0.5
         if layer_filter == "auto":
@@ -173,6 +200,7 @@ def blur_layers(
         else:
             layer_method = name if layer_filter == "same" else layer_filter
         layer_result = blur(translucent, layer_method)
+        ctx.recycle(*layer_inputs.values())  # read by passes already issued
         result.params["layer_filter"] = layer_method
         layer = layer_result.textures["color"]
         extra.update({f"translucent_{k}": t for k, t in layer_result.timings.items()})
