@@ -5,7 +5,7 @@
 # `python3 -m blurlab bench NAME --device gpu` at its GPU preset; their records go to
 # $OUT/records.jsonl (or out/gpu), to merge with `blurlab bench --merge FILE`.
 #
-#   device run, carry [".gl", ".whl"]:  bash benchmarks/gpu.sh all   (every benchmark, ~6 min)
+#   device run, carry [".gl", ".whl"]:  bash benchmarks/gpu.sh all   (every benchmark; see docs/gpu.md for the time)
 #   GPU_TESTS=0 bash benchmarks/gpu.sh "methods --param runs=20"   (no test suite)
 #   GPU_TESTS="tests/test_flip_gpu.py" bash benchmarks/gpu.sh filters   (some tests)
 #   bash benchmarks/gpu.sh "golden --record"   (tests/golden.py there; tests/golden/ comes back)
