@@ -19,7 +19,7 @@ from conftest import CLI_DEVICE
 from process_group import START_TIMEOUT_S, start_dask_cluster, stop_group
 
 import blurlab as bl
-from blurlab.studies import cluster as dask_cluster
+from blurlab.studies import scheduler
 
 pytest.importorskip("distributed")
 
@@ -64,7 +64,7 @@ def tls_cluster(tmp_path_factory):
     processes = []
     try:
         address = start_dask_cluster(folder, env, processes, tls)
-        security = dask_cluster.tls_security(
+        security = scheduler.tls_security(
             *(folder / name for name in ("ca.pem", "client.pem", "client.key"))
         )
         from distributed import Client
@@ -114,7 +114,7 @@ def test_a_client_without_the_certificate_is_refused(tls_cluster):
     from distributed import Client
 
     # a certificate another CA signed
-    rogue = dask_cluster.tls_security(*(folder / n for n in ("ca.pem", "rogue.pem", "rogue.key")))
+    rogue = scheduler.tls_security(*(folder / n for n in ("ca.pem", "rogue.pem", "rogue.key")))
     with pytest.raises((OSError, TimeoutError)):
         Client(address, security=rogue, timeout=REFUSED_TIMEOUT_S)
     with pytest.raises((OSError, TimeoutError)):  # no TLS at all
@@ -126,16 +126,16 @@ def test_a_client_without_the_certificate_is_refused(tls_cluster):
 
 def test_a_plain_tcp_scheduler_elsewhere_gets_a_warning_naming_the_risk():
     with pytest.warns(UserWarning, match="anyone who can reach its port can run code"):
-        dask_cluster.warn_if_exposed("tcp://10.1.2.3:8786")
+        scheduler.warn_if_exposed("tcp://10.1.2.3:8786")
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         for local in ("tcp://127.0.0.1:8786", "tcp://localhost:8786", "tcp://[::1]:8786"):
-            dask_cluster.warn_if_exposed(local)
-        dask_cluster.warn_if_exposed("tls://10.1.2.3:8786")
+            scheduler.warn_if_exposed(local)
+        scheduler.warn_if_exposed("tls://10.1.2.3:8786")
 
 
 def test_a_local_cluster_listens_on_loopback_only():
     with pytest.raises(ValueError, match="loopback only"):
         bl.local_cluster(1, host="0.0.0.0")
     with pytest.raises(ValueError, match="all three"):
-        dask_cluster.scheduler_client("tls://127.0.0.1:1", tls_ca="ca.pem")
+        scheduler.scheduler_client("tls://127.0.0.1:1", tls_ca="ca.pem")

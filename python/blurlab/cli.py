@@ -18,8 +18,9 @@ from .methods import blur, method, methods
 from .sizes import DEFAULT_SIZE
 from .studies import plots
 from .studies.bench import command as bench_command
-from .studies.cluster import account_table, local_cluster, scheduler_client
+from .studies.cluster import account_table, local_cluster
 from .studies.recommend import ranking_metrics, recommend
+from .studies.scheduler import scheduler_client
 from .studies.study import run_study, run_sweep_config
 from .twins.patterns import test_pattern
 

@@ -10,7 +10,7 @@ a worker that keeps them, so a scene's reference is rendered once.
 
 ``local_cluster()`` starts workers on this machine, listening on its loopback only: one per GPU,
 or one per core with llvmpipe. Other machines' schedulers are reached over TLS
-(``scheduler_client``); a plain tcp:// one on another host gets a warning.
+(``blurlab.studies.scheduler.scheduler_client``); a plain tcp:// one on another host gets a warning.
 """
 
 from __future__ import annotations
@@ -25,11 +25,7 @@ from collections import OrderedDict, deque
 
 from ..context import DEVICE_MODES, Context
 from .evaluation import SETUP_PHASES, WARM_UP, evaluate_scene
-from .scheduler import INSTALL_HINT as INSTALL_HINT
-from .scheduler import is_loopback as is_loopback
-from .scheduler import require_distributed, warn_if_exposed
-from .scheduler import scheduler_client as scheduler_client
-from .scheduler import tls_security as tls_security
+from .scheduler import is_loopback, require_distributed, warn_if_exposed
 
 # Scenes whose frames and references a worker keeps; the client keeps each worker on one scene
 # at a time, so two are enough for the hand-over between scenes.
