@@ -120,7 +120,9 @@ def distributions(table: pd.DataFrame, metrics: Sequence[str] = ("psnr", "ssim",
     if not rows:
         raise ValueError(f"blurlab.rankings: the table has none of the metrics {list(metrics)}")
     out = pd.DataFrame(rows)
-    out["goodness"] = [get(m).goodness(v) for m, v in zip(out["metric"], out["median"])]
+    out["goodness"] = [
+        get(m).goodness(v) for m, v in zip(out["metric"], out["median"], strict=True)
+    ]
     out = out.sort_values(["metric", "goodness"], ascending=[True, False], kind="stable")
     return out.drop(columns="goodness").reset_index(drop=True)
 
