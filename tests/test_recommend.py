@@ -8,6 +8,7 @@ import subprocess
 import sys
 
 import numpy as np
+import pandas as pd
 import pytest
 from conftest import CLI_DEVICE
 
@@ -160,3 +161,108 @@ def test_the_recommend_command_prints_one_answer_line_and_its_table():
         text=True,
     )
     assert bad.returncode == 2 and bad.stderr.startswith("blurlab: error: no built-in scene")
+
+
+def test_aggregates_read_the_bad_end_whichever_way_the_metric_points():
+    assert advice.parse_aggregate("p10:psnr").of([30, 20, 40, 10, 50]) == pytest.approx(14.0)
+    assert advice.parse_aggregate("worst").of([30.0, 20.0]) == 20.0  # psnr by default
+    # FLIP is lower-better: its worst is the highest, its p10 the 90th percentile.
+    assert advice.parse_aggregate("worst:flip").of([0.1, 0.3]) == 0.3
+    assert advice.parse_aggregate("p10:flip").of([0.0, 0.1, 0.2, 0.3, 0.4]) == pytest.approx(0.36)
+    assert advice.parse_aggregate("mean:ssim").of([0.5, 1.0]) == 0.75
+    assert str(advice.parse_aggregate("p5")) == "p5:psnr"
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        ("p100", "0 < NN < 100"),
+        ("p0", "0 < NN < 100"),
+        ("average", "one of median, mean, worst, best, pNN"),
+        ("median:sharpness", "the metric must be one of"),
+    ],
+)
+def test_unknown_aggregates_are_refused_with_what_is_allowed(text, message):
+    with pytest.raises(ValueError, match=message):
+        advice.parse_aggregate(text)
+
+
+@pytest.fixture(scope="module")
+def set_rows(ctx):
+    return pd.concat(
+        [advice.measured(ctx, bl.scenes.get(s), (64, 36)) for s in ("fan", "subpixel")],
+        ignore_index=True,
+    )
+
+
+def test_recommend_set_picks_the_best_aggregate_within_the_budget(ctx, set_rows):
+    budget = float(set_rows["total_ms"].median())
+    answer = bl.recommend_set(
+        ctx, ["fan", "subpixel"], (64, 36), budget_ms=budget, aggregate="worst:psnr"
+    )
+    table = answer.table
+    assert table["chosen"].sum() == 1 and (table["scenes"] == 2).all()
+    within = table[table["time_ms"] <= budget]
+    assert answer.value == within["value"].max() and answer.time_ms <= budget
+    # The per-scene table behind the answer: its worst PSNR is the aggregate.
+    assert sorted(answer.per_scene["scene"]) == ["fan", "subpixel"]
+    assert answer.per_scene["psnr"].min() == answer.value
+    # Its value and time are the aggregate of the sweep rows of that configuration.
+    chosen = set_rows[
+        (set_rows["method"] == answer.method)
+        & (set_rows["params"] == answer.table.loc[table["chosen"], "params"].iloc[0])
+    ]
+    assert answer.time_ms == chosen["total_ms"].max()
+
+
+def test_recommend_set_for_a_target_is_the_cheapest_that_reaches_it(ctx, set_rows):
+    answer = bl.recommend_set(ctx, ["fan", "subpixel"], (64, 36), target=25.0, aggregate="p10")
+    reaching = answer.table[answer.table["value"] >= 25.0]
+    assert answer.value >= 25.0 and answer.time_ms == reaching["time_ms"].min()
+    nothing = bl.recommend_set(ctx, ["fan", "subpixel"], (64, 36), target=500.0)
+    assert nothing.method is None and "nothing meets" in str(nothing)
+    with pytest.raises(ValueError, match="budget_ms, target or both"):
+        bl.recommend_set(ctx, ["fan"], (64, 36))
+
+
+def test_the_recommend_command_answers_for_a_set_of_scenes():
+    result = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "blurlab",
+            "--device",
+            CLI_DEVICE,
+            "recommend",
+            "subpixel",
+            "fan",
+            "--size",
+            "48x27",
+            "--budget-ms",
+            "1000",
+            "--aggregate",
+            "p10:psnr",
+        ],
+        capture_output=True,
+        text=True,
+    )
+    assert result.returncode == 0, result.stderr
+    lines = result.stdout.splitlines()
+    assert lines[0].startswith("recommend: ") and "p10:psnr" in lines[0]
+    assert lines[1].split()[:2] == ["scene", "total_ms"]
+    bad = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "blurlab",
+            "recommend",
+            "fan",
+            "--budget-ms",
+            "1",
+            "--aggregate",
+            "p200",
+        ],
+        capture_output=True,
+        text=True,
+    )
+    assert bad.returncode == 2 and "0 < NN < 100" in bad.stderr

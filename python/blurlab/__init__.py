@@ -27,7 +27,7 @@ from .sizes import DEFAULT_SIZE
 # used ones by name.
 from .studies import failures, plots  # noqa: E402
 from .studies.cluster import local_cluster  # noqa: E402
-from .studies.recommend import recommend  # noqa: E402
+from .studies.recommend import recommend, recommend_set  # noqa: E402
 from .studies.sweep import sweep  # noqa: E402
 from .version import __version__ as __version__  # noqa: E402
 
@@ -70,6 +70,7 @@ __all__ = [
     "methods",
     "quaternion",
     "recommend",
+    "recommend_set",
     "reference_samples_needed",
     "render_and_blur",
     "render_steps",

@@ -19,7 +19,7 @@ from .sizes import DEFAULT_SIZE
 from .studies import plots
 from .studies.bench import command as bench_command
 from .studies.cluster import account_table, local_cluster
-from .studies.recommend import ranking_metrics, recommend
+from .studies.recommend import AGGREGATES, ranking_metrics, recommend, recommend_set
 from .studies.scheduler import scheduler_client
 from .studies.study import run_study, run_sweep_config
 from .twins.patterns import test_pattern
@@ -183,28 +183,56 @@ def _add_cluster_options(parser) -> None:
 
 
 def _recommend(args) -> int:
-    """One line with the answer, then the table it was chosen from (fastest first)."""
+    """One line with the answer, then the table it was chosen from (fastest first); for
+    several scenes or an --aggregate, one configuration for the set, then its per-scene rows."""
     if args.budget_ms is None and args.target_psnr is None:
         raise ValueError("recommend needs --budget-ms, --target-psnr or both")
-    # A built-in name or a .gltf/.glb file: fails before the GPU.
-    if scenes.is_file(args.scene):
-        scene = scenes.gltf(args.scene, animation=args.animation)
-    elif args.animation != "all":
-        raise ValueError(f"--animation is for .gltf/.glb files; {args.scene!r} is built in")
-    else:
-        scene = scenes.get(args.scene)
+    # Built-in names or .gltf/.glb files: fail before the GPU.
+    if args.animation != "all" and not all(scenes.is_file(s) for s in args.scene):
+        raise ValueError("--animation is for .gltf/.glb files, not built-in scenes")
+    items = [
+        scenes.gltf(s, animation=args.animation) if scenes.is_file(s) else scenes.get(s)
+        for s in args.scene
+    ]
+    if len(items) > 1 or args.aggregate is not None:
+        return _recommend_set(args, items)
     ctx = Context(args.device)
     answer = recommend(
-        ctx, scene, args.size, args.budget_ms, args.target_psnr, args.metric, progress=True
+        ctx, items[0], args.size, args.budget_ms, args.target_psnr, args.metric, progress=True
     )
     print(f"recommend: {answer}")
     columns = ["chosen", "method", "params", "total_ms", "psnr", "ssim"]
     columns += [c for c in answer.table if c.startswith("auto_")]
     rows = answer.table.sort_values("total_ms")[columns]
     print(rows.to_string(index=False, float_format=lambda v: f"{v:.4g}"))
+    _print_clock(ctx)
+    return 0
+
+
+def _recommend_set(args, items) -> int:
+    aggregate = args.aggregate or f"median:{args.metric}"
+    if args.target_psnr is not None and not aggregate.endswith(":psnr"):
+        raise ValueError("--target-psnr goes with an aggregate of PSNR (e.g. p10:psnr)")
+    ctx = Context(args.device)
+    answer = recommend_set(
+        ctx, items, args.size, args.budget_ms, args.target_psnr, aggregate, progress=True
+    )
+    print(f"recommend: {answer}")
+    number = {"float_format": lambda v: f"{v:.4g}", "index": False}
+    if answer.method is not None:
+        columns = ["scene", "total_ms", *dict.fromkeys(["psnr", "ssim", answer.aggregate.metric])]
+        columns += [c for c in answer.per_scene if c.startswith("auto_")]
+        print(answer.per_scene[columns].to_string(**number))
+    print(f"\nevery configuration, by {answer.aggregate} over {len(items)} scenes:")
+    ranked = answer.table.sort_values("time_ms")
+    print(ranked.rename(columns={"value": str(answer.aggregate)}).to_string(**number))
+    _print_clock(ctx)
+    return 0
+
+
+def _print_clock(ctx) -> None:
     info = ctx.info()
     print(f"(times: the methods' GPU passes by {info['timer']} on {info['renderer']})")
-    return 0
 
 
 def _methods(args) -> int:
@@ -325,15 +353,26 @@ def build_parser() -> argparse.ArgumentParser:
     _add_cluster_options(study)
     advice = sub.add_parser(
         "recommend",
-        help="the cheapest method reaching a PSNR, or the most accurate within a time budget",
+        help="the cheapest method reaching a PSNR, or the most accurate within a time budget; "
+        "for one scene or a set",
     )
     advice.add_argument(
-        "scene", help="a built-in scene (blurlab.scenes.names()) or a .gltf/.glb file"
+        "scene",
+        nargs="+",
+        help="built-in scenes (blurlab.scenes.names()) or .gltf/.glb files; several give one "
+        "configuration for the set",
     )
     advice.add_argument("--size", type=parse_size, default=DEFAULT_SIZE, help=SIZE_HELP)
     advice.add_argument("--budget-ms", type=float, default=None, help="GPU ms per frame at most")
     advice.add_argument("--target-psnr", type=float, default=None, help="PSNR in dB at least")
     advice.add_argument("--metric", choices=ranking_metrics(), default="psnr")
+    advice.add_argument(
+        "--aggregate",
+        default=None,
+        help=f"over a set of scenes, rank by {', '.join(AGGREGATES)} (pNN: the NN-th percentile "
+        "from the bad end), optionally ':METRIC', e.g. p10:psnr (default with several scenes: "
+        "median of --metric)",
+    )
     advice.add_argument(
         "--animation",
         type=parse_animation,

@@ -5,7 +5,12 @@ each parameter that has a rule (k and samples of the tile filters), with PSNR an
 on the GPU. The sweep is cached per scene (name and content), device and size, so asking again
 with another budget or target costs nothing. The answer is the cheapest configuration that
 reaches `target_psnr`, or the most accurate one within `budget_ms`, or, with both, the cheapest
-that reaches the target within the budget; the rows behind it come with it. docs/recommend.md.
+that reaches the target within the budget; the rows behind it come with it.
+
+`recommend_set` answers the same question for a set of scenes: one configuration for all of
+them, the best by an aggregate over the scenes that the user picks (the median, mean, worst,
+best or a percentile of a metric; docs/spec.md §23.2), with the per-scene table behind it.
+docs/recommend.md.
 """
 
 from __future__ import annotations
@@ -13,8 +18,11 @@ from __future__ import annotations
 import json
 import math
 import os
+import re
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
+import numpy as np
 import pandas as pd
 
 from .. import scenes
@@ -154,3 +162,188 @@ def measured(
         )
         _CACHE[key] = table[[math.isfinite(v) for v in table["total_ms"]]].reset_index(drop=True)
     return _CACHE[key]
+
+
+# An aggregate over a set of scenes: "NAME" or "NAME:METRIC" (docs/spec.md §23.2).
+AGGREGATES = ("median", "mean", "worst", "best", "pNN")
+_PERCENTILE = re.compile(r"p(\d{1,2}(?:\.\d+)?)")
+
+
+@dataclass(frozen=True)
+class Aggregate:
+    """How a configuration's values over a set of scenes become one number: `kind` (one of
+    AGGREGATES, a percentile as "p"), `q` (the percentile, 0 < q < 100) and the metric."""
+
+    kind: str
+    q: float | None
+    metric: str
+
+    def __str__(self) -> str:
+        name = f"p{self.q:g}" if self.kind == "p" else self.kind
+        return f"{name}:{self.metric}"
+
+    def of(self, values) -> float:
+        """The aggregate of `values` (the metric on each scene), in the metric's unit. It is
+        taken on the metric's goodness (higher always better), so "worst" and "p10" are the
+        bad end whichever way the metric points: p10:flip is the 90th percentile of FLIP."""
+        sign = 1.0 if get(self.metric).higher_is_better else -1.0
+        good = sign * np.asarray(values, np.float64)
+        reduce = {
+            "median": np.median,
+            "mean": np.mean,
+            "worst": np.min,
+            "best": np.max,
+            "p": lambda g: np.percentile(g, self.q),
+        }[self.kind]
+        return float(sign * reduce(good))
+
+
+def parse_aggregate(text: str) -> Aggregate:
+    """ "median", "mean", "worst", "best" or "pNN" (the NN-th percentile from the bad end, 0 <
+    NN < 100), optionally followed by ":METRIC" (one of ranking_metrics(); default psnr)."""
+    if not isinstance(text, str):
+        raise TypeError(f"blurlab.recommend: an aggregate is text such as 'p10:psnr', not {text!r}")
+    name, _, metric = text.partition(":")
+    metric = metric or "psnr"
+    allowed = f"one of {', '.join(AGGREGATES)} (pNN: a percentile, 0 < NN < 100)"
+    if metric not in ranking_metrics():
+        raise ValueError(
+            f"blurlab.recommend: aggregate {text!r}: the metric must be one of "
+            f"{ranking_metrics()}, not {metric!r}"
+        )
+    percentile = _PERCENTILE.fullmatch(name)
+    if percentile:
+        q = float(percentile.group(1))
+        if not 0 < q < 100:
+            raise ValueError(f"blurlab.recommend: aggregate {text!r}: {allowed}")
+        return Aggregate("p", q, metric)
+    if name not in AGGREGATES:
+        raise ValueError(f"blurlab.recommend: aggregate {text!r}: {allowed}, then ':METRIC'")
+    return Aggregate(name, None, metric)
+
+
+@dataclass
+class SetRecommendation:
+    """The answer for a set of scenes: a method and its parameters, its aggregate and time
+    over the set, `per_scene` (its row on each scene), and `table`, every configuration
+    measured on every scene with its aggregate and time (`chosen` marks the answer)."""
+
+    method: str | None
+    params: dict
+    aggregate: Aggregate
+    value: float | None
+    time_ms: float | None
+    per_scene: pd.DataFrame = field(repr=False)
+    table: pd.DataFrame = field(repr=False)
+    question: str = ""
+
+    def __str__(self) -> str:
+        metric = get(self.aggregate.metric)
+        unit = f" {metric.unit}" if metric.unit else ""
+        if self.method is None:
+            return f"nothing meets the request ({self.question})"
+        return (
+            f"{self.method} {json.dumps(self.params, sort_keys=True)}: {self.aggregate} "
+            f"{self.value:.4g}{unit}, slowest scene {self.time_ms:.3g} ms ({self.question})"
+        )
+
+
+def recommend_set(
+    ctx: Context,
+    scene_set: Sequence,
+    size=DEFAULT_SIZE,
+    budget_ms: float | None = None,
+    target: float | None = None,
+    aggregate: str = "median:psnr",
+    progress: bool = False,
+) -> SetRecommendation:
+    """One configuration for every scene of `scene_set` (built-in names, files or Scenes):
+    the best by `aggregate` (parse_aggregate) among those whose slowest scene fits in
+    `budget_ms`, or the cheapest whose aggregate reaches `target` (in the metric's unit), or,
+    with both, the cheapest that reaches the target within the budget (docs/spec.md §23.2).
+    Each scene is measured as recommend() measures it, and cached alike."""
+    chosen_aggregate = parse_aggregate(aggregate)
+    if budget_ms is None and target is None:
+        raise ValueError("blurlab.recommend_set: give budget_ms, target or both")
+    for name, value in (("budget_ms", budget_ms), ("target", target)):
+        if value is not None and (
+            isinstance(value, bool)
+            or not isinstance(value, (int, float))
+            or not math.isfinite(value)
+        ):
+            raise ValueError(
+                f"blurlab.recommend_set: {name} must be a finite number, not {value!r}"
+            )
+    if budget_ms is not None and budget_ms <= 0:
+        raise ValueError(f"blurlab.recommend_set: budget_ms must be > 0, not {budget_ms!r}")
+    items = [scenes.get(s) if isinstance(s, (str, os.PathLike)) else s for s in scene_set]
+    if not items:
+        raise ValueError("blurlab.recommend_set: no scenes")
+    wanted = tuple(dict.fromkeys(MEASURED + (chosen_aggregate.metric,)))
+    rows = pd.concat(
+        [measured(ctx, scene, size, progress, wanted) for scene in items], ignore_index=True
+    )
+    table = set_table(rows, chosen_aggregate, len(items))
+    candidates = table
+    if budget_ms is not None:
+        candidates = candidates[candidates["time_ms"] <= budget_ms]
+    metric = get(chosen_aggregate.metric)
+    if target is not None:
+        candidates = candidates[metric.goodness(candidates["value"]) >= metric.goodness(target)]
+    question = _set_question(chosen_aggregate, budget_ms, target, len(table), items, size)
+    table = table.assign(chosen=False)
+    if candidates.empty:
+        return SetRecommendation(
+            None, {}, chosen_aggregate, None, None, rows.iloc[:0], table, question
+        )
+    ranked = candidates.assign(goodness=metric.goodness(candidates["value"]))
+    if target is not None:
+        order = ranked.sort_values(["time_ms", "goodness"], ascending=[True, False])
+    else:
+        order = ranked.sort_values(["goodness", "time_ms"], ascending=[False, True])
+    best = order.index[0]
+    table.loc[best, "chosen"] = True
+    answer = table.loc[best]
+    per_scene = rows[(rows["method"] == answer["method"]) & (rows["params"] == answer["params"])]
+    return SetRecommendation(
+        answer["method"],
+        json.loads(answer["params"]),
+        chosen_aggregate,
+        float(answer["value"]),
+        float(answer["time_ms"]),
+        per_scene.reset_index(drop=True),
+        table,
+        question,
+    )
+
+
+def set_table(rows: pd.DataFrame, aggregate: Aggregate, scene_count: int) -> pd.DataFrame:
+    """Per configuration (method, params) measured on all `scene_count` scenes: its
+    aggregate `value`, `time_ms` (its slowest scene: a frame's budget holds on every scene)
+    and the median time over the scenes."""
+    out = []
+    for (name, params), group in rows.groupby(["method", "params"], sort=False):
+        values = group[aggregate.metric]
+        if group["scene"].nunique() < scene_count or not np.isfinite(values).all():
+            continue  # not measured on every scene: it cannot answer for the set
+        out.append(
+            {
+                "method": name,
+                "params": params,
+                "scenes": scene_count,
+                "value": aggregate.of(values),
+                "time_ms": float(group["total_ms"].max()),
+                "median_ms": float(group["total_ms"].median()),
+            }
+        )
+    return pd.DataFrame(out)
+
+
+def _set_question(aggregate, budget_ms, target, configurations, items, size) -> str:
+    if target is not None:
+        question = f"the cheapest with {aggregate} >= {target:g}"
+        if budget_ms is not None:
+            question += f" within {budget_ms:g} ms"
+    else:
+        question = f"the best {aggregate} within {budget_ms:g} ms"
+    return f"{question}; {configurations} configurations on {len(items)} scenes {size[0]}x{size[1]}"
