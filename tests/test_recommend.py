@@ -266,3 +266,10 @@ def test_the_recommend_command_answers_for_a_set_of_scenes():
         text=True,
     )
     assert bad.returncode == 2 and "0 < NN < 100" in bad.stderr
+
+
+def test_a_seed_range_names_the_random_scenes():
+    assert advice.expand(["fan", "random:3-5"]) == ["fan", "random:3", "random:4", "random:5"]
+    assert advice.expand("random:7-7") == ["random:7"]
+    with pytest.raises(ValueError, match="A <= B"):
+        advice.expand(["random:5-3"])

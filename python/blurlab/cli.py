@@ -19,7 +19,7 @@ from .sizes import DEFAULT_SIZE
 from .studies import plots
 from .studies.bench import command as bench_command
 from .studies.cluster import account_table, local_cluster
-from .studies.recommend import AGGREGATES, ranking_metrics, recommend, recommend_set
+from .studies.recommend import AGGREGATES, expand, ranking_metrics, recommend, recommend_set
 from .studies.scheduler import scheduler_client
 from .studies.study import run_study, run_sweep_config
 from .twins.patterns import test_pattern
@@ -192,7 +192,7 @@ def _recommend(args) -> int:
         raise ValueError("--animation is for .gltf/.glb files, not built-in scenes")
     items = [
         scenes.gltf(s, animation=args.animation) if scenes.is_file(s) else scenes.get(s)
-        for s in args.scene
+        for s in expand(args.scene)
     ]
     if len(items) > 1 or args.aggregate is not None:
         return _recommend_set(args, items)
@@ -359,8 +359,8 @@ def build_parser() -> argparse.ArgumentParser:
     advice.add_argument(
         "scene",
         nargs="+",
-        help="built-in scenes (blurlab.scenes.names()) or .gltf/.glb files; several give one "
-        "configuration for the set",
+        help="built-in scenes (blurlab.scenes.names()), random:SEED or random:A-B (seeds A to B), "
+        "or .gltf/.glb files; several give one configuration for the set",
     )
     advice.add_argument("--size", type=parse_size, default=DEFAULT_SIZE, help=SIZE_HELP)
     advice.add_argument("--budget-ms", type=float, default=None, help="GPU ms per frame at most")

@@ -257,7 +257,8 @@ def recommend_set(
     aggregate: str = "median:psnr",
     progress: bool = False,
 ) -> SetRecommendation:
-    """One configuration for every scene of `scene_set` (built-in names, files or Scenes):
+    """One configuration for every scene of `scene_set` (built-in names, files, Scenes, or
+    "random:A-B" for the random scenes of seeds A to B):
     the best by `aggregate` (parse_aggregate) among those whose slowest scene fits in
     `budget_ms`, or the cheapest whose aggregate reaches `target` (in the metric's unit), or,
     with both, the cheapest that reaches the target within the budget (docs/spec.md §23.2).
@@ -276,7 +277,7 @@ def recommend_set(
             )
     if budget_ms is not None and budget_ms <= 0:
         raise ValueError(f"blurlab.recommend_set: budget_ms must be > 0, not {budget_ms!r}")
-    items = [scenes.get(s) if isinstance(s, (str, os.PathLike)) else s for s in scene_set]
+    items = [scenes.get(s) if isinstance(s, (str, os.PathLike)) else s for s in expand(scene_set)]
     if not items:
         raise ValueError("blurlab.recommend_set: no scenes")
     wanted = tuple(dict.fromkeys(MEASURED + (chosen_aggregate.metric,)))
@@ -315,6 +316,27 @@ def recommend_set(
         table,
         question,
     )
+
+
+_SEED_RANGE = re.compile(r"random:(\d+)-(\d+)")
+
+
+def expand(scene_set: Sequence) -> list:
+    """`scene_set` with each "random:A-B" replaced by the random scenes "random:A" ...
+    "random:B" (docs/spec.md §22); other items as they are."""
+    if isinstance(scene_set, (str, os.PathLike)):
+        scene_set = [scene_set]
+    items = []
+    for item in scene_set:
+        seeds = _SEED_RANGE.fullmatch(item) if isinstance(item, str) else None
+        if seeds is None:
+            items.append(item)
+            continue
+        first, last = int(seeds.group(1)), int(seeds.group(2))
+        if last < first:
+            raise ValueError(f"blurlab.recommend: {item!r}: a seed range A-B needs A <= B")
+        items += [f"random:{seed}" for seed in range(first, last + 1)]
+    return items
 
 
 def set_table(rows: pd.DataFrame, aggregate: Aggregate, scene_count: int) -> pd.DataFrame:
