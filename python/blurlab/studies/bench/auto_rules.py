@@ -1,0 +1,208 @@
+"""The auto_rules benchmark (docs/spec.md §23.3, docs/recommend.md): for each tile filter (k
+and samples) and for gather_coverage (tile size and samples), a threshold rule on a frame's
+motion radius is fitted on random seeds 0..A-1, then judged on seeds A..2A-1, which it never
+saw, against each scene's best fixed configuration, today's default and today's "auto" rule;
+and on every built-in scene against today's default."""
+
+from __future__ import annotations
+
+import json
+
+from ... import scenes
+from ...methods import method, methods
+from ...methods.core import Param
+from .. import auto_rules
+from ..sweep import sweep
+from .core import Benchmark, register
+from .timing import split
+
+COVERAGE = "gather_coverage"
+
+
+def tile_filters() -> list[str]:
+    """The methods whose k has an "auto" rule."""
+    return [n for n in methods() if "k" in method(n).params and method(n).params["k"].auto]
+
+
+def _grids(p, filters: list[str]) -> dict:
+    k_values = [int(k) for k in split(p["fixed_k"])]
+    samples = [int(s) for s in split(p["samples"])]
+    grids = {
+        name: [{"k": k_values, "samples": samples}, {"k": ["auto"], "samples": [15]}]
+        for name in filters
+        if name != COVERAGE
+    }
+    if COVERAGE in filters:
+        grids[COVERAGE] = {
+            "tile_percent": [float(t) for t in split(p["coverage_tiles"])],
+            "samples": [int(s) for s in split(p["coverage_samples"])],
+        }
+    return grids
+
+
+def _default_config(name: str, grid) -> str:
+    """Today's default configuration of the parameters `grid` varies, as a row's params JSON."""
+    keys = _varied_keys(grid)
+    return json.dumps({k: method(name).params[k].default for k in keys}, sort_keys=True)
+
+
+def _varied_keys(grid) -> list[str]:
+    first = grid if isinstance(grid, dict) else grid[0]
+    return sorted(first)
+
+
+def _auto_rules(ctx, size, p, out) -> None:
+    filters = split(p["filters"]) or [*tile_filters(), COVERAGE]
+    grids = _grids(p, filters)
+    seeds = p["seeds"]
+    train = [f"random:{s}" for s in range(seeds)]
+    held_out = [f"random:{s}" for s in range(seeds, 2 * seeds)]
+    builtin = split(p["builtin_scenes"]) or scenes.names()
+    caches: dict = {}
+    table = sweep(
+        ctx,
+        train + held_out + builtin,
+        grids,
+        size,
+        reference_samples=p["reference_samples"] or None,
+        metrics=("psnr",),
+        progress=False,
+        repeats=1,
+        caches=caches,
+    )
+    features = auto_rules.feature_frame(caches)
+    summary, rules, per_builtin = [], [], []
+    for name in filters:
+        scores = auto_rules.score_table(table, name)
+        fixed = scores[[c for c in scores if "auto" not in c]]
+        default = _default_config(name, grids[name])
+        if default not in fixed:
+            raise ValueError(
+                f"blurlab: auto_rules: the grid of {name} must hold today's default {default}"
+            )
+        rule = auto_rules.fit(fixed.loc[train], features.loc[train], p["bins"])
+        fitted = auto_rules.assess(rule, fixed.loc[train], features.loc[train])
+        judged = auto_rules.assess(rule, fixed.loc[held_out], features.loc[held_out])
+        today = auto_rules.assess(default, fixed.loc[held_out], features.loc[held_out])
+        short = name.removeprefix("reconstruct_")
+        builtin_margins = []
+        for scene in builtin:
+            chosen = rule.choose(features.at[scene, rule.feature])
+            margin = fixed.at[scene, chosen] - fixed.at[scene, default]
+            builtin_margins.append(margin)
+            per_builtin.append(
+                [scene, short, fixed.at[scene, default], chosen, fixed.at[scene, chosen], margin]
+            )
+        worst_builtin = min(builtin_margins)
+        rows = [["fitted rule", judged], [f"today's default {default}", today]]
+        autos = [c for c in scores if "auto" in c]
+        if autos:
+            auto_loss = scores.loc[held_out, autos[0]] - fixed.loc[held_out].max(axis=1)
+            rows.append([f"today's auto {autos[0]}", auto_rules.summarize(auto_loss)])
+        for label, result in rows:
+            summary.append(
+                [
+                    short,
+                    label,
+                    100 * result["within"],
+                    result["median_loss"],
+                    result["worst_loss"],
+                ]
+            )
+        meets = auto_rules.meets_bar(judged, worst_builtin)
+        rules.append(
+            [
+                short,
+                str(rule),
+                100 * fitted["within"],
+                100 * judged["within"],
+                "yes" if meets else "no",
+            ]
+        )
+        out.figure(
+            f"{short}: fitted rule within 0.25 dB on held-out seeds", 100 * judged["within"], "%"
+        )
+        out.figure(f"{short}: fitted rule, worst held-out loss", judged["worst_loss"], "dB")
+        out.figure(
+            f"{short}: today's default within 0.25 dB on held-out seeds", 100 * today["within"], "%"
+        )
+        out.figure(
+            f"{short}: fitted rule − today's default, worst built-in scene", worst_builtin, "dB"
+        )
+        out.figure(f"{short}: fitted rule meets the bar", int(meets), "bool")
+    out.table(
+        f"the fitted rules (seeds 0–{seeds - 1}): within 0.25 dB of the best fixed configuration "
+        f"on the training and the held-out seeds ({seeds}–{2 * seeds - 1}), and the bar",
+        [
+            ("method", ""),
+            ("rule", ""),
+            ("training", "%"),
+            ("held out", "%"),
+            ("meets the bar", ""),
+        ],
+        rules,
+    )
+    out.table(
+        f"held-out seeds {seeds}–{2 * seeds - 1}: against each scene's best fixed configuration",
+        [
+            ("method", ""),
+            ("configuration", ""),
+            ("within 0.25 dB", "%"),
+            ("median loss", "dB"),
+            ("worst loss", "dB"),
+        ],
+        summary,
+    )
+    out.table(
+        "built-in scenes: the fitted rule against today's default",
+        [
+            ("scene", ""),
+            ("method", ""),
+            ("default PSNR", "dB"),
+            ("rule's choice", ""),
+            ("its PSNR", "dB"),
+            ("rule − default", "dB"),
+        ],
+        per_builtin,
+    )
+
+
+register(
+    Benchmark(
+        "auto_rules",
+        "threshold rules for k and samples (tile filters) and gather_coverage's tile and samples, "
+        "fitted on random seeds 0..A-1 and judged on seeds A..2A-1 and the built-in scenes",
+        {
+            "seeds": Param(40, int, "A: fitted on seeds 0..A-1, judged on A..2A-1", 1, 100_000),
+            "filters": Param(
+                "", object, "comma-separated methods (empty: tile filters + coverage)"
+            ),
+            "fixed_k": Param("4,8,12,16,20,24,32,40,48,64", object, "the tile filters' k grid"),
+            "samples": Param("15", object, "the tile filters' samples grid"),
+            "coverage_tiles": Param("1.5,3,6", object, "gather_coverage's tile_percent grid"),
+            "coverage_samples": Param("4,8,16", object, "gather_coverage's samples grid"),
+            "bins": Param(4, int, "bins of the rule's threshold table", 1, 64),
+            "builtin_scenes": Param("", object, "comma-separated built-in scenes (empty: all)"),
+            "reference_samples": Param(0, int, "N of each reference (0: as sweeps choose)", 0),
+        },
+        _auto_rules,
+        {"tiny": (48, 27), "software": (320, 180), "gpu": (1920, 1080)},
+        {
+            "tiny": {
+                "seeds": 2,
+                "filters": "reconstruct_mcguire2012,gather_coverage",
+                "fixed_k": "4,20",
+                "coverage_tiles": "3",
+                "coverage_samples": "4,8",
+                "bins": 2,
+                "builtin_scenes": "fan",
+                "reference_samples": 8,
+            },
+            "gpu": {
+                "seeds": 500,
+                "fixed_k": "4,8,12,16,20,24,32,40,48,64,80,96,128",
+                "samples": "9,15,25",
+            },
+        },
+    )
+)
