@@ -24,11 +24,17 @@ from .failures import (
     subpixel,
     thin_bar,
 )
+from .features import FEATURES as FEATURES
+from .features import feature_table as feature_table
+from .features import features as features
+from .features import gbuffer_digest as gbuffer_digest
 from .hdr import neon_pan, night_street, sparks, spinning_ring
 from .parts import checker as checker
 from .parts import rainbow as rainbow
+from .random import check_seed as check_seed
 from .random import parse_name as _random_seed
 from .random import random as random
+from .random import random_name as random_name
 from .transparency import (
     car_behind_window,
     foliage_spin,

@@ -129,7 +129,7 @@ def _check(name: str, value):
     return (int(lo), int(hi)) if integer else (float(lo), float(hi))
 
 
-def scene_name(seed: int, ranges: dict | None = None) -> str:
+def random_name(seed: int, ranges: dict | None = None) -> str:
     """'random:SEED' for the default ranges, else 'random:SEED:' and a hash of the ranges that
     differ from their defaults: a random scene's name is its identity (docs/spec.md §22.1)."""
     checked = check_ranges(ranges or {})
@@ -163,7 +163,7 @@ def random(seed: int, **ranges) -> Scene:
     """A procedural scene drawn from `seed` within `ranges` (see `RANGES`; docs/spec.md §22)."""
     seed = check_seed(seed)
     checked = check_ranges(ranges)
-    return _Builder(np.random.default_rng(seed), checked, scene_name(seed, ranges)).scene
+    return _Builder(np.random.default_rng(seed), checked, random_name(seed, ranges)).scene
 
 
 class _Builder:
