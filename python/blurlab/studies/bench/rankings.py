@@ -1,0 +1,139 @@
+"""The rankings benchmark (docs/spec.md §23.1): every post-process method at its defaults on N
+random scenes (docs/spec.md §22), each scene's reference and three metrics; the top three
+methods by median with 95 % bootstrap intervals, the share of scenes each wins, pairwise
+comparisons of the top three, and which method wins where over two scene features."""
+
+from __future__ import annotations
+
+import time
+
+import pandas as pd
+
+from ... import scenes
+from ...methods import method
+from ...methods.core import Param
+from .. import rankings
+from ..cluster import local_cluster
+from ..sweep import sweep, sweep_methods
+from .core import Benchmark, register
+from .timing import split
+
+
+def post_process_methods() -> list[str]:
+    """The sweepable methods that blur a rendered frame (not those rendering sub-frames)."""
+    return [n for n in sweep_methods() if method(n).kind != "render"]
+
+
+def ranked_sweep(ctx, names, size, p) -> pd.DataFrame:
+    """The sweep of every chosen method at its defaults on `names`, on `ctx` or on
+    p["workers"] local Dask workers, with each scene's features joined."""
+    chosen = split(p["methods"]) or post_process_methods()
+    arguments = {
+        "scenes": names,
+        "methods_and_grids": {name: {} for name in chosen},
+        "size": size,
+        "reference_samples": p["reference_samples"] or None,
+        "metrics": tuple(split(p["metrics"])),
+        "progress": False,
+        "repeats": 1,
+    }
+    if p["workers"]:
+        with local_cluster(p["workers"], ctx.info()["device"]) as cluster:
+            table = sweep(None, cluster=cluster, **arguments)
+    else:
+        table = sweep(ctx, **arguments)
+    features = scenes.feature_table(ctx, [(scenes.get(n), size) for n in names])
+    return table.merge(pd.DataFrame(features), on="scene", how="left")
+
+
+def _rankings(ctx, size, p, out) -> None:
+    names = [f"random:{s}" for s in range(p["first_seed"], p["first_seed"] + p["scenes"])]
+    start = time.perf_counter()
+    table = ranked_sweep(ctx, names, size, p)
+    wall = time.perf_counter() - start
+    out.figure("scenes", len(names), "")
+    out.figure("sweep and features, wall", wall, "s")
+    metrics = [m for m in split(p["metrics"]) if m in table]
+    top_rows = []
+    for metric in metrics:
+        top = rankings.top(table, metric, 3)
+        for rank, row in enumerate(top.itertuples(), 1):
+            top_rows.append(
+                [metric, rank, row.contender, row.median, row.median_low, row.median_high]
+                + [100 * row.win_share]
+            )
+            out.figure(f"{metric} #{rank}: {row.contender}, median", row.median, "")
+    out.table(
+        f"top three by median over {len(names)} random scenes (seeds {names[0]}…), "
+        "95 % bootstrap intervals, and the share of scenes each wins among all methods",
+        [("metric", ""), ("rank", ""), ("method", ""), ("median", ""), ("low", ""), ("high", "")]
+        + [("wins", "%")],
+        top_rows,
+    )
+    spread = rankings.distributions(table, metrics)
+    out.table(
+        "every method at its defaults: median (95 % interval), mean, 10th and 90th percentile",
+        [("metric", ""), ("method", ""), ("median", ""), ("low", ""), ("high", "")]
+        + [("mean", ""), ("p10", ""), ("p90", "")],
+        spread[["metric", "contender", "median", "median_low", "median_high", "mean", "p10", "p90"]]
+        .to_numpy()
+        .tolist(),
+    )
+    first = metrics[0]
+    leaders = list(rankings.top(table, first, 3)["contender"])
+    pairs = rankings.pairwise(table[table["method"].isin(leaders)], first)
+    out.table(
+        f"the top three by {first}, pairwise: a's win rate over b and median a − b (95 % interval)",
+        [("a", ""), ("b", ""), ("a wins", "%"), ("median a − b", "")] + [("low", ""), ("high", "")],
+        [
+            [r.a, r.b, 100 * r.win_rate, r.median_difference, r.difference_low, r.difference_high]
+            for r in pairs.itertuples()
+        ],
+    )
+    x, y = split(p["map_features"])
+    cells = rankings.wins_map(table, x, y, first, p["bins"])
+    out.table(
+        f"which method wins where by {first}: scenes split into {p['bins']}×{p['bins']} cells "
+        f"by the quantiles of {x} and {y}",
+        [(f"{x} from", ""), (f"{x} to", ""), (f"{y} from", ""), (f"{y} to", "")]
+        + [("scenes", ""), ("wins most", ""), ("its share", "%")],
+        [
+            [c[f"{x}_low"], c[f"{x}_high"], c[f"{y}_low"], c[f"{y}_high"], c["scenes"]]
+            + [c["winner"], 100 * c["share"]]
+            for c in cells.to_dict("records")
+        ],
+    )
+
+
+register(
+    Benchmark(
+        "rankings",
+        "every post-process method at its defaults on N random scenes: the top three by median "
+        "PSNR, SSIM and FLIP with 95 % bootstrap intervals, win shares, pairwise comparisons and "
+        "which method wins where",
+        {
+            "scenes": Param(200, int, "N random scenes", 2, 100_000),
+            "first_seed": Param(0, int, "the first seed (seeds first_seed .. + N - 1)", 0),
+            "methods": Param("", object, "comma-separated methods (empty: every post-process)"),
+            "metrics": Param("psnr,ssim,flip", object, "comma-separated metrics (first: the map)"),
+            "map_features": Param(
+                "motion_p90,thin_share", object, "the two scene features of the wins map"
+            ),
+            "bins": Param(4, int, "cells per feature of the wins map", 1, 64),
+            "workers": Param(0, int, "local Dask workers (0: this process)", 0, 64),
+            "reference_samples": Param(0, int, "N of each reference (0: as sweeps choose)", 0),
+        },
+        _rankings,
+        {"tiny": (48, 27), "software": (160, 90), "gpu": (1920, 1080)},
+        {
+            "tiny": {
+                "scenes": 3,
+                "methods": "gather_box,reconstruct_mcguire2012",
+                "metrics": "psnr",
+                "bins": 1,
+                "reference_samples": 8,
+            },
+            "gpu": {"scenes": 500},
+        },
+    )
+)
