@@ -129,3 +129,40 @@ def test_unknown_metrics_and_features_are_refused():
         rankings.pairwise(table, "sharpness")
     with pytest.raises(ValueError, match="no feature column 'speed'"):
         rankings.wins_map(table, "speed", "depth")
+
+
+def test_best_configurations_keep_each_methods_best_median_configuration_on_every_scene():
+    table = pd.DataFrame(
+        {
+            "scene": ["s0", "s1", "s0", "s1", "s0", "s0", "s1"],
+            "method": ["m", "m", "m", "m", "m", "n", "n"],
+            "params": ['{"k": 4}', '{"k": 4}', '{"k": 8}', '{"k": 8}', '{"k": 16}', "{}", "{}"],
+            "psnr": [30.0, 30.0, 31.0, 29.5, 50.0, 20.0, 21.0],
+        }
+    )
+    # k = 16 was measured on one scene only; k = 8's median (30.25) beats k = 4's (30).
+    kept = rankings.best_configurations(table)
+    assert sorted(zip(kept["method"], kept["params"], strict=True)) == [
+        ("m", '{"k": 8}'),
+        ("m", '{"k": 8}'),
+        ("n", "{}"),
+        ("n", "{}"),
+    ]
+    assert rankings.win_shares(kept).to_dict() == {"m": 1.0, "n": 0.0}
+
+
+def test_the_study_report_ranks_the_methods_from_twenty_scenes_on(tmp_path):
+    from blurlab.studies import study
+
+    rng = np.random.default_rng(2)
+    speed = rng.uniform(0, 50, 20)
+    table = table_of(
+        {"a": list(40 - speed / 5), "b": list(np.full(20, 33.0)), "c": list(np.full(20, 20.0))},
+        motion_p90=speed,
+        thin_share=rng.uniform(0, 1, 20),
+    )
+    table["ssim"] = table["psnr"] / 50
+    html = study.rankings_section(table, tmp_path)
+    assert "Rankings over 20 scenes" in html and "Which method wins where" in html
+    assert (tmp_path / "wins_map.png").stat().st_size > 0
+    assert study.rankings_section(table[table["scene"] != "s0"], tmp_path) is None

@@ -46,6 +46,25 @@ def contenders(table: pd.DataFrame) -> pd.Series:
     )
 
 
+def best_configurations(table: pd.DataFrame, metric: str = "psnr") -> pd.DataFrame:
+    """The rows of each method's one configuration with the best median `metric` over the
+    scenes, among its configurations measured (finitely) on every scene of the table: a
+    study's grid narrowed to one contender per method."""
+    _check_metric(table, metric)
+    scene_count = table["scene"].nunique()
+    finite = table[np.isfinite(table[metric].astype(np.float64))]
+    per_config = finite.groupby(["method", "params"], sort=False).agg(
+        scenes=("scene", "nunique"), median=(metric, "median")
+    )
+    complete = per_config[per_config["scenes"] == scene_count].reset_index()
+    if complete.empty:
+        raise ValueError(f"blurlab.rankings: no configuration has a finite {metric} on every scene")
+    complete["goodness"] = get(metric).goodness(complete["median"])
+    best = complete.sort_values("goodness", ascending=False, kind="stable")
+    best = best.drop_duplicates("method")[["method", "params"]]
+    return finite.merge(best, on=["method", "params"]).drop_duplicates(["scene", "method"])
+
+
 def scores(table: pd.DataFrame, metric: str) -> pd.DataFrame:
     """A scenes × contenders frame of `metric`; an error names any (scene, contender) with
     more than one row, or a scene that lacks a contender (filter the table first)."""
