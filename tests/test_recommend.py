@@ -133,33 +133,19 @@ def test_recommend_says_when_nothing_qualifies(ctx, fan_answers):
         bl.recommend(ctx, "fan", (64, 36), budget_ms=-1)
 
 
+def blurlab_command(*args: str) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "blurlab", *args], capture_output=True, text=True)
+
+
 def test_the_recommend_command_prints_one_answer_line_and_its_table():
-    result = subprocess.run(
-        [
-            sys.executable,
-            "-m",
-            "blurlab",
-            "--device",
-            CLI_DEVICE,
-            "recommend",
-            "subpixel",
-            "--size",
-            "48x27",
-            "--budget-ms",
-            "1000",
-        ],
-        capture_output=True,
-        text=True,
+    result = blurlab_command(
+        "--device", CLI_DEVICE, "recommend", "subpixel", "--size", "48x27", "--budget-ms", "1000"
     )
     assert result.returncode == 0, result.stderr
     lines = result.stdout.splitlines()
     assert lines[0].startswith("recommend: ") and "ms, PSNR" in lines[0]
     assert lines[1].split()[:3] == ["chosen", "method", "params"]
-    bad = subprocess.run(
-        [sys.executable, "-m", "blurlab", "recommend", "no_such_scene", "--budget-ms", "1"],
-        capture_output=True,
-        text=True,
-    )
+    bad = blurlab_command("recommend", "no_such_scene", "--budget-ms", "1")
     assert bad.returncode == 2 and bad.stderr.startswith("blurlab: error: no built-in scene")
 
 
@@ -226,45 +212,15 @@ def test_recommend_set_for_a_target_is_the_cheapest_that_reaches_it(ctx, set_row
 
 
 def test_the_recommend_command_answers_for_a_set_of_scenes():
-    result = subprocess.run(
-        [
-            sys.executable,
-            "-m",
-            "blurlab",
-            "--device",
-            CLI_DEVICE,
-            "recommend",
-            "subpixel",
-            "fan",
-            "--size",
-            "48x27",
-            "--budget-ms",
-            "1000",
-            "--aggregate",
-            "p10:psnr",
-        ],
-        capture_output=True,
-        text=True,
+    result = blurlab_command(
+        *("--device", CLI_DEVICE, "recommend", "subpixel", "fan", "--size", "48x27"),
+        *("--budget-ms", "1000", "--aggregate", "p10:psnr"),
     )
     assert result.returncode == 0, result.stderr
     lines = result.stdout.splitlines()
     assert lines[0].startswith("recommend: ") and "p10:psnr" in lines[0]
     assert lines[1].split()[:2] == ["scene", "total_ms"]
-    bad = subprocess.run(
-        [
-            sys.executable,
-            "-m",
-            "blurlab",
-            "recommend",
-            "fan",
-            "--budget-ms",
-            "1",
-            "--aggregate",
-            "p200",
-        ],
-        capture_output=True,
-        text=True,
-    )
+    bad = blurlab_command("recommend", "fan", "--budget-ms", "1", "--aggregate", "p200")
     assert bad.returncode == 2 and "0 < NN < 100" in bad.stderr
 
 

@@ -93,13 +93,7 @@ def recommend(
     context's clock); with both, the cheapest that reaches the target within the budget.
     Returns a Recommendation whose `table` holds the rows it was chosen from; `method` is None
     where no row qualifies (its str() then names the fastest row)."""
-    if budget_ms is None and target_psnr is None:
-        raise ValueError("blurlab.recommend: give budget_ms, target_psnr or both")
-    for name, value in (("budget_ms", budget_ms), ("target_psnr", target_psnr)):
-        if value is not None and (
-            isinstance(value, bool) or not isinstance(value, (int, float)) or not value > 0
-        ):
-            raise ValueError(f"blurlab.recommend: {name} must be a number > 0, not {value!r}")
+    _check_request("blurlab.recommend", budget_ms, ("target_psnr", target_psnr), positive=True)
     if metric not in ranking_metrics():
         raise ValueError(
             f"blurlab.recommend: metric must be one of {ranking_metrics()}, not {metric!r}"
@@ -134,6 +128,21 @@ def recommend(
         if params[key] == "auto" and isinstance(chosen, str):
             params[key] = json.loads(chosen)
     return Recommendation(row["method"], params, row, table, question)
+
+
+def _check_request(caller: str, budget_ms, target: tuple, positive: bool) -> None:
+    """A budget (a number > 0) or a target (`target`: its name and value; a number, > 0 where
+    `positive`) or both, else an error from `caller` saying what is allowed."""
+    name, value = target
+    if budget_ms is None and value is None:
+        raise ValueError(f"{caller}: give budget_ms, {name} or both")
+    for key, given, must_be_positive in (("budget_ms", budget_ms, True), (name, value, positive)):
+        if given is None:
+            continue
+        number = not isinstance(given, bool) and isinstance(given, (int, float))
+        if not number or not math.isfinite(given) or (must_be_positive and not given > 0):
+            allowed = "a number > 0" if must_be_positive else "a finite number"
+            raise ValueError(f"{caller}: {key} must be {allowed}, not {given!r}")
 
 
 def ranking_metrics() -> list[str]:
@@ -264,19 +273,7 @@ def recommend_set(
     with both, the cheapest that reaches the target within the budget (docs/spec.md §23.2).
     Each scene is measured as recommend() measures it, and cached alike."""
     chosen_aggregate = parse_aggregate(aggregate)
-    if budget_ms is None and target is None:
-        raise ValueError("blurlab.recommend_set: give budget_ms, target or both")
-    for name, value in (("budget_ms", budget_ms), ("target", target)):
-        if value is not None and (
-            isinstance(value, bool)
-            or not isinstance(value, (int, float))
-            or not math.isfinite(value)
-        ):
-            raise ValueError(
-                f"blurlab.recommend_set: {name} must be a finite number, not {value!r}"
-            )
-    if budget_ms is not None and budget_ms <= 0:
-        raise ValueError(f"blurlab.recommend_set: budget_ms must be > 0, not {budget_ms!r}")
+    _check_request("blurlab.recommend_set", budget_ms, ("target", target), positive=False)
     items = [scenes.get(s) if isinstance(s, (str, os.PathLike)) else s for s in expand(scene_set)]
     if not items:
         raise ValueError("blurlab.recommend_set: no scenes")
