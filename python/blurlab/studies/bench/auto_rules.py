@@ -173,7 +173,7 @@ register(
         "threshold rules for k and samples (tile filters) and gather_coverage's tile and samples, "
         "fitted on random seeds 0..A-1 and judged on seeds A..2A-1 and the built-in scenes",
         {
-            "seeds": Param(40, int, "A: fitted on seeds 0..A-1, judged on A..2A-1", 1, 100_000),
+            "seeds": Param(25, int, "A: fitted on seeds 0..A-1, judged on A..2A-1", 1, 100_000),
             "filters": Param(
                 "", object, "comma-separated methods (empty: tile filters + coverage)"
             ),
