@@ -219,7 +219,8 @@ def wins_map(
     )
     rows = []
     for (xb, yb), cell in cells.groupby(["x_bin", "y_bin"], sort=True):
-        counts = cell["winner"].value_counts()
+        counts = cell["winner"].value_counts().sort_index()  # a tie: the first by name
+        leader = counts.idxmax()
         rows.append(
             {
                 "x_bin": xb,
@@ -229,8 +230,8 @@ def wins_map(
                 f"{y}_low": cell["y"].min(),
                 f"{y}_high": cell["y"].max(),
                 "scenes": len(cell),
-                "winner": counts.index[0],
-                "share": float(counts.iloc[0] / len(cell)),
+                "winner": leader,
+                "share": float(counts[leader] / len(cell)),
             }
         )
     return pd.DataFrame(rows)
