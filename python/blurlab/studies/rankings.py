@@ -267,11 +267,6 @@ def wins_map_chart(table: pd.DataFrame, x: str, y: str, metric: str = "psnr", pa
     return fig
 
 
-def summary(table: pd.DataFrame, metrics: Sequence[str] = ("psnr", "ssim", "flip"), n: int = 3):
-    """{metric: top(table, metric, n)} for each of `metrics` the table has."""
-    return {m: top(table, m, n) for m in metrics if m in table}
-
-
 def _check_metric(table: pd.DataFrame, metric: str) -> None:
     get(metric)  # an unknown name raises, listing the registered metrics
     if metric not in table:
