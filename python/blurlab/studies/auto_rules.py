@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
+from .. import scenes
 from ..frame import Frame
 
 # The frame's motion radii a rule may read: the q-th percentile of |M|/2 over the pixels moving
@@ -27,6 +28,9 @@ FEATURES = tuple(f"radius_p{q}" for q in PERCENTILES)
 TOLERANCE_DB = 0.25  # "within" the per-scene best fixed configuration
 WORST_DB = -1.0  # the bar's worst loss against the best fixed configuration
 SHARE = 0.90  # the bar's share of held-out scenes within the tolerance
+# The training scenes are split this many ways to choose a rule's feature and bin count: each
+# candidate is fitted on all folds but one and judged on that one, in turn.
+FOLDS = 5
 
 
 def frame_features(frame: Frame) -> dict[str, float]:
@@ -39,14 +43,14 @@ def frame_features(frame: Frame) -> dict[str, float]:
     return {name: float(r) for name, r in zip(FEATURES, radii, strict=True)}
 
 
-def feature_frame(caches: dict, instant: str = "center") -> pd.DataFrame:
-    """FEATURES per scene (rows by scene name) of the frames a sweep rendered at `instant`,
-    from the `caches` it filled (bl.sweep's `caches`)."""
+def feature_frame(ctx, names, size, instant: str = "center") -> pd.DataFrame:
+    """FEATURES per scene (rows by name) of scenes `names`, each rendered by `ctx` at `size`
+    at `instant` (the tile filters' and gather_coverage's)."""
     rows = {}
-    for scene, cache in caches.items():
-        frames = cache.get("frames", {}).get((instant, 1))
-        if frames:
-            rows[scene] = frame_features(frames[0])
+    for name in names:
+        frame = ctx.render(scenes.get(name), size, instant=instant)
+        rows[name] = frame_features(frame)
+        del frame  # its GPU targets go back to the pool before the next render
     return pd.DataFrame.from_dict(rows, orient="index", columns=list(FEATURES))
 
 
@@ -83,33 +87,50 @@ def losses(scores: pd.DataFrame) -> pd.DataFrame:
 
 
 def fit(
-    scores: pd.DataFrame, features: pd.DataFrame, bins: int = 4, tolerance: float = TOLERANCE_DB
+    scores: pd.DataFrame,
+    features: pd.DataFrame,
+    bins: int = 4,
+    tolerance: float = TOLERANCE_DB,
+    folds: int = FOLDS,
 ) -> RuleTable:
-    """The RuleTable that does best on these scenes: `scores` holds PSNR per scene (rows) and
-    fixed configuration (columns, JSON), `features` FEATURES per scene (same rows). Bins split
-    at the feature's quantiles, so each holds about as many scenes."""
-    if isinstance(bins, bool) or not isinstance(bins, int) or bins < 1:
-        raise ValueError(f"blurlab.auto_rules: bins must be an integer >= 1, not {bins!r}")
+    """The RuleTable for these scenes: `scores` holds PSNR per scene (rows) and fixed
+    configuration (columns, JSON), `features` FEATURES per scene (same rows). The feature and
+    the number of bins (1..`bins`) are those whose tables do best in `folds`-fold
+    cross-validation over the scenes (the fewer bins on a tie); the table is then fitted on
+    every scene. Bins split at the feature's quantiles, so each holds about as many scenes."""
+    for name, value in (("bins", bins), ("folds", folds)):
+        if isinstance(value, bool) or not isinstance(value, int) or value < 1:
+            raise ValueError(f"blurlab.auto_rules: {name} must be an integer >= 1, not {value!r}")
     if scores.empty or not scores.index.equals(features.index):
         raise ValueError("blurlab.auto_rules: scores and features need the same non-empty scenes")
     loss = losses(scores)
+    fold = np.arange(len(loss)) % min(folds, len(loss))
     best = None
-    for feature in FEATURES:
-        values = features[feature].to_numpy(np.float64)
-        edges = np.unique(np.quantile(values, np.arange(1, bins) / bins))
-        thresholds = tuple(float(t) for t in edges if t > values.min())
-        which = np.searchsorted(thresholds, values, side="right")
-        configs = tuple(
-            _best_config(loss[which == i], tolerance)
-            if (which == i).any()
-            else _best_config(loss, tolerance)
-            for i in range(len(thresholds) + 1)
-        )
-        rule = _merged(RuleTable(feature, thresholds, configs))
-        key = _objective(assess(rule, scores, features, tolerance))
-        if best is None or key > best[0]:
-            best = (key, rule)
-    return best[1]
+    for count in range(1, bins + 1):
+        for feature in FEATURES:
+            held_out = pd.Series(0.0, index=loss.index)
+            for f in np.unique(fold) if fold.max() > 0 else []:
+                part = fold != f
+                rule = _table(loss[part], features[part], feature, count, tolerance)
+                for scene in loss.index[~part]:
+                    held_out[scene] = loss.at[scene, rule.choose(features.at[scene, feature])]
+            key = _objective(summarize(held_out, tolerance))
+            if best is None or key > best[0]:
+                best = (key, feature, count)
+    return _table(loss, features, best[1], best[2], tolerance)
+
+
+def _table(loss, features, feature: str, bins: int, tolerance: float) -> RuleTable:
+    """The table of `bins` quantile bins of `feature`, each naming its best configuration."""
+    values = features[feature].to_numpy(np.float64)
+    edges = np.unique(np.quantile(values, np.arange(1, bins) / bins))
+    thresholds = tuple(float(t) for t in edges if t > values.min())
+    which = np.searchsorted(thresholds, values, side="right")
+    configs = tuple(
+        _best_config(loss[which == i] if (which == i).any() else loss, tolerance)
+        for i in range(len(thresholds) + 1)
+    )
+    return _merged(RuleTable(feature, thresholds, configs))
 
 
 def assess(

@@ -58,7 +58,6 @@ def _auto_rules(ctx, size, p, out) -> None:
     train = [f"random:{s}" for s in range(seeds)]
     held_out = [f"random:{s}" for s in range(seeds, 2 * seeds)]
     builtin = split(p["builtin_scenes"]) or scenes.names()
-    caches: dict = {}
     table = sweep(
         ctx,
         train + held_out + builtin,
@@ -66,11 +65,11 @@ def _auto_rules(ctx, size, p, out) -> None:
         size,
         reference_samples=p["reference_samples"] or None,
         metrics=("psnr",),
+        out=p["results"] or None,
         progress=False,
         repeats=1,
-        caches=caches,
     )
-    features = auto_rules.feature_frame(caches)
+    features = auto_rules.feature_frame(ctx, train + held_out + builtin, size)
     summary, rules, per_builtin = [], [], []
     for name in filters:
         scores = auto_rules.score_table(table, name)
@@ -184,6 +183,7 @@ register(
             "bins": Param(4, int, "bins of the rule's threshold table", 1, 64),
             "builtin_scenes": Param("", object, "comma-separated built-in scenes (empty: all)"),
             "reference_samples": Param(0, int, "N of each reference (0: as sweeps choose)", 0),
+            "results": Param("", object, "a .csv the sweep's rows go to and resume from"),
         },
         _auto_rules,
         {"tiny": (48, 27), "software": (320, 180), "gpu": (1920, 1080)},
