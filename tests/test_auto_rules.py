@@ -77,3 +77,31 @@ def test_fitting_refuses_tables_that_do_not_match():
         auto_rules.fit(scores, features.iloc[:1])
     with pytest.raises(ValueError, match="bins must be an integer >= 1"):
         auto_rules.fit(scores, features, bins=0)
+
+
+def test_a_scaled_rule_takes_the_smallest_k_that_covers_the_scaled_radius():
+    rules = auto_rules.scaled_rules(K)
+    assert len(rules) == len(auto_rules.FEATURES) * len(auto_rules.FACTORS)
+    rule = auto_rules.ScaledRule("radius_p95", 2.0, tuple(K))
+    assert [rule.choose(r) for r in (0.0, 2.0, 2.5, 9.0, 100.0)] == [K[0], K[0], K[1], K[3], K[3]]
+    assert str(rule) == "k = the smallest of 4, 8, 16, 32 ≥ 2 × radius_p95"
+    # Configurations without k (gather_coverage's) have no scaled rule.
+    assert auto_rules.scaled_rules(['{"samples": 8, "tile_percent": 3.0}']) == []
+
+
+def test_a_scaled_rule_is_chosen_where_k_should_follow_the_radius_at_every_scale():
+    # The best k is the smallest k >= 1.5 r, with r spread over every k: a scaled rule says
+    # so exactly, where a 4-bin table cannot.
+    rng = np.random.default_rng(3)
+    ks = np.array([4, 8, 16, 32])
+    radii = rng.uniform(0.5, 21, 300)
+    names = [f"s{i}" for i in range(300)]
+    best = [min(np.searchsorted(ks, 1.5 * r), 3) for r in radii]
+    scores = pd.DataFrame(
+        [40.0 - 1.0 * np.abs(np.arange(4) - b) for b in best], index=names, columns=K
+    )
+    features = pd.DataFrame({f: radii * (1 + i) for i, f in enumerate(auto_rules.FEATURES)})
+    features.index = names
+    rule = auto_rules.fit(scores, features)
+    result = auto_rules.assess(rule, scores, features)
+    assert isinstance(rule, auto_rules.ScaledRule) and result["within"] == 1.0

@@ -80,6 +80,50 @@ class RuleTable:
         return "; ".join(parts)
 
 
+@dataclass(frozen=True)
+class ScaledRule:
+    """A fitted rule of §14's shape: the configuration with the smallest k ≥ `factor` × the
+    frame's `feature` among `configs` (JSON, ascending k, the other parameters alike), or the
+    largest k where none reaches it."""
+
+    feature: str
+    factor: float
+    configs: tuple[str, ...]
+
+    def choose(self, value: float) -> str:
+        ks = [json.loads(c)["k"] for c in self.configs]
+        index = int(np.searchsorted(ks, self.factor * value, side="left"))
+        return self.configs[min(index, len(ks) - 1)]
+
+    def __str__(self) -> str:
+        rest = {k: v for k, v in json.loads(self.configs[0]).items() if k != "k"}
+        ks = ", ".join(str(json.loads(c)["k"]) for c in self.configs)
+        others = "".join(f", {k} = {v}" for k, v in rest.items())
+        return f"k = the smallest of {ks} ≥ {self.factor:g} × {self.feature}{others}"
+
+
+# The factors a ScaledRule may scale its radius by.
+FACTORS = (0.5, 0.75, 1.0, 1.5, 2.0, 3.0)
+
+
+def scaled_rules(columns) -> list[ScaledRule]:
+    """Every ScaledRule over configurations `columns` (JSON) that vary k: one per feature,
+    factor and setting of the other parameters; none where the configurations have no k."""
+    groups: dict[str, list[tuple[int, str]]] = {}
+    for config in columns:
+        params = json.loads(config)
+        if not isinstance(params.get("k"), int):
+            return []
+        rest = json.dumps({k: v for k, v in params.items() if k != "k"}, sort_keys=True)
+        groups.setdefault(rest, []).append((params["k"], config))
+    return [
+        ScaledRule(feature, factor, tuple(c for _, c in sorted(group)))
+        for group in groups.values()
+        for feature in FEATURES
+        for factor in FACTORS
+    ]
+
+
 def losses(scores: pd.DataFrame) -> pd.DataFrame:
     """Per scene (rows) and configuration (columns, JSON): PSNR − the scene's best PSNR over
     the configurations (≤ 0)."""
@@ -92,12 +136,13 @@ def fit(
     bins: int = 4,
     tolerance: float = TOLERANCE_DB,
     folds: int = FOLDS,
-) -> RuleTable:
-    """The RuleTable for these scenes: `scores` holds PSNR per scene (rows) and fixed
-    configuration (columns, JSON), `features` FEATURES per scene (same rows). The feature and
-    the number of bins (1..`bins`) are those whose tables do best in `folds`-fold
-    cross-validation over the scenes (the fewer bins on a tie); the table is then fitted on
-    every scene. Bins split at the feature's quantiles, so each holds about as many scenes."""
+) -> RuleTable | ScaledRule:
+    """The rule for these scenes: `scores` holds PSNR per scene (rows) and fixed configuration
+    (columns, JSON), `features` FEATURES per scene (same rows). Candidates: a RuleTable of
+    1..`bins` bins on each feature, judged by `folds`-fold cross-validation over the scenes
+    (the fewer bins on a tie) and then fitted on every scene; and, where the configurations
+    vary k, every ScaledRule, judged on the scenes (it fits nothing per fold). Bins split at
+    the feature's quantiles, so each holds about as many scenes."""
     for name, value in (("bins", bins), ("folds", folds)):
         if isinstance(value, bool) or not isinstance(value, int) or value < 1:
             raise ValueError(f"blurlab.auto_rules: {name} must be an integer >= 1, not {value!r}")
@@ -116,8 +161,13 @@ def fit(
                     held_out[scene] = loss.at[scene, rule.choose(features.at[scene, feature])]
             key = _objective(summarize(held_out, tolerance))
             if best is None or key > best[0]:
-                best = (key, feature, count)
-    return _table(loss, features, best[1], best[2], tolerance)
+                best = (key, (loss, features, feature, count, tolerance))
+    # A scaled rule fits nothing per fold: its training loss is its held-out loss.
+    for rule in scaled_rules(loss.columns):
+        key = _objective(assess(rule, scores, features, tolerance))
+        if key > best[0]:
+            best = (key, rule)
+    return _table(*best[1]) if isinstance(best[1], tuple) else best[1]
 
 
 def _table(loss, features, feature: str, bins: int, tolerance: float) -> RuleTable:
@@ -136,11 +186,11 @@ def _table(loss, features, feature: str, bins: int, tolerance: float) -> RuleTab
 def assess(
     rule, scores: pd.DataFrame, features: pd.DataFrame, tolerance: float = TOLERANCE_DB
 ) -> dict:
-    """How `rule` (a RuleTable, or a fixed configuration as JSON) does on these scenes
+    """How `rule` (a RuleTable or ScaledRule, or a fixed configuration as JSON) does on these scenes
     against each scene's best fixed configuration: the share within `tolerance` dB, the
     median and worst loss (dB), and the loss per scene."""
     loss = losses(scores)
-    if isinstance(rule, RuleTable):
+    if not isinstance(rule, str):
         chosen = [rule.choose(v) for v in features.loc[scores.index, rule.feature]]
     else:
         chosen = [rule] * len(scores)
