@@ -280,10 +280,11 @@ class _Builder:
         elif kind == "yaw":
             angle = pixels * math.radians(self.fov) / REFERENCE_HEIGHT
             rate = angle / self.shutter * rng.choice([-1.0, 1.0])
+            axis = (rng.uniform(-0.2, 0.2), 1.0, 0.0)  # near-vertical, through the camera
             motion = Motion.linear(
-                spin_axis=(rng.uniform(-0.2, 0.2), 1.0, 0.0),
+                spin_axis=axis,
                 spin_rate=float(rate),
-                rotation=quaternion((0, 1, 0), -rate * self.centre),
+                rotation=quaternion(axis, -rate * self.centre),  # facing -z at the centre
             )
         else:  # dolly: the frame's top edge at the reference depth moves `pixels`
             travel = min(pixels * reference_depth / (REFERENCE_HEIGHT / 2), 1.0)
