@@ -132,8 +132,9 @@ def _check(name: str, value):
 def random_name(seed: int, ranges: dict | None = None) -> str:
     """'random:SEED' for the default ranges, else 'random:SEED:' and a hash of the ranges that
     differ from their defaults: a random scene's name is its identity (docs/spec.md §22.1)."""
-    checked = check_ranges(ranges or {})
-    changed = {k: v for k, v in checked.items() if v != check_ranges({})[k]}
+    seed = check_seed(seed)
+    checked, defaults = check_ranges(ranges or {}), check_ranges({})
+    changed = {k: v for k, v in checked.items() if v != defaults[k]}
     if not changed:
         return f"{PREFIX}{seed}"
     text = json.dumps(changed, sort_keys=True)
@@ -147,13 +148,14 @@ def parse_name(name: str) -> int | None:
     digits = name[len(PREFIX) :]
     if not digits.isdigit():
         raise ValueError(
-            f"blurlab: a random scene is named 'random:SEED' with SEED an integer >= 0, "
-            f"not {name!r}"
+            f"blurlab: a random scene is named 'random:SEED' with SEED an integer >= 0, not "
+            f"{name!r}; one of other ranges is made by bl.scenes.random(seed, **ranges)"
         )
     return int(digits)
 
 
 def check_seed(seed) -> int:
+    """`seed` as an int, or a ValueError saying what a seed may be."""
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or not 0 <= seed < 2**63:
         raise ValueError(f"blurlab: a random scene's seed is an integer in [0, 2^63), not {seed!r}")
     return int(seed)
