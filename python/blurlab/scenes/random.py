@@ -13,6 +13,7 @@ HDR emitters and translucent glass or particles. Speeds are drawn in pixels per 
 from __future__ import annotations
 
 import colorsys
+import functools
 import hashlib
 import json
 import math
@@ -28,6 +29,16 @@ from ..scene import Camera, DirectionalLight, Material, Scene
 from .builtin import two_bone_arm
 from .parts import checker, rotation_x, translation
 from .transparency import streaked_glass
+
+
+@functools.cache
+def _checker(size: int, squares: int) -> np.ndarray:
+    """(size, size, 1) float32 checkerboard of 0 and 1, shared read-only: a textured scene
+    scales it (parts.checker at 512 texels costs more than the rest of a scene)."""
+    pattern = checker(size, squares)[..., :1].copy()
+    pattern.setflags(write=False)
+    return pattern
+
 
 # Speeds and thin widths are given in pixels of an image this tall (1080p).
 REFERENCE_HEIGHT = 1080
@@ -242,29 +253,28 @@ class _Builder:
         return colorsys.hsv_to_rgb(h, s, v)
 
     def texture(self, kind: str | None = None) -> np.ndarray | None:
-        """None (flat), or a (S, S, 3) float32 texture of the drawn kind."""
+        """None (flat), or a (S, S, 1) float32 grey texture of the drawn kind."""
         kind = kind or self.choice("textures")
-        low, high = sorted(self.rng.uniform(0.05, 0.95, size=2))
+        low, high = (np.float32(v) for v in sorted(self.rng.uniform(0.05, 0.95, size=2)))
         if kind == "flat":
             return None
         if kind == "checker":
-            return checker(256, int(self.rng.choice([4, 8, 16])), float(low), float(high))
+            return low + (high - low) * _checker(256, int(self.rng.choice([4, 8, 16])))
         if kind == "fine":  # a texel or two per square: aliases unless filtered
-            return checker(512, int(self.rng.choice([128, 256])), float(low), float(high))
+            return low + (high - low) * _checker(512, int(self.rng.choice([128, 256])))
         cells = int(self.rng.choice([4, 8, 16]))  # value noise: a coarse grid, bilinear
         grid = self.rng.uniform(low, high, size=(cells + 1, cells + 1))
         t = np.linspace(0, cells, 256, endpoint=False)
         i, f = t.astype(int), t - t.astype(int)
         rows = grid[i] * (1 - f)[:, None] + grid[i + 1] * f[:, None]
         value = rows[:, i] * (1 - f) + rows[:, i + 1] * f
-        return np.repeat(value[..., None], 3, axis=2).astype(np.float32)
+        return value[..., None].astype(np.float32)
 
     def material(self, kind: str | None = None) -> Material:
         texture = self.texture(kind)
-        colour = (1.0, 1.0, 1.0) if texture is not None else self.colour()
-        tint = np.asarray(colour) * (self.colour() if texture is not None else 1.0)
+        tint = self.colour()  # the colour, or what the texture multiplies
         specular = float(self.rng.choice([0.0, 0.0, 0.3, 0.6]))
-        return Material(tuple(float(c) for c in tint), texture, specular=specular)
+        return Material(tint, texture, specular=specular)
 
     # --- parts -------------------------------------------------------------------------------
 
@@ -299,13 +309,11 @@ class _Builder:
         d = self.wall_depth
         height = 2.0 * d * self.tan * 2.5
         width = height * PLACEMENT_ASPECT * 1.5
-        kind = self.choice("textures")
-        texture = self.texture(kind)
+        texture = self.texture()
         repeat = 1.0 if texture is None else float(self.rng.choice([2.0, 4.0]))
         plane = mesh.plane(width, height, uv_repeat=repeat)
         plane = plane.transformed(translation(0, 0, -d) @ rotation_x(math.pi / 2))
-        colour = self.colour() if texture is None else (1.0, 1.0, 1.0)
-        self.scene.add(plane, Material(colour, texture), name="wall")
+        self.scene.add(plane, Material(self.colour(), texture), name="wall")
 
     def object(self) -> None:
         rng = self.rng
