@@ -5,10 +5,12 @@ from __future__ import annotations
 
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
 import pytest
+from golden import GOLDEN_DIR, IMAGE_TOLERANCE, color_problems
 
 import blurlab as bl
 from blurlab import cli
@@ -24,6 +26,61 @@ HASHES = (
     "import sys; import blurlab as bl; ctx = bl.Context(sys.argv[1]); "
     f"print(*(bl.scenes.gbuffer_digest(ctx.render(bl.scenes.random(s), {SIZE})) for s in {SEEDS}))"
 )
+
+
+# llvmpipe's G-buffers of a few random scenes (a moving camera, HDR emitters, translucency
+# among them), which every renderer must match within the golden tolerance (docs/spec.md §22.3).
+STORED = GOLDEN_DIR / "random_scenes_gbuffers.npz"
+STORED_SEEDS = (1, 3, 5, 7)
+STORED_SIZE = (96, 54)
+
+
+def stored_gbuffers(ctx) -> dict[str, np.ndarray]:
+    """Colour clipped to [0, 1] (HDR emitters differ by thousands where an edge moves a pixel),
+    object ids and motion of STORED_SEEDS at STORED_SIZE."""
+    made = {}
+    for seed in STORED_SEEDS:
+        frame = ctx.render(bl.scenes.random(seed), STORED_SIZE)
+        made[f"{seed}_color"] = np.clip(frame.color[..., :3], 0.0, 1.0)
+        made[f"{seed}_object_id"] = frame.object_id
+        made[f"{seed}_motion"] = frame.motion
+    return made
+
+
+def gbuffer_problems(made: dict, stored: dict) -> list[str]:
+    """Colour within IMAGE_TOLERANCE; object ids equal on all but IMAGE_TOLERANCE["share_beyond"]
+    of the pixels (an edge that rasterizes a pixel over), and where equal, motion within 0.01 px
+    + 0.1 % on all but twice that share."""
+    problems, share = [], IMAGE_TOLERANCE["share_beyond"]
+    for seed in STORED_SEEDS:
+        problems += [
+            f"seed {seed}: {p}"
+            for p in color_problems(made[f"{seed}_color"], stored[f"{seed}_color"])
+        ]
+        same = made[f"{seed}_object_id"] == stored[f"{seed}_object_id"]
+        if (~same).mean() > share:
+            problems.append(f"seed {seed}: {(~same).mean():.2%} of object ids differ")
+        motion, recorded = made[f"{seed}_motion"][same], stored[f"{seed}_motion"][same]
+        off = np.linalg.norm(motion - recorded, axis=-1) > 0.01 + 1e-3 * np.linalg.norm(
+            recorded, axis=-1
+        )
+        if off.mean() > share * 2:
+            problems.append(f"seed {seed}: motion differs at {off.mean():.2%} of the pixels")
+    return problems
+
+
+def test_random_scenes_match_llvmpipes_gbuffers_within_the_golden_tolerance(ctx):
+    with np.load(STORED) as stored:
+        assert not gbuffer_problems(stored_gbuffers(ctx), dict(stored))
+
+
+def test_the_gbuffer_comparison_fails_on_another_scene(ctx):
+    with np.load(STORED) as stored:
+        stored = dict(stored)
+    made = stored_gbuffers(ctx)
+    made["3_color"], made["3_object_id"] = stored["5_color"][..., :3], stored["5_object_id"]
+    problems = gbuffer_problems(made, stored)
+    assert any(p.startswith("seed 3:") and "object ids" in p for p in problems)
 
 
 def gbuffer_hashes(ctx) -> list[str]:
@@ -180,3 +237,11 @@ def test_study_over_random_scenes_carries_the_features(tmp_path, monkeypatch):
 def test_study_refuses_a_bad_seed():
     with pytest.raises(SystemExit):
         cli.main(["study", "--random", "2", "--seed", "-3"])
+
+
+if __name__ == "__main__":  # python tests/test_random_scenes.py --record  (on llvmpipe only)
+    if sys.argv[1:] != ["--record"]:
+        sys.exit("usage: python tests/test_random_scenes.py --record")
+    context = bl.Context("software")
+    np.savez_compressed(STORED, **stored_gbuffers(context))
+    print(f"wrote {Path(STORED)}")

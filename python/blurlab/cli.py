@@ -138,7 +138,6 @@ def _study(args) -> int:
             None if args.metrics == "auto" else tuple(args.metrics.split(",")),
             cluster=cluster,
             peer_names=tuple(args.peers.split(",")) if args.peers else (),
-            scene_features=args.random is not None,
         )
     print(f"wrote {report}, {Path(args.out) / 'results.csv'} and {Path(args.out) / 'phases.json'}")
     return 0
@@ -353,8 +352,8 @@ def build_parser() -> argparse.ArgumentParser:
         type=_positive_int,
         default=None,
         metavar="N",
-        help="add N random scenes, seeds S..S+N-1 (bl.scenes.random), and give every row of "
-        "results.csv the scene's features",
+        help="add N random scenes, seeds S..S+N-1 (bl.scenes.random); then every row of "
+        "results.csv has its scene's features",
     )
     study.add_argument(
         "--seed", type=_seed, default=0, metavar="S", help="the first random seed (default: 0)"

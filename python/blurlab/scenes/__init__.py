@@ -25,14 +25,14 @@ from .failures import (
     thin_bar,
 )
 from .features import FEATURES as FEATURES
-from .features import feature_table as feature_table
 from .features import features as features
 from .features import gbuffer_digest as gbuffer_digest
+from .features import with_features as with_features
 from .hdr import neon_pan, night_street, sparks, spinning_ring
 from .parts import checker as checker
 from .parts import rainbow as rainbow
 from .random import check_seed as check_seed
-from .random import parse_name as _random_seed
+from .random import parse_name as parse_random_name
 from .random import random as random
 from .random import random_name as random_name
 from .transparency import (
@@ -140,5 +140,5 @@ def get(name) -> Scene:
     (docs/spec.md §22), or a scene file (.gltf, .glb) by path."""
     if is_file(name):
         return gltf(name)
-    seed = _random_seed(name)
+    seed = parse_random_name(name)
     return _builder(name)() if seed is None else random(seed)

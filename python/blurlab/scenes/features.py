@@ -9,9 +9,12 @@ to built-in, random and loaded scenes alike, at the frame's size.
 from __future__ import annotations
 
 import hashlib
+from pathlib import Path
 
 import numpy as np
+import pandas as pd
 
+from .. import io
 from ..twins.gathers import camera_motion
 
 # The feature columns `features` returns, in order, with what each is (docs/spec.md §22.2).
@@ -137,16 +140,23 @@ def _world_positions(obj, t: float) -> np.ndarray:
     return np.einsum("nij,nj->ni", blend, positions)
 
 
-def feature_table(ctx, scenes) -> list[dict]:
-    """One row per (scene, size) of `scenes`, pairs of a bl.Scene and a (W, H) size: the
-    scene's name ("scene") and its `FEATURES`, measured on its G-buffer rendered by `ctx` at
-    that size at the shutter's centre."""
+def with_features(ctx, table: pd.DataFrame, scenes, size, out=None) -> pd.DataFrame:
+    """`table` (rows with a "scene" column) with the `FEATURES` of `scenes` (bl.Scenes, each
+    rendered by `ctx` at `size` at the shutter's centre) joined on the scene's name; feature
+    columns the table had are replaced. With `out`, a folder, it is also written to
+    out/results.csv (atomically, replacing the file)."""
     rows = []
-    for scene, size in scenes:
+    for scene in scenes:
         frame = ctx.render(scene, size)
         rows.append({"scene": scene.name, **features(frame)})
         del frame  # its GPU targets go back to the pool before the next render
-    return rows
+    measured = pd.DataFrame(rows, columns=["scene", *FEATURES]).drop_duplicates("scene")
+    kept = table.drop(columns=[c for c in FEATURES if c in table])
+    joined = kept.merge(measured, on="scene", how="left")
+    joined.attrs = table.attrs
+    if out is not None:
+        io.write_text(Path(out) / "results.csv", joined.to_csv(index=False))
+    return joined
 
 
 def gbuffer_digest(frame) -> str:

@@ -13,6 +13,7 @@ HDR emitters and translucent glass or particles. Speeds are drawn in pixels per 
 from __future__ import annotations
 
 import colorsys
+import functools
 import hashlib
 import json
 import math
@@ -28,6 +29,16 @@ from ..scene import Camera, DirectionalLight, Material, Scene
 from .builtin import two_bone_arm
 from .parts import checker, rotation_x, translation
 from .transparency import streaked_glass
+
+
+@functools.cache
+def _checker(size: int, squares: int) -> np.ndarray:
+    """(size, size, 1) float32 checkerboard of 0 and 1, shared read-only: a textured scene
+    scales it (parts.checker at 512 texels costs more than the rest of a scene)."""
+    pattern = checker(size, squares)[..., :1].copy()
+    pattern.setflags(write=False)
+    return pattern
+
 
 # Speeds and thin widths are given in pixels of an image this tall (1080p).
 REFERENCE_HEIGHT = 1080
@@ -132,8 +143,9 @@ def _check(name: str, value):
 def random_name(seed: int, ranges: dict | None = None) -> str:
     """'random:SEED' for the default ranges, else 'random:SEED:' and a hash of the ranges that
     differ from their defaults: a random scene's name is its identity (docs/spec.md §22.1)."""
-    checked = check_ranges(ranges or {})
-    changed = {k: v for k, v in checked.items() if v != check_ranges({})[k]}
+    seed = check_seed(seed)
+    checked, defaults = check_ranges(ranges or {}), check_ranges({})
+    changed = {k: v for k, v in checked.items() if v != defaults[k]}
     if not changed:
         return f"{PREFIX}{seed}"
     text = json.dumps(changed, sort_keys=True)
@@ -147,13 +159,14 @@ def parse_name(name: str) -> int | None:
     digits = name[len(PREFIX) :]
     if not digits.isdigit():
         raise ValueError(
-            f"blurlab: a random scene is named 'random:SEED' with SEED an integer >= 0, "
-            f"not {name!r}"
+            f"blurlab: a random scene is named 'random:SEED' with SEED an integer >= 0, not "
+            f"{name!r}; one of other ranges is made by bl.scenes.random(seed, **ranges)"
         )
     return int(digits)
 
 
 def check_seed(seed) -> int:
+    """`seed` as an int, or a ValueError saying what a seed may be."""
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or not 0 <= seed < 2**63:
         raise ValueError(f"blurlab: a random scene's seed is an integer in [0, 2^63), not {seed!r}")
     return int(seed)
@@ -240,29 +253,28 @@ class _Builder:
         return colorsys.hsv_to_rgb(h, s, v)
 
     def texture(self, kind: str | None = None) -> np.ndarray | None:
-        """None (flat), or a (S, S, 3) float32 texture of the drawn kind."""
+        """None (flat), or a (S, S, 1) float32 grey texture of the drawn kind."""
         kind = kind or self.choice("textures")
-        low, high = sorted(self.rng.uniform(0.05, 0.95, size=2))
+        low, high = (np.float32(v) for v in sorted(self.rng.uniform(0.05, 0.95, size=2)))
         if kind == "flat":
             return None
         if kind == "checker":
-            return checker(256, int(self.rng.choice([4, 8, 16])), float(low), float(high))
+            return low + (high - low) * _checker(256, int(self.rng.choice([4, 8, 16])))
         if kind == "fine":  # a texel or two per square: aliases unless filtered
-            return checker(512, int(self.rng.choice([128, 256])), float(low), float(high))
+            return low + (high - low) * _checker(512, int(self.rng.choice([128, 256])))
         cells = int(self.rng.choice([4, 8, 16]))  # value noise: a coarse grid, bilinear
         grid = self.rng.uniform(low, high, size=(cells + 1, cells + 1))
         t = np.linspace(0, cells, 256, endpoint=False)
         i, f = t.astype(int), t - t.astype(int)
         rows = grid[i] * (1 - f)[:, None] + grid[i + 1] * f[:, None]
         value = rows[:, i] * (1 - f) + rows[:, i + 1] * f
-        return np.repeat(value[..., None], 3, axis=2).astype(np.float32)
+        return value[..., None].astype(np.float32)
 
     def material(self, kind: str | None = None) -> Material:
         texture = self.texture(kind)
-        colour = (1.0, 1.0, 1.0) if texture is not None else self.colour()
-        tint = np.asarray(colour) * (self.colour() if texture is not None else 1.0)
+        tint = self.colour()  # the colour, or what the texture multiplies
         specular = float(self.rng.choice([0.0, 0.0, 0.3, 0.6]))
-        return Material(tuple(float(c) for c in tint), texture, specular=specular)
+        return Material(tint, texture, specular=specular)
 
     # --- parts -------------------------------------------------------------------------------
 
@@ -280,10 +292,11 @@ class _Builder:
         elif kind == "yaw":
             angle = pixels * math.radians(self.fov) / REFERENCE_HEIGHT
             rate = angle / self.shutter * rng.choice([-1.0, 1.0])
+            axis = (rng.uniform(-0.2, 0.2), 1.0, 0.0)  # near-vertical, through the camera
             motion = Motion.linear(
-                spin_axis=(rng.uniform(-0.2, 0.2), 1.0, 0.0),
+                spin_axis=axis,
                 spin_rate=float(rate),
-                rotation=quaternion((0, 1, 0), -rate * self.centre),
+                rotation=quaternion(axis, -rate * self.centre),  # facing -z at the centre
             )
         else:  # dolly: the frame's top edge at the reference depth moves `pixels`
             travel = min(pixels * reference_depth / (REFERENCE_HEIGHT / 2), 1.0)
@@ -296,13 +309,11 @@ class _Builder:
         d = self.wall_depth
         height = 2.0 * d * self.tan * 2.5
         width = height * PLACEMENT_ASPECT * 1.5
-        kind = self.choice("textures")
-        texture = self.texture(kind)
+        texture = self.texture()
         repeat = 1.0 if texture is None else float(self.rng.choice([2.0, 4.0]))
         plane = mesh.plane(width, height, uv_repeat=repeat)
         plane = plane.transformed(translation(0, 0, -d) @ rotation_x(math.pi / 2))
-        colour = self.colour() if texture is None else (1.0, 1.0, 1.0)
-        self.scene.add(plane, Material(colour, texture), name="wall")
+        self.scene.add(plane, Material(self.colour(), texture), name="wall")
 
     def object(self) -> None:
         rng = self.rng

@@ -68,7 +68,6 @@ def run_study(
     cluster=None,
     peer_names=(),
     chart_processes: int | None = None,
-    scene_features: bool = False,
 ) -> Path:
     """Runs the study and returns the path of report.html. With `cluster` (as bl.sweep takes
     it) the sweep runs on Dask workers; `ctx` still renders the report's images. `metrics`
@@ -79,9 +78,8 @@ def run_study(
     section of the report says so too.
     Each phase is timed (PHASES): phases.json, the report's last table and, with `progress`,
     the console. `chart_processes`: how many processes draw the matplotlib charts (default
-    default_chart_processes(); 0 draws them in this one). `scene_features`: every row of
-    results.csv also gets its scene's features (bl.scenes.FEATURES, docs/spec.md §22.2), so
-    that results can be split by them (`blurlab study --random` sets it)."""
+    default_chart_processes(); 0 draws them in this one). With a random scene among the scenes,
+    every row gets its scene's bl.scenes.FEATURES (docs/spec.md §22.2)."""
     clock = PhaseClock()
     peer_names = peers.check_peers(peer_names)
     if metrics is not None:  # checked before any work
@@ -114,9 +112,9 @@ def run_study(
             caches=caches,
         )
         swept = time.perf_counter() - start
-        if scene_features:
-            with clock("features"):
-                table = with_features(ctx, table, names, size, out / "results.csv")
+        if any(scenes.parse_random_name(item) is not None for item in names):
+            with clock("features"):  # joined to every row; results.csv written anew
+                table = scenes.with_features(ctx, table, map(scenes.get, names), size, out)
         worker_accounts = table.attrs.get("workers")  # where each worker's time went (cluster)
         if cluster is not None:
             clock.add("sweep_on_cluster", swept)
@@ -208,20 +206,6 @@ def run_study(
             if worker_accounts is not None:
                 print(f"the sweep on the cluster:\n{account_table(worker_accounts, swept)}")
         return path
-
-
-def with_features(ctx: Context, table: pd.DataFrame, items, size, path: Path) -> pd.DataFrame:
-    """`table` with its scenes' feature columns (bl.scenes.FEATURES) joined on "scene", also
-    written to `path` (replaced whole, through a temporary file)."""
-    rendered = scenes.feature_table(ctx, [(scenes.get(item), size) for item in items])
-    measured = pd.DataFrame(rendered).drop_duplicates("scene")
-    kept = table.drop(columns=[c for c in scenes.FEATURES if c in table], errors="ignore")
-    joined = kept.merge(measured, on="scene", how="left")
-    joined.attrs = table.attrs
-    tmp = path.with_suffix(".csv.tmp")
-    joined.to_csv(tmp, index=False)
-    tmp.replace(path)
-    return joined
 
 
 def default_chart_processes() -> int:

@@ -42,8 +42,7 @@ def ranked_sweep(ctx, names, size, p) -> pd.DataFrame:
             table = sweep(None, cluster=cluster, **arguments)
     else:
         table = sweep(ctx, **arguments)
-    features = scenes.feature_table(ctx, [(scenes.get(n), size) for n in names])
-    return table.merge(pd.DataFrame(features), on="scene", how="left")
+    return scenes.with_features(ctx, table, [scenes.get(n) for n in names], size)
 
 
 def _rankings(ctx, size, p, out) -> None:
