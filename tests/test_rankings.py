@@ -158,8 +158,8 @@ def test_the_study_report_ranks_the_methods_from_twenty_scenes_on(tmp_path):
     speed = rng.uniform(0, 50, 20)
     table = table_of(
         {"a": list(40 - speed / 5), "b": list(np.full(20, 33.0)), "c": list(np.full(20, 20.0))},
-        motion_p90=speed,
-        thin_share=rng.uniform(0, 1, 20),
+        motion_p99=speed,
+        camera_motion_share=rng.uniform(0, 1, 20),
     )
     table["ssim"] = table["psnr"] / 50
     html = study.rankings_section(table, tmp_path)

@@ -23,6 +23,10 @@ from ..metrics import get
 BOOTSTRAP_RESAMPLES = 2000
 BOOTSTRAP_SEED = 0
 LEVEL = 0.95  # the intervals' coverage
+# The scene features (docs/spec.md §22.2) that the study report and the rankings benchmark
+# draw "which method wins where" over: how fast the fastest pixels move, and how much of the
+# motion is the camera's.
+MAP_FEATURES = ("motion_p99", "camera_motion_share")
 # A tie: two values closer than this share the win (half each in a pair; split in win shares).
 TIE = 1e-9
 

@@ -34,9 +34,6 @@ BUDGETS_MS = (0.1, 1.0, 10.0, 100.0)
 # The report ranks the methods over the scenes (docs/spec.md §23.1) from this many scenes on:
 # fewer give intervals too wide to say anything.
 RANKING_MIN_SCENES = 20
-# The scene features the report's "which method wins where" chart is drawn over, where the
-# results have them (blurlab study --random).
-WINS_MAP_FEATURES = ("motion_p90", "thin_share")
 
 
 # What each phase of phases.json counts (the report's "Where the time went" says the same).
@@ -458,7 +455,7 @@ def rankings_section(table: pd.DataFrame, out: Path) -> str | None:
     """The report's rankings over the scenes (docs/spec.md §23.1), each method at its
     configuration with the best median of the first ranked metric: the top three per metric
     with 95 % intervals and win shares, every method's distribution, the top three pairwise,
-    and which method wins where where the rows have WINS_MAP_FEATURES. None below
+    and which method wins where where the rows have rankings.MAP_FEATURES. None below
     RANKING_MIN_SCENES scenes."""
     scene_count = table["scene"].nunique()
     metrics = [n for n in _metric_columns(table) if get(n).higher_is_better is not None]
@@ -487,11 +484,11 @@ def rankings_section(table: pd.DataFrame, out: Path) -> str | None:
         f"<h3>The top three by {first.upper()}, pairwise</h3>",
         _html_table(pairs),
     ]
-    if all(f in chosen for f in WINS_MAP_FEATURES):
-        rankings.wins_map_chart(chosen, *WINS_MAP_FEATURES, first, out / "wins_map.png")
+    if all(f in chosen for f in rankings.MAP_FEATURES):
+        rankings.wins_map_chart(chosen, *rankings.MAP_FEATURES, first, out / "wins_map.png")
         parts.append(
             "<h3>Which method wins where</h3><p><img src='wins_map.png'></p>"
-            + _html_table(rankings.wins_map(chosen, *WINS_MAP_FEATURES, first))
+            + _html_table(rankings.wins_map(chosen, *rankings.MAP_FEATURES, first))
         )
     return "".join(parts)
 

@@ -116,7 +116,7 @@ register(
             "methods": Param("", object, "comma-separated methods (empty: every post-process)"),
             "metrics": Param("psnr,ssim,flip", object, "comma-separated metrics (first: the map)"),
             "map_features": Param(
-                "motion_p99,camera_motion_share", object, "the two scene features of the wins map"
+                ",".join(rankings.MAP_FEATURES), object, "the two scene features of the wins map"
             ),
             "bins": Param(4, int, "cells per feature of the wins map", 1, 64),
             "workers": Param(0, int, "local Dask workers (0: this process)", 0, 64),
