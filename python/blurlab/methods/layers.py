@@ -102,6 +102,123 @@ def layer_frame(frame: Frame, color, depth, motion, textures: dict) -> Frame:
     return derived
 
 
+# The layer frames made from a frame, by id(frame) and then by what they are ("opaque",
+# "translucent", ("chosen", motion_coverage)), dropped with the frame: each is made once per
+# frame, so calls after the first run no per-frame pass, upload or read-back, and the layer
+# frames' recorded plans (docs/spec.md §18) replay.
+_LAYER_FRAMES: dict[int, dict] = {}
+
+
+def _made_once(ctx: Context, frame: Frame, key, make):
+    """make() the first time `key` is asked of `frame` on `ctx`, the same object afterwards;
+    the textures it keeps go back to the pool with the frame."""
+    made = _LAYER_FRAMES.get(id(frame))
+    if made is None or made["context"] is not ctx:
+        if made is None:
+            weakref.finalize(frame, _LAYER_FRAMES.pop, id(frame), None)
+        made = _LAYER_FRAMES[id(frame)] = {"context": ctx}
+    if key not in made:
+        made[key] = make()
+    return made[key]
+
+
+def opaque_frame(ctx: Context, frame: Frame) -> Frame:
+    """The frame's opaque layer as a frame of `ctx` (docs/spec.md §20.3), made once per frame."""
+
+    def make():
+        textures = {**frame.textures, **layer_textures(ctx, frame)}
+        names = ("depth", "motion", "motion_sides")
+        kept = {key: textures[key] for key in names if key in textures}
+        return layer_frame(
+            frame,
+            frame.opaque_color,
+            frame.depth,
+            frame.motion,
+            {"color": textures["opaque_color"], **kept},
+        )
+
+    return _made_once(ctx, frame, "opaque", make)
+
+
+def translucent_frame(ctx: Context, frame: Frame) -> Frame:
+    """The frame's translucent layer (Σ, a) as a frame of `ctx` with its dominant fragment's
+    motion, depth and two-sided motion (docs/spec.md §20.4, layered), made once per frame from
+    the rendered layer on the GPU (passes/translucent_split.comp); the pass's time goes to
+    frame.timings["translucent_split"], as the G-buffer's own passes do."""
+
+    def make():
+        textures = layer_textures(ctx, frame)
+        height, width = frame.depth.shape
+        split_outputs = {
+            "layer_motion": ctx.pooled((height, width, 2)),
+            "layer_depth": ctx.pooled((height, width)),
+            "layer_sides": ctx.pooled((height, width, 4)),
+        }
+        share_prev = np.float32(frame.instant_fraction)
+        split = ctx.shader_pass("passes/translucent_split.comp")
+        with ctx.timer() as timing:
+            split.run(
+                {"translucent_motion": textures["translucent_motion"]},
+                split_outputs,
+                {"share_prev": share_prev, "share_next": np.float32(1.0 - share_prev)},
+            )
+        frame.timings["translucent_split"] = timing
+        weakref.finalize(frame, ctx.recycle, *split_outputs.values())
+        return layer_frame(
+            frame,
+            frame.translucent,
+            frame.translucent_depth,
+            frame.translucent_motion,
+            {
+                "color": textures["translucent"],
+                "motion": split_outputs["layer_motion"],
+                "depth": split_outputs["layer_depth"],
+                "motion_sides": split_outputs["layer_sides"],
+            },
+        )
+
+    return _made_once(ctx, frame, "translucent", make)
+
+
+def chosen_frame(ctx: Context, frame: Frame, motion_coverage: float) -> Frame:
+    """composite_motion's frame: the composite with, where the coverage reaches
+    `motion_coverage`, the dominant fragment's motion and depth (docs/spec.md §20.4), made once
+    per frame and threshold (passes/translucency_motion.comp, its time in
+    frame.timings["translucency_motion"])."""
+
+    def make():
+        textures = {**frame.textures, **layer_textures(ctx, frame)}
+        height, width = frame.depth.shape
+        chosen = {
+            "chosen_motion": ctx.pooled((height, width, 2)),
+            "chosen_depth": ctx.pooled((height, width)),
+        }
+        inputs = {
+            "translucent": textures["translucent"],
+            "translucent_motion": textures["translucent_motion"],
+            "motion": textures["motion"] if "motion" in textures else ctx.upload(frame.motion),
+            "depth": textures["depth"] if "depth" in textures else ctx.upload(frame.depth),
+        }
+        select = ctx.shader_pass("passes/translucency_motion.comp")
+        with ctx.timer() as timing:
+            select.run(inputs, chosen, {"motion_coverage": motion_coverage})
+        frame.timings["translucency_motion"] = timing
+        weakref.finalize(frame, ctx.recycle, *chosen.values())
+        return layer_frame(
+            frame,
+            frame.color,
+            chosen["chosen_depth"].download(),
+            chosen["chosen_motion"].download(),
+            {
+                "color": textures["color"],
+                "depth": chosen["chosen_depth"],
+                "motion": chosen["chosen_motion"],
+            },
+        )
+
+    return _made_once(ctx, frame, ("chosen", motion_coverage), make)
+
+
 def blur_layers(
     ctx: Context,
     frame: Frame,
@@ -117,93 +234,32 @@ def blur_layers(
     BlurResult whose textures add "opaque_blurred" (unblurred, layered) or "chosen_motion" and
     "chosen_depth" (composite_motion), and whose timings add the layer passes: "translucent_"
     + the method's passes for the layered blur, "translucency_motion", "translucency_over"."""
-    textures = {**frame.textures, **layer_textures(ctx, frame)}
-    base = {key: textures[key] for key in ("depth", "motion") if key in textures}
-    height, width = frame.depth.shape
     extra: dict = {}
     if translucency == "composite_motion":
-        chosen_motion, chosen_depth = ctx.pooled((height, width, 2)), ctx.pooled((height, width))
-        inputs = {
-            "translucent": textures["translucent"],
-            "translucent_motion": textures["translucent_motion"],
-            "motion": ctx.upload(frame.motion) if "motion" not in base else base["motion"],
-            "depth": ctx.upload(frame.depth) if "depth" not in base else base["depth"],
-        }
-        select = ctx.shader_pass("passes/translucency_motion.comp")
-        timed(
-            ctx,
-            extra,
-            "translucency_motion",
-            lambda: select.run(
-                inputs,
-                {"chosen_motion": chosen_motion, "chosen_depth": chosen_depth},
-                {"motion_coverage": motion_coverage},
-            ),
-        )
-        derived = layer_frame(
-            frame,
-            frame.color,
-            chosen_depth.download(),
-            chosen_motion.download(),
-            {"color": textures["color"], "depth": chosen_depth, "motion": chosen_motion},
-        )
+        derived = chosen_frame(ctx, frame, motion_coverage)
         result = blur(derived, name)
         result.params = {
             **result.params,
             **{"translucency": translucency, "motion_coverage": motion_coverage},
         }
-        result.timings.update(extra)
-        result.textures.update({"chosen_motion": chosen_motion, "chosen_depth": chosen_depth})
-        weakref.finalize(result, ctx.recycle, chosen_motion, chosen_depth)
+        result.textures.update(
+            {"chosen_motion": derived.textures["motion"], "chosen_depth": derived.textures["depth"]}
+        )
         return result
-    opaque_textures = {"color": textures["opaque_color"], **base}
-    if "motion_sides" in textures:
-        opaque_textures["motion_sides"] = textures["motion_sides"]
-    opaque = layer_frame(frame, frame.opaque_color, frame.depth, frame.motion, opaque_textures)
-    result = blur(opaque, name)
+    result = blur(opaque_frame(ctx, frame), name)
     result.params = {**result.params, "translucency": translucency}
-    layer = textures["translucent"]
+    layer = layer_textures(ctx, frame)["translucent"]
     if translucency == "layered":
-        # The layer's motion, depth and two-sided motion stay on the GPU: made from the
-        # rendered layer by one pass, not uploaded from the frame's arrays on every call.
-        layer_inputs = {
-            "motion": ctx.pooled((height, width, 2)),
-            "depth": ctx.pooled((height, width)),
-            "motion_sides": ctx.pooled((height, width, 4)),
-        }
-        split = ctx.shader_pass("passes/translucent_split.comp")
-        share_prev = np.float32(frame.instant_fraction)
-        timed(
-            ctx,
-            extra,
-            "translucent_split",
-            lambda: split.run(
-                {"translucent_motion": textures["translucent_motion"]},
-                {
-                    "layer_motion": layer_inputs["motion"],
-                    "layer_depth": layer_inputs["depth"],
-                    "layer_sides": layer_inputs["motion_sides"],
-                },
-                {"share_prev": share_prev, "share_next": np.float32(1.0 - share_prev)},
-            ),
-        )
-        translucent = layer_frame(
-            frame,
-            frame.translucent,
-            frame.translucent_depth,
-            frame.translucent_motion,
-            {"color": textures["translucent"], **layer_inputs},
-        )
         centre = frame.instant_fraction == 0.5
         if layer_filter == "auto":
             layer_method = translucent_layer_method() if centre else name
         else:
             layer_method = name if layer_filter == "same" else layer_filter
-        layer_result = blur(translucent, layer_method)
-        ctx.recycle(*layer_inputs.values())  # read by passes already issued
+        layer_result = blur(translucent_frame(ctx, frame), layer_method)
         result.params["layer_filter"] = layer_method
         layer = layer_result.textures["color"]
         extra.update({f"translucent_{k}": t for k, t in layer_result.timings.items()})
+    height, width = frame.depth.shape
     out = ctx.pooled((height, width, 4))
     over = ctx.shader_pass("passes/translucency_over.comp")
     timed(
