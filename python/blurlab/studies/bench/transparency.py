@@ -65,9 +65,31 @@ def _transparency(ctx, size, p, out) -> None:
         transparency.layer_cost(ctx, p["cost_scene"], method, size, p["runs"]) for method in methods
     ]
     out.table(
-        f"time on {p['cost_scene']}: the method alone (composite) and layered, medians",
-        [("method", ""), ("composite", "ms"), ("layered", "ms"), ("layered / composite", "x")],
-        [[c["method"], c["composite_ms"], c["layered_ms"], c["ratio"]] for c in costs],
+        f"time on {p['cost_scene']}: the method alone (composite) and layered, medians; "
+        "layered's parts, and the layer's split, once per frame",
+        [
+            ("method", ""),
+            ("composite", "ms"),
+            ("layered", "ms"),
+            ("layered / composite", "x"),
+            ("opaque blur", "ms"),
+            ("layer blur", "ms"),
+            ("over", "ms"),
+            ("split per frame", "ms"),
+        ],
+        [
+            [
+                c["method"],
+                c["composite_ms"],
+                c["layered_ms"],
+                c["ratio"],
+                c["opaque_ms"],
+                c["layer_ms"],
+                c["over_ms"],
+                c["split_ms"],
+            ]
+            for c in costs
+        ],
     )
     out.figure(
         "layered / composite time, median over the methods",
