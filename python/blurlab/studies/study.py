@@ -25,7 +25,7 @@ from ..docs_link import docs_anchor
 from ..methods import blur, method, method_instant
 from ..metrics import check_names, get, registered
 from ..sizes import DEFAULT_SIZE
-from . import interactive, objects, peers, plots, workers
+from . import interactive, objects, peers, plots, transparency, workers
 from .cluster import account_table
 from .evaluation import SETUP_PHASES, PhaseClock, picture_key
 from .sweep import default_grids, middle_point, sweep
@@ -45,6 +45,8 @@ PHASES = {
     "processes of their own: what is counted is the wait for them)",
     "per_object": "the per-object table of textured_spin (its own renders; the sweep's reference)",
     "peers": "the peers' renders (EEVEE)",
+    "transparency": "the transparency scenes under the four ways to blur translucency (their "
+    "own references, renders and blurs)",
     "html": "the report's HTML",
 }
 
@@ -61,6 +63,7 @@ def run_study(
     cluster=None,
     peer_names=(),
     chart_processes: int | None = None,
+    transparency_scenes: bool = False,
 ) -> Path:
     """Runs the study and returns the path of report.html. With `cluster` (as bl.sweep takes
     it) the sweep runs on Dask workers; `ctx` still renders the report's images. `metrics`
@@ -71,7 +74,10 @@ def run_study(
     section of the report says so too.
     Each phase is timed (PHASES): phases.json, the report's last table and, with `progress`,
     the console. `chart_processes`: how many processes draw the matplotlib charts (default
-    default_chart_processes(); 0 draws them in this one)."""
+    default_chart_processes(); 0 draws them in this one). `transparency_scenes` adds the
+    transparency scenes (bl.scenes.names("transparency")) to the scenes; every transparency
+    scene studied gets the report's translucency section too: the four ways to blur it
+    (docs/spec.md §20.4) for each of the study's one-frame methods (transparency.csv)."""
     clock = PhaseClock()
     peer_names = peers.check_peers(peer_names)
     if metrics is not None:  # checked before any work
@@ -85,6 +91,8 @@ def run_study(
     out.mkdir(parents=True, exist_ok=True)
     with chart_pool(chart_processes) as charts:
         names = list(scene_names or scenes.names())
+        if transparency_scenes:
+            names += [n for n in scenes.names("transparency") if n not in names]
         grids = grids or default_grids()
         # Per scene, what the sweep rendered and each method's picture (its grid's middle point):
         # the report shows the same, without rendering or blurring them again.
@@ -167,6 +175,13 @@ def run_study(
                         metrics,
                     )
                     peer_rows.to_csv(out / "peers.csv", index=False)
+            translucency = None
+            translucent_names = [n for n in names if n in scenes.names("transparency")]
+            if translucent_names:
+                with clock("transparency"):
+                    translucency = _transparency_section(
+                        ctx, translucent_names, grids, size, reference_samples, out, work
+                    )
             with clock("images"):
                 for write in work.pictures_written:
                     write.result()  # raises a failed one's error
@@ -174,7 +189,9 @@ def run_study(
                 for drawing in work.charts_drawn:
                     drawing.result()
         with clock("html"):
-            report = _html(info, size, table, sections, curves, per_object, peer_rows, clock)
+            report = _html(
+                info, size, table, sections, curves, per_object, peer_rows, clock, translucency
+            )
             path = io.write_text(out / "report.html", report)
         timing = {
             "size": [int(size[0]), int(size[1])],
@@ -379,6 +396,50 @@ def _scene_section(
 REPORT_PNG_COMPRESSION = 1
 
 
+def _transparency_section(ctx, names, grids, size, reference_samples, out, work) -> str | None:
+    """The report's translucency section (docs/transparency.md): each of the study's one-frame
+    methods under the four ways to blur translucency (docs/spec.md §20.4) on the transparency
+    scenes `names`, scored against each scene's antialiased reference; every row in
+    transparency.csv, the medians per approach, layered's margin per scene, and per scene the
+    reference and the method that blurs the layer under each approach, with |error|
+    (<scene>_translucency.png, left encoding on `work`). None where no method is one-frame."""
+    methods = [m for m in grids if m in transparency.single_frame_methods()]
+    if not methods:
+        return None
+    shown: dict = {}
+    table = transparency.evaluate(ctx, names, methods, size, reference_samples, shown)
+    table.to_csv(out / "transparency.csv", index=False)
+    summary = transparency.summary(table)
+    e = html.escape
+    parts = [
+        "<h2>Transparency: four ways to blur translucent surfaces</h2><p>Each one-frame method "
+        "of the study, at its defaults, under each <code>translucency</code> option "
+        f"(docs/spec.md §20.4; {docs_anchor('transparency', 'transparency')}), against each "
+        "scene's antialiased reference. Data: <a href='transparency.csv'>transparency.csv"
+        "</a>.</p><p>Medians over the (scene, method) pairs:</p>",
+        _html_table(summary["median_per_approach"].reset_index()),
+        "<p>What <code>layered</code> gains over the best of the other three, median over the "
+        "methods (PSNR in dB, higher is better; FLIP: the best other's minus layered's):</p>",
+        _html_table(summary["median_gain_per_scene"].reset_index()),
+    ]
+    for name, (method_name, reference, images) in shown.items():
+        picture = f"{name}_translucency.png"
+        work.pictures_written.append(
+            work.pictures.submit(
+                lambda path, r, i: _write_png(path, plots.image_grid_picture(r, i)),
+                out / picture,
+                reference,
+                images,
+            )
+        )
+        parts.append(
+            f"<h3>{e(name)}</h3><p>{e(scenes.describe(name))}. The reference, then "
+            f"<code>{e(method_name)}</code> under composite, composite_motion, unblurred and "
+            f"layered, with |error| below:</p><p><img src='{e(picture)}'></p>"
+        )
+    return "\n".join(parts)
+
+
 def _write_png(path: Path, image) -> Path:
     return io.write(path, image, png_compression=REPORT_PNG_COMPRESSION)
 
@@ -440,7 +501,17 @@ def _html_table(table: pd.DataFrame, number: str = ".4g") -> str:
     return table.to_html(index=False, float_format=lambda v: f"{v:{number}}", border=0)
 
 
-def _html(info, size, table, sections, curves, per_object=None, peer_rows=None, clock=None) -> str:
+def _html(
+    info,
+    size,
+    table,
+    sections,
+    curves,
+    per_object=None,
+    peer_rows=None,
+    clock=None,
+    translucency=None,
+) -> str:
     e = html.escape
     when = datetime.datetime.now().strftime("%Y-%m-%d %H:%M")
     parts = [
@@ -527,6 +598,8 @@ def _html(info, size, table, sections, curves, per_object=None, peer_rows=None, 
         columns = ("scene", "method", *registered(), "time", "note")
         shown = [c for c in columns if c in peer_rows]
         parts.append(_html_table(peer_rows[shown]))
+    if translucency is not None:
+        parts.append(translucency)
     for title, image in curves:
         parts.append(f"<h2>{e(title)}</h2><p><img src='{e(image)}'></p>")
     if clock is not None:

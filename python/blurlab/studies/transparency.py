@@ -27,22 +27,32 @@ def single_frame_methods() -> list[str]:
     return [n for n in method_names() if method_info(n).kind in kinds]
 
 
-def evaluate(ctx, scene_names=None, methods=None, size=(320, 180), reference_samples=None):
+def evaluate(
+    ctx, scene_names=None, methods=None, size=(320, 180), reference_samples=None, shown=None
+):
     """One row per (scene, method, approach): psnr and flip against the antialiased reference
-    of the scene's shutter (N = reference_samples, or max(64, 2 x the longest motion))."""
+    of the scene's shutter (N = reference_samples, or max(64, 2 x the longest motion)).
+    `shown`: a dict that receives, per scene, the reference and the images of the method that
+    blurs the translucent layer (the first method where it is not among `methods`) under each
+    approach, for pictures."""
     rows = []
     methods = methods or single_frame_methods()
+    pictured = translucent_layer_method()
+    pictured = pictured if pictured in methods else methods[0]
     for name in scene_names or scenes.names("transparency"):
         scene = scenes.get(name)
         n = reference_samples or default_reference_samples(ctx.render(scene, size))
         reference = ctx.reference(scene, size, samples=n, antialias=True, progress=False)
         frames = {}
+        images = {}
         for method in methods:
             instant = method_instant(method)
             if instant not in frames:
                 frames[instant] = ctx.render(scene, size, instant=instant)
             for approach in APPROACHES:
                 out = blur(ctx, frames[instant], method, timed=False, translucency=approach)
+                if method == pictured:
+                    images[approach] = out.color
                 rows.append(
                     {
                         "scene": name,
@@ -53,6 +63,8 @@ def evaluate(ctx, scene_names=None, methods=None, size=(320, 180), reference_sam
                         "reference_samples": n,
                     }
                 )
+        if shown is not None:
+            shown[name] = (pictured, reference.color, images)
     return pd.DataFrame(rows)
 
 
@@ -117,11 +129,9 @@ def gallery(ctx, scene_name: str, size, method: str | None = None, reference_sam
     """A figure: the antialiased reference and `method` (default: the method that blurs the
     translucent layer, the coverage gather) under each approach, with |error|."""
     method = method or translucent_layer_method()
-    scene = scenes.get(scene_name)
-    n = reference_samples or default_reference_samples(ctx.render(scene, size))
-    reference = ctx.reference(scene, size, samples=n, antialias=True, progress=False)
-    frame = ctx.render(scene, size, instant=method_instant(method))
-    images = {a: blur(ctx, frame, method, translucency=a).color for a in APPROACHES}
+    shown: dict = {}
+    evaluate(ctx, [scene_name], [method], size, reference_samples, shown)
+    _, reference, images = shown[scene_name]
     return plots.image_grid(
-        reference.color, images, title=f"{scene_name} ({method}): {scenes.describe(scene_name)}"
+        reference, images, title=f"{scene_name} ({method}): {scenes.describe(scene_name)}"
     )
