@@ -18,6 +18,7 @@ its own sub-frames (accumulation, stochastic): each of its sub-frames is composi
 
 from __future__ import annotations
 
+import warnings
 import weakref
 
 import numpy as np
@@ -44,10 +45,12 @@ LAYER_FILTER = Param(
     "auto",
     object,  # checked by layer_filter_method: "auto", "same" or a one-frame method's name
     "layered: what blurs the translucent layer: auto (the method registered with "
-    "translucent_layer, the coverage gather, on a frame rendered at the shutter's centre; the "
-    "call's own method otherwise), same, or a filter or gather method's name",
+    "translucent_layer, the coverage gather, at any instant), same (the call's own method), or "
+    "a filter or gather method's name",
 )
 LAYER_FILTER_KINDS = ("filter", "gather")
+# The start of blur's warning that a frame is not at the instant the method expects.
+INSTANT_WARNING = r"blurlab: \S+ expects the G-buffer at"
 LAYER_PARAMS = {
     "translucency": TRANSLUCENCY,
     "motion_coverage": MOTION_COVERAGE,
@@ -250,12 +253,17 @@ def blur_layers(
     result.params = {**result.params, "translucency": translucency}
     layer = layer_textures(ctx, frame)["translucent"]
     if translucency == "layered":
-        centre = frame.instant_fraction == 0.5
         if layer_filter == "auto":
-            layer_method = translucent_layer_method() if centre else name
+            layer_method = translucent_layer_method()
         else:
             layer_method = name if layer_filter == "same" else layer_filter
-        layer_result = blur(translucent_frame(ctx, frame), layer_method)
+        with warnings.catch_warnings():
+            if layer_method == translucent_layer_method():
+                # The coverage gather reads the layer's colour, depth and two-sided motion
+                # alone, and the split makes that motion for the frame's own instant: it is
+                # right at any instant, so its warning about the instant does not apply.
+                warnings.filterwarnings("ignore", INSTANT_WARNING)
+            layer_result = blur(translucent_frame(ctx, frame), layer_method)
         result.params["layer_filter"] = layer_method
         layer = layer_result.textures["color"]
         extra.update({f"translucent_{k}": t for k, t in layer_result.timings.items()})
