@@ -11,10 +11,11 @@ import pandas as pd
 
 from .. import metrics, scenes
 from ..converged import default_reference_samples
-from ..methods import blur, method_instant, translucent_layer_method
+from ..methods import blur, layers, method_instant, translucent_layer_method
 from ..methods import method as method_info
 from ..methods import methods as method_names
 from ..methods.layers import TRANSLUCENCY
+from ..twins import translucency as translucency_twin
 from . import plots
 
 APPROACHES = TRANSLUCENCY.kind
@@ -88,6 +89,29 @@ def summary(table: pd.DataFrame) -> dict:
         "median_layered_gain_flip": float(gain["flip"].median()),
         "median_gain_per_scene": gain.groupby(level="scene").median(),
     }
+
+
+def layer_error(ctx, shown: dict, size, reference_samples=None) -> pd.DataFrame:
+    """What limits the layered approach on each scene of `shown` (as evaluate fills it) that
+    has a translucent layer: PSNR against the scene's reference of the coverage gather's
+    blurred layer composited over the exact blur of the opaque layer (the reference of the
+    scene without its translucent objects, same N), so the layer's blur is the only error.
+    Where it lies far above layered's own PSNR, the method's blur of the opaque layer is what
+    layered loses there, and no better layer blur can win it back."""
+    rows = []
+    for name, (_, reference, _) in shown.items():
+        scene = scenes.get(name)
+        if not scene.translucent:
+            continue
+        frame = ctx.render(scene, size, instant=method_instant(translucent_layer_method()))
+        n = reference_samples or default_reference_samples(frame)
+        opaque = scenes.get(name)
+        opaque.objects = [obj for obj in opaque.objects if not obj.material.translucent]
+        exact = ctx.reference(opaque, size, samples=n, antialias=True, progress=False).color
+        layer = blur(ctx, layers.translucent_frame(ctx, frame), translucent_layer_method())
+        composite = translucency_twin.over(layer.color, exact)
+        rows.append({"scene": name, "psnr": metrics.psnr(composite, reference)})
+    return pd.DataFrame(rows, columns=["scene", "psnr"])
 
 
 def layer_cost(ctx, scene_name: str, method: str, size, runs: int = 10) -> dict:

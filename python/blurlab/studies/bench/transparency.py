@@ -18,8 +18,9 @@ from .timing import split
 
 def _transparency(ctx, size, p, out) -> None:
     methods = split(p["methods"]) or transparency.single_frame_methods()
+    shown: dict = {}
     table = transparency.evaluate(
-        ctx, split(p["scenes"]) or None, methods, size, p["reference_samples"] or None
+        ctx, split(p["scenes"]) or None, methods, size, p["reference_samples"] or None, shown
     )
     summary = transparency.summary(table)
     for approach, row in summary["median_per_approach"].iterrows():
@@ -46,6 +47,14 @@ def _transparency(ctx, size, p, out) -> None:
         "layered's margin over the best other approach, median over the methods",
         [("scene", ""), ("PSNR", "dB"), ("FLIP", "")],
         [[s, row.psnr, row.flip] for s, row in gain.iterrows()],
+    )
+    ceiling = transparency.layer_error(ctx, shown, size, p["reference_samples"] or None)
+    layered = per_scene.xs("layered", level="translucency")["psnr"]
+    out.table(
+        "the layer's blur alone: the coverage gather's layer over the exact blur of the opaque "
+        "layer, and layered (median over the methods)",
+        [("scene", ""), ("layer's blur alone", "dB"), ("layered", "dB")],
+        [[row.scene, row.psnr, layered[row.scene]] for row in ceiling.itertuples()],
     )
     out.table(
         "every scene, method and approach",
