@@ -138,7 +138,6 @@ def _study(args) -> int:
             None if args.metrics == "auto" else tuple(args.metrics.split(",")),
             cluster=cluster,
             peer_names=tuple(args.peers.split(",")) if args.peers else (),
-            transparency_scenes=args.transparency,
         )
     print(f"wrote {report}, {Path(args.out) / 'results.csv'} and {Path(args.out) / 'phases.json'}")
     return 0
@@ -322,11 +321,6 @@ def build_parser() -> argparse.ArgumentParser:
         default="",
         help="comma-separated peers rendered by Blender and scored alike: eevee "
         "(needs pip install 'blurlab[blender]')",
-    )
-    study.add_argument(
-        "--transparency",
-        action="store_true",
-        help="add the transparency scenes, and a section on the four ways to blur translucency",
     )
     _add_cluster_options(study)
     advice = sub.add_parser(

@@ -45,8 +45,7 @@ PHASES = {
     "processes of their own: what is counted is the wait for them)",
     "per_object": "the per-object table of textured_spin (its own renders; the sweep's reference)",
     "peers": "the peers' renders (EEVEE)",
-    "transparency": "the transparency scenes under the four ways to blur translucency (their "
-    "own references, renders and blurs)",
+    "transparency": transparency.REPORT_PHASE,
     "html": "the report's HTML",
 }
 
@@ -63,7 +62,6 @@ def run_study(
     cluster=None,
     peer_names=(),
     chart_processes: int | None = None,
-    transparency_scenes: bool = False,
 ) -> Path:
     """Runs the study and returns the path of report.html. With `cluster` (as bl.sweep takes
     it) the sweep runs on Dask workers; `ctx` still renders the report's images. `metrics`
@@ -74,10 +72,7 @@ def run_study(
     section of the report says so too.
     Each phase is timed (PHASES): phases.json, the report's last table and, with `progress`,
     the console. `chart_processes`: how many processes draw the matplotlib charts (default
-    default_chart_processes(); 0 draws them in this one). `transparency_scenes` adds the
-    transparency scenes (bl.scenes.names("transparency")) to the scenes; every transparency
-    scene studied gets the report's translucency section too: the four ways to blur it
-    (docs/spec.md §20.4) for each of the study's one-frame methods (transparency.csv)."""
+    default_chart_processes(); 0 draws them in this one)."""
     clock = PhaseClock()
     peer_names = peers.check_peers(peer_names)
     if metrics is not None:  # checked before any work
@@ -91,8 +86,6 @@ def run_study(
     out.mkdir(parents=True, exist_ok=True)
     with chart_pool(chart_processes) as charts:
         names = list(scene_names or scenes.names())
-        if transparency_scenes:
-            names += [n for n in scenes.names("transparency") if n not in names]
         grids = grids or default_grids()
         # Per scene, what the sweep rendered and each method's picture (its grid's middle point):
         # the report shows the same, without rendering or blurring them again.
@@ -175,13 +168,6 @@ def run_study(
                         metrics,
                     )
                     peer_rows.to_csv(out / "peers.csv", index=False)
-            translucency = None
-            translucent_names = [n for n in names if n in scenes.names("transparency")]
-            if translucent_names:
-                with clock("transparency"):
-                    translucency = _transparency_section(
-                        ctx, translucent_names, grids, size, reference_samples, out, work
-                    )
             with clock("images"):
                 for write in work.pictures_written:
                     write.result()  # raises a failed one's error
@@ -189,9 +175,7 @@ def run_study(
                 for drawing in work.charts_drawn:
                     drawing.result()
         with clock("html"):
-            report = _html(
-                info, size, table, sections, curves, per_object, peer_rows, clock, translucency
-            )
+            report = _html(info, size, table, sections, curves, per_object, peer_rows, clock)
             path = io.write_text(out / "report.html", report)
         timing = {
             "size": [int(size[0]), int(size[1])],
@@ -384,7 +368,8 @@ def _scene_section(
         "rows": rows,
         "best": best,
         "chart": chart,
-        "gallery": gallery,
+        "gallery": gallery
+        + transparency.report(ctx, scene, grids, size, out, work, clock, samples),
         "reference_samples": int(rows["reference_samples"].iloc[0]),
         "rank": rank,
         "exposure": exposure,
@@ -394,50 +379,6 @@ def _scene_section(
 # zlib level of the report's full-size PNGs: 1 encodes in about 2/3 of the default 6's time,
 # for files about 30 % larger (docs/benchmarks.md).
 REPORT_PNG_COMPRESSION = 1
-
-
-def _transparency_section(ctx, names, grids, size, reference_samples, out, work) -> str | None:
-    """The report's translucency section (docs/transparency.md): each of the study's one-frame
-    methods under the four ways to blur translucency (docs/spec.md §20.4) on the transparency
-    scenes `names`, scored against each scene's antialiased reference; every row in
-    transparency.csv, the medians per approach, layered's margin per scene, and per scene the
-    reference and the method that blurs the layer under each approach, with |error|
-    (<scene>_translucency.png, left encoding on `work`). None where no method is one-frame."""
-    methods = [m for m in grids if m in transparency.single_frame_methods()]
-    if not methods:
-        return None
-    shown: dict = {}
-    table = transparency.evaluate(ctx, names, methods, size, reference_samples, shown)
-    table.to_csv(out / "transparency.csv", index=False)
-    summary = transparency.summary(table)
-    e = html.escape
-    parts = [
-        "<h2>Transparency: four ways to blur translucent surfaces</h2><p>Each one-frame method "
-        "of the study, at its defaults, under each <code>translucency</code> option "
-        f"(docs/spec.md §20.4; {docs_anchor('transparency', 'transparency')}), against each "
-        "scene's antialiased reference. Data: <a href='transparency.csv'>transparency.csv"
-        "</a>.</p><p>Medians over the (scene, method) pairs:</p>",
-        _html_table(summary["median_per_approach"].reset_index()),
-        "<p>What <code>layered</code> gains over the best of the other three, median over the "
-        "methods (PSNR in dB, higher is better; FLIP: the best other's minus layered's):</p>",
-        _html_table(summary["median_gain_per_scene"].reset_index()),
-    ]
-    for name, (method_name, reference, images) in shown.items():
-        picture = f"{name}_translucency.png"
-        work.pictures_written.append(
-            work.pictures.submit(
-                lambda path, r, i: _write_png(path, plots.image_grid_picture(r, i)),
-                out / picture,
-                reference,
-                images,
-            )
-        )
-        parts.append(
-            f"<h3>{e(name)}</h3><p>{e(scenes.describe(name))}. The reference, then "
-            f"<code>{e(method_name)}</code> under composite, composite_motion, unblurred and "
-            f"layered, with |error| below:</p><p><img src='{e(picture)}'></p>"
-        )
-    return "\n".join(parts)
 
 
 def _write_png(path: Path, image) -> Path:
@@ -501,17 +442,7 @@ def _html_table(table: pd.DataFrame, number: str = ".4g") -> str:
     return table.to_html(index=False, float_format=lambda v: f"{v:{number}}", border=0)
 
 
-def _html(
-    info,
-    size,
-    table,
-    sections,
-    curves,
-    per_object=None,
-    peer_rows=None,
-    clock=None,
-    translucency=None,
-) -> str:
+def _html(info, size, table, sections, curves, per_object=None, peer_rows=None, clock=None) -> str:
     e = html.escape
     when = datetime.datetime.now().strftime("%Y-%m-%d %H:%M")
     parts = [
@@ -598,8 +529,6 @@ def _html(
         columns = ("scene", "method", *registered(), "time", "note")
         shown = [c for c in columns if c in peer_rows]
         parts.append(_html_table(peer_rows[shown]))
-    if translucency is not None:
-        parts.append(translucency)
     for title, image in curves:
         parts.append(f"<h2>{e(title)}</h2><p><img src='{e(image)}'></p>")
     if clock is not None:
@@ -615,9 +544,7 @@ def _html(
                 f"</td><td style='text-align:left'>{e(PHASES[phase])}</td></tr>"
             )
         parts.append("</table>")
-    where = docs_anchor(
-        "study", "blurlab's docs"
-    )  # the built site, the checkout's pages, or a name
+    where = docs_anchor("study", "blurlab's docs")  # the built site, the pages, or a name
     parts.append(
         f"<p>Made by <code>blurlab study</code>; {where} say what each method and number means.</p>"
     )

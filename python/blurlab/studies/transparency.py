@@ -6,11 +6,14 @@ docs/transparency.md shows the numbers of the transparency benchmark."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pandas as pd
 
-from .. import metrics, scenes
+from .. import io, metrics, scenes
 from ..converged import default_reference_samples
+from ..docs_link import docs_anchor
 from ..methods import blur, layers, method_instant, translucent_layer_method
 from ..methods import method as method_info
 from ..methods import methods as method_names
@@ -19,6 +22,11 @@ from ..twins import translucency as translucency_twin
 from . import plots
 
 APPROACHES = TRANSLUCENCY.kind
+# What the study's "transparency" phase counts (blurlab.studies.study.PHASES).
+REPORT_PHASE = (
+    "each transparency scene under the four ways to blur translucency (its own antialiased "
+    "reference, G-buffers and blurs)"
+)
 
 
 def single_frame_methods() -> list[str]:
@@ -147,6 +155,40 @@ def layer_cost(ctx, scene_name: str, method: str, size, runs: int = 10) -> dict:
         **{f"{part}_ms": float(np.median(values)) for part, values in parts.items()},
         "split_ms": frame.timings["translucent_split"].ms,
     }
+
+
+def report(ctx, scene, grids, size, out, work, clock, reference_samples=None) -> str:
+    """The study's report on a transparency scene (bl.scenes.names("transparency"); "" for any
+    other scene, or where `grids` has no one-frame method): each one-frame method of `grids` at
+    its defaults under the four approaches, scored by evaluate (<scene>_transparency.csv), a
+    table of their PSNR, and the reference beside the method that blurs the layer under each
+    approach with |error| (<scene>_translucency.png, left encoding on `work`, the study's
+    ReportWork). Timed as the phase "transparency" of `clock`."""
+    methods = [m for m in grids if m in single_frame_methods()]
+    if scene.name not in scenes.names("transparency") or not methods:
+        return ""
+    shown: dict = {}
+    with clock("transparency"):
+        table = evaluate(ctx, [scene.name], methods, size, reference_samples, shown)
+    out = Path(out)
+    table.to_csv(out / f"{scene.name}_transparency.csv", index=False)
+    method, reference, images = shown[scene.name]
+    picture = f"{scene.name}_translucency.png"
+    grid = plots.image_grid_picture
+    work.pictures_written.append(
+        work.pictures.submit(lambda: io.write(out / picture, grid(reference, images)))
+    )
+    psnr = table.pivot(index="method", columns="translucency", values="psnr")[list(APPROACHES)]
+    return (
+        "<h3>Four ways to blur its translucent surfaces</h3><p>PSNR (dB) of each one-frame "
+        "method at its defaults under each <code>translucency</code> option (docs/spec.md "
+        f"§20.4, {docs_anchor('transparency', 'transparency')}) against the antialiased "
+        f"reference, FLIP too in <a href='{scene.name}_transparency.csv'>"
+        f"{scene.name}_transparency.csv</a>:</p>"
+        + psnr.reset_index().to_html(index=False, float_format=lambda v: f"{v:.2f}", border=0)
+        + f"<p>The reference, then <code>{method}</code> under each, with |error| below:</p>"
+        f"<p><img src='{picture}'></p>"
+    )
 
 
 def gallery(ctx, scene_name: str, size, method: str | None = None, reference_samples=None):
