@@ -2,7 +2,10 @@
 
 import pandas as pd
 
+import blurlab as bl
+from blurlab import cli
 from blurlab.methods.layers import TRANSLUCENCY
+from blurlab.studies import study
 from blurlab.studies.study import run_study
 
 
@@ -31,3 +34,16 @@ def test_a_transparency_scene_gets_the_four_ways_to_blur_it(ctx, tmp_path):
     composite = table[table["translucency"] == "composite"].set_index("method")["psnr"]
     assert (layered > composite + 1).all()
     assert layered["gather_coverage"] > composite["gather_coverage"] + 3
+
+
+def test_the_study_command_adds_the_transparency_scenes(tmp_path, monkeypatch):
+    monkeypatch.setattr(study, "default_grids", lambda: {"gather_coverage": {}})
+    out = tmp_path / "study"
+    argv = ["study", "--scenes", "fan", "--transparency", "--size", "48x27"]
+    assert cli.main([*argv, "--reference-samples", "8", "--out", str(out)]) == 0
+    names = bl.scenes.names("transparency")
+    table = pd.read_csv(out / "results.csv")
+    assert sorted(table["scene"].unique()) == sorted(["fan", *names])
+    for name in names:
+        assert (out / f"{name}_transparency.csv").is_file()
+    assert not (out / "fan_transparency.csv").exists()
