@@ -233,10 +233,11 @@ def blur_layers(
 ):
     """Runs `blur(layer_frame, method)` (blurlab.methods.core.blur with the call's backend,
     timing and, for its own method, parameters bound) on the layers that `translucency` needs
-    and composites them: a
-    BlurResult whose textures add "opaque_blurred" (unblurred, layered) or "chosen_motion" and
-    "chosen_depth" (composite_motion), and whose timings add the layer passes: "translucent_"
-    + the method's passes for the layered blur, "translucency_motion", "translucency_over"."""
+    and composites them: a BlurResult whose textures add "opaque_blurred" (unblurred, layered)
+    or "chosen_motion" and "chosen_depth" (composite_motion), and whose timings add the layer
+    passes: "translucent_" + the layer method's passes for the layered blur, and
+    "translucency_over". The layer frames are made once per frame (opaque_frame,
+    translucent_frame, chosen_frame), their passes timed in frame.timings."""
     extra: dict = {}
     if translucency == "composite_motion":
         derived = chosen_frame(ctx, frame, motion_coverage)
