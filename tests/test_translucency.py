@@ -400,3 +400,22 @@ def test_a_folded_fragment_layout_gives_the_same_frame(ctx, monkeypatch):
     two = ctx.render(scene, size)
     for name in ("color", "opaque_color", "translucent", "translucent_motion", "translucent_depth"):
         np.testing.assert_array_equal(getattr(one, name), getattr(two, name), err_msg=name)
+
+
+@pytest.mark.filterwarnings("ignore:blurlab. .* expects the G-buffer")
+def test_a_still_layer_is_composited_as_the_coverage_gather_leaves_it(ctx):
+    """car_behind_window's glass is still: layered skips the layer's blur, which would keep
+    every pixel (its early exit), and gives the same bits as blurring it would."""
+    from blurlab.methods import layers
+
+    for instant in ("center", "close"):
+        frame = ctx.render(bl.scenes.car_behind_window(), size=SIZE, instant=instant)
+        assert layers.layer_still(frame)
+        layered = bl.blur(ctx, frame, "reconstruct_mcguire2012", translucency="layered")
+        assert not any(key.startswith("translucent_") for key in layered.timings)
+        gathered = bl.blur(ctx, layers.translucent_frame(ctx, frame), "gather_coverage")
+        np.testing.assert_array_equal(gathered.color, frame.translucent)
+        unblurred = bl.blur(ctx, frame, "reconstruct_mcguire2012", translucency="unblurred")
+        np.testing.assert_array_equal(layered.color, unblurred.color)
+    moving = ctx.render(bl.scenes.moving_glass(), size=SIZE)
+    assert not layers.layer_still(moving)

@@ -222,6 +222,12 @@ def chosen_frame(ctx: Context, frame: Frame, motion_coverage: float) -> Frame:
     return _made_once(ctx, frame, ("chosen", motion_coverage), make)
 
 
+def layer_still(frame: Frame) -> bool:
+    """Whether no fragment of the frame's translucent layer moves (its motion is 0 everywhere:
+    a still window, or no translucent surface in view)."""
+    return not np.any(frame.translucent_motion)
+
+
 def blur_layers(
     ctx: Context,
     frame: Frame,
@@ -258,16 +264,20 @@ def blur_layers(
             layer_method = translucent_layer_method()
         else:
             layer_method = name if layer_filter == "same" else layer_filter
-        with warnings.catch_warnings():
-            if layer_method == translucent_layer_method():
-                # The coverage gather reads the layer's colour, depth and two-sided motion
-                # alone, and the split makes that motion for the frame's own instant: it is
-                # right at any instant, so its warning about the instant does not apply.
-                warnings.filterwarnings("ignore", INSTANT_WARNING)
-            layer_result = blur(translucent_frame(ctx, frame), layer_method)
         result.params["layer_filter"] = layer_method
-        layer = layer_result.textures["color"]
-        extra.update({f"translucent_{k}": t for k, t in layer_result.timings.items()})
+        coverage_gather = layer_method == translucent_layer_method()
+        # Where no fragment of the layer moves, the coverage gather keeps every pixel as it is
+        # (its early exit, §17.6): the layer is composited as rendered, the same bits, unblurred.
+        if not (coverage_gather and _made_once(ctx, frame, "still", lambda: layer_still(frame))):
+            with warnings.catch_warnings():
+                if coverage_gather:
+                    # The coverage gather reads the layer's colour, depth and two-sided motion
+                    # alone, and the split makes that motion for the frame's own instant: it is
+                    # right at any instant, so its warning about the instant does not apply.
+                    warnings.filterwarnings("ignore", INSTANT_WARNING)
+                layer_result = blur(translucent_frame(ctx, frame), layer_method)
+            layer = layer_result.textures["color"]
+            extra.update({f"translucent_{k}": t for k, t in layer_result.timings.items()})
     height, width = frame.depth.shape
     out = ctx.pooled((height, width, 4))
     over = ctx.shader_pass("passes/translucency_over.comp")
