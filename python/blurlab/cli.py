@@ -144,12 +144,14 @@ def _study(args) -> int:
 
 
 def _study_scenes(args) -> list | None:
-    """The study's scenes: --scenes, then the random scenes of --random N --seed S."""
-    if args.random is None:
+    """The study's scenes: --scenes, then the transparency scenes of --transparency and the
+    random scenes of --random N --seed S."""
+    if args.random is None and not args.transparency:
         return args.scenes
-    return list(args.scenes or []) + [
-        scenes.random_name(seed) for seed in range(args.seed, args.seed + args.random)
-    ]
+    added = scenes.names("transparency") if args.transparency else []
+    if args.random is not None:
+        added += [scenes.random_name(seed) for seed in range(args.seed, args.seed + args.random)]
+    return list(args.scenes or []) + [name for name in added if name not in (args.scenes or [])]
 
 
 def _sweep(args) -> int:
@@ -357,6 +359,11 @@ def build_parser() -> argparse.ArgumentParser:
     )
     study.add_argument(
         "--seed", type=_seed, default=0, metavar="S", help="the first random seed (default: 0)"
+    )
+    study.add_argument(
+        "--transparency",
+        action="store_true",
+        help="add the transparency scenes; each gets the four ways to blur translucency",
     )
     study.add_argument("--size", type=parse_size, default=DEFAULT_SIZE, help=SIZE_HELP)
     study.add_argument("--out", default="out/study", help="output folder (default: out/study)")

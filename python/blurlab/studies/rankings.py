@@ -12,13 +12,15 @@ same numbers on every run.
 
 from __future__ import annotations
 
+import base64
+import io
 import math
 from collections.abc import Sequence
 
 import numpy as np
 import pandas as pd
 
-from ..metrics import get
+from ..metrics import get, registered
 
 BOOTSTRAP_RESAMPLES = 2000
 BOOTSTRAP_SEED = 0
@@ -27,6 +29,9 @@ LEVEL = 0.95  # the intervals' coverage
 # draw "which method wins where" over: how fast the fastest pixels move, and how much of the
 # motion is the camera's.
 MAP_FEATURES = ("motion_p99", "camera_motion_share")
+# The study report ranks the methods over its scenes from this many scenes on: fewer give
+# intervals too wide to say anything.
+RANKING_MIN_SCENES = 20
 # A tie: two values closer than this share the win (half each in a pair; split in win shares).
 TIE = 1e-9
 
@@ -269,6 +274,52 @@ def wins_map_chart(table: pd.DataFrame, x: str, y: str, metric: str = "psnr", pa
     if path is not None:
         fig.savefig(path)
     return fig
+
+
+def report_section(table: pd.DataFrame) -> str | None:
+    """The study report's rankings over its scenes (HTML; the chart inline): each method at
+    its configuration with the best median of the first ranked metric the table has, the top
+    three per metric with 95 % intervals and win shares, every method's distribution, the top
+    three pairwise, and which method wins where over MAP_FEATURES where the rows have them.
+    None below RANKING_MIN_SCENES scenes."""
+    ranked = [n for n in registered() if n in table and get(n).higher_is_better is not None]
+    if table["scene"].nunique() < RANKING_MIN_SCENES or not ranked:
+        return None
+    first = ranked[0]
+    chosen = best_configurations(table, first)
+    # A metric some scenes lack (an HDR one on LDR scenes) ranks nothing here.
+    ranked = [m for m in ranked if chosen[m].notna().all()]
+    tops = pd.concat([top(chosen, m).assign(metric=m) for m in ranked], ignore_index=True)
+    leaders = list(tops[tops["metric"] == first]["contender"])
+    columns = ["metric", "contender", "median", "median_low", "median_high", "win_share"]
+    parts = [
+        f"<h2>Rankings over {table['scene'].nunique()} scenes</h2><p>Each method at its "
+        f"configuration with the best median {first} over the scenes; medians with 95 % "
+        "bootstrap intervals, and the share of scenes each method wins (docs/spec.md "
+        "§23.1). Configurations:</p>",
+        _html_table(chosen.drop_duplicates("method")[["method", "params"]]),
+        "<h3>Top three by median</h3>" + _html_table(tops[columns]),
+        "<h3>Every method</h3>" + _html_table(distributions(chosen, ranked)),
+        f"<h3>The top three by {first}, pairwise</h3>",
+        _html_table(pairwise(chosen[chosen["method"].isin(leaders)], first)),
+    ]
+    if all(f in chosen for f in MAP_FEATURES):
+        import matplotlib.pyplot as plt
+
+        picture = io.BytesIO()
+        figure = wins_map_chart(chosen, *MAP_FEATURES, first)
+        figure.savefig(picture, format="png")
+        plt.close(figure)  # pyplot would keep every figure it made open
+        encoded = base64.b64encode(picture.getvalue()).decode()
+        parts.append(
+            f"<h3>Which method wins where</h3><p><img src='data:image/png;base64,{encoded}'></p>"
+            + _html_table(wins_map(chosen, *MAP_FEATURES, first))
+        )
+    return "".join(parts)
+
+
+def _html_table(table: pd.DataFrame) -> str:
+    return table.to_html(index=False, float_format=lambda v: f"{v:.4g}", border=0)
 
 
 def _check_metric(table: pd.DataFrame, metric: str) -> None:

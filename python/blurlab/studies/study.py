@@ -25,15 +25,12 @@ from ..docs_link import docs_anchor
 from ..methods import blur, method, method_instant
 from ..metrics import check_names, get, registered
 from ..sizes import DEFAULT_SIZE
-from . import interactive, objects, peers, plots, rankings, workers
+from . import interactive, objects, peers, plots, rankings, transparency, workers
 from .cluster import account_table
 from .evaluation import SETUP_PHASES, PhaseClock, picture_key
 from .sweep import default_grids, middle_point, sweep
 
 BUDGETS_MS = (0.1, 1.0, 10.0, 100.0)
-# The report ranks the methods over the scenes (docs/spec.md §23.1) from this many scenes on:
-# fewer give intervals too wide to say anything.
-RANKING_MIN_SCENES = 20
 
 
 # What each phase of phases.json counts (the report's "Where the time went" says the same).
@@ -49,6 +46,7 @@ PHASES = {
     "features": "each scene's features for results.csv (its G-buffer rendered once more)",
     "per_object": "the per-object table of textured_spin (its own renders; the sweep's reference)",
     "peers": "the peers' renders (EEVEE)",
+    "transparency": transparency.REPORT_PHASE,
     "html": "the report's HTML",
 }
 
@@ -182,10 +180,7 @@ def run_study(
                 for drawing in work.charts_drawn:
                     drawing.result()
         with clock("html"):
-            ranking = rankings_section(table, out)
-            report = _html(
-                info, size, table, sections, curves, per_object, peer_rows, clock, ranking
-            )
+            report = _html(info, size, table, sections, curves, per_object, peer_rows, clock)
             path = io.write_text(out / "report.html", report)
         timing = {
             "size": [int(size[0]), int(size[1])],
@@ -378,7 +373,8 @@ def _scene_section(
         "rows": rows,
         "best": best,
         "chart": chart,
-        "gallery": gallery,
+        "gallery": gallery
+        + transparency.report(ctx, scene, grids, size, out, work, clock, samples),
         "reference_samples": int(rows["reference_samples"].iloc[0]),
         "rank": rank,
         "exposure": exposure,
@@ -451,59 +447,7 @@ def _html_table(table: pd.DataFrame, number: str = ".4g") -> str:
     return table.to_html(index=False, float_format=lambda v: f"{v:{number}}", border=0)
 
 
-def rankings_section(table: pd.DataFrame, out: Path) -> str | None:
-    """The report's rankings over the scenes (docs/spec.md §23.1), each method at its
-    configuration with the best median of the first ranked metric: the top three per metric
-    with 95 % intervals and win shares, every method's distribution, the top three pairwise,
-    and which method wins where where the rows have rankings.MAP_FEATURES. None below
-    RANKING_MIN_SCENES scenes."""
-    scene_count = table["scene"].nunique()
-    metrics = [n for n in _metric_columns(table) if get(n).higher_is_better is not None]
-    if scene_count < RANKING_MIN_SCENES or not metrics:
-        return None
-    first = metrics[0]
-    chosen = rankings.best_configurations(table, first)
-    # A metric some scenes lack (an HDR one on LDR scenes) ranks nothing here.
-    metrics = [m for m in metrics if chosen[m].notna().all()]
-    tops = pd.concat([rankings.top(chosen, m).assign(metric=m) for m in metrics], ignore_index=True)
-    leaders = list(tops[tops["metric"] == first]["contender"])
-    pairs = rankings.pairwise(chosen[chosen["method"].isin(leaders)], first)
-    configs = chosen.drop_duplicates("method")[["method", "params"]]
-    parts = [
-        f"<h2>Rankings over {scene_count} scenes</h2><p>Each method at its configuration with "
-        f"the best median {first.upper()} over the scenes; medians with 95 % bootstrap "
-        "intervals over the scenes, and the share of scenes each method wins (docs/spec.md "
-        "§23.1). Configurations:</p>",
-        _html_table(configs),
-        "<h3>Top three by median</h3>",
-        _html_table(
-            tops[["metric", "contender", "median", "median_low", "median_high"] + ["win_share"]]
-        ),
-        "<h3>Every method</h3>",
-        _html_table(rankings.distributions(chosen, metrics)),
-        f"<h3>The top three by {first.upper()}, pairwise</h3>",
-        _html_table(pairs),
-    ]
-    if all(f in chosen for f in rankings.MAP_FEATURES):
-        rankings.wins_map_chart(chosen, *rankings.MAP_FEATURES, first, out / "wins_map.png")
-        parts.append(
-            "<h3>Which method wins where</h3><p><img src='wins_map.png'></p>"
-            + _html_table(rankings.wins_map(chosen, *rankings.MAP_FEATURES, first))
-        )
-    return "".join(parts)
-
-
-def _html(
-    info,
-    size,
-    table,
-    sections,
-    curves,
-    per_object=None,
-    peer_rows=None,
-    clock=None,
-    ranking=None,
-) -> str:
+def _html(info, size, table, sections, curves, per_object=None, peer_rows=None, clock=None) -> str:
     e = html.escape
     when = datetime.datetime.now().strftime("%Y-%m-%d %H:%M")
     parts = [
@@ -590,10 +534,8 @@ def _html(
         columns = ("scene", "method", *registered(), "time", "note")
         shown = [c for c in columns if c in peer_rows]
         parts.append(_html_table(peer_rows[shown]))
-    for title, image in curves:
-        parts.append(f"<h2>{e(title)}</h2><p><img src='{e(image)}'></p>")
-    if ranking is not None:
-        parts.append(ranking)
+    parts += [f"<h2>{e(title)}</h2><p><img src='{e(image)}'></p>" for title, image in curves]
+    parts.append(rankings.report_section(table) or "")  # from RANKING_MIN_SCENES scenes on
     if clock is not None:
         total = clock.total()
         parts.append(
@@ -607,9 +549,7 @@ def _html(
                 f"</td><td style='text-align:left'>{e(PHASES[phase])}</td></tr>"
             )
         parts.append("</table>")
-    where = docs_anchor(
-        "study", "blurlab's docs"
-    )  # the built site, the checkout's pages, or a name
+    where = docs_anchor("study", "blurlab's docs")  # the built site, the pages, or a name
     parts.append(
         f"<p>Made by <code>blurlab study</code>; {where} say what each method and number means.</p>"
     )

@@ -16,27 +16,36 @@ from ..sweep import sweep
 from .core import Benchmark, register
 from .timing import split
 
-COVERAGE = "gather_coverage"
-
 
 def tile_filters() -> list[str]:
     """The methods whose k has an "auto" rule."""
     return [n for n in methods() if "k" in method(n).params and method(n).params["k"].auto]
 
 
-def _grids(p, filters: list[str]) -> dict:
-    k_values = [int(k) for k in split(p["fixed_k"])]
-    samples = [int(s) for s in split(p["samples"])]
-    grids = {
-        name: [{"k": k_values, "samples": samples}, {"k": ["auto"], "samples": [15]}]
-        for name in filters
-        if name != COVERAGE
-    }
-    if COVERAGE in filters:
-        grids[COVERAGE] = {
-            "tile_percent": [float(t) for t in split(p["coverage_tiles"])],
-            "samples": [int(s) for s in split(p["coverage_samples"])],
-        }
+def tile_gathers() -> list[str]:
+    """The methods whose tiles are a share of the image (a `tile_percent`): gather_coverage."""
+    return [n for n in methods() if "tile_percent" in method(n).params]
+
+
+def _grids(p, names: list[str]) -> dict:
+    """Each method's grid: k × samples (and k = "auto") for a tile filter, tile_percent ×
+    samples for a tile gather."""
+    grids = {}
+    for name in names:
+        if name in tile_filters():
+            k_values = [int(k) for k in split(p["fixed_k"])]
+            samples = [int(s) for s in split(p["samples"])]
+            grids[name] = [{"k": k_values, "samples": samples}, {"k": ["auto"], "samples": [15]}]
+        elif name in tile_gathers():
+            grids[name] = {
+                "tile_percent": [float(t) for t in split(p["coverage_tiles"])],
+                "samples": [int(s) for s in split(p["coverage_samples"])],
+            }
+        else:
+            raise ValueError(
+                f"blurlab: auto_rules fits rules for {tile_filters() + tile_gathers()}, "
+                f"not {name!r}"
+            )
     return grids
 
 
@@ -52,7 +61,7 @@ def _varied_keys(grid) -> list[str]:
 
 
 def _auto_rules(ctx, size, p, out) -> None:
-    filters = split(p["filters"]) or [*tile_filters(), COVERAGE]
+    filters = split(p["filters"]) or [*tile_filters(), *tile_gathers()]
     grids = _grids(p, filters)
     seeds = p["seeds"]
     train = [f"random:{s}" for s in range(seeds)]
