@@ -9,6 +9,11 @@
 // tap's colour only where it weighs on a sum; same bits. With FILM_THROUGH_TAPS (the option
 // film_through_taps) every colour is read through the film filter instead of a pass after this
 // one: tap k bilinearly at (±d, ±d) px, the signs turning with k; X as the mean of the turns.
+// Where the neighbourhood's longest half-motion is under early_exit px, X keeps its colour.
+// With PER_TILE_SAMPLES (the option tap_spacing > 0) a side takes
+// clamp(ceil(longest / tap_spacing), 2, samples) taps; with UNIFORM_FAST_PATH (the option
+// uniform_tolerance > 0) an X whose own trails lie within uniform_tolerance px of the tile's
+// lines takes the plain gather of uniform_gather instead of the coverage weights.
 // NumPy twin: blurlab.twins.coverage.gather_coverage (and twins.film's tap_color, own_color).
 #include "common/eevee.glsl"
 #include "common/mcguire2012.glsl"
@@ -49,6 +54,13 @@ uniform int samples;
 uniform float soft_z;
 uniform float exposure;
 uniform uint seed;
+uniform float early_exit;  // px
+#ifdef PER_TILE_SAMPLES
+uniform float tap_spacing;  // px of the tile's longer line per tap
+#endif
+#ifdef UNIFORM_FAST_PATH
+uniform float uniform_tolerance;  // px
+#endif
 #ifdef FILM_THROUGH_TAPS
 uniform float film_spread;  // d, px²: the film kernel's variance (twins.film.film_spread)
 
@@ -142,6 +154,38 @@ vec2 trail_of(vec4 halves, int side) {
     return side == 0 ? halves.xy : -halves.zw;
 }
 
+// The colour of tap k = side·samples + i at y, through the film filter where it is read so.
+vec4 tap_color(ivec2 y, int k, ivec2 size) {
+#ifdef FILM_THROUGH_TAPS
+    return film_tap(y, k, size);
+#else
+    return sanitize_color(texelFetch(color, y, 0));
+#endif
+}
+
+#ifdef UNIFORM_FAST_PATH
+// The uniform-motion path (docs/spec.md §17.6): per side the mean of X and of the taps along
+// the tile's line whose own trail lies within uniform_tolerance px of it.
+vec4 uniform_gather(ivec2 x, vec4 cx, vec2 lines[2], int taps, float j, ivec2 size) {
+    vec2 center = vec2(x) + 0.5;
+    vec4 result = vec4(0.0);
+    for (int side = 0; side < 2; ++side) {
+        vec4 total = cx;
+        float kept = 1.0;
+        float offset = fract(j + 0.25 * float(side));
+        for (int i = 0; i < taps; ++i) {
+            float t = (float(i) + offset) / float(taps);
+            ivec2 y = clamp(ivec2(floor(center + lines[side] * t)), ivec2(0), size - 1);
+            if (length(trail_of(halves_at(y), side) - lines[side]) > uniform_tolerance) continue;
+            total += tap_color(y, side * samples + i, size);
+            kept += 1.0;
+        }
+        result += 0.5 * total / kept;
+    }
+    return result;
+}
+#endif
+
 vec4 gather_at(ivec2 x) {
     ivec2 size = textureSize(color, 0);
 #ifdef FILM_THROUGH_TAPS
@@ -153,7 +197,13 @@ vec4 gather_at(ivec2 x) {
     vec4 tile_motion = dilated_at(tile);
     vec2 lines[2] = vec2[2](clamp_length(tile_motion.xy, reach_limit),
                             -clamp_length(tile_motion.zw, reach_limit));
-    if (max(length(lines[0]), length(lines[1])) < EARLY_EXIT) return cx;
+    float longest = max(length(lines[0]), length(lines[1]));
+    if (longest < early_exit) return cx;
+#ifdef PER_TILE_SAMPLES
+    int taps = clamp(int(ceil(longest / tap_spacing)), 2, samples);
+#else
+    int taps = samples;
+#endif
 
     float zx = sanitize_depth(texelFetch(depth, x, 0).x);
     vec4 x_halves = halves_at(x);
@@ -164,8 +214,12 @@ vec4 gather_at(ivec2 x) {
     // (its own object turns and tilts); where X is still, soft_z.
     float front_extent = (x_moves && !isinf(zx)) ? max(soft_z, MOVING_DEPTH * zx) : soft_z;
     float j = rand(uint(x.x), uint(x.y), seed);
+#ifdef UNIFORM_FAST_PATH
+    if (max(length(owns[0] - lines[0]), length(owns[1] - lines[1])) <= uniform_tolerance)
+        return uniform_gather(x, cx, lines, taps, j, size);
+#endif
     vec2 center = vec2(x) + 0.5;
-    int counts[2] = int[2]((samples + 1) / 2, samples / 2);
+    int counts[2] = int[2]((taps + 1) / 2, taps / 2);
     vec4 behind_sum = vec4(0.0);
     float behind_weight = 0.0;
     vec4 cover_sums[2];
@@ -185,7 +239,7 @@ vec4 gather_at(ivec2 x) {
         vec2 bend_1 = own_moves ? x_bend : vec2(0.0);
         cover_sums[side] = vec4(0.0);
         float cover = 0.0, spaced = 0.0, seen = 0.0;
-        for (int i = 0; i < samples; ++i) {
+        for (int i = 0; i < taps; ++i) {
             bool family_1 = (i & 1) == 1;
             vec2 along = family_1 ? along_1 : along_0;
             float spacing = family_1 ? spacing_1 : spacing_0;
@@ -217,11 +271,7 @@ vec4 gather_at(ivec2 x) {
             // without reading it.
             if (a == 0.0 && b == 0.0) continue;
 #endif
-#ifdef FILM_THROUGH_TAPS
-            vec4 cy = film_tap(y, side * samples + i, size);
-#else
-            vec4 cy = sanitize_color(texelFetch(color, y, 0));
-#endif
+            vec4 cy = tap_color(y, side * samples + i, size);
             cover_sums[side] += a * cy;
             behind_sum += b * cy;
         }

@@ -16,11 +16,25 @@ blurlab.twins.coverage.gather_coverage.
 
 from __future__ import annotations
 
+import numpy as np
+
 from ..context import Context
 from ..frame import Frame
 from ..twins import coverage as twin
 from ..twins import film
-from .core import SEED, Method, Param, Pass, PassRunner, register
+from ..twins.eevee import EARLY_EXIT, resolve_reach_keys
+from .core import (
+    SEED,
+    BlurResult,
+    Method,
+    Param,
+    Pass,
+    PassRunner,
+    method,
+    register,
+    resolve_params,
+    twin_keywords,
+)
 from .eevee import dilated_tiles
 from .tile_filter import TILE_FILTER_PARAMS
 from .variants import PassVariants
@@ -51,8 +65,38 @@ PARAMS = {
         "(±d, ±d) px, d the kernel's variance) instead of a pass after it; film_filter up to "
         f"{film.MAX_TAP_SIGMA:.2f}",
     ),
+    # Just enough taps (§17.6): each off, or at today's value, by default.
+    "tap_spacing": Param(
+        0.0,
+        float,
+        "px of the tile's longer line per tap: a side takes clamp(ceil(longest / tap_spacing), "
+        "2, samples) taps (0: samples everywhere)",
+        0,
+        1000,
+    ),
+    "early_exit": Param(
+        EARLY_EXIT,
+        float,
+        "px: where the tile's longer line is shorter, X keeps its colour with no tap",
+        0,
+        1000,
+    ),
+    "uniform_tolerance": Param(
+        0.0,
+        float,
+        "px: an X whose own trails lie this close to the tile's lines takes a plain gather of "
+        "the taps moving as it does (0: off)",
+        0,
+        1000,
+    ),
 }
-GATHER = Pass("gather", "passes/coverage_gather.glsl", ("samples", "soft_z", "exposure", "seed"))
+GATHER = Pass(
+    "gather",
+    "passes/coverage_gather.glsl",
+    ("samples", "soft_z", "exposure", "seed", "early_exit"),
+)
+# The options whose passes compile in a path of their own only where they are on (> 0).
+GATHER_OPTIONS = {"tap_spacing": "PER_TILE_SAMPLES", "uniform_tolerance": "UNIFORM_FAST_PATH"}
 # The gather's variants (shaders/passes/coverage_gather.glsl): every tap reads its colour, or
 # only the taps that weigh on a sum do (fewer reads, a branch). Same bits; `blurlab bench layouts`
 # --variants times both: on the H100 at 1080p fetch_all was as fast or faster (0.0628 against
@@ -139,6 +183,10 @@ def _run_coverage(ctx: Context, frame: Frame, inputs: dict, values: dict, backen
             )
         defines = {**defines, "FILM_THROUGH_TAPS": 1}
         uniforms["film_spread"] = film.film_spread(values["film_filter"])
+    for option, define in GATHER_OPTIONS.items():
+        if values[option] > 0:
+            defines[define] = 1
+            uniforms[option] = values[option]
     passes.run(GATHER, textures, {"result": gathered}, backend, uniforms=uniforms, defines=defines)
     outputs = {"color": gathered, **tile_buffers}
     if values["film_filter"] > 0 and not through_taps:
@@ -161,3 +209,20 @@ register(
         "background behind filling the rest. docs/spec.md §17.6.",
     )
 )
+
+
+def tap_plan(frame: Frame, result: BlurResult | None = None, **params) -> twin.TapPlan:
+    """§17.6: the taps each pixel of `frame` reads and the path it takes at `params` (the NumPy
+    twin's twin.tap_plan: taps_per_pixel(), fast), on the tile grid of `result`, a run of
+    gather_coverage on `frame` at the same parameters, where given (the twin's own otherwise)."""
+    values = resolve_params(method("gather_coverage"), frame, params)
+    dilated = None
+    if result is not None:
+        buffers = result.buffers
+        dilated = (
+            resolve_reach_keys(buffers["reach_keys"], buffers["tiles"])
+            if "reach_keys" in buffers
+            else buffers["dilated"]
+        ).astype(np.float64)
+    keywords = {key: values[key] for key in twin_keywords(twin.tap_plan)}
+    return twin.tap_plan(frame.motion_prev, frame.motion_next, dilated=dilated, **keywords)
