@@ -165,8 +165,10 @@ vec4 tap_color(ivec2 y, int k, ivec2 size) {
 
 #ifdef UNIFORM_FAST_PATH
 // The uniform-motion path (docs/spec.md §17.6): per side the mean of X and of the taps along
-// the tile's line whose own trail lies within uniform_tolerance px of it.
-vec4 uniform_gather(ivec2 x, vec4 cx, vec2 lines[2], int taps, float j, ivec2 size) {
+// the tile's line, but those in front of X whose own trail lies further than
+// uniform_tolerance px from the line (what does not move with X stands over it only where it
+// is; what lies behind showed where X's object was not).
+vec4 uniform_gather(ivec2 x, vec4 cx, float zx, vec2 lines[2], int taps, float j, ivec2 size) {
     vec2 center = vec2(x) + 0.5;
     vec4 result = vec4(0.0);
     for (int side = 0; side < 2; ++side) {
@@ -176,7 +178,9 @@ vec4 uniform_gather(ivec2 x, vec4 cx, vec2 lines[2], int taps, float j, ivec2 si
         for (int i = 0; i < taps; ++i) {
             float t = (float(i) + offset) / float(taps);
             ivec2 y = clamp(ivec2(floor(center + lines[side] * t)), ivec2(0), size - 1);
-            if (length(trail_of(halves_at(y), side) - lines[side]) > uniform_tolerance) continue;
+            bool in_front = sanitize_depth(texelFetch(depth, y, 0).x) < zx;
+            if (in_front && length(trail_of(halves_at(y), side) - lines[side]) > uniform_tolerance)
+                continue;
             total += tap_color(y, side * samples + i, size);
             kept += 1.0;
         }
@@ -216,7 +220,7 @@ vec4 gather_at(ivec2 x) {
     float j = rand(uint(x.x), uint(x.y), seed);
 #ifdef UNIFORM_FAST_PATH
     if (max(length(owns[0] - lines[0]), length(owns[1] - lines[1])) <= uniform_tolerance)
-        return uniform_gather(x, cx, lines, taps, j, size);
+        return uniform_gather(x, cx, zx, lines, taps, j, size);
 #endif
     vec2 center = vec2(x) + 0.5;
     int counts[2] = int[2]((taps + 1) / 2, taps / 2);

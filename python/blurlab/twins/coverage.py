@@ -169,10 +169,12 @@ def tap_plan(
     return TapPlan(prev, next_, lines, taps, fast, dilated)
 
 
-def uniform_gather(x_color, plan: TapPlan, j, tolerance: float, samples: int, read):
+def uniform_gather(x_color, depth, plan: TapPlan, j, tolerance: float, samples: int, read):
     """§17.6, the uniform-motion path: per side the mean of X and of the taps along the tile's
-    line whose own trail lies within `tolerance` px of it; the mean of the two sides.
-    `read(px, py, k)` is the colour of tap k = side·samples + i."""
+    line, but those in front of X whose own trail lies further than `tolerance` px from the
+    line (what does not move with X stands over it only where it is; what lies behind showed
+    where X's object was not); the mean of the two sides. `read(px, py, k)` is the colour of
+    tap k = side·samples + i."""
     h, w = x_color.shape[:2]
     y, x = np.mgrid[0:h, 0:w]
     center = np.stack([x, y], -1) + 0.5
@@ -185,7 +187,7 @@ def uniform_gather(x_color, plan: TapPlan, j, tolerance: float, samples: int, re
             p = np.floor(center + line * t[..., None]).astype(np.int64)
             py, px = np.clip(p[..., 1], 0, h - 1), np.clip(p[..., 0], 0, w - 1)
             agrees = np.linalg.norm(trails[py, px] - line, axis=-1) <= tolerance
-            use = (i < plan.taps) & agrees
+            use = (i < plan.taps) & (agrees | (depth[py, px] >= depth))
             total = total + use[..., None] * read(px, py, side * samples + i)
             kept = kept + use
         out = out + 0.5 * total / kept[..., None]
@@ -306,7 +308,7 @@ def gather_coverage(
         covering = cover_sum / np.maximum(cover, 1e-12)[..., None]
         out = out + 0.5 * (alpha * covering + (1 - alpha) * background)
     if plan.fast.any():
-        fast = uniform_gather(x_color, plan, j, uniform_tolerance, samples, read)
+        fast = uniform_gather(x_color, depth, plan, j, uniform_tolerance, samples, read)
         out = np.where(plan.fast[..., None], fast, out)
     out = np.where((plan.taps > 0)[..., None], out, x_color)
     return out if through_taps else apply_film_filter(out, film_filter)
