@@ -48,6 +48,7 @@ TILE_PASSES = ["reach_keys_clear", "tile_flatten"]
         ((160, 90), {"tap_spacing": 3.0}),
         ((97, 61), {"tap_spacing": 1.5, "samples": 15, "early_exit": 6.0}),
         ((130, 70), {"uniform_tolerance": 8.0, "samples": 7, "seed": 2}),
+        ((97, 61), {"half_res_above": 6.0, "tap_spacing": 2.0}),
     ],
 )
 def test_random_frames_match_reference(ctx, rng, size, params):
@@ -73,8 +74,10 @@ LEVERS = [
     {"tap_spacing": 4.0},
     {"early_exit": 3.0},
     {"uniform_tolerance": 1.0},
-    {"tap_spacing": 2.0, "early_exit": 2.0, "uniform_tolerance": 1.0},
+    {"half_res_above": 3.0},
+    {"tap_spacing": 2.0, "early_exit": 2.0, "uniform_tolerance": 1.0, "half_res_above": 3.0},
     {"tap_spacing": 2.0, "uniform_tolerance": 1.0, "film_filter": 0.5, "film_through_taps": True},
+    {"half_res_above": 2.0, "film_filter": 0.5},
 ]
 
 
@@ -102,6 +105,21 @@ def test_the_levers_choose_fewer_taps_and_the_fast_path(ctx):
     assert (later == 0).mean() > (full == 0).mean()
     assert not tap_plan(frame).fast.any()
     assert tap_plan(frame, uniform_tolerance=1.0).fast.mean() > 0.2  # the camera turns: uniform
+
+
+def test_a_long_quad_takes_its_top_left_pixels_gather(ctx):
+    frame = ctx.render(bl.scenes.get("camera_yaw"), (97, 61))  # odd: the last quads are cut
+    result = bl.blur(ctx, frame, METHOD, half_res_above=2.0)
+    assert list(result.timings) == [*TILE_PASSES, "gather_half", "gather"]
+    plan = tap_plan(frame, result, half_res_above=2.0)
+    assert 0.2 < plan.half.mean() < 1
+    out = result.color
+    y, x = np.nonzero(plan.half)
+    np.testing.assert_array_equal(out[y, x], out[ref.quad_corner(y), ref.quad_corner(x)])
+    # a quad's taps are shared by its four pixels
+    taps, full = plan.taps_per_pixel(), tap_plan(frame).taps_per_pixel()
+    assert taps[plan.half].sum() < 0.3 * full[plan.half].sum()
+    assert (taps[~plan.half] == full[~plan.half]).all()
 
 
 def test_an_early_exit_keeps_the_pixels_colour(ctx):

@@ -13,7 +13,10 @@
 // With PER_TILE_SAMPLES (the option tap_spacing > 0) a side takes
 // clamp(ceil(longest / tap_spacing), 2, samples) taps; with UNIFORM_FAST_PATH (the option
 // uniform_tolerance > 0) an X whose own trails lie within uniform_tolerance px of the tile's
-// lines takes the plain gather of uniform_gather instead of the coverage weights.
+// lines takes the plain gather of uniform_gather instead of the coverage weights. With
+// HALF_RES_GATHER (the option half_res_above > 0) this is the pass at half resolution that
+// gathers the top-left pixel of each 2 x 2 quad whose tile line is longer than half_res_above
+// px; with HALF_RES_READ the full-resolution pass gives such a quad's pixels that result.
 // NumPy twin: blurlab.twins.coverage.gather_coverage (and twins.film's tap_color, own_color).
 #include "common/eevee.glsl"
 #include "common/mcguire2012.glsl"
@@ -190,18 +193,41 @@ vec4 uniform_gather(ivec2 x, vec4 cx, float zx, vec2 lines[2], int taps, float j
 }
 #endif
 
+// The lines of X's jittered tile, each side's clamped to reach_limit; returns the longer's length.
+float tile_lines(ivec2 x, out vec2 lines[2]) {
+    ivec2 tile = jittered_tile(x, float(tile_size), seed, JITTER_SALTS, tile_grid());
+    vec4 tile_motion = dilated_at(tile);
+    lines = vec2[2](clamp_length(tile_motion.xy, reach_limit),
+                    -clamp_length(tile_motion.zw, reach_limit));
+    return max(length(lines[0]), length(lines[1]));
+}
+
+#if defined(HALF_RES_GATHER) || defined(HALF_RES_READ)
+uniform float half_res_above;  // px
+
+// Whether X's 2 x 2 quad takes the half-resolution path: its top-left pixel's tile line is
+// longer than half_res_above.
+bool quad_is_long(ivec2 x) {
+    vec2 lines[2];
+    return tile_lines(2 * (x / 2), lines) > half_res_above;
+}
+#endif
+#ifdef HALF_RES_READ
+layout(binding = 5) uniform sampler2D half_gathered;
+#endif
+
 vec4 gather_at(ivec2 x) {
+#ifdef HALF_RES_READ
+    if (quad_is_long(x)) return texelFetch(half_gathered, x / 2, 0);
+#endif
     ivec2 size = textureSize(color, 0);
 #ifdef FILM_THROUGH_TAPS
     vec4 cx = film_own(x, size);
 #else
     vec4 cx = sanitize_color(texelFetch(color, x, 0));
 #endif
-    ivec2 tile = jittered_tile(x, float(tile_size), seed, JITTER_SALTS, tile_grid());
-    vec4 tile_motion = dilated_at(tile);
-    vec2 lines[2] = vec2[2](clamp_length(tile_motion.xy, reach_limit),
-                            -clamp_length(tile_motion.zw, reach_limit));
-    float longest = max(length(lines[0]), length(lines[1]));
+    vec2 lines[2];
+    float longest = tile_lines(x, lines);
     if (longest < early_exit) return cx;
 #ifdef PER_TILE_SAMPLES
     int taps = clamp(int(ceil(longest / tap_spacing)), 2, samples);
@@ -292,5 +318,15 @@ vec4 gather_at(ivec2 x) {
     return result;
 }
 
+#ifdef HALF_RES_GATHER
+// The half-resolution pass: invocation q gathers the top-left pixel 2q of its quad where the
+// quad is long (the full-resolution pass reads it for all four pixels), nothing elsewhere.
+vec4 half_gather_at(ivec2 q) {
+    ivec2 x = 2 * q;
+    return quad_is_long(x) ? gather_at(x) : vec4(0.0);
+}
+#define PASS_AT half_gather_at
+#else
 #define PASS_AT gather_at
+#endif
 #include "common/pass_main.glsl"

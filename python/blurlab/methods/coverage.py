@@ -89,14 +89,27 @@ PARAMS = {
         0,
         1000,
     ),
+    "half_res_above": Param(
+        0.0,
+        float,
+        "px: a 2 x 2 quad whose tile line is longer takes one gather, at its top-left pixel, in "
+        "a pass at half resolution (0: off)",
+        0,
+        1000,
+    ),
 }
 GATHER = Pass(
     "gather",
     "passes/coverage_gather.glsl",
     ("samples", "soft_z", "exposure", "seed", "early_exit"),
 )
+GATHER_HALF = Pass("gather_half", GATHER.shader, GATHER.params)
 # The options whose passes compile in a path of their own only where they are on (> 0).
-GATHER_OPTIONS = {"tap_spacing": "PER_TILE_SAMPLES", "uniform_tolerance": "UNIFORM_FAST_PATH"}
+GATHER_OPTIONS = {
+    "tap_spacing": "PER_TILE_SAMPLES",
+    "uniform_tolerance": "UNIFORM_FAST_PATH",
+    "half_res_above": "HALF_RES_READ",
+}
 # The gather's variants (shaders/passes/coverage_gather.glsl): every tap reads its colour, or
 # only the taps that weigh on a sum do (fewer reads, a branch). Same bits; `blurlab bench layouts`
 # --variants times both: on the H100 at 1080p fetch_all was as fast or faster (0.0628 against
@@ -187,7 +200,15 @@ def _run_coverage(ctx: Context, frame: Frame, inputs: dict, values: dict, backen
         if values[option] > 0:
             defines[define] = 1
             uniforms[option] = values[option]
+    if values["half_res_above"] > 0:  # the long quads' gathers first, at half resolution
+        half = ctx.pooled(((size[0] + 1) // 2, (size[1] + 1) // 2, 4))
+        half_defines = {**defines, "HALF_RES_GATHER": 1}
+        del half_defines["HALF_RES_READ"]
+        passes.run(GATHER_HALF, textures, {"result": half}, backend, uniforms, half_defines)
+        textures["half_gathered"] = half
     passes.run(GATHER, textures, {"result": gathered}, backend, uniforms=uniforms, defines=defines)
+    if values["half_res_above"] > 0:
+        ctx.recycle(half)
     outputs = {"color": gathered, **tile_buffers}
     if values["film_filter"] > 0 and not through_taps:
         outputs.update(color=_film_filter(passes, gathered), unfiltered=gathered)

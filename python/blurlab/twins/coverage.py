@@ -101,18 +101,29 @@ class TapPlan:
     """§17.6 "Just enough taps": what each pixel of gather_coverage does before any tap reads a
     colour. `prev`, `next_`: the clamped half-motions; `lines`: the tile's line of each side;
     `taps`: (H, W) taps on each side (0 where the pixel exits early); `fast`: (H, W) bool, the
-    pixels of the uniform-motion path; `dilated`: the dilated tile grid."""
+    pixels of the uniform-motion path; `half`: (H, W) bool, the pixels whose quad takes the
+    half-resolution path; `dilated`: the dilated tile grid."""
 
     prev: np.ndarray
     next_: np.ndarray
     lines: tuple[np.ndarray, np.ndarray]
     taps: np.ndarray
     fast: np.ndarray
+    half: np.ndarray
     dilated: np.ndarray
 
     def taps_per_pixel(self) -> np.ndarray:
-        """(H, W) int: the taps a pixel reads over both sides (0 where it exits early)."""
-        return 2 * self.taps
+        """(H, W) float: the taps a pixel reads over both sides (0 where it exits early); a
+        quad on the half-resolution path shares its top-left pixel's among its four."""
+        h, w = self.taps.shape
+        y, x = np.mgrid[0:h, 0:w]
+        shared = 2 * self.taps[quad_corner(y), quad_corner(x)] / 4
+        return np.where(self.half, shared, 2.0 * self.taps)
+
+
+def quad_corner(i):
+    """§17.6, the half-resolution path: the index of the top-left pixel of i's 2 x 2 quad."""
+    return 2 * (np.asarray(i) // 2)
 
 
 def tile_samples(longest, samples: int, tap_spacing: float) -> np.ndarray:
@@ -147,6 +158,7 @@ def tap_plan(
     tap_spacing: float,
     early_exit: float,
     uniform_tolerance: float,
+    half_res_above: float,
     dilated: np.ndarray | None = None,
 ) -> TapPlan:
     """§17.6: each pixel's tile lines, taps a side and path (TapPlan), from the motion alone."""
@@ -166,7 +178,9 @@ def tap_plan(
     gathers = longest >= early_exit
     taps = np.where(gathers, tile_samples(longest, samples, tap_spacing), 0)
     fast = gathers & moves_with_tile((prev, -next_), lines, uniform_tolerance)
-    return TapPlan(prev, next_, lines, taps, fast, dilated)
+    corner_longest = longest[quad_corner(y), quad_corner(x)]
+    half = (corner_longest > half_res_above) if half_res_above > 0 else np.zeros((h, w), bool)
+    return TapPlan(prev, next_, lines, taps, fast, half, dilated)
 
 
 def uniform_gather(x_color, depth, plan: TapPlan, j, tolerance: float, samples: int, read):
@@ -211,14 +225,15 @@ def gather_coverage(
     tap_spacing: float,
     early_exit: float,
     uniform_tolerance: float,
+    half_res_above: float,
     dilated: np.ndarray | None = None,
 ) -> np.ndarray:
     """§17.6: (H, W, C) float64 blurred color. `max_blur` is a percentage of the height;
     `film_filter` the σ (px) of the Gaussian film filter on the result, 0 for none; with
     `film_through_taps`, the filter is read through the taps' colours instead (tap k through
     film.tap_color, X through film.own_color, at d = film_spread(σ)), not applied after;
-    `tap_spacing`, `early_exit` and `uniform_tolerance` choose each pixel's taps and path
-    (tap_plan); `dilated` is the dilated tile grid if already computed."""
+    `tap_spacing`, `early_exit`, `uniform_tolerance` and `half_res_above` choose each pixel's
+    taps and path (tap_plan); `dilated` is the dilated tile grid if already computed."""
     color = sanitize_color(color)
     through_taps = film_through_taps and film_filter > 0
     spread = film_spread(film_filter) if through_taps else 0.0
@@ -236,6 +251,7 @@ def gather_coverage(
         tap_spacing=tap_spacing,
         early_exit=early_exit,
         uniform_tolerance=uniform_tolerance,
+        half_res_above=half_res_above,
         dilated=dilated,
     )
     prev, next_, lines = plan.prev, plan.next_, plan.lines
@@ -311,4 +327,6 @@ def gather_coverage(
         fast = uniform_gather(x_color, depth, plan, j, uniform_tolerance, samples, read)
         out = np.where(plan.fast[..., None], fast, out)
     out = np.where((plan.taps > 0)[..., None], out, x_color)
+    # A long quad's four pixels take its top-left pixel's result.
+    out = np.where(plan.half[..., None], out[quad_corner(y), quad_corner(x)], out)
     return out if through_taps else apply_film_filter(out, film_filter)

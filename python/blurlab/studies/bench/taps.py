@@ -12,18 +12,20 @@ import numpy as np
 from ... import metrics, scenes
 from ...methods import blur, coverage
 from ...methods.core import Param
+from ...twins import guertin2014
 from .core import Benchmark, register
-from .timing import median_passes, split, untimed_calls_ms
+from .timing import film_method, median_passes, split, untimed_calls_ms
 
-METHOD = "gather_coverage"
-BASELINE = "reconstruct_guertin2014"  # the time every row is measured against
+# The time every row is measured against: Guertin 2014's filter, named by its twin.
+BASELINE = guertin2014.reconstruct_guertin2014.__name__
 TODAY = "today"  # the label of the defaults' row
+LEVERS = ("tap_spacing", "early_exit", "uniform_tolerance", "half_res_above")
 
 
 def lever_configs(p) -> list[tuple[str, dict]]:
     """(label, gather_coverage parameters): the defaults, each lever alone at the benchmark's
     value, then all together; each once more with the film filter where film_filter > 0."""
-    levers = {key: {key: p[key]} for key in ("tap_spacing", "early_exit", "uniform_tolerance")}
+    levers = {key: {key: p[key]} for key in LEVERS}
     together = {key: value for lever in levers.values() for key, value in lever.items()}
     plain = [(TODAY, {}), *levers.items(), ("all", together)]
     if p["film_filter"] <= 0:
@@ -50,7 +52,8 @@ def _scene_rows(ctx, name, size, p, configs) -> list[dict]:
     frame = ctx.render(scene, size)
     samples = p["reference_samples"] or "auto"
     reference = ctx.reference(scene, size, samples=samples, antialias=True, progress=False)
-    runs = [(BASELINE, BASELINE, {})] + [(label, METHOD, params) for label, params in configs]
+    runs = [(BASELINE, BASELINE, {})]
+    runs += [(label, film_method(), params) for label, params in configs]
     timed = {}
     for label, method_name, params in runs:
         passes, _ = median_passes(ctx, frame, method_name, p["runs"], **params)
@@ -69,10 +72,11 @@ def _scene_rows(ctx, name, size, p, configs) -> list[dict]:
             "ratio": ms / base_ms,
             "b2b_ratio": None if queued is None else queued / base_queued,
         }
-        if method_name == METHOD:
+        if method_name == film_method():
             plan = coverage.tap_plan(frame, result, **params)
             row |= {f"taps_{k}": v for k, v in tap_counts(plan.taps_per_pixel()).items()}
             row["fast"] = float(plan.fast.mean())
+            row["half"] = float(plan.half.mean())
         rows.append(row)
         del result  # back to the pool
     return rows
@@ -98,12 +102,13 @@ def _coverage_taps(ctx, size, p, out) -> None:
         out.figure(f"{label}: mean taps per pixel", _mean(mine, "taps_mean"), "taps")
         out.figure(f"{label}: pixels with no tap", _mean(mine, "taps_none"), "share")
         out.figure(f"{label}: pixels on the uniform path", _mean(mine, "fast"), "share")
+        out.figure(f"{label}: pixels on the half-resolution path", _mean(mine, "half"), "share")
     keys = ["scene", "config", "psnr_aa", "ms", "ratio", "b2b_ratio"]
-    keys += ["taps_mean", "taps_p50", "taps_p90", "taps_max", "taps_none", "fast"]
+    keys += ["taps_mean", "taps_p50", "taps_p90", "taps_max", "taps_none", "fast", "half"]
     out.table(
-        f"gather_coverage's levers (tap_spacing={p['tap_spacing']:g}, "
-        f"early_exit={p['early_exit']:g}, uniform_tolerance={p['uniform_tolerance']:g}) "
-        f"against {BASELINE}; PSNR against the antialiased reference; taps per pixel over "
+        "gather_coverage's levers ("
+        + ", ".join(f"{key}={p[key]:g}" for key in LEVERS)
+        + f") against {BASELINE}; PSNR against the antialiased reference; taps per pixel over "
         "both half-shutters",
         [
             ("scene", ""),
@@ -118,6 +123,7 @@ def _coverage_taps(ctx, size, p, out) -> None:
             ("taps max", "taps"),
             ("no tap", "share"),
             ("uniform path", "share"),
+            ("half resolution", "share"),
         ],
         [[r.get(k) for k in keys] for r in rows],
     )
@@ -134,9 +140,10 @@ def _mean(rows, key) -> float:
 register(
     Benchmark(
         "coverage_taps",
-        "gather_coverage's just-enough-taps levers (per-tile sample counts, early exit, "
-        "uniform-motion path) alone and together, with and without the film filter, on every "
-        "built-in and failure scene: PSNR against the antialiased reference, time against "
+        "Just-enough-taps levers of gather_coverage (per-tile sample counts, early exit, "
+        "uniform-motion path, half resolution for long blurs) alone and together, with and "
+        "without the film filter, on every built-in and failure scene: PSNR against the "
+        "antialiased reference, time against "
         "reconstruct_guertin2014, taps per pixel",
         {
             "runs": Param(5, int, "timed runs per configuration (medians)", 1, 1000),
@@ -148,6 +155,9 @@ register(
             "early_exit": Param(1.0, float, "early_exit of the lever's rows", 0, 1000),
             "uniform_tolerance": Param(
                 0.5, float, "uniform_tolerance of the lever's rows", 0, 1000, True
+            ),
+            "half_res_above": Param(
+                16.0, float, "half_res_above of the lever's rows", 0, 1000, True
             ),
         },
         _coverage_taps,
