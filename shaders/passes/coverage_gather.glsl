@@ -167,7 +167,7 @@ vec4 tap_color(ivec2 y, int k, ivec2 size) {
 }
 
 #ifdef UNIFORM_FAST_PATH
-// The uniform-motion path (docs/spec.md §17.6): per side the mean of X and of the taps along
+// The uniform-motion path (docs/spec.md §17.6.1): per side the mean of X and of the taps along
 // the tile's line, but those in front of X whose own trail lies further than
 // uniform_tolerance px from the line (what does not move with X stands over it only where it
 // is; what lies behind showed where X's object was not).

@@ -10,8 +10,11 @@ shaders/passes/reach_keys_clear.glsl, eevee_tile_flatten.glsl; §17.6), then
 shaders/passes/coverage_gather.glsl, which resolves the keys itself unless
 eevee.DILATION_LAYOUT says a pass of their own does (eevee_tile_resolve.glsl), then, where
 film_filter > 0, shaders/passes/film_filter.glsl, unless film_through_taps reads the filter
-through the gather's colour reads instead. NumPy twin:
-blurlab.twins.coverage.gather_coverage.
+through the gather's colour reads instead. The options of §17.6.1 (tap_spacing, early_exit,
+uniform_tolerance, half_res_above) spend the gather's taps where the motion needs them;
+half_res_above adds a pass of the same shader at half resolution before the gather
+(gather_half). NumPy twin: blurlab.twins.coverage.gather_coverage; tap_plan below gives each
+pixel's taps and path.
 """
 
 from __future__ import annotations
@@ -65,7 +68,7 @@ PARAMS = {
         "(±d, ±d) px, d the kernel's variance) instead of a pass after it; film_filter up to "
         f"{film.MAX_TAP_SIGMA:.2f}",
     ),
-    # Just enough taps (§17.6): each off, or at today's value, by default.
+    # Just enough taps (§17.6.1): each off, or at today's value, by default.
     "tap_spacing": Param(
         0.0,
         float,
@@ -233,7 +236,7 @@ register(
 
 
 def tap_plan(frame: Frame, result: BlurResult | None = None, **params) -> twin.TapPlan:
-    """§17.6: the taps each pixel of `frame` reads and the path it takes at `params` (the NumPy
+    """§17.6.1: the taps each pixel of `frame` reads and the path it takes at `params` (the NumPy
     twin's twin.tap_plan: taps_per_pixel(), fast), on the tile grid of `result`, a run of
     gather_coverage on `frame` at the same parameters, where given (the twin's own otherwise)."""
     values = resolve_params(method("gather_coverage"), frame, params)

@@ -98,7 +98,7 @@ def tap_offset_along(line: np.ndarray, bend: np.ndarray, t) -> np.ndarray:
 
 @dataclass(frozen=True)
 class TapPlan:
-    """§17.6 "Just enough taps": what each pixel of gather_coverage does before any tap reads a
+    """§17.6.1: what each pixel of gather_coverage does before any tap reads a
     colour. `prev`, `next_`: the clamped half-motions; `lines`: the tile's line of each side;
     `taps`: (H, W) taps on each side (0 where the pixel exits early); `fast`: (H, W) bool, the
     pixels of the uniform-motion path; `half`: (H, W) bool, the pixels whose quad takes the
@@ -122,12 +122,12 @@ class TapPlan:
 
 
 def quad_corner(i):
-    """§17.6, the half-resolution path: the index of the top-left pixel of i's 2 x 2 quad."""
+    """§17.6.1, the half-resolution path: the index of the top-left pixel of i's 2 x 2 quad."""
     return 2 * (np.asarray(i) // 2)
 
 
 def tile_samples(longest, samples: int, tap_spacing: float) -> np.ndarray:
-    """§17.6, per-tile sample counts: clamp(⌈longest / tap_spacing⌉, 2, samples) taps a side,
+    """§17.6.1, per-tile sample counts: clamp(⌈longest / tap_spacing⌉, 2, samples) taps a side,
     longest the tile's longer line in px (float32, as the GPU holds it); `samples` everywhere
     where tap_spacing is 0."""
     longest = np.asarray(longest, np.float32)
@@ -138,7 +138,7 @@ def tile_samples(longest, samples: int, tap_spacing: float) -> np.ndarray:
 
 
 def moves_with_tile(owns, lines, tolerance: float) -> np.ndarray:
-    """§17.6, the uniform-motion path: on both sides X's own trail lies within `tolerance` px of
+    """§17.6.1, the uniform-motion path: on both sides X's own trail lies within `tolerance` px of
     the tile's line (False everywhere where tolerance is 0)."""
     if tolerance <= 0:
         return np.zeros(owns[0].shape[:-1], bool)
@@ -161,7 +161,7 @@ def tap_plan(
     half_res_above: float,
     dilated: np.ndarray | None = None,
 ) -> TapPlan:
-    """§17.6: each pixel's tile lines, taps a side and path (TapPlan), from the motion alone."""
+    """§17.6.1: each pixel's tile lines, taps a side and path (TapPlan), from the motion alone."""
     h, w = motion_prev.shape[:2]
     s = tile_size(h, tile_percent)
     reach_limit = max_blur_px(h, max_blur)
@@ -184,7 +184,7 @@ def tap_plan(
 
 
 def uniform_gather(x_color, depth, plan: TapPlan, j, tolerance: float, samples: int, read):
-    """§17.6, the uniform-motion path: per side the mean of X and of the taps along the tile's
+    """§17.6.1, the uniform-motion path: per side the mean of X and of the taps along the tile's
     line, but those in front of X whose own trail lies further than `tolerance` px from the
     line (what does not move with X stands over it only where it is; what lies behind showed
     where X's object was not); the mean of the two sides. `read(px, py, k)` is the colour of

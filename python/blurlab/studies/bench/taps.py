@@ -1,4 +1,4 @@
-"""What "just enough taps" gives gather_coverage (docs/spec.md §17.6): each lever alone and all
+"""What "just enough taps" gives gather_coverage (docs/spec.md §17.6.1): each lever alone and all
 together, without and with the film filter, on the built-in and failure scenes: PSNR against
 the antialiased reference, time relative to reconstruct_guertin2014 on the same frame, and the
 distribution of taps per pixel."""
