@@ -235,10 +235,10 @@ register(
 )
 
 
-def tap_plan(frame: Frame, result: BlurResult | None = None, **params) -> twin.TapPlan:
-    """§17.6.1: the taps each pixel of `frame` reads and the path it takes at `params` (the NumPy
-    twin's twin.tap_plan: taps_per_pixel(), fast), on the tile grid of `result`, a run of
-    gather_coverage on `frame` at the same parameters, where given (the twin's own otherwise)."""
+def tile_lines(frame: Frame, result: BlurResult | None = None, **params) -> twin.TileLines:
+    """§17.6 steps 1–3: each pixel's half-motions and tile lines in `frame` at `params` (the
+    NumPy twin's twin.tile_lines), on the tile grid of `result`, a run of gather_coverage on
+    `frame` at the same tile parameters, where given (the twin's own otherwise)."""
     values = resolve_params(method("gather_coverage"), frame, params)
     dilated = None
     if result is not None:
@@ -248,5 +248,21 @@ def tap_plan(frame: Frame, result: BlurResult | None = None, **params) -> twin.T
             if "reach_keys" in buffers
             else buffers["dilated"]
         ).astype(np.float64)
-    keywords = {key: values[key] for key in twin_keywords(twin.tap_plan)}
-    return twin.tap_plan(frame.motion_prev, frame.motion_next, dilated=dilated, **keywords)
+    keywords = {key: values[key] for key in twin_keywords(twin.tile_lines)}
+    return twin.tile_lines(frame.motion_prev, frame.motion_next, dilated=dilated, **keywords)
+
+
+def tap_plan(
+    frame: Frame,
+    result: BlurResult | None = None,
+    tiles: twin.TileLines | None = None,
+    **params,
+) -> twin.TapPlan:
+    """§17.6.1: the taps each pixel of `frame` reads and the path it takes at `params` (the NumPy
+    twin's twin.plan_taps: taps_per_pixel(), fast, half) on `tiles`, tile_lines(frame, result,
+    **params) unless given (the lines do not depend on the options of §17.6.1)."""
+    values = resolve_params(method("gather_coverage"), frame, params)
+    if tiles is None:
+        tiles = tile_lines(frame, result, **params)
+    keywords = {key: values[key] for key in twin_keywords(twin.plan_taps)}
+    return twin.plan_taps(tiles, **keywords)

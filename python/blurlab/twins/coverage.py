@@ -146,6 +146,66 @@ def moves_with_tile(owns, lines, tolerance: float) -> np.ndarray:
     return np.maximum(*apart) <= tolerance
 
 
+@dataclass(frozen=True)
+class TileLines:
+    """§17.6 step 3's start: `prev`, `next_` the clamped half-motions, `lines` the lines of each
+    pixel's jittered tile, `longest` the longer's length, `dilated` the dilated tile grid."""
+
+    prev: np.ndarray
+    next_: np.ndarray
+    lines: tuple[np.ndarray, np.ndarray]
+    longest: np.ndarray
+    dilated: np.ndarray
+
+
+def tile_lines(
+    motion_prev,
+    motion_next,
+    *,
+    tile_percent: float,
+    max_blur: float,
+    exposure: float,
+    seed: int,
+    dilated: np.ndarray | None = None,
+) -> TileLines:
+    """§17.6 steps 1–3: each pixel's half-motions and its jittered tile's lines."""
+    h, w = motion_prev.shape[:2]
+    s = tile_size(h, tile_percent)
+    reach_limit = max_blur_px(h, max_blur)
+    prev, next_, dilated = dilated_half_motions(
+        motion_prev, motion_next, exposure, s, reach_limit, dilated, TILE_LENGTH_STEPS
+    )
+    y, x = np.mgrid[0:h, 0:w]
+    ty, tx = lookup_tile(x, y, s, seed, dilated.shape[:2], JITTER_SALTS)
+    lines = (
+        clamp_length(dilated[ty, tx, :2], reach_limit),
+        -clamp_length(dilated[ty, tx, 2:], reach_limit),
+    )
+    longest = np.maximum(*(np.linalg.norm(line, axis=-1) for line in lines))
+    return TileLines(prev, next_, lines, longest, dilated)
+
+
+def plan_taps(
+    tiles: TileLines,
+    *,
+    samples: int,
+    tap_spacing: float,
+    early_exit: float,
+    uniform_tolerance: float,
+    half_res_above: float,
+) -> TapPlan:
+    """§17.6.1: each pixel's taps a side and path (TapPlan) on `tiles`."""
+    prev, next_, lines, longest = tiles.prev, tiles.next_, tiles.lines, tiles.longest
+    h, w = longest.shape
+    y, x = np.mgrid[0:h, 0:w]
+    gathers = longest >= early_exit
+    taps = np.where(gathers, tile_samples(longest, samples, tap_spacing), 0)
+    fast = gathers & moves_with_tile((prev, -next_), lines, uniform_tolerance)
+    corner_longest = longest[quad_corner(y), quad_corner(x)]
+    half = (corner_longest > half_res_above) if half_res_above > 0 else np.zeros((h, w), bool)
+    return TapPlan(prev, next_, lines, taps, fast, half, tiles.dilated)
+
+
 def tap_plan(
     motion_prev,
     motion_next,
@@ -161,26 +221,25 @@ def tap_plan(
     half_res_above: float,
     dilated: np.ndarray | None = None,
 ) -> TapPlan:
-    """§17.6.1: each pixel's tile lines, taps a side and path (TapPlan), from the motion alone."""
-    h, w = motion_prev.shape[:2]
-    s = tile_size(h, tile_percent)
-    reach_limit = max_blur_px(h, max_blur)
-    prev, next_, dilated = dilated_half_motions(
-        motion_prev, motion_next, exposure, s, reach_limit, dilated, TILE_LENGTH_STEPS
+    """§17.6.1: each pixel's tile lines, taps a side and path (TapPlan), from the motion alone:
+    plan_taps on tile_lines."""
+    tiles = tile_lines(
+        motion_prev,
+        motion_next,
+        tile_percent=tile_percent,
+        max_blur=max_blur,
+        exposure=exposure,
+        seed=seed,
+        dilated=dilated,
     )
-    y, x = np.mgrid[0:h, 0:w]
-    ty, tx = lookup_tile(x, y, s, seed, dilated.shape[:2], JITTER_SALTS)
-    lines = (
-        clamp_length(dilated[ty, tx, :2], reach_limit),
-        -clamp_length(dilated[ty, tx, 2:], reach_limit),
+    return plan_taps(
+        tiles,
+        samples=samples,
+        tap_spacing=tap_spacing,
+        early_exit=early_exit,
+        uniform_tolerance=uniform_tolerance,
+        half_res_above=half_res_above,
     )
-    longest = np.maximum(*(np.linalg.norm(line, axis=-1) for line in lines))
-    gathers = longest >= early_exit
-    taps = np.where(gathers, tile_samples(longest, samples, tap_spacing), 0)
-    fast = gathers & moves_with_tile((prev, -next_), lines, uniform_tolerance)
-    corner_longest = longest[quad_corner(y), quad_corner(x)]
-    half = (corner_longest > half_res_above) if half_res_above > 0 else np.zeros((h, w), bool)
-    return TapPlan(prev, next_, lines, taps, fast, half, dilated)
 
 
 def uniform_gather(x_color, depth, plan: TapPlan, j, tolerance: float, samples: int, read):

@@ -61,6 +61,7 @@ def _scene_rows(ctx, name, size, p, configs) -> list[dict]:
         timed[label] = (passes["total"], queued)
     base_ms, base_queued = timed[BASELINE]
     rows = []
+    tiles = None  # the tile lines, the same in every configuration
     for label, method_name, params in runs:
         result = blur(ctx, frame, method_name, **params)
         ms, queued = timed[label]
@@ -73,7 +74,9 @@ def _scene_rows(ctx, name, size, p, configs) -> list[dict]:
             "b2b_ratio": None if queued is None else queued / base_queued,
         }
         if method_name == film_method():
-            plan = coverage.tap_plan(frame, result, **params)
+            if tiles is None:
+                tiles = coverage.tile_lines(frame, result, **params)
+            plan = coverage.tap_plan(frame, tiles=tiles, **params)
             row |= {f"taps_{k}": v for k, v in tap_counts(plan.taps_per_pixel()).items()}
             row["fast"] = float(plan.fast.mean())
             row["half"] = float(plan.half.mean())
