@@ -15,8 +15,9 @@
 // uniform_tolerance > 0) an X whose own trails lie within uniform_tolerance px of the tile's
 // lines takes the plain gather of uniform_gather instead of the coverage weights. With
 // HALF_RES_GATHER (the option half_res_above > 0) this is the pass at half resolution that
-// gathers the top-left pixel of each 2 x 2 quad whose tile line is longer than half_res_above
-// px; with HALF_RES_READ the full-resolution pass gives such a quad's pixels that result.
+// gathers the top-left pixel of each 2 x 2 quad whose tile line and pixels' half-motions are
+// longer than half_res_above px; with HALF_RES_READ the full-resolution pass gives such a
+// quad's pixels that result.
 // NumPy twin: blurlab.twins.coverage.gather_coverage (and twins.film's tap_color, own_color).
 #include "common/eevee.glsl"
 #include "common/mcguire2012.glsl"
@@ -206,10 +207,18 @@ float tile_lines(ivec2 x, out vec2 lines[2]) {
 uniform float half_res_above;  // px
 
 // Whether X's 2 x 2 quad takes the half-resolution path: its top-left pixel's tile line is
-// longer than half_res_above.
+// longer than half_res_above, and so are both half-motions of each of its pixels (a still
+// pixel under a long tile stays sharp).
 bool quad_is_long(ivec2 x) {
+    ivec2 corner = 2 * (x / 2);
     vec2 lines[2];
-    return tile_lines(2 * (x / 2), lines) > half_res_above;
+    if (tile_lines(corner, lines) <= half_res_above) return false;
+    ivec2 last = textureSize(color, 0) - 1;
+    for (int i = 0; i < 4; ++i) {
+        vec4 halves = halves_at(min(corner + ivec2(i & 1, i >> 1), last));
+        if (min(length(halves.xy), length(halves.zw)) <= half_res_above) return false;
+    }
+    return true;
 }
 #endif
 #ifdef HALF_RES_READ

@@ -95,8 +95,8 @@ PARAMS = {
     "half_res_above": Param(
         0.0,
         float,
-        "px: a 2 x 2 quad whose tile line is longer takes one gather, at its top-left pixel, in "
-        "a pass at half resolution (0: off)",
+        "px: a 2 x 2 quad whose tile line and pixels' half-motions are all longer takes one "
+        "gather, at its top-left pixel, in a pass at half resolution (0: off)",
         0,
         1000,
     ),

@@ -121,6 +121,9 @@ class TapPlan:
         return np.where(self.half, shared, 2.0 * self.taps)
 
 
+QUAD = ((0, 0), (0, 1), (1, 0), (1, 1))  # (dy, dx) of a quad's pixels from its top-left
+
+
 def quad_corner(i):
     """§17.6.1, the half-resolution path: the index of the top-left pixel of i's 2 x 2 quad."""
     return 2 * (np.asarray(i) // 2)
@@ -201,8 +204,15 @@ def plan_taps(
     gathers = longest >= early_exit
     taps = np.where(gathers, tile_samples(longest, samples, tap_spacing), 0)
     fast = gathers & moves_with_tile((prev, -next_), lines, uniform_tolerance)
-    corner_longest = longest[quad_corner(y), quad_corner(x)]
-    half = (corner_longest > half_res_above) if half_res_above > 0 else np.zeros((h, w), bool)
+    half = np.zeros((h, w), bool)
+    if half_res_above > 0:  # the corner's tile line and every half-motion of the quad long
+        cy, cx = quad_corner(y), quad_corner(x)
+        slower = np.minimum(np.linalg.norm(prev, axis=-1), np.linalg.norm(next_, axis=-1))
+        quad_slowest = np.min(
+            [slower[np.minimum(cy + dy, h - 1), np.minimum(cx + dx, w - 1)] for dy, dx in QUAD],
+            axis=0,
+        )
+        half = (longest[cy, cx] > half_res_above) & (quad_slowest > half_res_above)
     return TapPlan(prev, next_, lines, taps, fast, half, tiles.dilated)
 
 
