@@ -12,6 +12,7 @@ import numpy as np
 from ... import metrics, scenes
 from ...methods import blur, coverage
 from ...methods.core import Param
+from ...sizes import DEFAULT_SIZE
 from ...twins import guertin2014
 from .core import Benchmark, register
 from .timing import film_method, median_passes, split, untimed_calls_ms
@@ -166,7 +167,7 @@ register(
             ),
         },
         _coverage_taps,
-        {"tiny": (64, 36), "software": (640, 360), "gpu": (1920, 1080)},
+        {"tiny": (64, 36), "software": DEFAULT_SIZE, "gpu": (1920, 1080)},
         {
             "tiny": {"runs": 1, "scenes": "teapot_pass", "reference_samples": 8},
             "software": {"runs": 3, "back_to_back": False},
