@@ -63,6 +63,7 @@ def _scene_rows(ctx, name, size, p, configs) -> list[dict]:
     base_ms, base_queued = timed[BASELINE]
     rows = []
     tiles = None  # the tile lines, the same in every configuration
+    counted = {}  # the taps of each setting of the levers, the same with and without the film
     for label, method_name, params in runs:
         result = blur(ctx, frame, method_name, **params)
         ms, queued = timed[label]
@@ -77,10 +78,17 @@ def _scene_rows(ctx, name, size, p, configs) -> list[dict]:
         if method_name == film_method():
             if tiles is None:
                 tiles = coverage.tile_lines(frame, result, **params)
-            plan = coverage.tap_plan(frame, tiles=tiles, **params)
-            row |= {f"taps_{k}": v for k, v in tap_counts(plan.taps_per_pixel()).items()}
-            row["fast"] = float(plan.fast.mean())
-            row["half"] = float(plan.half.mean())
+            levers = tuple((key, params.get(key)) for key in LEVERS)
+            if levers not in counted:
+                plan = coverage.tap_plan(frame, tiles=tiles, **params)
+                counted[levers] = {
+                    f"taps_{k}": v for k, v in tap_counts(plan.taps_per_pixel()).items()
+                }
+                counted[levers] |= {
+                    "fast": float(plan.fast.mean()),
+                    "half": float(plan.half.mean()),
+                }
+            row |= counted[levers]
         rows.append(row)
         del result  # back to the pool
     return rows
