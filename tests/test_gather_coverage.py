@@ -24,6 +24,7 @@ from blurlab.methods.coverage import (
     GATHER_VARIANTS,
     tap_plan,
 )
+from blurlab.studies.bench.taps import tap_counts
 from blurlab.twins import coverage as ref
 from blurlab.twins import eevee as eevee_twin
 from blurlab.twins import film
@@ -120,6 +121,12 @@ def test_a_long_quad_takes_its_top_left_pixels_gather(ctx):
     taps, full = plan.taps_per_pixel(), tap_plan(frame).taps_per_pixel()
     assert taps[plan.half].sum() < 0.3 * full[plan.half].sum()
     assert (taps[~plan.half] == full[~plan.half]).all()
+
+
+def test_the_benchmark_counts_taps_per_pixel_on_hand_values():
+    counts = tap_counts(np.array([[0, 0, 0, 4], [16, 16, 16, 16], [0, 2, 2, 8]]))
+    expected = {"mean": 80 / 12, "p50": 3.0, "p90": 16.0, "max": 16.0, "none": 4 / 12}
+    assert counts == pytest.approx(expected)
 
 
 def test_an_early_exit_keeps_the_pixels_colour(ctx):
