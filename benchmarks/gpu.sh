@@ -18,6 +18,11 @@
 # .gl/ stands for the system's driver stack.
 #   WHEEL=dist/blurlab-V-cp312-cp312-manylinux_2_28_x86_64.whl bash benchmarks/gpu.sh ...
 #     (carry [".gl", ".whl", "dist"]): installs that wheel, as a user would, and tests it.
+#   SOAK=start bash benchmarks/gpu.sh ...   (a machine of several GPUs): after the build, starts
+#     the `soak` benchmark at its GPU preset in a process session of its own, which outlives the
+#     call, on every GPU but the first (which the tests and the other benchmarks use), two
+#     processes on each; SOAK=collect in the next call (GPU_BUILD=0 keeps the build the soak
+#     runs from) waits for it at the end and adds its record to records.jsonl.
 #   WHEEL=build bash benchmarks/gpu.sh ...   (carry [".gl", ".whl", "dist/tools"]): the device's
 #     Python is 3.12 and this project's machines have no 3.12 headers, so the cp312 wheel is
 #     built there first, by packaging/build-wheel.sh with the image's g++ (TOOLCHAIN=system;
@@ -40,7 +45,7 @@ nvidia_vendor=/usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json
 
 site=/tmp/site
 mkdir -p "$site"
-if compgen -G ".whl/*.whl" >/dev/null; then
+if compgen -G ".whl/*.whl" >/dev/null && { [ "${GPU_BUILD:-1}" != 0 ] || [ ! -d "$site/blurlab" ]; }; then
   python3 -m pip install -q --no-index --no-deps --no-compile --upgrade --target "$site" .whl/*.whl
 fi
 export CMAKE_BUILD_PARALLEL_LEVEL="$(nproc)"
@@ -53,7 +58,9 @@ tools=/tmp/site-tools
 if compgen -G "dist/tools/*.whl" >/dev/null; then
   python3 -m pip install -q --no-index --no-deps --no-compile --target "$tools" dist/tools/*.whl
 fi
-if [ "${WHEEL:-}" = build ]; then
+if [ "${GPU_BUILD:-1}" = 0 ] && [ -d "$site/blurlab" ]; then
+  echo "gpu.sh: GPU_BUILD=0: the build of the last call, as installed in $site"
+elif [ "${WHEEL:-}" = build ]; then
   mkdir -p /tmp/glm
   dpkg -x dist/tools/libglm-dev_*.deb /tmp/glm
   PYTHONPATH="$tools" PATH="$tools/bin:$PATH" PYTHON=python3 NO_ISOLATION=1 TOOLCHAIN=system \
@@ -62,7 +69,9 @@ if [ "${WHEEL:-}" = build ]; then
   WHEEL="$(ls -t dist/blurlab-*-"$py"-"$py"-*.whl | head -n 1)"
   cp "$WHEEL" "$out/"
 fi
-if [ -n "${WHEEL:-}" ]; then
+if [ "${GPU_BUILD:-1}" = 0 ] && [ -d "$site/blurlab" ]; then
+  :
+elif [ -n "${WHEEL:-}" ]; then
   python3 -m pip install -q --no-deps --upgrade --target "$site" "$WHEEL"
   echo "gpu.sh: installed $(basename "$WHEEL")"
   ldd "$site"/blurlab/_core*.so | tee "$out/ldd_core.txt"
@@ -90,6 +99,17 @@ root="$PWD"
 (cd /tmp && python3 -P "$root/tests/wheel_smoke.py" "$root" gpu | tee "$out/smoke_gpu.json") ||
   echo "gpu.sh: smoke test FAILED"
 echo
+soak=/tmp/soak  # outside $OUT, which each call empties
+if [ "${SOAK:-}" = start ]; then
+  devices="$(python3 -c 'import blurlab as bl
+gpus = [str(d["index"]) for d in bl.Context.devices() if d["kind"] == "gpu"][1:]
+print(",".join(g for g in gpus for _ in range(2)))')"
+  [ -n "$devices" ] || { echo "gpu.sh: SOAK=start needs a machine of two GPUs or more"; exit 1; }
+  mkdir -p "$soak"
+  setsid bash -c "python3 -m blurlab bench soak --device gpu --param devices=$devices \
+    --record $soak/records.jsonl >$soak/log 2>&1; echo \$? >$soak/rc" </dev/null &
+  echo "gpu.sh: soak started on EGL devices $devices; SOAK=collect in the next call"
+fi
 # The test suite there (the notebooks need a Jupyter kernel, which the device lacks; CI runs
 # them). GPU_TESTS=0 skips it, for a second call that only measures; any other value but 1
 # names the test files to run, e.g. GPU_TESTS="tests/test_flip_gpu.py tests/test_ssim_gpu.py".
@@ -132,3 +152,10 @@ for item in "${@:-transfer}"; do
   fi
   bench "$name" $rest
 done
+if [ "${SOAK:-}" = collect ]; then
+  while [ ! -f "$soak/rc" ]; do sleep 5; done
+  cp "$soak/log" "$out/soak.log"
+  [ -f "$soak/records.jsonl" ] && cat "$soak/records.jsonl" >>"$out/records.jsonl"
+  tail -n 25 "$soak/log"
+  echo "gpu.sh: soak exited with $(cat "$soak/rc")"
+fi

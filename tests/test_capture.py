@@ -63,6 +63,9 @@ def test_uv_capture_of_our_own_gbuffer_round_trips(ctx, rendered, tmp_path):
         ("blender", [4.0, 2.0, 6.0, 2.0], [-2.5, 1.0]),
         ("uv", [0.1, 0.1], [0.5 * 0.1 * 40, -0.5 * 0.1 * 20]),
         ("ndc", [0.1, 0.1], [0.5 * 0.1 * 20, -0.5 * 0.1 * 10]),
+        ("unity", [0.1, 0.1], [0.5 * 0.1 * 40, -0.5 * 0.1 * 20]),
+        # Unreal: E = 0.2495 V + 0.5 per channel, V in NDC units per frame, +y up.
+        ("unreal", [0.5 + 0.2495 * 0.1, 0.5 - 0.2495 * 0.2], [0.5 * 0.1 * 20, 0.5 * 0.2 * 10]),
     ],
 )
 def test_each_motion_convention_against_hand_values(convention, stored, expected):
@@ -157,7 +160,7 @@ def test_bad_captures_say_what_is_wrong(tmp_path, rendered):
     color = bl.io.write(tmp_path / "color.exr", rendered.color)
     small = bl.io.write(tmp_path / "small.exr", np.zeros((4, 4, 2), np.float32))
     with pytest.raises(ValueError, match="convention must be one of"):
-        bl.Frame.from_exr(color=color, depth=color, motion=color, convention="unreal")
+        bl.Frame.from_exr(color=color, depth=color, motion=color, convention="maya")
     with pytest.raises(ValueError, match="shutter_fraction"):
         bl.Frame.from_exr(color=color, depth=color, motion=color, shutter_fraction=2)
     with pytest.raises(ValueError, match="differ in size"):
@@ -224,3 +227,167 @@ def test_mutated_exr_files_never_crash(tmp_path, rendered):
     print(f"exr fuzz: {read} read, {refused} refused, slowest {slowest} s")
     assert int(read) + int(refused) == 1000
     assert float(slowest) < 5.0
+
+
+# Engine captures (docs/spec.md §16.5): each test writes a file the way the engine's published
+# convention says it stores motion, from a motion field known in blurlab's terms (pixels per
+# frame, +y down), and checks that the loaded motion is that field within the file's precision.
+ENGINE_SIZE = (64, 36)  # W, H
+
+
+def _known_motion_per_frame(w: int, h: int) -> np.ndarray:
+    """(H, W, 2) pixel motion from the previous frame to this one, +y down: a disc turning
+    0.2 rad per frame about the image centre, on a background translating (-5, +3) px (down
+    the screen), both with motion along y."""
+    y, x = np.mgrid[0:h, 0:w] + 0.5
+    cx, cy = w / 2, h / 2
+    angle = 0.2
+    # Where each point was a frame ago: turned back by the angle about the centre.
+    px = cx + np.cos(angle) * (x - cx) + np.sin(angle) * (y - cy)
+    py = cy - np.sin(angle) * (x - cx) + np.cos(angle) * (y - cy)
+    turning = np.stack([x - px, y - py], axis=-1)
+    disc = (x - cx) ** 2 + (y - cy) ** 2 < (0.4 * h) ** 2
+    return np.where(disc[..., None], turning, [-5.0, 3.0])
+
+
+def _half_ulp_below_one(values: np.ndarray) -> np.ndarray:
+    """Half of float16's spacing at each |value| < 1 (2^-11 relative; the subnormal floor
+    2^-24): the most a round to float16 moves it."""
+    exponent = np.floor(np.log2(np.maximum(np.abs(values), 2.0**-14)))
+    return 0.5 * 2.0 ** (exponent - 10)
+
+
+def _engine_capture(tmp_path, name, motion_channels, motion_names):
+    """A multi-layer EXR of colour, linear depth and the engine's motion channels, all
+    float16 (what the engines' RGHalf and RGBA16F targets hold)."""
+    h, w = motion_channels.shape[:2]
+    rng = np.random.default_rng(5)
+    color = rng.random((h, w, 4))
+    depth = rng.uniform(1, 50, (h, w, 1))
+    layers = np.concatenate([color, depth, motion_channels], axis=2).astype(np.float16)
+    names = [f"rgba.{c}" for c in "RGBA"] + ["depth.Z"] + motion_names
+    return bl.io.write(tmp_path / name, layers, channel_names=names)
+
+
+def test_unity_motion_vectors(tmp_path):
+    """Unity's motion-vector texture: RGHalf, current - previous screen UV per frame, +v up
+    (UV (0, 0) is the bottom-left). Read from a layer named MotionVectors, with a half-frame
+    shutter: the motion is the known field times 0.5, within float16 rounding."""
+    w, h = ENGINE_SIZE
+    per_frame = _known_motion_per_frame(w, h)
+    uv_delta = per_frame / [w, h] * [1.0, -1.0]  # v grows upwards in Unity's UV
+    stored = uv_delta.astype(np.float16)
+    assert (stored[0, 0] < 0).all()  # the background moves left and down: both UV deltas < 0
+    path = _engine_capture(tmp_path, "unity.exr", stored, ["MotionVectors.R", "MotionVectors.G"])
+    frame = bl.Frame.from_exr(path, convention="unity", shutter_fraction=0.5)
+    bound = 0.5 * _half_ulp_below_one(uv_delta) * [w, h] + 1e-6
+    assert (np.abs(frame.motion - 0.5 * per_frame) <= bound).all()
+    assert np.abs(frame.motion - 0.5 * per_frame).max() > 0  # the file really is float16
+    assert frame.motion[0, 0, 1] == pytest.approx(1.5, abs=1e-3)  # down the screen: +y
+    assert frame.motion[0, 0, 0] == pytest.approx(-2.5, abs=1e-3)
+
+
+def _unreal_encode(per_frame, w, h, encoding):
+    """What an Unreal velocity target holds for `per_frame` pixel motion (+y down): V in NDC
+    units (+y up), optionally sqrt-compressed, scaled and biased into [0, 1], rounded to the
+    target's 16-bit unorm, then written to the EXR as float16. Also the largest error that
+    rounding can put on V."""
+    v = per_frame * [2 / w, -2 / h]
+    d = np.sign(v) * np.sqrt(2 * np.abs(v)) if encoding.sqrt else v
+    unorm = np.round((d * encoding.scale + encoding.bias) * 65535) / 65535
+    stored = unorm.astype(np.float16)
+    error_d = (0.5 / 65535 + _half_ulp_below_one(unorm)) / encoding.scale
+    # V = D |D| / 2 under sqrt compression moves by at most (|D| + dD) dD when D moves by dD.
+    error_v = (np.abs(d) + error_d) * error_d if encoding.sqrt else error_d
+    return stored, error_v
+
+
+@pytest.mark.parametrize("sqrt", [False, True], ids=["linear", "sqrt"])
+def test_unreal_velocity_buffer(tmp_path, sqrt):
+    """Unreal's velocity G-buffer: V = current - previous NDC position per frame (+y up),
+    E = 0.2495 D + 0.5 in a 16-bit unorm target (D = V, or sign(V) sqrt(2|V|) compressed),
+    written to the EXR as float16; pixels the engine wrote no velocity for hold (0, 0)
+    (here a band of static background). Read with a half-frame shutter, the moving pixels
+    have the known motion times 0.5 within the rounding; the marked ones get 0 with a warning
+    that counts them, or `camera_motion` where given."""
+    w, h = ENGINE_SIZE
+    encoding = capture.UnrealVelocity(sqrt=sqrt)
+    per_frame = _known_motion_per_frame(w, h)
+    stored, error_v = _unreal_encode(per_frame, w, h, encoding)
+    static = np.zeros((h, w), bool)
+    static[:, -8:] = True  # the engine clears its target to 0 and writes only what moves
+    stored[static] = 0
+    # The zero mark never collides with a velocity in range: V = -2 is stored above 0.
+    assert -2.0 * encoding.scale + encoding.bias > 0
+    path = _engine_capture(tmp_path, "unreal.exr", stored, ["Velocity.R", "Velocity.G"])
+    read = dict(convention="unreal", shutter_fraction=0.5, velocity_encoding=encoding)
+    with pytest.warns(UserWarning, match=f"{static.sum()} pixels .* are \\(0, 0\\)"):
+        frame = bl.Frame.from_exr(path, **read)
+    bound = 0.5 * error_v * [w / 2, h / 2] + 1e-6
+    moving = ~static
+    error = np.abs(frame.motion - 0.5 * per_frame)
+    assert (error[moving] <= bound[moving]).all()
+    assert error[moving].max() > 0  # the rounding is really there
+    assert (frame.motion[static] == 0).all()
+    assert frame.motion[0, 0, 1] == pytest.approx(1.5, abs=0.01)  # down the screen: +y
+    camera = np.broadcast_to(np.float32([0.25, -0.75]), (h, w, 2))
+    with_camera = bl.Frame.from_exr(path, camera_motion=camera, **read)
+    assert np.array_equal(with_camera.motion[static], camera[static])
+    assert np.array_equal(with_camera.motion[moving], frame.motion[moving])
+    # bl.capture writes the same encoding (before the target's rounding).
+    encoded = capture.motion_from_blurlab(
+        0.5 * per_frame, "unreal", 0.5, velocity_encoding=encoding
+    )
+    back = capture.motion_to_blurlab(encoded, "unreal", 0.5, velocity_encoding=encoding)
+    assert np.abs(back - 0.5 * per_frame).max() <= 1e-4
+
+
+def test_unreal_encodings_against_hand_values():
+    one = np.ones((20, 40, 2))  # W = 40, H = 20
+    # D = 0.4 under sqrt compression is V = 0.4^2 / 2 = 0.08 NDC units: 1.6 px of 40.
+    e = 0.5 + 0.2495 * 0.4
+    m = capture.motion_to_blurlab(
+        one * e, "unreal", velocity_encoding=capture.UnrealVelocity(sqrt=True)
+    )
+    assert np.allclose(m[0, 0], [0.08 * 20, -0.08 * 10], atol=1e-5)
+    # scale and bias are parameters: the 16-bit code just below 0.5 as a still pixel's E.
+    still = capture.UnrealVelocity(bias=32767 / 65535)
+    m = capture.motion_to_blurlab(one * (32767 / 65535), "unreal", velocity_encoding=still)
+    assert (m == 0).all()
+    assert capture.motion_to_blurlab(one * 0.5, "unreal")[0, 0] == pytest.approx([0.0, 0.0])
+    with pytest.warns(UserWarning, match="800 pixels"):
+        assert (capture.motion_to_blurlab(one * 0, "unreal") == 0).all()
+
+
+def test_bad_engine_captures_say_what_is_wrong(tmp_path):
+    w, h = ENGINE_SIZE
+    half = np.full((h, w, 2), 0.5, np.float16)
+    path = _engine_capture(tmp_path, "ok.exr", half, ["Velocity.R", "Velocity.G"])
+    with pytest.raises(ValueError, match="go with convention='unreal', not 'unity'"):
+        bl.Frame.from_exr(path, convention="unity", velocity_encoding=capture.UnrealVelocity())
+    with pytest.raises(ValueError, match="go with convention='unreal'"):
+        bl.Frame.from_exr(path, convention="uv", camera_motion=np.zeros((h, w, 2)))
+    with pytest.raises(ValueError, match=r"camera_motion must have shape \(36, 64, 2\)"):
+        bl.Frame.from_exr(path, convention="unreal", camera_motion=np.zeros((h, w)))
+    with pytest.raises(ValueError, match="must be a blurlab.capture.UnrealVelocity"):
+        bl.Frame.from_exr(path, convention="unreal", velocity_encoding={"sqrt": True})
+    with pytest.raises(ValueError, match=r"scale must be in \(0, 0.5\]"):
+        capture.UnrealVelocity(scale=0.0)
+    with pytest.raises(ValueError, match=r"bias must be in \(0, 1\)"):
+        capture.UnrealVelocity(bias=1.0)
+    with pytest.raises(ValueError, match="sqrt must be True or False"):
+        capture.UnrealVelocity(sqrt="yes")
+    with pytest.raises(ValueError, match="convention must be one of .*'unity', 'unreal'"):
+        bl.Frame.from_exr(path, convention="unreal5")
+    # Motion channels under no layer name the reader knows, or not two of them in the layer.
+    odd = _engine_capture(tmp_path, "odd.exr", half, ["speed.R", "speed.G"])
+    with pytest.raises(ValueError, match="no motion layer among .*'Velocity'.*; its channels"):
+        bl.Frame.from_exr(odd, convention="unreal")
+    three = np.full((h, w, 3), 0.5, np.float16)
+    names = ["Velocity.P", "Velocity.Q", "Velocity.S"]
+    odd = _engine_capture(tmp_path, "three.exr", three, names)
+    with pytest.raises(ValueError, match="no motion layer named 'Velocity' with 2 channels"):
+        bl.Frame.from_exr(odd, convention="unreal", motion="Velocity")
+    one = bl.io.write(tmp_path / "one.exr", np.zeros((h, w, 1), np.float16))
+    with pytest.raises(ValueError, match="one.exr has 1 channels; motion needs 2"):
+        bl.Frame.from_exr(color=path, depth=path, motion=one, convention="unity")

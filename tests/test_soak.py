@@ -29,6 +29,20 @@ def test_a_soak_holds_memory_and_objects_flat_and_gives_a_short_runs_rows(ctx):
         soak.soak(ctx, 0, SIZE)
 
 
+def test_a_side_by_side_soak_runs_each_device_in_a_process_of_its_own(ctx):
+    index = ctx.info()["device_index"]
+    index = 0 if index < 0 else index
+    evaluations = len(soak.configurations()) + 3
+    (result,) = soak.soak_side_by_side([index], evaluations, SIZE, "fan")
+    assert result["evaluations"] == evaluations and result["same_rows"]
+    assert result["device"].startswith(f"{index}: ")
+    assert result["samples"][-1]["evaluations"] == evaluations
+    assert soak.device_indices("1, 2,3,3") == [1, 2, 3, 3] and soak.device_indices("") == []
+    for bad in ("-1", "gpu", "1,x"):
+        with pytest.raises(ValueError, match="EGL device indices separated by commas"):
+            soak.device_indices(bad)
+
+
 def picture(ctx) -> np.ndarray:
     """A small render and blur: what a usable context gives."""
     instant = bl.method_instant("gather_box", {"taps": 4})

@@ -304,8 +304,24 @@ def test_render_and_blur_takes_the_option():
     _, result = bl.render_and_blur(
         ctx, glass_and_sparks(), "gather_box", size=SIZE, translucency="layered"
     )
-    assert "translucency_over" in result.timings and "translucent_gather_box" in result.timings
+    assert "translucency_over" in result.timings and "translucent_gather" in result.timings
     assert result.params["translucency"] == "layered"
+
+
+def test_the_coverage_gather_blurs_the_layer_at_any_instant(recwarn):
+    """gather_box's frame is rendered at the shutter's close; the layer's two-sided motion is
+    made for that instant, so the coverage gather blurs it there without a warning, and
+    better than gather_box itself on a pane that slides over a still wall."""
+    ctx = bl.Context()
+    scene = bl.scenes.moving_glass()
+    frame = ctx.render(scene, size=SIZE, instant=bl.method_instant("gather_box"))
+    reference = ctx.reference(scene, size=SIZE, samples=32, antialias=True, progress=False)
+    auto = bl.blur(ctx, frame, "gather_box", translucency="layered")
+    same = bl.blur(ctx, frame, "gather_box", translucency="layered", layer_filter="same")
+    assert auto.params["layer_filter"] == "gather_coverage"
+    assert not [w for w in recwarn if "expects the G-buffer" in str(w.message)]
+    psnr = lambda out: bl.metrics.psnr(out.color, reference.color)  # noqa: E731
+    assert psnr(auto) > psnr(same) + 2
 
 
 def test_five_transparency_scenes_are_tagged():
@@ -384,3 +400,22 @@ def test_a_folded_fragment_layout_gives_the_same_frame(ctx, monkeypatch):
     two = ctx.render(scene, size)
     for name in ("color", "opaque_color", "translucent", "translucent_motion", "translucent_depth"):
         np.testing.assert_array_equal(getattr(one, name), getattr(two, name), err_msg=name)
+
+
+@pytest.mark.filterwarnings("ignore:blurlab. .* expects the G-buffer")
+def test_a_still_layer_is_composited_as_the_coverage_gather_leaves_it(ctx):
+    """car_behind_window's glass is still: layered skips the layer's blur, which would keep
+    every pixel (its early exit), and gives the same bits as blurring it would."""
+    from blurlab.methods import layers
+
+    for instant in ("center", "close"):
+        frame = ctx.render(bl.scenes.car_behind_window(), size=SIZE, instant=instant)
+        assert layers.layer_still(frame)
+        layered = bl.blur(ctx, frame, "reconstruct_mcguire2012", translucency="layered")
+        assert not any(key.startswith("translucent_") for key in layered.timings)
+        gathered = bl.blur(ctx, layers.translucent_frame(ctx, frame), "gather_coverage")
+        np.testing.assert_array_equal(gathered.color, frame.translucent)
+        unblurred = bl.blur(ctx, frame, "reconstruct_mcguire2012", translucency="unblurred")
+        np.testing.assert_array_equal(layered.color, unblurred.color)
+    moving = ctx.render(bl.scenes.moving_glass(), size=SIZE)
+    assert not layers.layer_still(moving)

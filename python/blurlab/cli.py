@@ -131,7 +131,7 @@ def _study(args) -> int:
     with _cluster(args) as cluster:
         report = run_study(
             ctx,
-            args.scenes,
+            _study_scenes(args),
             args.size,
             args.out,
             args.reference_samples,
@@ -141,6 +141,17 @@ def _study(args) -> int:
         )
     print(f"wrote {report}, {Path(args.out) / 'results.csv'} and {Path(args.out) / 'phases.json'}")
     return 0
+
+
+def _study_scenes(args) -> list | None:
+    """The study's scenes: --scenes, then the transparency scenes of --transparency and the
+    random scenes of --random N --seed S."""
+    if args.random is None and not args.transparency:
+        return args.scenes
+    added = scenes.names("transparency") if args.transparency else []
+    if args.random is not None:
+        added += [scenes.random_name(seed) for seed in range(args.seed, args.seed + args.random)]
+    return list(args.scenes or []) + [name for name in added if name not in (args.scenes or [])]
 
 
 def _sweep(args) -> int:
@@ -246,6 +257,15 @@ def _positive_int(text: str) -> int:
     return int(text)
 
 
+def _seed(text: str) -> int:
+    if not text.isdigit():
+        raise argparse.ArgumentTypeError(f"must be an integer >= 0, not {text!r}")
+    try:
+        return scenes.check_seed(int(text))
+    except ValueError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
+
+
 class _Parser(argparse.ArgumentParser):
     """argparse, with its errors in the one-line form of every other CLI error."""
 
@@ -300,6 +320,22 @@ def build_parser() -> argparse.ArgumentParser:
         nargs="+",
         default=None,
         help="built-in scenes and .gltf/.glb files (default: every built-in scene)",
+    )
+    study.add_argument(
+        "--random",
+        type=_positive_int,
+        default=None,
+        metavar="N",
+        help="add N random scenes, seeds S..S+N-1 (bl.scenes.random); then every row of "
+        "results.csv has its scene's features",
+    )
+    study.add_argument(
+        "--seed", type=_seed, default=0, metavar="S", help="the first random seed (default: 0)"
+    )
+    study.add_argument(
+        "--transparency",
+        action="store_true",
+        help="add the transparency scenes; each gets the four ways to blur translucency",
     )
     study.add_argument("--size", type=parse_size, default=DEFAULT_SIZE, help=SIZE_HELP)
     study.add_argument("--out", default="out/study", help="output folder (default: out/study)")

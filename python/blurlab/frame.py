@@ -151,9 +151,10 @@ class Frame:
     @classmethod
     def from_exr(cls, path=None, **kwargs) -> Frame:
         """A frame captured by another renderer, from EXR files (docs/spec.md §16): one
-        multi-layer file, or ``color=``, ``depth=``, ``motion=`` paths; ``convention``,
-        ``shutter_fraction``, ``depth_encoding``, ``near``, ``far``, ``reversed_z`` and
-        ``shutter`` as `blurlab.capture.read_exr` takes them."""
+        multi-layer file, or ``color=``, ``depth=``, ``motion=`` paths; ``convention``
+        (blurlab, blender, unreal, unity, uv, ndc), ``shutter_fraction``, ``depth_encoding``,
+        ``near``, ``far``, ``reversed_z``, ``shutter``, ``velocity_encoding`` and
+        ``camera_motion`` as `blurlab.capture.read_exr` takes them."""
         return cls(**capture.read_exr(path, **kwargs))
 
     @functools.cached_property

@@ -18,6 +18,7 @@ its own sub-frames (accumulation, stochastic): each of its sub-frames is composi
 
 from __future__ import annotations
 
+import warnings
 import weakref
 
 import numpy as np
@@ -44,10 +45,12 @@ LAYER_FILTER = Param(
     "auto",
     object,  # checked by layer_filter_method: "auto", "same" or a one-frame method's name
     "layered: what blurs the translucent layer: auto (the method registered with "
-    "translucent_layer, the coverage gather, on a frame rendered at the shutter's centre; the "
-    "call's own method otherwise), same, or a filter or gather method's name",
+    "translucent_layer, the coverage gather, at any instant), same (the call's own method), or "
+    "a filter or gather method's name",
 )
 LAYER_FILTER_KINDS = ("filter", "gather")
+# The start of blur's warning that a frame is not at the instant the method expects.
+INSTANT_WARNING = r"blurlab: \S+ expects the G-buffer at"
 LAYER_PARAMS = {
     "translucency": TRANSLUCENCY,
     "motion_coverage": MOTION_COVERAGE,
@@ -102,6 +105,129 @@ def layer_frame(frame: Frame, color, depth, motion, textures: dict) -> Frame:
     return derived
 
 
+# The layer frames made from a frame, by id(frame) and then by what they are ("opaque",
+# "translucent", ("chosen", motion_coverage)), dropped with the frame: each is made once per
+# frame, so calls after the first run no per-frame pass, upload or read-back, and the layer
+# frames' recorded plans (docs/spec.md §18) replay.
+_LAYER_FRAMES: dict[int, dict] = {}
+
+
+def _made_once(ctx: Context, frame: Frame, key, make):
+    """make() the first time `key` is asked of `frame` on `ctx`, the same object afterwards;
+    the textures it keeps go back to the pool with the frame."""
+    made = _LAYER_FRAMES.get(id(frame))
+    if made is None or made["context"] is not ctx:
+        if made is None:
+            weakref.finalize(frame, _LAYER_FRAMES.pop, id(frame), None)
+        made = _LAYER_FRAMES[id(frame)] = {"context": ctx}
+    if key not in made:
+        made[key] = make()
+    return made[key]
+
+
+def opaque_frame(ctx: Context, frame: Frame) -> Frame:
+    """The frame's opaque layer as a frame of `ctx` (docs/spec.md §20.3), made once per frame."""
+
+    def make():
+        textures = {**frame.textures, **layer_textures(ctx, frame)}
+        names = ("depth", "motion", "motion_sides")
+        kept = {key: textures[key] for key in names if key in textures}
+        return layer_frame(
+            frame,
+            frame.opaque_color,
+            frame.depth,
+            frame.motion,
+            {"color": textures["opaque_color"], **kept},
+        )
+
+    return _made_once(ctx, frame, "opaque", make)
+
+
+def translucent_frame(ctx: Context, frame: Frame) -> Frame:
+    """The frame's translucent layer (Σ, a) as a frame of `ctx` with its dominant fragment's
+    motion, depth and two-sided motion (docs/spec.md §20.4, layered), made once per frame from
+    the rendered layer on the GPU (passes/translucent_split.comp); the pass's time goes to
+    frame.timings["translucent_split"], as the G-buffer's own passes do."""
+
+    def make():
+        textures = layer_textures(ctx, frame)
+        height, width = frame.depth.shape
+        split_outputs = {
+            "layer_motion": ctx.pooled((height, width, 2)),
+            "layer_depth": ctx.pooled((height, width)),
+            "layer_sides": ctx.pooled((height, width, 4)),
+        }
+        share_prev = np.float32(frame.instant_fraction)
+        split = ctx.shader_pass("passes/translucent_split.comp")
+        with ctx.timer() as timing:
+            split.run(
+                {"translucent_motion": textures["translucent_motion"]},
+                split_outputs,
+                {"share_prev": share_prev, "share_next": np.float32(1.0 - share_prev)},
+            )
+        frame.timings["translucent_split"] = timing
+        weakref.finalize(frame, ctx.recycle, *split_outputs.values())
+        return layer_frame(
+            frame,
+            frame.translucent,
+            frame.translucent_depth,
+            frame.translucent_motion,
+            {
+                "color": textures["translucent"],
+                "motion": split_outputs["layer_motion"],
+                "depth": split_outputs["layer_depth"],
+                "motion_sides": split_outputs["layer_sides"],
+            },
+        )
+
+    return _made_once(ctx, frame, "translucent", make)
+
+
+def chosen_frame(ctx: Context, frame: Frame, motion_coverage: float) -> Frame:
+    """composite_motion's frame: the composite with, where the coverage reaches
+    `motion_coverage`, the dominant fragment's motion and depth (docs/spec.md §20.4), made once
+    per frame and threshold (passes/translucency_motion.comp, its time in
+    frame.timings["translucency_motion"])."""
+
+    def make():
+        textures = {**frame.textures, **layer_textures(ctx, frame)}
+        height, width = frame.depth.shape
+        chosen = {
+            "chosen_motion": ctx.pooled((height, width, 2)),
+            "chosen_depth": ctx.pooled((height, width)),
+        }
+        inputs = {
+            "translucent": textures["translucent"],
+            "translucent_motion": textures["translucent_motion"],
+            "motion": textures["motion"] if "motion" in textures else ctx.upload(frame.motion),
+            "depth": textures["depth"] if "depth" in textures else ctx.upload(frame.depth),
+        }
+        select = ctx.shader_pass("passes/translucency_motion.comp")
+        with ctx.timer() as timing:
+            select.run(inputs, chosen, {"motion_coverage": motion_coverage})
+        frame.timings["translucency_motion"] = timing
+        weakref.finalize(frame, ctx.recycle, *chosen.values())
+        return layer_frame(
+            frame,
+            frame.color,
+            chosen["chosen_depth"].download(),
+            chosen["chosen_motion"].download(),
+            {
+                "color": textures["color"],
+                "depth": chosen["chosen_depth"],
+                "motion": chosen["chosen_motion"],
+            },
+        )
+
+    return _made_once(ctx, frame, ("chosen", motion_coverage), make)
+
+
+def layer_still(frame: Frame) -> bool:
+    """Whether no fragment of the frame's translucent layer moves (its motion is 0 everywhere:
+    a still window, or no translucent surface in view)."""
+    return not np.any(frame.translucent_motion)
+
+
 def blur_layers(
     ctx: Context,
     frame: Frame,
@@ -113,97 +239,46 @@ def blur_layers(
 ):
     """Runs `blur(layer_frame, method)` (blurlab.methods.core.blur with the call's backend,
     timing and, for its own method, parameters bound) on the layers that `translucency` needs
-    and composites them: a
-    BlurResult whose textures add "opaque_blurred" (unblurred, layered) or "chosen_motion" and
-    "chosen_depth" (composite_motion), and whose timings add the layer passes: "translucent_"
-    + the method's passes for the layered blur, "translucency_motion", "translucency_over"."""
-    textures = {**frame.textures, **layer_textures(ctx, frame)}
-    base = {key: textures[key] for key in ("depth", "motion") if key in textures}
-    height, width = frame.depth.shape
+    and composites them: a BlurResult whose textures add "opaque_blurred" (unblurred, layered)
+    or "chosen_motion" and "chosen_depth" (composite_motion), and whose timings add the layer
+    passes: "translucent_" + the layer method's passes for the layered blur, and
+    "translucency_over". The layer frames are made once per frame (opaque_frame,
+    translucent_frame, chosen_frame), their passes timed in frame.timings."""
     extra: dict = {}
     if translucency == "composite_motion":
-        chosen_motion, chosen_depth = ctx.pooled((height, width, 2)), ctx.pooled((height, width))
-        inputs = {
-            "translucent": textures["translucent"],
-            "translucent_motion": textures["translucent_motion"],
-            "motion": ctx.upload(frame.motion) if "motion" not in base else base["motion"],
-            "depth": ctx.upload(frame.depth) if "depth" not in base else base["depth"],
-        }
-        select = ctx.shader_pass("passes/translucency_motion.comp")
-        timed(
-            ctx,
-            extra,
-            "translucency_motion",
-            lambda: select.run(
-                inputs,
-                {"chosen_motion": chosen_motion, "chosen_depth": chosen_depth},
-                {"motion_coverage": motion_coverage},
-            ),
-        )
-        derived = layer_frame(
-            frame,
-            frame.color,
-            chosen_depth.download(),
-            chosen_motion.download(),
-            {"color": textures["color"], "depth": chosen_depth, "motion": chosen_motion},
-        )
+        derived = chosen_frame(ctx, frame, motion_coverage)
         result = blur(derived, name)
         result.params = {
             **result.params,
             **{"translucency": translucency, "motion_coverage": motion_coverage},
         }
-        result.timings.update(extra)
-        result.textures.update({"chosen_motion": chosen_motion, "chosen_depth": chosen_depth})
-        weakref.finalize(result, ctx.recycle, chosen_motion, chosen_depth)
+        result.textures.update(
+            {"chosen_motion": derived.textures["motion"], "chosen_depth": derived.textures["depth"]}
+        )
         return result
-    opaque_textures = {"color": textures["opaque_color"], **base}
-    if "motion_sides" in textures:
-        opaque_textures["motion_sides"] = textures["motion_sides"]
-    opaque = layer_frame(frame, frame.opaque_color, frame.depth, frame.motion, opaque_textures)
-    result = blur(opaque, name)
+    result = blur(opaque_frame(ctx, frame), name)
     result.params = {**result.params, "translucency": translucency}
-    layer = textures["translucent"]
+    layer = layer_textures(ctx, frame)["translucent"]
     if translucency == "layered":
-        # The layer's motion, depth and two-sided motion stay on the GPU: made from the
-        # rendered layer by one pass, not uploaded from the frame's arrays on every call.
-        layer_inputs = {
-            "motion": ctx.pooled((height, width, 2)),
-            "depth": ctx.pooled((height, width)),
-            "motion_sides": ctx.pooled((height, width, 4)),
-        }
-        split = ctx.shader_pass("passes/translucent_split.comp")
-        share_prev = np.float32(frame.instant_fraction)
-        timed(
-            ctx,
-            extra,
-            "translucent_split",
-            lambda: split.run(
-                {"translucent_motion": textures["translucent_motion"]},
-                {
-                    "layer_motion": layer_inputs["motion"],
-                    "layer_depth": layer_inputs["depth"],
-                    "layer_sides": layer_inputs["motion_sides"],
-                },
-                {"share_prev": share_prev, "share_next": np.float32(1.0 - share_prev)},
-            ),
-        )
-        translucent = layer_frame(
-            frame,
-            frame.translucent,
-            frame.translucent_depth,
-            frame.translucent_motion,
-            {"color": textures["translucent"], **layer_inputs},
-        )
-        centre = frame.instant_fraction == 0.5
         if layer_filter == "auto":
-            layer_method = translucent_layer_method() if centre else name
+            layer_method = translucent_layer_method()
         else:
             layer_method = name if layer_filter == "same" else layer_filter
-        layer_result = blur(translucent, layer_method)
-        ctx.recycle(*layer_inputs.values())  # read by passes already issued
         result.params["layer_filter"] = layer_method
-        layer = layer_result.textures["color"]
-        extra.update({f"translucent_{k}": t for k, t in layer_result.timings.items()})
+        coverage_gather = layer_method == translucent_layer_method()
+        # Where no fragment of the layer moves, the coverage gather keeps every pixel as it is
+        # (its early exit, §17.6): the layer is composited as rendered, the same bits, unblurred.
+        if not (coverage_gather and _made_once(ctx, frame, "still", lambda: layer_still(frame))):
+            with warnings.catch_warnings():
+                if coverage_gather:
+                    # The coverage gather reads the layer's colour, depth and two-sided motion
+                    # alone, and the split makes that motion for the frame's own instant: it is
+                    # right at any instant, so its warning about the instant does not apply.
+                    warnings.filterwarnings("ignore", INSTANT_WARNING)
+                layer_result = blur(translucent_frame(ctx, frame), layer_method)
+            layer = layer_result.textures["color"]
+            extra.update({f"translucent_{k}": t for k, t in layer_result.timings.items()})
+    height, width = frame.depth.shape
     out = ctx.pooled((height, width, 4))
     over = ctx.shader_pass("passes/translucency_over.comp")
     timed(

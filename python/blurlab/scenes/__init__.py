@@ -24,9 +24,17 @@ from .failures import (
     subpixel,
     thin_bar,
 )
+from .features import FEATURES as FEATURES
+from .features import features as features
+from .features import gbuffer_digest as gbuffer_digest
+from .features import with_features as with_features
 from .hdr import neon_pan, night_street, sparks, spinning_ring
 from .parts import checker as checker
 from .parts import rainbow as rainbow
+from .random import check_seed as check_seed
+from .random import parse_name as parse_random_name
+from .random import random as random
+from .random import random_name as random_name
 from .transparency import (
     car_behind_window,
     foliage_spin,
@@ -93,7 +101,8 @@ def _builder(name: str):
             return registry[name]
     everything = names() + [n for tag in TAGS for n in names(tag)]
     raise ValueError(
-        f"blurlab: no built-in scene {name!r}; there are {everything}, or give a .gltf/.glb path"
+        f"blurlab: no built-in scene {name!r}; there are {everything}, 'random:SEED', "
+        "or give a .gltf/.glb path"
     )
 
 
@@ -127,5 +136,9 @@ def label(item) -> str:
 
 
 def get(name) -> Scene:
-    """A built-in scene by name, or a scene file (.gltf, .glb) by path."""
-    return gltf(name) if is_file(name) else _builder(name)()
+    """A built-in scene by name, a random scene with the default ranges by 'random:SEED'
+    (docs/spec.md §22), or a scene file (.gltf, .glb) by path."""
+    if is_file(name):
+        return gltf(name)
+    seed = parse_random_name(name)
+    return _builder(name)() if seed is None else random(seed)

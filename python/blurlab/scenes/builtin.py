@@ -122,17 +122,26 @@ def skinned_arm() -> Scene:
     """A two-bone tube bending at its middle (skinned: motion vectors from the bones at t0
     and t1)."""
     scene = Scene(Camera((1.0, 0.5, 4.0), (1.0, 0.5, 0.0), fov_y=45), name="skinned_arm")
-    skeleton = Skeleton(
-        [
-            Bone(-1, np.eye(4)),
-            Bone(0, translation(1.0, 0, 0), Motion.linear(spin_axis=(0, 0, 1), spin_rate=30.0)),
-        ]
-    )
+    tube, skeleton = two_bone_arm(30.0)
     scene.add(
-        mesh.tube(2.0, 0.15),
+        tube,
         Material((0.9, 0.75, 0.55), specular=0.2),
         Motion.static((0.0, 0.0, 0.0)),
         skeleton,
         name="arm",
     )
     return scene
+
+
+def two_bone_arm(spin_rate: float) -> tuple[mesh.Mesh, Skeleton]:
+    """A tube from x = 0 to 2 (radius 0.15) and its two bones: the outer half turns about +z
+    at its middle at `spin_rate` rad/s."""
+    skeleton = Skeleton(
+        [
+            Bone(-1, np.eye(4)),
+            Bone(
+                0, translation(1.0, 0, 0), Motion.linear(spin_axis=(0, 0, 1), spin_rate=spin_rate)
+            ),
+        ]
+    )
+    return mesh.tube(2.0, 0.15), skeleton

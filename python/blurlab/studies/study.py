@@ -25,7 +25,7 @@ from ..docs_link import docs_anchor
 from ..methods import blur, method, method_instant
 from ..metrics import check_names, get, registered
 from ..sizes import DEFAULT_SIZE
-from . import interactive, objects, peers, plots, workers
+from . import interactive, objects, peers, plots, transparency, workers
 from .cluster import account_table
 from .evaluation import SETUP_PHASES, PhaseClock, picture_key
 from .sweep import default_grids, middle_point, sweep
@@ -43,8 +43,10 @@ PHASES = {
     "maps, crops, the image grid (encoded on threads: what is counted is the wait for them)",
     "charts": "Pareto charts (PNG and interactive) and parameter curves (the PNGs drawn in "
     "processes of their own: what is counted is the wait for them)",
+    "features": "each scene's features for results.csv (its G-buffer rendered once more)",
     "per_object": "the per-object table of textured_spin (its own renders; the sweep's reference)",
     "peers": "the peers' renders (EEVEE)",
+    "transparency": transparency.REPORT_PHASE,
     "html": "the report's HTML",
 }
 
@@ -71,7 +73,8 @@ def run_study(
     section of the report says so too.
     Each phase is timed (PHASES): phases.json, the report's last table and, with `progress`,
     the console. `chart_processes`: how many processes draw the matplotlib charts (default
-    default_chart_processes(); 0 draws them in this one)."""
+    default_chart_processes(); 0 draws them in this one). With a random scene among the scenes,
+    every row gets its scene's bl.scenes.FEATURES (docs/spec.md §22.2)."""
     clock = PhaseClock()
     peer_names = peers.check_peers(peer_names)
     if metrics is not None:  # checked before any work
@@ -104,6 +107,9 @@ def run_study(
             caches=caches,
         )
         swept = time.perf_counter() - start
+        if any(scenes.parse_random_name(item) is not None for item in names):
+            with clock("features"):  # joined to every row; results.csv written anew
+                table = scenes.with_features(ctx, table, map(scenes.get, names), size, out)
         worker_accounts = table.attrs.get("workers")  # where each worker's time went (cluster)
         if cluster is not None:
             clock.add("sweep_on_cluster", swept)
@@ -367,7 +373,8 @@ def _scene_section(
         "rows": rows,
         "best": best,
         "chart": chart,
-        "gallery": gallery,
+        "gallery": gallery
+        + transparency.report(ctx, scene, grids, size, out, work, clock, samples),
         "reference_samples": int(rows["reference_samples"].iloc[0]),
         "rank": rank,
         "exposure": exposure,
@@ -542,9 +549,7 @@ def _html(info, size, table, sections, curves, per_object=None, peer_rows=None, 
                 f"</td><td style='text-align:left'>{e(PHASES[phase])}</td></tr>"
             )
         parts.append("</table>")
-    where = docs_anchor(
-        "study", "blurlab's docs"
-    )  # the built site, the checkout's pages, or a name
+    where = docs_anchor("study", "blurlab's docs")  # the built site, the pages, or a name
     parts.append(
         f"<p>Made by <code>blurlab study</code>; {where} say what each method and number means.</p>"
     )

@@ -6,18 +6,27 @@ docs/transparency.md shows the numbers of the transparency benchmark."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pandas as pd
 
-from .. import metrics, scenes
+from .. import io, metrics, scenes
 from ..converged import default_reference_samples
-from ..methods import blur, method_instant, translucent_layer_method
+from ..docs_link import docs_anchor
+from ..methods import blur, layers, method_instant, translucent_layer_method
 from ..methods import method as method_info
 from ..methods import methods as method_names
 from ..methods.layers import TRANSLUCENCY
+from ..twins import translucency as translucency_twin
 from . import plots
 
 APPROACHES = TRANSLUCENCY.kind
+# What the study's "transparency" phase counts (blurlab.studies.study.PHASES).
+REPORT_PHASE = (
+    "each transparency scene under the four ways to blur translucency (its own antialiased "
+    "reference, G-buffers and blurs)"
+)
 
 
 def single_frame_methods() -> list[str]:
@@ -27,22 +36,32 @@ def single_frame_methods() -> list[str]:
     return [n for n in method_names() if method_info(n).kind in kinds]
 
 
-def evaluate(ctx, scene_names=None, methods=None, size=(320, 180), reference_samples=None):
+def evaluate(
+    ctx, scene_names=None, methods=None, size=(320, 180), reference_samples=None, shown=None
+):
     """One row per (scene, method, approach): psnr and flip against the antialiased reference
-    of the scene's shutter (N = reference_samples, or max(64, 2 x the longest motion))."""
+    of the scene's shutter (N = reference_samples, or max(64, 2 x the longest motion)).
+    `shown`: a dict that receives, per scene, the reference and the images of the method that
+    blurs the translucent layer (the first method where it is not among `methods`) under each
+    approach, for pictures."""
     rows = []
     methods = methods or single_frame_methods()
+    pictured = translucent_layer_method()
+    pictured = pictured if pictured in methods else methods[0]
     for name in scene_names or scenes.names("transparency"):
         scene = scenes.get(name)
         n = reference_samples or default_reference_samples(ctx.render(scene, size))
         reference = ctx.reference(scene, size, samples=n, antialias=True, progress=False)
         frames = {}
+        images = {}
         for method in methods:
             instant = method_instant(method)
             if instant not in frames:
                 frames[instant] = ctx.render(scene, size, instant=instant)
             for approach in APPROACHES:
                 out = blur(ctx, frames[instant], method, timed=False, translucency=approach)
+                if method == pictured:
+                    images[approach] = out.color
                 rows.append(
                     {
                         "scene": name,
@@ -53,6 +72,8 @@ def evaluate(ctx, scene_names=None, methods=None, size=(320, 180), reference_sam
                         "reference_samples": n,
                     }
                 )
+        if shown is not None:
+            shown[name] = (pictured, reference.color, images)
     return pd.DataFrame(rows)
 
 
@@ -78,38 +99,105 @@ def summary(table: pd.DataFrame) -> dict:
     }
 
 
+def layer_error(ctx, shown: dict, size, reference_samples=None) -> pd.DataFrame:
+    """What limits the layered approach on each scene of `shown` (as evaluate fills it) that
+    has a translucent layer: PSNR against the scene's reference of the coverage gather's
+    blurred layer composited over the exact blur of the opaque layer (the reference of the
+    scene without its translucent objects, same N), so the layer's blur is the only error.
+    Where it lies far above layered's own PSNR, the method's blur of the opaque layer is what
+    layered loses there, and no better layer blur can win it back."""
+    rows = []
+    for name, (_, reference, _) in shown.items():
+        scene = scenes.get(name)
+        if not scene.translucent:
+            continue
+        frame = ctx.render(scene, size, instant=method_instant(translucent_layer_method()))
+        n = reference_samples or default_reference_samples(frame)
+        opaque = scenes.get(name)
+        opaque.objects = [obj for obj in opaque.objects if not obj.material.translucent]
+        exact = ctx.reference(opaque, size, samples=n, antialias=True, progress=False).color
+        layer = blur(ctx, layers.translucent_frame(ctx, frame), translucent_layer_method())
+        composite = translucency_twin.over(layer.color, exact)
+        rows.append({"scene": name, "psnr": metrics.psnr(composite, reference)})
+    return pd.DataFrame(rows, columns=["scene", "psnr"])
+
+
 def layer_cost(ctx, scene_name: str, method: str, size, runs: int = 10) -> dict:
     """GPU time of `method` on the scene's frame as engines run it (translucency="composite")
-    and with the layered approach (a second blur of the translucent layer and the compositing
-    pass), median over `runs` timed calls each, and their ratio."""
+    and with the layered approach, median over `runs` timed calls each, and their ratio; and
+    where layered's time goes, medians of its parts: the opaque layer's blur, the translucent
+    layer's blur ("translucent_" passes), the compositing pass, and the layer's split, which
+    runs once per frame (frame.timings, beside the G-buffer's passes; docs/spec.md §20.4)."""
     scene = scenes.get(scene_name)
     frame = ctx.render(scene, size, instant=method_instant(method))
     times = {}
+    parts = {"opaque": [], "layer": [], "over": []}
     for approach in ("composite", "layered"):
         blur(ctx, frame, method, translucency=approach)  # compiles, warms up
-        times[approach] = float(
-            np.median(
-                [blur(ctx, frame, method, translucency=approach).total_ms for _ in range(runs)]
-            )
-        )
+        totals = []
+        for _ in range(runs):
+            result = blur(ctx, frame, method, translucency=approach)
+            totals.append(result.total_ms)
+            if approach == "layered":
+                timings = {name: t.ms for name, t in result.timings.items()}
+                over = timings.pop("translucency_over")
+                layer = sum(ms for name, ms in timings.items() if name.startswith("translucent_"))
+                parts["over"].append(over)
+                parts["layer"].append(layer)
+                parts["opaque"].append(result.total_ms - over - layer)
+        times[approach] = float(np.median(totals))
     return {
         "scene": scene_name,
         "method": method,
         "composite_ms": times["composite"],
         "layered_ms": times["layered"],
         "ratio": times["layered"] / times["composite"],
+        **{f"{part}_ms": float(np.median(values)) for part, values in parts.items()},
+        "split_ms": frame.timings["translucent_split"].ms,
     }
+
+
+def report(ctx, scene, grids, size, out, work, clock, reference_samples=None) -> str:
+    """The study's report on a transparency scene (bl.scenes.names("transparency"); "" for any
+    other scene, or where `grids` has no one-frame method): each one-frame method of `grids` at
+    its defaults under the four approaches, scored by evaluate (<scene>_transparency.csv), a
+    table of their PSNR, and the reference beside the method that blurs the layer under each
+    approach with |error| (<scene>_translucency.png, left encoding on `work`, the study's
+    ReportWork). Timed as the phase "transparency" of `clock`."""
+    methods = [m for m in grids if m in single_frame_methods()]
+    if scene.name not in scenes.names("transparency") or not methods:
+        return ""
+    shown: dict = {}
+    with clock("transparency"):
+        table = evaluate(ctx, [scene.name], methods, size, reference_samples, shown)
+    out = Path(out)
+    table.to_csv(out / f"{scene.name}_transparency.csv", index=False)
+    method, reference, images = shown[scene.name]
+    picture = f"{scene.name}_translucency.png"
+    grid = plots.image_grid_picture
+    work.pictures_written.append(
+        work.pictures.submit(lambda: io.write(out / picture, grid(reference, images)))
+    )
+    psnr = table.pivot(index="method", columns="translucency", values="psnr")[list(APPROACHES)]
+    return (
+        "<h3>Four ways to blur its translucent surfaces</h3><p>PSNR (dB) of each one-frame "
+        "method at its defaults under each <code>translucency</code> option (docs/spec.md "
+        f"§20.4, {docs_anchor('transparency', 'transparency')}) against the antialiased "
+        f"reference, FLIP too in <a href='{scene.name}_transparency.csv'>"
+        f"{scene.name}_transparency.csv</a>:</p>"
+        + psnr.reset_index().to_html(index=False, float_format=lambda v: f"{v:.2f}", border=0)
+        + f"<p>The reference, then <code>{method}</code> under each, with |error| below:</p>"
+        f"<p><img src='{picture}'></p>"
+    )
 
 
 def gallery(ctx, scene_name: str, size, method: str | None = None, reference_samples=None):
     """A figure: the antialiased reference and `method` (default: the method that blurs the
     translucent layer, the coverage gather) under each approach, with |error|."""
     method = method or translucent_layer_method()
-    scene = scenes.get(scene_name)
-    n = reference_samples or default_reference_samples(ctx.render(scene, size))
-    reference = ctx.reference(scene, size, samples=n, antialias=True, progress=False)
-    frame = ctx.render(scene, size, instant=method_instant(method))
-    images = {a: blur(ctx, frame, method, translucency=a).color for a in APPROACHES}
+    shown: dict = {}
+    evaluate(ctx, [scene_name], [method], size, reference_samples, shown)
+    _, reference, images = shown[scene_name]
     return plots.image_grid(
-        reference.color, images, title=f"{scene_name} ({method}): {scenes.describe(scene_name)}"
+        reference, images, title=f"{scene_name} ({method}): {scenes.describe(scene_name)}"
     )

@@ -11,13 +11,20 @@ process's). The rows of the last cycle must equal the first cycle's, bit for bit
 pass times: a long run gives the numbers a short one does.
 
     blurlab bench soak [--device software] [--param evaluations=20000] [--size 64x36]
+
+With `--param devices=1,2,3` the evaluations are shared out between one process per listed EGL
+device (`blurlab.Context.devices()`; an index listed twice gets two), each its own soak, run
+side by side: how a machine of several GPUs soaks more evaluations in the same hour. Each
+process is reported apart.
 """
 
 from __future__ import annotations
 
 import gc
+import multiprocessing
 import os
 import time
+from concurrent.futures import ProcessPoolExecutor
 
 from ... import scenes
 from ...context import Context
@@ -140,13 +147,91 @@ def figures(result: dict) -> dict:
     }
 
 
-def _soak(ctx, size, p, out) -> None:
-    result = soak(ctx, p["evaluations"], size, p["scene"])
-    if not result["same_rows"]:
-        raise RuntimeError(
-            "blurlab: soak: the last cycle's rows differ from the first's: "
-            f"{result['first_rows']} then {result['last_rows']}"
+def device_indices(text) -> list[int]:
+    """The EGL device indices of the `devices` parameter ("" for none, else "1,2,3")."""
+    text = str(text)
+    try:
+        indices = [int(part) for part in text.split(",") if part.strip()]
+    except ValueError:
+        indices = []
+    if text.strip() and (not indices or min(indices) < 0):
+        raise ValueError(
+            "blurlab soak: devices must be EGL device indices separated by commas, an index "
+            f"given twice for two processes on it (see blurlab.Context.devices()), not {text!r}"
         )
+    return indices
+
+
+def soak_on_device(index: int, evaluations: int, size, scene: str) -> dict:
+    """soak() in a context of its own on EGL device `index` (a worker process's job)."""
+    ctx = Context(index)
+    result = soak(ctx, evaluations, size, scene)
+    result["device"] = f"{index}: {ctx.info()['renderer']}"
+    return result
+
+
+def soak_side_by_side(indices: list[int], evaluations: int, size, scene: str) -> list[dict]:
+    """soak() in one process per device of `indices`, `evaluations` shared out between them,
+    all at once; the results in the order of `indices`."""
+    count = len(indices)
+    shares = [evaluations // count + (i < evaluations % count) for i in range(count)]
+    spawn = multiprocessing.get_context("spawn")  # a fresh GL stack per process, never a fork
+    with ProcessPoolExecutor(count, mp_context=spawn) as pool:
+        jobs = [
+            pool.submit(soak_on_device, index, share, size, scene)
+            for index, share in zip(indices, shares, strict=True)
+        ]
+        return [job.result() for job in jobs]
+
+
+def _soak(ctx, size, p, out) -> None:
+    indices = device_indices(p["devices"])
+    if indices:
+        results = soak_side_by_side(indices, p["evaluations"], size, p["scene"])
+    else:
+        results = [soak(ctx, p["evaluations"], size, p["scene"])]
+        results[0]["device"] = ctx.info()["renderer"]
+    for result in results:
+        if not result["same_rows"]:
+            raise RuntimeError(
+                f"blurlab: soak on {result['device']}: the last cycle's rows differ from the "
+                f"first's: {result['first_rows']} then {result['last_rows']}"
+            )
+    if indices:
+        report_side_by_side(results, out)
+    else:
+        report_one(results[0], out)
+
+
+def report_side_by_side(results: list[dict], out) -> None:
+    """Figures over every process of a side-by-side soak, and a row per process."""
+    each = [figures(result) for result in results]
+    total = sum(f["evaluations"] for f in each)
+    seconds = max(f["seconds"] for f in each)
+    out.figure("evaluations", total, "")
+    out.figure("processes (one per device)", len(each), "")
+    out.figure("seconds", seconds, "s")
+    out.figure("evaluations per second", total / seconds, "1/s")
+    out.figure("largest RSS growth of a process", max(f["rss_growth_mib"] for f in each), "MiB")
+    out.figure("largest live GL objects growth", max(f["gl_objects_growth"] for f in each), "")
+    out.figure("rows of the last cycle equal to the first's", 1, "yes")
+    out.table(
+        "each process (free video memory: NVIDIA's GL_NVX_gpu_memory_info)",
+        [("device", ""), ("evaluations", ""), ("seconds", "s"), ("RSS at the start", "MiB")]
+        + [("RSS at the end", "MiB"), ("live GL objects at the start", "")]
+        + [("live GL objects at the end", ""), ("free video memory at the start", "MiB")]
+        + [("free video memory at the end", "MiB")],
+        [
+            [result["device"], f["evaluations"], f["seconds"], f["rss_start_mib"]]
+            + [f["rss_end_mib"], f["gl_objects_start"], f["gl_objects_end"]]
+            + [f["vram_available_start_mib"], f["vram_available_end_mib"]]
+            for result, f in zip(results, each, strict=True)
+        ],
+    )
+
+
+def report_one(result: dict, out) -> None:
+    """Figures of a soak in this process, and its samples."""
     f = figures(result)
     out.figure("evaluations", f["evaluations"], "")
     out.figure("seconds", f["seconds"], "s")
@@ -184,6 +269,12 @@ register(
                 20_000, int, "sweep evaluations after the warm-up cycle", 1, 10_000_000
             ),  # fmt: skip
             "scene": Param("fan", object, "the built-in scene evaluated"),
+            "devices": Param(
+                "",
+                object,
+                "EGL device indices to soak on side by side, one process each "
+                "(e.g. 1,2,3 or 1,1,2,2); empty: this context's device",
+            ),
         },
         _soak,
         {"tiny": (32, 18), "software": (64, 36), "gpu": (1920, 1080)},

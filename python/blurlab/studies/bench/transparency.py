@@ -18,8 +18,9 @@ from .timing import split
 
 def _transparency(ctx, size, p, out) -> None:
     methods = split(p["methods"]) or transparency.single_frame_methods()
+    shown: dict = {}
     table = transparency.evaluate(
-        ctx, split(p["scenes"]) or None, methods, size, p["reference_samples"] or None
+        ctx, split(p["scenes"]) or None, methods, size, p["reference_samples"] or None, shown
     )
     summary = transparency.summary(table)
     for approach, row in summary["median_per_approach"].iterrows():
@@ -47,6 +48,14 @@ def _transparency(ctx, size, p, out) -> None:
         [("scene", ""), ("PSNR", "dB"), ("FLIP", "")],
         [[s, row.psnr, row.flip] for s, row in gain.iterrows()],
     )
+    ceiling = transparency.layer_error(ctx, shown, size, p["reference_samples"] or None)
+    layered = per_scene.xs("layered", level="translucency")["psnr"]
+    out.table(
+        "the layer's blur alone: the coverage gather's layer over the exact blur of the opaque "
+        "layer, and layered (median over the methods)",
+        [("scene", ""), ("layer's blur alone", "dB"), ("layered", "dB")],
+        [[row.scene, row.psnr, layered[row.scene]] for row in ceiling.itertuples()],
+    )
     out.table(
         "every scene, method and approach",
         [
@@ -65,9 +74,31 @@ def _transparency(ctx, size, p, out) -> None:
         transparency.layer_cost(ctx, p["cost_scene"], method, size, p["runs"]) for method in methods
     ]
     out.table(
-        f"time on {p['cost_scene']}: the method alone (composite) and layered, medians",
-        [("method", ""), ("composite", "ms"), ("layered", "ms"), ("layered / composite", "x")],
-        [[c["method"], c["composite_ms"], c["layered_ms"], c["ratio"]] for c in costs],
+        f"time on {p['cost_scene']}: the method alone (composite) and layered, medians; "
+        "layered's parts, and the layer's split, once per frame",
+        [
+            ("method", ""),
+            ("composite", "ms"),
+            ("layered", "ms"),
+            ("layered / composite", "x"),
+            ("opaque blur", "ms"),
+            ("layer blur", "ms"),
+            ("over", "ms"),
+            ("split per frame", "ms"),
+        ],
+        [
+            [
+                c["method"],
+                c["composite_ms"],
+                c["layered_ms"],
+                c["ratio"],
+                c["opaque_ms"],
+                c["layer_ms"],
+                c["over_ms"],
+                c["split_ms"],
+            ]
+            for c in costs
+        ],
     )
     out.figure(
         "layered / composite time, median over the methods",

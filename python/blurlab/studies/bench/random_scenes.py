@@ -1,0 +1,141 @@
+"""The random-scene benchmark (docs/spec.md §22): N random scenes, each with its converged
+reference, every sweepable method at its default parameters scored by PSNR, SSIM and FLIP, on
+one device or spread over several GPUs with Dask as sweeps are; and the G-buffer digests of the
+first seeds, which tell whether two devices drew the same scenes."""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+import pandas as pd
+
+from ... import scenes
+from ...methods.core import Param
+from ..cluster import local_cluster
+from ..sweep import sweep, sweep_methods
+from .core import Benchmark, register
+
+METRICS = ("psnr", "ssim", "flip")
+
+
+def _sweeps(ctx, size, p, names: list[str]) -> tuple[list, float]:
+    """Sweeps `names` in batches of p["batch"] scenes, on `ctx` or on a cluster of p["gpus"]
+    workers; starts no batch once p["budget_s"] (> 0) has passed since the first. Returns the
+    batches' tables and the seconds the cluster took to start (0 without one)."""
+    grids = {name: {} for name in sweep_methods()}  # one point each: the defaults
+    arguments = {
+        "methods_and_grids": grids,
+        "size": size,
+        "reference_samples": p["reference_samples"] or None,
+        "metrics": METRICS,
+        "repeats": 1,
+        "progress": False,
+    }
+    batches = [names[i : i + p["batch"]] for i in range(0, len(names), p["batch"])]
+
+    def run_batches(device, cluster=None) -> list:
+        tables, start = [], time.perf_counter()
+        for batch in batches:
+            if p["budget_s"] and time.perf_counter() - start > p["budget_s"]:
+                break
+            tables.append(sweep(device, batch, cluster=cluster, **arguments))
+        return tables
+
+    if p["gpus"] == 1:
+        return run_batches(ctx), 0.0
+    from distributed import Client
+
+    start = time.perf_counter()
+    with local_cluster(p["gpus"], ctx.info()["device"]) as cluster, Client(cluster) as client:
+        client.wait_for_workers(p["gpus"], timeout=300)
+        return run_batches(None, client), time.perf_counter() - start
+
+
+def _random_scenes(ctx, size, p, out) -> None:
+    names = [scenes.random_name(seed) for seed in range(p["seed"], p["seed"] + p["scenes"])]
+    start = time.perf_counter()
+    tables, startup = _sweeps(ctx, size, p, names)
+    wall = time.perf_counter() - start - startup
+    table = pd.concat(tables, ignore_index=True)
+    done = table["scene"].nunique()
+    out.figure("scenes", done, "scenes")
+    out.figure("evaluations", len(table), "evaluations")
+    out.figure("workers", p["gpus"], "workers")
+    out.figure("cluster start (not in the wall)", startup, "s")
+    out.figure("wall (references, G-buffers, methods, metrics)", wall, "s")
+    out.figure("scenes per second", done / wall, "1/s")
+    out.figure(f"projected wall for {p['scenes']} scenes", wall * p["scenes"] / done, "s")
+    rows = []
+    for method, rows_of in table.groupby("method", sort=True):
+        psnr = rows_of["psnr"].to_numpy(float)
+        rows.append(
+            [
+                method,
+                float(np.nanmedian(psnr)),
+                float(np.nanpercentile(psnr, 10)),
+                float(np.nanmedian(rows_of["ssim"])),
+                float(np.nanmedian(rows_of["flip"])),
+            ]
+        )
+    out.table(
+        f"each method at its defaults over {done} random scenes (seeds from {p['seed']})",
+        [
+            ("method", ""),
+            ("median PSNR", "dB"),
+            ("10th percentile PSNR", "dB"),
+            ("median SSIM", ""),
+            ("median FLIP", ""),
+        ],
+        rows,
+    )
+    digests = []
+    for seed in range(p["seed"], p["seed"] + min(p["hashed"], p["scenes"])):
+        frame = ctx.render(scenes.random(seed), size)
+        speed = np.linalg.norm(frame.motion, axis=-1)
+        mean = frame.color[..., :3].mean(axis=(0, 1))
+        digests.append(
+            [seed, scenes.gbuffer_digest(frame)[:16], *(float(c) for c in mean), speed.mean()]
+        )
+        del frame
+    out.table(
+        "G-buffer digests (SHA-256 of colour, depth, motion and ids; first 16 hex digits) and "
+        "means, to compare devices",
+        [
+            ("seed", ""),
+            ("digest", ""),
+            ("mean R", ""),
+            ("mean G", ""),
+            ("mean B", ""),
+            ("mean motion length", "px"),
+        ],
+        digests,
+    )
+
+
+register(
+    Benchmark(
+        "random_scenes",
+        "N random scenes (bl.scenes.random) with references, every sweepable method at its "
+        "defaults scored by PSNR, SSIM and FLIP: wall time and scenes per second, on one "
+        "device or on `gpus` Dask workers",
+        {
+            "scenes": Param(20, int, "random scenes, seeds seed..seed+scenes-1", 1, 100_000),
+            "seed": Param(0, int, "the first seed", 0),
+            "gpus": Param(1, int, "Dask workers, one a GPU (1: this process's context)", 1, 64),
+            "batch": Param(50, int, "scenes a sweep call", 1, 100_000),
+            "budget_s": Param(
+                0.0, float, "start no batch after this many seconds (0: no limit)", 0.0
+            ),
+            "reference_samples": Param(0, int, "N of each reference (0: as sweeps choose)", 0),
+            "hashed": Param(4, int, "first seeds whose G-buffer digest is recorded", 0, 1000),
+        },
+        _random_scenes,
+        {"tiny": (48, 27), "software": (320, 180), "gpu": (1920, 1080)},
+        {
+            "tiny": {"scenes": 2, "reference_samples": 8, "hashed": 2},
+            "software": {"scenes": 24, "batch": 24},
+            "gpu": {"scenes": 1000, "budget_s": 360.0},  # with the last batch, under 8 minutes
+        },
+    )
+)
