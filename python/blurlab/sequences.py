@@ -16,7 +16,7 @@ from numbers import Integral, Real
 
 import numpy as np
 
-from . import metrics
+from . import metrics, video
 from .blur_scales import scaled_scene
 from .context import Context, Texture
 from .frame import Frame
@@ -138,10 +138,27 @@ class SequenceRun:
     scores: dict
     blur_ms: np.ndarray
     taa_ms: np.ndarray
+    fps: float
 
-    def side_by_side(self) -> np.ndarray:
-        """(N, H, 2W, 4): each output frame with its reference to its right."""
-        return np.concatenate([self.color, self.references], axis=2)
+    def side_by_side(self, frames=None) -> np.ndarray:
+        """(n, H, 2W, 4): output frames (all, or the indices `frames`) with their references to
+        their right."""
+        chosen = slice(None) if frames is None else np.asarray(frames, int)
+        return np.concatenate([self.color[chosen], self.references[chosen]], axis=2)
+
+    def worst_frames(self, metric: str = "psnr", count: int = 8) -> np.ndarray:
+        """The indices of the `count` frames that score worst by the per-frame `metric`, in
+        their order in the sequence."""
+        values = self.scores.get(metric)
+        if values is None or np.ndim(values) != 1:
+            raise ValueError(f"blurlab: {metric!r} is not a per-frame score of this run")
+        goodness = np.asarray(metrics.get(metric).goodness(values), float)
+        return np.sort(np.argsort(goodness, kind="stable")[: max(1, count)])
+
+    def write(self, path, frames=None):
+        """The output beside the reference (`side_by_side`) as a folder of EXRs, an .mp4, a
+        looping .gif or .webp (blurlab.video), at the sequence's frame rate."""
+        return video.write(path, self.side_by_side(frames), self.fps)
 
 
 def sequence(
@@ -265,6 +282,7 @@ def run_sequence(
         scores(names, seq.references, color),
         blur_ms,
         taa_ms,
+        seq.fps,
     )
 
 
