@@ -279,7 +279,7 @@ def run_sequence(
         taa_params if order != "none" else {},
         color,
         seq.references,
-        scores(names, seq.references, color),
+        scores(names, seq.references, color, seq.ctx),
         blur_ms,
         taa_ms,
         seq.fps,
@@ -356,11 +356,32 @@ def with_color(ctx: Context, frame: Frame, color: np.ndarray) -> Frame:
     )
 
 
-def scores(names, references: np.ndarray, color: np.ndarray) -> dict:
+def scores(names, references: np.ndarray, color: np.ndarray, ctx: Context | None = None) -> dict:
     """{metric: value}: the sequence metrics of `names` as numbers, the others per frame as
-    (N,) arrays (docs/spec.md §21.3)."""
+    (N,) arrays (docs/spec.md §21.3). With `ctx`, per-frame metrics that have a GPU
+    implementation run on it (within its registered tolerance of the NumPy one)."""
     over_time = [n for n in names if metrics.get(n).sequence]
-    result = metrics.per_frame([n for n in names if n not in over_time], references, color)
+    on_gpu = [n for n in names if ctx is not None and metrics.get(n).gpu is not None]
+    on_cpu = [n for n in names if n not in over_time and n not in on_gpu]
+    result = metrics.per_frame(on_cpu, references, color)
+    if on_gpu:
+        result |= gpu_per_frame(ctx, on_gpu, references, color)
     for name in over_time:
         result[name] = metrics.get(name).numpy(references, color) if len(color) > 1 else math.nan
-    return result
+    return {name: result[name] for name in names}
+
+
+def gpu_per_frame(ctx: Context, names, references: np.ndarray, color: np.ndarray) -> dict:
+    """{metric: (N,) values} of metrics with a GPU implementation, frame by frame."""
+    shape = references.shape[1:]
+    reference, output = ctx.pooled(shape), ctx.pooled(shape)
+    values = {name: np.empty(len(color)) for name in names}
+    try:
+        for i in range(len(color)):
+            reference.upload(np.ascontiguousarray(references[i], np.float32))
+            output.upload(np.ascontiguousarray(color[i], np.float32))
+            for name in names:
+                values[name][i] = metrics.get(name).gpu(ctx, reference, output)
+    finally:
+        ctx.recycle(reference, output)
+    return values

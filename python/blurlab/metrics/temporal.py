@@ -9,25 +9,38 @@ import numpy as np
 from .registry import REFERENCES, Metric, check_names, cpu_scores, register
 
 
-def frames_rgb(frames, what: str) -> np.ndarray:
-    """The RGB of an (N, H, W, 3|4) sequence of N >= 2 frames, float64, clipped to [0, 1]."""
-    frames = np.asarray(frames, np.float64)
-    if frames.ndim != 4 or frames.shape[0] < 2 or frames.shape[3] < 3:
+def check_sequence(frames, what: str) -> np.ndarray:
+    """`frames` as an (N >= 2, H, W, 3|4) array, or a ValueError saying what was expected."""
+    frames = np.asarray(frames)
+    if frames.ndim != 4 or frames.shape[0] < 2 or frames.shape[3] not in (3, 4):
         raise ValueError(
             f"blurlab.metrics: {what} must be an (N >= 2, H, W, 3 or 4) sequence, not "
             f"{frames.shape}"
         )
-    return np.clip(frames[..., :3], 0.0, 1.0)
+    return frames
+
+
+def clipped(frame) -> np.ndarray:
+    """A frame's RGB in float64, clipped to [0, 1] (what an LDR display shows)."""
+    return np.clip(np.asarray(frame[..., :3], np.float64), 0.0, 1.0)
 
 
 def temporal_instability(reference, test) -> float:
     """Mean over frames 1 … N−1, pixels and RGB of |(O_i − O_{i−1}) − (R_i − R_{i−1})|,
     linear colour clipped to [0, 1] (docs/spec.md §21.3). 0: the output changes exactly as the
     reference does; the flicker of random taps and the lag of a history both add to it."""
-    r, o = frames_rgb(reference, "reference"), frames_rgb(test, "test")
-    if r.shape != o.shape:
-        raise ValueError(f"blurlab.metrics: sequences differ in shape: {r.shape} and {o.shape}")
-    return float(np.abs(np.diff(o, axis=0) - np.diff(r, axis=0)).mean())
+    reference, test = check_sequence(reference, "reference"), check_sequence(test, "test")
+    if reference.shape[:3] != test.shape[:3]:
+        raise ValueError(
+            f"blurlab.metrics: sequences differ in shape: {reference.shape} and {test.shape}"
+        )
+    # Frame pair by frame pair: a whole 1080p sequence in float64 would take gigabytes.
+    total, r_prev, o_prev = 0.0, clipped(reference[0]), clipped(test[0])
+    for r_frame, o_frame in zip(reference[1:], test[1:], strict=True):
+        r_next, o_next = clipped(r_frame), clipped(o_frame)
+        total += np.abs((o_next - o_prev) - (r_next - r_prev)).mean()
+        r_prev, o_prev = r_next, o_next
+    return float(total / (len(test) - 1))
 
 
 def per_frame(names, references, outputs) -> dict[str, np.ndarray]:
