@@ -54,10 +54,12 @@ def evaluate_orders(
     fps: float = 60.0,
     shutter_angle: float = 180.0,
     taa: dict | None = None,
+    on_run=None,
 ) -> pd.DataFrame:
     """One row per (scene, method, order): psnr, mse and temporal instability of the frames
     after `warmup` against the sequence reference. Method NO_METHOD is the frames as rendered
-    (order "none") and TAA alone ("blur_then_taa")."""
+    (order "none") and TAA alone ("blur_then_taa"). `on_run(scene, method, order, run)`, if
+    given, sees each method's SequenceRun before it is dropped."""
     rows = []
     for name in scene_names:
         seq = sequence(
@@ -71,7 +73,9 @@ def evaluate_orders(
         )
         for method in [None, *methods]:
             for order in orders_of(method):
-                run = seq.run(method, order, taa=taa, metrics=())
+                run = seq.run(method, order, taa=taa, metrics=("psnr",))
+                if on_run is not None and method is not None:
+                    on_run(name, method, order, run)
                 rows.append(
                     {
                         "scene": name,
