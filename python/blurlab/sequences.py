@@ -335,25 +335,11 @@ class FrameStep:
 
 
 def with_color(ctx: Context, frame: Frame, color: np.ndarray) -> Frame:
-    """`frame` with another (H, W, 4) colour (its alpha kept): what a method after TAA reads."""
+    """`frame` with another (H, W, 4) colour (its alpha kept): what a method after TAA reads.
+    It shares the frame's other textures, so it lives no longer than the frame."""
     color = np.concatenate([color[..., :3], frame.color[..., 3:]], axis=2)
-    texture = ctx.upload(color)
-    layers = {
-        name: getattr(frame, name)
-        for name in ("opaque_color", "translucent", "translucent_motion", "translucent_depth")
-    }
-    return Frame(
-        color=color,
-        depth=frame.depth,
-        motion=frame.motion,
-        object_id=frame.object_id,
-        shutter=frame.shutter,
-        time=frame.time,
-        camera=frame.camera,
-        textures={**frame.textures, "color": texture},
-        scene=frame.scene,
-        **layers,
-    )
+    textures = {**frame.textures, "color": ctx.upload(color)}
+    return dataclasses.replace(frame, color=color, textures=textures)
 
 
 def scores(names, references: np.ndarray, color: np.ndarray, ctx: Context | None = None) -> dict:

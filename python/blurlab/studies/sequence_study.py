@@ -16,6 +16,7 @@ from ..metrics import get
 from ..sequences import ORDERS
 from ..sizes import DEFAULT_SIZE
 from . import interactive, temporal
+from .study import PAGE_STYLE
 
 ANIMATED_ORDER = "blur_then_taa"  # the order every method takes, the one the animations show
 WORST_FRAMES = 6
@@ -105,12 +106,8 @@ def _html(info, size, fps, frames, warmup, table, summary, animations) -> str:
     when = datetime.datetime.now().strftime("%Y-%m-%d %H:%M")
     parts = [
         "<!doctype html><meta charset='utf-8'><title>blurlab sequence study</title>",
-        "<style>body{font:14px sans-serif;max-width:1100px;margin:2em auto;padding:0 1em}"
-        "table{border-collapse:collapse;font-size:12px}td,th{border:1px solid #ccc;"
-        "padding:2px 6px;text-align:right}th{background:#eee}"
-        ".gallery{display:flex;flex-wrap:wrap;gap:8px}.gallery figure{margin:0;width:340px}"
-        ".gallery img{width:340px;display:block;image-rendering:pixelated}"
-        "figcaption{font-size:11px}</style>",
+        f"<style>{PAGE_STYLE}.gallery figure,.gallery img{{width:340px}}"
+        ".gallery img{image-rendering:pixelated}</style>",
         "<h1>blurlab sequence study: accuracy against stability</h1>",
         f"<p>{e(when)} · device <b>{e(info['renderer'])}</b> · {size[0]}×{size[1]} · "
         f"{fps:g} fps, 180° shutter · {frames} frames measured after {warmup} · data: "
