@@ -9,10 +9,13 @@ import time
 
 import numpy as np
 
-from ... import scenes
+from ... import metrics, scenes
 from ...methods import method as method_info
 from ...methods.core import Param
-from ...sequences import sequence
+from ...sequences import sequence, still
+from ...taa import PARAMS as TAA_PARAMS
+from ...taa import taa, taa_values
+from ...twins.taa import resolve
 from .. import temporal
 from .core import Benchmark, register
 from .timing import split
@@ -162,7 +165,7 @@ register(
         "departs from what the shutter implies",
         {
             **SEQUENCE_PARAMS,
-            "scenes": Param("", object, "comma-separated scenes (empty: the built-in ones)"),
+            "scenes": Param("", object, "comma-separated scenes (empty: built-in and failure)"),
             "rates": Param("30,60,120,144", object, "comma-separated frame rates"),
         },
         _frame_rate,
@@ -225,5 +228,73 @@ register(
         _sequence,
         {"tiny": (32, 18), "software": (320, 180), "gpu": (1920, 1080)},
         {"tiny": {"frames": 3, "reference_samples": 4}},
+    )
+)
+
+
+def _taa_convergence(ctx, size, p, out) -> None:
+    rows = []
+    for name in _scenes(p["scenes"]):
+        scene = scenes.get(name)
+        held = still(scene, sum(scene.shutter) / 2)
+        seq = sequence(ctx, held, size, frames=p["frames"], reference_samples=1)
+        reference = ctx.reference(
+            held, size, samples=p["reference_samples"], antialias=True, progress=False
+        ).color
+        row = [name, metrics.psnr(reference, seq.run(None, metrics=()).color[-1])]
+        for clip in TAA_PARAMS["clip"].kind:
+            run = seq.run(None, "blur_then_taa", taa={"clip": clip}, metrics=())
+            row.append(metrics.psnr(reference, run.color[-1]))
+        row.append(100.0 * _twin_agreement(ctx, scene, size))
+        rows.append(row)
+    clips = TAA_PARAMS["clip"].kind
+    out.table(
+        f"still scenes: the last of {p['frames']} jittered frames against the antialiased "
+        "reference, one frame alone and under TAA (default blend and neighbourhood) with each "
+        "clip; and the TAA pass against its NumPy twin on two frames of the moving scene",
+        [("scene", ""), ("one frame", "dB")]
+        + [(f"TAA, clip {c}", "dB") for c in clips]
+        + [("pixels within 1e-3 of the twin", "%")],
+        rows,
+    )
+    for index, clip in enumerate(clips):
+        out.figure(
+            f"TAA, clip {clip}: lowest PSNR over the scenes", min(r[2 + index] for r in rows), "dB"
+        )
+    out.figure("TAA against its twin: lowest share within 1e-3", min(r[-1] for r in rows), "%")
+
+
+def _twin_agreement(ctx, scene, size) -> float:
+    """The share of pixels where the TAA pass is within 1e-3 of its twin on every channel, on
+    the second frame of a two-frame sequence of `scene` (history from the first)."""
+    seq = sequence(ctx, scene, size, frames=2, reference_samples=1)
+    values = taa_values()
+    first, second = seq.frame(0), seq.frame(1)
+    motion = seq.motion_from_previous(1, second.time)
+    history = taa(ctx, first.textures["color"], motion, None, **values)
+    resolved = taa(ctx, second.textures["color"], motion, history, **values)
+    twin = resolve(second.color, motion.download(), history.download(), **values)
+    agreement = float((abs(resolved.download() - twin) <= 1e-3).all(axis=-1).mean())
+    ctx.recycle(motion, history, resolved)
+    return agreement
+
+
+register(
+    Benchmark(
+        "taa_convergence",
+        "TAA on still scenes: how close jittered frames come to the antialiased reference "
+        "after N frames with each clip, and the TAA pass against its NumPy twin",
+        {
+            "scenes": Param("", object, "comma-separated scenes (empty: built-in and failure)"),
+            "frames": Param(32, int, "jittered frames", 2, 4096),
+            "reference_samples": Param(256, int, "sub-frames of the antialiased reference", 1),
+        },
+        _taa_convergence,
+        {"tiny": (32, 18), "software": (160, 90), "gpu": (1920, 1080)},
+        {
+            "tiny": {"scenes": "fan", "frames": 3, "reference_samples": 4},
+            "software": {"scenes": ",".join(scenes.names())},
+            "gpu": {"scenes": ",".join(scenes.names())},
+        },
     )
 )
