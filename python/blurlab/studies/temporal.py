@@ -88,35 +88,50 @@ def evaluate_orders(
     return pd.DataFrame(rows)
 
 
+# Orders within this many dB (or instability units) of the best tie: each counts as a winner.
+TIE = {"psnr": 0.01, "temporal_instability": 1e-5}
+
+
+def winners(rows: pd.DataFrame, measure: str) -> pd.Series:
+    """For rows of one (scene, method), which orders are best by `measure` (ties included)."""
+    values = rows[measure]
+    best = values.max() if measure == "psnr" else values.min()
+    return rows["order"][(values - best).abs() <= TIE[measure]]
+
+
 def orders_summary(table: pd.DataFrame) -> dict:
     """From evaluate_orders' table: the median psnr and instability per (method, order) over
     the scenes; per method, the order with the best median psnr, its margin over the second,
-    and the scenes where another order has the best psnr (where the winner flips); and how
-    often each order wins (scene, method) pairs on each measure."""
+    the steadiest order, and the scenes where another order is best by psnr (where the winner
+    flips; ties within TIE are no flip); and on how many (scene, method) pairs each order is
+    best, or tied for best, by each measure."""
     methods_only = table[table["method"] != NO_METHOD]
     medians = methods_only.groupby(["method", "order"])[["psnr", "temporal_instability"]].median()
-    winners = []
+    pairs = methods_only.groupby(["scene", "method"], sort=False)
+    rows = []
     for method, group in medians.groupby(level="method"):
         ranked = group["psnr"].droplevel("method").sort_values(ascending=False)
-        steadiest = group["temporal_instability"].droplevel("method").idxmin()
-        per_scene = methods_only[methods_only["method"] == method]
-        best = per_scene.loc[per_scene.groupby("scene")["psnr"].idxmax()]
-        flips = best[best["order"] != ranked.index[0]]
-        winners.append(
+        flips = []
+        for (scene, name), pair in pairs:
+            best = list(winners(pair, "psnr"))
+            if name == method and ranked.index[0] not in best:
+                flips.append(f"{scene} ({', '.join(best)})")
+        rows.append(
             {
                 "method": method,
                 "best": ranked.index[0],
                 "margin_db": ranked.iloc[0] - ranked.iloc[1] if len(ranked) > 1 else np.nan,
-                "steadiest": steadiest,
-                "flips": ", ".join(f"{row.scene} ({row.order})" for row in flips.itertuples()),
+                "steadiest": group["temporal_instability"].droplevel("method").idxmin(),
+                "flips": "; ".join(flips),
             }
         )
-    wins = {}
-    for measure, better in (("psnr", "idxmax"), ("temporal_instability", "idxmin")):
-        grouped = methods_only.groupby(["scene", "method"])[measure]
-        chosen = methods_only.loc[getattr(grouped, better)()]
-        wins[measure] = chosen["order"].value_counts().reindex(ORDERS, fill_value=0)
-    return {"medians": medians, "winners": pd.DataFrame(winners), "wins": wins}
+    wins = {
+        measure: pd.concat([winners(pair, measure) for _, pair in pairs])
+        .value_counts()
+        .reindex(ORDERS, fill_value=0)
+        for measure in TIE
+    }
+    return {"medians": medians, "winners": pd.DataFrame(rows), "wins": wins}
 
 
 def evaluate_frame_rates(
