@@ -21,8 +21,9 @@ def check_sequence(frames, what: str) -> np.ndarray:
 
 
 def clipped(frame) -> np.ndarray:
-    """A frame's RGB in float64, clipped to [0, 1] (what an LDR display shows)."""
-    return np.clip(np.asarray(frame[..., :3], np.float64), 0.0, 1.0)
+    """A frame's RGB clipped to [0, 1] (what an LDR display shows), in float32: the frames'
+    own precision, in which differences of values in [0, 1] are exact where they are close."""
+    return np.clip(np.asarray(frame[..., :3], np.float32), 0.0, 1.0)
 
 
 def temporal_instability(reference, test) -> float:
@@ -38,7 +39,7 @@ def temporal_instability(reference, test) -> float:
     total, r_prev, o_prev = 0.0, clipped(reference[0]), clipped(test[0])
     for r_frame, o_frame in zip(reference[1:], test[1:], strict=True):
         r_next, o_next = clipped(r_frame), clipped(o_frame)
-        total += np.abs((o_next - o_prev) - (r_next - r_prev)).mean()
+        total += np.abs((o_next - o_prev) - (r_next - r_prev)).mean(dtype=np.float64)
         r_prev, o_prev = r_next, o_next
     return float(total / (len(test) - 1))
 
