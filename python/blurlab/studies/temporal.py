@@ -55,11 +55,13 @@ def evaluate_orders(
     shutter_angle: float = 180.0,
     taa: dict | None = None,
     on_run=None,
+    orders: tuple[str, ...] = ORDERS,
 ) -> pd.DataFrame:
     """One row per (scene, method, order): psnr, mse and temporal instability of the frames
     after `warmup` against the sequence reference. Method NO_METHOD is the frames as rendered
-    (order "none") and TAA alone ("blur_then_taa"). `on_run(scene, method, order, run)`, if
-    given, sees each method's SequenceRun before it is dropped."""
+    (order "none") and TAA alone ("blur_then_taa"). Only the `orders` that apply to a method
+    run. `on_run(scene, method, order, run)`, if given, sees each method's SequenceRun before
+    it is dropped."""
     rows = []
     for name in scene_names:
         seq = sequence(
@@ -72,7 +74,7 @@ def evaluate_orders(
             reference_samples=reference_samples,
         )
         for method in [None, *methods]:
-            for order in orders_of(method):
+            for order in [o for o in orders_of(method) if o in orders]:
                 run = seq.run(method, order, taa=taa, metrics=("psnr",))
                 if on_run is not None and method is not None:
                     on_run(name, method, order, run)
@@ -161,8 +163,8 @@ def evaluate_frame_rates(
             reference_samples,
             fps,
             shutter_angle,
+            orders=("none", "blur_then_taa"),
         )
-        table = table[table["order"].isin(("none", "blur_then_taa"))].copy()
         sharp = table[(table["method"] == NO_METHOD) & (table["order"] == "none")]
         baseline = sharp.set_index("scene")["mse"]
         table["relative_mse"] = table["mse"] / table["scene"].map(baseline).clip(lower=1e-12)
