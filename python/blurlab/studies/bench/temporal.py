@@ -45,9 +45,12 @@ def _temporal_orders(ctx, size, p, out) -> None:
         p["fps"],
     )
     summary = temporal.orders_summary(table)
+    pairs = table[table["method"] != temporal.NO_METHOD][["scene", "method"]].drop_duplicates()
+    out.figure("(scene, method) pairs", len(pairs), "")
     for measure, counts in summary["wins"].items():
         for order, count in counts.items():
-            out.figure(f"(scene, method) pairs where {order} is best by {measure}", count, "")
+            name = f"(scene, method) pairs where {order} is best by {measure}, ties included"
+            out.figure(name, count, "")
     out.table(
         "per method: the order with the best median PSNR over the scenes, its margin over the "
         "next, the steadiest order, and the scenes where another order has the best PSNR",
