@@ -16,7 +16,6 @@ from ..metrics import get
 from ..sequences import ORDERS
 from ..sizes import DEFAULT_SIZE
 from . import interactive, temporal
-from .study import PAGE_STYLE
 
 ANIMATED_ORDER = "blur_then_taa"  # the order every method takes, the one the animations show
 WORST_FRAMES = 6
@@ -106,7 +105,7 @@ def _html(info, size, fps, frames, warmup, table, summary, animations) -> str:
     when = datetime.datetime.now().strftime("%Y-%m-%d %H:%M")
     parts = [
         "<!doctype html><meta charset='utf-8'><title>blurlab sequence study</title>",
-        f"<style>{PAGE_STYLE}.gallery figure,.gallery img{{width:340px}}"
+        f"<style>{interactive.PAGE_STYLE}.gallery figure,.gallery img{{width:340px}}"
         ".gallery img{image-rendering:pixelated}</style>",
         "<h1>blurlab sequence study: accuracy against stability</h1>",
         f"<p>{e(when)} · device <b>{e(info['renderer'])}</b> · {size[0]}×{size[1]} · "
