@@ -12,6 +12,7 @@ import shutil
 import subprocess
 import time
 import urllib.request
+from contextlib import contextmanager
 from pathlib import Path
 
 import pytest
@@ -138,6 +139,20 @@ def assert_clean(events: list[dict], schemes: tuple[str, ...]) -> None:
     assert requests and all(url.startswith(schemes) for url in requests), requests
 
 
+@contextmanager
+def opened(page: Path, profile: Path, schemes: tuple[str, ...]):
+    """A browser with `page` loaded. On leaving, the page must have logged no error and asked
+    only for URLs of `schemes`."""
+    browser = Browser(profile)
+    try:
+        browser.open(page)
+        yield browser
+        browser.settle()
+    finally:
+        browser.close()
+    assert_clean(browser.events, schemes)
+
+
 @pytest.fixture(scope="module")
 def report(tmp_path_factory) -> Path:
     out = tmp_path_factory.mktemp("study")
@@ -146,9 +161,7 @@ def report(tmp_path_factory) -> Path:
 
 
 def test_the_report_works_in_a_browser(report, tmp_path):
-    browser = Browser(tmp_path / "profile")
-    try:
-        browser.open(report)
+    with opened(report, tmp_path / "profile", ("file:", "data:")) as browser:
         points = browser.chart_points()
         assert points and all(n > 0 for n in points), points
         hover = browser.evaluate(
@@ -160,7 +173,3 @@ def test_the_report_works_in_a_browser(report, tmp_path):
         assert re.search(r"=|defaults", hover), hover  # the parameters
         shot = browser.call("Page.captureScreenshot", format="png", captureBeyondViewport=True)
         (tmp_path / "report.png").write_bytes(base64.b64decode(shot["data"]))
-        browser.settle()
-    finally:
-        browser.close()
-    assert_clean(browser.events, ("file:", "data:"))

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 from PIL import Image
-from test_report_browser import CHROMIUM, Browser, assert_clean
+from test_report_browser import CHROMIUM, opened
 
 from blurlab import cli
 
@@ -26,9 +26,7 @@ def report(tmp_path_factory) -> Path:
 
 
 def test_the_sequence_report_works_in_a_browser(report, tmp_path):
-    browser = Browser(tmp_path / "profile")
-    try:
-        browser.open(report)
+    with opened(report, tmp_path / "profile", ("file:",)) as browser:
         points = browser.chart_points()
         assert len(points) == 1 and points[0] > 0, points
         images = browser.evaluate(
@@ -36,10 +34,6 @@ def test_the_sequence_report_works_in_a_browser(report, tmp_path):
             ".map(i => [i.getAttribute('src'), i.complete && i.naturalWidth])"
         )
         assert images and all(width == 64 for _, width in images), images  # output + reference
-        browser.settle()
-    finally:
-        browser.close()
-    assert_clean(browser.events, ("file:",))
     for src, _ in images:
         with Image.open(report.parent / src) as animation:
             assert animation.n_frames > 1 and animation.info.get("loop") == 0
