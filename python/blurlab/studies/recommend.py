@@ -129,8 +129,8 @@ def recommend(
 
 
 def ranking_metrics() -> list[str]:
-    """The registered metrics an answer can rank by: those with a direction."""
-    return [n for n in registered() if get(n).higher_is_better is not None]
+    """The registered metrics an answer can rank by: those of single frames with a direction."""
+    return [n for n in registered() if get(n).higher_is_better is not None and not get(n).sequence]
 
 
 def measured(
