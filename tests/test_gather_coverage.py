@@ -17,7 +17,14 @@ from filter_promises import (
 )
 
 import blurlab as bl
-from blurlab.methods.coverage import FILM_LAYOUT, FILM_VARIANTS, GATHER_LAYOUT, GATHER_VARIANTS
+from blurlab.methods.coverage import (
+    FILM_LAYOUT,
+    FILM_VARIANTS,
+    GATHER_LAYOUT,
+    GATHER_VARIANTS,
+    tap_plan,
+)
+from blurlab.studies.bench.taps import tap_counts
 from blurlab.twins import coverage as ref
 from blurlab.twins import eevee as eevee_twin
 from blurlab.twins import film
@@ -39,6 +46,10 @@ TILE_PASSES = ["reach_keys_clear", "tile_flatten"]
         ((64, 48), {"film_filter": 1.3, "samples": 6}),
         ((160, 90), {"film_filter": 0.5, "film_through_taps": True}),
         ((61, 37), {"film_filter": 0.7, "film_through_taps": True, "samples": 5, "seed": 4}),
+        ((160, 90), {"tap_spacing": 3.0}),
+        ((97, 61), {"tap_spacing": 1.5, "samples": 15, "early_exit": 6.0}),
+        ((130, 70), {"uniform_tolerance": 8.0, "samples": 7, "seed": 2}),
+        ((97, 61), {"half_res_above": 6.0, "tap_spacing": 2.0}),
     ],
 )
 def test_random_frames_match_reference(ctx, rng, size, params):
@@ -56,6 +67,91 @@ def test_rendered_frames_match_reference(ctx, scene):
     result = bl.blur(ctx, frame, METHOD)
     assert_matches_twin(result, frame)
     assert np.abs(result.color - frame.color).max() > 0.05  # it really blurred
+
+
+# Each lever of "just enough taps" (§17.6) alone and all together, the film through the taps
+# with them.
+LEVERS = [
+    {"tap_spacing": 4.0},
+    {"early_exit": 3.0},
+    {"uniform_tolerance": 1.0},
+    {"half_res_above": 3.0},
+    {"tap_spacing": 2.0, "early_exit": 2.0, "uniform_tolerance": 1.0, "half_res_above": 3.0},
+    {"tap_spacing": 2.0, "uniform_tolerance": 1.0, "film_filter": 0.5, "film_through_taps": True},
+    {"half_res_above": 2.0, "film_filter": 0.5},
+]
+
+
+@pytest.mark.parametrize("params", LEVERS)
+@pytest.mark.parametrize("scene", ["teapot_pass", "camera_yaw", "crossing"])
+def test_just_enough_taps_match_reference(ctx, scene, params):
+    frame = ctx.render(bl.scenes.get(scene), (160, 90))
+    result = bl.blur(ctx, frame, METHOD, **params)
+    assert_matches_twin(result, frame)
+
+
+def test_per_tile_samples_follow_the_tiles_longer_line():
+    assert ref.tile_samples([0.5, 3.0, 3.1, 40.0, 1e4], 16, 3.0).tolist() == [2, 2, 2, 14, 16]
+    assert ref.tile_samples([0.5, 40.0], 8, 0.0).tolist() == [8, 8]
+
+
+def test_the_levers_choose_fewer_taps_and_the_fast_path(ctx):
+    frame = ctx.render(bl.scenes.get("camera_yaw"), (160, 90))
+    full = tap_plan(frame).taps_per_pixel()
+    assert set(np.unique(full)) <= {0, 16}
+    fewer = tap_plan(frame, tap_spacing=6.0).taps_per_pixel()
+    assert (fewer <= full).all() and fewer.mean() < full.mean()
+    assert ((fewer == 0) == (full == 0)).all()  # the same pixels exit early
+    later = tap_plan(frame, early_exit=20.0).taps_per_pixel()
+    assert (later == 0).mean() > (full == 0).mean()
+    assert not tap_plan(frame).fast.any()
+    assert tap_plan(frame, uniform_tolerance=1.0).fast.mean() > 0.2  # the camera turns: uniform
+
+
+def test_a_long_quad_takes_its_top_left_pixels_gather(ctx):
+    frame = ctx.render(bl.scenes.get("camera_yaw"), (97, 61))  # odd: the last quads are cut
+    result = bl.blur(ctx, frame, METHOD, half_res_above=2.0)
+    assert list(result.timings) == [*TILE_PASSES, "gather_half", "gather"]
+    plan = tap_plan(frame, result, half_res_above=2.0)
+    assert 0.2 < plan.half.mean() < 1
+    out = result.color
+    y, x = np.nonzero(plan.half)
+    np.testing.assert_array_equal(out[y, x], out[ref.quad_corner(y), ref.quad_corner(x)])
+    # a quad's taps are shared by its four pixels
+    taps, full = plan.taps_per_pixel(), tap_plan(frame).taps_per_pixel()
+    assert taps[plan.half].sum() < 0.3 * full[plan.half].sum()
+    assert (taps[~plan.half] == full[~plan.half]).all()
+
+
+def test_the_benchmark_counts_taps_per_pixel_on_hand_values():
+    counts = tap_counts(np.array([[0, 0, 0, 4], [16, 16, 16, 16], [0, 2, 2, 8]]))
+    expected = {"mean": 80 / 12, "p50": 3.0, "p90": 16.0, "max": 16.0, "none": 4 / 12}
+    assert counts == pytest.approx(expected)
+
+
+def test_an_early_exit_keeps_the_pixels_colour(ctx):
+    frame = ctx.render(bl.scenes.get("teapot_pass"), (160, 90))
+    out = bl.blur(ctx, frame, METHOD, early_exit=12.0).color
+    still = tap_plan(frame, early_exit=12.0).taps == 0
+    assert still.mean() > 0.1
+    assert (out[still] == frame.color[still]).all()
+
+
+def test_uniform_motion_takes_the_fast_path_and_stays_close_to_the_coverage_weights(ctx, rng):
+    # Everything moves by the same 6 px: the plain gather of the fast path sees the same trails
+    # as the coverage weights.
+    color = np.repeat(np.linspace(0, 1, 96, dtype=np.float32)[None, :, None], 48, 0)
+    color = np.concatenate([np.repeat(color, 3, -1), np.ones((48, 96, 1), np.float32)], -1)
+    motion = np.zeros((48, 96, 2), np.float32)
+    motion[..., 0] = 6.0
+    frame = bl.Frame(color, np.full((48, 96), 5.0, np.float32), motion)
+    assert tap_plan(frame, uniform_tolerance=0.5).fast.all()
+    fast = bl.blur(ctx, frame, METHOD, uniform_tolerance=0.5).color
+    full = bl.blur(ctx, frame, METHOD).color
+    inside = np.s_[:, 12:-12]
+    assert np.abs(fast[inside] - full[inside]).max() < 0.01
+    # a ramp's mean is its middle, within a quarter of a pixel's step (taps land on whole pixels)
+    assert np.abs(fast[inside] - frame.color[inside]).max() < 0.25 / 95
 
 
 def test_tile_passes_are_engine_eevees_at_this_methods_sizes(ctx, rng):
@@ -234,6 +330,8 @@ def test_a_bar_covers_its_trail_by_its_width_over_its_motion(ctx):
         ({"film_filter": 4.5}, ValueError, r"film_filter = 4\.5 is outside \[0, 4\]"),
         ({"film_filter": -0.5}, ValueError, "film_filter = -0.5"),
         ({"k": 3}, TypeError, "no parameter.*k.*tile_percent"),
+        ({"tap_spacing": -1.0}, ValueError, "tap_spacing = -1.0"),
+        ({"uniform_tolerance": float("nan")}, ValueError, "uniform_tolerance must be finite"),
     ],
 )
 def test_bad_parameters_name_the_range(ctx, rng, params, error, message):

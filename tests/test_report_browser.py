@@ -12,6 +12,7 @@ import shutil
 import subprocess
 import time
 import urllib.request
+from contextlib import contextmanager
 from pathlib import Path
 
 import pytest
@@ -85,10 +86,71 @@ class Browser:
             raise RuntimeError(result["exceptionDetails"])
         return result["result"].get("value")
 
+    def open(self, page: Path) -> None:
+        """Loads `page` with the page, console, log and network events recorded."""
+        for domain in ("Page.enable", "Runtime.enable", "Log.enable", "Network.enable"):
+            self.call(domain)
+        self.call("Page.navigate", url=page.as_uri())
+        self.wait_for("Page.loadEventFired")
+
+    def chart_points(self) -> list[int]:
+        """How many points each Plotly chart of the page draws."""
+        return self.evaluate(
+            "[...document.querySelectorAll('.js-plotly-plot')]"
+            ".map(c => c.querySelectorAll('.scatterlayer .point').length)"
+        )
+
+    def settle(self) -> None:
+        """Waits half a second and collects the events the page sent meanwhile."""
+        time.sleep(0.5)
+        self.call("Runtime.evaluate", expression="1")
+
     def close(self) -> None:
         self.socket.close()
         self.process.kill()
         self.process.wait(timeout=10)
+
+
+def page_errors(events: list[dict]) -> list[dict]:
+    """The exceptions, console errors and log errors among a page's DevTools events."""
+    return [
+        e
+        for e in events
+        if e.get("method") == "Runtime.exceptionThrown"
+        or (e.get("method") == "Runtime.consoleAPICalled" and e["params"]["type"] == "error")
+        or (e.get("method") == "Log.entryAdded" and e["params"]["entry"]["level"] == "error")
+    ]
+
+
+def requested_urls(events: list[dict]) -> list[str]:
+    """Every URL the page asked for."""
+    return [
+        e["params"]["request"]["url"]
+        for e in events
+        if e.get("method") == "Network.requestWillBeSent"
+    ]
+
+
+def assert_clean(events: list[dict], schemes: tuple[str, ...]) -> None:
+    """No error on the page, and every request (there was one) for a URL of `schemes`."""
+    errors = page_errors(events)
+    assert not errors, errors[:3]
+    requests = requested_urls(events)
+    assert requests and all(url.startswith(schemes) for url in requests), requests
+
+
+@contextmanager
+def opened(page: Path, profile: Path, schemes: tuple[str, ...]):
+    """A browser with `page` loaded. On leaving, the page must have logged no error and asked
+    only for URLs of `schemes`."""
+    browser = Browser(profile)
+    try:
+        browser.open(page)
+        yield browser
+        browser.settle()
+    finally:
+        browser.close()
+    assert_clean(browser.events, schemes)
 
 
 @pytest.fixture(scope="module")
@@ -99,18 +161,9 @@ def report(tmp_path_factory) -> Path:
 
 
 def test_the_report_works_in_a_browser(report, tmp_path):
-    browser = Browser(tmp_path / "profile")
-    try:
-        for domain in ("Page.enable", "Runtime.enable", "Log.enable", "Network.enable"):
-            browser.call(domain)
-        browser.call("Page.navigate", url=report.as_uri())
-        browser.wait_for("Page.loadEventFired")
-        charts = browser.evaluate("document.querySelectorAll('.js-plotly-plot').length")
-        points = browser.evaluate(
-            "[...document.querySelectorAll('.js-plotly-plot')]"
-            ".map(c => c.querySelectorAll('.scatterlayer .point').length)"
-        )
-        assert charts >= 1 and all(n > 0 for n in points), points
+    with opened(report, tmp_path / "profile", ("file:", "data:")) as browser:
+        points = browser.chart_points()
+        assert points and all(n > 0 for n in points), points
         hover = browser.evaluate(
             "(() => { const c = document.querySelector('.js-plotly-plot');"
             " Plotly.Fx.hover(c, [{curveNumber: 0, pointNumber: 0}]);"
@@ -120,21 +173,3 @@ def test_the_report_works_in_a_browser(report, tmp_path):
         assert re.search(r"=|defaults", hover), hover  # the parameters
         shot = browser.call("Page.captureScreenshot", format="png", captureBeyondViewport=True)
         (tmp_path / "report.png").write_bytes(base64.b64decode(shot["data"]))
-        time.sleep(0.5)
-        browser.call("Runtime.evaluate", expression="1")  # collect the events sent meanwhile
-    finally:
-        browser.close()
-    errors = [
-        e
-        for e in browser.events
-        if e.get("method") == "Runtime.exceptionThrown"
-        or (e.get("method") == "Runtime.consoleAPICalled" and e["params"]["type"] == "error")
-        or (e.get("method") == "Log.entryAdded" and e["params"]["entry"]["level"] == "error")
-    ]
-    assert not errors, errors[:3]
-    requests = [
-        e["params"]["request"]["url"]
-        for e in browser.events
-        if e.get("method") == "Network.requestWillBeSent"
-    ]
-    assert requests and all(url.startswith(("file:", "data:")) for url in requests), requests

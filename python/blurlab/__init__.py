@@ -1,6 +1,6 @@
 """blurlab: real-time motion-blur methods run headless on the GPU, measured from Python."""
 
-from . import blender, capture, gltf, hatching, io, mesh, metrics, scenes, tam, twins
+from . import blender, capture, gltf, hatching, io, mesh, metrics, scenes, taa, tam, twins
 from ._core import GLError, ShaderError
 from .blur_scales import CameraHeld
 from .context import ComputeProgram, Context, PendingDownload, Texture, Timing
@@ -20,6 +20,7 @@ from .methods import (
 from .motion import Bone, Keyframe, Motion, Skeleton, quaternion
 from .particles import Particle, particles
 from .scene import Camera, DirectionalLight, Material, Scene
+from .sequences import Sequence, SequenceRun, sequence
 from .shutters import shutter
 from .sizes import DEFAULT_SIZE
 
@@ -51,6 +52,8 @@ __all__ = [
     "PendingDownload",
     "Reference",
     "Scene",
+    "Sequence",
+    "SequenceRun",
     "ShaderError",
     "Skeleton",
     "Texture",
@@ -79,7 +82,9 @@ __all__ = [
     "failures",
     "plots",
     "scenes",
+    "sequence",
     "sweep",
+    "taa",
     "tam",
     "twins",
 ]

@@ -21,6 +21,7 @@ from .studies.bench import command as bench_command
 from .studies.cluster import account_table, local_cluster
 from .studies.recommend import AGGREGATES, expand, ranking_metrics, recommend, recommend_set
 from .studies.scheduler import scheduler_client
+from .studies.sequence_study import run_sequence_study
 from .studies.study import run_study, run_sweep_config
 from .twins.patterns import test_pattern
 
@@ -128,6 +129,16 @@ def _study(args) -> int:
     ctx = Context(args.device)
     info = ctx.info()
     print(f"device: {info['device']} ({info['renderer']}); {args.size[0]}x{args.size[1]}")
+    if args.sequence:
+        others = [args.metrics != "auto", args.peers, args.scheduler, args.workers]
+        if any(others):
+            raise ValueError(
+                "study --sequence measures PSNR and temporal instability on this device; "
+                "--metrics, --peers, --scheduler and --workers are for the single-frame study"
+            )
+        report = run_sequence_study(ctx, args.scenes, args.size, args.out, args.reference_samples)
+        print(f"wrote {report} and {Path(args.out) / 'sequence.csv'}")
+        return 0
     with _cluster(args) as cluster:
         report = run_study(
             ctx,
@@ -385,6 +396,12 @@ def build_parser() -> argparse.ArgumentParser:
         default="",
         help="comma-separated peers rendered by Blender and scored alike: eevee "
         "(needs pip install 'blurlab[blender]')",
+    )
+    study.add_argument(
+        "--sequence",
+        action="store_true",
+        help="sequences instead: every method before TAA, after it and in its history, "
+        "sequence.html + sequence.csv (docs/temporal.md)",
     )
     _add_cluster_options(study)
     advice = sub.add_parser(

@@ -9,6 +9,15 @@
 // tap's colour only where it weighs on a sum; same bits. With FILM_THROUGH_TAPS (the option
 // film_through_taps) every colour is read through the film filter instead of a pass after this
 // one: tap k bilinearly at (±d, ±d) px, the signs turning with k; X as the mean of the turns.
+// Where the neighbourhood's longest half-motion is under early_exit px, X keeps its colour.
+// With PER_TILE_SAMPLES (the option tap_spacing > 0) a side takes
+// clamp(ceil(longest / tap_spacing), 2, samples) taps; with UNIFORM_FAST_PATH (the option
+// uniform_tolerance > 0) an X whose own trails lie within uniform_tolerance px of the tile's
+// lines takes the plain gather of uniform_gather instead of the coverage weights. With
+// HALF_RES_GATHER (the option half_res_above > 0) this is the pass at half resolution that
+// gathers the top-left pixel of each 2 x 2 quad whose tile line and pixels' half-motions are
+// longer than half_res_above px; with HALF_RES_READ the full-resolution pass gives such a
+// quad's pixels that result.
 // NumPy twin: blurlab.twins.coverage.gather_coverage (and twins.film's tap_color, own_color).
 #include "common/eevee.glsl"
 #include "common/mcguire2012.glsl"
@@ -49,6 +58,13 @@ uniform int samples;
 uniform float soft_z;
 uniform float exposure;
 uniform uint seed;
+uniform float early_exit;  // px
+#ifdef PER_TILE_SAMPLES
+uniform float tap_spacing;  // px of the tile's longer line per tap
+#endif
+#ifdef UNIFORM_FAST_PATH
+uniform float uniform_tolerance;  // px
+#endif
 #ifdef FILM_THROUGH_TAPS
 uniform float film_spread;  // d, px²: the film kernel's variance (twins.film.film_spread)
 
@@ -142,18 +158,91 @@ vec2 trail_of(vec4 halves, int side) {
     return side == 0 ? halves.xy : -halves.zw;
 }
 
+// The colour of tap k = side·samples + i at y, through the film filter where it is read so.
+vec4 tap_color(ivec2 y, int k, ivec2 size) {
+#ifdef FILM_THROUGH_TAPS
+    return film_tap(y, k, size);
+#else
+    return sanitize_color(texelFetch(color, y, 0));
+#endif
+}
+
+#ifdef UNIFORM_FAST_PATH
+// The uniform-motion path (docs/spec.md §17.6.1): per side the mean of X and of the taps along
+// the tile's line, but those in front of X whose own trail lies further than
+// uniform_tolerance px from the line (what does not move with X stands over it only where it
+// is; what lies behind showed where X's object was not).
+vec4 uniform_gather(ivec2 x, vec4 cx, float zx, vec2 lines[2], int taps, float j, ivec2 size) {
+    vec2 center = vec2(x) + 0.5;
+    vec4 result = vec4(0.0);
+    for (int side = 0; side < 2; ++side) {
+        vec4 total = cx;
+        float kept = 1.0;
+        float offset = fract(j + 0.25 * float(side));
+        for (int i = 0; i < taps; ++i) {
+            float t = (float(i) + offset) / float(taps);
+            ivec2 y = clamp(ivec2(floor(center + lines[side] * t)), ivec2(0), size - 1);
+            bool in_front = sanitize_depth(texelFetch(depth, y, 0).x) < zx;
+            if (in_front && length(trail_of(halves_at(y), side) - lines[side]) > uniform_tolerance)
+                continue;
+            total += tap_color(y, side * samples + i, size);
+            kept += 1.0;
+        }
+        result += 0.5 * total / kept;
+    }
+    return result;
+}
+#endif
+
+// The lines of X's jittered tile, each side's clamped to reach_limit; returns the longer's length.
+float tile_lines(ivec2 x, out vec2 lines[2]) {
+    ivec2 tile = jittered_tile(x, float(tile_size), seed, JITTER_SALTS, tile_grid());
+    vec4 tile_motion = dilated_at(tile);
+    lines = vec2[2](clamp_length(tile_motion.xy, reach_limit),
+                    -clamp_length(tile_motion.zw, reach_limit));
+    return max(length(lines[0]), length(lines[1]));
+}
+
+#if defined(HALF_RES_GATHER) || defined(HALF_RES_READ)
+uniform float half_res_above;  // px
+
+// Whether X's 2 x 2 quad takes the half-resolution path: its top-left pixel's tile line is
+// longer than half_res_above, and so are both half-motions of each of its pixels (a still
+// pixel under a long tile stays sharp).
+bool quad_is_long(ivec2 x) {
+    ivec2 corner = 2 * (x / 2);
+    vec2 lines[2];
+    if (tile_lines(corner, lines) <= half_res_above) return false;
+    ivec2 last = textureSize(color, 0) - 1;
+    for (int i = 0; i < 4; ++i) {
+        vec4 halves = halves_at(min(corner + ivec2(i & 1, i >> 1), last));
+        if (min(length(halves.xy), length(halves.zw)) <= half_res_above) return false;
+    }
+    return true;
+}
+#endif
+#ifdef HALF_RES_READ
+layout(binding = 5) uniform sampler2D half_gathered;
+#endif
+
 vec4 gather_at(ivec2 x) {
+#ifdef HALF_RES_READ
+    if (quad_is_long(x)) return texelFetch(half_gathered, x / 2, 0);
+#endif
     ivec2 size = textureSize(color, 0);
 #ifdef FILM_THROUGH_TAPS
     vec4 cx = film_own(x, size);
 #else
     vec4 cx = sanitize_color(texelFetch(color, x, 0));
 #endif
-    ivec2 tile = jittered_tile(x, float(tile_size), seed, JITTER_SALTS, tile_grid());
-    vec4 tile_motion = dilated_at(tile);
-    vec2 lines[2] = vec2[2](clamp_length(tile_motion.xy, reach_limit),
-                            -clamp_length(tile_motion.zw, reach_limit));
-    if (max(length(lines[0]), length(lines[1])) < EARLY_EXIT) return cx;
+    vec2 lines[2];
+    float longest = tile_lines(x, lines);
+    if (longest < early_exit) return cx;
+#ifdef PER_TILE_SAMPLES
+    int taps = clamp(int(ceil(longest / tap_spacing)), 2, samples);
+#else
+    int taps = samples;
+#endif
 
     float zx = sanitize_depth(texelFetch(depth, x, 0).x);
     vec4 x_halves = halves_at(x);
@@ -164,8 +253,12 @@ vec4 gather_at(ivec2 x) {
     // (its own object turns and tilts); where X is still, soft_z.
     float front_extent = (x_moves && !isinf(zx)) ? max(soft_z, MOVING_DEPTH * zx) : soft_z;
     float j = rand(uint(x.x), uint(x.y), seed);
+#ifdef UNIFORM_FAST_PATH
+    if (max(length(owns[0] - lines[0]), length(owns[1] - lines[1])) <= uniform_tolerance)
+        return uniform_gather(x, cx, zx, lines, taps, j, size);
+#endif
     vec2 center = vec2(x) + 0.5;
-    int counts[2] = int[2]((samples + 1) / 2, samples / 2);
+    int counts[2] = int[2]((taps + 1) / 2, taps / 2);
     vec4 behind_sum = vec4(0.0);
     float behind_weight = 0.0;
     vec4 cover_sums[2];
@@ -185,7 +278,7 @@ vec4 gather_at(ivec2 x) {
         vec2 bend_1 = own_moves ? x_bend : vec2(0.0);
         cover_sums[side] = vec4(0.0);
         float cover = 0.0, spaced = 0.0, seen = 0.0;
-        for (int i = 0; i < samples; ++i) {
+        for (int i = 0; i < taps; ++i) {
             bool family_1 = (i & 1) == 1;
             vec2 along = family_1 ? along_1 : along_0;
             float spacing = family_1 ? spacing_1 : spacing_0;
@@ -217,11 +310,7 @@ vec4 gather_at(ivec2 x) {
             // without reading it.
             if (a == 0.0 && b == 0.0) continue;
 #endif
-#ifdef FILM_THROUGH_TAPS
-            vec4 cy = film_tap(y, side * samples + i, size);
-#else
-            vec4 cy = sanitize_color(texelFetch(color, y, 0));
-#endif
+            vec4 cy = tap_color(y, side * samples + i, size);
             cover_sums[side] += a * cy;
             behind_sum += b * cy;
         }
@@ -238,5 +327,15 @@ vec4 gather_at(ivec2 x) {
     return result;
 }
 
+#ifdef HALF_RES_GATHER
+// The half-resolution pass: invocation q gathers the top-left pixel 2q of its quad where the
+// quad is long (the full-resolution pass reads it for all four pixels), nothing elsewhere.
+vec4 half_gather_at(ivec2 q) {
+    ivec2 x = 2 * q;
+    return quad_is_long(x) ? gather_at(x) : vec4(0.0);
+}
+#define PASS_AT half_gather_at
+#else
 #define PASS_AT gather_at
+#endif
 #include "common/pass_main.glsl"

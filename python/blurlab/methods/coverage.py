@@ -10,17 +10,34 @@ shaders/passes/reach_keys_clear.glsl, eevee_tile_flatten.glsl; §17.6), then
 shaders/passes/coverage_gather.glsl, which resolves the keys itself unless
 eevee.DILATION_LAYOUT says a pass of their own does (eevee_tile_resolve.glsl), then, where
 film_filter > 0, shaders/passes/film_filter.glsl, unless film_through_taps reads the filter
-through the gather's colour reads instead. NumPy twin:
-blurlab.twins.coverage.gather_coverage.
+through the gather's colour reads instead. The options of §17.6.1 (tap_spacing, early_exit,
+uniform_tolerance, half_res_above) spend the gather's taps where the motion needs them;
+half_res_above adds a pass of the same shader at half resolution before the gather
+(gather_half). NumPy twin: blurlab.twins.coverage.gather_coverage; tap_plan below gives each
+pixel's taps and path.
 """
 
 from __future__ import annotations
+
+import numpy as np
 
 from ..context import Context
 from ..frame import Frame
 from ..twins import coverage as twin
 from ..twins import film
-from .core import SEED, Method, Param, Pass, PassRunner, register
+from ..twins.eevee import EARLY_EXIT, resolve_reach_keys
+from .core import (
+    SEED,
+    BlurResult,
+    Method,
+    Param,
+    Pass,
+    PassRunner,
+    method,
+    register,
+    resolve_params,
+    twin_keywords,
+)
 from .eevee import dilated_tiles
 from .tile_filter import TILE_FILTER_PARAMS
 from .variants import PassVariants
@@ -51,8 +68,51 @@ PARAMS = {
         "(±d, ±d) px, d the kernel's variance) instead of a pass after it; film_filter up to "
         f"{film.MAX_TAP_SIGMA:.2f}",
     ),
+    # Just enough taps (§17.6.1): each off, or at today's value, by default.
+    "tap_spacing": Param(
+        0.0,
+        float,
+        "px of the tile's longer line per tap: a side takes clamp(ceil(longest / tap_spacing), "
+        "2, samples) taps (0: samples everywhere)",
+        0,
+        1000,
+    ),
+    "early_exit": Param(
+        EARLY_EXIT,
+        float,
+        "px: where the tile's longer line is shorter, X keeps its colour with no tap",
+        0,
+        1000,
+    ),
+    "uniform_tolerance": Param(
+        0.0,
+        float,
+        "px: an X whose own trails lie this close to the tile's lines takes a plain gather of "
+        "the taps moving as it does (0: off)",
+        0,
+        1000,
+    ),
+    "half_res_above": Param(
+        0.0,
+        float,
+        "px: a 2 x 2 quad whose tile line and pixels' half-motions are all longer takes one "
+        "gather, at its top-left pixel, in a pass at half resolution (0: off)",
+        0,
+        1000,
+    ),
 }
-GATHER = Pass("gather", "passes/coverage_gather.glsl", ("samples", "soft_z", "exposure", "seed"))
+GATHER = Pass(
+    "gather",
+    "passes/coverage_gather.glsl",
+    ("samples", "soft_z", "exposure", "seed", "early_exit"),
+)
+GATHER_HALF = Pass("gather_half", GATHER.shader, GATHER.params)
+# The options whose passes compile in a path of their own only where they are on (> 0).
+GATHER_OPTIONS = {
+    "tap_spacing": "PER_TILE_SAMPLES",
+    "uniform_tolerance": "UNIFORM_FAST_PATH",
+    "half_res_above": "HALF_RES_READ",
+}
 # The gather's variants (shaders/passes/coverage_gather.glsl): every tap reads its colour, or
 # only the taps that weigh on a sum do (fewer reads, a branch). Same bits; `blurlab bench layouts`
 # --variants times both: on the H100 at 1080p fetch_all was as fast or faster (0.0628 against
@@ -139,7 +199,19 @@ def _run_coverage(ctx: Context, frame: Frame, inputs: dict, values: dict, backen
             )
         defines = {**defines, "FILM_THROUGH_TAPS": 1}
         uniforms["film_spread"] = film.film_spread(values["film_filter"])
+    for option, define in GATHER_OPTIONS.items():
+        if values[option] > 0:
+            defines[define] = 1
+            uniforms[option] = values[option]
+    if values["half_res_above"] > 0:  # the long quads' gathers first, at half resolution
+        half = ctx.pooled(((size[0] + 1) // 2, (size[1] + 1) // 2, 4))
+        half_defines = {**defines, "HALF_RES_GATHER": 1}
+        del half_defines["HALF_RES_READ"]
+        passes.run(GATHER_HALF, textures, {"result": half}, backend, uniforms, half_defines)
+        textures["half_gathered"] = half
     passes.run(GATHER, textures, {"result": gathered}, backend, uniforms=uniforms, defines=defines)
+    if values["half_res_above"] > 0:
+        ctx.recycle(half)
     outputs = {"color": gathered, **tile_buffers}
     if values["film_filter"] > 0 and not through_taps:
         outputs.update(color=_film_filter(passes, gathered), unfiltered=gathered)
@@ -161,3 +233,36 @@ register(
         "background behind filling the rest. docs/spec.md §17.6.",
     )
 )
+
+
+def tile_lines(frame: Frame, result: BlurResult | None = None, **params) -> twin.TileLines:
+    """§17.6 steps 1–3: each pixel's half-motions and tile lines in `frame` at `params` (the
+    NumPy twin's twin.tile_lines), on the tile grid of `result`, a run of gather_coverage on
+    `frame` at the same tile parameters, where given (the twin's own otherwise)."""
+    values = resolve_params(method("gather_coverage"), frame, params)
+    dilated = None
+    if result is not None:
+        buffers = result.buffers
+        dilated = (
+            resolve_reach_keys(buffers["reach_keys"], buffers["tiles"])
+            if "reach_keys" in buffers
+            else buffers["dilated"]
+        ).astype(np.float64)
+    keywords = {key: values[key] for key in twin_keywords(twin.tile_lines)}
+    return twin.tile_lines(frame.motion_prev, frame.motion_next, dilated=dilated, **keywords)
+
+
+def tap_plan(
+    frame: Frame,
+    result: BlurResult | None = None,
+    tiles: twin.TileLines | None = None,
+    **params,
+) -> twin.TapPlan:
+    """§17.6.1: the taps each pixel of `frame` reads and the path it takes at `params` (the NumPy
+    twin's twin.plan_taps: taps_per_pixel(), fast, half) on `tiles`, tile_lines(frame, result,
+    **params) unless given (the lines do not depend on the options of §17.6.1)."""
+    values = resolve_params(method("gather_coverage"), frame, params)
+    if tiles is None:
+        tiles = tile_lines(frame, result, **params)
+    keywords = {key: values[key] for key in twin_keywords(twin.plan_taps)}
+    return twin.plan_taps(tiles, **keywords)

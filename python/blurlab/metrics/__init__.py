@@ -9,7 +9,8 @@ squared error and SSIM reduced on the GPU (`gpu_mse`, `gpu_ssim`, `gpu_mse_ssim`
 `prepare_reference`); `flip_gpu`, LDR-FLIP on the GPU (`gpu_flip`); `queue`, GPU metrics
 issued now and read later (`MetricQueue`, `MetricBatches`, docs/spec.md §6.3); `hdr`, the
 unclipped metrics of HDR scenes (docs/spec.md §6.2: `hdr_flip`, `psnr_tm`, `ssim_tm`,
-`log_luminance_error`, `energy_ratio`, `hdr_scores`).
+`log_luminance_error`, `energy_ratio`, `hdr_scores`); `temporal`, metrics of sequences
+(docs/spec.md §21.3: `temporal_instability`, `per_frame`).
 """
 
 # The import order is the registry's: the order of the metrics' columns in sweep tables.
@@ -57,6 +58,7 @@ from .hdr import (
     ssim_tm,
     tone_map,
 )
+from .temporal import per_frame, temporal_instability
 
 # isort: on
 
@@ -111,4 +113,6 @@ __all__ = [
     "tile_border_error",
     "tone_map",
     "unregister",
+    "per_frame",
+    "temporal_instability",
 ]

@@ -52,6 +52,9 @@ class Metric:
     # Computed by sweeps and the study when no metrics are named (an HDR metric on HDR scenes
     # only): a new metric is computed only where asked unless it sets this.
     default: bool = False
+    # True: `numpy` takes sequences (N, H, W, C) of N >= 2 frames, the reference's and the
+    # test's (docs/spec.md §21.3); sweeps of single frames refuse it.
+    sequence: bool = False
 
     def __post_init__(self):
         where = f"blurlab.metrics: metric {self.name!r}"
@@ -134,15 +137,22 @@ def get(name: str) -> Metric:
     return _REGISTRY[name]
 
 
-def check_names(names: Iterable[str], caller: str) -> tuple[str, ...]:
+def check_names(names: Iterable[str], caller: str, sequences: bool = False) -> tuple[str, ...]:
     """`names` as a tuple, each a registered metric; otherwise an error from `caller` that
-    names the unknown ones and lists the registered ones."""
+    names the unknown ones and lists the registered ones. Metrics of sequences are refused
+    unless `sequences` (the caller measures sequences of frames)."""
     if isinstance(names, str):
         raise TypeError(f"{caller}: metrics is a list of names, not the string {names!r}")
     names = tuple(names)
     unknown = [n for n in names if n not in _REGISTRY]
     if unknown:
         raise ValueError(f"{caller}: unknown metrics {unknown}; choose from {registered()}")
+    over_time = [n for n in names if _REGISTRY[n].sequence]
+    if over_time and not sequences:
+        raise ValueError(
+            f"{caller}: {over_time} measure sequences of frames, not one frame; "
+            "use them on a bl.sequence (docs/spec.md §21.3)"
+        )
     return names
 
 
@@ -203,6 +213,8 @@ def reference_page() -> str:
             "unclipped linear colour (HDR)" if m.hdr else "linear colour clipped to [0, 1] (LDR)"
         )
         lines.append(f"- Measures {colour} against the {m.reference} reference.")
+        if m.sequence:
+            lines.append("- Takes sequences of frames (N, H, W, C), N >= 2: bl.sequence's.")
         lines.append(f"- NumPy: `{_qualified(m.numpy)}`.")
         if m.gpu is not None:
             lines.append(f"- GPU: `{_qualified(m.gpu)}`, within {m.tolerance:g} of NumPy.")

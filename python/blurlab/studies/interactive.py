@@ -16,6 +16,15 @@ import pandas as pd
 from ..metrics import get, registered
 from .plots import charted_metrics, pareto_front
 
+# The reports' page style (the study's report.html, the sequence study's sequence.html).
+PAGE_STYLE = (
+    "body{font:14px sans-serif;max-width:1100px;margin:2em auto;padding:0 1em}"
+    "table{border-collapse:collapse;font-size:12px}td,th{border:1px solid #ccc;padding:2px 6px;"
+    "text-align:right}th{background:#eee}img{max-width:100%}"
+    ".gallery{display:flex;flex-wrap:wrap;gap:8px}.gallery figure{margin:0;width:260px}"
+    ".gallery img{width:260px;display:block}figcaption{font-size:11px}"
+)
+
 
 def _plotly():
     import plotly.graph_objects as go

@@ -146,8 +146,8 @@ def _check_request(caller: str, budget_ms, target: tuple, positive: bool) -> Non
 
 
 def ranking_metrics() -> list[str]:
-    """The registered metrics an answer can rank by: those with a direction."""
-    return [n for n in registered() if get(n).higher_is_better is not None]
+    """The registered metrics an answer can rank by: those of single frames with a direction."""
+    return [n for n in registered() if get(n).higher_is_better is not None and not get(n).sequence]
 
 
 def measured(

@@ -452,11 +452,7 @@ def _html(info, size, table, sections, curves, per_object=None, peer_rows=None, 
     when = datetime.datetime.now().strftime("%Y-%m-%d %H:%M")
     parts = [
         "<!doctype html><meta charset='utf-8'><title>blurlab study</title>",
-        "<style>body{font:14px sans-serif;max-width:1100px;margin:2em auto;padding:0 1em}"
-        "table{border-collapse:collapse;font-size:12px}td,th{border:1px solid #ccc;padding:2px 6px;"
-        "text-align:right}th{background:#eee}img{max-width:100%}"
-        ".gallery{display:flex;flex-wrap:wrap;gap:8px}.gallery figure{margin:0;width:260px}"
-        ".gallery img{width:260px;display:block}figcaption{font-size:11px}</style>",
+        f"<style>{interactive.PAGE_STYLE}</style>",
         "<h1>blurlab study: speed against accuracy</h1>",
         f"<p>{e(when)} · device <b>{e(info['renderer'])}</b> ({e(info['version'])}) · "
         f"{size[0]}×{size[1]} · times by <code>{e(info['timer'])}</code> · "

@@ -14,6 +14,7 @@ from . import (
     motion_encoding,
     projection,
     stochastic,
+    taa,
     urho3d,
 )
 from .hashing import pcg, rand
@@ -32,6 +33,7 @@ __all__ = [
     "projection",
     "rand",
     "stochastic",
+    "taa",
     "test_pattern",
     "urho3d",
 ]

@@ -7,9 +7,11 @@ shaders/passes/coverage_gather.glsl.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
-from .eevee import EARLY_EXIT, clamp_length, dilated_half_motions, lookup_tile
+from .eevee import clamp_length, dilated_half_motions, lookup_tile
 from .film import film_filter as apply_film_filter
 from .film import film_spread, own_color, tap_color
 from .hashing import rand
@@ -94,6 +96,187 @@ def tap_offset_along(line: np.ndarray, bend: np.ndarray, t) -> np.ndarray:
     return line * t + bend * (t * (1 + t))
 
 
+@dataclass(frozen=True)
+class TapPlan:
+    """§17.6.1: what each pixel of gather_coverage does before any tap reads a
+    colour. `prev`, `next_`: the clamped half-motions; `lines`: the tile's line of each side;
+    `taps`: (H, W) taps on each side (0 where the pixel exits early); `fast`: (H, W) bool, the
+    pixels of the uniform-motion path; `half`: (H, W) bool, the pixels whose quad takes the
+    half-resolution path; `dilated`: the dilated tile grid."""
+
+    prev: np.ndarray
+    next_: np.ndarray
+    lines: tuple[np.ndarray, np.ndarray]
+    taps: np.ndarray
+    fast: np.ndarray
+    half: np.ndarray
+    dilated: np.ndarray
+
+    def taps_per_pixel(self) -> np.ndarray:
+        """(H, W) float: the taps a pixel reads over both sides (0 where it exits early); a
+        quad on the half-resolution path shares its top-left pixel's among its four."""
+        h, w = self.taps.shape
+        y, x = np.mgrid[0:h, 0:w]
+        shared = 2 * self.taps[quad_corner(y), quad_corner(x)] / 4
+        return np.where(self.half, shared, 2.0 * self.taps)
+
+
+QUAD = ((0, 0), (0, 1), (1, 0), (1, 1))  # (dy, dx) of a quad's pixels from its top-left
+
+
+def quad_corner(i):
+    """§17.6.1, the half-resolution path: the index of the top-left pixel of i's 2 x 2 quad."""
+    return 2 * (np.asarray(i) // 2)
+
+
+def tile_samples(longest, samples: int, tap_spacing: float) -> np.ndarray:
+    """§17.6.1, per-tile sample counts: clamp(⌈longest / tap_spacing⌉, 2, samples) taps a side,
+    longest the tile's longer line in px (float32, as the GPU holds it); `samples` everywhere
+    where tap_spacing is 0."""
+    longest = np.asarray(longest, np.float32)
+    if tap_spacing <= 0:
+        return np.full(longest.shape, samples, np.int64)
+    wanted = np.ceil(longest / np.float32(tap_spacing)).astype(np.int64)
+    return np.clip(wanted, 2, samples)
+
+
+def moves_with_tile(owns, lines, tolerance: float) -> np.ndarray:
+    """§17.6.1, the uniform-motion path: on both sides X's own trail lies within `tolerance` px of
+    the tile's line (False everywhere where tolerance is 0)."""
+    if tolerance <= 0:
+        return np.zeros(owns[0].shape[:-1], bool)
+    apart = (np.linalg.norm(own - line, axis=-1) for own, line in zip(owns, lines, strict=True))
+    return np.maximum(*apart) <= tolerance
+
+
+@dataclass(frozen=True)
+class TileLines:
+    """§17.6 step 3's start: `prev`, `next_` the clamped half-motions, `lines` the lines of each
+    pixel's jittered tile, `longest` the longer's length, `dilated` the dilated tile grid."""
+
+    prev: np.ndarray
+    next_: np.ndarray
+    lines: tuple[np.ndarray, np.ndarray]
+    longest: np.ndarray
+    dilated: np.ndarray
+
+
+def tile_lines(
+    motion_prev,
+    motion_next,
+    *,
+    tile_percent: float,
+    max_blur: float,
+    exposure: float,
+    seed: int,
+    dilated: np.ndarray | None = None,
+) -> TileLines:
+    """§17.6 steps 1–3: each pixel's half-motions and its jittered tile's lines."""
+    h, w = motion_prev.shape[:2]
+    s = tile_size(h, tile_percent)
+    reach_limit = max_blur_px(h, max_blur)
+    prev, next_, dilated = dilated_half_motions(
+        motion_prev, motion_next, exposure, s, reach_limit, dilated, TILE_LENGTH_STEPS
+    )
+    y, x = np.mgrid[0:h, 0:w]
+    ty, tx = lookup_tile(x, y, s, seed, dilated.shape[:2], JITTER_SALTS)
+    lines = (
+        clamp_length(dilated[ty, tx, :2], reach_limit),
+        -clamp_length(dilated[ty, tx, 2:], reach_limit),
+    )
+    longest = np.maximum(*(np.linalg.norm(line, axis=-1) for line in lines))
+    return TileLines(prev, next_, lines, longest, dilated)
+
+
+def plan_taps(
+    tiles: TileLines,
+    *,
+    samples: int,
+    tap_spacing: float,
+    early_exit: float,
+    uniform_tolerance: float,
+    half_res_above: float,
+) -> TapPlan:
+    """§17.6.1: each pixel's taps a side and path (TapPlan) on `tiles`."""
+    prev, next_, lines, longest = tiles.prev, tiles.next_, tiles.lines, tiles.longest
+    h, w = longest.shape
+    y, x = np.mgrid[0:h, 0:w]
+    gathers = longest >= early_exit
+    taps = np.where(gathers, tile_samples(longest, samples, tap_spacing), 0)
+    fast = gathers & moves_with_tile((prev, -next_), lines, uniform_tolerance)
+    half = np.zeros((h, w), bool)
+    if half_res_above > 0:  # the corner's tile line and every half-motion of the quad long
+        cy, cx = quad_corner(y), quad_corner(x)
+        slower = np.minimum(np.linalg.norm(prev, axis=-1), np.linalg.norm(next_, axis=-1))
+        quad_slowest = np.min(
+            [slower[np.minimum(cy + dy, h - 1), np.minimum(cx + dx, w - 1)] for dy, dx in QUAD],
+            axis=0,
+        )
+        half = (longest[cy, cx] > half_res_above) & (quad_slowest > half_res_above)
+    return TapPlan(prev, next_, lines, taps, fast, half, tiles.dilated)
+
+
+def tap_plan(
+    motion_prev,
+    motion_next,
+    *,
+    tile_percent: float,
+    samples: int,
+    max_blur: float,
+    exposure: float,
+    seed: int,
+    tap_spacing: float,
+    early_exit: float,
+    uniform_tolerance: float,
+    half_res_above: float,
+    dilated: np.ndarray | None = None,
+) -> TapPlan:
+    """§17.6.1: each pixel's tile lines, taps a side and path (TapPlan), from the motion alone:
+    plan_taps on tile_lines."""
+    tiles = tile_lines(
+        motion_prev,
+        motion_next,
+        tile_percent=tile_percent,
+        max_blur=max_blur,
+        exposure=exposure,
+        seed=seed,
+        dilated=dilated,
+    )
+    return plan_taps(
+        tiles,
+        samples=samples,
+        tap_spacing=tap_spacing,
+        early_exit=early_exit,
+        uniform_tolerance=uniform_tolerance,
+        half_res_above=half_res_above,
+    )
+
+
+def uniform_gather(x_color, depth, plan: TapPlan, j, tolerance: float, samples: int, read):
+    """§17.6.1, the uniform-motion path: per side the mean of X and of the taps along the tile's
+    line, but those in front of X whose own trail lies further than `tolerance` px from the
+    line (what does not move with X stands over it only where it is; what lies behind showed
+    where X's object was not); the mean of the two sides. `read(px, py, k)` is the colour of
+    tap k = side·samples + i."""
+    h, w = x_color.shape[:2]
+    y, x = np.mgrid[0:h, 0:w]
+    center = np.stack([x, y], -1) + 0.5
+    out = np.zeros_like(x_color)
+    for side, (line, trails) in enumerate(zip(plan.lines, (plan.prev, -plan.next_), strict=True)):
+        total, kept = x_color.copy(), np.ones((h, w))
+        count = np.maximum(plan.taps, 1)
+        for i in range(int(plan.taps.max(initial=0))):
+            t = (i + tap_offset(j, 0, side)) / count
+            p = np.floor(center + line * t[..., None]).astype(np.int64)
+            py, px = np.clip(p[..., 1], 0, h - 1), np.clip(p[..., 0], 0, w - 1)
+            agrees = np.linalg.norm(trails[py, px] - line, axis=-1) <= tolerance
+            use = (i < plan.taps) & (agrees | (depth[py, px] >= depth))
+            total = total + use[..., None] * read(px, py, side * samples + i)
+            kept = kept + use
+        out = out + 0.5 * total / kept[..., None]
+    return out
+
+
 def gather_coverage(
     color,
     depth,
@@ -108,31 +291,44 @@ def gather_coverage(
     seed: int,
     film_filter: float,
     film_through_taps: bool,
+    tap_spacing: float,
+    early_exit: float,
+    uniform_tolerance: float,
+    half_res_above: float,
     dilated: np.ndarray | None = None,
 ) -> np.ndarray:
     """§17.6: (H, W, C) float64 blurred color. `max_blur` is a percentage of the height;
     `film_filter` the σ (px) of the Gaussian film filter on the result, 0 for none; with
     `film_through_taps`, the filter is read through the taps' colours instead (tap k through
     film.tap_color, X through film.own_color, at d = film_spread(σ)), not applied after;
-    `dilated` is the dilated tile grid if already computed."""
+    `tap_spacing`, `early_exit`, `uniform_tolerance` and `half_res_above` choose each pixel's
+    taps and path (tap_plan); `dilated` is the dilated tile grid if already computed."""
     color = sanitize_color(color)
     through_taps = film_through_taps and film_filter > 0
     spread = film_spread(film_filter) if through_taps else 0.0
     x_color = own_color(color, spread) if through_taps else color
     depth = sanitize_depth(depth)
     h, w = depth.shape
-    s = tile_size(h, tile_percent)
-    reach_limit = max_blur_px(h, max_blur)
-    prev, next_, dilated = dilated_half_motions(
-        motion_prev, motion_next, exposure, s, reach_limit, dilated, TILE_LENGTH_STEPS
+    plan = tap_plan(
+        motion_prev,
+        motion_next,
+        tile_percent=tile_percent,
+        samples=samples,
+        max_blur=max_blur,
+        exposure=exposure,
+        seed=seed,
+        tap_spacing=tap_spacing,
+        early_exit=early_exit,
+        uniform_tolerance=uniform_tolerance,
+        half_res_above=half_res_above,
+        dilated=dilated,
     )
+    prev, next_, lines = plan.prev, plan.next_, plan.lines
     y, x = np.mgrid[0:h, 0:w]
-    ty, tx = lookup_tile(x, y, s, seed, dilated.shape[:2], JITTER_SALTS)
-    lines = (
-        clamp_length(dilated[ty, tx, :2], reach_limit),
-        -clamp_length(dilated[ty, tx, 2:], reach_limit),
-    )
-    longest = np.maximum(*(np.linalg.norm(line, axis=-1) for line in lines))
+
+    def read(px, py, k):
+        return tap_color(color, px, py, k, spread) if through_taps else color[py, px]
+
     x_moves = np.maximum(np.linalg.norm(prev, axis=-1), np.linalg.norm(next_, axis=-1)) >= MOVING
     # Where X moves, a tap counts as in front within MOVING_DEPTH times X's depth (in effect at
     # any depth): the surface of X's own object turns and tilts; where X is still, §3's soft_z.
@@ -145,6 +341,8 @@ def gather_coverage(
     behind_sum, behind_weight = np.zeros_like(color), np.zeros((h, w))
     bend = (next_ - prev) / 2
     sides = []
+    # Each family's taps on this pixel: the side's taps split as tap_layout splits `samples`.
+    counts = (np.maximum((plan.taps + 1) // 2, 1), np.maximum(plan.taps // 2, 1))
     # Prev side: the pixels whose way back to t0 crosses X lie at +τ·prev; next side: those
     # whose way on to t1 crosses X at -τ·next. Each is read as a trail towards X.
     for side, trails in enumerate((prev, -next_)):
@@ -154,17 +352,16 @@ def gather_coverage(
         share = 1 / (1 + family_overlap(line, own))
         cover_sum, cover = np.zeros_like(color), np.zeros((h, w))
         spaced, seen = np.zeros((h, w)), np.zeros((h, w))
-        for tap, (family, i, count) in enumerate(tap_layout(samples)):
+        for tap, (family, i, _) in enumerate(tap_layout(samples)):
+            count = counts[family]
             along = np.where((family & own_moves)[..., None], own, line)
-            spacing = np.linalg.norm(along, axis=-1) / count * share
+            # taps beyond the pixel's count weigh nothing
+            spacing = (tap < plan.taps) * np.linalg.norm(along, axis=-1) / count * share
             t = (i + tap_offset(j, family, side)) / count
             bent = np.where((family & own_moves)[..., None], bend, 0.0)
             p = np.floor(center + tap_offset_along(along, bent, t)).astype(np.int64)
             py, px = np.clip(p[..., 1], 0, h - 1), np.clip(p[..., 0], 0, w - 1)
-            if through_taps:
-                cy = tap_color(color, px, py, first_tap + tap, spread)
-            else:
-                cy = color[py, px]
+            cy = read(px, py, first_tap + tap)
             d = np.stack([px - x, py - y], -1).astype(np.float64)
             speed = np.linalg.norm(trails[py, px], axis=-1)
             moving = np.clip(speed - 0.5, 0, 1)
@@ -180,6 +377,7 @@ def gather_coverage(
             spaced = spaced + spacing
             seen = seen + spacing * (1 - x_moves * nearer * (1 - moving))
             b = (1 - nearer) * (1 - soft_depth_compare(depth, zy, soft_z)) * (1 - reaches)
+            b = b * (tap < plan.taps)
             behind_weight = behind_weight + b
             behind_sum = behind_sum + b[..., None] * cy
         sides.append(
@@ -194,5 +392,10 @@ def gather_coverage(
         alpha = np.minimum(cover * scale, 1.0)[..., None]
         covering = cover_sum / np.maximum(cover, 1e-12)[..., None]
         out = out + 0.5 * (alpha * covering + (1 - alpha) * background)
-    out = np.where((longest >= EARLY_EXIT)[..., None], out, x_color)
+    if plan.fast.any():
+        fast = uniform_gather(x_color, depth, plan, j, uniform_tolerance, samples, read)
+        out = np.where(plan.fast[..., None], fast, out)
+    out = np.where((plan.taps > 0)[..., None], out, x_color)
+    # A long quad's four pixels take its top-left pixel's result.
+    out = np.where(plan.half[..., None], out[quad_corner(y), quad_corner(x)], out)
     return out if through_taps else apply_film_filter(out, film_filter)

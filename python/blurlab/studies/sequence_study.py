@@ -1,0 +1,139 @@
+"""`blurlab study --sequence`: every method before TAA, after it and inside its history, on
+sequences of the chosen scenes (docs/spec.md §21.4), written as sequence.csv, a looping
+animation of each method's worst frames beside the reference, and sequence.html with an
+accuracy-against-stability chart per scene (docs/temporal.md)."""
+
+from __future__ import annotations
+
+import datetime
+import html
+from pathlib import Path
+
+import pandas as pd
+
+from .. import io, scenes
+from ..metrics import get
+from ..sequences import ORDERS
+from ..sizes import DEFAULT_SIZE
+from . import interactive, temporal
+
+ANIMATED_ORDER = "blur_then_taa"  # the order every method takes, the one the animations show
+WORST_FRAMES = 6
+
+
+def run_sequence_study(
+    ctx,
+    scene_names=None,
+    size=DEFAULT_SIZE,
+    out="out/sequence",
+    reference_samples: int | None = None,
+    frames: int = 8,
+    warmup: int = 4,
+    fps: float = 60.0,
+) -> Path:
+    """Runs the sequence study and returns the path of sequence.html."""
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    names = list(scene_names or scenes.names())
+    methods = temporal.sequence_methods()
+    animations: dict[str, dict[str, str]] = {}
+
+    def keep(scene: str, method: str, order: str, run) -> None:
+        if order != ANIMATED_ORDER:
+            return
+        folder = out / "animations" / scenes.label(scene)
+        folder.mkdir(parents=True, exist_ok=True)
+        path = folder / f"{method}.webp"
+        run.write(path, run.worst_frames("psnr", WORST_FRAMES))
+        animations.setdefault(scene, {})[method] = path.relative_to(out).as_posix()
+
+    table = temporal.evaluate_orders(
+        ctx,
+        names,
+        methods,
+        size,
+        frames,
+        warmup,
+        reference_samples or 64,
+        fps,
+        on_run=keep,
+    )
+    io.write_text(out / "sequence.csv", table.to_csv(index=False))
+    summary = temporal.orders_summary(table)
+    page = _html(ctx.info(), size, fps, frames, warmup, table, summary, animations)
+    return io.write_text(out / "sequence.html", page)
+
+
+def stability_chart(rows: pd.DataFrame, title: str):
+    """A plotly Figure of one scene's rows: PSNR against temporal instability, a trace per
+    order, a point per method."""
+    import plotly.graph_objects as go
+
+    fig = go.Figure()
+    for order in ORDERS:
+        group = rows[rows["order"] == order]
+        if group.empty:
+            continue
+        hover = [
+            f"<b>{r.method}</b><br>{order}<br>PSNR {r.psnr:.4g} dB<br>"
+            f"instability {r.temporal_instability:.4g}"
+            for r in group.itertuples()
+        ]
+        fig.add_trace(
+            go.Scatter(
+                x=group["temporal_instability"],
+                y=group["psnr"],
+                mode="markers",
+                name=order,
+                text=hover,
+                hovertemplate="%{text}<extra></extra>",
+                marker={"size": 9, "opacity": 0.85},
+            )
+        )
+    fig.update_layout(
+        title={"text": title, "x": 0.0, "xanchor": "left"},
+        xaxis={"title": {"text": get("temporal_instability").axis_title}},
+        yaxis={"title": {"text": get("psnr").axis_title}},
+        height=420,
+        legend={"title": {"text": "order (click to hide / show)"}},
+    )
+    return fig
+
+
+def _html(info, size, fps, frames, warmup, table, summary, animations) -> str:
+    e = html.escape
+    when = datetime.datetime.now().strftime("%Y-%m-%d %H:%M")
+    parts = [
+        "<!doctype html><meta charset='utf-8'><title>blurlab sequence study</title>",
+        f"<style>{interactive.PAGE_STYLE}.gallery figure,.gallery img{{width:340px}}"
+        ".gallery img{image-rendering:pixelated}</style>",
+        "<h1>blurlab sequence study: accuracy against stability</h1>",
+        f"<p>{e(when)} · device <b>{e(info['renderer'])}</b> · {size[0]}×{size[1]} · "
+        f"{fps:g} fps, 180° shutter · {frames} frames measured after {warmup} · data: "
+        "<a href='sequence.csv'>sequence.csv</a></p>",
+        "<p>Each method runs on every frame alone (<code>none</code>), before TAA "
+        "(<code>blur_then_taa</code>), after it (<code>taa_then_blur</code>) and with its "
+        "output fed back as TAA's history (<code>blur_in_history</code>), docs/spec.md §21.4. "
+        "PSNR is that of the mean squared error over the measured frames; temporal "
+        "instability compares each frame's change with the reference's (§21.3). Up and to "
+        "the left is better.</p>",
+        "<h2>Per method: the order with the best median PSNR over the scenes</h2>",
+        summary["winners"].to_html(index=False, float_format=lambda v: f"{v:.3g}", border=0),
+    ]
+    for index, (scene, rows) in enumerate(table.groupby("scene", sort=False)):
+        label = scenes.label(scene)
+        chart = stability_chart(rows, label)
+        parts.append(f"<h2>{e(label)}</h2>")
+        parts.append(interactive.chart_html(chart, index == 0, f"stability-{index}"))
+        parts.append(
+            f"<p>The {WORST_FRAMES} frames with the lowest PSNR of each method before TAA, "
+            "looping: the output on the left, the reference on the right.</p>"
+        )
+        parts.append("<div class='gallery'>")
+        for method, src in animations.get(scene, {}).items():
+            parts.append(
+                f"<figure><img src='{e(src)}' alt='{e(method)}'>"
+                f"<figcaption>{e(method)}</figcaption></figure>"
+            )
+        parts.append("</div>")
+    return "\n".join(parts) + "\n"
