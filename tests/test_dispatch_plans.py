@@ -64,6 +64,8 @@ CASES = [
     ("engine_unity", "compute", {}),
     ("engine_eevee", "compute", {}),
     ("camera_only", "compute", {}),
+    ("gather_pixel", "compute", {}),
+    ("gather_pixel", "fragment", {"samples": 4}),
 ]
 
 

@@ -12,6 +12,7 @@ from . import accumulation, stochastic  # noqa: F401
 from . import gather_gaussian  # noqa: F401
 from . import eevee, unity, hdrp, unreal  # noqa: F401
 from . import coverage  # noqa: F401
+from . import gather_pixel  # noqa: F401
 
 # isort: on
 from .core import (
