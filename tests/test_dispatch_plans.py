@@ -65,6 +65,8 @@ CASES = [
     ("engine_eevee", "compute", {}),
     ("camera_only", "compute", {}),
     ("gather_pixel", "compute", {}),
+    ("engine_jimenez2014", "compute", {}),
+    ("engine_jimenez2014", "fragment", {"k": 8}),
     ("gather_pixel", "fragment", {"samples": 4}),
 ]
 

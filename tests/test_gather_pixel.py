@@ -8,13 +8,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from conftest import assert_blur_refuses, assert_timings_name, random_frame
-from filter_promises import (
-    assert_finite_for_motion_scale,
-    assert_inside_the_input_range,
-    assert_matches_twin,
-    assert_seeded,
-    assert_still_frame_unchanged,
-)
+from filter_promises import PROMISES, assert_matches_twin
 
 import blurlab as bl
 from blurlab.twins import pixel_gather as ref
@@ -75,21 +69,9 @@ def test_a_tap_in_front_is_dropped(ctx):
     assert_matches_twin(bl.blur(ctx, frame, METHOD), frame)
 
 
-def test_still_frame_unchanged(ctx, rng):
-    assert_still_frame_unchanged(ctx, rng, METHOD)
-
-
-def test_output_stays_inside_the_input_range(ctx, rng):
-    assert_inside_the_input_range(ctx, random_frame(rng, 64, 48), METHOD, samples=16)
-
-
-@pytest.mark.parametrize("scale", [0.0, 1e-6, 1e7])
-def test_no_nan_for_any_motion_scale(ctx, rng, scale):
-    assert_finite_for_motion_scale(ctx, rng, METHOD, scale)
-
-
-def test_same_seed_same_bits(ctx, rng):
-    assert_seeded(ctx, random_frame(rng, 64, 48), METHOD)
+@pytest.mark.parametrize("promise", PROMISES.values(), ids=PROMISES.keys())
+def test_the_filter_promises(ctx, rng, promise):
+    promise(ctx, rng, METHOD)
 
 
 @pytest.mark.parametrize(

@@ -111,6 +111,35 @@ def tap_weight(z_x, len_x, z_y, len_y, dist, depth_extent: float) -> np.ndarray:
     return np.minimum(behind * spread(dist, len_x) + (1 - behind) * spread(dist, len_y), 1.0)
 
 
+def mirrored_pairs_blur(color, z, length, vmax, j, pairs: int, extent: float, uniform=None):
+    """Jimenez 2014's reconstruction (§17.5 step 4, §17.8): `pairs` mirrored pairs at
+    X ± t·vmax, t = (i + j)/pairs, each tap weighted by tap_weight (depths z, blur radii
+    `length`, extent `extent`), each pair by §7.2's mirror on z and `length`; where `uniform`
+    (an (H, W) bool) every tap weighs 1. The weight the taps leave stays with C(X)."""
+    h, w = z.shape
+    y, x = np.mgrid[0:h, 0:w]
+    center = np.stack([x, y], -1) + 0.5
+    total = np.zeros_like(color)
+    weight = np.zeros((h, w))
+    for i in range(pairs):
+        t = (i + j) / pairs
+        taps_at = []
+        for sign in (1.0, -1.0):
+            p = np.floor(center + sign * t[..., None] * vmax).astype(np.int64)
+            py, px = np.clip(p[..., 1], 0, h - 1), np.clip(p[..., 0], 0, w - 1)
+            dist = np.hypot(px - x, py - y)
+            a = tap_weight(z, length, z[py, px], length[py, px], dist, extent)
+            taps_at.append((a, py, px))
+        (a1, py1, px1), (a2, py2, px2) = taps_at
+        a1, a2 = mirror_pair(a1, a2, z[py1, px1], z[py2, px2], length[py1, px1], length[py2, px2])
+        if uniform is not None:
+            a1, a2 = np.where(uniform, 1.0, a1), np.where(uniform, 1.0, a2)
+        weight = weight + a1 + a2
+        total = total + a1[..., None] * color[py1, px1] + a2[..., None] * color[py2, px2]
+    n = 2 * pairs
+    return (total + (n - weight)[..., None] * color) / n
+
+
 def engine_unreal(
     color,
     depth,
@@ -138,26 +167,8 @@ def engine_unreal(
     vmax = decode_polar(tile[..., :2], radius)
     length = codes[..., 0] / LENGTH_CODE_MAX * radius
     z = codes[..., 2]
-    j = rand(x, y, seed)
-    center = np.stack([x, y], -1) + 0.5
-    total = np.zeros_like(color)
-    weight = np.zeros((h, w))
-    for i in range(pairs):
-        t = (i + j) / pairs
-        taps_at = []
-        for sign in (1.0, -1.0):
-            p = np.floor(center + sign * t[..., None] * vmax).astype(np.int64)
-            py, px = np.clip(p[..., 1], 0, h - 1), np.clip(p[..., 0], 0, w - 1)
-            dist = np.hypot(px - x, py - y)
-            a = tap_weight(z, length, z[py, px], length[py, px], dist, depth_extent)
-            taps_at.append((a, py, px))
-        (a1, py1, px1), (a2, py2, px2) = taps_at
-        a1, a2 = mirror_pair(
-            a1, a2, z[py1, px1], z[py2, px2], codes[py1, px1, 0], codes[py2, px2, 0]
-        )
-        a1, a2 = np.where(slow, a1, 1.0), np.where(slow, a2, 1.0)
-        weight = weight + a1 + a2
-        total = total + a1[..., None] * color[py1, px1] + a2[..., None] * color[py2, px2]
-    n = 2 * pairs
-    blurred = (total + (n - weight)[..., None] * color) / n
+    # Length codes and decoded lengths order the pairs' speeds alike.
+    blurred = mirrored_pairs_blur(
+        color, z, length, vmax, rand(x, y, seed), pairs, depth_extent, uniform=~slow
+    )
     return np.where((kind == SKIP)[..., None], color, blurred)
