@@ -50,6 +50,7 @@ register(
         run=_run_gather_pixel,
         default_grid={"samples": [2, 4, 8]},
         twin=twin.gather_pixel,
+        engine_peer=True,
         doc="Bevy 0.14 / Unity URP: no tiles, mirrored taps along the pixel's own motion, "
         "their count from its speed, taps in front of it dropped. docs/spec.md §17.9.",
     )

@@ -4,7 +4,7 @@ their latest records in benchmarks/records.jsonl, from which report.py generates
 docs/benchmarks.md. The core never imports the studies, this package among them."""
 
 # each module registers its own benchmarks
-from . import frame, filters, sweeps, quality, controls, soak, transparency  # noqa: F401, I001
+from . import frame, filters, sweeps, quality, controls, soak, transparency, directions  # noqa: F401, I001
 from .core import (
     Benchmark,
     Measured,
