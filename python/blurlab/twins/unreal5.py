@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from .guertin2014 import mirror_pair
 from .hashing import rand
 from .inputs import sanitize_color
 from .polar_fixed_point import ANGLE_CODES, LENGTH_CODE_MAX, decode_polar
@@ -19,8 +18,8 @@ from .unreal import (
     SKIP_BELOW,
     TILE,
     max_radius_px,
+    mirrored_pairs,
     reaches,
-    tap_weight,
     tile_minmax,
     velocity_flatten,
 )
@@ -153,39 +152,27 @@ def engine_unreal5(
     z = codes[..., 2]
     speed = codes[..., 0]
     j = rand(x, y, seed)
-    center = np.stack([x, y], -1) + 0.5
     lines = [(tile[..., :2], kind != SKIP), (unpack(tile[..., 2]), kind == GATHER_2)]
     shares, coverage = np.zeros_like(color), np.zeros((h, w))
     for line_codes, on in lines:
         vmax = decode_polar(line_codes, radius)
         angle = line_codes[..., 1] * (2 * np.pi / ANGLE_CODES)
         axis = np.stack([np.cos(angle), np.sin(angle)], -1)
-        along = np.abs((own * axis).sum(-1))  # each pixel's blur radius along this line
         pairs = line_pairs(line_codes[..., 0], radius, quality)
         spacing = line_codes[..., 0] / LENGTH_CODE_MAX * radius / pairs
         from_half = (half_res_gather == 1) & (spacing >= HALF_RES_SPACING)
-        total, weight = np.zeros_like(color), np.zeros((h, w))
-        for i in range(int(pairs.max(initial=1))):
-            t = (i + j) / pairs
-            taps_at = []
-            for sign in (1.0, -1.0):
-                p = np.floor(center + sign * t[..., None] * vmax).astype(np.int64)
-                py, px = np.clip(p[..., 1], 0, h - 1), np.clip(p[..., 0], 0, w - 1)
-                dist = np.hypot(px - x, py - y)
-                along_y = np.abs((own[py, px] * axis).sum(-1))  # the tap's, along X's line
-                a = tap_weight(z, along, z[py, px], along_y, dist, depth_extent)
-                c = np.where(from_half[..., None], half[py // 2, px // 2], color[py, px])
-                taps_at.append((a, py, px, c))
-            (a1, py1, px1, c1), (a2, py2, px2, c2) = taps_at
-            a1, a2 = mirror_pair(a1, a2, z[py1, px1], z[py2, px2], speed[py1, px1], speed[py2, px2])
-            a1, a2 = np.where(kind == UNIFORM, 1.0, a1), np.where(kind == UNIFORM, 1.0, a2)
-            use = on & (i < pairs)
-            a1, a2 = np.where(use, a1, 0.0), np.where(use, a2, 0.0)
-            weight = weight + a1 + a2
-            total = total + a1[..., None] * c1 + a2[..., None] * c2
-        n = 2 * pairs
-        shares = shares + total / n[..., None]
-        coverage = coverage + weight / n
+
+        def along(py, px, axis=axis):  # blur radii along this line
+            return np.abs((own[py, px] * axis).sum(-1))
+
+        def read(py, px, from_half=from_half):
+            return np.where(from_half[..., None], half[py // 2, px // 2], color[py, px])
+
+        share, covered = mirrored_pairs(
+            color, z, speed, vmax, j, pairs, depth_extent, along, kind == UNIFORM, read
+        )
+        shares = shares + np.where(on[..., None], share, 0.0)
+        coverage = coverage + np.where(on, covered, 0.0)
     blurred = (shares + np.maximum(1 - coverage, 0)[..., None] * color) / np.maximum(coverage, 1)[
         ..., None
     ]
