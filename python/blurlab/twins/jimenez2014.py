@@ -1,8 +1,9 @@
 """engine_jimenez2014, docs/spec.md §17.8, in NumPy float64: the reconstruction filter of
 Jimenez 2014 ("Next Generation Post Processing in Call of Duty: Advanced Warfare") as the talk
-describes it, on §3's TileMax and NeighborMax. The GPU pass (shaders/passes/jimenez2014_
-reconstruct.glsl) must match it; the interleaved gradient noise is computed in float32, step by
-step as the shader does, so both jitter the taps by the same bits."""
+describes it, on §3's TileMax and NeighborMax. The GPU pass
+(shaders/passes/jimenez2014_reconstruct.glsl) must match it; the interleaved gradient noise is
+computed in float32, step by step as the shader does, so both jitter the taps by the same
+bits."""
 
 from __future__ import annotations
 
