@@ -99,11 +99,11 @@ def test_uniform_motion_takes_the_uniform_path_everywhere(ctx, rng):
 
 
 def test_sample_counts_follow_the_tile_motion():
-    radius = 100.0
-    lengths = np.array([0.4, 2.0, 2.1, 7.9, 50.0]) / radius * polar.LENGTH_CODE_MAX
-    assert ref.line_pairs(lengths, radius, 3).tolist() == [1, 1, 2, 4, 4]
-    assert ref.line_pairs(lengths, radius, 4).tolist() == [1, 1, 2, 4, 8]
-    assert ref.line_pairs(lengths, radius, 1).tolist() == [1, 1, 2, 2, 2]
+    radius = 100.0  # half-vectors of 0.4, 0.6, 1.2, 1.7 and 50 px: a pair per 1/2 px
+    lengths = np.array([0.4, 0.6, 1.2, 1.7, 50.0]) / radius * polar.LENGTH_CODE_MAX
+    assert ref.line_pairs(lengths, radius, 3).tolist() == [1, 2, 3, 4, 4]
+    assert ref.line_pairs(lengths, radius, 4).tolist() == [1, 2, 3, 4, 8]
+    assert ref.line_pairs(lengths, radius, 1).tolist() == [1, 2, 2, 2, 2]
 
 
 def test_half_res_gather_reads_the_half_size_colour_for_long_blurs(ctx, rng):

@@ -2,7 +2,7 @@
 // engine_unreal5 step 5, docs/spec.md §17.7: the path chosen per 16 x 16 tile by its class (one
 // compute work group is one tile). Skip: C. Otherwise a line of mirrored pairs along the tile's
 // longest velocity, and for gather_2 a second line along its second direction. A line whose
-// longest half-vector is L px takes P = clamp(ceil(L/2), 1, taps/2) pairs at X ± t·v, t =
+// longest half-vector is L px takes P = clamp(ceil(2L), 1, taps/2) pairs at X ± t·v, t =
 // (i + j)/P; where half_res_gather is on and its taps lie HALF_RES_SPACING px apart or more,
 // they read the half-size colour. Uniform: every tap weighs 1. Gather: the soft depth split of
 // whether X's blur or the tap's reaches it (common/depth_spread.glsl), each blur's radius its
@@ -28,7 +28,7 @@ uniform float depth_extent;
 uniform float radius;  // R, pixels
 uniform uint seed;
 
-const float PAIR_SPACING = 2.0;      // px of a line's longest half-vector per pair
+const float PAIR_SPACING = 0.5;      // px of a line's longest half-vector per pair
 const float HALF_RES_SPACING = 4.0;  // px between taps from which they read half_color
 
 // Blur radius along the unit `axis` of the pixel whose velocity texel is s.

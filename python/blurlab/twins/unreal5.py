@@ -29,7 +29,7 @@ HALF_TURN = ANGLE_CODES // 2  # v and -v blur along the same axis
 PACK = ANGLE_CODES  # a second velocity travels as c_l·PACK + c_a, exact in float32
 SKIP, UNIFORM, GATHER, GATHER_2 = 0, 1, 2, 3
 CLASS_NAMES = ("skip", "uniform", "gather", "gather_2")
-PAIR_SPACING = 2.0  # px of a line's longest half-vector per pair of taps
+PAIR_SPACING = 0.5  # px of a line's longest half-vector per pair of taps
 HALF_RES_SPACING = 4.0  # px between a line's taps from which they read the half-size colour
 
 
