@@ -107,12 +107,12 @@ def test_sample_counts_follow_the_tile_motion():
 
 
 def test_half_res_gather_reads_the_half_size_colour_for_long_blurs(ctx, rng):
-    """A uniform 40 px motion: with half_res_gather every tap reads the 2 x 2 means, so the
-    result changes; with it off the half-size colour is not made."""
+    """A uniform 80 px motion (taps 10 px apart): with half_res_gather every tap reads the
+    2 x 2 means, so the result changes; with it off the half-size colour is not made."""
     frame = random_frame(rng, 96, 64)
-    frame.motion[:] = (40.0, 0.0)
-    on = bl.blur(ctx, frame, METHOD, max_blur=30.0)
-    off = bl.blur(ctx, frame, METHOD, max_blur=30.0, half_res_gather=0)
+    frame.motion[:] = (80.0, 0.0)
+    on = bl.blur(ctx, frame, METHOD, max_blur=50.0)
+    off = bl.blur(ctx, frame, METHOD, max_blur=50.0, half_res_gather=0)
     assert "half_color" in on.buffers and "half_color" not in off.buffers
     assert np.abs(on.color - off.color).max() > 0.01
     assert_matches_twin(on, frame)

@@ -29,7 +29,7 @@ uniform float radius;  // R, pixels
 uniform uint seed;
 
 const float PAIR_SPACING = 0.5;      // px of a line's longest half-vector per pair
-const float HALF_RES_SPACING = 4.0;  // px between taps from which they read half_color
+const float HALF_RES_SPACING = 8.0;  // px between taps from which they read half_color
 
 // Blur radius along the unit `axis` of the pixel whose velocity texel is s.
 float along(vec4 s, vec2 axis) {

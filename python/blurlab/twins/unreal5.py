@@ -30,7 +30,7 @@ PACK = ANGLE_CODES  # a second velocity travels as c_l·PACK + c_a, exact in flo
 SKIP, UNIFORM, GATHER, GATHER_2 = 0, 1, 2, 3
 CLASS_NAMES = ("skip", "uniform", "gather", "gather_2")
 PAIR_SPACING = 0.5  # px of a line's longest half-vector per pair of taps
-HALF_RES_SPACING = 4.0  # px between a line's taps from which they read the half-size colour
+HALF_RES_SPACING = 8.0  # px between a line's taps from which they read the half-size colour
 
 
 def axis_gap(a, b) -> np.ndarray:
