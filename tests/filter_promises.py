@@ -61,3 +61,31 @@ def assert_seeded(ctx, frame, method: str) -> None:
     c = bl.blur(ctx, frame, method, seed=4).color
     assert a.tobytes() == b.tobytes()
     assert a.tobytes() != c.tobytes()
+
+
+def _still(ctx, rng, method):
+    assert_still_frame_unchanged(ctx, rng, method)
+
+
+def _inside(ctx, rng, method):
+    assert_inside_the_input_range(ctx, random_frame(rng, 64, 48), method)
+
+
+def _finite(scale):
+    return lambda ctx, rng, method: assert_finite_for_motion_scale(ctx, rng, method, scale)
+
+
+def _seeded(ctx, rng, method):
+    assert_seeded(ctx, random_frame(rng, 64, 48), method)
+
+
+# Every promise above at the method's defaults, as `check(ctx, rng, method)`, for a test file to
+# parametrize over: still frame, input range, no NaN at motion scales 0, 1e-6 and 1e7, seed.
+PROMISES = {
+    "still_frame_unchanged": _still,
+    "inside_the_input_range": _inside,
+    "finite_at_zero_motion": _finite(0.0),
+    "finite_at_tiny_motion": _finite(1e-6),
+    "finite_at_huge_motion": _finite(1e7),
+    "same_seed_same_bits": _seeded,
+}

@@ -64,6 +64,12 @@ CASES = [
     ("engine_unity", "compute", {}),
     ("engine_eevee", "compute", {}),
     ("camera_only", "compute", {}),
+    ("gather_pixel", "compute", {}),
+    ("engine_jimenez2014", "compute", {}),
+    ("engine_unreal5", "compute", {"directions": 2}),
+    ("engine_unreal5", "compute", {"half_res_gather": 0}),
+    ("engine_jimenez2014", "fragment", {"k": 8}),
+    ("gather_pixel", "fragment", {"samples": 4}),
 ]
 
 

@@ -12,6 +12,7 @@
 #include "common/polar_fixed_point.glsl"
 #include "common/mirrored_pair.glsl"
 #include "common/unreal.glsl"
+#include "common/depth_spread.glsl"
 
 layout(binding = 0) uniform sampler2D color;
 layout(binding = 1) uniform sampler2D velocity;
@@ -21,17 +22,10 @@ uniform float depth_extent;
 uniform float radius;  // R, pixels
 uniform uint seed;
 
-// 1 where a blur of radius `len` reaches `dist` pixels, falling to 0 over its last pixel.
-float spread(float dist, float len) {
-    return clamp(1.0 + len - dist, 0.0, 1.0);
-}
-
 // Tap texel s (codes, depth) at `dist` pixels from X, whose depth is z_x and blur radius len_x.
 float tap_weight(vec4 s, float dist, float z_x, float len_x) {
-    float d = s.z == z_x ? 0.0 : (s.z - z_x) / depth_extent;
-    float behind = clamp(0.5 + d, 0.0, 1.0);
     float len_y = s.x / LENGTH_CODE_MAX * radius;
-    return min(behind * spread(dist, len_x) + (1.0 - behind) * spread(dist, len_y), 1.0);
+    return depth_spread_weight(z_x, len_x, s.z, len_y, dist, depth_extent);
 }
 
 vec4 reconstruct_at(ivec2 x) {
@@ -60,12 +54,10 @@ vec4 reconstruct_at(ivec2 x) {
             a2 = tap_weight(s2, length(vec2(y2 - x)), own.z, len_x);
             mirror_pair(a1, a2, s1.z, s2.z, s1.x, s2.x);
         }
-        weight += a1 + a2;
-        sum += a1 * sanitize_color(texelFetch(color, y1, 0))
-             + a2 * sanitize_color(texelFetch(color, y2, 0));
+        vec4 c1 = sanitize_color(texelFetch(color, y1, 0));
+        add_pair(a1, a2, c1, sanitize_color(texelFetch(color, y2, 0)), sum, weight);
     }
-    float n = float(2 * pairs);
-    return (sum + (n - weight) * cx) / n;
+    return left_to_center(sum, weight, cx, pairs);
 }
 
 #define PASS_AT reconstruct_at

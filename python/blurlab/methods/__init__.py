@@ -10,8 +10,9 @@ is a new module here, its shader, its NumPy twin and its test (docs/adding_a_met
 from . import mcguire2012, guertin2014, urho3d, gathers, camera_only, trail  # noqa: F401
 from . import accumulation, stochastic  # noqa: F401
 from . import gather_gaussian  # noqa: F401
-from . import eevee, unity, hdrp, unreal  # noqa: F401
+from . import eevee, unity, hdrp, unreal, unreal5, jimenez2014  # noqa: F401
 from . import coverage  # noqa: F401
+from . import gather_pixel  # noqa: F401
 
 # isort: on
 from .core import (

@@ -54,6 +54,9 @@ class Method:
     # For a "render" method: the parameters under which it makes n renders, so that studies
     # compare such methods at equal cost (the per-object table of blurlab.studies.objects).
     renders_for: Callable[[int], dict] | None = None
+    # Reproduces a shipped engine's filter under a name other than engine_*: the engines
+    # benchmark shows it beside them.
+    engine_peer: bool = False
 
     def __post_init__(self):
         if self.kind not in KINDS:

@@ -14,6 +14,7 @@ from .benchmark import fps_weapon, mostly_still, tracked_car
 from .builtin import fan, skinned_arm, teapot_pass, textured_spin, vehicle
 from .failures import (
     camera_yaw,
+    crossed_motions,
     crossing,
     edge_exit,
     fast_fan,
@@ -58,6 +59,7 @@ _FAILURES = {
         thin_bar,
         near_plane,
         crossing,
+        crossed_motions,
         long_motion,
         edge_exit,
         subpixel,

@@ -65,6 +65,27 @@ def crossing() -> Scene:
     return scene
 
 
+def crossed_motions() -> Scene:
+    """A bar moving right in front of a bar moving down, crossing at mid-shutter: two
+    directions of motion inside the same tiles, which a filter keeping one direction per tile
+    blurs along one axis."""
+    scene = flat_scene("crossed_motions")
+    add_wall(scene)
+    scene.add(
+        mesh.box((0.12, 1.0, 0.1)),
+        Material((0.9, 0.3, 0.2)),
+        Motion.linear((-0.3, 0, 0.6), (36.0, 0, 0)),
+        name="rightward",
+    )
+    scene.add(
+        mesh.box((1.0, 0.12, 0.1)),
+        Material((0.2, 0.6, 0.9)),
+        Motion.linear((0, 0.3, 0.3), (0, -36.0, 0)),
+        name="downward",
+    )
+    return scene
+
+
 def long_motion() -> Scene:
     """A sphere moving about a third of the image per shutter: far longer than k = 20 px."""
     scene = flat_scene("long_motion")

@@ -111,6 +111,52 @@ def tap_weight(z_x, len_x, z_y, len_y, dist, depth_extent: float) -> np.ndarray:
     return np.minimum(behind * spread(dist, len_x) + (1 - behind) * spread(dist, len_y), 1.0)
 
 
+def mirrored_pairs(
+    color, z, speed, vmax, j, pairs, extent: float, radius_at, uniform=None, color_at=None
+):
+    """Jimenez 2014's taps (§17.5 step 4, §17.7, §17.8): `pairs` (an int or per pixel)
+    mirrored pairs at X ± t·vmax, t = (i + j)/pairs, each tap weighted by tap_weight (depths z,
+    extent `extent`, blur radii radius_at(rows, columns) of the pixels there), each pair by
+    §7.2's mirror on z and `speed`; where `uniform` (an (H, W) bool) every tap weighs 1. A tap
+    reads color_at(rows, columns), by default the color there. Returns (share, coverage): per
+    pixel Σa·C/2P and Σa/2P."""
+    h, w = z.shape
+    y, x = np.mgrid[0:h, 0:w]
+    pairs = np.broadcast_to(pairs, (h, w))
+    center = np.stack([x, y], -1) + 0.5
+    radius_x = radius_at(y, x)
+    total = np.zeros_like(color)
+    weight = np.zeros((h, w))
+    for i in range(int(pairs.max(initial=1))):
+        t = (i + j) / pairs
+        taps_at = []
+        for sign in (1.0, -1.0):
+            p = np.floor(center + sign * t[..., None] * vmax).astype(np.int64)
+            py, px = np.clip(p[..., 1], 0, h - 1), np.clip(p[..., 0], 0, w - 1)
+            dist = np.hypot(px - x, py - y)
+            a = tap_weight(z, radius_x, z[py, px], radius_at(py, px), dist, extent)
+            c = color[py, px] if color_at is None else color_at(py, px)
+            taps_at.append((a, py, px, c))
+        (a1, py1, px1, c1), (a2, py2, px2, c2) = taps_at
+        a1, a2 = mirror_pair(a1, a2, z[py1, px1], z[py2, px2], speed[py1, px1], speed[py2, px2])
+        if uniform is not None:
+            a1, a2 = np.where(uniform, 1.0, a1), np.where(uniform, 1.0, a2)
+        a1, a2 = np.where(i < pairs, a1, 0.0), np.where(i < pairs, a2, 0.0)
+        weight = weight + a1 + a2
+        total = total + a1[..., None] * c1 + a2[..., None] * c2
+    n = 2 * pairs
+    return total / n[..., None], weight / n
+
+
+def mirrored_pairs_blur(color, z, length, vmax, j, pairs: int, extent: float, uniform=None):
+    """The pairs of `mirrored_pairs` along vmax, blur radii and speeds `length`, and the
+    weight the taps leave kept for C(X): Σa·C/2P + (1 − Σa/2P)·C(X)."""
+    share, coverage = mirrored_pairs(
+        color, z, length, vmax, j, pairs, extent, lambda py, px: length[py, px], uniform
+    )
+    return share + (1 - coverage)[..., None] * color
+
+
 def engine_unreal(
     color,
     depth,
@@ -138,26 +184,8 @@ def engine_unreal(
     vmax = decode_polar(tile[..., :2], radius)
     length = codes[..., 0] / LENGTH_CODE_MAX * radius
     z = codes[..., 2]
-    j = rand(x, y, seed)
-    center = np.stack([x, y], -1) + 0.5
-    total = np.zeros_like(color)
-    weight = np.zeros((h, w))
-    for i in range(pairs):
-        t = (i + j) / pairs
-        taps_at = []
-        for sign in (1.0, -1.0):
-            p = np.floor(center + sign * t[..., None] * vmax).astype(np.int64)
-            py, px = np.clip(p[..., 1], 0, h - 1), np.clip(p[..., 0], 0, w - 1)
-            dist = np.hypot(px - x, py - y)
-            a = tap_weight(z, length, z[py, px], length[py, px], dist, depth_extent)
-            taps_at.append((a, py, px))
-        (a1, py1, px1), (a2, py2, px2) = taps_at
-        a1, a2 = mirror_pair(
-            a1, a2, z[py1, px1], z[py2, px2], codes[py1, px1, 0], codes[py2, px2, 0]
-        )
-        a1, a2 = np.where(slow, a1, 1.0), np.where(slow, a2, 1.0)
-        weight = weight + a1 + a2
-        total = total + a1[..., None] * color[py1, px1] + a2[..., None] * color[py2, px2]
-    n = 2 * pairs
-    blurred = (total + (n - weight)[..., None] * color) / n
+    # Length codes and decoded lengths order the pairs' speeds alike.
+    blurred = mirrored_pairs_blur(
+        color, z, length, vmax, rand(x, y, seed), pairs, depth_extent, uniform=~slow
+    )
     return np.where((kind == SKIP)[..., None], color, blurred)

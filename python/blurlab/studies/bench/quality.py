@@ -43,9 +43,9 @@ GPU_SCENES = "teapot_pass,fan,skinned_arm,vehicle,near_plane"  # the GPU presets
 
 
 def engine_methods() -> list[str]:
-    """The engines' methods, the filter that combines them (film_method), then the tile
-    filters they are measured against."""
-    engines = [n for n in methods() if n.startswith("engine_")]
+    """The engines' methods (and their peers under other names, Method.engine_peer), the
+    filter that combines them (film_method), then the tile filters they are measured against."""
+    engines = [n for n in methods() if n.startswith("engine_") or method(n).engine_peer]
     return engines + [film_method(), *optioned_filters()]
 
 
