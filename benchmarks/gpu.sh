@@ -20,9 +20,10 @@
 #     (carry [".gl", ".whl", "dist"]): installs that wheel, as a user would, and tests it.
 #   SOAK=start bash benchmarks/gpu.sh ...   (a machine of several GPUs): after the build, starts
 #     the `soak` benchmark at its GPU preset in a process session of its own, which outlives the
-#     call, on every GPU but the first (which the tests and the other benchmarks use), two
-#     processes on each; SOAK=collect in the next call (GPU_BUILD=0 keeps the build the soak
-#     runs from) waits for it at the end and adds its record to records.jsonl.
+#     call, on every GPU but the first (which the tests and the other benchmarks use),
+#     SOAK_PER_GPU processes on each (default 2); SOAK=collect in the next call
+#     (GPU_BUILD=0 keeps the build the soak runs from) waits for it at the end and adds its
+#     record to records.jsonl.
 #   WHEEL=build bash benchmarks/gpu.sh ...   (carry [".gl", ".whl", "dist/tools"]): the device's
 #     Python is 3.12 and this project's machines have no 3.12 headers, so the cp312 wheel is
 #     built there first, by packaging/build-wheel.sh with the image's g++ (TOOLCHAIN=system;
@@ -103,7 +104,7 @@ soak=/tmp/soak  # outside $OUT, which each call empties
 if [ "${SOAK:-}" = start ]; then
   devices="$(python3 -c 'import blurlab as bl
 gpus = [str(d["index"]) for d in bl.Context.devices() if d["kind"] == "gpu"][1:]
-print(",".join(g for g in gpus for _ in range(2)))')"
+print(",".join(g for g in gpus for _ in range('"${SOAK_PER_GPU:-2}"')))')"
   [ -n "$devices" ] || { echo "gpu.sh: SOAK=start needs a machine of two GPUs or more"; exit 1; }
   mkdir -p "$soak"
   setsid bash -c "python3 -m blurlab bench soak --device gpu --param devices=$devices \
