@@ -139,7 +139,7 @@ for item in "${@:-transfer}"; do
       tar czf "$out/study.tgz" -C "$out" study && rm -rf "$out/study"
       continue ;;
     golden)
-      python3 tests/golden.py $rest
+      python3 tests/golden.py $rest || echo "gpu.sh: golden $rest FAILED"
       cp tests/golden/*.json "$out/"
       continue ;;
   esac
@@ -151,7 +151,7 @@ for item in "${@:-transfer}"; do
     done
     continue
   fi
-  bench "$name" $rest
+  bench "$name" $rest || echo "gpu.sh: benchmark $name FAILED; going on with the next"
 done
 if [ "${SOAK:-}" = collect ]; then
   while [ ! -f "$soak/rc" ]; do sleep 5; done
