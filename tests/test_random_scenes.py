@@ -190,7 +190,8 @@ def test_features_of_constructed_cases(ctx):
     add_wall(still_wall)
     wall = bl.scenes.features(ctx.render(still_wall, SIZE))
     assert wall["depth_complexity"] == 1.0  # the wall covers every pixel, nothing else
-    assert wall["motion_p99"] == 0.0 and wall["moving_share"] == 0.0
+    # a GPU leaves about 1e-5 px on still geometry (two projections of one point)
+    assert wall["motion_p99"] < 1e-3 and wall["moving_share"] == 0.0
     assert wall["camera_motion_share"] == 0.0 and wall["thin_share"] == 0.0
     assert not wall["has_hdr"] and not wall["has_translucency"]
     boxed = flat_scene("wall_and_box")

@@ -55,7 +55,9 @@ def test_thousand_render_blur_readback_cycles_stay_flat(ctx):
     )
     assert after["objects"] == before["objects"]
     assert after["rss"] - before["rss"] < 8.0
-    if before["vram"]:
+    # Free video memory is the whole GPU's: other processes on it (pytest-xdist's workers, a
+    # soak beside the tests) move it, so it is checked only where this process runs alone.
+    if before["vram"] and not os.environ.get("PYTEST_XDIST_WORKER"):
         assert before["vram"]["available"] - after["vram"]["available"] < 8 * 1024
     assert ctx.gl_errors() == []
 

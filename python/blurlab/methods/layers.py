@@ -222,10 +222,17 @@ def chosen_frame(ctx: Context, frame: Frame, motion_coverage: float) -> Frame:
     return _made_once(ctx, frame, ("chosen", motion_coverage), make)
 
 
+# A layer whose fragments all move less than this (px) is still: a GPU leaves about 1e-5 px on
+# still geometry (two projections of one point), and it is far below the coverage gather's
+# early exit (early_exit, 0.5 px), which would keep every such pixel as it is anyway.
+STILL_PX = 1e-3
+
+
 def layer_still(frame: Frame) -> bool:
-    """Whether no fragment of the frame's translucent layer moves (its motion is 0 everywhere:
-    a still window, or no translucent surface in view)."""
-    return not np.any(frame.translucent_motion)
+    """Whether no fragment of the frame's translucent layer moves (its motion is under
+    STILL_PX everywhere: a still window, or no translucent surface in view)."""
+    motion = frame.translucent_motion
+    return motion is None or motion.size == 0 or float(np.abs(motion).max()) < STILL_PX
 
 
 def blur_layers(
