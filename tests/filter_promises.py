@@ -38,6 +38,15 @@ def assert_matches_twin(result, frame) -> None:
     assert error.mean() <= 1e-4, f"mean absolute error {error.mean():.2e}"
 
 
+def assert_blurs_a_rendered_scene_as_its_twin(ctx, method: str, scene: str, **params) -> None:
+    """`method` on `scene` rendered at 160 x 90 matches its twin (assert_matches_twin) and
+    really blurs: some pixel moves by more than 0.05."""
+    frame = ctx.render(bl.scenes.get(scene), (160, 90))
+    result = bl.blur(ctx, frame, method, **params)
+    assert_matches_twin(result, frame)
+    assert np.abs(result.color - frame.color).max() > 0.05
+
+
 def assert_still_frame_unchanged(ctx, rng, method: str) -> None:
     frame = random_frame(rng, 64, 48)
     frame.motion[:] = 0
