@@ -79,6 +79,26 @@ def test_resume_adds_no_duplicates(ctx, tmp_path):
     assert len(table) == 5  # what this sweep asked for, the earlier rows included
 
 
+def test_finished_rows_keep_every_bit_when_the_file_gains_columns(ctx, tmp_path):
+    # 27.001846454071572 is a value pandas 2's default float parser reads one unit in the last
+    # place off; a rewrite that parsed and formatted the old rows again changed it
+    out = tmp_path / "r.csv"
+    options = {"reference_samples": 8, "metrics": ("psnr",), "out": out, "progress": False}
+    sw.sweep(ctx, ["fan"], {"gather_box": {"taps": [4]}}, SIZE, **options)
+    header, row = out.read_text().splitlines()
+    psnr = header.split(",").index("psnr")
+    fields = row.split(",")
+    fields[psnr] = "27.001846454071572"
+    out.write_text(f"{header}\n{','.join(fields)}\n")
+    table = sw.sweep(ctx, ["fan"], GRID, SIZE, **options)  # mcguire2012's rows add columns
+    lines = out.read_text().splitlines()
+    assert len(lines) == 6 and len(lines[0].split(",")) > len(header.split(","))
+    assert lines[1].startswith(",".join(fields))  # the old row's text, unchanged
+    box = table[table["method"] == "gather_box"]["psnr"]
+    assert box.tolist() == [27.001846454071572]
+    assert sw.read_row_file(out)["psnr"].tolist()[0] == 27.001846454071572
+
+
 def test_interrupted_sweep_keeps_finished_rows(ctx, tmp_path, monkeypatch):
     out = tmp_path / "r.csv"
     calls = {"n": 0}

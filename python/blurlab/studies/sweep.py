@@ -324,7 +324,7 @@ def _finished_rows(path: Path | None) -> dict:
         return {}
     _drop_partial_line(path)
     text = {c: str for c in (identity.IDENTITY, identity.SCENE_DIGEST, identity.VERSION)}
-    table = pd.read_csv(path, dtype=text)
+    table = read_row_file(path, dtype=text)
     if identity.IDENTITY not in table:
         return {}
     done = {}
@@ -333,6 +333,16 @@ def _finished_rows(path: Path | None) -> dict:
         if isinstance(row.get(identity.IDENTITY), str):
             done[row[identity.IDENTITY]] = row
     return done
+
+
+def read_row_file(path: Path, **options) -> pd.DataFrame:
+    """A sweep's CSV file as a table, every number the one written. pandas before 3.0 reads
+    floats with a fast parser that is not correctly rounded: a 17-digit PSNR can come back one
+    unit in the last place off, so a finished row read back would differ from the same row
+    evaluated again."""
+    if int(pd.__version__.split(".")[0]) < 3:
+        options.setdefault("float_precision", "round_trip")
+    return pd.read_csv(path, **options)
 
 
 def _drop_partial_line(path: Path) -> None:
@@ -391,11 +401,19 @@ class _RowFile:
                 writer.writerow(row)
             self._known(list(row))
             return
-        table = pd.concat([pd.read_csv(self.path), pd.DataFrame([row])], ignore_index=True)
+        # the rows already written are copied as text, never parsed and formatted again,
+        # so their numbers keep every bit
+        with self.path.open(newline="") as f:
+            old = list(csv.DictReader(f))
+        header = self.header + [c for c in row if c not in self.columns]
         tmp = self.path.with_suffix(".csv.tmp")
-        table.to_csv(tmp, index=False)
+        with tmp.open("w", newline="") as f:
+            writer = csv.DictWriter(f, header)
+            writer.writeheader()
+            writer.writerows(old)
+            writer.writerow(row)
         tmp.replace(self.path)
-        self._known(list(table.columns))
+        self._known(header)
 
 
 def sweep_methods() -> list[str]:
