@@ -57,14 +57,20 @@ class Camera:
 
     def base(self) -> np.ndarray:
         """Camera-to-world transform without motion: columns right, up, back, position."""
-        f = self.look_at - self.position
-        f /= np.linalg.norm(f)
-        r = np.cross(f, self.up)
-        r /= np.linalg.norm(r)
-        u = np.cross(r, f)
-        m = np.eye(4)
-        m[:3, 0], m[:3, 1], m[:3, 2], m[:3, 3] = r, u, -f, self.position
-        return m
+        # Kept with the values it was made from: a reference asks for it three times a
+        # sub-frame, and once more for every camera-facing particle (docs/spec.md §20).
+        key = (self.position.tobytes(), self.look_at.tobytes(), self.up.tobytes())
+        cached = self.__dict__.get("_base")
+        if cached is None or cached[0] != key:
+            f = self.look_at - self.position
+            f /= np.linalg.norm(f)
+            r = _cross(f, self.up)
+            r /= np.linalg.norm(r)
+            u = _cross(r, f)
+            m = np.eye(4)
+            m[:3, 0], m[:3, 1], m[:3, 2], m[:3, 3] = r, u, -f, self.position
+            cached = self.__dict__["_base"] = (key, m)
+        return cached[1].copy()
 
     def world(self, t: float) -> np.ndarray:
         """Camera-to-world transform at time t."""
@@ -326,6 +332,14 @@ class Scene:
         check_blur_scale(motion_blur, f"motion_blur of {name}")
         self.objects.append(obj)
         return obj
+
+
+def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """np.cross of two 3-vectors, in the same IEEE operations (each product rounded, then the
+    difference) at a tenth of its cost."""
+    a0, a1, a2 = a.tolist()
+    b0, b1, b2 = b.tolist()
+    return np.array([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0])
 
 
 def _checked(matrix: np.ndarray, what: str) -> np.ndarray:
