@@ -12,8 +12,8 @@ from ... import scenes
 from ...methods import method, methods
 from ...methods.core import Param
 from .. import auto_rules
-from ..sweep import sweep
 from .core import Benchmark, register
+from .rankings import sweep_on_workers
 from .timing import split
 
 
@@ -67,11 +67,12 @@ def _auto_rules(ctx, size, p, out) -> None:
     train = [f"random:{s}" for s in range(seeds)]
     held_out = [f"random:{s}" for s in range(seeds, 2 * seeds)]
     builtin = split(p["builtin_scenes"]) or scenes.names()
-    table = sweep(
+    table = sweep_on_workers(
         ctx,
-        train + held_out + builtin,
-        grids,
-        size,
+        p["workers"],
+        scenes=train + held_out + builtin,
+        methods_and_grids=grids,
+        size=size,
         reference_samples=p["reference_samples"] or None,
         metrics=("psnr",),
         out=p["results"] or None,
@@ -193,6 +194,7 @@ register(
             "builtin_scenes": Param("", object, "comma-separated built-in scenes (empty: all)"),
             "reference_samples": Param(0, int, "N of each reference (0: as sweeps choose)", 0),
             "results": Param("", object, "a .csv the sweep's rows go to and resume from"),
+            "workers": Param(0, int, "local Dask workers (0: this process)", 0, 64),
         },
         _auto_rules,
         {"tiny": (48, 27), "software": (320, 180), "gpu": (1920, 1080)},

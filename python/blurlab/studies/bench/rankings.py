@@ -37,12 +37,19 @@ def ranked_sweep(ctx, names, size, p) -> pd.DataFrame:
         "progress": False,
         "repeats": 1,
     }
-    if p["workers"]:
-        with local_cluster(p["workers"], ctx.info()["device"]) as cluster:
-            table = sweep(None, cluster=cluster, **arguments)
-    else:
-        table = sweep(ctx, **arguments)
+    table = sweep_on_workers(ctx, p["workers"], **arguments)
     return scenes.with_features(ctx, table, [scenes.get(n) for n in names], size)
+
+
+def sweep_on_workers(ctx, workers: int, **arguments) -> pd.DataFrame:
+    """bl.sweep(**arguments) on `ctx` (workers = 0) or on a local cluster of that many Dask
+    workers of ctx's kind of device (on GPUs worker i takes GPU i modulo their count, so
+    several may share one: a random scene's time is mostly Python, so one process leaves its
+    GPU idle much of the time)."""
+    if not workers:
+        return sweep(ctx, **arguments)
+    with local_cluster(workers, ctx.info()["device"]) as cluster:
+        return sweep(None, cluster=cluster, **arguments)
 
 
 def _rankings(ctx, size, p, out) -> None:
