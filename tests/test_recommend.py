@@ -224,6 +224,31 @@ def test_the_recommend_command_answers_for_a_set_of_scenes():
     assert bad.returncode == 2 and "0 < NN < 100" in bad.stderr
 
 
+def test_a_sequence_is_recommended_over_its_frames(ctx):
+    fan = bl.scenes.get("fan")
+    frames = bl.frame_scenes(fan, fps=60, frames=3)
+    assert [f.name for f in frames] == ["fan@0", "fan@1", "fan@2"]
+    centres = [0.5 * (f.shutter[0] + f.shutter[1]) for f in frames]
+    assert centres[1] == pytest.approx(0.5 * (fan.shutter[0] + fan.shutter[1]))
+    assert np.diff(centres) == pytest.approx([1 / 60, 1 / 60])
+    assert all(f.shutter[1] - f.shutter[0] == pytest.approx(0.5 / 60) for f in frames)  # 180°
+    answer = bl.recommend_set(ctx, frames, (48, 27), budget_ms=1000.0, aggregate="worst:psnr")
+    assert sorted(answer.per_scene["scene"]) == ["fan@0", "fan@1", "fan@2"]
+    assert answer.per_scene["psnr"].min() == answer.value
+    with pytest.raises(ValueError, match="frames must be an integer"):
+        bl.frame_scenes(fan, frames=0)
+
+
+def test_the_recommend_command_takes_a_sequence():
+    result = blurlab_command(
+        *("--device", CLI_DEVICE, "recommend", "fan", "--frames", "2", "--size", "48x27"),
+        *("--budget-ms", "1000", "--aggregate", "p10:psnr"),
+    )
+    assert result.returncode == 0, result.stderr
+    assert "over 2 scenes" in result.stdout
+    assert {"fan@0", "fan@1"} <= set(result.stdout.split())
+
+
 def test_a_seed_range_names_the_random_scenes():
     assert advice.expand(["fan", "random:3-5"]) == ["fan", "random:3", "random:4", "random:5"]
     assert advice.expand("random:7-7") == ["random:7"]

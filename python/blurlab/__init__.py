@@ -20,7 +20,7 @@ from .methods import (
 from .motion import Bone, Keyframe, Motion, Skeleton, quaternion
 from .particles import Particle, particles
 from .scene import Camera, DirectionalLight, Material, Scene
-from .sequences import Sequence, SequenceRun, sequence
+from .sequences import Sequence, SequenceRun, frame_scenes, sequence
 from .shutters import shutter
 from .sizes import DEFAULT_SIZE
 
@@ -83,6 +83,7 @@ __all__ = [
     "plots",
     "scenes",
     "sequence",
+    "frame_scenes",
     "sweep",
     "taa",
     "tam",

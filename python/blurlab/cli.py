@@ -15,6 +15,7 @@ from pathlib import Path
 from . import io, metrics, scenes
 from .context import Context
 from .methods import blur, method, methods
+from .sequences import frame_scenes
 from .sizes import DEFAULT_SIZE
 from .studies import plots
 from .studies.bench import command as bench_command
@@ -216,6 +217,10 @@ def _recommend(args) -> int:
         scenes.gltf(s, animation=args.animation) if scenes.is_file(s) else scenes.get(s)
         for s in expand(args.scene)
     ]
+    if args.frames is not None:  # each scene as the frames of a sequence (docs/recommend.md)
+        items = [
+            frame for item in items for frame in frame_scenes(item, args.fps, args.frames)
+        ]
     if len(items) > 1 or args.aggregate is not None:
         return _recommend_set(args, items)
     ctx = Context(args.device)
@@ -425,6 +430,17 @@ def build_parser() -> argparse.ArgumentParser:
         help=f"over a set of scenes, rank by {', '.join(AGGREGATES)} (pNN: the NN-th percentile "
         "from the bad end), optionally ':METRIC', e.g. p10:psnr (default with several scenes: "
         "median of --metric)",
+    )
+    advice.add_argument(
+        "--frames",
+        type=int,
+        default=None,
+        help="measure each scene as FRAMES consecutive frames of a sequence at --fps (180° "
+        "shutters), one configuration for them all (with --aggregate, e.g. p10:psnr: its worst "
+        "frames)",
+    )
+    advice.add_argument(
+        "--fps", type=float, default=60.0, help="with --frames: the frame rate (default 60)"
     )
     advice.add_argument(
         "--animation",

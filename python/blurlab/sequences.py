@@ -186,8 +186,6 @@ def sequence(
     if not isinstance(scene, Scene):
         raise TypeError(f"blurlab: sequence needs a blurlab Scene, not {type(scene).__name__}")
     size = check_size(size, ctx.max_texture_size)
-    if isinstance(frames, bool) or not isinstance(frames, Integral) or not 0 < frames <= MAX_FRAMES:
-        raise ValueError(f"blurlab: frames must be an integer in 1..{MAX_FRAMES}, not {frames!r}")
     if jitter not in JITTERS:
         raise ValueError(f"blurlab: jitter must be one of {JITTERS}, not {jitter!r}")
     if not isinstance(antialias, bool):
@@ -197,12 +195,7 @@ def sequence(
             "blurlab: antialias=False samples pixel centres, which jittered frames do not: "
             "pass jitter='none', or keep antialias=True"
         )
-    if isinstance(fps, bool) or not isinstance(fps, Real) or not 0 < fps < math.inf:
-        raise ValueError(f"blurlab: fps must be a finite number > 0, not {fps!r}")
-    middle = 0.5 * (scene.shutter[0] + scene.shutter[1])
-    times = middle + (np.arange(frames) - (frames - 1) / 2) / fps
-    # shutter() checks the angle and places the shutter on each frame's time.
-    shutters = np.array([shutter(fps, shutter_angle, t * fps) for t in times])
+    times, shutters = frame_shutters(scene, fps, frames, shutter_angle)
     references = np.stack(
         [
             ctx.reference(
@@ -230,6 +223,39 @@ def sequence(
         reference_samples,
         antialias,
     )
+
+
+def frame_shutters(
+    scene: Scene, fps: float = 60.0, frames: int = 16, shutter_angle: float = 180.0
+) -> tuple[np.ndarray, np.ndarray]:
+    """(times, shutters) of a sequence's `frames` frames: frame i at the scene's shutter
+    centre + (i - (frames - 1) / 2) / fps, its shutter `shutter_angle` degrees of the frame
+    interval centred there (docs/spec.md §21.1)."""
+    if isinstance(frames, bool) or not isinstance(frames, Integral) or not 0 < frames <= MAX_FRAMES:
+        raise ValueError(f"blurlab: frames must be an integer in 1..{MAX_FRAMES}, not {frames!r}")
+    if isinstance(fps, bool) or not isinstance(fps, Real) or not 0 < fps < math.inf:
+        raise ValueError(f"blurlab: fps must be a finite number > 0, not {fps!r}")
+    middle = 0.5 * (scene.shutter[0] + scene.shutter[1])
+    times = middle + (np.arange(frames) - (frames - 1) / 2) / fps
+    # shutter() checks the angle and places the shutter on each frame's time.
+    shutters = np.array([shutter(fps, shutter_angle, t * fps) for t in times])
+    return times, shutters
+
+
+def frame_scenes(
+    scene: Scene, fps: float = 60.0, frames: int = 16, shutter_angle: float = 180.0
+) -> list[Scene]:
+    """The frames of a sequence of `scene` as scenes of their own, each with its frame's
+    shutter (frame_shutters) and named "NAME@i": what a single-frame tool such as
+    bl.recommend_set measures frame by frame, to choose one configuration for the sequence
+    (docs/spec.md §23.2)."""
+    if not isinstance(scene, Scene):
+        raise TypeError(f"blurlab: frame_scenes needs a blurlab Scene, not {type(scene).__name__}")
+    _, shutters = frame_shutters(scene, fps, frames, shutter_angle)
+    return [
+        dataclasses.replace(scene, shutter=(float(a), float(b)), name=f"{scene.name}@{i}")
+        for i, (a, b) in enumerate(shutters)
+    ]
 
 
 def run_sequence(
