@@ -52,7 +52,7 @@ def add_arguments(parser, parse_size) -> None:
         default=None,
         metavar="FILE",
         help="write each record into FILE (default: benchmarks/records.jsonl), replacing the "
-        "previous one of the same benchmark and device",
+        "previous one of the same benchmark, device and image size",
     )
     parser.add_argument("--merge", metavar="FILE", help="merge FILE's records into --record's")
     parser.add_argument(

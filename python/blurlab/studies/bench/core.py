@@ -326,17 +326,23 @@ def read_records(path: Path | str = RECORDS) -> list[dict]:
     return [validate(json.loads(line)) for line in lines if line.strip()]
 
 
+def record_key(record: dict) -> tuple:
+    """What a record stands for, one record each in the records file: its benchmark, its
+    device and its image size (a benchmark measured at two sizes on one device keeps both)."""
+    return record["benchmark"], record["device"], str(record["params"].get("size", ""))
+
+
 def write_records(records: list[dict], path: Path | str = RECORDS) -> None:
-    """Writes `records` into the records file, each validated, sorted by (benchmark, device);
-    the file is written whole only after every record passed."""
-    ordered = sorted((validate(r) for r in records), key=lambda r: (r["benchmark"], r["device"]))
+    """Writes `records` into the records file, each validated, sorted by record_key; the file
+    is written whole only after every record passed."""
+    ordered = sorted((validate(r) for r in records), key=record_key)
     text = "".join(json.dumps(r, ensure_ascii=False, separators=(",", ":")) + "\n" for r in ordered)
     Path(path).parent.mkdir(parents=True, exist_ok=True)
     Path(path).write_text(text)
 
 
 def merged(old: list[dict], new: list[dict]) -> list[dict]:
-    """`old` with each record of `new` in place of the one of the same (benchmark, device)."""
-    keyed = {(r["benchmark"], r["device"]): r for r in old}
-    keyed |= {(r["benchmark"], r["device"]): r for r in new}
+    """`old` with each record of `new` in place of the one of the same record_key."""
+    keyed = {record_key(r): r for r in old}
+    keyed |= {record_key(r): r for r in new}
     return list(keyed.values())

@@ -3,7 +3,7 @@ and parameters, then the latest record of each device (figures, then tables)."""
 
 from __future__ import annotations
 
-from .core import Benchmark, benchmark, names, read_records
+from .core import Benchmark, benchmark, names, read_records, record_key
 
 HEADER = """# Benchmarks
 
@@ -71,5 +71,5 @@ def markdown(records: list[dict] | None = None) -> str:
         parts.append(parameter_line(bench) + "\n")
         if not mine:
             parts.append("No record yet.\n")
-        parts += [record_markdown(r) for r in sorted(mine, key=lambda r: r["device"])]
+        parts += [record_markdown(r) for r in sorted(mine, key=record_key)]
     return "\n".join(parts)
