@@ -80,8 +80,8 @@ def test_resume_adds_no_duplicates(ctx, tmp_path):
 
 
 def test_finished_rows_keep_every_bit_when_the_file_gains_columns(ctx, tmp_path):
-    # 27.001846454071572 is a value pandas 2's default float parser reads one unit in the last
-    # place off; a rewrite that parsed and formatted the old rows again changed it
+    # 27.001846454071572 is a value the default float parser of pandas before 3.1 reads one
+    # unit in the last place off; a rewrite that parsed and formatted the old rows changed it
     out = tmp_path / "r.csv"
     options = {"reference_samples": 8, "metrics": ("psnr",), "out": out, "progress": False}
     sw.sweep(ctx, ["fan"], {"gather_box": {"taps": [4]}}, SIZE, **options)

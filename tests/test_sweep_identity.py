@@ -60,7 +60,10 @@ def _tamper(out, column="psnr", value=99.0):
 def test_device_rows_of_another_renderer_are_not_returned(ctx, tmp_path, monkeypatch):
     out = tmp_path / "r.csv"
     real = ctx.info()
-    gpu = {**real, "device": "gpu", "renderer": "NVIDIA H100 80GB HBM3/PCIe/SSE2"}
+    # a GPU that is not this machine's, on any machine
+    names = ["NVIDIA H100 80GB HBM3/PCIe/SSE2", "NVIDIA H200/PCIe/SSE2"]
+    other = next(name for name in names if name != real["renderer"])
+    gpu = {**real, "device": "gpu", "renderer": other}
     monkeypatch.setattr(ctx, "info", lambda: gpu)
     rerun(ctx, out)  # a "GPU" run into the file
     monkeypatch.undo()

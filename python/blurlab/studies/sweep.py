@@ -336,11 +336,12 @@ def _finished_rows(path: Path | None) -> dict:
 
 
 def read_row_file(path: Path, **options) -> pd.DataFrame:
-    """A sweep's CSV file as a table, every number the one written. pandas before 3.0 reads
-    floats with a fast parser that is not correctly rounded: a 17-digit PSNR can come back one
-    unit in the last place off, so a finished row read back would differ from the same row
-    evaluated again."""
-    if int(pd.__version__.split(".")[0]) < 3:
+    """A sweep's CSV file as a table, every number the one written. pandas before 3.1 reads
+    floats with a fast parser that is not correctly rounded by default: a 17-digit PSNR can
+    come back one unit in the last place off, so a finished row read back would differ from
+    the same row evaluated again (3.1 made the exact parser the default and deprecated the
+    option)."""
+    if tuple(int(part) for part in pd.__version__.split(".")[:2]) < (3, 1):
         options.setdefault("float_precision", "round_trip")
     return pd.read_csv(path, **options)
 
