@@ -9,7 +9,10 @@ to built-in, random and loaded scenes alike, at the frame's size.
 from __future__ import annotations
 
 import hashlib
+import os
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 import pandas as pd
@@ -145,11 +148,9 @@ def with_features(ctx, table: pd.DataFrame, scenes, size, out=None) -> pd.DataFr
     rendered by `ctx` at `size` at the shutter's centre) joined on the scene's name; feature
     columns the table had are replaced. With `out`, a folder, it is also written to
     out/results.csv (atomically, replacing the file)."""
-    rows = []
-    for scene in scenes:
-        frame = ctx.render(scene, size)
-        rows.append({"scene": scene.name, **features(frame)})
-        del frame  # its GPU targets go back to the pool before the next render
+    scenes = list(scenes)
+    measured = features_of(ctx, scenes, size)
+    rows = [{"scene": scene.name, **row} for scene, row in zip(scenes, measured, strict=True)]
     measured = pd.DataFrame(rows, columns=["scene", *FEATURES]).drop_duplicates("scene")
     kept = table.drop(columns=[c for c in FEATURES if c in table])
     joined = kept.merge(measured, on="scene", how="left")
@@ -157,6 +158,34 @@ def with_features(ctx, table: pd.DataFrame, scenes, size, out=None) -> pd.DataFr
     if out is not None:
         io.write_text(Path(out) / "results.csv", joined.to_csv(index=False))
     return joined
+
+
+def features_of(ctx, scenes, size, instant: str = "center") -> list[dict]:
+    """features() of each of `scenes`, rendered by `ctx` at `size` at `instant`, in order.
+    The renders run here, one after another (a GL context is this thread's); the features,
+    NumPy on the frame's arrays (about a second at 1080p, most of it in calls that release the
+    GIL), run on threads meanwhile, a few frames at a time."""
+    threads = max(1, min(8, (os.cpu_count() or 1) - 1))
+    results = []
+    with ThreadPoolExecutor(threads) as pool:
+        pending = []
+        for scene in scenes:
+            frame = ctx.render(scene, size, instant=instant)
+            # the arrays a thread needs; the frame (and its GPU targets) stays on this thread
+            arrays = SimpleNamespace(
+                motion=frame.motion,
+                depth=frame.depth,
+                object_id=frame.object_id,
+                camera=frame.camera,
+                scene=frame.scene,
+                size=frame.size,
+            )
+            del frame  # its GPU targets go back to the pool before the next render
+            pending.append(pool.submit(features, arrays))
+            while len(pending) > 2 * threads:  # bounded memory: a 1080p frame is ~40 MB
+                results.append(pending.pop(0).result())
+        results += [job.result() for job in pending]
+    return results
 
 
 def gbuffer_digest(frame) -> str:
