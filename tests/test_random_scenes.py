@@ -14,9 +14,10 @@ from golden import GOLDEN_DIR, IMAGE_TOLERANCE, color_problems
 
 import blurlab as bl
 from blurlab import cli
-from blurlab.scenes.features import thin_share
+from blurlab.scenes.features import features, features_of, thin_share
 from blurlab.scenes.parts import add_wall, flat_scene
 from blurlab.studies import study
+from blurlab.studies.bench.random_scenes import worker_counts
 from blurlab.studies.identity import scene_digest
 
 SIZE = (160, 90)
@@ -246,3 +247,17 @@ if __name__ == "__main__":  # python tests/test_random_scenes.py --record  (on l
     context = bl.Context("software")
     np.savez_compressed(STORED, **stored_gbuffers(context))
     print(f"wrote {Path(STORED)}")
+
+
+def test_features_of_a_set_equal_each_frames_own(ctx):
+    # measured on threads while the next scene renders, in the order given
+    scenes = [bl.scenes.random(seed) for seed in (1, 2, 3)]
+    threaded = features_of(ctx, scenes, (64, 36))
+    assert threaded == [features(ctx.render(scene, (64, 36))) for scene in scenes]
+
+
+@pytest.mark.parametrize("text", ["0", "1,x", "", "65", "4,-1"])
+def test_the_benchmarks_worker_counts_are_checked(text):
+    with pytest.raises(ValueError, match="worker counts in 1..64"):
+        worker_counts(text)
+    assert worker_counts("1,4") == [1, 4]
