@@ -218,9 +218,7 @@ def _recommend(args) -> int:
         for s in expand(args.scene)
     ]
     if args.frames is not None:  # each scene as the frames of a sequence (docs/recommend.md)
-        items = [
-            frame for item in items for frame in frame_scenes(item, args.fps, args.frames)
-        ]
+        items = [frame for item in items for frame in frame_scenes(item, args.fps, args.frames)]
     if len(items) > 1 or args.aggregate is not None:
         return _recommend_set(args, items)
     ctx = Context(args.device)
