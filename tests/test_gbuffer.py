@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 import blurlab as bl
+from blurlab.render import gbuffer_pass, render_targets
 from blurlab.twins import projection
 
 SIZE = (160, 90)
@@ -348,3 +349,30 @@ def test_gbuffer_draw_has_named_checked_fields():
         draw.material.color = [1.0, 0.5, 0.25]
     with pytest.raises(ValueError, match="bone matrices has 50 values"):
         draw.bones = np.zeros(50)
+
+
+def test_a_colour_only_render_writes_the_same_colour_and_nothing_else(ctx):
+    # what a reference's sub-frames use: depth, motion and ids neither allocated nor written
+    scene = bl.scenes.get("teapot_pass")
+    args = (ctx, scene, (64, 36), scene.shutter, 0.25 * scene.shutter[1])
+    full, _, _ = render_targets(*args, timers=False)
+    alone, _, _ = render_targets(*args, timers=False, color_only=True)
+    assert set(alone) == {"color"}
+    assert np.array_equal(alone["color"].download(), full["color"].download())
+    ctx.recycle(*full.values(), *alone.values())
+    # a scene with translucent layers needs them all, and gets them
+    glass = bl.scenes.get("moving_glass")
+    layered, _, _ = render_targets(ctx, glass, (64, 36), glass.shutter, 0.0, color_only=True)
+    assert {"depth", "motion", "object_id"} <= set(layered)
+    ctx.recycle(*(t for t in layered.values() if hasattr(t, "native")))
+
+
+def test_the_gbuffer_pass_refuses_a_render_without_a_colour_target(ctx):
+    zeros = lambda *shape: np.zeros(shape, np.float32)  # noqa: E731
+    camera = {"view_projection": zeros(3, 4, 4), "eye": zeros(3), "near": 0.1}
+    camera |= {"sky_from_clip": zeros(4, 4), "sky_projection": zeros(2, 4, 4)}
+    light = {"direction": zeros(3), "color": zeros(3), "ambient": zeros(3)}
+    light["background"] = zeros(4)
+    with pytest.raises(ValueError, match="needs a colour target"):
+        gbuffer_pass(ctx).render(None, None, None, None, camera, light, [])
+    assert ctx.gl_errors() == []

@@ -150,6 +150,7 @@ def reference_render(
                 jitter,
                 timers=sub_frame_timers,
                 most_fragments=most_fragments,
+                color_only=True,  # the mean of the colours is all a reference keeps
             )
             with timers.timer() if per_subframe else nullcontext() as add:
                 accumulate(ctx, targets["color"], total, 1.0 / samples)

@@ -182,6 +182,7 @@ def render_targets(
     sides: bool = False,
     timers=None,
     most_fragments=None,
+    color_only: bool = False,
 ):
     """Runs the G-buffer pass into pooled textures: (targets, camera matrices, Timing).
     `sides` adds the target "motion_sides": M_prev in RG, M_next in BA (docs/spec.md §17.1).
@@ -196,6 +197,10 @@ def render_targets(
     Scenes with translucent surfaces get the targets of `translucent_layer`; `most_fragments`
     (a cleared 1 x 1 uint32 texture) collects their largest fragment count over several calls,
     else each call adds its own as targets["most_fragments"].
+
+    `color_only` renders the colour alone (the same bits), for a reference's sub-frames: depth,
+    motion and ids are neither allocated nor written. Scenes with translucent surfaces, whose
+    layers need them, get every target regardless.
     """
     if isinstance(guard, bool) or not isinstance(guard, int) or guard < 0:
         raise ValueError(f"blurlab: guard must be an integer >= 0 pixels, not {guard!r}")
@@ -235,10 +240,14 @@ def render_targets(
         (layered if m.translucent else draws).append(draw)
     # Every target is fully overwritten (the background pass covers every pixel), so pooled
     # textures need no clearing.
-    targets = {
-        name: ctx.pooled(shape) for name, shape in target_shapes((width, height), sides).items()
-    }
-    natives = [targets[name].native for name in ("color", "depth", "motion", "object_id")]
+    shapes = target_shapes((width, height), sides)
+    if color_only and not layered:
+        shapes = {"color": shapes["color"]}
+    targets = {name: ctx.pooled(shape) for name, shape in shapes.items()}
+    natives = [
+        targets[name].native if name in targets else None
+        for name in ("color", "depth", "motion", "object_id")
+    ]
     gbuffer = gbuffer_pass(ctx)
     if timers is False:
         clock = nullcontext()

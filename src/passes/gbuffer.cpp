@@ -108,13 +108,14 @@ void GBufferPass::set_frame_uniforms(const Variant& variant, const GBufferCamera
 
 void GBufferPass::render(const GBufferTargets& targets, const GBufferCamera& camera,
                          const GBufferLight& light, const std::vector<GBufferDraw>& draws) {
+  // Colour is always written; depth, motion and object id may be left out (a reference's
+  // sub-frames need the colour alone), and their outputs are then not written at all.
   const Texture* outputs[4] = {targets.color.get(), targets.depth.get(), targets.motion.get(),
                                targets.object_id.get()};
-  for (const Texture* t : outputs)
-    if (!t) throw std::invalid_argument("blurlab: the G-buffer pass needs all four targets");
+  if (!outputs[0]) throw std::invalid_argument("blurlab: the G-buffer pass needs a colour target");
   const int width = targets.color->width(), height = targets.color->height();
   for (const Texture* t : outputs)
-    if (t->width() != width || t->height() != height)
+    if (t && (t->width() != width || t->height() != height))
       throw std::invalid_argument("blurlab: G-buffer targets differ in size");
 
   const Texture* sides = targets.motion_sides.get();
@@ -125,6 +126,8 @@ void GBufferPass::render(const GBufferTargets& targets, const GBufferCamera& cam
   const bool layers = lists[0] != nullptr;
   int capacity = 0;
   if (layers) {
+    for (const Texture* t : outputs)
+      if (!t) throw std::invalid_argument("blurlab: fragment lists need all four G-buffer targets");
     for (const Texture* t : lists)
       if (!t) throw std::invalid_argument("blurlab: fragment lists need all four of their targets");
     // Fragments lie in blocks of W x H, `rows` down and `columns` across
@@ -147,13 +150,16 @@ void GBufferPass::render(const GBufferTargets& targets, const GBufferCamera& cam
 
   context_->make_current();
   resize_depth(width, height);
-  for (int i = 0; i < 4; ++i)
-    glNamedFramebufferTexture(framebuffer_, GL_COLOR_ATTACHMENT0 + i, outputs[i]->id(), 0);
-  // The two-sided motion is written only where asked for; a texture left attached from an
-  // earlier call is detached.
+  // A target left out (and one left attached from an earlier call) is detached and its draw
+  // buffer is GL_NONE; the two-sided motion is written only where asked for.
+  GLenum attachments[5];
+  for (int i = 0; i < 4; ++i) {
+    glNamedFramebufferTexture(framebuffer_, GL_COLOR_ATTACHMENT0 + i,
+                              outputs[i] ? outputs[i]->id() : 0, 0);
+    attachments[i] = outputs[i] ? GLenum(GL_COLOR_ATTACHMENT0 + i) : GLenum(GL_NONE);
+  }
   glNamedFramebufferTexture(framebuffer_, GL_COLOR_ATTACHMENT4, sides ? sides->id() : 0, 0);
-  const GLenum attachments[5] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2,
-                                 GL_COLOR_ATTACHMENT3, GL_COLOR_ATTACHMENT4};
+  attachments[4] = GL_COLOR_ATTACHMENT4;
   glNamedFramebufferDrawBuffers(framebuffer_, sides ? 5 : 4, attachments);
   if (glCheckNamedFramebufferStatus(framebuffer_, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
     throw GLError("blurlab: the G-buffer framebuffer is incomplete");
