@@ -153,6 +153,18 @@ def test_worker_device_follows_blurlab_device_then_rank():
         cluster.worker_device(0, {"BLURLAB_DEVICE": "tpu"})
 
 
+def test_blurlab_gpus_keeps_the_ranks_on_the_first_gpus():
+    assert cluster.gpu_share("", 4) == 4
+    assert cluster.gpu_share("0", 4) == 4
+    assert cluster.gpu_share(" 1 ", 4) == 1
+    assert cluster.gpu_share("8", 4) == 4  # no more than the machine has
+    with pytest.raises(ValueError, match="BLURLAB_GPUS must be a GPU count"):
+        cluster.gpu_share("two", 4)
+    gpus = [d["index"] for d in bl.Context.devices() if d["kind"] == "gpu"]
+    expected = gpus[0] if gpus else "software"
+    assert cluster.worker_device(3, {"BLURLAB_DEVICE": "", "BLURLAB_GPUS": "1"}) == expected
+
+
 def test_bad_cluster_arguments_are_rejected(ctx):
     with pytest.raises(ValueError, match="pass ctx=None"):
         bl.sweep(ctx, ["fan"], ["gather_box"], (64, 36), cluster="tcp://127.0.0.1:1")
@@ -168,3 +180,5 @@ def test_bad_cluster_arguments_are_rejected(ctx):
         bl.local_cluster(1, device="tpu")
     with pytest.raises(ValueError, match="one thread each"):
         bl.local_cluster(1, threads_per_worker=2)
+    with pytest.raises(ValueError, match="gpus must be None or an integer >= 1"):
+        bl.local_cluster(1, gpus=0)

@@ -13,6 +13,7 @@ import numpy as np
 import pandas as pd
 
 from ... import scenes
+from ...context import Context
 from ...methods.core import Param
 from ..cluster import local_cluster
 from ..sweep import sweep, sweep_methods
@@ -21,9 +22,9 @@ from .core import Benchmark, register
 METRICS = ("psnr", "ssim", "flip")
 
 
-def _sweeps(ctx, size, p, names: list[str], workers: int) -> tuple[list, float]:
+def _sweeps(ctx, size, p, names: list[str], workers: int, gpus: int) -> tuple[list, float]:
     """Sweeps `names` in batches of p["batch"] scenes, on `ctx` or on a local cluster of
-    `workers` workers (worker i on GPU i modulo the GPUs); starts no batch once
+    `workers` workers (worker i on GPU i modulo `gpus`, 0: all GPUs); starts no batch once
     p["budget_s"] (> 0) has passed since the first. Returns the batches' tables and the seconds
     the cluster took to start, its workers connected (0 without one)."""
     methods = sweep_methods()
@@ -54,35 +55,50 @@ def _sweeps(ctx, size, p, names: list[str], workers: int) -> tuple[list, float]:
     from distributed import Client
 
     start = time.perf_counter()
-    with local_cluster(workers, ctx.info()["device"]) as cluster, Client(cluster) as client:
+    on = {"gpus": gpus} if gpus else {}
+    with local_cluster(workers, ctx.info()["device"], **on) as cluster, Client(cluster) as client:
         client.wait_for_workers(workers, timeout=300)
         startup = time.perf_counter() - start
         return run_batches(None, client), startup
 
 
-def worker_counts(text) -> list[int]:
-    """The `workers` parameter: worker counts separated by commas, each run in turn."""
+def counts_of(text, what: str, lowest: int) -> list[int]:
+    """The `workers` or `gpus` parameter: counts in lowest..64 separated by commas."""
     try:
         counts = [int(part) for part in str(text).split(",")]
     except ValueError:
         counts = []
-    if not counts or not all(1 <= c <= 64 for c in counts):
+    if not counts or not all(lowest <= c <= 64 for c in counts):
         raise ValueError(
-            "blurlab: random_scenes workers must be worker counts in 1..64 separated by "
+            f"blurlab: random_scenes {what} must be counts in {lowest}..64 separated by "
             f"commas (e.g. 1,4), not {text!r}"
         )
     return counts
 
 
+def worker_counts(text) -> list[int]:
+    """The `workers` parameter: worker counts separated by commas, each run in turn."""
+    return counts_of(text, "workers", 1)
+
+
 def _random_scenes(ctx, size, p, out) -> None:
     names = [scenes.random_name(seed) for seed in range(p["seed"], p["seed"] + p["scenes"])]
-    for workers in worker_counts(p["workers"]):  # the last count's table is reported below
+    listed = (
+        sum(d["kind"] == "gpu" for d in Context.devices())
+        if ctx.info()["device"] != "software"
+        else 0
+    )
+    runs = [(g, w) for g in counts_of(p["gpus"], "gpus", 0) for w in worker_counts(p["workers"])]
+    for gpus, workers in runs:  # the last run's table is reported below
         start = time.perf_counter()
-        tables, startup = _sweeps(ctx, size, p, names, workers)
+        tables, startup = _sweeps(ctx, size, p, names, workers, gpus)
         wall = time.perf_counter() - start - startup  # the cluster's start is reported apart
         table = pd.concat(tables, ignore_index=True)
         done = table["scene"].nunique()
         each = f"{workers} worker{'s' * (workers > 1)}"
+        used = min(gpus or listed, listed)
+        if used and workers > 1:
+            each += f" on {used} GPU{'s' * (used > 1)}"
         out.figure(f"{each}: scenes", done, "scenes")
         out.figure(f"{each}: evaluations", len(table), "evaluations")
         out.figure(f"{each}: cluster start (not in the wall)", startup, "s")
@@ -151,6 +167,12 @@ register(
                 object,
                 "Dask workers, worker i on GPU i modulo the GPUs, so several may share one "
                 "(1: this process's context); several counts separated by commas run in turn",
+            ),
+            "gpus": Param(
+                "0",
+                object,
+                "GPUs the workers spread over, the first that many (0: all); several counts "
+                "separated by commas run in turn, each with every worker count",
             ),
             "batch": Param(50, int, "scenes a sweep call", 1, 100_000),
             "budget_s": Param(
