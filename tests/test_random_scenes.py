@@ -17,7 +17,7 @@ from blurlab import cli
 from blurlab.scenes.features import features, features_of, thin_share
 from blurlab.scenes.parts import add_wall, flat_scene
 from blurlab.studies import study
-from blurlab.studies.bench.random_scenes import worker_counts
+from blurlab.studies.bench.random_scenes import counts_of, worker_counts
 from blurlab.studies.identity import scene_digest
 
 SIZE = (160, 90)
@@ -261,3 +261,10 @@ def test_the_benchmarks_worker_counts_are_checked(text):
     with pytest.raises(ValueError, match="worker counts in 1..64"):
         worker_counts(text)
     assert worker_counts("1,4") == [1, 4]
+
+
+@pytest.mark.parametrize("text", ["", "-1", "1,x", "65"])
+def test_the_benchmarks_gpu_counts_are_checked(text):
+    with pytest.raises(ValueError, match="gpu counts in 0..64"):
+        counts_of(text, "gpus", 0)
+    assert counts_of("0,1,4", "gpus", 0) == [0, 1, 4]

@@ -62,6 +62,21 @@ def _sweeps(ctx, size, p, names: list[str], workers: int, gpus: int) -> tuple[li
         return run_batches(None, client), startup
 
 
+# The phases of a worker's account (studies.cluster.worker_report) the benchmark reports.
+ACCOUNT_PHASES = ("references", "g_buffers", "warm_up", "imports", "exports", "evaluations")
+
+
+def _worker_seconds(tables: list, workers: int, wall: float) -> dict[str, float]:
+    """The workers' seconds in each phase of their accounts over every batch's sweep, and the
+    rest of workers x wall as idle ({} on one device: no accounts)."""
+    accounts = [a for t in tables for a in t.attrs.get("workers", {}).values()]
+    if not accounts:
+        return {}
+    spent = {phase: sum(a[f"{phase}_s"] for a in accounts) for phase in ACCOUNT_PHASES}
+    spent["idle (waiting for work, start, transfers)"] = workers * wall - sum(spent.values())
+    return spent
+
+
 def counts_of(text, what: str, lowest: int) -> list[int]:
     """The `workers` or `gpus` parameter: counts in lowest..64 separated by commas."""
     try:
@@ -70,8 +85,8 @@ def counts_of(text, what: str, lowest: int) -> list[int]:
         counts = []
     if not counts or not all(lowest <= c <= 64 for c in counts):
         raise ValueError(
-            f"blurlab: random_scenes {what} must be counts in {lowest}..64 separated by "
-            f"commas (e.g. 1,4), not {text!r}"
+            f"blurlab: random_scenes {what} must be {what.rstrip('s')} counts in "
+            f"{lowest}..64 separated by commas (e.g. 1,4), not {text!r}"
         )
     return counts
 
@@ -106,6 +121,13 @@ def _random_scenes(ctx, size, p, out) -> None:
         out.figure(f"{each}: scenes per second", done / wall, "1/s")
         projected = wall * p["scenes"] / done
         out.figure(f"{each}: projected wall for {p['scenes']} scenes", projected, "s")
+        spent = _worker_seconds(tables, workers, wall)
+        if spent:
+            out.table(
+                f"{each}: where the workers' seconds went, summed over the workers",
+                [("phase", ""), ("worker seconds", "s"), ("share", "%")],
+                [[phase, s, 100 * s / (workers * wall)] for phase, s in spent.items()],
+            )
     rows = []
     for method, rows_of in table.groupby("method", sort=True):
         psnr = rows_of["psnr"].to_numpy(float)
