@@ -44,8 +44,8 @@ def ranked_sweep(ctx, names, size, p) -> pd.DataFrame:
 def sweep_on_workers(ctx, workers: int, **arguments) -> pd.DataFrame:
     """bl.sweep(**arguments) on `ctx` (workers = 0) or on a local cluster of that many Dask
     workers of ctx's kind of device (on GPUs worker i takes GPU i modulo their count, so
-    several may share one: a random scene's time is mostly Python, so one process leaves its
-    GPU idle much of the time)."""
+    several may share one, filling the time one process leaves it idle while building draws
+    and reading metrics back)."""
     if not workers:
         return sweep(ctx, **arguments)
     with local_cluster(workers, ctx.info()["device"]) as cluster:
