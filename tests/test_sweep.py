@@ -236,6 +236,28 @@ def test_deferred_readback_gives_the_same_table(ctx, monkeypatch):
     assert one["psnr"].nunique() == 5 and one["flip"].nunique() > 1
 
 
+def test_an_untimed_sweep_scores_the_same_without_running_twice(ctx, monkeypatch):
+    # repeats=0: each configuration runs once, for its scores (no warm-up, no timed runs), and
+    # every score is the same bits as a timed sweep's.
+    runs = []
+    real = evaluation.blur_steps
+    monkeypatch.setattr(
+        evaluation, "blur_steps", lambda *a, **k: runs.append(a[2]) or real(*a, **k)
+    )
+    args = dict(reference_samples=8, metrics=("psnr", "ssim", "flip"), progress=False)
+    caches: dict = {}
+    untimed = sw.sweep(ctx, ["fan"], GRID, SIZE, repeats=0, caches=caches, **args)
+    assert len(runs) == len(untimed) == 5
+    assert caches["fan"]["clock"].seconds.get("warm_up", 0.0) == 0.0
+    assert untimed["total_ms"].isna().all() and not any(c.startswith("ms_") for c in untimed)
+    assert (untimed["repeats"] == 0).all() and untimed["clock"].isna().all()
+    runs.clear()
+    timed = sw.sweep(ctx, ["fan"], GRID, SIZE, repeats=1, **args)
+    assert len(runs) == 2 + 5 + 5  # a warm-up run per method, then each timed once and scored
+    for metric in args["metrics"]:
+        assert list(untimed[metric]) == list(timed[metric]), metric
+
+
 def test_bad_sweeps_are_rejected(ctx, tmp_path):
     with pytest.raises(ValueError, match="no parameter 'kk'"):
         sw.sweep(ctx, ["fan"], {"reconstruct_mcguire2012": {"kk": [1]}}, SIZE, progress=False)
@@ -243,8 +265,8 @@ def test_bad_sweeps_are_rejected(ctx, tmp_path):
         sw.sweep(ctx, ["fan"], ["trail"], SIZE, progress=False)
     with pytest.raises(ValueError, match=".csv"):
         sw.sweep(ctx, ["fan"], ["gather_box"], SIZE, out=tmp_path / "r.parquet", progress=False)
-    with pytest.raises(ValueError, match="repeats"):
-        sw.sweep(ctx, ["fan"], ["gather_box"], SIZE, repeats=0, progress=False)
+    with pytest.raises(ValueError, match="repeats must be an integer >= 1, or 0"):
+        sw.sweep(ctx, ["fan"], ["gather_box"], SIZE, repeats=-1, progress=False)
     with pytest.raises(ValueError, match="readback_batch must be an integer >= 1"):
         sw.sweep(ctx, ["fan"], ["gather_box"], SIZE, readback_batch=0, progress=False)
     with pytest.raises(ValueError, match=r"k = 0 is outside 1\.\.256"):

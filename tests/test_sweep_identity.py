@@ -92,6 +92,19 @@ def test_antialiased_reference(ctx, tmp_path):
     assert json.loads(again["reference"].iloc[0])["kinds"] == ["antialiased"]
 
 
+def test_untimed_rows_never_answer_a_timed_sweep(ctx, tmp_path):
+    out = tmp_path / "r.csv"
+    untimed = rerun(ctx, out, repeats=0)
+    assert np.isnan(untimed["total_ms"].iloc[0])
+    _tamper(out)
+    timed = rerun(ctx, out, repeats=1)
+    assert timed["total_ms"].iloc[0] > 0
+    same_numbers(timed, fresh(ctx), METRICS)
+    # the untimed configuration gets its own row back from the file
+    assert rerun(ctx, out, repeats=0)["psnr"].iloc[0] == 99.0
+    assert len(pd.read_csv(out)) == 2
+
+
 def test_metric_set(ctx, tmp_path):
     out = tmp_path / "r.csv"
     rerun(ctx, out, metrics=["psnr"])

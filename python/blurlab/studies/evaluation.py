@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import contextlib
 import json
+import math
 import statistics
 import time
 from collections.abc import Iterator, Sequence
@@ -28,7 +29,7 @@ class Settings:
     shutter: tuple[float, float] | None
     reference_samples: int | None
     metrics: tuple[str, ...] | None  # None: scene_metrics(scene) on each scene
-    repeats: int
+    repeats: int  # timed runs of each configuration; 0 scores without timing (no warm-up)
     # Evaluations whose GPU metrics are read back together (metrics.MetricQueue); 1 reads each
     # one's scalars before the next evaluation starts.
     readback_batch: int = 1
@@ -76,7 +77,7 @@ def evaluate_scene(
     # untimed first: it compiles (and, on llvmpipe, JITs), and the GPU wakes up.
     timings = {}
     warmed: set = set()
-    for name, point, backend, key in jobs:
+    for name, point, backend, key in jobs if settings.repeats else ():
         frames, reference = _scene_inputs(ctx, scene, name, point, settings, cache)
         params = _without_steps(point)
         if (name, backend) not in warmed:
@@ -98,7 +99,8 @@ def evaluate_scene(
     for name, point, backend, key in jobs:
         queue = batches.queue if batches is not None else immediate
         frames, reference = _scene_inputs(ctx, scene, name, point, settings, cache)
-        runs, clock = timings[key]
+        # An untimed sweep (repeats 0) has no pass times: total_ms is NaN, clock None.
+        runs, clock = timings.get(key, ([], None))
         result = blur_steps(ctx, frames, name, backend, timed=False, **_without_steps(point))
         color = result.textures["color"]
         row = {
@@ -107,8 +109,8 @@ def evaluate_scene(
             "backend": result.backend,
             "params": json.dumps(point, sort_keys=True),
             **{f"param_{k}": v for k, v in point.items()},
-            **{f"ms_{p}": statistics.median(r[p] for r in runs) for p in runs[0]},
-            "total_ms": statistics.median(sum(r.values()) for r in runs),
+            **{f"ms_{p}": statistics.median(r[p] for r in runs) for p in (runs[0] if runs else ())},
+            "total_ms": statistics.median(sum(r.values()) for r in runs) if runs else math.nan,
             "repeats": settings.repeats,
             "clock": clock,
             # What the parameters given as "auto" chose on this scene.

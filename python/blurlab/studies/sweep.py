@@ -113,7 +113,9 @@ def sweep(
     file beside this sweep's and are never returned by it; a row cut short by a crash is
     dropped and evaluated again (docs/reliability.md, "Resuming a sweep"). Each pass time is the
     median of `repeats` runs, all configurations of a scene timed back to back before any error
-    is computed (a GPU left idle while the CPU computes FLIP clocks down).
+    is computed (a GPU left idle while the CPU computes FLIP clocks down). `repeats=0` scores
+    without timing: no warm-up or timed runs, total_ms NaN and no ms_ columns; such rows are a
+    configuration of their own in `out` (an untimed row never answers a timed sweep).
 
     `cluster`: run on Dask workers instead of `ctx` (then pass ctx=None): a
     ``distributed.Client``, a cluster such as ``bl.local_cluster()``, or a scheduler address
@@ -141,8 +143,11 @@ def sweep(
         )
     if cluster is not None:
         dask_cluster.check_cluster(cluster)
-    if isinstance(repeats, bool) or not isinstance(repeats, int) or repeats < 1:
-        raise ValueError(f"blurlab.sweep: repeats must be an integer >= 1, not {repeats!r}")
+    if isinstance(repeats, bool) or not isinstance(repeats, int) or repeats < 0:
+        raise ValueError(
+            f"blurlab.sweep: repeats must be an integer >= 1, or 0 to score without timing, "
+            f"not {repeats!r}"
+        )
     if (
         isinstance(readback_batch, bool)
         or not isinstance(readback_batch, int)
@@ -281,8 +286,9 @@ def device_of(ctx: Context) -> dict:
 
 def scene_identity(scene: Scene, settings: Settings, device: dict) -> dict:
     """What every row of `scene` in a sweep shares of its identity (blurlab.studies.identity):
-    the scene's name and content, size, shutter, reference, metric set, device and blurlab's
-    version; a row adds its method, backend and parameters."""
+    the scene's name and content, size, shutter, reference, metric set, device, blurlab's
+    version and, for an untimed sweep, that it is untimed; a row adds its method, backend and
+    parameters."""
     wanted = settings.metrics if settings.metrics is not None else scene_metrics(scene)
     shutter = check_shutter(scene.shutter if settings.shutter is None else settings.shutter)
     return {
@@ -300,6 +306,8 @@ def scene_identity(scene: Scene, settings: Settings, device: dict) -> dict:
         identity.METRIC_SET: list(wanted),
         **device,
         identity.VERSION: identity.version(),
+        # only where it is so, so timed rows keep the identities they always had
+        **({"timed": False} if settings.repeats == 0 else {}),
     }
 
 

@@ -77,7 +77,7 @@ def _auto_rules(ctx, size, p, out) -> None:
         metrics=("psnr",),
         out=p["results"] or None,
         progress=False,
-        repeats=1,
+        repeats=0,  # scored, not timed: no warm-up or timed runs
     )
     features = auto_rules.feature_frame(ctx, train + held_out + builtin, size)
     summary, rules, per_builtin = [], [], []

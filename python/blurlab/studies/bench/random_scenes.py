@@ -33,7 +33,7 @@ def _sweeps(ctx, size, p, names: list[str], workers: int, gpus: int) -> tuple[li
         "size": size,
         "reference_samples": p["reference_samples"] or None,
         "metrics": METRICS,
-        "repeats": 1,
+        "repeats": 0,  # scored, not timed: no warm-up or timed runs
         "progress": False,
         # a scene's evaluations in one task: its reference is made where it is used, never
         # sent between workers

@@ -35,7 +35,7 @@ def ranked_sweep(ctx, names, size, p) -> pd.DataFrame:
         "reference_samples": p["reference_samples"] or None,
         "metrics": tuple(split(p["metrics"])),
         "progress": False,
-        "repeats": 1,
+        "repeats": 0,  # scored, not timed: no warm-up or timed runs
     }
     table = sweep_on_workers(ctx, p["workers"], **arguments)
     return scenes.with_features(ctx, table, [scenes.get(n) for n in names], size)
