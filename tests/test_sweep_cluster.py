@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 import sys
+import types
 from pathlib import Path
 
 import pandas as pd
@@ -182,3 +183,28 @@ def test_bad_cluster_arguments_are_rejected(ctx):
         bl.local_cluster(1, threads_per_worker=2)
     with pytest.raises(ValueError, match="gpus must be None or an integer >= 1"):
         bl.local_cluster(1, gpus=0)
+
+
+def testchunks_waiting_counts_from_a_copy_of_the_workers_tasks(monkeypatch):
+    # The worker's event loop changes its task dict while a chunk runs on the worker's thread;
+    # a dict that changes as it is read stands for that here.
+    class Changing(dict):
+        def values(self):
+            self["another"] = types.SimpleNamespace(key="run_chunk-9", state="ready")
+            return super().values()
+
+        def __iter__(self):
+            self["another"] = types.SimpleNamespace(key="run_chunk-9", state="ready")
+            return super().__iter__()
+
+    tasks = Changing(
+        {
+            "a": types.SimpleNamespace(key="run_chunk-1", state="executing"),
+            "b": types.SimpleNamespace(key="run_chunk-2", state="ready"),
+            "c": types.SimpleNamespace(key="export-3", state="waiting"),
+        }
+    )
+    worker = types.SimpleNamespace(state=types.SimpleNamespace(tasks=tasks))
+    distributed = types.SimpleNamespace(get_worker=lambda: worker)
+    monkeypatch.setattr(cluster, "require_distributed", lambda: distributed)
+    assert cluster.chunks_waiting() == 1
