@@ -230,8 +230,8 @@ def chunks_waiting() -> int:
 
     # The task runs on a worker thread while the worker's event loop adds and drops tasks:
     # iterating the live dict raised "dictionary changed size during iteration" and failed a
-    # 640x360 sweep after 20 minutes. dict.copy() runs without releasing the GIL, so the loop
-    # cannot change the dict during the copy.
+    # 20-minute llvmpipe sweep. dict.copy() runs without releasing the GIL, so the loop cannot
+    # change the dict during the copy.
     tasks = require_distributed().get_worker().state.tasks.copy().values()
     return sum(key_split(task.key) == "run_chunk" and task.state in NOT_YET_RUN for task in tasks)
 
