@@ -14,7 +14,7 @@ import pandas as pd
 from ... import scenes
 from ...context import Context
 from ...methods.core import Param
-from ..cluster import local_cluster
+from ..cluster import ACCOUNT, local_cluster
 from ..sweep import sweep, sweep_methods
 from .core import Benchmark, register
 
@@ -54,15 +54,16 @@ def _sweeps(ctx, size, p, names: list[str], workers: int, gpus: int) -> tuple[li
     from distributed import Client
 
     start = time.perf_counter()
-    on = {"gpus": gpus} if gpus else {}
-    with local_cluster(workers, ctx.info()["device"], **on) as cluster, Client(cluster) as client:
+    device = ctx.info()["device"]
+    with local_cluster(workers, device, gpus=gpus or None) as cluster, Client(cluster) as client:
         client.wait_for_workers(workers, timeout=300)
         startup = time.perf_counter() - start
         return run_batches(None, client), startup
 
 
-# The phases of a worker's account (studies.cluster.worker_report) the benchmark reports.
-ACCOUNT_PHASES = ("references", "g_buffers", "warm_up", "imports", "exports", "evaluations")
+# The phases of a worker's account (studies.cluster.worker_report): its ACCOUNT and the rest of
+# its busy time, evaluations.
+ACCOUNT_PHASES = (*ACCOUNT, "evaluations")
 
 
 def _worker_seconds(tables: list, workers: int, wall: float) -> dict[str, float]:
