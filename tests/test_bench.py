@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import json
 import math
+import warnings
 from pathlib import Path
 
 import pytest
@@ -52,6 +53,19 @@ def test_sweep_scaling_gives_the_same_rows_on_one_and_two_warm_workers(ctx):
     record = bench.run_benchmark(ctx, "sweep_scaling", "tiny", given=given)
     figures = {f["name"]: f["value"] for f in record["figures"]}
     assert figures["2 worker(s): same rows as the first"] == 1
+
+
+def test_engines_scores_every_frame_blurring_method_at_its_own_instant(ctx):
+    given = {"methods": "post", "film_filter": 0.5, "references": "temporal,antialiased"}
+    with warnings.catch_warnings():
+        warnings.filterwarnings("error", "blurlab: .* expects the G-buffer at")
+        record = bench.run_benchmark(ctx, "engines", "tiny", given=given)
+    figures = {f["name"] for f in record["figures"]}
+    for name in timing.post_process_methods():
+        assert {f"{name}: median PSNR", f"{name}: median PSNR, antialiased"} <= figures
+    film = f"{timing.film_method()}, film_filter=0.5"
+    for label in (timing.film_method(), film):
+        assert f"{label} / reconstruct_guertin2014, calls back to back (median)" in figures
 
 
 def record(name="transfer", device="llvmpipe", value=1.0) -> dict:

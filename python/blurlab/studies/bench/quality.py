@@ -32,6 +32,7 @@ from .timing import (
     median_passes,
     method_runs,
     optioned_filters,
+    post_process_methods,
     split,
     untimed_calls_ms,
 )
@@ -39,7 +40,6 @@ from .timing import (
 REFERENCES = {"temporal": "", "antialiased": peers.ANTIALIASED}
 EEVEE = "eevee (Blender)"
 EEVEE_POST_PROCESS = ((EEVEE, 1, 1),)  # EEVEE's real-time filter: 1 render sample, 1 step
-GPU_SCENES = "teapot_pass,fan,skinned_arm,vehicle,near_plane"  # the GPU presets' scenes
 
 
 def engine_methods() -> list[str]:
@@ -53,7 +53,9 @@ def _engine_scene(ctx, name, size, p, runs, references) -> list[dict]:
     """Every row's pass times first, back to back, then every row's errors: the CPU metrics
     leave the GPU idle, and an idle GPU clocks down."""
     scene = scenes.get(name)
-    frame = ctx.render(scene, size)
+    # each method blurs the G-buffer at the instant it expects (docs/spec.md §3)
+    instants = {method_instant(name_, params) for _, name_, params in runs}
+    frames = {instant: ctx.render(scene, size, instant=instant) for instant in sorted(instants)}
     samples = p["reference_samples"] or "auto"
     rendered = {False: ctx.reference(scene, size, samples=samples, progress=False)}
     if "antialiased" in references:
@@ -61,11 +63,13 @@ def _engine_scene(ctx, name, size, p, runs, references) -> list[dict]:
         rendered[True] = ctx.reference(scene, size, samples=n, antialias=True, progress=False)
     timed = {}
     for label, name_, params in runs:
+        frame = frames[method_instant(name_, params)]
         passes, _ = median_passes(ctx, frame, name_, p["runs"], **params)
         queued = untimed_calls_ms(ctx, frame, name_, **params)
         timed[label] = (passes["total"], queued)
     rows = []
     for label, name_, params in runs:
+        frame = frames[method_instant(name_, params)]
         color = blur(ctx, frame, name_, timed=False, **params).color
         row = {"scene": name, "method": label, "ms": timed[label][0], "b2b_ms": timed[label][1]}
         for reference, suffix in REFERENCES.items():
@@ -102,21 +106,28 @@ def _engines(ctx, size, p, out) -> None:
             f"blurlab: engines metrics {p['metrics']!r}: names from {', '.join(peers.SCORES)}, "
             "comma-separated, psnr among them"
         )
-    runs = method_runs(split(p["methods"]) or engine_methods(), p["film_filter"], p["config"])
+    chosen = post_process_methods() if p["methods"] == "post" else split(p["methods"])
+    runs = method_runs(chosen or engine_methods(), p["film_filter"], p["config"])
     names = split(p["scenes"]) or scenes.names() + scenes.names("failure")
     rows = []
     for name in names:
         rows += _engine_scene(ctx, name, size, p, runs, references)
     table = pd.DataFrame(rows)
     timed = table[table.method != EEVEE]
-    medians = timed.groupby("method", sort=False)[["psnr", "ms", "b2b_ms"]].median()
+    psnrs = [m for m in ("psnr", "psnr" + peers.ANTIALIASED) if m in timed]
+    medians = timed.groupby("method", sort=False)[[*psnrs, "ms", "b2b_ms"]].median()
     for label, row in medians.iterrows():
         out.figure(f"{label}: median PSNR", row.psnr, "dB")
+        if "psnr" + peers.ANTIALIASED in row:
+            out.figure(f"{label}: median PSNR, antialiased", row["psnr" + peers.ANTIALIASED], "dB")
         out.figure(f"{label}: median ms", row.ms, "ms")
     by = timed.pivot(index="scene", columns="method", values="b2b_ms")
-    for baseline in (n for n in optioned_filters() if film_method() in by and n in by):
-        ratio = statistics.median(by[film_method()] / by[baseline])
-        out.figure(f"{film_method()} / {baseline}, calls back to back (median)", ratio, "x")
+    # the combined filter's rows (its defaults, its film filter) against each tile filter
+    combined = [label for label in by if label.split(",")[0] == film_method()]
+    for label in combined:
+        for baseline in (n for n in optioned_filters() if n in by):
+            ratio = statistics.median(by[label] / by[baseline])
+            out.figure(f"{label} / {baseline}, calls back to back (median)", ratio, "x")
     scores = [m + REFERENCES[r] for r in references for m in split(p["metrics"])]
     columns = [("scene", ""), ("method", ""), ("per-pass timers", "ms")]
     columns.append(("calls back to back", "ms"))
@@ -141,7 +152,12 @@ register(
         {
             "runs": Param(5, int, "timed runs per method (medians)", 1, 1000),
             "scenes": Param("", object, "comma-separated scenes (empty: built-in + failure)"),
-            "methods": Param("", object, "comma-separated methods (empty: the engines' set)"),
+            "methods": Param(
+                "",
+                object,
+                "comma-separated methods (empty: the engines' set; post: every method that "
+                "blurs one rendered frame)",
+            ),
             "peers": Param("", ("", *peers.PEERS), "Blender's EEVEE too (needs bpy)"),
             "references": Param(
                 "temporal", object, "comma-separated: temporal, antialiased (docs/spec.md §11)"
@@ -159,7 +175,12 @@ register(
             "tiny": {"runs": 1, "scenes": "thin_bar", "reference_samples": 8},
             "software": {"runs": 3},
             # FLIP and SSIM run in NumPy: at 1080p on every scene they would take minutes
-            "gpu": {"runs": 10, "metrics": "psnr,ssim", "scenes": GPU_SCENES},
+            "gpu": {
+                "runs": 10,
+                "metrics": "psnr",
+                "references": "temporal,antialiased",
+                "film_filter": 0.5,
+            },
         },
     )
 )

@@ -10,18 +10,12 @@ import time
 import pandas as pd
 
 from ... import scenes
-from ...methods import method
 from ...methods.core import Param
 from .. import rankings
 from ..cluster import local_cluster
-from ..sweep import sweep, sweep_methods
+from ..sweep import sweep
 from .core import Benchmark, register
-from .timing import split
-
-
-def post_process_methods() -> list[str]:
-    """The sweepable methods that blur a rendered frame (not those rendering sub-frames)."""
-    return [n for n in sweep_methods() if method(n).kind != "render"]
+from .timing import post_process_methods, split
 
 
 def ranked_sweep(ctx, names, size, p) -> pd.DataFrame:

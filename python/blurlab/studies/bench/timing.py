@@ -7,6 +7,7 @@ import statistics
 import time
 
 from ...methods import blur, method, methods
+from ..sweep import sweep_methods
 
 # Seconds of untimed calls before a timed set on a GPU: an H100 left idle (by CPU work, or a
 # benchmark's checks) clocks down, and the next set then timed 2-4x slow.
@@ -96,6 +97,11 @@ def per_call_us(ctx, call, calls: int, clock=time.perf_counter) -> float:
         call(i)
     ctx.finish()
     return 1e6 * (clock() - start) / calls
+
+
+def post_process_methods() -> list[str]:
+    """The sweepable methods that blur a rendered frame (not those rendering sub-frames)."""
+    return [n for n in sweep_methods() if method(n).kind != "render"]
 
 
 def tile_filters() -> list[str]:
