@@ -209,9 +209,10 @@ register(
             "tiny": {"scenes": 2, "reference_samples": 8, "hashed": 2},
             "software": {"scenes": 24, "batch": 24},
             # eight processes share one GPU, as the H100 record ran (one process leaves the GPU
-            # idle while it builds draws and reads metrics back); with the last batch started
-            # before the budget, under 9 minutes
-            "gpu": {"scenes": 1000, "workers": "8", "budget_s": 420.0},
+            # idle while it builds draws and reads metrics back); the budget, with the last
+            # batch started before it, keeps a slower GPU's run inside a 10-minute call (the
+            # H100 ran all 1000 scenes in 489 s)
+            "gpu": {"scenes": 1000, "workers": "8", "budget_s": 530.0},
         },
     )
 )
