@@ -80,7 +80,7 @@ def _auto_rules(ctx, size, p, out) -> None:
         repeats=0,  # scored, not timed: no warm-up or timed runs
     )
     features = auto_rules.feature_frame(ctx, train + held_out + builtin, size)
-    summary, rules, per_builtin, by_hdr = [], [], [], []
+    summary, rules, per_builtin, by_hdr, worst = [], [], [], [], []
     # HDR emitters put most of a frame's clipped error in a few pixels of their streaks: the
     # held-out judgement is also split by them.
     hdr = {name: scenes.get(name).hdr for name in held_out}
@@ -122,6 +122,12 @@ def _auto_rules(ctx, size, p, out) -> None:
                 ]
             )
         meets = auto_rules.meets_bar(judged, worst_builtin)
+        # The rule's worst held-out scene, named with both configurations' PSNR, so that a
+        # loss far from the others' can be rendered again and looked at.
+        scene = judged["per_scene"].idxmin()
+        best = fixed.loc[scene].idxmax()
+        chosen = judged["chosen"][scene]
+        worst.append([short, scene, chosen, fixed.at[scene, chosen], best, fixed.at[scene, best]])
         for label, result in (("fitted rule", judged), ("today's default", today)):
             for with_hdr in (True, False):
                 part = result["per_scene"][[hdr[n] == with_hdr for n in held_out]]
@@ -192,6 +198,18 @@ def _auto_rules(ctx, size, p, out) -> None:
             ("worst loss", "dB"),
         ],
         by_hdr,
+    )
+    out.table(
+        f"each fitted rule's worst held-out scene (seeds {seeds}–{2 * seeds - 1})",
+        [
+            ("method", ""),
+            ("scene", ""),
+            ("rule's choice", ""),
+            ("its PSNR", "dB"),
+            ("best fixed configuration", ""),
+            ("its PSNR", "dB"),
+        ],
+        worst,
     )
     out.table(
         "built-in scenes: the fitted rule against today's default",
