@@ -55,6 +55,17 @@ def test_sweep_scaling_gives_the_same_rows_on_one_and_two_warm_workers(ctx):
     assert figures["2 worker(s): same rows as the first"] == 1
 
 
+def test_auto_rules_resumed_from_its_results_says_so(ctx, tmp_path):
+    given = {"results": str(tmp_path / "rows.csv")}
+    first, again = (bench.run_benchmark(ctx, "auto_rules", "tiny", given=given) for _ in range(2))
+    read = "sweep rows read from results (evaluated by an earlier run)"
+    evaluated = "sweep rows evaluated in this run"
+    figures = [{f["name"]: f["value"] for f in r["figures"]} for r in (first, again)]
+    assert figures[0][read] == 0 and figures[0][evaluated] > 0
+    assert figures[1][read] == figures[0][evaluated] and figures[1][evaluated] == 0
+    assert first["tables"] == again["tables"]  # the same rows give the same rules
+
+
 def test_engines_scores_every_frame_blurring_method_at_its_own_instant(ctx):
     given = {"methods": "post", "film_filter": 0.5, "references": "temporal,antialiased"}
     with warnings.catch_warnings():

@@ -61,7 +61,7 @@ def test_table_has_one_row_per_evaluation_and_every_column(ctx, tmp_path):
 
 def test_resume_adds_no_duplicates(ctx, tmp_path):
     out = tmp_path / "r.csv"
-    sw.sweep(
+    first = sw.sweep(
         ctx,
         ["fan"],
         {"gather_box": {"taps": [4, 8]}},
@@ -77,6 +77,8 @@ def test_resume_adds_no_duplicates(ctx, tmp_path):
     saved = pd.read_csv(out)
     assert len(saved) == 6 and not saved.duplicated(["scene", "method", "params"]).any()
     assert len(table) == 5  # what this sweep asked for, the earlier rows included
+    # each call says how many of its rows it read from the file instead of evaluating
+    assert first.attrs["resumed"] == 0 and table.attrs["resumed"] == 1
 
 
 def test_finished_rows_keep_every_bit_when_the_file_gains_columns(ctx, tmp_path):

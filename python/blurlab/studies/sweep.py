@@ -122,7 +122,8 @@ def sweep(
     ``"tcp://host:8786"``. Each worker renders on its own device and returns rows; they land
     in the same table and the same `out` file as a local sweep's (docs/distributed.md), and
     ``table.attrs["workers"]`` holds where each worker's time went in this sweep
-    (cluster.worker_report; cluster.account_table prints it).
+    (cluster.worker_report; cluster.account_table prints it). ``table.attrs["resumed"]`` counts
+    the rows this call took from `out` instead of evaluating them.
     `chunk_size`: at most this many configurations of one scene per task (default 8; chunks
     shrink towards the end of the sweep so that the workers finish together).
     `caches`: a dict that a local sweep fills, per scene name, with what it rendered (frames
@@ -209,12 +210,14 @@ def sweep(
             client.close()
         raise
     keys, columns, pending, done = plan
+    # rows this call takes from `out` rather than evaluating (a resumed sweep)
+    resumed = len(keys) - sum(len(jobs) for jobs in pending)
     bar = None
     if progress:
         from tqdm.auto import tqdm
 
         bar = tqdm(total=len(keys), desc="sweep", unit="evaluation")
-        bar.update(len(keys) - sum(len(jobs) for jobs in pending))
+        bar.update(resumed)
 
     rows_file = _RowFile(path) if path is not None else None
 
@@ -248,6 +251,7 @@ def sweep(
     table = pd.DataFrame([done[key] for key in dict.fromkeys(keys) if key in done])
     if accounts is not None:  # where each worker's time went (cluster.worker_report)
         table.attrs["workers"] = accounts
+    table.attrs["resumed"] = resumed
     return table
 
 
