@@ -368,7 +368,9 @@ def test_the_transparency_study_measures_every_approach(ctx):
     gains = summary["median_gain_per_scene"]["psnr"]
     assert gains["foliage_spin"] == 0.0  # masked, no translucent layer: every approach alike
     assert gains["moving_glass"] > 0.5  # the pane's own motion, which only layered follows
-    cost = transparency.layer_cost(ctx, "moving_glass", "gather_coverage", (32, 18), runs=2)
+    from blurlab.studies.bench.transparency import layer_cost
+
+    cost = layer_cost(ctx, "moving_glass", "gather_coverage", (32, 18), runs=2)
     assert cost["layered_ms"] > 0 and cost["ratio"] == cost["layered_ms"] / cost["composite_ms"]
 
 

@@ -8,7 +8,6 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import numpy as np
 import pandas as pd
 
 from .. import io, metrics, scenes
@@ -120,41 +119,6 @@ def layer_error(ctx, shown: dict, size, reference_samples=None) -> pd.DataFrame:
         composite = translucency_twin.over(layer.color, exact)
         rows.append({"scene": name, "psnr": metrics.psnr(composite, reference)})
     return pd.DataFrame(rows, columns=["scene", "psnr"])
-
-
-def layer_cost(ctx, scene_name: str, method: str, size, runs: int = 10) -> dict:
-    """GPU time of `method` on the scene's frame as engines run it (translucency="composite")
-    and with the layered approach, median over `runs` timed calls each, and their ratio; and
-    where layered's time goes, medians of its parts: the opaque layer's blur, the translucent
-    layer's blur ("translucent_" passes), the compositing pass, and the layer's split, which
-    runs once per frame (frame.timings, beside the G-buffer's passes; docs/spec.md §20.4)."""
-    scene = scenes.get(scene_name)
-    frame = ctx.render(scene, size, instant=method_instant(method))
-    times = {}
-    parts = {"opaque": [], "layer": [], "over": []}
-    for approach in ("composite", "layered"):
-        blur(ctx, frame, method, translucency=approach)  # compiles, warms up
-        totals = []
-        for _ in range(runs):
-            result = blur(ctx, frame, method, translucency=approach)
-            totals.append(result.total_ms)
-            if approach == "layered":
-                timings = {name: t.ms for name, t in result.timings.items()}
-                over = timings.pop("translucency_over")
-                layer = sum(ms for name, ms in timings.items() if name.startswith("translucent_"))
-                parts["over"].append(over)
-                parts["layer"].append(layer)
-                parts["opaque"].append(result.total_ms - over - layer)
-        times[approach] = float(np.median(totals))
-    return {
-        "scene": scene_name,
-        "method": method,
-        "composite_ms": times["composite"],
-        "layered_ms": times["layered"],
-        "ratio": times["layered"] / times["composite"],
-        **{f"{part}_ms": float(np.median(values)) for part, values in parts.items()},
-        "split_ms": frame.timings["translucent_split"].ms,
-    }
 
 
 def report(ctx, scene, grids, size, out, work, clock, reference_samples=None) -> str:

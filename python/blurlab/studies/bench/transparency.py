@@ -7,13 +7,53 @@ from __future__ import annotations
 
 import statistics
 
-from ... import blender, metrics
+import numpy as np
+
+from ... import blender, metrics, scenes
 from ...blender import crosscheck
+from ...methods import blur, method_instant
 from ...methods.core import Param
 from ...sizes import DEFAULT_SIZE
 from .. import transparency
 from .core import Benchmark, register
-from .timing import split
+from .timing import spin_up, split
+
+
+def layer_cost(ctx, scene_name: str, method: str, size, runs: int = 10) -> dict:
+    """GPU time of `method` on the scene's frame as engines run it (translucency="composite")
+    and with the layered approach, median over `runs` timed calls each, and their ratio; and
+    where layered's time goes, medians of its parts: the opaque layer's blur, the translucent
+    layer's blur ("translucent_" passes), the compositing pass, and the layer's split, which
+    runs once per frame (frame.timings, beside the G-buffer's passes; docs/spec.md §20.4)."""
+    scene = scenes.get(scene_name)
+    frame = ctx.render(scene, size, instant=method_instant(method))
+    times = {}
+    parts = {"opaque": [], "layer": [], "over": []}
+    for approach in ("composite", "layered"):
+        # compiled, warmed up, and on a GPU its clocks up: rendering the frame and the last
+        # method's CPU work leave it idle
+        spin_up(ctx, lambda approach=approach: blur(ctx, frame, method, translucency=approach))
+        totals = []
+        for _ in range(runs):
+            result = blur(ctx, frame, method, translucency=approach)
+            totals.append(result.total_ms)
+            if approach == "layered":
+                timings = {name: t.ms for name, t in result.timings.items()}
+                over = timings.pop("translucency_over")
+                layer = sum(ms for name, ms in timings.items() if name.startswith("translucent_"))
+                parts["over"].append(over)
+                parts["layer"].append(layer)
+                parts["opaque"].append(result.total_ms - over - layer)
+        times[approach] = float(np.median(totals))
+    return {
+        "scene": scene_name,
+        "method": method,
+        "composite_ms": times["composite"],
+        "layered_ms": times["layered"],
+        "ratio": times["layered"] / times["composite"],
+        **{f"{part}_ms": float(np.median(values)) for part, values in parts.items()},
+        "split_ms": frame.timings["translucent_split"].ms,
+    }
 
 
 def _transparency(ctx, size, p, out) -> None:
@@ -70,9 +110,7 @@ def _transparency(ctx, size, p, out) -> None:
         .to_numpy()
         .tolist(),
     )
-    costs = [
-        transparency.layer_cost(ctx, p["cost_scene"], method, size, p["runs"]) for method in methods
-    ]
+    costs = [layer_cost(ctx, p["cost_scene"], method, size, p["runs"]) for method in methods]
     out.table(
         f"time on {p['cost_scene']}: the method alone (composite) and layered, medians; "
         "layered's parts, and the layer's split, once per frame",
