@@ -185,7 +185,7 @@ def test_bad_cluster_arguments_are_rejected(ctx):
         bl.local_cluster(1, gpus=0)
 
 
-def testchunks_waiting_counts_from_a_copy_of_the_workers_tasks(monkeypatch):
+def test_chunks_waiting_counts_from_a_copy_of_the_workers_tasks(monkeypatch):
     # The worker's event loop changes its task dict while a chunk runs on the worker's thread;
     # a dict that changes as it is read stands for that here.
     class Changing(dict):

@@ -80,14 +80,9 @@ def _auto_rules(ctx, size, p, out) -> None:
         repeats=0,  # scored, not timed: no warm-up or timed runs
     )
     # A record whose sweep resumed from `results` says so: its wall time is this run's alone.
-    out.figure(
-        "sweep rows read from results (evaluated by an earlier run)",
-        table.attrs.get("resumed", 0),
-        "rows",
-    )
-    out.figure(
-        "sweep rows evaluated in this run", len(table) - table.attrs.get("resumed", 0), "rows"
-    )
+    resumed = table.attrs["resumed"]
+    out.figure("sweep rows read from results (evaluated by an earlier run)", resumed, "rows")
+    out.figure("sweep rows evaluated in this run", len(table) - resumed, "rows")
     features = auto_rules.feature_frame(ctx, train + held_out + builtin, size)
     summary, rules, per_builtin, by_hdr, worst = [], [], [], [], []
     # HDR emitters put most of a frame's clipped error in a few pixels of their streaks: the
