@@ -152,7 +152,7 @@ def test_uniform_motion_takes_the_fast_path_and_stays_close_to_the_coverage_weig
     assert np.abs(fast[inside] - frame.color[inside]).max() < 0.25 / 95
 
 
-def test_tile_passes_are_engine_eevees_at_this_methods_sizes(ctx, rng):
+def test_tile_passes_are_engine_eevees_at_this_methods_sizes_and_reach(ctx, rng):
     frame = two_sided_frame(rng, 150, 90, reach=60.0)
     result = bl.blur(ctx, frame, METHOD, tile_percent=10.0, max_blur=40.0, exposure=0.8)
     s, limit = ref.tile_size(90, 10.0), ref.max_blur_px(90, 40.0)
@@ -166,7 +166,10 @@ def test_tile_passes_are_engine_eevees_at_this_methods_sizes(ctx, rng):
         rtol=1e-6,
         atol=1e-5,
     )
-    dilated = eevee_twin.tile_dilate(result.buffers["tiles"].astype(np.float64), s, limit, steps)
+    tiles = result.buffers["tiles"].astype(np.float64)
+    dilated = eevee_twin.tile_dilate(tiles, s, limit, steps, ref.JITTER_REACH)
+    # the jitter's quarter tile widens some reaches: the grid is not engine_eevee's
+    assert (np.abs(dilated - eevee_twin.tile_dilate(tiles, s, limit, steps)) > 1e-3).any()
     # The gather resolves the scatter dilation's keys itself (the default): decode them as it does
     keys = result.buffers["reach_keys"]
     resolved = eevee_twin.resolve_reach_keys(keys, result.buffers["tiles"])

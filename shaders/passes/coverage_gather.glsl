@@ -105,6 +105,12 @@ const float MOVING = 1.0;        // px: shorter half-motions count as still
 const float ACROSS = 2.0;        // px: how far across a trail it still passes over X,
 const float ACROSS_SHARE = 0.05; // ... plus this share of its length
 const float MOVING_DEPTH = 10.0; // in-front extent where X moves, multiple of X's depth
+const float DISPLAY_WHITE = 1.0; // colour above it is the hot share
+
+// The share of a colour above display white (0 in alpha).
+vec4 hot(vec4 c) {
+    return vec4(max(c.rgb - DISPLAY_WHITE, 0.0), 0.0);
+}
 
 // a's signed distance across the unit vector b.
 float cross2(vec2 a, vec2 b) {
@@ -114,11 +120,14 @@ float cross2(vec2 a, vec2 b) {
 // How far (0..1) the trail of a pixel at offset d, moving by v (len = |v|) towards X, passes
 // over X. The trail is the parabola through the pixel's three positions,
 // d = τ·v + τ(1 − τ)·bend. A tap is held by its arithmetic on the H100 (docs/benchmarks.md,
-// "What a tap costs"), so |d| is taken only for a still pixel and 1/|v| once.
-float trail_reaches(vec2 d, vec2 v, float len, vec2 bend) {
+// "What a tap costs"), so |d| is taken only for a still pixel and 1/|v| once. `on_pixel`: the
+// same with the pixel's own width across (§17.6's hot share), 1 within half of it, 0 beyond it.
+float trail_reaches(vec2 d, vec2 v, float len, vec2 bend, out float on_pixel) {
     if (len <= 0.0) {  // a still pixel reaches within ACROSS px
         float dist = length(d);
-        return clamp(1.0 - dist, 0.0, 1.0) * clamp(ACROSS - dist, 0.0, 1.0);
+        float near = clamp(1.0 - dist, 0.0, 1.0);
+        on_pixel = near;
+        return near * clamp(ACROSS - dist, 0.0, 1.0);
     }
     float inverse = 1.0 / len;
     vec2 unit = v * inverse;
@@ -127,7 +136,10 @@ float trail_reaches(vec2 d, vec2 v, float len, vec2 bend) {
     float across = abs(cross2(d, unit) - tau * (1.0 - tau) * cross2(bend, unit));
     float ahead = along > -0.5 ? 1.0 : 0.0;
     float widest = ACROSS + ACROSS_SHARE * len;
-    return clamp(len + 1.0 - along, 0.0, 1.0) * ahead * clamp(widest - across, 0.0, 1.0);
+    float reach_along = clamp(len + 1.0 - along, 0.0, 1.0) * ahead;
+    float width = abs(unit.x) + abs(unit.y);  // a pixel's width across its trail
+    on_pixel = reach_along * clamp(2.0 - 2.0 * across / width, 0.0, 1.0);
+    return reach_along * clamp(widest - across, 0.0, 1.0);
 }
 
 // cos between the tile's line and X's own motion, at least 0; 1 where X is still (both
@@ -292,12 +304,16 @@ vec4 gather_at(ivec2 x) {
             float speed = length(vy);
             float moving = clamp(speed - 0.5, 0.0, 1.0);
             float zy = sanitize_depth(texelFetch(depth, y, 0).x);
-            float reaches = trail_reaches(vec2(y - x), vy, speed, 0.5 * (halves.zw - halves.xy));
+            float on_pixel;
+            float reaches = trail_reaches(vec2(y - x), vy, speed, 0.5 * (halves.zw - halves.xy),
+                                          on_pixel);
             // soft_depth_compare(zx, zy, e) = clamp(1 - dz / e) and (zy, zx, e) = clamp(1 + dz / e)
             float dz = zx == zy ? 0.0 : zy - zx;
             float behind_soft = dz / soft_z;
             float a = clamp(1.0 - dz / front_extent, 0.0, 1.0) * reaches * moving * spacing
                     / max(speed, 1.0);
+            float a_hot = clamp(1.0 - dz / front_extent, 0.0, 1.0) * on_pixel * moving * spacing
+                        / max(speed, 1.0);
             // A still tap in front of a moving X hides the part of X's line behind it.
             float nearer = 1.0 - clamp(1.0 + behind_soft, 0.0, 1.0);
             spaced += spacing;
@@ -312,6 +328,9 @@ vec4 gather_at(ivec2 x) {
 #endif
             vec4 cy = tap_color(y, side * samples + i, size);
             cover_sums[side] += a * cy;
+            // Colour past display white covers X only where the tap's own pixel crosses it:
+            // the tolerance's stray weight would saturate pixels its streak never crosses.
+            cover_sums[side] -= (a - a_hot) * hot(cy);
             behind_sum += b * cy;
         }
         covers[side] = cover;

@@ -3,12 +3,13 @@
 // EEVEE scatters a conservative rasterization of each tile's motion line; this pass gathers the
 // same result: each tile D looks at every tile S within reach and keeps, per side, the longest
 // half-motion whose line (from S's center along -prev, or +next, clamped to max_blur, in tile
-// units) meets D's square
-// widened by h + REACH_MARGIN, h = 1/2 - 1/(2 tile_size); the first S in row-major order among
-// equal lengths (compared as common/tile_pick.glsl's pick_key says: exact for engine_eevee). Compute, two modes (#define GROUP_PER_TILE): a work group per tile whose
-// invocations share the sources in reach, then merge their picks (common/tile_pick.glsl,
-// layouts TILE_PICK_VARIANTS); or one invocation per tile looking at them all. All give the
-// same bits. NumPy twin: blurlab.twins.eevee.tile_dilate.
+// units) meets D's square widened by h + REACH_MARGIN + reach_jitter, h = 1/2 - 1/(2 tile_size)
+// (reach_jitter 0 for engine_eevee, 1/4 for gather_coverage's jittered lookup, §17.6); the
+// first S in row-major order among equal lengths (compared as common/tile_pick.glsl's pick_key
+// says: exact for engine_eevee). Compute, two modes (#define GROUP_PER_TILE): a work group per
+// tile whose invocations share the sources in reach, then merge their picks
+// (common/tile_pick.glsl, layouts TILE_PICK_VARIANTS); or one invocation per tile looking at
+// them all. All give the same bits. NumPy twin: blurlab.twins.eevee.tile_dilate.
 #include "common/tile_pick.glsl"
 #include "common/eevee.glsl"
 #include "common/tile_reach.glsl"
@@ -16,6 +17,7 @@
 layout(binding = 0) uniform sampler2D tiles;
 uniform int tile_size;
 uniform float max_blur;
+uniform float reach_jitter;  // tiles added to each reach
 
 layout(binding = 0, rgba32f) uniform writeonly image2D dilated;
 
@@ -36,7 +38,7 @@ void consider(ivec2 tile, ivec2 p, uint index) {
     if (any(lessThan(source, ivec2(0))) || any(greaterThanEqual(source, textureSize(tiles, 0)))) return;
     vec4 v = texelFetch(tiles, source, 0);
     vec2 start = vec2(offset) + 0.5;  // S's center, in D's tile coordinates
-    float widen = reach_widening(tile_size);
+    float widen = reach_widening(tile_size) + reach_jitter;
     float lp = pick_key(length(v.xy)), ln = pick_key(length(v.zw));
     if (lp > picks[0].len &&
         segment_meets_box(start, -clamp_length(v.xy, max_blur) / float(tile_size), -widen, 1.0 + widen)) {

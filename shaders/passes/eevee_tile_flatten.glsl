@@ -42,6 +42,7 @@ void store_pick(ivec2 tile, vec4 pick) {
 
 #ifdef SCATTER_DILATION
 uniform float max_blur;
+uniform float reach_jitter;  // tiles added to each reach (gather_coverage's jittered lookup)
 layout(binding = 1, r32ui) uniform uimage2D reach_keys;
 
 // Offers `tile`'s picks to the tiles its prev and next reach meet (§17.2 step 2's test, on the
@@ -50,7 +51,7 @@ layout(binding = 1, r32ui) uniform uimage2D reach_keys;
 // `lanes` takes every lanes-th of them.
 void scatter_reach(ivec2 tile, ivec2 grid, int lane, int lanes) {
     int radius = min(int(ceil(max_blur / float(tile_size))) + 1, max(grid.x, grid.y));
-    float widen = reach_widening(tile_size);
+    float widen = reach_widening(tile_size) + reach_jitter;
     uint index = uint(tile.y * grid.x + tile.x);
     for (int side = 0; side < 2; ++side) {
         vec2 line = (side == 0 ? -1.0 : 1.0) * clamp_length(picks[side].v, max_blur) / float(tile_size);

@@ -176,6 +176,7 @@ def _run_coverage(ctx: Context, frame: Frame, inputs: dict, values: dict, backen
         s,
         reach_limit,
         length_steps=twin.TILE_LENGTH_STEPS,
+        jitter_reach=twin.JITTER_REACH,
     )
     gathered = ctx.pooled((*size, 4))
     textures = {"color": inputs["color"], "depth": inputs["depth"], "motion_sides": grids.sides}

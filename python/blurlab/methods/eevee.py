@@ -119,13 +119,15 @@ def dilated_tiles(
     max_blur,
     group_per_tile: bool | None = None,
     length_steps: float = 0.0,
+    jitter_reach: float = 0.0,
 ):
     """§17.2 steps 1-2 on the frame's two-sided motion for an image of `size` (H, W): tile
     flatten and dilation at `tile_size` px and `max_blur` px (a method's params and values give
     the exposure). `group_per_tile`: both passes run a work group per tile (laid out as
     TILE_PICK_LAYOUT says), else one thread per tile (same bits either way); None: as
     tile_groups(ctx) says. `length_steps`: lengths compare as twins.eevee.pick_key says (0:
-    exactly, as EEVEE does); with steps the dilation runs as DILATION_LAYOUT says."""
+    exactly, as EEVEE does); with steps the dilation runs as DILATION_LAYOUT says.
+    `jitter_reach`: tiles added to each reach (twins.eevee.tile_dilate; 0 for EEVEE's)."""
     passes = PassRunner(ctx, params, values, timings)
     height, width = size
     grid = (-(-height // tile_size), -(-width // tile_size), 4)
@@ -149,7 +151,9 @@ def dilated_tiles(
         FLATTEN,
         {"motion_sides": sides},
         flattened,
-        uniforms={**sized, "max_blur": max_blur} if scatter else sized,
+        uniforms={**sized, "max_blur": max_blur, "reach_jitter": jitter_reach}
+        if scatter
+        else sized,
         defines={**layout, **scatter},
         group_per_texel=group_per_tile,
     )
@@ -164,7 +168,7 @@ def dilated_tiles(
         DILATE,
         {"tiles": tiles},
         {"dilated": dilated},
-        uniforms={**sized, "max_blur": max_blur},
+        uniforms={**sized, "max_blur": max_blur, "reach_jitter": jitter_reach},
         defines=layout,
         group_per_texel=group_per_tile,
     )

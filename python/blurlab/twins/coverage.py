@@ -24,10 +24,15 @@ SMALLEST_TILE = 8  # px
 ACROSS = 2.0  # px
 ACROSS_SHARE = 0.05  # ... plus this share of the trail's length
 MOVING_DEPTH = 10.0  # soft depth extent, multiple of X's depth, where X moves
+DISPLAY_WHITE = 1.0  # colour above it is the hot share, gathered only where a pixel crosses X
 # The tile passes compare lengths in steps of 1/16 px (eevee.pick_key): on a turning object
 # many tiles move almost equally fast, and exact lengths, rounded differently by each device,
 # picked differently on the GPU and here (moire: whole tiles apart, 139 of 14400 pixels).
 TILE_LENGTH_STEPS = 16.0
+# The jittered lookup (eevee.lookup_tile) moves a pixel up to 1/4 tile each way, so each tile's
+# reach is widened by as much: a pixel at a tile's edge reads its neighbour, which must hold
+# the motions passing that pixel (a streak one pixel from a tile's edge went missing).
+JITTER_REACH = 0.25  # tiles
 
 
 def tile_size(height: int, percent: float) -> int:
@@ -48,6 +53,25 @@ def trail_reaches(d: np.ndarray, v: np.ndarray, bend: np.ndarray) -> np.ndarray:
     pixel's chord strays from its arc by up to |bend|/4). It reaches X fully up to |v| along v
     and within ACROSS + ACROSS_SHARE·|v| − 1 px across the parabola, each falling to 0 one
     pixel further. A still pixel (v = 0) reaches within ACROSS px."""
+    length, reach_along, across, _ = trail_geometry(d, v, bend)
+    widest = np.where(length > 0, ACROSS + ACROSS_SHARE * length, ACROSS)
+    return reach_along * np.clip(widest - across, 0, 1)
+
+
+def trail_on_pixel(d: np.ndarray, v: np.ndarray, bend: np.ndarray) -> np.ndarray:
+    """§17.6, the hot share: trail_reaches with the moving pixel's own width w across its
+    trail (|û.x| + |û.y|, 1 to √2 px) as the tolerance: 1 within w/2, 0 from w on. A still
+    pixel reaches X only less than 1 px away."""
+    length, reach_along, across, width = trail_geometry(d, v, bend)
+    moving = np.clip(2 - 2 * across / width, 0, 1)
+    return reach_along * np.where(length > 0, moving, 1.0)
+
+
+def trail_geometry(d: np.ndarray, v: np.ndarray, bend: np.ndarray):
+    """§17.6: what trail_reaches and trail_on_pixel share: |v|, the reach along the trail
+    (1 up to |v|, 0 one pixel further or half a pixel behind; for a still pixel 1 − |d|
+    clamped), the distance across the parabola (|d| for a still pixel) and the pixel's width
+    across the trail (1 for a still pixel)."""
     length = np.linalg.norm(v, axis=-1)
     moving = length > 0
     unit = v / np.where(moving, length, 1.0)[..., None]
@@ -57,8 +81,17 @@ def trail_reaches(d: np.ndarray, v: np.ndarray, bend: np.ndarray) -> np.ndarray:
     off_line = cross(d, unit) - tau * (1 - tau) * cross(bend, unit)
     across = np.where(moving, np.abs(off_line), dist)
     ahead = along > -0.5
-    widest = ACROSS + ACROSS_SHARE * length
-    return np.clip(length + 1 - along, 0, 1) * ahead * np.clip(widest - across, 0, 1)
+    reach_along = np.clip(length + 1 - along, 0, 1) * ahead
+    width = np.where(moving, np.abs(unit[..., 0]) + np.abs(unit[..., 1]), 1.0)
+    return length, reach_along, across, width
+
+
+def hot(color: np.ndarray) -> np.ndarray:
+    """§17.6: the share of (H, W, C) colour above DISPLAY_WHITE in RGB, 0 in alpha."""
+    excess = np.maximum(color - DISPLAY_WHITE, 0.0)
+    if color.shape[-1] > 3:
+        excess[..., 3:] = 0.0
+    return excess
 
 
 def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -176,7 +209,7 @@ def tile_lines(
     s = tile_size(h, tile_percent)
     reach_limit = max_blur_px(h, max_blur)
     prev, next_, dilated = dilated_half_motions(
-        motion_prev, motion_next, exposure, s, reach_limit, dilated, TILE_LENGTH_STEPS
+        motion_prev, motion_next, exposure, s, reach_limit, dilated, TILE_LENGTH_STEPS, JITTER_REACH
     )
     y, x = np.mgrid[0:h, 0:w]
     ty, tx = lookup_tile(x, y, s, seed, dilated.shape[:2], JITTER_SALTS)
@@ -369,8 +402,11 @@ def gather_coverage(
             reaches = trail_reaches(d, trails[py, px], bend[py, px])
             in_front = soft_depth_compare(depth, zy, front_extent)
             a = in_front * reaches * moving * spacing / np.maximum(speed, 1)
+            on_pixel = trail_on_pixel(d, trails[py, px], bend[py, px])
+            a_hot = in_front * on_pixel * moving * spacing / np.maximum(speed, 1)
             cover = cover + a
-            cover_sum = cover_sum + a[..., None] * cy
+            # Colour past display white counts only where the tap's own pixel crosses X.
+            cover_sum = cover_sum + a[..., None] * cy - (a - a_hot)[..., None] * hot(cy)
             # A still tap in front of a moving X hides the part of X's line behind it: the
             # coverage is estimated from the part that is seen.
             nearer = 1 - soft_depth_compare(zy, depth, soft_z)

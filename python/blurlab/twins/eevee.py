@@ -68,17 +68,22 @@ def dilation_radius(max_blur: float, tile_size: int, grid) -> int:
 
 
 def tile_dilate(
-    tiles: np.ndarray, tile_size: int, max_blur: float, length_steps: float = 0.0
+    tiles: np.ndarray,
+    tile_size: int,
+    max_blur: float,
+    length_steps: float = 0.0,
+    jitter_reach: float = 0.0,
 ) -> np.ndarray:
     """§17.2 step 2: for each tile D, the longest prev (xy) and next (zw) half-motion among the
     tiles whose reach meets D: the segment from a tile's center along -prev (toward the
     positions at t0) or +next, clamped to max_blur, in tile units, meets D's square widened by
     h + REACH_MARGIN,
-    h = 1/2 - 1/(2s) (how far a tile's pixel centers lie from its center). Among equal lengths
-    the first source tile in row-major order wins (as pick_key compares them)."""
+    h = 1/2 - 1/(2s) (how far a tile's pixel centers lie from its center), plus `jitter_reach`
+    tiles (gather_coverage's: how far its jittered lookup moves a pixel, §17.6). Among equal
+    lengths the first source tile in row-major order wins (as pick_key compares them)."""
     th, tw = tiles.shape[:2]
     radius = dilation_radius(max_blur, tile_size, (th, tw))
-    widen = reach_widening(tile_size)
+    widen = reach_widening(tile_size) + jitter_reach
     out = np.zeros((th, tw, 4))
     best = np.full((th, tw, 2), -1.0)
     dy_, dx_ = np.mgrid[0:th, 0:tw]
@@ -132,16 +137,23 @@ def lookup_tile(x, y, tile_size: int, seed: int, grid, salts=JITTER_SALTS):
 
 
 def dilated_half_motions(
-    motion_prev, motion_next, exposure, tile_size, max_blur, dilated=None, length_steps=0.0
+    motion_prev,
+    motion_next,
+    exposure,
+    tile_size,
+    max_blur,
+    dilated=None,
+    length_steps=0.0,
+    jitter_reach=0.0,
 ):
     """§17.2 steps 1-2: (E·M_prev, E·M_next, each clamped to max_blur px, and the dilated
-    tile grid of tile_size px tiles, lengths compared as pick_key(·, length_steps) says;
-    `dilated` if already computed)."""
+    tile grid of tile_size px tiles, lengths compared as pick_key(·, length_steps) says, each
+    reach widened by `jitter_reach` tiles (tile_dilate); `dilated` if already computed)."""
     prev = scaled_motion(motion_prev, exposure)
     next_ = scaled_motion(motion_next, exposure)
     if dilated is None:
         tiles = tile_flatten(prev, next_, tile_size, length_steps)
-        dilated = tile_dilate(tiles, tile_size, max_blur, length_steps)
+        dilated = tile_dilate(tiles, tile_size, max_blur, length_steps, jitter_reach)
     return clamp_length(prev, max_blur), clamp_length(next_, max_blur), dilated
 
 
