@@ -25,6 +25,7 @@ from blurlab.methods.coverage import (
     GATHER_VARIANTS,
     tap_plan,
 )
+from blurlab.methods.coverage import tile_lines as coverage_tile_lines
 from blurlab.studies.bench.taps import tap_counts
 from blurlab.twins import coverage as ref
 from blurlab.twins import eevee as eevee_twin
@@ -320,6 +321,51 @@ def test_a_bar_covers_its_trail_by_its_width_over_its_motion(ctx):
     assert middle == pytest.approx(0.4, abs=0.05)
     assert out[:, 44].mean() < 0.55  # the bar's own pixels: not left sharp (1.0)
     assert out[:, :10].max() == pytest.approx(0.2)  # beyond the trail: the wall untouched
+
+
+def test_colour_past_display_white_matches_reference(ctx, rng):
+    # most colours far above 1: the hot share (§17.6) weighs on nearly every tap
+    frame = two_sided_frame(rng, 97, 61)
+    frame.color[..., :3] *= 40.0
+    assert_matches_twin(bl.blur(ctx, frame, METHOD, samples=9, seed=3), frame)
+
+
+def test_an_emitter_saturates_only_the_rows_its_pixels_cross(ctx):
+    # An emitter of radiance 200, 4 rows tall, moving 12 px a half-shutter to the right over a
+    # still wall. The rows beside it are never crossed (its pixels pass them edge to edge), so
+    # they stay under display white; its own rows are saturated along the trail.
+    color = np.full((48, 96, 4), 0.2, np.float32)
+    color[..., 3] = 1
+    depth = np.full((48, 96), 10.0, np.float32)
+    motion = np.zeros((48, 96, 2), np.float32)
+    color[20:24, 40:48, :3], depth[20:24, 40:48], motion[20:24, 40:48, 0] = 200.0, 5.0, 24.0
+    frame = bl.Frame(color, depth, motion)
+    result = bl.blur(ctx, frame, METHOD, samples=16, max_blur=100.0)
+    out = result.color[..., 0]
+    assert out[20:24, 36:52].min() > 1.0
+    assert out[[19, 24], :].max() < 1.0
+    assert_matches_twin(result, frame)
+
+
+def test_a_pixel_at_a_tiles_edge_reads_the_streak_beside_it(ctx):
+    # A block moving 9 px a half-shutter down the first column of an 8 px tile. The jittered
+    # lookup sends some pixels of that column to the tile on their left, whose reach holds the
+    # streak's motion only because it is widened by the jitter's quarter tile.
+    motion = np.zeros((64, 64, 2), np.float32)
+    motion[28:32, 16:20, 1] = 18.0
+    color = np.full((64, 64, 4), 0.5, np.float32)
+    frame = bl.Frame(color, np.full((64, 64), 10.0, np.float32), motion)
+    params = {"tile_percent": 12.5, "max_blur": 50.0}
+    result = bl.blur(ctx, frame, METHOD, **params)
+    lines = coverage_tile_lines(frame, result, **params)
+    crossed = (slice(21, 39), 16)  # rows the block's pixels cross in column 16
+    for line in lines.lines:
+        assert np.linalg.norm(line[crossed], axis=-1).min() > 8.0
+    y, x = np.mgrid[0:64, 0:64]
+    ty, tx = eevee_twin.lookup_tile(x, y, 8, result.params["seed"], (8, 8), ref.JITTER_SALTS)
+    assert (tx[crossed] == 1).any()  # some of them read the tile on the left
+    narrow = eevee_twin.tile_dilate(result.buffers["tiles"].astype(np.float64), 8, 32.0, 16.0)
+    assert (np.linalg.norm(narrow[ty, tx][crossed][..., :2], axis=-1) == 0).any()
 
 
 @pytest.mark.parametrize(
