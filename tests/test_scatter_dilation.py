@@ -60,7 +60,7 @@ def test_scatter_gives_the_gather_dilations_bits(
 
 @pytest.mark.parametrize("group_per_tile", [False, True])
 def test_lengths_past_the_largest_key_tie_and_the_first_source_wins(ctx, group_per_tile):
-    # Two tiles moving far beyond PICK_KEY_MAX steps (65536 px), the later one longer: both
+    # Two tiles moving far beyond PICK_KEY_MAX steps (16384 px), the later one longer: both
     # reach tile (0, 1) and its key ties them, so the first in row order wins there, in the
     # twin as on the GPU; a plain float comparison would have taken the longer.
     height, width = 8, 24  # 8 px tiles: one row of three

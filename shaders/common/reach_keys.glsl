@@ -1,11 +1,11 @@
 // The 32-bit keys of the scatter dilation (docs/spec.md §17.6, "Steps 1–2 by scatter"): per
-// destination tile and side, the largest (pick_key + 1) << 12 | (4095 − source index) that
+// destination tile and side, the largest (pick_key + 1) << 14 | (16383 − source index) that
 // any source tile whose reach meets it offers, by imageAtomicMax. The larger key is the longer
 // length, then the earlier source in row-major order: the gather dilation's pick. 0: none.
-// Grids of more than 4096 tiles take the gather dilation (blurlab.methods.eevee). The keys
+// Grids of more than 16384 tiles take the gather dilation (blurlab.methods.eevee). The keys
 // image is (2·rows, columns): side 0 (prev) in rows 0..rows−1, side 1 (next) below.
 // NumPy twin: blurlab.twins.eevee.tile_dilate (the same picks).
-const uint REACH_INDEX_BITS = 12u;
+const uint REACH_INDEX_BITS = 14u;
 const uint REACH_INDEX_MASK = (1u << REACH_INDEX_BITS) - 1u;
 
 uint reach_key(float key, uint source_index) {

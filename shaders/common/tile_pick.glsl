@@ -26,10 +26,10 @@ void store_pick(ivec2 tile, vec4 pick);
 
 uniform float length_steps;  // candidates compare floor(length · length_steps); 0: lengths
 
-// The largest step key: 20 bits less one, so that key + 1 and a 12-bit tile index fit the
-// 32-bit keys of the scatter dilation (common/reach_keys.glsl). 65536 px at 16 steps a px;
+// The largest step key: 18 bits less one, so that key + 1 and a 14-bit tile index fit the
+// 32-bit keys of the scatter dilation (common/reach_keys.glsl). 16384 px at 16 steps a px;
 // longer lengths tie. twins.eevee.PICK_KEY_MAX.
-const float PICK_KEY_MAX = 1048574.0;
+const float PICK_KEY_MAX = 262142.0;
 
 // What a candidate's length compares as: with length_steps > 0, lengths within the same
 // 1/length_steps px step tie (and go to the first in row order), so that near-equal lengths,

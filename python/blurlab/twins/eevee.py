@@ -32,9 +32,9 @@ def clamp_length(v: np.ndarray, max_len: float) -> np.ndarray:
         return v * np.where(n > max_len, max_len / n, 1.0)
 
 
-REACH_INDEX_BITS = 12  # the source tile index in the scatter dilation's keys (reach_keys.glsl)
+REACH_INDEX_BITS = 14  # the source tile index in the scatter dilation's keys (reach_keys.glsl)
 # The largest step key (shaders/common/tile_pick.glsl): key + 1 and the tile index fill the
-# 32-bit keys of the scatter dilation (docs/spec.md §17.6), so lengths past 2^20 - 2 steps tie.
+# 32-bit keys of the scatter dilation (docs/spec.md §17.6), so lengths past 2^18 - 2 steps tie.
 PICK_KEY_MAX = 2 ** (32 - REACH_INDEX_BITS) - 2
 
 
@@ -109,7 +109,7 @@ def tile_dilate(
 def resolve_reach_keys(keys: np.ndarray, tiles: np.ndarray) -> np.ndarray:
     """The dilated tiles that the scatter dilation's keys name (docs/spec.md §17.6, "Steps 1–2
     by scatter"; shaders/common/reach_keys.glsl): `keys` (2·rows, columns) uint32, prev keys
-    above next keys, each (k + 1)·2^12 + (4095 − source index); `tiles` (rows, columns, 4) the
+    above next keys, each (k + 1)·2^14 + (16383 − source index); `tiles` (rows, columns, 4) the
     flattened tiles. A side without a key (0) gets 0."""
     keys = np.asarray(keys, np.uint32)
     rows, columns = tiles.shape[:2]
