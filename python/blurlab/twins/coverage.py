@@ -53,25 +53,14 @@ def trail_reaches(d: np.ndarray, v: np.ndarray, bend: np.ndarray) -> np.ndarray:
     pixel's chord strays from its arc by up to |bend|/4). It reaches X fully up to |v| along v
     and within ACROSS + ACROSS_SHARE·|v| − 1 px across the parabola, each falling to 0 one
     pixel further. A still pixel (v = 0) reaches within ACROSS px."""
-    length, reach_along, across, _ = trail_geometry(d, v, bend)
-    widest = np.where(length > 0, ACROSS + ACROSS_SHARE * length, ACROSS)
-    return reach_along * np.clip(widest - across, 0, 1)
+    return trail_weights(d, v, bend)[0]
 
 
-def trail_on_pixel(d: np.ndarray, v: np.ndarray, bend: np.ndarray) -> np.ndarray:
-    """§17.6, the hot share: trail_reaches with the moving pixel's own width w across its
-    trail (|û.x| + |û.y|, 1 to √2 px) as the tolerance: 1 within w/2, 0 from w on. A still
-    pixel reaches X only less than 1 px away."""
-    length, reach_along, across, width = trail_geometry(d, v, bend)
-    moving = np.clip(2 - 2 * across / width, 0, 1)
-    return reach_along * np.where(length > 0, moving, 1.0)
-
-
-def trail_geometry(d: np.ndarray, v: np.ndarray, bend: np.ndarray):
-    """§17.6: what trail_reaches and trail_on_pixel share: |v|, the reach along the trail
-    (1 up to |v|, 0 one pixel further or half a pixel behind; for a still pixel 1 − |d|
-    clamped), the distance across the parabola (|d| for a still pixel) and the pixel's width
-    across the trail (1 for a still pixel)."""
+def trail_weights(d: np.ndarray, v: np.ndarray, bend: np.ndarray):
+    """§17.6: (trail_reaches, on_pixel) from one pass over the trail's geometry, as the GPU
+    computes them together. on_pixel, the hot share's weight: the same reach along the trail,
+    with the moving pixel's own width w across its trail (|û.x| + |û.y|, 1 to √2 px) as the
+    tolerance, 1 within w/2 and 0 from w on; a still pixel reaches X only less than 1 px away."""
     length = np.linalg.norm(v, axis=-1)
     moving = length > 0
     unit = v / np.where(moving, length, 1.0)[..., None]
@@ -82,8 +71,10 @@ def trail_geometry(d: np.ndarray, v: np.ndarray, bend: np.ndarray):
     across = np.where(moving, np.abs(off_line), dist)
     ahead = along > -0.5
     reach_along = np.clip(length + 1 - along, 0, 1) * ahead
+    widest = np.where(moving, ACROSS + ACROSS_SHARE * length, ACROSS)
     width = np.where(moving, np.abs(unit[..., 0]) + np.abs(unit[..., 1]), 1.0)
-    return length, reach_along, across, width
+    within_pixel = np.where(moving, np.clip(2 - 2 * across / width, 0, 1), 1.0)
+    return reach_along * np.clip(widest - across, 0, 1), reach_along * within_pixel
 
 
 def hot(color: np.ndarray) -> np.ndarray:
@@ -399,11 +390,11 @@ def gather_coverage(
             speed = np.linalg.norm(trails[py, px], axis=-1)
             moving = np.clip(speed - 0.5, 0, 1)
             zy = depth[py, px]
-            reaches = trail_reaches(d, trails[py, px], bend[py, px])
+            reaches, on_pixel = trail_weights(d, trails[py, px], bend[py, px])
             in_front = soft_depth_compare(depth, zy, front_extent)
-            a = in_front * reaches * moving * spacing / np.maximum(speed, 1)
-            on_pixel = trail_on_pixel(d, trails[py, px], bend[py, px])
-            a_hot = in_front * on_pixel * moving * spacing / np.maximum(speed, 1)
+            # the share of the half-shutter the tap's trail spends on X, where it reaches X
+            share_on_x = in_front * moving * spacing / np.maximum(speed, 1)
+            a, a_hot = share_on_x * reaches, share_on_x * on_pixel
             cover = cover + a
             # Colour past display white counts only where the tap's own pixel crosses X.
             cover_sum = cover_sum + a[..., None] * cy - (a - a_hot)[..., None] * hot(cy)
