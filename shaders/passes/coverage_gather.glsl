@@ -310,10 +310,11 @@ vec4 gather_at(ivec2 x) {
             // soft_depth_compare(zx, zy, e) = clamp(1 - dz / e) and (zy, zx, e) = clamp(1 + dz / e)
             float dz = zx == zy ? 0.0 : zy - zx;
             float behind_soft = dz / soft_z;
-            float a = clamp(1.0 - dz / front_extent, 0.0, 1.0) * reaches * moving * spacing
-                    / max(speed, 1.0);
-            float a_hot = clamp(1.0 - dz / front_extent, 0.0, 1.0) * on_pixel * moving * spacing
-                        / max(speed, 1.0);
+            // the share of the half-shutter the tap's trail spends on X, where it reaches X
+            float share_on_x = clamp(1.0 - dz / front_extent, 0.0, 1.0) * moving * spacing
+                             / max(speed, 1.0);
+            float a = share_on_x * reaches;
+            float a_hot = share_on_x * on_pixel;
             // A still tap in front of a moving X hides the part of X's line behind it.
             float nearer = 1.0 - clamp(1.0 + behind_soft, 0.0, 1.0);
             spaced += spacing;
