@@ -66,6 +66,30 @@ def test_auto_rules_resumed_from_its_results_says_so(ctx, tmp_path):
     assert first["tables"] == again["tables"]  # the same rows give the same rules
 
 
+def test_random_scenes_writes_every_scenes_scores_and_their_digests(ctx, tmp_path):
+    import pandas as pd
+
+    from blurlab.studies.bench.random_scenes import scores_digest
+
+    path = tmp_path / "scores.csv"
+    records = [
+        bench.run_benchmark(ctx, "random_scenes", "tiny", given={"results": str(path)})
+        for _ in range(2)
+    ]
+    scores = pd.read_csv(path)
+    table = next(t for t in records[0]["tables"] if t["name"].startswith("each method"))
+    assert len(scores) == records[0]["params"]["scenes"] * len(table["rows"])
+    for row in table["rows"]:  # the digest is of the rows written
+        assert row[-1] == scores_digest(scores[scores["method"] == row[0]])
+    # the same scenes on the same renderer score the same, scene by scene
+    again = next(t for t in records[1]["tables"] if t["name"].startswith("each method"))
+    assert [row[-1] for row in table["rows"]] == [row[-1] for row in again["rows"]]
+    # one scene's score moved by 0.01 dB changes its method's digest
+    moved = scores[scores["method"] == table["rows"][0][0]].copy()
+    moved.loc[moved.index[0], "psnr"] += 0.01
+    assert scores_digest(moved) != table["rows"][0][-1]
+
+
 def test_engines_scores_every_frame_blurring_method_at_its_own_instant(ctx):
     given = {"methods": "post", "film_filter": 0.5, "references": "temporal,antialiased"}
     with warnings.catch_warnings():
