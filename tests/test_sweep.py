@@ -399,11 +399,12 @@ def test_sigint_mid_sweep_keeps_every_finished_row(ctx, tmp_path):
             break
         time.sleep(0.02)
     # Python drops a KeyboardInterrupt raised inside a weakref finalizer (the pooled textures'
-    # recycling) with "Exception ignored", so, like a user, press Ctrl-C again until it stops.
-    for _ in range(120):
+    # recycling) with "Exception ignored", so, like a user, press Ctrl-C again until it stops,
+    # and often: the whole sweep takes seconds, and a press every 0.5 s once let it finish.
+    for _ in range(1200):
         proc.send_signal(signal.SIGINT)
         try:
-            proc.wait(timeout=0.5)
+            proc.wait(timeout=0.05)
             break
         except subprocess.TimeoutExpired:
             continue
