@@ -67,16 +67,15 @@ def test_auto_rules_resumed_from_its_results_says_so(ctx, tmp_path):
 
 
 def test_random_scenes_writes_every_scenes_scores_and_their_digests(ctx, tmp_path):
-    import pandas as pd
-
     from blurlab.studies.bench.random_scenes import scores_digest
+    from blurlab.studies.sweep import read_row_file
 
     path = tmp_path / "scores.csv"
     records = [
         bench.run_benchmark(ctx, "random_scenes", "tiny", given={"results": str(path)})
         for _ in range(2)
     ]
-    scores = pd.read_csv(path)
+    scores = read_row_file(path)  # the exact float parser, as results are read
     table = next(t for t in records[0]["tables"] if t["name"].startswith("each method"))
     assert len(scores) == records[0]["params"]["scenes"] * len(table["rows"])
     for row in table["rows"]:  # the digest is of the rows written
@@ -88,6 +87,10 @@ def test_random_scenes_writes_every_scenes_scores_and_their_digests(ctx, tmp_pat
     moved = scores[scores["method"] == table["rows"][0][0]].copy()
     moved.loc[moved.index[0], "psnr"] += 0.01
     assert scores_digest(moved) != table["rows"][0][-1]
+    with pytest.raises(ValueError, match="existing folder"):  # refused before any scene runs
+        bench.run_benchmark(
+            ctx, "random_scenes", "tiny", given={"results": str(tmp_path / "no" / "s.csv")}
+        )
 
 
 def test_engines_scores_every_frame_blurring_method_at_its_own_instant(ctx):

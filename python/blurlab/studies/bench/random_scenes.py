@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import hashlib
 import time
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -106,6 +107,12 @@ def scores_digest(rows) -> str:
 
 
 def _random_scenes(ctx, size, p, out) -> None:
+    results = Path(str(p["results"])) if p["results"] else None
+    if results is not None and not results.parent.is_dir():  # before, not after, the sweep
+        raise ValueError(
+            f"blurlab: random_scenes results must be a file in an existing folder, not "
+            f"{str(results)!r}"
+        )
     names = [scenes.random_name(seed) for seed in range(p["seed"], p["seed"] + p["scenes"])]
     listed = (
         sum(d["kind"] == "gpu" for d in Context.devices())
@@ -137,8 +144,8 @@ def _random_scenes(ctx, size, p, out) -> None:
                 [("phase", ""), ("worker seconds", "s"), ("share", "%")],
                 [[phase, s, 100 * s / (workers * wall)] for phase, s in spent.items()],
             )
-    if p["results"]:
-        io.write_text(p["results"], table.to_csv(index=False))
+    if results is not None:
+        io.write_text(results, table.to_csv(index=False))
     rows = []
     for method, rows_of in table.groupby("method", sort=True):
         psnr = rows_of["psnr"].to_numpy(float)
