@@ -278,6 +278,11 @@ class Context:
         self._meshes: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
         self._material_textures: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
+    @property
+    def shader_dir(self) -> Path:
+        """The folder this context reads its shaders from."""
+        return Path(self._core.shader_dir)
+
     @staticmethod
     def devices() -> list[dict]:
         """The EGL devices of this machine: index, kind ("gpu" or "software") and name."""
@@ -409,6 +414,12 @@ class Context:
         (glFinish, a timer result not yet there, a texture download, an asynchronous download's
         fence): a counter for checking that a loop issues no wait per step."""
         return self._core.waits
+
+    def fence_timeouts(self) -> int:
+        """How many of those waits, on a fence (a batch of metrics or an asynchronous
+        download), the driver ended before the GPU had finished: each is waited again, so none
+        reads memory the GPU is still writing. Nonzero on a busy GPU; a count for reports."""
+        return self._core.fence_timeouts
 
     def live_objects(self) -> dict[str, int]:
         """Counts of live GL objects blurlab made, by kind (texture, buffer, program, query)."""

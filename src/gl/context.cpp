@@ -339,6 +339,20 @@ void Context::finish() {
   glFinish();
 }
 
+void Context::wait_for_fence(GLsync fence, const char* what) {
+  make_current();
+  count_wait();
+  constexpr GLuint64 one_second = 1000000000ull;
+  GLbitfield flags = GL_SYNC_FLUSH_COMMANDS_BIT;  // else an unflushed fence is never reached
+  for (;;) {
+    const GLenum waited = glClientWaitSync(fence, flags, one_second);
+    if (waited == GL_ALREADY_SIGNALED || waited == GL_CONDITION_SATISFIED) return;
+    if (waited != GL_TIMEOUT_EXPIRED) throw GLError(std::string("blurlab: ") + what + " failed");
+    ++fence_timeouts_;
+    flags = 0;
+  }
+}
+
 void Context::track(const char* kind, int delta) {
   std::lock_guard<std::mutex> lock(mutex_);
   live_[kind] += delta;

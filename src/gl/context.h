@@ -72,6 +72,14 @@ class Context : public std::enable_shared_from_this<Context> {
   // asynchronous download's fence), counted so that tests can show a loop issues none per step.
   void count_wait() { ++waits_; }
   long long waits() const { return waits_; }
+  // Blocks until `fence` is signalled, counting one wait; throws GLError naming `what` if the
+  // wait fails. It waits a second at a time: a timeout of "forever" (GL_TIMEOUT_IGNORED is
+  // defined for glWaitSync, not glClientWaitSync) is one some drivers cut short, and a caller
+  // that then read a mapped buffer would read what the GPU had not written yet.
+  void wait_for_fence(GLsync fence, const char* what);
+  // Waits of wait_for_fence that the driver ended before the fence was signalled (each then
+  // waited again): nonzero only on a busy GPU, and a sign of long work, not of an error.
+  long long fence_timeouts() const { return fence_timeouts_; }
 
   // Live GL objects by kind ("texture", "buffer", "program", "query"), so tests can show that
   // freeing objects returns the count to where it was.
@@ -101,6 +109,7 @@ class Context : public std::enable_shared_from_this<Context> {
   mutable std::mutex mutex_;
   std::map<std::string, int> live_;
   long long waits_ = 0;  // the owner thread's: every wait runs there
+  long long fence_timeouts_ = 0;
   // Declared before spare_pack_buffers_: a spare buffer destroyed with the context queues its
   // release here, so this must still exist then.
   std::vector<std::pair<std::string, std::function<void()>>> deferred_;

@@ -25,11 +25,16 @@ PendingDownload::~PendingDownload() {
   // The buffer goes back to the pool once the GPU has finished writing it.
   context_->release(nullptr,
                     [fence = fence_, buffer = std::move(buffer_), context = context_.get()] {
+                      bool written = true;
                       if (fence) {
-                        glClientWaitSync(fence, GL_SYNC_FLUSH_COMMANDS_BIT, GL_TIMEOUT_IGNORED);
+                        try {
+                          context->wait_for_fence(fence, "waiting for a dropped download");
+                        } catch (...) {
+                          written = false;  // the GPU may still write it: not pooled again
+                        }
                         glDeleteSync(fence);
                       }
-                      if (buffer) context->return_pack_buffer(buffer);
+                      if (buffer && written) context->return_pack_buffer(buffer);
                     });
 }
 
@@ -43,12 +48,15 @@ bool PendingDownload::done() {
 
 void PendingDownload::wait() {
   if (!fence_) return;
-  context_->make_current();
-  context_->count_wait();
-  GLenum r = glClientWaitSync(fence_, GL_SYNC_FLUSH_COMMANDS_BIT, GL_TIMEOUT_IGNORED);
-  glDeleteSync(fence_);
+  const GLsync fence = fence_;
   fence_ = nullptr;
-  if (r == GL_WAIT_FAILED) throw GLError("blurlab: waiting for an asynchronous download failed");
+  try {
+    context_->wait_for_fence(fence, "waiting for an asynchronous download");
+  } catch (...) {
+    glDeleteSync(fence);
+    throw;
+  }
+  glDeleteSync(fence);
 }
 
 const void* PendingDownload::mapped() const {

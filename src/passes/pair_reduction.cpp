@@ -82,13 +82,14 @@ std::vector<std::vector<double>> ReductionQueue::read() {
   std::vector<std::vector<double>> totals;
   if (entries_.empty()) return totals;
   seal();
-  context_->make_current();
-  context_->count_wait();
-  const GLenum waited =
-      glClientWaitSync(static_cast<GLsync>(fence_), GL_SYNC_FLUSH_COMMANDS_BIT, GL_TIMEOUT_IGNORED);
   const auto entries = std::move(entries_);
+  try {
+    context_->wait_for_fence(static_cast<GLsync>(fence_), "waiting for partial sums");
+  } catch (...) {
+    clear();
+    throw;
+  }
   clear();
-  if (waited == GL_WAIT_FAILED) throw GLError("blurlab: waiting for partial sums failed");
   totals.reserve(entries.size());
   const float* host = static_cast<const float*>(readback_->mapped());
   for (const Entry& e : entries) {

@@ -24,6 +24,7 @@ import uuid
 from collections import OrderedDict, deque
 
 from ..context import DEVICE_MODES, Context
+from . import identity
 from .evaluation import SETUP_PHASES, WARM_UP, evaluate_scene
 from .scheduler import is_loopback, require_distributed, warn_if_exposed
 
@@ -185,6 +186,7 @@ def worker_context() -> Context:
 def _new_log(context_s: float) -> dict:
     phases = {f"{phase}_s": 0.0 for phase in ACCOUNT}
     counts = {"tasks": 0, "evaluations": 0, "imports": 0, "exports": 0, "next_chunk_waiting": 0}
+    counts["fence_timeouts"] = 0  # Context.fence_timeouts: waits the driver cut short
     return {"context_s": context_s, **counts, "busy_s": 0.0, **phases}
 
 
@@ -205,7 +207,9 @@ def run_chunk(scene, scene_key, jobs, settings, imported=None) -> tuple[str, lis
         log["imports"] += 1
         log["imports_s"] += time.perf_counter() - start
     before = dict(cache["clock"].seconds) if "clock" in cache else {}
+    timeouts_before = ctx.fence_timeouts()
     rows = list(evaluate_scene(ctx, scene, jobs, settings, cache))
+    log["fence_timeouts"] += ctx.fence_timeouts() - timeouts_before
     seconds = time.perf_counter() - start
     setup = 0.0
     for phase in (*SETUP_PHASES, WARM_UP):
@@ -277,7 +281,9 @@ def worker_report() -> dict:
     (``warm_up_s``), references imported from and exported to other workers, and the rest
     (timed runs and metrics, ``evaluations_s``). Idle time is the sweep's wall time less
     ``context_s`` and ``busy_s``. ``next_chunk_waiting``: the chunks at whose end this worker
-    already had its next one, which it then started without waiting for the client."""
+    already had its next one, which it then started without waiting for the client.
+    ``fence_timeouts``: the waits for the GPU in its tasks that the driver ended early
+    (Context.fence_timeouts), each waited again."""
     if "ctx" not in _worker_state:
         return {"device": None, **_new_log(0.0), "evaluations_s": 0.0, "scenes_kept": []}
     info = _worker_state["ctx"].info()
@@ -374,15 +380,15 @@ def connect(cluster):
 
 def _device_info() -> dict:
     """On a worker: the device part of a row's identity, from its context."""
-    info = worker_context().info()
-    return {"device": info["device"], "renderer": info["renderer"]}
+    return identity.device_identity(worker_context())
 
 
 def cluster_device(client) -> dict:
-    """The device every worker renders on ({"device", "renderer"}, a part of each row's
-    identity), asked of each worker in a task (a GL context belongs to the task thread).
-    Raises where the workers render on different kinds of device: their rows would differ
-    by worker, and a resumed sweep could not say which rows it may keep."""
+    """The device every worker renders on and the code it runs (identity.device_identity, a
+    part of each row's identity), asked of each worker in a task (a GL context belongs to the
+    task thread). Raises where the workers render on different kinds of device or run other
+    code: their rows would differ by worker, and a resumed sweep could not say which rows it
+    may keep."""
     client.wait_for_workers(1, timeout=120)
     futures = [
         client.submit(_device_info, workers=[w], allow_other_workers=False, pure=False)
@@ -391,9 +397,10 @@ def cluster_device(client) -> dict:
     found = {json.dumps(d, sort_keys=True) for d in client.gather(futures)}
     if len(found) != 1:
         raise RuntimeError(
-            "blurlab.sweep: the cluster's workers render on different devices "
-            f"({sorted(found)}); a sweep's rows must not depend on the worker. Run one "
-            "sweep per kind of device (BLURLAB_DEVICE or separate clusters)"
+            "blurlab.sweep: the cluster's workers render on different devices or run "
+            f"different code ({sorted(found)}); a sweep's rows must not depend on the worker. "
+            "Run one sweep per kind of device (BLURLAB_DEVICE or separate clusters), every "
+            "worker from the same installation"
         )
     return json.loads(found.pop())
 

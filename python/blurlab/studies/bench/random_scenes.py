@@ -121,7 +121,7 @@ def _random_scenes(ctx, size, p, out) -> None:
     )
     runs = [(g, w) for g in counts_of(p["gpus"], "gpus", 0) for w in worker_counts(p["workers"])]
     for gpus, workers in runs:  # the last run's table is reported below
-        start = time.perf_counter()
+        start, timeouts_before = time.perf_counter(), ctx.fence_timeouts()
         tables, startup = _sweeps(ctx, size, p, names, workers, gpus)
         wall = time.perf_counter() - start - startup  # the cluster's start is reported apart
         table = pd.concat(tables, ignore_index=True)
@@ -137,6 +137,13 @@ def _random_scenes(ctx, size, p, out) -> None:
         out.figure(f"{each}: scenes per second", done / wall, "1/s")
         projected = wall * p["scenes"] / done
         out.figure(f"{each}: projected wall for {p['scenes']} scenes", projected, "s")
+        accounts = [a for t in tables for a in t.attrs.get("workers", {}).values()]
+        timeouts = (
+            sum(a["fence_timeouts"] for a in accounts)
+            if accounts
+            else ctx.fence_timeouts() - timeouts_before
+        )
+        out.figure(f"{each}: waits for the GPU that the driver cut short", timeouts, "waits")
         spent = _worker_seconds(tables, workers, wall)
         if spent:
             out.table(
