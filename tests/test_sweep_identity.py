@@ -6,6 +6,7 @@ made fresh, with no file."""
 from __future__ import annotations
 
 import json
+import shutil
 
 import numpy as np
 import pandas as pd
@@ -122,6 +123,27 @@ def test_blurlab_version(ctx, tmp_path, monkeypatch):
     again = rerun(ctx, out)
     same_numbers(again, fresh(ctx), METRICS)
     assert again["blurlab_version"].iloc[0] == bl.__version__
+
+
+def test_rows_of_other_code_are_not_returned(ctx, tmp_path):
+    """A row carries a digest of the code that computed it (blurlab's modules, its core and the
+    context's shaders): rows from an edited shader folder are evaluated anew, rows from an
+    identical copy of the folder are returned (the digest is of the files, not the folder)."""
+    out = tmp_path / "r.csv"
+    edited, identical = tmp_path / "edited", tmp_path / "identical"
+    shutil.copytree(ctx.shader_dir, edited)
+    shutil.copytree(ctx.shader_dir, identical)
+    shader = edited / "passes" / "gather_box.glsl"
+    shader.write_text(shader.read_text() + "\n// an edit that changes no pixel\n")
+    assert identity.code_digest(edited) != identity.code_digest(ctx.shader_dir)
+    assert identity.code_digest(identical) == identity.code_digest(ctx.shader_dir)
+    rerun(bl.Context(shader_dir=edited), out)
+    _tamper(out)
+    again = rerun(ctx, out)
+    same_numbers(again, fresh(ctx), METRICS)
+    assert again[identity.CODE].iloc[0] == identity.code_digest(ctx.shader_dir)
+    _tamper(out)
+    assert rerun(bl.Context(shader_dir=identical), out)["psnr"].iloc[0] == 99.0
 
 
 def _spinning_box(path, spin: float):

@@ -3,13 +3,15 @@
 
 A row is named by a hash of its scene's name and content, its method, backend, parameters,
 size and shutter, its reference's definition (N, antialias, seed, guard), the device and
-renderer, the metric set and blurlab's version. A sweep skips a row of its out-file only where
+renderer, the metric set, blurlab's version and a digest of the code that ran (its Python
+modules, compiled core and shaders). A sweep skips a row of its out-file only where
 the identity is the same; `bl.recommend` caches by the same components.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import functools
 import hashlib
 import json
 import types
@@ -26,6 +28,7 @@ SCENE_DIGEST = "scene_digest"
 REFERENCE = "reference"
 METRIC_SET = "metric_set"
 VERSION = "blurlab_version"
+CODE = "code_digest"
 HASH_CHARS = 16  # 64 bits of SHA-256: a collision among a file's rows is not a practical risk
 
 
@@ -131,6 +134,37 @@ def row_identity(components: dict) -> str:
     """The hash of a row's identity components (a JSON-able dict)."""
     text = json.dumps(components, sort_keys=True, separators=(",", ":"))
     return hashlib.sha256(text.encode()).hexdigest()[:HASH_CHARS]
+
+
+def device_identity(ctx) -> dict:
+    """The device part of a row's identity: the context's kind and renderer, and the digest of
+    the code it runs (code_digest: blurlab's modules, core and the context's shaders)."""
+    info = ctx.info()
+    return {
+        "device": info["device"],
+        "renderer": info["renderer"],
+        CODE: code_digest(ctx.shader_dir),
+    }
+
+
+def code_digest(shader_dir) -> str:
+    """A hash of the code that computes a row: blurlab's Python modules, its compiled core and
+    the shaders of `shader_dir` (the folder a context reads them from), each by its path inside
+    the package or folder and its bytes. An edit, a rebuild or another shader folder gives
+    another digest, so that a resumed sweep never returns a row that other code computed; the
+    version alone stays the same between releases."""
+    return _code_digest(str(Path(shader_dir).resolve()))
+
+
+@functools.lru_cache(maxsize=8)
+def _code_digest(shader_dir: str) -> str:
+    h = hashlib.sha256()
+    package = Path(__file__).resolve().parents[1]
+    for root, pattern in ((package, "*.py"), (package, "_core*"), (Path(shader_dir), "*")):
+        for path in sorted(p for p in root.rglob(pattern) if p.is_file()):
+            if "__pycache__" not in path.parts:
+                h.update(path.relative_to(root).as_posix().encode() + b"\0" + path.read_bytes())
+    return h.hexdigest()[:HASH_CHARS]
 
 
 def version() -> str:

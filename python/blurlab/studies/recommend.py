@@ -32,8 +32,8 @@ from ..metrics import get, registered
 from ..scene import Scene
 from ..sizes import DEFAULT_SIZE
 from .evaluation import Settings
-from .identity import row_identity
-from .sweep import default_grids, device_of, scene_identity, sweep
+from .identity import device_identity, row_identity
+from .sweep import default_grids, scene_identity, sweep
 
 # What every recommendation's sweep measures: PSNR (target_psnr reads it) and SSIM, from one
 # fused GPU pass (docs/spec.md §6). A `metric` to rank by beside them is measured too.
@@ -158,7 +158,7 @@ def measured(
     scene's name and content, size, shutter, reference, metrics, device, blurlab's version),
     so an edited scene file is measured anew."""
     settings = Settings((int(size[0]), int(size[1])), None, None, tuple(metrics), repeats=3)
-    key = row_identity(scene_identity(scene, settings, device_of(ctx)))
+    key = row_identity(scene_identity(scene, settings, device_identity(ctx)))
     if key not in _CACHE:
         table = sweep(
             ctx,

@@ -203,7 +203,11 @@ def sweep(
     if cluster is not None:
         client, own_client = dask_cluster.connect(cluster)
     try:
-        device = dask_cluster.cluster_device(client) if client is not None else device_of(ctx)
+        device = (
+            dask_cluster.cluster_device(client)
+            if client is not None
+            else identity.device_identity(ctx)
+        )
         plan = _plan(scene_list, methods_and_grids, backends, settings, device, path)
     except BaseException:
         if own_client:
@@ -282,12 +286,6 @@ def _plan(scene_list, methods_and_grids, backends, settings: Settings, device: d
     return keys, columns, pending, done
 
 
-def device_of(ctx: Context) -> dict:
-    """The device part of a row's identity: the context's kind and renderer."""
-    info = ctx.info()
-    return {"device": info["device"], "renderer": info["renderer"]}
-
-
 def scene_identity(scene: Scene, settings: Settings, device: dict) -> dict:
     """What every row of `scene` in a sweep shares of its identity (blurlab.studies.identity):
     the scene's name and content, size, shutter, reference, metric set, device, blurlab's
@@ -325,6 +323,7 @@ def _identity_columns(key: str, shared: dict) -> dict:
         identity.REFERENCE: json.dumps(shared[identity.REFERENCE], sort_keys=True),
         identity.METRIC_SET: json.dumps(shared[identity.METRIC_SET]),
         identity.VERSION: shared[identity.VERSION],
+        identity.CODE: shared[identity.CODE],
     }
 
 
@@ -335,7 +334,9 @@ def _finished_rows(path: Path | None) -> dict:
     if path is None or not path.exists() or path.stat().st_size == 0:
         return {}
     _drop_partial_line(path)
-    text = {c: str for c in (identity.IDENTITY, identity.SCENE_DIGEST, identity.VERSION)}
+    text = {
+        c: str for c in (identity.IDENTITY, identity.SCENE_DIGEST, identity.VERSION, identity.CODE)
+    }
     table = read_row_file(path, dtype=text)
     if identity.IDENTITY not in table:
         return {}
