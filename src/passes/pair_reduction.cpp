@@ -67,15 +67,9 @@ size_t ReductionQueue::reserve(size_t count, int components) {
 
 void ReductionQueue::seal() {
   if (fence_ || entries_.empty()) return;
-  const size_t bytes = used_ * sizeof(float);
-  if (!readback_ || readback_->size() < bytes)
-    readback_ = std::make_unique<Buffer>(context_, buffer_->size(), Buffer::Usage::readback);
-  // The dispatches ended with full memory barriers: the copy reads their partial sums.
-  glCopyNamedBufferSubData(buffer_->id(), readback_->id(), 0, 0, static_cast<GLsizeiptr>(bytes));
-  glMemoryBarrier(GL_CLIENT_MAPPED_BUFFER_BARRIER_BIT);
   fence_ = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
   glFlush();  // else the batch may wait in the command queue until someone waits on it
-  check_gl("queueing the read-back of partial sums");
+  check_gl("queueing the fence of a batch of partial sums");
 }
 
 std::vector<std::vector<double>> ReductionQueue::read() {
@@ -83,18 +77,26 @@ std::vector<std::vector<double>> ReductionQueue::read() {
   if (entries_.empty()) return totals;
   seal();
   const auto entries = std::move(entries_);
+  std::vector<float> host(used_);
   try {
     context_->wait_for_fence(static_cast<GLsync>(fence_), "waiting for partial sums");
+    // Read from the buffer the dispatches wrote, through GL, which orders the read after them.
+    // A copy into a persistently mapped buffer, read after the fence, returned zeros or the
+    // last batch's sums on the H100 for the first reductions after a long translucent reference
+    // (two scenes of 500, in sweeps of 8 processes on one GPU).
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    glGetNamedBufferSubData(buffer_->id(), 0, static_cast<GLsizeiptr>(host.size() * sizeof(float)),
+                            host.data());
+    check_gl("reading partial sums");
   } catch (...) {
     clear();
     throw;
   }
   clear();
   totals.reserve(entries.size());
-  const float* host = static_cast<const float*>(readback_->mapped());
   for (const Entry& e : entries) {
     std::vector<double> out(e.components, 0.0);
-    const float* partials = host + e.offset;
+    const float* partials = host.data() + e.offset;
     for (size_t i = 0; i < e.count; ++i) out[i % e.components] += partials[i];
     totals.push_back(std::move(out));
   }

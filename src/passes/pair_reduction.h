@@ -18,9 +18,9 @@ class Texture;
 
 // Partial sums of reductions issued but not read yet. Each reduction writes its partials to its
 // own range of one storage buffer (ranges aligned as GL requires of bound storage ranges). seal()
-// queues one copy of all of them into a persistently mapped buffer and a fence; read() waits on
-// that fence (once per batch instead of once per reduction) and adds each reduction's partials up
-// in double in the order PairReduction::sums does: the totals are those of sums, bit for bit.
+// queues a fence after them; read() waits on that fence (once per batch instead of once per
+// reduction), reads the buffer back and adds each reduction's partials up in double in the order
+// PairReduction::sums does: the totals are those of sums, bit for bit.
 class ReductionQueue {
  public:
   explicit ReductionQueue(Context* context);
@@ -31,9 +31,9 @@ class ReductionQueue {
   // Room for `count` floats of one reduction (`components` sums, interleaved), bound to storage
   // buffer 0 for the dispatch that writes them; returns the reduction's index in the batch.
   size_t reserve(size_t count, int components);
-  // Ends the batch: queues the copy of its partials to mapped memory and a fence, without
-  // waiting, so the GPU can go on while the CPU issues another batch (in another queue). No
-  // reduction can be reserved again before read(). Nothing happens when the queue is empty.
+  // Ends the batch: queues a fence after its dispatches, without waiting, so the GPU can go on
+  // while the CPU issues another batch (in another queue). No reduction can be reserved again
+  // before read(). Nothing happens when the queue is empty.
   void seal();
   // The totals of every reduction reserved since the last read or clear, in order (one vector
   // of `components` sums each); empties the queue. Seals the batch if it is not; one wait for
@@ -53,11 +53,10 @@ class ReductionQueue {
   void drop_fence();
 
   Context* context_;
-  size_t alignment_;                  // GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT, in floats
-  size_t used_ = 0;                   // floats reserved in buffer_
-  std::unique_ptr<Buffer> buffer_;    // the dispatches write here
-  std::unique_ptr<Buffer> readback_;  // persistently mapped; seal() copies buffer_ here
-  void* fence_ = nullptr;             // GLsync of the sealed batch's copy
+  size_t alignment_;                // GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT, in floats
+  size_t used_ = 0;                 // floats reserved in buffer_
+  std::unique_ptr<Buffer> buffer_;  // the dispatches write here
+  void* fence_ = nullptr;           // GLsync after the sealed batch's dispatches
   std::vector<Entry> entries_;
 };
 
