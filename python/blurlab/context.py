@@ -128,17 +128,12 @@ class PendingDownload:
         """True once the GPU has finished the copy; never blocks."""
         return self._core.done()
 
-    def result(self, copy: bool = True) -> np.ndarray:
-        """Waits for the copy and returns the array.
-
-        ``copy=False`` returns a read-only view of the mapped buffer itself (no copy on the CPU);
-        the buffer goes back to the context's pool when the array is freed.
-        """
-        raw = self._core.result_bytes(copy=copy)
-        array = raw.view(self._dtype).reshape(self._shape)
-        if not copy:
-            array.flags.writeable = False
-        return array
+    def result(self) -> np.ndarray:
+        """Waits for the copy and returns the image as a new array (any number of times). The
+        bytes are read through GL (glGetNamedBufferSubData), not from the buffer's persistent
+        mapping: read after the fence, the mapping held stale bytes on the H100 right after a
+        long translucent reference (docs/foundation.md)."""
+        return self._core.result_bytes().view(self._dtype).reshape(self._shape)
 
 
 class ComputeProgram:

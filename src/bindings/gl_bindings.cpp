@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <cstring>
-#include <thread>
 #include <vector>
 
 #include "bindings/bindings.h"
@@ -76,60 +75,15 @@ py::array download(const Texture& texture) {
   return out;
 }
 
-// One thread reads mapped pinned memory at about 7 GB/s on the H100 host (`blurlab bench
-// transfer`); large images are copied by several threads so the copy does not halve download
-// throughput.
-void parallel_copy(void* dst, const void* src, size_t bytes) {
-  constexpr size_t kChunk = size_t(4) << 20;
-  const size_t workers =
-      std::min<size_t>({bytes / kChunk, std::thread::hardware_concurrency(), size_t(8)});
-  if (workers < 2) {
-    std::memcpy(dst, src, bytes);
-    return;
-  }
-  const size_t part = (bytes + workers - 1) / workers;
-  std::vector<std::thread> threads;
-  for (size_t i = 1; i < workers; ++i) {
-    const size_t begin = i * part, count = std::min(part, bytes - std::min(bytes, begin));
-    threads.emplace_back([=] {
-      std::memcpy(static_cast<char*>(dst) + begin, static_cast<const char*>(src) + begin, count);
-    });
-  }
-  std::memcpy(dst, src, std::min(part, bytes));
-  for (auto& t : threads) t.join();
-}
-
-// The bytes of a finished download: a copy, or a read-only view of the mapped pixel-pack buffer
-// that hands the buffer back to the context's pool when the array is freed.
-py::array download_result(PendingDownload& pending, bool copy) {
+// The bytes of a finished download, read through GL into a new array (any number of times).
+py::array download_result(PendingDownload& pending) {
+  py::array_t<uint8_t> out(static_cast<py::ssize_t>(pending.size()));
+  void* destination = out.mutable_data();
   {
     py::gil_scoped_release release;
-    pending.wait();
+    pending.read(destination);
   }
-  const size_t bytes = pending.size();
-  if (bytes == 0) throw std::runtime_error("blurlab: this download's result was already taken");
-  if (copy) {
-    py::array_t<uint8_t> out(static_cast<py::ssize_t>(bytes));
-    void* dst = out.mutable_data();
-    const void* src = pending.mapped();
-    {
-      py::gil_scoped_release release;
-      parallel_copy(dst, src, bytes);
-    }
-    return std::move(out);
-  }
-  struct Lease {
-    std::shared_ptr<Context> context;
-    std::shared_ptr<Buffer> buffer;
-  };
-  auto* lease = new Lease{pending.context(), pending.take_buffer()};
-  py::capsule owner(lease, [](void* p) {
-    auto* l = static_cast<Lease*>(p);
-    l->context->return_pack_buffer(std::move(l->buffer));
-    delete l;
-  });
-  return py::array_t<uint8_t>({static_cast<py::ssize_t>(bytes)}, {1},
-                              static_cast<const uint8_t*>(lease->buffer->mapped()), owner);
+  return std::move(out);
 }
 
 }  // namespace
@@ -194,7 +148,7 @@ void bind_gl(py::module_& m) {
 
   py::class_<PendingDownload, std::shared_ptr<PendingDownload>>(m, "PendingDownload")
       .def("done", &PendingDownload::done)
-      .def("result_bytes", &download_result, py::arg("copy") = true);
+      .def("result_bytes", &download_result);
 
   py::class_<Program, std::shared_ptr<Program>>(m, "Program")
       .def_static("compute", &Program::compute, py::arg("context"), py::arg("path"),

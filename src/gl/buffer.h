@@ -1,6 +1,6 @@
-// A GL buffer object with immutable storage. `readback` buffers are persistently mapped for
-// reading (pixel-pack targets of asynchronous downloads); `storage` buffers are plain device
-// memory for shader storage and atomics.
+// A GL buffer object with immutable storage. `readback` buffers live in client memory (the
+// pixel-pack targets of asynchronous downloads, read back with glGetNamedBufferSubData);
+// `storage` buffers are plain device memory for shader storage and atomics.
 #pragma once
 
 #include <cstddef>
@@ -22,14 +22,11 @@ class Buffer {
 
   GLuint id() const { return id_; }
   size_t size() const { return bytes_; }
-  // The persistent mapping of a readback buffer (nullptr for storage buffers).
-  const void* mapped() const { return mapped_; }
 
  private:
   Context* context_;
   GLuint id_ = 0;
   size_t bytes_;
-  void* mapped_ = nullptr;
 };
 
 }  // namespace blurlab

@@ -87,8 +87,8 @@ class Context : public std::enable_shared_from_this<Context> {
   // On the owner's thread, releases queued by other threads are done first.
   std::map<std::string, int> live_objects();
 
-  // Pool of persistently mapped pixel-pack buffers for asynchronous readback: allocating
-  // pinned memory for every download would cost more than the copy itself.
+  // Pool of the pixel-pack buffers of asynchronous downloads, in client memory: allocating one
+  // for every download would cost more than the copy itself.
   std::shared_ptr<Buffer> take_pack_buffer(size_t bytes);
   void return_pack_buffer(std::shared_ptr<Buffer> buffer);
 

@@ -6,7 +6,8 @@
 
 namespace blurlab {
 
-PendingDownload::PendingDownload(const Texture& texture) : context_(texture.context()) {
+PendingDownload::PendingDownload(const Texture& texture)
+    : context_(texture.context()), bytes_(texture.byte_size()) {
   buffer_ = context_->take_pack_buffer(texture.byte_size());
   context_->make_current();
   const auto& f = texture.format();
@@ -59,15 +60,15 @@ void PendingDownload::wait() {
   glDeleteSync(fence);
 }
 
-const void* PendingDownload::mapped() const {
-  return buffer_ ? buffer_->mapped() : nullptr;
-}
-size_t PendingDownload::size() const {
-  return buffer_ ? buffer_->size() : 0;
+void PendingDownload::read(void* destination) {
+  wait();
+  context_->make_current();
+  glGetNamedBufferSubData(buffer_->id(), 0, static_cast<GLsizeiptr>(bytes_), destination);
+  check_gl("reading a finished download");
 }
 
-std::shared_ptr<Buffer> PendingDownload::take_buffer() {
-  return std::move(buffer_);
+size_t PendingDownload::size() const {
+  return bytes_;
 }
 
 }  // namespace blurlab

@@ -1,5 +1,6 @@
-// Asynchronous texture download: the copy into a persistently mapped pixel-pack buffer is queued
-// with a fence, so the caller can queue more GPU work (or more downloads) before waiting.
+// Asynchronous texture download: the copy into a pixel-pack buffer is queued with a fence, so the
+// caller can queue more GPU work (or more downloads) before waiting; read() then takes the bytes
+// through GL.
 // docs/gpu.md measured 2-3 GB/s for a plain glReadPixels on the H100; this path overlaps transfers.
 #pragma once
 
@@ -22,17 +23,19 @@ class PendingDownload {
 
   // True once the GPU has finished the copy (never blocks).
   bool done();
-  // Blocks until the copy is complete; the data then lies at mapped().
+  // Blocks until the copy is complete.
   void wait();
-  const void* mapped() const;
+  // Waits, then reads the image's size() bytes into `destination` with glGetNamedBufferSubData.
+  // Not from the buffer's persistent mapping: read after the fence, that returned stale bytes on
+  // the H100 right after a long translucent reference, where this read returns the image.
+  void read(void* destination);
   size_t size() const;
-  // Hands the pixel-pack buffer over (for zero-copy arrays) or back to the context's pool.
-  std::shared_ptr<Buffer> take_buffer();
   const std::shared_ptr<Context>& context() const { return context_; }
 
  private:
   std::shared_ptr<Context> context_;
   std::shared_ptr<Buffer> buffer_;
+  size_t bytes_;  // the image's, at most the pooled buffer's size
   GLsync fence_ = nullptr;
 };
 

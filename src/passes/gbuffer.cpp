@@ -181,6 +181,9 @@ void GBufferPass::render(const GBufferTargets& targets, const GBufferCamera& cam
     // the draws; the shader tests it against the opaque depth itself.
     glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
     glDepthMask(GL_FALSE);
+    // The opaque depth was rendered into a target that is still attached and is sampled now:
+    // GL defines that read only after a texture barrier (writes stay masked in this pass).
+    glTextureBarrier();
     glBindImageTexture(0, lists[0]->id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
     glBindImageTexture(1, lists[1]->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     glBindImageTexture(2, lists[2]->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);

@@ -36,22 +36,21 @@ def _transfer(ctx, size, p, out) -> None:
         texture.upload(image)
         ctx.finish()
 
-    def pipelined(copy: bool) -> list[float]:
+    def pipelined() -> list[float]:
         """Per-image ms with `depth` downloads kept in flight."""
         in_flight = [texture.download_async() for _ in range(p["depth"])]
         start = time.perf_counter()
         for _ in range(p["runs"]):
-            in_flight.pop(0).result(copy=copy)
+            in_flight.pop(0).result()
             in_flight.append(texture.download_async())
         for pending in in_flight:
-            pending.result(copy=copy)
+            pending.result()
         return [(time.perf_counter() - start) * 1e3 / (p["runs"] + p["depth"])]
 
     paths = {
         "upload": wall_ms(upload, p["runs"]),
         "download": wall_ms(texture.download, p["runs"]),
-        "download async, copy": pipelined(True),
-        "download async, zero-copy": pipelined(False),
+        "download async": pipelined(),
     }
     rows = []
     for path, samples in paths.items():
@@ -68,8 +67,8 @@ def _transfer(ctx, size, p, out) -> None:
 register(
     Benchmark(
         "transfer",
-        "upload and download throughput of an RGBA float32 image: sync, async with copy, "
-        "async zero-copy",
+        "upload and download throughput of an RGBA float32 image: sync, and async with "
+        "downloads in flight",
         {"runs": RUNS, "depth": Param(3, int, "async downloads in flight", 1, 64)},
         _transfer,
         {"tiny": (64, 36), "software": (1920, 1080), "gpu": (1920, 1080)},
