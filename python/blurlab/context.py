@@ -129,10 +129,10 @@ class PendingDownload:
         return self._core.done()
 
     def result(self) -> np.ndarray:
-        """Waits for the copy and returns the image as a new array (any number of times). The
-        bytes are read through GL (glGetNamedBufferSubData), not from the buffer's persistent
-        mapping: read after the fence, the mapping held stale bytes on the H100 right after a
-        long translucent reference (docs/foundation.md)."""
+        """Waits for the copy and returns the image as a new array (any number of times), read
+        from the pixel-pack buffer through GL (glGetNamedBufferSubData). On the H100 the copy
+        once differed from ``Texture.download()`` right after a long translucent reference
+        (docs/foundation.md); where every byte counts, use ``download()``."""
         return self._core.result_bytes().view(self._dtype).reshape(self._shape)
 
 

@@ -8,8 +8,8 @@ Buffer::Buffer(Context* context, size_t bytes, Usage usage) : context_(context),
   if (bytes == 0) throw std::invalid_argument("blurlab: a GL buffer needs at least one byte");
   context_->make_current();
   glCreateBuffers(1, &id_);
-  // Client storage for the pixel-pack targets of downloads, which the CPU reads back; not
-  // mapped: a mapping read after the copy's fence held stale bytes on the H100 (readback.h).
+  // Client storage for the pixel-pack targets of downloads, which the CPU reads back through GL
+  // (glGetNamedBufferSubData; readback.h).
   const GLbitfield flags =
       usage == Usage::readback ? GL_CLIENT_STORAGE_BIT : GL_DYNAMIC_STORAGE_BIT;
   glNamedBufferStorage(id_, static_cast<GLsizeiptr>(bytes), nullptr, flags);

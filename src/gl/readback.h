@@ -25,9 +25,9 @@ class PendingDownload {
   bool done();
   // Blocks until the copy is complete.
   void wait();
-  // Waits, then reads the image's size() bytes into `destination` with glGetNamedBufferSubData.
-  // Not from the buffer's persistent mapping: read after the fence, that returned stale bytes on
-  // the H100 right after a long translucent reference, where this read returns the image.
+  // Waits, then reads the image's size() bytes into `destination` with glGetNamedBufferSubData
+  // (the buffer is not mapped). On the H100 the copy once differed from a synchronous download
+  // right after a long translucent reference, read either way (docs/foundation.md).
   void read(void* destination);
   size_t size() const;
   const std::shared_ptr<Context>& context() const { return context_; }
