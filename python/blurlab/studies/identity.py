@@ -158,13 +158,25 @@ def code_digest(shader_dir) -> str:
 
 @functools.lru_cache(maxsize=8)
 def _code_digest(shader_dir: str) -> str:
+    h = hashlib.sha256(_package_digest().encode())
+    _feed_files(h, Path(shader_dir), "*")
+    return h.hexdigest()[:HASH_CHARS]
+
+
+@functools.lru_cache(maxsize=1)
+def _package_digest() -> str:
+    """blurlab's modules and core, hashed once a process: the code it imported."""
     h = hashlib.sha256()
     package = Path(__file__).resolve().parents[1]
-    for root, pattern in ((package, "*.py"), (package, "_core*"), (Path(shader_dir), "*")):
-        for path in sorted(p for p in root.rglob(pattern) if p.is_file()):
-            if "__pycache__" not in path.parts:
-                h.update(path.relative_to(root).as_posix().encode() + b"\0" + path.read_bytes())
-    return h.hexdigest()[:HASH_CHARS]
+    _feed_files(h, package, "*.py")
+    _feed_files(h, package, "_core*")
+    return h.hexdigest()
+
+
+def _feed_files(h, root: Path, pattern: str) -> None:
+    for path in sorted(p for p in root.rglob(pattern) if p.is_file()):
+        if "__pycache__" not in path.parts:
+            h.update(path.relative_to(root).as_posix().encode() + b"\0" + path.read_bytes())
 
 
 def version() -> str:
