@@ -95,14 +95,14 @@ def test_random_scenes_writes_every_scenes_scores_and_their_digests(ctx, tmp_pat
     # rows scored again one at a time give the sweep's scores (on llvmpipe, bit for bit)
     figures = {f["name"]: f["value"] for f in records[0]["figures"]}
     assert figures["rows scored again, one evaluation at a time"] == 3
-    assert figures["largest PSNR difference of a row scored again"] == 0.0
+    assert figures["largest psnr difference of a row scored again"] == 0.0
     rescored = next(t for t in records[0]["tables"] if t["name"].startswith("rows of the sweep"))
     swept = set(zip(scores["scene"], scores["method"], strict=True))
     assert {(r[0], r[1]) for r in rescored["rows"]} <= swept
 
 
 def test_rescore_picks_the_rows_furthest_above_their_scene_then_draws():
-    from blurlab.studies.bench.random_scenes import rescore_picks
+    from blurlab.studies.bench.rescore import rescore_picks
 
     table = pd.DataFrame(
         {
@@ -111,9 +111,17 @@ def test_rescore_picks_the_rows_furthest_above_their_scene_then_draws():
             "psnr": [30.0, 31.0, 32.0, 70.0, 20.0, 21.0, 22.0, 23.0],
         }
     )
-    picked = rescore_picks(table, 3)
+    picked = rescore_picks(table, 3, "psnr")
     assert len(picked) == 3 and picked.index.is_unique
     assert list(picked.index[:2]) == [3, 7]  # a's 70 dB, 38.5 above a's median; then b's top
+
+
+@pytest.mark.parametrize("name", ["rankings", "auto_rules"])
+def test_sweeping_benchmarks_score_rows_again_and_get_the_same(ctx, name):
+    record = bench.run_benchmark(ctx, name, "tiny")
+    figures = {f["name"]: f["value"] for f in record["figures"]}
+    assert figures["rows scored again, one evaluation at a time"] == 2
+    assert figures["largest psnr difference of a row scored again"] == 0.0
 
 
 def test_engines_scores_every_frame_blurring_method_at_its_own_instant(ctx):

@@ -14,6 +14,7 @@ from ...methods.core import Param
 from .. import auto_rules
 from .core import Benchmark, register
 from .rankings import sweep_on_workers
+from .rescore import RESCORED, rescore
 from .timing import split
 
 
@@ -83,6 +84,7 @@ def _auto_rules(ctx, size, p, out) -> None:
     resumed = table.attrs["resumed"]
     out.figure("sweep rows read from results (evaluated by an earlier run)", resumed, "rows")
     out.figure("sweep rows evaluated in this run", len(table) - resumed, "rows")
+    rescore(ctx, table, size, p, ("psnr",), out)
     features = auto_rules.feature_frame(ctx, train + held_out + builtin, size)
     summary, rules, per_builtin, by_hdr, worst = [], [], [], [], []
     # HDR emitters put most of a frame's clipped error in a few pixels of their streaks: the
@@ -248,6 +250,7 @@ register(
             "reference_samples": Param(0, int, "N of each reference (0: as sweeps choose)", 0),
             "results": Param("", object, "a .csv the sweep's rows go to and resume from"),
             "workers": Param(0, int, "local Dask workers (0: this process)", 0, 64),
+            "rescored": RESCORED,
         },
         _auto_rules,
         {"tiny": (48, 27), "software": (320, 180), "gpu": (1920, 1080)},
@@ -261,6 +264,7 @@ register(
                 "bins": 2,
                 "builtin_scenes": "fan",
                 "reference_samples": 8,
+                "rescored": 2,
             },
             # 2 x 200 random scenes and the built-in ones, about 130 configurations each: as
             # many as an estimate of the H100's 8 minutes allows (the record's wall_s says).

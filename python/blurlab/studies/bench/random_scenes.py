@@ -19,6 +19,7 @@ from ...methods.core import Param
 from ..cluster import ACCOUNT, local_cluster
 from ..sweep import sweep, sweep_methods
 from .core import Benchmark, register
+from .rescore import RESCORED, rescore
 
 METRICS = ("psnr", "ssim", "flip")
 
@@ -181,8 +182,7 @@ def _random_scenes(ctx, size, p, out) -> None:
         ],
         rows,
     )
-    if p["rescored"]:
-        _rescore(ctx, size, p, table, out)
+    rescore(ctx, table, size, p, METRICS, out)
     digests = []
     for seed in range(p["seed"], p["seed"] + min(p["hashed"], p["scenes"])):
         frame = ctx.render(scenes.random(seed), size)
@@ -204,47 +204,6 @@ def _random_scenes(ctx, size, p, out) -> None:
             ("mean motion length", "px"),
         ],
         digests,
-    )
-
-
-def rescore_picks(table: pd.DataFrame, count: int) -> pd.DataFrame:
-    """`count` rows of a sweep's table to score again: half the rows furthest above their
-    scene's median PSNR (where a wrong read-back showed, docs/spec.md §6.3), the rest drawn
-    from the others with a fixed seed."""
-    excess = table["psnr"] - table.groupby("scene")["psnr"].transform("median")
-    highest = excess.sort_values(ascending=False, kind="stable").index[: (count + 1) // 2]
-    others = table.index.difference(highest)
-    drawn = np.random.default_rng(0).permutation(others)[: count - len(highest)]
-    return table.loc[list(highest) + list(drawn)]
-
-
-def _rescore(ctx, size, p, table: pd.DataFrame, out) -> None:
-    """Scores rows of the sweep again on `ctx`, one scene and method a sweep, each evaluation's
-    metrics read before the next (readback_batch 1): a check that the sweep's scores, made in
-    batches and on workers, are the ones an evaluation of its own gives."""
-    rows = []
-    for row in rescore_picks(table, p["rescored"]).itertuples():
-        again = sweep(
-            ctx,
-            [row.scene],
-            {row.method: {}},
-            size=size,
-            reference_samples=p["reference_samples"] or None,
-            metrics=METRICS,
-            repeats=0,
-            progress=False,
-            readback_batch=1,
-        ).iloc[0]
-        rows.append([row.scene, row.method, row.psnr, again["psnr"], again["psnr"] - row.psnr])
-    largest = max(abs(r[-1]) for r in rows)
-    out.figure("rows scored again, one evaluation at a time", len(rows), "rows")
-    out.figure("largest PSNR difference of a row scored again", largest, "dB")
-    out.table(
-        "rows of the sweep scored again in this process (readback_batch 1): half the furthest "
-        "above their scene's median, half drawn at random",
-        [("scene", ""), ("method", ""), ("sweep PSNR", "dB"), ("again", "dB")]
-        + [("again - sweep", "dB")],
-        rows,
     )
 
 
@@ -276,9 +235,7 @@ register(
             "reference_samples": Param(0, int, "N of each reference (0: as sweeps choose)", 0),
             "hashed": Param(4, int, "first seeds whose G-buffer digest is recorded", 0, 1000),
             "results": Param("", object, "a .csv every scene's scores go to (empty: none)"),
-            "rescored": Param(
-                8, int, "rows scored again in this process, to check the sweep's scores", 0, 1000
-            ),
+            "rescored": RESCORED,
         },
         _random_scenes,
         {"tiny": (48, 27), "software": (320, 180), "gpu": (1920, 1080)},

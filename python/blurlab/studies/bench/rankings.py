@@ -15,6 +15,7 @@ from .. import rankings
 from ..cluster import local_cluster
 from ..sweep import sweep
 from .core import Benchmark, register
+from .rescore import RESCORED, rescore
 from .timing import post_process_methods, split
 
 
@@ -53,6 +54,7 @@ def _rankings(ctx, size, p, out) -> None:
     wall = time.perf_counter() - start
     out.figure("scenes", len(names), "")
     out.figure("sweep and features, wall", wall, "s")
+    rescore(ctx, table, size, p, split(p["metrics"]), out)
     metrics = [m for m in split(p["metrics"]) if m in table]
     top_rows = []
     for metric in metrics:
@@ -122,6 +124,7 @@ register(
             "bins": Param(4, int, "cells per feature of the wins map", 1, 64),
             "workers": Param(0, int, "local Dask workers (0: this process)", 0, 64),
             "reference_samples": Param(0, int, "N of each reference (0: as sweeps choose)", 0),
+            "rescored": RESCORED,
         },
         _rankings,
         {"tiny": (48, 27), "software": (160, 90), "gpu": (1920, 1080)},
@@ -132,6 +135,7 @@ register(
                 "metrics": "psnr",
                 "bins": 1,
                 "reference_samples": 8,
+                "rescored": 2,
             },
             "gpu": {"scenes": 500},
         },

@@ -1,0 +1,70 @@
+"""Scoring a sweep's rows again, one at a time, in the benchmark's own process
+(docs/spec.md §6.3): a check that scores made in batches and on workers are the ones an
+evaluation of its own gives. `random_scenes`, `rankings` and `auto_rules` run it after their
+sweeps (their `rescored` parameter)."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pandas as pd
+
+from ...methods.core import Param
+from ..sweep import sweep
+
+RESCORED = Param(8, int, "rows scored again in this process, to check the sweep's scores", 0, 1000)
+
+
+def rescore_picks(table: pd.DataFrame, count: int, metric: str) -> pd.DataFrame:
+    """`count` rows of a sweep's table to score again: half the rows furthest above their
+    scene's median of `metric` (where a wrong read-back showed), the rest drawn from the others
+    with a fixed seed."""
+    table = table.reset_index(drop=True)
+    excess = table[metric] - table.groupby("scene")[metric].transform("median")
+    highest = excess.sort_values(ascending=False, kind="stable").index[: (count + 1) // 2]
+    others = table.index.difference(highest)
+    drawn = np.random.default_rng(0).permutation(others)[: count - len(highest)]
+    return table.loc[list(highest) + list(drawn)]
+
+
+def rescore(ctx, table: pd.DataFrame, size, p, metrics, out) -> None:
+    """Scores p["rescored"] rows of `table` (rescore_picks, by PSNR where the sweep has it, else
+    its first metric) again on `ctx`, each its own sweep of one scene, method and point at
+    `size` with `metrics` and p["reference_samples"], every metric read before the next
+    evaluation (readback_batch 1). Writes the count, the largest difference and the rows to
+    `out`; nothing where p["rescored"] is 0."""
+    count = p["rescored"]
+    if not count:
+        return
+    metrics = list(metrics)
+    metric = "psnr" if "psnr" in metrics else metrics[0]
+    rows = []
+    for row in rescore_picks(table, count, metric).itertuples():
+        point = {key: [value] for key, value in json.loads(row.params).items()}
+        again = sweep(
+            ctx,
+            [row.scene],
+            {row.method: point},
+            size=size,
+            reference_samples=p["reference_samples"] or None,
+            metrics=tuple(metrics),
+            repeats=0,
+            progress=False,
+            readback_batch=1,
+        ).iloc[0]
+        was = getattr(row, metric)
+        rows.append([row.scene, row.method, row.params, was, again[metric], again[metric] - was])
+    out.figure("rows scored again, one evaluation at a time", len(rows), "rows")
+    out.figure(
+        f"largest {metric} difference of a row scored again",
+        max((abs(r[-1]) for r in rows), default=0.0),
+        "",
+    )
+    out.table(
+        f"rows of the sweep scored again in this process (readback_batch 1): half the furthest "
+        f"above their scene's median {metric}, half drawn at random",
+        [("scene", ""), ("method", ""), ("params", ""), ("sweep", ""), ("again", "")]
+        + [("again - sweep", "")],
+        rows,
+    )
