@@ -3,12 +3,9 @@
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
-#include <algorithm>
-#include <cstring>
 #include <vector>
 
 #include "bindings/bindings.h"
-#include "gl/buffer.h"
 #include "gl/context.h"
 #include "gl/program.h"
 #include "gl/readback.h"

@@ -73,9 +73,9 @@ class Context : public std::enable_shared_from_this<Context> {
   void count_wait() { ++waits_; }
   long long waits() const { return waits_; }
   // Blocks until `fence` is signalled, counting one wait; throws GLError naming `what` if the
-  // wait fails. It waits a second at a time: a timeout of "forever" (GL_TIMEOUT_IGNORED is
-  // defined for glWaitSync, not glClientWaitSync) is one some drivers cut short, and a caller
-  // that then read a mapped buffer would read what the GPU had not written yet.
+  // wait fails. It waits a second at a time: GL_TIMEOUT_IGNORED is defined for glWaitSync, not
+  // glClientWaitSync, and a wait a driver cut short would let the caller read a result the GPU
+  // had not finished.
   void wait_for_fence(GLsync fence, const char* what);
   // Waits of wait_for_fence that the driver ended before the fence was signalled (each then
   // waited again): nonzero only on a busy GPU, and a sign of long work, not of an error.

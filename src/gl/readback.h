@@ -30,7 +30,6 @@ class PendingDownload {
   // right after a long translucent reference, read either way (docs/foundation.md).
   void read(void* destination);
   size_t size() const;
-  const std::shared_ptr<Context>& context() const { return context_; }
 
  private:
   std::shared_ptr<Context> context_;

@@ -69,10 +69,16 @@ def _sweeps(ctx, size, p, names: list[str], workers: int, gpus: int) -> tuple[li
 ACCOUNT_PHASES = (*ACCOUNT, "evaluations")
 
 
+def _worker_accounts(tables: list) -> list[dict]:
+    """Every worker's account (studies.cluster.worker_report) of every batch's sweep; none on
+    one device."""
+    return [a for t in tables for a in t.attrs.get("workers", {}).values()]
+
+
 def _worker_seconds(tables: list, workers: int, wall: float) -> dict[str, float]:
     """The workers' seconds in each phase of their accounts over every batch's sweep, and the
     rest of workers x wall as idle ({} on one device: no accounts)."""
-    accounts = [a for t in tables for a in t.attrs.get("workers", {}).values()]
+    accounts = _worker_accounts(tables)
     if not accounts:
         return {}
     spent = {phase: sum(a[f"{phase}_s"] for a in accounts) for phase in ACCOUNT_PHASES}
@@ -138,7 +144,7 @@ def _random_scenes(ctx, size, p, out) -> None:
         out.figure(f"{each}: scenes per second", done / wall, "1/s")
         projected = wall * p["scenes"] / done
         out.figure(f"{each}: projected wall for {p['scenes']} scenes", projected, "s")
-        accounts = [a for t in tables for a in t.attrs.get("workers", {}).values()]
+        accounts = _worker_accounts(tables)
         timeouts = (
             sum(a["fence_timeouts"] for a in accounts)
             if accounts
