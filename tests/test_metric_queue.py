@@ -133,3 +133,36 @@ def test_many_batches_hold_no_more_gl_objects(ctx, scene_inputs):
     for _ in range(10):
         some_batches()
     assert ctx.live_objects() == before and ctx.gl_errors() == []
+
+
+def test_a_reduction_no_pass_wrote_is_refused_as_stale(ctx, scene_inputs):
+    # A range reserved and never dispatched holds no ticket: what a read-back of partial sums
+    # that the passes did not write looks like (docs/spec.md §6.3).
+    frame, reference, _ = scene_inputs
+    core = bl._core.ReductionQueue(ctx.native)
+    before = ctx.stale_readbacks()
+    core.reserve(groups=4, components=1)
+    with pytest.raises(bl.StaleReadback, match="ticket"):
+        core.read()
+    assert core.pending == 0 and ctx.stale_readbacks() == before + 1
+    # The queue is whole afterwards, and a batch its passes wrote reads back as ever.
+    queue = m.MetricQueue(ctx)
+    queue.mse(frame.textures["color"], reference.texture)
+    (value,) = queue.read()
+    assert value == m.gpu_mse(ctx, frame.textures["color"], reference.texture)
+    assert ctx.stale_readbacks() == before + 1
+
+
+def test_reservations_are_checked(ctx):
+    core = bl._core.ReductionQueue(ctx.native)
+    with pytest.raises(ValueError, match="work group"):
+        core.reserve(groups=0, components=1)
+    with pytest.raises(ValueError, match="component"):
+        core.reserve(groups=1, components=0)
+
+
+def test_tickets_differ_between_reductions(ctx):
+    core = bl._core.ReductionQueue(ctx.native)
+    tickets = [core.reserve(groups=1, components=2)[1] for _ in range(5)]
+    core.clear()
+    assert len(set(tickets)) == 5 and all(t >= 1 and t == int(t) for t in tickets)

@@ -1,7 +1,7 @@
 """blurlab: real-time motion-blur methods run headless on the GPU, measured from Python."""
 
 from . import blender, capture, gltf, hatching, io, mesh, metrics, scenes, taa, tam, twins
-from ._core import GLError, ShaderError
+from ._core import GLError, ShaderError, StaleReadback
 from .blur_scales import CameraHeld
 from .context import ComputeProgram, Context, PendingDownload, Texture, Timing
 from .converged import Reference, reference_samples_needed
@@ -55,6 +55,7 @@ __all__ = [
     "Sequence",
     "SequenceRun",
     "ShaderError",
+    "StaleReadback",
     "Skeleton",
     "Texture",
     "Timing",

@@ -416,6 +416,12 @@ class Context:
         reads memory the GPU is still writing. Nonzero on a busy GPU; a count for reports."""
         return self._core.fence_timeouts
 
+    def stale_readbacks(self) -> int:
+        """How many batches of GPU metrics came back lacking their passes' tickets, so not what
+        the passes wrote (``blurlab.StaleReadback``, docs/spec.md §6.3), and were refused: a
+        sweep evaluates each such batch again. A count for reports; 0 where all is well."""
+        return self._core.stale_readbacks
+
     def live_objects(self) -> dict[str, int]:
         """Counts of live GL objects blurlab made, by kind (texture, buffer, program, query)."""
         return dict(self._core.live_objects())

@@ -12,6 +12,7 @@ layout(local_size_x = TILE, local_size_y = THREADS_Y) in;
 layout(binding = 0) uniform sampler2D image_a;
 layout(binding = 1) uniform sampler2D image_b;
 layout(std430, binding = 0) writeonly buffer Partials { float partials[]; };
+uniform float reduction_ticket;  // written after each group's sum (src/passes/pair_reduction.h)
 shared float sums[TILE * THREADS_Y];
 
 void main() {
@@ -31,5 +32,9 @@ void main() {
         if (i < stride) sums[i] += sums[i + stride];
         barrier();
     }
-    if (i == 0u) partials[gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x] = sums[0];
+    if (i == 0u) {
+        uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+        partials[2u * group] = sums[0];
+        partials[2u * group + 1u] = reduction_ticket;
+    }
 }

@@ -9,7 +9,8 @@
 // Variants (defines, 0 or 1):
 //   SQUARED_ERROR  the same dispatch also sums the squared error of blurlab.metrics.mse (RGB
 //                  clipped to [0, 1]) over the tile's pixels, from the texels it loads for the
-//                  luminance anyway: each group writes two partials, (SSIM, squared error).
+//                  luminance anyway: each group writes two partials, (SSIM, squared error),
+//                  then its ticket.
 //   PREPARE        no reduction: from one image (a reference) writes, per pixel, its clipped
 //                  colour and luminance (colour_luminance) and the Gaussian mean and variance of
 //                  its luminance (reference_moments), for PREPARED.
@@ -51,6 +52,7 @@ layout(rg32f, binding = 1) writeonly uniform image2D reference_moments;
 #else
 layout(binding = 1) uniform sampler2D image_b;
 layout(std430, binding = 0) writeonly buffer Partials { float partials[]; };
+uniform float reduction_ticket;  // written after each group's sums (src/passes/pair_reduction.h)
 #if PREPARED
 const int LUMS = 2;  // planes: x, y
 layout(binding = 2) uniform sampler2D reference_moments;
@@ -188,11 +190,15 @@ void main() {
     uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
 #if SQUARED_ERROR
     if (local == 0u) {
-        partials[2u * group] = total.x;
-        partials[2u * group + 1u] = total.y;
+        partials[3u * group] = total.x;
+        partials[3u * group + 1u] = total.y;
+        partials[3u * group + 2u] = reduction_ticket;
     }
 #else
-    if (local == 0u) partials[group] = total;
+    if (local == 0u) {
+        partials[2u * group] = total;
+        partials[2u * group + 1u] = reduction_ticket;
+    }
 #endif
 #endif
 }

@@ -72,6 +72,7 @@ layout(rg32f, binding = 1) writeonly uniform image2D luminance_variance;
 #else
 layout(binding = 1) uniform sampler2D image_b;
 layout(std430, binding = 0) writeonly buffer Partials { float partials[]; };
+uniform float reduction_ticket;  // written after each group's sums (src/passes/pair_reduction.h)
 #if PREPARED
 layout(binding = 2) uniform sampler2D luminance_variance;
 #endif
@@ -243,11 +244,15 @@ void main() {
     uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
 #if SQUARED_ERROR
     if (local == 0) {
-        partials[2u * group] = total.x;
-        partials[2u * group + 1u] = total.y;
+        partials[3u * group] = total.x;
+        partials[3u * group + 1u] = total.y;
+        partials[3u * group + 2u] = reduction_ticket;
     }
 #else
-    if (local == 0) partials[group] = total;
+    if (local == 0) {
+        partials[2u * group] = total;
+        partials[2u * group + 1u] = reduction_ticket;
+    }
 #endif
 #endif
 }

@@ -10,6 +10,7 @@ PYBIND11_MODULE(_core, m) {
   m.doc() = "blurlab's C++ core: headless OpenGL through EGL, textures, programs and timers.";
   py::register_exception<blurlab::ShaderError>(m, "ShaderError", PyExc_RuntimeError);
   py::register_exception<blurlab::GLError>(m, "GLError", PyExc_RuntimeError);
+  py::register_exception<blurlab::StaleReadback>(m, "StaleReadback", PyExc_RuntimeError);
   blurlab::bind_gl(m);
   blurlab::bind_passes(m);
 }

@@ -282,6 +282,19 @@ void bind_passes(py::module_& m) {
              return std::make_shared<ReductionQueue>(context.get());
            }),
            py::arg("context"), py::keep_alive<1, 2>())
+      .def(
+          "reserve",
+          [](ReductionQueue& q, size_t groups, int components) {
+            if (groups < 1 || components < 1)
+              throw std::invalid_argument(
+                  "blurlab: a reduction needs at least one work group and one component");
+            const auto r = q.reserve(groups, components);
+            return py::make_tuple(r.index, r.ticket);
+          },
+          py::arg("groups"), py::arg("components"),
+          "Room for a reduction of `groups` work groups bound to storage buffer 0: (index, "
+          "ticket). Each group writes its `components` sums and then the ticket; read() refuses "
+          "a batch where one is missing (StaleReadback).")
       .def("seal", &ReductionQueue::seal)
       .def("read", &ReductionQueue::read, py::call_guard<py::gil_scoped_release>())
       .def("clear", &ReductionQueue::clear)

@@ -80,6 +80,10 @@ class Context : public std::enable_shared_from_this<Context> {
   // Waits of wait_for_fence that the driver ended before the fence was signalled (each then
   // waited again): nonzero only on a busy GPU, and a sign of long work, not of an error.
   long long fence_timeouts() const { return fence_timeouts_; }
+  // Batches of partial sums that ReductionQueue::read found not written by their passes (a
+  // missing ticket) and refused: each is evaluated again by its caller.
+  long long stale_readbacks() const { return stale_readbacks_; }
+  void count_stale_readback() { ++stale_readbacks_; }
 
   // Live GL objects by kind ("texture", "buffer", "program", "query"), so tests can show that
   // freeing objects returns the count to where it was.
@@ -110,6 +114,7 @@ class Context : public std::enable_shared_from_this<Context> {
   std::map<std::string, int> live_;
   long long waits_ = 0;  // the owner thread's: every wait runs there
   long long fence_timeouts_ = 0;
+  long long stale_readbacks_ = 0;  // the owner thread's, as fence_timeouts_
   // Declared before spare_pack_buffers_: a spare buffer destroyed with the context queues its
   // release here, so this must still exist then.
   std::vector<std::pair<std::string, std::function<void()>>> deferred_;

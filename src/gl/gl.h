@@ -21,6 +21,13 @@ struct ShaderError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// A reduction's partial sums, read back after its fence, are not what its pass wrote: the ticket
+// each work group writes beside its sums is missing (docs/spec.md §6.3). Raised as
+// blurlab.StaleReadback (a RuntimeError); sweeps evaluate the batch again.
+struct StaleReadback : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
 // Reads and clears every pending GL error; throws GLError naming `what` if there was one.
 // Called after each operation so that no error is left set for the next caller.
 void check_gl(const char* what);

@@ -1,6 +1,8 @@
 #include "passes/pair_reduction.h"
 
 #include <algorithm>
+#include <atomic>
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 
@@ -42,9 +44,18 @@ void ReductionQueue::drop_fence() {
   fence_ = nullptr;
 }
 
-size_t ReductionQueue::reserve(size_t count, int components) {
+namespace {
+// Tickets run through the whole floats 1 .. 2^24 - 1 (exact, never zero, denormal or NaN), one
+// per reduction of the process: a range that no pass of this reduction wrote, whether it holds
+// zeros, another reduction's partials or garbage, lacks this one's.
+std::atomic<uint32_t> tickets_issued{0};
+constexpr uint32_t ticket_count = (1u << 24) - 1u;
+}  // namespace
+
+ReductionQueue::Reservation ReductionQueue::reserve(size_t groups, int components) {
   if (fence_)
     throw std::logic_error("blurlab: a sealed batch of reductions must be read before the next");
+  const size_t count = groups * size_t(components + 1);
   const size_t offset = (used_ + alignment_ - 1) / alignment_ * alignment_;
   const size_t end = offset + count;
   if (!buffer_ || buffer_->size() < end * sizeof(float)) {
@@ -60,9 +71,10 @@ size_t ReductionQueue::reserve(size_t count, int components) {
                     static_cast<GLintptr>(offset * sizeof(float)),
                     static_cast<GLsizeiptr>(count * sizeof(float)));
   check_gl("binding a reduction's partial sums");
-  entries_.push_back({offset, count, components});
+  const float ticket = float(1u + tickets_issued.fetch_add(1u) % ticket_count);
+  entries_.push_back({offset, groups, components, ticket});
   used_ = end;
-  return entries_.size() - 1;
+  return {entries_.size() - 1, ticket};
 }
 
 void ReductionQueue::seal() {
@@ -80,10 +92,8 @@ std::vector<std::vector<double>> ReductionQueue::read() {
   std::vector<float> host(used_);
   try {
     context_->wait_for_fence(static_cast<GLsync>(fence_), "waiting for partial sums");
-    // Read from the buffer the dispatches wrote, through GL, which orders the read after them.
-    // A copy into a persistently mapped buffer, read after the fence, returned zeros or the
-    // last batch's sums on the H100 for the first reductions after a long translucent reference
-    // (two scenes of 500, in sweeps of 8 processes on one GPU).
+    // Read from the buffer the dispatches wrote, through GL, which orders the read after them;
+    // the tickets below check that it did.
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     glGetNamedBufferSubData(buffer_->id(), 0, static_cast<GLsizeiptr>(host.size() * sizeof(float)),
                             host.data());
@@ -94,18 +104,34 @@ std::vector<std::vector<double>> ReductionQueue::read() {
   }
   clear();
   totals.reserve(entries.size());
+  size_t stale = 0, groups = 0;
   for (const Entry& e : entries) {
     std::vector<double> out(e.components, 0.0);
+    const size_t stride = size_t(e.components) + 1;
     const float* partials = host.data() + e.offset;
-    for (size_t i = 0; i < e.count; ++i) out[i % e.components] += partials[i];
+    for (size_t g = 0; g < e.groups; ++g) {
+      const float* group = partials + g * stride;
+      for (int c = 0; c < e.components; ++c) out[c] += group[c];
+      stale += group[e.components] != e.ticket;
+    }
+    groups += e.groups;
     totals.push_back(std::move(out));
+  }
+  if (stale) {
+    context_->count_stale_readback();
+    throw StaleReadback("blurlab: " + std::to_string(stale) + " of " + std::to_string(groups) +
+                        " work groups' partial sums read back lack their reduction's ticket: the "
+                        "GPU returned data its reduction passes did not write (docs/spec.md "
+                        "§6.3); evaluate them again");
   }
   return totals;
 }
 
 void ReductionQueue::drop_last() {
   entries_.pop_back();
-  used_ = entries_.empty() ? 0 : entries_.back().offset + entries_.back().count;
+  used_ = entries_.empty()
+              ? 0
+              : entries_.back().offset + entries_.back().groups * (entries_.back().components + 1);
 }
 
 void ReductionQueue::clear() {
@@ -135,8 +161,9 @@ size_t PairReduction::issue(Program& program, const Texture& a, const Texture& b
   const int gx = (a.width() + tile[0] - 1) / tile[0], gy = (a.height() + tile[1] - 1) / tile[1];
   program.bind_texture(0, a);
   program.bind_texture(1, b);
-  const size_t index = queue.reserve(size_t(gx) * gy * components, components);
+  const auto [index, ticket] = queue.reserve(size_t(gx) * gy, components);
   try {
+    program.set_uniform("reduction_ticket", {double(ticket)});
     program.dispatch(gx, gy, 1);
   } catch (...) {
     queue.drop_last();

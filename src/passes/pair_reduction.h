@@ -21,6 +21,11 @@ class Texture;
 // queues a fence after them; read() waits on that fence (once per batch instead of once per
 // reduction), reads the buffer back and adds each reduction's partials up in double in the order
 // PairReduction::sums does: the totals are those of sums, bit for bit.
+//
+// Each work group writes its `components` sums and then a ticket, a number unique to the
+// reduction (the uniform reduction_ticket, a whole float in 1 .. 2^24 - 1). read() checks every
+// group's ticket: where one is missing, the partials read back are not what the reduction's pass
+// wrote (docs/spec.md §6.3), and read() throws StaleReadback instead of returning them.
 class ReductionQueue {
  public:
   explicit ReductionQueue(Context* context);
@@ -28,16 +33,21 @@ class ReductionQueue {
   ReductionQueue(const ReductionQueue&) = delete;
   ReductionQueue& operator=(const ReductionQueue&) = delete;
 
-  // Room for `count` floats of one reduction (`components` sums, interleaved), bound to storage
-  // buffer 0 for the dispatch that writes them; returns the reduction's index in the batch.
-  size_t reserve(size_t count, int components);
+  struct Reservation {
+    size_t index;  // the reduction's place in the batch
+    float ticket;  // what each of its work groups writes after its sums
+  };
+  // Room for `groups` work groups of one reduction (`components` sums and the ticket each,
+  // interleaved), bound to storage buffer 0 for the dispatch that writes them.
+  Reservation reserve(size_t groups, int components);
   // Ends the batch: queues a fence after its dispatches, without waiting, so the GPU can go on
   // while the CPU issues another batch (in another queue). No reduction can be reserved again
   // before read(). Nothing happens when the queue is empty.
   void seal();
   // The totals of every reduction reserved since the last read or clear, in order (one vector
   // of `components` sums each); empties the queue. Seals the batch if it is not; one wait for
-  // the fence, none when empty.
+  // the fence, none when empty. Throws StaleReadback (the queue emptied) if a work group's
+  // ticket is missing from what was read back.
   std::vector<std::vector<double>> read();
   // Forgets the reductions not read (their partials are never fetched).
   void clear();
@@ -47,8 +57,9 @@ class ReductionQueue {
 
  private:
   struct Entry {
-    size_t offset, count;  // in floats
+    size_t offset, groups;  // offset in floats
     int components;
+    float ticket;
   };
   void drop_fence();
 
@@ -66,7 +77,8 @@ class PairReduction {
   ~PairReduction();
   // Binds a and b to texture units 0 and 1 and the partial sums to storage buffer 0, runs
   // `program` over ⌈W/X⌉ × ⌈H/Y⌉ groups, each covering `tile` (X, Y) pixels and writing
-  // `components` partials (interleaved), and returns the sum of each component's partials.
+  // `components` partials and the reduction's ticket (interleaved; `program` declares the
+  // uniform float reduction_ticket), and returns the sum of each component's partials.
   // Throws std::invalid_argument, naming both sizes, if a and b differ in size or lack RGB.
   std::vector<double> sums(Program& program, const Texture& a, const Texture& b,
                            std::array<int, 2> tile, int components);

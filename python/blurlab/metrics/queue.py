@@ -93,7 +93,8 @@ class MetricQueue:
 
     def read(self) -> list:
         """The values of every metric issued since the last read, in order; empties the queue.
-        One wait for the GPU (none when nothing is pending)."""
+        One wait for the GPU (none when nothing is pending). Raises ``blurlab.StaleReadback``
+        (the queue emptied) where the partial sums read back are not what the passes wrote."""
         finish, self._finish, self._sealed = self._finish, [], False
         totals = iter(self._core.read())
         return [f(next(totals)) if reads_totals else f() for reads_totals, f in finish]
@@ -104,7 +105,8 @@ class MetricBatches:
     MetricQueues in turn, so that the CPU reads batch n only once batch n + 1 is issued and the
     GPU never waits for the CPU's read (docs/spec.md §6.3). Issue an evaluation's metrics into
     `queue`, then `add(item)` it; `add` and `flush` return (item, values) for each evaluation
-    whose batch has been read, in order, `values` being its batch's `MetricQueue.read()`."""
+    whose batch has been read, in order, `values` being its batch's `MetricQueue.read()`, or
+    None where that read raised ``StaleReadback``: the caller evaluates those items again."""
 
     def __init__(self, ctx, size: int):
         if isinstance(size, bool) or not isinstance(size, int) or size < 1:
@@ -131,19 +133,27 @@ class MetricBatches:
         self._queues.reverse()
         return ready
 
-    def flush(self) -> list[tuple[object, list]]:
+    def flush(self) -> list[tuple[object, list | None]]:
         """Every evaluation not read yet."""
         ready = self._read_sealed()
-        values = self.queue.read()
+        values = _read_or_none(self.queue)
         ready += [(item, values) for item in self._items]
         self._items = []
         return ready
 
-    def _read_sealed(self) -> list[tuple[object, list]]:
-        values = self._queues[1].read()
+    def _read_sealed(self) -> list[tuple[object, list | None]]:
+        values = _read_or_none(self._queues[1])
         ready = [(item, values) for item in self._sealed]
         self._sealed = []
         return ready
+
+
+def _read_or_none(queue: MetricQueue) -> list | None:
+    """The queue's values, or None where its read-back was refused (StaleReadback)."""
+    try:
+        return queue.read()
+    except _core.StaleReadback:
+        return None
 
 
 def issue_reductions(

@@ -187,6 +187,7 @@ def _new_log(context_s: float) -> dict:
     phases = {f"{phase}_s": 0.0 for phase in ACCOUNT}
     counts = {"tasks": 0, "evaluations": 0, "imports": 0, "exports": 0, "next_chunk_waiting": 0}
     counts["fence_timeouts"] = 0  # Context.fence_timeouts: waits the driver cut short
+    counts["stale_readbacks"] = 0  # Context.stale_readbacks: batches of metrics scored again
     return {"context_s": context_s, **counts, "busy_s": 0.0, **phases}
 
 
@@ -207,9 +208,10 @@ def run_chunk(scene, scene_key, jobs, settings, imported=None) -> tuple[str, lis
         log["imports"] += 1
         log["imports_s"] += time.perf_counter() - start
     before = dict(cache["clock"].seconds) if "clock" in cache else {}
-    timeouts_before = ctx.fence_timeouts()
+    timeouts_before, stale_before = ctx.fence_timeouts(), ctx.stale_readbacks()
     rows = list(evaluate_scene(ctx, scene, jobs, settings, cache))
     log["fence_timeouts"] += ctx.fence_timeouts() - timeouts_before
+    log["stale_readbacks"] += ctx.stale_readbacks() - stale_before
     seconds = time.perf_counter() - start
     setup = 0.0
     for phase in (*SETUP_PHASES, WARM_UP):
@@ -283,7 +285,9 @@ def worker_report() -> dict:
     ``context_s`` and ``busy_s``. ``next_chunk_waiting``: the chunks at whose end this worker
     already had its next one, which it then started without waiting for the client.
     ``fence_timeouts``: the waits for the GPU in its tasks that the driver ended early
-    (Context.fence_timeouts), each waited again."""
+    (Context.fence_timeouts), each waited again. ``stale_readbacks``: the batches of GPU
+    metrics whose partial sums came back without their tickets (Context.stale_readbacks),
+    each scored again."""
     if "ctx" not in _worker_state:
         return {"device": None, **_new_log(0.0), "evaluations_s": 0.0, "scenes_kept": []}
     info = _worker_state["ctx"].info()

@@ -14,6 +14,7 @@ from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 
 from .. import metrics as m
+from .._core import StaleReadback
 from ..context import Context
 from ..converged import default_reference_samples
 from ..methods import blur_steps, method_instant, render_steps
@@ -40,6 +41,10 @@ class Settings:
 # evaluate_scene (its compiles and the first use of new textures).
 REFERENCES, G_BUFFERS, WARM_UP = "references", "g_buffers", "warm_up"
 SETUP_PHASES = (REFERENCES, G_BUFFERS)
+
+# Runs of an evaluation whose metrics came back stale (docs/spec.md §6.3) before the sweep
+# gives up.
+STALE_ATTEMPTS = 3
 
 
 # How a sweep's references are made besides N and antialias (ctx.reference's arguments): part
@@ -96,6 +101,44 @@ def evaluate_scene(
     # so the GPU works through one batch while the CPU issues the next (docs/spec.md §6.3).
     batches = m.MetricBatches(ctx, settings.readback_batch) if settings.readback_batch > 1 else None
     immediate = _ImmediateMetrics(ctx)
+
+    def issue(queue, reference, color) -> dict:
+        references = _references(ctx, scene, settings, kinds, reference, cache)
+        return m.issue_reductions(
+            queue,
+            chosen,
+            {kind: ref.texture for kind, ref in references.items()},
+            lambda kind, refs=references: _prepared_reference(ctx, refs[kind], cache, kind),
+            color,
+        )
+
+    def scored_again(key: tuple, row: dict, job: tuple) -> tuple[tuple, dict]:
+        """`row` with its GPU metrics from a new run of `job`, read back at once: for an
+        evaluation whose partial sums came back without their tickets (§6.3)."""
+        name, point, backend = job
+        for _ in range(STALE_ATTEMPTS):
+            frames, reference = _scene_inputs(ctx, scene, name, point, settings, cache)
+            result = blur_steps(ctx, frames, name, backend, timed=False, **_without_steps(point))
+            try:
+                gpu = issue(immediate, reference, result.textures["color"])
+            except StaleReadback:
+                continue
+            return _finished_row(key, row, gpu, chosen)
+        raise StaleReadback(
+            f"blurlab: the GPU metrics of {name} {json.dumps(point, sort_keys=True)} on "
+            f"{scene.name} came back without their tickets {STALE_ATTEMPTS} times in a row "
+            "(docs/spec.md §6.3): no value of them can be trusted"
+        )
+
+    def finished(ready: list) -> Iterator[tuple[tuple, dict]]:
+        """The rows of MetricBatches' (item, values) pairs; a batch refused is scored again."""
+        for (key, row, indices, job), values in ready:
+            if values is None:
+                yield scored_again(key, row, job)
+            else:
+                got = {reduction: values[i] for reduction, i in indices.items()}
+                yield _finished_row(key, row, got, chosen)
+
     for name, point, backend, key in jobs:
         queue = batches.queue if batches is not None else immediate
         frames, reference = _scene_inputs(ctx, scene, name, point, settings, cache)
@@ -119,20 +162,17 @@ def evaluate_scene(
         # The metrics with a GPU reduction are reduced there (docs/spec.md §6): no image is
         # read back for them. Their columns come in the order asked, filled in when read back.
         row.update(dict.fromkeys(wanted))
-        references = _references(ctx, scene, settings, kinds, reference, cache)
-        gpu = m.issue_reductions(
-            queue,
-            chosen,
-            {kind: ref.texture for kind, ref in references.items()},
-            lambda kind, refs=references: _prepared_reference(ctx, refs[kind], cache, kind),
-            color,
-        )
+        try:
+            gpu = issue(queue, reference, color)
+        except StaleReadback:  # read at once (the immediate queue): scored again below
+            gpu = None
         # The pictures a caller shows (the study's middle points): kept, not blurred again.
         kept_as = picture_key(name, point)
         if kept_as in cache.get("keep_colours", ()):
             cache.setdefault("colours", {})[kept_as] = result.color
         on_cpu = [metric.name for metric in chosen if metric.reduction is None]
         if on_cpu:  # from the images read back
+            references = _references(ctx, scene, settings, kinds, reference, cache)
             colours = {kind: ref.color for kind, ref in references.items()}
             row.update(m.cpu_scores(on_cpu, colours, result.color))
             if any(m.get(n).hdr for n in on_cpu):  # the one psnr_tm, ssim_tm and pictures use
@@ -150,12 +190,15 @@ def evaluate_scene(
         # Its textures go back to the pool before the next evaluation; a queued reduction
         # still reads them first (GL runs commands in the order issued).
         del result, color
-        if batches is None:
-            yield _finished_row(key, row, gpu, chosen)
+        job = (name, point, backend)
+        if batches is not None:
+            yield from finished(batches.add((key, row, gpu, job)))
+        elif gpu is None:
+            yield scored_again(key, row, job)
         else:
-            yield from _read_rows(batches.add((key, row, gpu)), chosen)
+            yield _finished_row(key, row, gpu, chosen)
     if batches is not None:
-        yield from _read_rows(batches.flush(), chosen)
+        yield from finished(batches.flush())
 
 
 class _ImmediateMetrics:
@@ -179,14 +222,6 @@ def picture_key(method_name: str, point: dict) -> tuple[str, str]:
     """How a configuration's output colour is named in a scene cache's "keep_colours" and
     "colours": its method and its parameters as the row's "params" JSON."""
     return method_name, json.dumps(point, sort_keys=True)
-
-
-def _read_rows(ready: list, chosen: list) -> Iterator[tuple[tuple, dict]]:
-    """The finished rows of MetricBatches' (item, values) pairs, items (key, row, {reduction:
-    index in values})."""
-    for (key, row, indices), values in ready:
-        got = {reduction: values[i] for reduction, i in indices.items()}
-        yield _finished_row(key, row, got, chosen)
 
 
 def _finished_row(key: tuple, row: dict, got: dict, chosen: list) -> tuple[tuple, dict]:

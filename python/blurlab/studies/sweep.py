@@ -122,7 +122,9 @@ def sweep(
     ``"tcp://host:8786"``. Each worker renders on its own device and returns rows; they land
     in the same table and the same `out` file as a local sweep's (docs/distributed.md), and
     ``table.attrs["workers"]`` holds where each worker's time went in this sweep
-    (cluster.worker_report; cluster.account_table prints it). ``table.attrs["resumed"]`` counts
+    (cluster.worker_report; cluster.account_table prints it). ``table.attrs["stale_readbacks"]``
+    counts the batches of GPU metrics refused for missing tickets and scored again (docs/spec.md
+    §6.3). ``table.attrs["resumed"]`` counts
     the rows this call took from `out` instead of evaluating them.
     `chunk_size`: at most this many configurations of one scene per task (default 8; chunks
     shrink towards the end of the sweep so that the workers finish together).
@@ -234,6 +236,7 @@ def sweep(
             bar.update()
 
     accounts = None
+    stale_before = ctx.stale_readbacks() if ctx is not None else 0
     try:
         if cluster is None:
             for scene, jobs in zip(scene_list, pending, strict=True):
@@ -256,6 +259,11 @@ def sweep(
     if accounts is not None:  # where each worker's time went (cluster.worker_report)
         table.attrs["workers"] = accounts
     table.attrs["resumed"] = resumed
+    table.attrs["stale_readbacks"] = (
+        sum(a["stale_readbacks"] for a in accounts.values())
+        if accounts is not None
+        else (ctx.stale_readbacks() - stale_before if ctx is not None else 0)
+    )
     return table
 
 

@@ -132,6 +132,8 @@ def _random_scenes(ctx, size, p, out) -> None:
         tables, startup = _sweeps(ctx, size, p, names, workers, gpus)
         wall = time.perf_counter() - start - startup  # the cluster's start is reported apart
         table = pd.concat(tables, ignore_index=True)
+        # concat keeps no attrs that differ between the batches' tables
+        table.attrs["stale_readbacks"] = sum(t.attrs["stale_readbacks"] for t in tables)
         done = table["scene"].nunique()
         each = f"{workers} worker{'s' * (workers > 1)}"
         used = min(gpus or listed, listed)

@@ -33,7 +33,13 @@ def rescore(ctx, table: pd.DataFrame, size, p, metrics, out) -> None:
     its first metric) again on `ctx`, each its own sweep of one scene, method and point at
     `size` with `metrics` and p["reference_samples"], every metric read before the next
     evaluation (readback_batch 1). Writes the count, the largest difference and the rows to
-    `out`; nothing where p["rescored"] is 0."""
+    `out`, after the sweep's own count of batches refused for missing tickets and scored again
+    (table.attrs["stale_readbacks"]); the rescoring is skipped where p["rescored"] is 0."""
+    out.figure(
+        "batches of GPU metrics refused (tickets missing) and scored again",
+        table.attrs.get("stale_readbacks", 0),
+        "batches",
+    )
     count = p["rescored"]
     if not count:
         return

@@ -1,0 +1,73 @@
+"""A sweep whose GPU metrics come back stale (blurlab.StaleReadback, docs/spec.md §6.3) scores
+those evaluations again and returns the rows an untroubled sweep returns, in batches and one
+evaluation at a time; one that stays stale fails, naming the evaluation."""
+
+from __future__ import annotations
+
+import pandas as pd
+import pytest
+
+import blurlab as bl
+from blurlab import metrics as m
+from blurlab.metrics import queue as metric_queue
+
+SIZE = (160, 90)
+GRID = {"reconstruct_mcguire2012": {"k": [4, 8, 12]}, "gather_box": {}}
+EXACT = ["scene", "method", "params", "psnr", "ssim"]
+
+
+def swept(ctx, readback_batch: int) -> pd.DataFrame:
+    return bl.sweep(
+        ctx,
+        ["teapot_pass"],
+        GRID,
+        size=SIZE,
+        reference_samples=16,
+        metrics=("psnr", "ssim"),
+        repeats=0,
+        progress=False,
+        readback_batch=readback_batch,
+    )
+
+
+def stale_first(monkeypatch, owner, name: str, times: int = 1) -> list:
+    """Makes the first `times` calls of owner.name raise StaleReadback after doing their work
+    (the queue is emptied, as a refused read leaves it); returns the list of calls made."""
+    original = getattr(owner, name)
+    calls = []
+
+    def patched(*args, **kwargs):
+        value = original(*args, **kwargs)
+        calls.append(name)
+        if len(calls) <= times:
+            raise bl.StaleReadback("blurlab: injected: partial sums without their tickets")
+        return value
+
+    monkeypatch.setattr(owner, name, patched)
+    return calls
+
+
+def test_a_stale_batch_is_scored_again(ctx, monkeypatch):
+    expected = swept(ctx, 4)
+    calls = stale_first(monkeypatch, metric_queue.MetricQueue, "read")
+    again = swept(ctx, 4)
+    assert len(calls) >= 2  # the refused batch, then the others
+    pd.testing.assert_frame_equal(again[EXACT], expected[EXACT])
+
+
+def test_a_stale_immediate_read_is_scored_again(ctx, monkeypatch):
+    expected = swept(ctx, 1)
+    calls = stale_first(monkeypatch, m, "gpu_mse_ssim")
+    again = swept(ctx, 1)
+    assert len(calls) == len(expected) + 1  # one evaluation scored twice
+    pd.testing.assert_frame_equal(again[EXACT], expected[EXACT])
+
+
+def test_an_evaluation_that_stays_stale_fails_and_says_which(ctx, monkeypatch):
+    stale_first(monkeypatch, m, "gpu_mse_ssim", times=100)
+    with pytest.raises(bl.StaleReadback, match="3 times in a row"):
+        swept(ctx, 1)
+
+
+def test_a_sweep_counts_the_batches_refused(ctx):
+    assert swept(ctx, 4).attrs["stale_readbacks"] == 0
