@@ -101,19 +101,41 @@ def test_random_scenes_writes_every_scenes_scores_and_their_digests(ctx, tmp_pat
     assert {(r[0], r[1]) for r in rescored["rows"]} <= swept
 
 
-def test_rescore_picks_the_rows_furthest_above_their_scene_then_draws():
+def test_rescore_picks_the_rows_that_stand_out_of_their_scene_then_draws():
     from blurlab.studies.bench.rescore import rescore_picks
 
     table = pd.DataFrame(
         {
             "scene": ["a"] * 4 + ["b"] * 4,
             "method": list("wxyz") * 2,
-            "psnr": [30.0, 31.0, 32.0, 70.0, 20.0, 21.0, 22.0, 23.0],
+            "psnr": [30.0, 31.0, 32.0, 70.0, 20.0, 21.0, 22.0, -40.0],
         }
     )
     picked = rescore_picks(table, 3, "psnr")
     assert len(picked) == 3 and picked.index.is_unique
-    assert list(picked.index[:2]) == [3, 7]  # a's 70 dB, 38.5 above a's median; then b's top
+    # b's -40 dB stands 61.5 dB (61.5 spreads) below b's median, a's 70 dB 38.5 (38.5) above
+    assert list(picked.index[:2]) == [7, 3]
+
+
+def test_rescore_picks_within_a_method_where_the_sweep_has_a_grid():
+    from blurlab.studies.bench.rescore import rescore_picks
+
+    # Grids of k: one scene's method spans 20 dB from k to k, the other 1 dB. A read-back
+    # wrong by NaN, and one by 5 dB in the tight method, stand out; the spread method's low k
+    # does not.
+    spread = [10.0, 15.0, 20.0, 25.0, 30.0]
+    tight = [40.0, 40.2, 45.4, 40.6, 40.8]
+    table = pd.DataFrame(
+        {
+            "scene": ["a"] * 10,
+            "method": ["m"] * 5 + ["n"] * 5,
+            "param_k": [4, 8, 12, 16, 20] * 2,
+            "psnr": spread + tight,
+        }
+    )
+    table.loc[1, "psnr"] = float("nan")
+    picked = rescore_picks(table, 4, "psnr")
+    assert list(picked.index[:2]) == [1, 7]
 
 
 @pytest.mark.parametrize("name", ["rankings", "auto_rules"])

@@ -17,15 +17,24 @@ RESCORED = Param(8, int, "rows scored again in this process, to check the sweep'
 
 
 def rescore_picks(table: pd.DataFrame, count: int, metric: str) -> pd.DataFrame:
-    """`count` rows of a sweep's table to score again: half the rows furthest above their
-    scene's median of `metric` (where a wrong read-back showed), the rest drawn from the others
-    with a fixed seed."""
+    """`count` rows of a sweep's table to score again: half the rows that stand furthest from
+    their group's median of `metric`, above or below, in units of the group's median absolute
+    deviation (a wrong read-back has given inf, NaN and values tens of dB off either way, which
+    rank first); the rest drawn from the others with a fixed seed. A row's group is its scene
+    and method where the sweep has several rows of each, else its scene."""
     table = table.reset_index(drop=True)
-    excess = table[metric] - table.groupby("scene")[metric].transform("median")
-    highest = excess.sort_values(ascending=False, kind="stable").index[: (count + 1) // 2]
-    others = table.index.difference(highest)
-    drawn = np.random.default_rng(0).permutation(others)[: count - len(highest)]
-    return table.loc[list(highest) + list(drawn)]
+    keys = (
+        ["scene", "method"]
+        if len(table) > table.groupby(["scene", "method"]).ngroups
+        else ["scene"]
+    )
+    deviation = (table[metric] - table.groupby(keys)[metric].transform("median")).abs()
+    spread = deviation.groupby([table[k] for k in keys]).transform("median")
+    standing = (deviation / spread.where(spread > 0, 1.0)).fillna(np.inf)
+    furthest = standing.sort_values(ascending=False, kind="stable").index[: (count + 1) // 2]
+    others = table.index.difference(furthest)
+    drawn = np.random.default_rng(0).permutation(others)[: count - len(furthest)]
+    return table.loc[list(furthest) + list(drawn)]
 
 
 def rescore(ctx, table: pd.DataFrame, size, p, metrics, out) -> None:
@@ -68,8 +77,8 @@ def rescore(ctx, table: pd.DataFrame, size, p, metrics, out) -> None:
         "",
     )
     out.table(
-        f"rows of the sweep scored again in this process (readback_batch 1): half the furthest "
-        f"above their scene's median {metric}, half drawn at random",
+        f"rows of the sweep scored again in this process (readback_batch 1): half those furthest "
+        f"from their group's median {metric} in units of its spread, half drawn at random",
         [("scene", ""), ("method", ""), ("params", ""), ("sweep", ""), ("again", "")]
         + [("again - sweep", "")],
         rows,
