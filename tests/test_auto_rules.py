@@ -105,3 +105,12 @@ def test_a_scaled_rule_is_chosen_where_k_should_follow_the_radius_at_every_scale
     rule = auto_rules.fit(scores, features)
     result = auto_rules.assess(rule, scores, features)
     assert isinstance(rule, auto_rules.ScaledRule) and result["within"] == 1.0
+
+
+def test_feature_frame_measures_each_scene_as_its_own_frame_does(ctx):
+    names = ["fan", "random:3", "subpixel"]
+    table = auto_rules.feature_frame(ctx, names, (64, 36))
+    assert list(table.index) == names and list(table.columns) == list(auto_rules.FEATURES)
+    for name in names:
+        frame = ctx.render(bl.scenes.get(name), (64, 36))
+        assert table.loc[name].to_dict() == auto_rules.frame_features(frame)

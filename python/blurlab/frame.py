@@ -167,15 +167,21 @@ class Frame:
 
     @functools.cached_property
     def moving_speeds(self) -> np.ndarray:
-        """|M| in pixels of the pixels that move at least 1 px over the shutter (finite motion
-        only), sorted: what the "auto" parameter rules read. Computed once per frame."""
-        speed = np.linalg.norm(self.motion, axis=-1)
-        return np.sort(speed[np.isfinite(speed) & (speed >= 1.0)])
+        """moving_speeds(self.motion): what the "auto" parameter rules read. Computed once per
+        frame."""
+        return moving_speeds(self.motion)
 
     @property
     def size(self) -> tuple[int, int]:
         """(W, H)."""
         return self.color.shape[1], self.color.shape[0]
+
+
+def moving_speeds(motion: np.ndarray) -> np.ndarray:
+    """|M| in pixels of the pixels that move at least 1 px over the shutter (finite motion
+    only), sorted."""
+    speed = np.linalg.norm(motion, axis=-1)
+    return np.sort(speed[np.isfinite(speed) & (speed >= 1.0)])
 
 
 TWO_SIDED = ("motion_prev", "motion_next")

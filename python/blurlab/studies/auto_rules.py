@@ -19,7 +19,8 @@ import numpy as np
 import pandas as pd
 
 from .. import scenes
-from ..frame import Frame
+from ..frame import Frame, moving_speeds
+from ..scenes.features import features_of
 
 # The frame's motion radii a rule may read: the q-th percentile of |M|/2 over the pixels moving
 # at least 1 px (px at the frame's size; docs/spec.md §14's r with E = 1 is q = 95).
@@ -35,8 +36,8 @@ FOLDS = 5
 
 def frame_features(frame: Frame) -> dict[str, float]:
     """{radius_pQ: the Q-th percentile of |M|/2 over the moving pixels} for PERCENTILES; 0
-    for a frame with no pixel moving 1 px."""
-    speeds = frame.moving_speeds
+    for a frame with no pixel moving 1 px. Reads the frame's motion alone."""
+    speeds = moving_speeds(frame.motion)
     if not speeds.size:
         return dict.fromkeys(FEATURES, 0.0)
     radii = np.percentile(speeds, PERCENTILES) / 2
@@ -45,13 +46,10 @@ def frame_features(frame: Frame) -> dict[str, float]:
 
 def feature_frame(ctx, names, size, instant: str = "center") -> pd.DataFrame:
     """FEATURES per scene (rows by name) of scenes `names`, each rendered by `ctx` at `size`
-    at `instant` (the tile filters' and gather_coverage's)."""
-    rows = {}
-    for name in names:
-        frame = ctx.render(scenes.get(name), size, instant=instant)
-        rows[name] = frame_features(frame)
-        del frame  # its GPU targets go back to the pool before the next render
-    return pd.DataFrame.from_dict(rows, orient="index", columns=list(FEATURES))
+    at `instant` (the tile filters' and gather_coverage's); the features are computed on
+    threads while the next scenes render (scenes.features.features_of)."""
+    measured = features_of(ctx, [scenes.get(n) for n in names], size, instant, frame_features)
+    return pd.DataFrame(measured, index=list(names), columns=list(FEATURES))
 
 
 @dataclass(frozen=True)
