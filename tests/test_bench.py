@@ -48,6 +48,12 @@ def test_every_benchmark_runs_at_its_tiny_preset(ctx, name):
         assert set(counts.values()) == {record["params"]["seeds"]}
 
 
+def test_transfer_checks_every_async_download_against_the_upload(ctx):
+    record = bench.run_benchmark(ctx, "transfer", "tiny", given={"runs": 4, "depth": 2})
+    figures = {f["name"]: f["value"] for f in record["figures"]}
+    assert figures["async downloads unlike the uploaded image"] == 0
+
+
 def test_sweep_scaling_gives_the_same_rows_on_one_and_two_warm_workers(ctx):
     pytest.importorskip("distributed")
     given = {"workers": "1,2", "warm": True, "scenes": "fan,thin_bar"}
