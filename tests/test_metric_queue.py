@@ -6,6 +6,7 @@ from __future__ import annotations
 import pytest
 
 import blurlab as bl
+from blurlab import _core
 from blurlab import metrics as m
 
 SIZE = (160, 90)
@@ -139,7 +140,7 @@ def test_a_reduction_no_pass_wrote_is_refused_as_stale(ctx, scene_inputs):
     # A range reserved and never dispatched holds no ticket: what a read-back of partial sums
     # that the passes did not write looks like (docs/spec.md §6.3).
     frame, reference, _ = scene_inputs
-    core = bl._core.ReductionQueue(ctx.native)
+    core = _core.ReductionQueue(ctx.native)
     before = ctx.stale_readbacks()
     core.reserve(groups=4, components=1)
     with pytest.raises(bl.StaleReadback, match="ticket"):
@@ -154,7 +155,7 @@ def test_a_reduction_no_pass_wrote_is_refused_as_stale(ctx, scene_inputs):
 
 
 def test_reservations_are_checked(ctx):
-    core = bl._core.ReductionQueue(ctx.native)
+    core = _core.ReductionQueue(ctx.native)
     with pytest.raises(ValueError, match="work group"):
         core.reserve(groups=0, components=1)
     with pytest.raises(ValueError, match="component"):
@@ -162,7 +163,7 @@ def test_reservations_are_checked(ctx):
 
 
 def test_tickets_differ_between_reductions(ctx):
-    core = bl._core.ReductionQueue(ctx.native)
+    core = _core.ReductionQueue(ctx.native)
     tickets = [core.reserve(groups=1, components=2)[1] for _ in range(5)]
     core.clear()
     assert len(set(tickets)) == 5 and all(t >= 1 and t == int(t) for t in tickets)
