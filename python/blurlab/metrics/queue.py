@@ -27,9 +27,9 @@ class MetricQueue:
     the GPU once and returns every value in the order issued, each equal bit for bit to what
     `gpu_mse` / `gpu_mse_ssim` / `gpu_flip` return for the same pair. Between the two the CPU
     goes on issuing work (the next evaluation's filter) while the GPU runs, instead of waiting
-    for each scalar. `seal()` ends a batch without waiting (the copy of its sums to mapped
-    memory and a fence are queued), so that with two queues in turn the GPU works through one
-    batch while the CPU issues the next and reads the one before. The compared textures may go
+    for each scalar. `seal()` ends a batch without waiting (a fence is queued after it), so
+    that with two queues in turn the GPU works through one batch while the CPU issues the next
+    and reads the one before. The compared textures may go
     back to the pool once issued: GL runs the reduction before any later pass that reuses them."""
 
     def __init__(self, ctx):
