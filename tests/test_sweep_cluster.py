@@ -86,6 +86,8 @@ def test_a_cluster_sweeps_table_says_where_each_workers_time_went(job):
     reports = json.loads((job / "workers.json").read_text())
     assert sorted(accounts) == ["0", "1"]  # LocalCluster's worker names
     assert sum(a["evaluations"] for a in accounts.values()) == 10
+    # Every batch of GPU metrics a worker read came back with its tickets (docs/spec.md §6.3).
+    assert [a["stale_readbacks"] for a in accounts.values()] == [0, 0]
     # The reports are keyed by address, the accounts by name: compared as sorted lists.
     assert sorted(a["busy_s"] for a in accounts.values()) == pytest.approx(
         sorted(r["busy_s"] for r in reports.values())
