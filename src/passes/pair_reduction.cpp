@@ -55,9 +55,9 @@ constexpr uint32_t ticket_count = (1u << 24) - 1u;
 ReductionQueue::Reservation ReductionQueue::reserve(size_t groups, int components) {
   if (fence_)
     throw std::logic_error("blurlab: a sealed batch of reductions must be read before the next");
-  const size_t count = groups * size_t(components + 1);
-  const size_t offset = (used_ + alignment_ - 1) / alignment_ * alignment_;
-  const size_t end = offset + count;
+  const float ticket = float(1u + tickets_issued.fetch_add(1u) % ticket_count);
+  const Entry entry{(used_ + alignment_ - 1) / alignment_ * alignment_, groups, components, ticket};
+  const size_t end = entry.end();
   if (!buffer_ || buffer_->size() < end * sizeof(float)) {
     // Grow geometrically; partials already written move over on the GPU, in command order.
     const size_t floats = std::max(end, buffer_ ? 2 * buffer_->size() / sizeof(float) : end);
@@ -68,11 +68,10 @@ ReductionQueue::Reservation ReductionQueue::reserve(size_t groups, int component
     buffer_ = std::move(grown);
   }
   glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 0, buffer_->id(),
-                    static_cast<GLintptr>(offset * sizeof(float)),
-                    static_cast<GLsizeiptr>(count * sizeof(float)));
+                    static_cast<GLintptr>(entry.offset * sizeof(float)),
+                    static_cast<GLsizeiptr>((end - entry.offset) * sizeof(float)));
   check_gl("binding a reduction's partial sums");
-  const float ticket = float(1u + tickets_issued.fetch_add(1u) % ticket_count);
-  entries_.push_back({offset, groups, components, ticket});
+  entries_.push_back(entry);
   used_ = end;
   return {entries_.size() - 1, ticket};
 }
@@ -107,10 +106,9 @@ std::vector<std::vector<double>> ReductionQueue::read() {
   size_t stale = 0, groups = 0;
   for (const Entry& e : entries) {
     std::vector<double> out(e.components, 0.0);
-    const size_t stride = size_t(e.components) + 1;
     const float* partials = host.data() + e.offset;
     for (size_t g = 0; g < e.groups; ++g) {
-      const float* group = partials + g * stride;
+      const float* group = partials + g * e.stride();
       for (int c = 0; c < e.components; ++c) out[c] += group[c];
       stale += group[e.components] != e.ticket;
     }
@@ -129,9 +127,7 @@ std::vector<std::vector<double>> ReductionQueue::read() {
 
 void ReductionQueue::drop_last() {
   entries_.pop_back();
-  used_ = entries_.empty()
-              ? 0
-              : entries_.back().offset + entries_.back().groups * (entries_.back().components + 1);
+  used_ = entries_.empty() ? 0 : entries_.back().end();
 }
 
 void ReductionQueue::clear() {

@@ -60,6 +60,8 @@ class ReductionQueue {
     size_t offset, groups;  // offset in floats
     int components;
     float ticket;
+    size_t stride() const { return size_t(components) + 1; }  // floats a group writes
+    size_t end() const { return offset + groups * stride(); }
   };
   void drop_fence();
 

@@ -29,8 +29,8 @@ class MetricQueue:
     goes on issuing work (the next evaluation's filter) while the GPU runs, instead of waiting
     for each scalar. `seal()` ends a batch without waiting (a fence is queued after it), so
     that with two queues in turn the GPU works through one batch while the CPU issues the next
-    and reads the one before. The compared textures may go
-    back to the pool once issued: GL runs the reduction before any later pass that reuses them."""
+    and reads the one before. The compared textures may go back to the pool once issued: GL
+    runs the reduction before any later pass that reuses them."""
 
     def __init__(self, ctx):
         self._ctx = ctx

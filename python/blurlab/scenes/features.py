@@ -160,13 +160,12 @@ def with_features(ctx, table: pd.DataFrame, scenes, size, out=None) -> pd.DataFr
     return joined
 
 
-def features_of(ctx, scenes, size, instant: str = "center", measure=None) -> list[dict]:
+def features_of(ctx, scenes, size, instant: str = "center", measure=features) -> list[dict]:
     """measure() (default: features()) of each of `scenes`, rendered by `ctx` at `size` at
     `instant`, in order. The renders run here, one after another (a GL context is this
     thread's); the measures, NumPy on the frame's arrays (features(): about a second at
     1080p, most of it in calls that release the GIL), run on threads meanwhile, a few frames at
     a time. A measure reads the frame's motion, depth, object_id, camera, scene and size."""
-    measure = features if measure is None else measure
     threads = max(1, min(8, (os.cpu_count() or 1) - 1))
     results = []
     with ThreadPoolExecutor(threads) as pool:

@@ -183,11 +183,21 @@ def worker_context() -> Context:
     return _worker_state["ctx"]
 
 
+# Context's counters of troubles met and mended while evaluating (Context.fence_timeouts: waits
+# the driver cut short; Context.stale_readbacks: batches of metrics scored again), which a
+# worker's account and a sweep's table report by these names.
+CONTEXT_COUNTERS = ("fence_timeouts", "stale_readbacks")
+
+
+def context_counts(ctx: Context) -> dict[str, int]:
+    """The context's CONTEXT_COUNTERS now."""
+    return {name: getattr(ctx, name)() for name in CONTEXT_COUNTERS}
+
+
 def _new_log(context_s: float) -> dict:
     phases = {f"{phase}_s": 0.0 for phase in ACCOUNT}
     counts = {"tasks": 0, "evaluations": 0, "imports": 0, "exports": 0, "next_chunk_waiting": 0}
-    counts["fence_timeouts"] = 0  # Context.fence_timeouts: waits the driver cut short
-    counts["stale_readbacks"] = 0  # Context.stale_readbacks: batches of metrics scored again
+    counts.update(dict.fromkeys(CONTEXT_COUNTERS, 0))
     return {"context_s": context_s, **counts, "busy_s": 0.0, **phases}
 
 
@@ -208,10 +218,10 @@ def run_chunk(scene, scene_key, jobs, settings, imported=None) -> tuple[str, lis
         log["imports"] += 1
         log["imports_s"] += time.perf_counter() - start
     before = dict(cache["clock"].seconds) if "clock" in cache else {}
-    timeouts_before, stale_before = ctx.fence_timeouts(), ctx.stale_readbacks()
+    counts_before = context_counts(ctx)
     rows = list(evaluate_scene(ctx, scene, jobs, settings, cache))
-    log["fence_timeouts"] += ctx.fence_timeouts() - timeouts_before
-    log["stale_readbacks"] += ctx.stale_readbacks() - stale_before
+    for name, count in context_counts(ctx).items():
+        log[name] += count - counts_before[name]
     seconds = time.perf_counter() - start
     setup = 0.0
     for phase in (*SETUP_PHASES, WARM_UP):

@@ -102,8 +102,7 @@ def evaluate_scene(
     batches = m.MetricBatches(ctx, settings.readback_batch) if settings.readback_batch > 1 else None
     immediate = _ImmediateMetrics(ctx)
 
-    def issue(queue, reference, color) -> dict:
-        references = _references(ctx, scene, settings, kinds, reference, cache)
+    def issue(queue, references: dict, color) -> dict:
         return m.issue_reductions(
             queue,
             chosen,
@@ -119,8 +118,9 @@ def evaluate_scene(
         for _ in range(STALE_ATTEMPTS):
             frames, reference = _scene_inputs(ctx, scene, name, point, settings, cache)
             result = blur_steps(ctx, frames, name, backend, timed=False, **_without_steps(point))
+            references = _references(ctx, scene, settings, kinds, reference, cache)
             try:
-                gpu = issue(immediate, reference, result.textures["color"])
+                gpu = issue(immediate, references, result.textures["color"])
             except StaleReadback:
                 continue
             return _finished_row(key, row, gpu, chosen)
@@ -162,8 +162,9 @@ def evaluate_scene(
         # The metrics with a GPU reduction are reduced there (docs/spec.md §6): no image is
         # read back for them. Their columns come in the order asked, filled in when read back.
         row.update(dict.fromkeys(wanted))
+        references = _references(ctx, scene, settings, kinds, reference, cache)
         try:
-            gpu = issue(queue, reference, color)
+            gpu = issue(queue, references, color)
         except StaleReadback:  # read at once (the immediate queue): scored again below
             gpu = None
         # The pictures a caller shows (the study's middle points): kept, not blurred again.
@@ -172,7 +173,6 @@ def evaluate_scene(
             cache.setdefault("colours", {})[kept_as] = result.color
         on_cpu = [metric.name for metric in chosen if metric.reduction is None]
         if on_cpu:  # from the images read back
-            references = _references(ctx, scene, settings, kinds, reference, cache)
             colours = {kind: ref.color for kind, ref in references.items()}
             row.update(m.cpu_scores(on_cpu, colours, result.color))
             if any(m.get(n).hdr for n in on_cpu):  # the one psnr_tm, ssim_tm and pictures use

@@ -122,10 +122,11 @@ def sweep(
     ``"tcp://host:8786"``. Each worker renders on its own device and returns rows; they land
     in the same table and the same `out` file as a local sweep's (docs/distributed.md), and
     ``table.attrs["workers"]`` holds where each worker's time went in this sweep
-    (cluster.worker_report; cluster.account_table prints it). ``table.attrs["stale_readbacks"]``
-    counts the batches of GPU metrics refused for missing tickets and scored again (docs/spec.md
-    §6.3). ``table.attrs["resumed"]`` counts
-    the rows this call took from `out` instead of evaluating them.
+    (cluster.worker_report; cluster.account_table prints it).
+    ``table.attrs["fence_timeouts"]`` counts the waits for the GPU that the driver cut short and
+    ``table.attrs["stale_readbacks"]`` the batches of GPU metrics refused for missing tickets
+    and scored again (docs/spec.md §6.3). ``table.attrs["resumed"]`` counts the rows this call
+    took from `out` instead of evaluating them.
     `chunk_size`: at most this many configurations of one scene per task (default 8; chunks
     shrink towards the end of the sweep so that the workers finish together).
     `caches`: a dict that a local sweep fills, per scene name, with what it rendered (frames
@@ -236,7 +237,7 @@ def sweep(
             bar.update()
 
     accounts = None
-    stale_before = ctx.stale_readbacks() if ctx is not None else 0
+    counts_before = dask_cluster.context_counts(ctx) if ctx is not None else None
     try:
         if cluster is None:
             for scene, jobs in zip(scene_list, pending, strict=True):
@@ -259,11 +260,15 @@ def sweep(
     if accounts is not None:  # where each worker's time went (cluster.worker_report)
         table.attrs["workers"] = accounts
     table.attrs["resumed"] = resumed
-    table.attrs["stale_readbacks"] = (
-        sum(a["stale_readbacks"] for a in accounts.values())
-        if accounts is not None
-        else (ctx.stale_readbacks() - stale_before if ctx is not None else 0)
-    )
+    # The context's counters over this sweep: summed over the workers' accounts on a cluster.
+    counters = dask_cluster.CONTEXT_COUNTERS
+    if accounts is not None:
+        table.attrs.update({n: sum(a[n] for a in accounts.values()) for n in counters})
+    elif ctx is not None:
+        after = dask_cluster.context_counts(ctx)
+        table.attrs.update({n: after[n] - counts_before[n] for n in counters})
+    else:  # a cluster's sweep that had nothing left to evaluate
+        table.attrs.update(dict.fromkeys(counters, 0))
     return table
 
 

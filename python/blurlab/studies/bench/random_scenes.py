@@ -16,7 +16,7 @@ import pandas as pd
 from ... import io, scenes
 from ...context import Context
 from ...methods.core import Param
-from ..cluster import ACCOUNT, local_cluster
+from ..cluster import ACCOUNT, CONTEXT_COUNTERS, local_cluster
 from ..sweep import sweep, sweep_methods
 from .core import Benchmark, register
 from .rescore import RESCORED, rescore
@@ -69,16 +69,10 @@ def _sweeps(ctx, size, p, names: list[str], workers: int, gpus: int) -> tuple[li
 ACCOUNT_PHASES = (*ACCOUNT, "evaluations")
 
 
-def _worker_accounts(tables: list) -> list[dict]:
-    """Every worker's account (studies.cluster.worker_report) of every batch's sweep; none on
-    one device."""
-    return [a for t in tables for a in t.attrs.get("workers", {}).values()]
-
-
 def _worker_seconds(tables: list, workers: int, wall: float) -> dict[str, float]:
     """The workers' seconds in each phase of their accounts over every batch's sweep, and the
     rest of workers x wall as idle ({} on one device: no accounts)."""
-    accounts = _worker_accounts(tables)
+    accounts = [a for t in tables for a in t.attrs.get("workers", {}).values()]
     if not accounts:
         return {}
     spent = {phase: sum(a[f"{phase}_s"] for a in accounts) for phase in ACCOUNT_PHASES}
@@ -128,12 +122,12 @@ def _random_scenes(ctx, size, p, out) -> None:
     )
     runs = [(g, w) for g in counts_of(p["gpus"], "gpus", 0) for w in worker_counts(p["workers"])]
     for gpus, workers in runs:  # the last run's table is reported below
-        start, timeouts_before = time.perf_counter(), ctx.fence_timeouts()
+        start = time.perf_counter()
         tables, startup = _sweeps(ctx, size, p, names, workers, gpus)
         wall = time.perf_counter() - start - startup  # the cluster's start is reported apart
         table = pd.concat(tables, ignore_index=True)
         # concat keeps no attrs that differ between the batches' tables
-        table.attrs["stale_readbacks"] = sum(t.attrs["stale_readbacks"] for t in tables)
+        table.attrs.update({n: sum(t.attrs[n] for t in tables) for n in CONTEXT_COUNTERS})
         done = table["scene"].nunique()
         each = f"{workers} worker{'s' * (workers > 1)}"
         used = min(gpus or listed, listed)
@@ -146,13 +140,8 @@ def _random_scenes(ctx, size, p, out) -> None:
         out.figure(f"{each}: scenes per second", done / wall, "1/s")
         projected = wall * p["scenes"] / done
         out.figure(f"{each}: projected wall for {p['scenes']} scenes", projected, "s")
-        accounts = _worker_accounts(tables)
-        timeouts = (
-            sum(a["fence_timeouts"] for a in accounts)
-            if accounts
-            else ctx.fence_timeouts() - timeouts_before
-        )
-        out.figure(f"{each}: waits for the GPU that the driver cut short", timeouts, "waits")
+        waits = table.attrs["fence_timeouts"]
+        out.figure(f"{each}: waits for the GPU that the driver cut short", waits, "waits")
         spent = _worker_seconds(tables, workers, wall)
         if spent:
             out.table(
