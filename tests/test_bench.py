@@ -102,6 +102,8 @@ def test_random_scenes_writes_every_scenes_scores_and_their_digests(ctx, tmp_pat
     figures = {f["name"]: f["value"] for f in records[0]["figures"]}
     assert figures["rows scored again, one evaluation at a time"] == 3
     assert figures["largest psnr difference of a row scored again"] == 0.0
+    assert figures["rows of the table whose GPU metrics were refused and scored again"] == 0
+    assert (scores["stale_readbacks"] == 0).all()  # the results file keeps the column
     rescored = next(t for t in records[0]["tables"] if t["name"].startswith("rows of the sweep"))
     swept = set(zip(scores["scene"], scores["method"], strict=True))
     assert {(r[0], r[1]) for r in rescored["rows"]} <= swept
@@ -150,6 +152,7 @@ def test_sweeping_benchmarks_score_rows_again_and_get_the_same(ctx, name):
     figures = {f["name"]: f["value"] for f in record["figures"]}
     assert figures["rows scored again, one evaluation at a time"] == 2
     assert figures["largest psnr difference of a row scored again"] == 0.0
+    assert figures["rows of the table whose GPU metrics were refused and scored again"] == 0
 
 
 def test_engines_scores_every_frame_blurring_method_at_its_own_instant(ctx):

@@ -45,6 +45,9 @@ SETUP_PHASES = (REFERENCES, G_BUFFERS)
 # Runs of an evaluation whose metrics came back stale (docs/spec.md §6.3) before the sweep
 # gives up.
 STALE_ATTEMPTS = 3
+# A row's column of the reads of its GPU metrics that were refused before the values it holds:
+# a results file keeps it, so a sweep resumed from one still knows which rows were scored again.
+STALE_COLUMN = "stale_readbacks"
 
 
 # How a sweep's references are made besides N and antialias (ctx.reference's arguments): part
@@ -116,6 +119,7 @@ def evaluate_scene(
         evaluation whose partial sums came back without their tickets (§6.3)."""
         name, point, backend = job
         for _ in range(STALE_ATTEMPTS):
+            row[STALE_COLUMN] += 1  # the read just refused
             frames, reference = _scene_inputs(ctx, scene, name, point, settings, cache)
             result = blur_steps(ctx, frames, name, backend, timed=False, **_without_steps(point))
             references = _references(ctx, scene, settings, kinds, reference, cache)
@@ -185,6 +189,7 @@ def evaluate_scene(
                 "height": size[1],
                 "reference_samples": reference.samples,
                 "shutter": json.dumps([frames[0].shutter[0], frames[-1].shutter[1]]),
+                STALE_COLUMN: 0,
             }
         )
         # Its textures go back to the pool before the next evaluation; a queued reduction

@@ -125,8 +125,9 @@ def sweep(
     (cluster.worker_report; cluster.account_table prints it).
     ``table.attrs["fence_timeouts"]`` counts the waits for the GPU that the driver cut short and
     ``table.attrs["stale_readbacks"]`` the batches of GPU metrics refused for missing tickets
-    and scored again (docs/spec.md §6.3). ``table.attrs["resumed"]`` counts the rows this call
-    took from `out` instead of evaluating them.
+    and scored again (docs/spec.md §6.3); each row's ``stale_readbacks`` column counts the
+    refused reads of its own metrics, and a results file keeps it. ``table.attrs["resumed"]``
+    counts the rows this call took from `out` instead of evaluating them.
     `chunk_size`: at most this many configurations of one scene per task (default 8; chunks
     shrink towards the end of the sweep so that the workers finish together).
     `caches`: a dict that a local sweep fills, per scene name, with what it rendered (frames

@@ -11,6 +11,7 @@ import numpy as np
 import pandas as pd
 
 from ...methods.core import Param
+from ..evaluation import STALE_COLUMN
 from ..sweep import sweep
 
 RESCORED = Param(8, int, "rows scored again in this process, to check the sweep's scores", 0, 1000)
@@ -43,12 +44,20 @@ def rescore(ctx, table: pd.DataFrame, size, p, metrics, out) -> None:
     `size` with `metrics` and p["reference_samples"], every metric read before the next
     evaluation (readback_batch 1). Writes the count, the largest difference and the rows to
     `out`, after the sweep's own count of batches refused for missing tickets and scored again
-    (table.attrs["stale_readbacks"]); the rescoring is skipped where p["rescored"] is 0."""
+    (table.attrs["stale_readbacks"]) and the count of the table's rows so scored (its
+    STALE_COLUMN, which rows resumed from a results file keep); the rescoring is skipped where
+    p["rescored"] is 0."""
     out.figure(
         "batches of GPU metrics refused (tickets missing) and scored again",
         table.attrs.get("stale_readbacks", 0),
         "batches",
     )
+    if STALE_COLUMN in table:  # rows read from a results file included
+        out.figure(
+            "rows of the table whose GPU metrics were refused and scored again",
+            int((table[STALE_COLUMN] > 0).sum()),
+            "rows",
+        )
     count = p["rescored"]
     if not count:
         return
