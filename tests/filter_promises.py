@@ -29,13 +29,20 @@ def two_sided_frame(rng, width, height, reach=20.0):
     )
 
 
-def assert_matches_twin(result, frame) -> None:
-    """>= 99.9 % of pixels within 1e-3 of the twin, mean absolute error <= 1e-4."""
+def assert_matches_twin(result, frame, diagnose=None) -> None:
+    """>= 99.9 % of pixels within 1e-3 of the twin, mean absolute error <= 1e-4. On a miss,
+    diagnose(expected), where given, adds its text to the failure's message."""
     expected = bl.method(result.method).twin_output(frame, **result.params)
     error = np.abs(result.color - expected)
     within = (error.max(axis=-1) <= 1e-3).mean()
-    assert within >= 0.999, f"{within:.5f} of pixels within 1e-3"
-    assert error.mean() <= 1e-4, f"mean absolute error {error.mean():.2e}"
+    if within < 0.999 or error.mean() > 1e-4:
+        note = diagnose(expected) if diagnose else ""
+        assert within >= 0.999, f"{within:.5f} of pixels within 1e-3{note}"
+        assert error.mean() <= 1e-4, f"mean absolute error {error.mean():.2e}{note}"
+
+
+def share_within(a, b) -> float:
+    return float((np.abs(a - b).max(axis=-1) <= 1e-3).mean())
 
 
 def assert_blurs_a_rendered_scene_as_its_twin(ctx, method: str, scene: str, **params) -> None:
@@ -43,7 +50,20 @@ def assert_blurs_a_rendered_scene_as_its_twin(ctx, method: str, scene: str, **pa
     really blurs: some pixel moves by more than 0.05."""
     frame = ctx.render(bl.scenes.get(scene), (160, 90))
     result = bl.blur(ctx, frame, method, **params)
-    assert_matches_twin(result, frame)
+
+    def diagnose(expected) -> str:
+        # A miss seen once on an H100 under 16 test processes (docs/reliability.md,
+        # "Determinism"): tells a bad read-back (the texture now holds the twin's image) from
+        # a bad output (it does not, and a second call does) from a wrong method (neither).
+        texture = result.textures["color"].download()
+        again = bl.blur(ctx, frame, method, **params).color
+        return (
+            f"; the output texture read again: {share_within(texture, expected):.5f} within, "
+            f"the first read: {share_within(result.color, expected):.5f}, "
+            f"a second call: {share_within(again, expected):.5f}"
+        )
+
+    assert_matches_twin(result, frame, diagnose)
     assert np.abs(result.color - frame.color).max() > 0.05
 
 
