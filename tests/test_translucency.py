@@ -374,6 +374,29 @@ def test_the_transparency_study_measures_every_approach(ctx):
     assert cost["layered_ms"] > 0 and cost["ratio"] == cost["layered_ms"] / cost["composite_ms"]
 
 
+def test_the_transparency_benchmark_times_every_cost_scene(ctx):
+    from blurlab.studies import bench
+
+    record = bench.run_benchmark(ctx, "transparency", "tiny")
+    scenes = record["params"]["cost_scenes"].split(",")
+    assert len(scenes) == 2
+    times = next(t for t in record["tables"] if t["name"].startswith("time of the method"))
+    methods = record["params"]["methods"].split(",")
+    assert sorted((row[0], row[1]) for row in times["rows"]) == sorted(
+        (scene, method) for scene in scenes for method in methods
+    )
+    figures = {f["name"]: f["value"] for f in record["figures"]}
+    for scene in scenes:
+        ratios = [row[4] for row in times["rows"] if row[0] == scene]
+        median = figures[f"{scene}: layered / composite time, median over the methods"]
+        assert median == pytest.approx(float(np.median(ratios)), rel=1e-4)  # 5 digits kept
+        fewest = figures[f"{scene}: layered / composite time, fewest over the methods"]
+        assert fewest == pytest.approx(min(ratios), rel=1e-4)
+    # an unknown cost scene is refused before anything is scored
+    with pytest.raises(ValueError, match="no built-in scene 'nowhere'"):
+        bench.run_benchmark(ctx, "transparency", "tiny", given={"cost_scenes": "nowhere"})
+
+
 @pytest.mark.parametrize("name", ["accumulation", "stochastic"])
 def test_rendering_methods_composite_every_sub_frame_themselves(ctx, name):
     frame = ctx.render(glass_and_sparks(), size=SIZE)
