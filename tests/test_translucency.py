@@ -392,6 +392,10 @@ def test_the_transparency_benchmark_times_every_cost_scene(ctx):
         assert median == pytest.approx(float(np.median(ratios)), rel=1e-4)  # 5 digits kept
         fewest = figures[f"{scene}: layered / composite time, fewest over the methods"]
         assert fewest == pytest.approx(min(ratios), rel=1e-4)
+    gbuffers = next(t for t in record["tables"] if t["name"].startswith("the G-buffer with"))
+    assert [row[0] for row in gbuffers["rows"]] == scenes
+    for _, with_ms, without_ms, layer_ms in gbuffers["rows"]:
+        assert layer_ms == pytest.approx(with_ms - without_ms, rel=1e-3, abs=1e-3)
     # an unknown cost scene is refused before anything is scored
     with pytest.raises(ValueError, match="no built-in scene 'nowhere'"):
         bench.run_benchmark(ctx, "transparency", "tiny", given={"cost_scenes": "nowhere"})

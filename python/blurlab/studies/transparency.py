@@ -98,6 +98,13 @@ def summary(table: pd.DataFrame) -> dict:
     }
 
 
+def opaque_scene(name: str):
+    """The built-in scene `name` without its translucent objects."""
+    scene = scenes.get(name)
+    scene.objects = [obj for obj in scene.objects if not obj.material.translucent]
+    return scene
+
+
 def layer_error(ctx, shown: dict, size, reference_samples=None) -> pd.DataFrame:
     """What limits the layered approach on each scene of `shown` (as evaluate fills it) that
     has a translucent layer: PSNR against the scene's reference of the coverage gather's
@@ -112,9 +119,8 @@ def layer_error(ctx, shown: dict, size, reference_samples=None) -> pd.DataFrame:
             continue
         frame = ctx.render(scene, size, instant=method_instant(translucent_layer_method()))
         n = reference_samples or default_reference_samples(frame)
-        opaque = scenes.get(name)
-        opaque.objects = [obj for obj in opaque.objects if not obj.material.translucent]
-        exact = ctx.reference(opaque, size, samples=n, antialias=True, progress=False).color
+        exact = ctx.reference(opaque_scene(name), size, samples=n, antialias=True, progress=False)
+        exact = exact.color
         layer = blur(ctx, layers.translucent_frame(ctx, frame), translucent_layer_method())
         composite = translucency_twin.over(layer.color, exact)
         rows.append({"scene": name, "psnr": metrics.psnr(composite, reference)})

@@ -56,6 +56,27 @@ def layer_cost(ctx, scene_name: str, method: str, size, runs: int = 10) -> dict:
     }
 
 
+def gbuffer_cost(ctx, scene_name: str, size, runs: int = 10) -> dict:
+    """GPU time of the scene's G-buffer with its translucent objects (their fragment lists and
+    resolve included) and without them, median over `runs` renders each, and the difference:
+    what the translucent layer adds to the G-buffer (docs/spec.md §20)."""
+    times = {}
+    for label, scene in (
+        ("with", scenes.get(scene_name)),
+        ("without", transparency.opaque_scene(scene_name)),
+    ):
+        spin_up(ctx, lambda scene=scene: ctx.render(scene, size))
+        times[label] = float(
+            np.median([ctx.render(scene, size).timings["gbuffer"].ms for _ in range(runs)])
+        )
+    return {
+        "scene": scene_name,
+        "with_ms": times["with"],
+        "without_ms": times["without"],
+        "layer_ms": times["with"] - times["without"],
+    }
+
+
 def _transparency(ctx, size, p, out) -> None:
     methods = split(p["methods"]) or transparency.single_frame_methods()
     cost_scenes = split(p["cost_scenes"])
@@ -146,6 +167,12 @@ def _transparency(ctx, size, p, out) -> None:
             ]
             for c in costs
         ],
+    )
+    gbuffers = [gbuffer_cost(ctx, scene, size, p["runs"]) for scene in cost_scenes]
+    out.table(
+        "the G-buffer with the scene's translucent objects and without them, medians",
+        [("scene", ""), ("with", "ms"), ("without", "ms"), ("the translucent layer's part", "ms")],
+        [[g["scene"], g["with_ms"], g["without_ms"], g["layer_ms"]] for g in gbuffers],
     )
     for scene in cost_scenes:
         ratios = [c["ratio"] for c in costs if c["scene"] == scene]
