@@ -119,8 +119,8 @@ def layer_error(ctx, shown: dict, size, reference_samples=None) -> pd.DataFrame:
             continue
         frame = ctx.render(scene, size, instant=method_instant(translucent_layer_method()))
         n = reference_samples or default_reference_samples(frame)
-        exact = ctx.reference(opaque_scene(name), size, samples=n, antialias=True, progress=False)
-        exact = exact.color
+        opaque = opaque_scene(name)
+        exact = ctx.reference(opaque, size, samples=n, antialias=True, progress=False).color
         layer = blur(ctx, layers.translucent_frame(ctx, frame), translucent_layer_method())
         composite = translucency_twin.over(layer.color, exact)
         rows.append({"scene": name, "psnr": metrics.psnr(composite, reference)})

@@ -1,7 +1,8 @@
 """The transparency benchmark: the four ways to blur translucency (docs/spec.md §20.4) on the
 transparency scenes, for the reconstruction filters, the coverage gather and the engines'
-filters, against the antialiased reference; and what the layered approach costs next to the
-method alone (docs/transparency.md)."""
+filters, against the antialiased reference; and on the cost scenes, what the layered approach
+costs next to the method alone and what the translucent objects add to the G-buffer
+(docs/transparency.md)."""
 
 from __future__ import annotations
 
