@@ -374,6 +374,19 @@ def test_the_transparency_study_measures_every_approach(ctx):
     assert cost["layered_ms"] > 0 and cost["ratio"] == cost["layered_ms"] / cost["composite_ms"]
 
 
+def test_drawn_opaque_scenes_give_their_translucent_surfaces_motion(ctx):
+    from blurlab.studies import transparency
+
+    scene = transparency.drawn_opaque_scene("moving_glass")
+    assert not scene.translucent
+    assert len(scene.objects) == len(bl.scenes.get("moving_glass").objects)
+    assert bl.scenes.get("moving_glass").translucent  # the built-in scene is left as it was
+    # the still wall moves nowhere; drawn opaque, the pane brings its own motion
+    moving = np.abs(ctx.render(bl.scenes.get("moving_glass"), SIZE).motion).max()
+    drawn = np.abs(ctx.render(scene, SIZE).motion).max()
+    assert moving == 0.0 and drawn > 1.0
+
+
 def test_the_transparency_benchmark_times_every_cost_scene(ctx):
     from blurlab.studies import bench
 
@@ -394,8 +407,20 @@ def test_the_transparency_benchmark_times_every_cost_scene(ctx):
         assert fewest == pytest.approx(min(ratios), rel=1e-4)
     gbuffers = next(t for t in record["tables"] if t["name"].startswith("the G-buffer with"))
     assert [row[0] for row in gbuffers["rows"]] == scenes
-    for _, with_ms, without_ms, layer_ms in gbuffers["rows"]:
+    for _, with_ms, without_ms, layer_ms, drawn_opaque_ms in gbuffers["rows"]:
         assert layer_ms == pytest.approx(with_ms - without_ms, rel=1e-3, abs=1e-3)
+        assert drawn_opaque_ms > 0
+    # a frame adds its G-buffer to each blur: layered's with the translucent layer and split
+    frames = next(t for t in record["tables"] if t["name"].startswith("a frame, G-buffer"))
+    gbuffer = {row[0]: row for row in gbuffers["rows"]}
+    blurs = {(row[0], row[1]): row for row in times["rows"]}
+    assert len(frames["rows"]) == len(times["rows"])
+    for scene, method, layered, composite, drawn_opaque, *ratios in frames["rows"]:
+        assert composite == pytest.approx(gbuffer[scene][1] + blurs[scene, method][2], rel=1e-3)
+        split = blurs[scene, method][8]
+        assert layered == pytest.approx(gbuffer[scene][1] + split + blurs[scene, method][3], 1e-3)
+        assert drawn_opaque > gbuffer[scene][4]
+        assert ratios == pytest.approx([layered / composite, layered / drawn_opaque], rel=1e-3)
     # an unknown cost scene is refused before anything is scored
     with pytest.raises(ValueError, match="no built-in scene 'nowhere'"):
         bench.run_benchmark(ctx, "transparency", "tiny", given={"cost_scenes": "nowhere"})

@@ -1,8 +1,9 @@
 """The transparency benchmark: the four ways to blur translucency (docs/spec.md §20.4) on the
 transparency scenes, for the reconstruction filters, the coverage gather and the engines'
 filters, against the antialiased reference; and on the cost scenes, what the layered approach
-costs next to the method alone and what the translucent objects add to the G-buffer
-(docs/transparency.md)."""
+costs next to the method alone, what the translucent objects add to the G-buffer, and a whole
+frame's time (G-buffer and blur) against the same scene with its translucent objects drawn
+opaque (docs/transparency.md)."""
 
 from __future__ import annotations
 
@@ -25,9 +26,18 @@ def layer_cost(ctx, scene_name: str, method: str, size, runs: int = 10) -> dict:
     and with the layered approach, median over `runs` timed calls each, and their ratio; and
     where layered's time goes, medians of its parts: the opaque layer's blur, the translucent
     layer's blur ("translucent_" passes), the compositing pass, and the layer's split, which
-    runs once per frame (frame.timings, beside the G-buffer's passes; docs/spec.md §20.4)."""
+    runs once per frame (frame.timings, beside the G-buffer's passes; docs/spec.md §20.4).
+    "drawn_opaque_ms": the method on the scene with its translucent objects drawn opaque
+    (transparency.drawn_opaque_scene), where it blurs them with their own motion."""
     scene = scenes.get(scene_name)
     frame = ctx.render(scene, size, instant=method_instant(method))
+    drawn_opaque = ctx.render(
+        transparency.drawn_opaque_scene(scene_name), size, instant=method_instant(method)
+    )
+    spin_up(ctx, lambda: blur(ctx, drawn_opaque, method))
+    drawn_opaque_ms = float(
+        np.median([blur(ctx, drawn_opaque, method).total_ms for _ in range(runs)])
+    )
     times = {}
     parts = {"opaque": [], "layer": [], "over": []}
     for approach in ("composite", "layered"):
@@ -54,17 +64,20 @@ def layer_cost(ctx, scene_name: str, method: str, size, runs: int = 10) -> dict:
         "ratio": times["layered"] / times["composite"],
         **{f"{part}_ms": float(np.median(values)) for part, values in parts.items()},
         "split_ms": frame.timings["translucent_split"].ms,
+        "drawn_opaque_ms": drawn_opaque_ms,
     }
 
 
 def gbuffer_cost(ctx, scene_name: str, size, runs: int = 10) -> dict:
     """GPU time of the scene's G-buffer with its translucent objects (their fragment lists and
-    resolve included) and without them, median over `runs` renders each, and the difference:
-    what the translucent layer adds to the G-buffer (docs/spec.md §20)."""
+    resolve included), without them, and with them drawn opaque, median over `runs` renders
+    each, and the first two's difference: what the translucent layer adds to the G-buffer
+    (docs/spec.md §20)."""
     times = {}
     for label, scene in (
         ("with", scenes.get(scene_name)),
         ("without", transparency.opaque_scene(scene_name)),
+        ("drawn_opaque", transparency.drawn_opaque_scene(scene_name)),
     ):
         spin_up(ctx, lambda scene=scene: ctx.render(scene, size))
         times[label] = float(
@@ -75,6 +88,27 @@ def gbuffer_cost(ctx, scene_name: str, size, runs: int = 10) -> dict:
         "with_ms": times["with"],
         "without_ms": times["without"],
         "layer_ms": times["with"] - times["without"],
+        "drawn_opaque_ms": times["drawn_opaque"],
+    }
+
+
+def frame_cost(layer: dict, gbuffer: dict) -> dict:
+    """A frame's time, G-buffer and blur, from layer_cost and gbuffer_cost on one scene: with
+    the layered approach (the G-buffer with its translucent layer, the layer's split and the
+    layered blur), as engines blur it (the same G-buffer, translucency="composite"), and as
+    blurlab drew the scene before it had a translucent layer (its translucent objects drawn
+    opaque, the method alone); and layered's frame over each of the other two."""
+    layered = gbuffer["with_ms"] + layer["split_ms"] + layer["layered_ms"]
+    composite = gbuffer["with_ms"] + layer["composite_ms"]
+    drawn_opaque = gbuffer["drawn_opaque_ms"] + layer["drawn_opaque_ms"]
+    return {
+        "scene": layer["scene"],
+        "method": layer["method"],
+        "layered_ms": layered,
+        "composite_ms": composite,
+        "drawn_opaque_ms": drawn_opaque,
+        "over_composite": layered / composite,
+        "over_drawn_opaque": layered / drawn_opaque,
     }
 
 
@@ -169,11 +203,47 @@ def _transparency(ctx, size, p, out) -> None:
             for c in costs
         ],
     )
-    gbuffers = [gbuffer_cost(ctx, scene, size, p["runs"]) for scene in cost_scenes]
+    gbuffers = {scene: gbuffer_cost(ctx, scene, size, p["runs"]) for scene in cost_scenes}
     out.table(
-        "the G-buffer with the scene's translucent objects and without them, medians",
-        [("scene", ""), ("with", "ms"), ("without", "ms"), ("the translucent layer's part", "ms")],
-        [[g["scene"], g["with_ms"], g["without_ms"], g["layer_ms"]] for g in gbuffers],
+        "the G-buffer with the scene's translucent objects, without them, and with them drawn "
+        "opaque, medians",
+        [
+            ("scene", ""),
+            ("with", "ms"),
+            ("without", "ms"),
+            ("the translucent layer's part", "ms"),
+            ("drawn opaque", "ms"),
+        ],
+        [
+            [g["scene"], g["with_ms"], g["without_ms"], g["layer_ms"], g["drawn_opaque_ms"]]
+            for g in gbuffers.values()
+        ],
+    )
+    frames = [frame_cost(c, gbuffers[c["scene"]]) for c in costs]
+    out.table(
+        "a frame, G-buffer and blur: layered, as engines blur it (composite), and with the "
+        "translucent objects drawn opaque; layered's frame over each",
+        [
+            ("scene", ""),
+            ("method", ""),
+            ("layered", "ms"),
+            ("composite", "ms"),
+            ("drawn opaque", "ms"),
+            ("layered / composite", "x"),
+            ("layered / drawn opaque", "x"),
+        ],
+        [
+            [
+                f["scene"],
+                f["method"],
+                f["layered_ms"],
+                f["composite_ms"],
+                f["drawn_opaque_ms"],
+                f["over_composite"],
+                f["over_drawn_opaque"],
+            ]
+            for f in frames
+        ],
     )
     for scene in cost_scenes:
         ratios = [c["ratio"] for c in costs if c["scene"] == scene]
@@ -183,6 +253,13 @@ def _transparency(ctx, size, p, out) -> None:
             "x",
         )
         out.figure(f"{scene}: layered / composite time, fewest over the methods", min(ratios), "x")
+        for key, label in (("over_composite", "composite"), ("over_drawn_opaque", "drawn opaque")):
+            ratios = [f[key] for f in frames if f["scene"] == scene]
+            out.figure(
+                f"{scene}: frame with layered / frame {label}, median over the methods",
+                statistics.median(ratios),
+                "x",
+            )
 
 
 register(
