@@ -52,15 +52,26 @@ def assert_blurs_a_rendered_scene_as_its_twin(ctx, method: str, scene: str, **pa
     result = bl.blur(ctx, frame, method, **params)
 
     def diagnose(expected) -> str:
-        # A miss seen once on an H100 under 16 test processes (docs/reliability.md,
-        # "Determinism"): tells a bad read-back (the texture now holds the twin's image) from
-        # a bad output (it does not, and a second call does) from a wrong method (neither).
+        # A miss seen on an H100 under 16 test processes (docs/reliability.md, "Determinism"):
+        # tells a bad read-back (the texture now holds the twin's image) from a bad output (it
+        # does not, and a second call does) from a context the GPU stopped serving (its reset
+        # status; GPU timers that read 0; a new context in this process gets it right).
         texture = result.textures["color"].download()
         again = bl.blur(ctx, frame, method, **params).color
+        index = int(ctx.info()["device_index"])  # -1: the surfaceless platform
+        fresh_ctx = bl.Context(index if index >= 0 else "auto")
+        fresh_frame = fresh_ctx.render(bl.scenes.get(scene), (160, 90))
+        fresh = bl.blur(fresh_ctx, fresh_frame, method, **params)
+        fresh_expected = bl.method(method).twin_output(fresh_frame, **fresh.params)
+        timings = {name: t.ms for name, t in {**frame.timings, **result.timings}.items()}
         return (
             f"; the output texture read again: {share_within(texture, expected):.5f} within, "
             f"the first read: {share_within(result.color, expected):.5f}, "
-            f"a second call: {share_within(again, expected):.5f}"
+            f"a second call: {share_within(again, expected):.5f}; "
+            f"a new context: {share_within(fresh.color, fresh_expected):.5f} within, its frame "
+            f"{share_within(fresh_frame.color, frame.color):.5f} like this one's; "
+            f"reset status {ctx.reset_status()!r} ({ctx.info()['reset_notification']}), "
+            f"GL errors {ctx.gl_errors()}, times (ms) {timings}"
         )
 
     assert_matches_twin(result, frame, diagnose)

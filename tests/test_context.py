@@ -19,6 +19,14 @@ def test_info_names_vendor_renderer_version_and_device(ctx):
     assert info["timer"] == ("wall_glfinish" if info["device"] == "software" else "gl_time_elapsed")
 
 
+def test_the_context_asks_to_be_told_of_a_gpu_reset(ctx):
+    # Mesa's llvmpipe and NVIDIA's driver both grant it; without it, work after a reset would
+    # silently do nothing and read-backs would return stale memory.
+    assert ctx.info()["reset_notification"] == "lose_context"
+    assert ctx.reset_status() == "none"
+    assert ctx.gl_errors() == []
+
+
 def has_software_device() -> bool:
     return any(d["kind"] == "software" for d in bl.Context.devices())
 

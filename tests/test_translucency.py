@@ -381,10 +381,11 @@ def test_drawn_opaque_scenes_give_their_translucent_surfaces_motion(ctx):
     assert not scene.translucent
     assert len(scene.objects) == len(bl.scenes.get("moving_glass").objects)
     assert bl.scenes.get("moving_glass").translucent  # the built-in scene is left as it was
-    # the still wall moves nowhere; drawn opaque, the pane brings its own motion
+    # the still wall moves nowhere (a GPU leaves rounding, 2e-6 px on an H100); drawn opaque,
+    # the pane brings its own motion
     moving = np.abs(ctx.render(bl.scenes.get("moving_glass"), SIZE).motion).max()
     drawn = np.abs(ctx.render(scene, SIZE).motion).max()
-    assert moving == 0.0 and drawn > 1.0
+    assert moving < 1e-3 and drawn > 1.0
 
 
 def test_the_transparency_benchmark_times_every_cost_scene(ctx):

@@ -432,6 +432,13 @@ class Context:
         non-empty list means a bug (or GL calls of your own, e.g. through moderngl)."""
         return list(self._core.gl_errors())
 
+    def reset_status(self) -> str:
+        """Whether the GPU reset this context since it was made: "none", "guilty" (its own work
+        caused it), "innocent" or "unknown". After a reset every texture and pass is lost and
+        blurlab's calls raise GL_CONTEXT_LOST; make a new Context. Where the driver gives no
+        notification (``info()["reset_notification"]`` is "none") this is always "none"."""
+        return self._core.reset_status()
+
     def memory(self) -> dict[str, int]:
         """Video memory in KiB ("total", "available") where the driver reports it (NVIDIA's
         GL_NVX_gpu_memory_info); {} elsewhere, llvmpipe included."""

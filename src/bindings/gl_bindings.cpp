@@ -101,6 +101,7 @@ void bind_gl(py::module_& m) {
       .def("info", &Context::info)
       .def("live_objects", &Context::live_objects)
       .def("gl_errors", &Context::gl_errors)
+      .def("reset_status", &Context::reset_status)
       .def("memory", &Context::memory)
       .def("finish", &Context::finish, py::call_guard<py::gil_scoped_release>())
       .def_property_readonly("waits", &Context::waits)

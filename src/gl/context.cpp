@@ -201,14 +201,25 @@ void Context::create_on(EGLDisplay display, const std::string& platform, const E
     if (!eglChooseConfig(display, wanted, &config, 1, &n) || n < 1)
       throw std::runtime_error("no EGL config for desktop OpenGL (" + egl_error_text() + ")");
   }
-  const EGLint attributes[] = {EGL_CONTEXT_MAJOR_VERSION,
-                               4,
-                               EGL_CONTEXT_MINOR_VERSION,
-                               5,
-                               EGL_CONTEXT_OPENGL_PROFILE_MASK,
-                               EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
-                               EGL_NONE};
-  context_ = eglCreateContext(display, config, EGL_NO_CONTEXT, attributes);
+  // Asked first: to be told when the GPU resets the context (EGL 1.5). A reset loses every
+  // texture, and without notification the calls after it do nothing and report no error, so
+  // a read-back returns whatever the memory held. Where the driver refuses, a plain context.
+  EGLint attributes[] = {EGL_CONTEXT_MAJOR_VERSION,
+                         4,
+                         EGL_CONTEXT_MINOR_VERSION,
+                         5,
+                         EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                         EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                         EGL_CONTEXT_OPENGL_RESET_NOTIFICATION_STRATEGY,
+                         EGL_LOSE_CONTEXT_ON_RESET,
+                         EGL_NONE};
+  if (major > 1 || (major == 1 && minor >= 5))
+    context_ = eglCreateContext(display, config, EGL_NO_CONTEXT, attributes);
+  if (context_ == EGL_NO_CONTEXT) {
+    eglGetError();  // the refusal of the notification, not a failure yet
+    attributes[6] = EGL_NONE;
+    context_ = eglCreateContext(display, config, EGL_NO_CONTEXT, attributes);
+  }
   if (context_ == EGL_NO_CONTEXT)
     throw std::runtime_error("eglCreateContext for OpenGL 4.5 core failed (" + egl_error_text() +
                              ")");
@@ -241,6 +252,9 @@ void Context::create_on(EGLDisplay display, const std::string& platform, const E
   info_["device_index"] = device ? std::to_string(device->index) : "-1";
   info_["device_name"] = device ? device->name : "surfaceless";
   info_["timer"] = timer_queries_valid() ? "gl_time_elapsed" : "wall_glfinish";
+  GLint strategy = 0;
+  glGetIntegerv(GL_RESET_NOTIFICATION_STRATEGY, &strategy);
+  info_["reset_notification"] = strategy == GL_LOSE_CONTEXT_ON_RESET ? "lose_context" : "none";
   glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_texture_size_);
   info_["max_texture_size"] = std::to_string(max_texture_size_);
   // Transfers move tightly packed rows of any width.
@@ -317,6 +331,16 @@ std::vector<std::string> Context::gl_errors() {
     errors.push_back(gl_error_name(e));
   }
   return errors;
+}
+
+std::string Context::reset_status() {
+  make_current();
+  switch (glGetGraphicsResetStatus()) {
+    case GL_NO_ERROR: return "none";
+    case GL_GUILTY_CONTEXT_RESET: return "guilty";
+    case GL_INNOCENT_CONTEXT_RESET: return "innocent";
+    default: return "unknown";
+  }
 }
 
 std::map<std::string, long long> Context::memory() {

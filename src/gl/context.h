@@ -55,6 +55,10 @@ class Context : public std::enable_shared_from_this<Context> {
   // Reads and clears every pending GL error, without throwing: the names of the errors that
   // were set ("GL_INVALID_VALUE", ...), empty if none. Tests assert it after each call.
   std::vector<std::string> gl_errors();
+  // Whether the GPU reset this context since it was made: "none", "guilty" (its own work
+  // caused it), "innocent" or "unknown". Always "none" where info()["reset_notification"] is
+  // "none": the driver would not tell.
+  std::string reset_status();
   // Video memory in KiB where the driver reports it (GL_NVX_gpu_memory_info: "total",
   // "available"); empty on drivers without it, llvmpipe included.
   std::map<std::string, long long> memory();

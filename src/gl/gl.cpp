@@ -1,5 +1,7 @@
 #include "gl/gl.h"
 
+#include <cstdio>
+
 namespace blurlab {
 
 std::string gl_error_name(GLenum error) {
@@ -11,7 +13,14 @@ std::string gl_error_name(GLenum error) {
     case GL_OUT_OF_MEMORY: return "GL_OUT_OF_MEMORY";
     case GL_STACK_OVERFLOW: return "GL_STACK_OVERFLOW";
     case GL_STACK_UNDERFLOW: return "GL_STACK_UNDERFLOW";
-    default: return "GL error 0x" + std::to_string(error);
+    case GL_CONTEXT_LOST:
+      return "GL_CONTEXT_LOST (the GPU reset this context and everything it held is lost; make "
+             "a new blurlab.Context)";
+    default: {
+      char hex[16];
+      std::snprintf(hex, sizeof hex, "0x%04X", error);
+      return std::string("GL error ") + hex;
+    }
   }
 }
 
