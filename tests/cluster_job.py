@@ -7,7 +7,8 @@ Writes into FOLDER: local.csv (the sweep in this process), one.csv (one worker),
 workers), resumed.csv (a partial sweep through `blurlab sweep --scheduler`, then the whole
 sweep on the cluster), workers.json (each worker's report after the two-worker sweep),
 two_accounts.json (the same sweep's table.attrs["workers"]), and
-helped.csv with helped_workers.json (one scene on two workers, one configuration a chunk).
+helped.csv with helped_workers.json (one scene on two workers, one configuration a chunk),
+and reset.csv with reset.json (the sweep again, each worker's context lost once).
 """
 
 from __future__ import annotations
@@ -63,8 +64,38 @@ def main(folder: Path) -> None:
                 **OPTIONS,
             )
             helped = client.run(cluster_module.worker_report)
+            # The GPU resets each worker's context in its next chunk once: the chunk is
+            # evaluated again on a new context, and the rows are those of an untroubled sweep.
+            client.run(cluster_module.forget_scenes)
+            client.run(_lose_the_context_once)
+            reset = bl.sweep(
+                None, SCENES, GRID, out=folder / "reset.csv", cluster=client, **OPTIONS
+            )
+            resets = client.run(cluster_module.worker_report)
+            (folder / "reset.json").write_text(
+                json.dumps(
+                    {
+                        "table": reset.attrs["context_resets"],
+                        "workers": {str(k): v["context_resets"] for k, v in resets.items()},
+                    }
+                )
+            )
     (folder / "helped_workers.json").write_text(json.dumps(helped))
     (folder / "workers.json").write_text(json.dumps({str(k): v for k, v in reports.items()}))
+
+
+def _lose_the_context_once() -> None:
+    """On a worker: its next evaluation raises blurlab.ContextLost, as a GPU reset does."""
+    import blurlab as bl
+    from blurlab.studies import cluster as cluster_module
+
+    evaluate = cluster_module.evaluate_scene
+
+    def lost_once(*args, **kwargs):
+        cluster_module.evaluate_scene = evaluate
+        raise bl.ContextLost("a GPU reset, as the test has it")
+
+    cluster_module.evaluate_scene = lost_once
 
 
 if __name__ == "__main__":

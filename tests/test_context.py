@@ -25,6 +25,7 @@ def test_the_context_asks_to_be_told_of_a_gpu_reset(ctx):
     assert ctx.info()["reset_notification"] == "lose_context"
     assert ctx.reset_status() == "none"
     assert ctx.gl_errors() == []
+    assert issubclass(bl.ContextLost, bl.GLError)  # code that catches GLError catches it too
 
 
 def has_software_device() -> bool:

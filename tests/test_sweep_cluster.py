@@ -138,6 +138,15 @@ def test_a_cluster_sweep_resumes_from_the_csv_file(job):
         )
 
 
+def test_a_chunk_whose_context_the_gpu_reset_is_evaluated_again_on_a_new_one(job):
+    resets = json.loads((job / "reset.json").read_text())
+    assert sum(resets["workers"].values()) == resets["table"] >= 1
+    again = pd.read_csv(job / "reset.csv")
+    pd.testing.assert_frame_equal(
+        _without_timings(again), _without_timings(pd.read_csv(job / "one.csv")), check_exact=True
+    )
+
+
 def test_worker_rank_comes_from_the_worker_name():
     assert cluster.worker_rank(3) == 3
     assert cluster.worker_rank("node7-1") == 1

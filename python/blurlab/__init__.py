@@ -1,7 +1,7 @@
 """blurlab: real-time motion-blur methods run headless on the GPU, measured from Python."""
 
 from . import blender, capture, gltf, hatching, io, mesh, metrics, scenes, taa, tam, twins
-from ._core import GLError, ShaderError, StaleReadback
+from ._core import ContextLost, GLError, ShaderError, StaleReadback
 from .blur_scales import CameraHeld
 from .context import ComputeProgram, Context, PendingDownload, Texture, Timing
 from .converged import Reference, reference_samples_needed
@@ -43,6 +43,7 @@ __all__ = [
     "Context",
     "DirectionalLight",
     "Frame",
+    "ContextLost",
     "GLError",
     "Keyframe",
     "Material",

@@ -335,12 +335,7 @@ std::vector<std::string> Context::gl_errors() {
 
 std::string Context::reset_status() {
   make_current();
-  switch (glGetGraphicsResetStatus()) {
-    case GL_NO_ERROR: return "none";
-    case GL_GUILTY_CONTEXT_RESET: return "guilty";
-    case GL_INNOCENT_CONTEXT_RESET: return "innocent";
-    default: return "unknown";
-  }
+  return reset_status_name();
 }
 
 std::map<std::string, long long> Context::memory() {
@@ -371,7 +366,15 @@ void Context::wait_for_fence(GLsync fence, const char* what) {
   for (;;) {
     const GLenum waited = glClientWaitSync(fence, flags, one_second);
     if (waited == GL_ALREADY_SIGNALED || waited == GL_CONDITION_SATISFIED) return;
-    if (waited != GL_TIMEOUT_EXPIRED) throw GLError(std::string("blurlab: ") + what + " failed");
+    if (waited != GL_TIMEOUT_EXPIRED) {
+      check_gl(what);  // GL_CONTEXT_LOST raises ContextLost
+      throw GLError(std::string("blurlab: ") + what + " failed");
+    }
+    // A fence of a context the GPU reset may never signal: raise rather than wait for ever.
+    const std::string status = reset_status_name();
+    if (status != "none")
+      throw ContextLost(std::string("blurlab: ") + what + " failed: the GPU reset this context (" +
+                        status + ")");
     ++fence_timeouts_;
     flags = 0;
   }

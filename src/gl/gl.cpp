@@ -24,15 +24,33 @@ std::string gl_error_name(GLenum error) {
   }
 }
 
+std::string reset_status_name() {
+  switch (glGetGraphicsResetStatus()) {
+    case GL_NO_ERROR: return "none";
+    case GL_GUILTY_CONTEXT_RESET: return "guilty";
+    case GL_INNOCENT_CONTEXT_RESET: return "innocent";
+    default: return "unknown";
+  }
+}
+
 void check_gl(const char* what) {
   std::string errors;
-  // GL keeps one flag per error kind; drain them all so none is left for the next call.
+  bool lost = false;
+  // GL keeps one flag per error kind; drain them all so none is left for the next call. A lost
+  // context sets GL_CONTEXT_LOST on every call, so it is named once.
   for (int i = 0; i < 16; ++i) {
     GLenum e = glGetError();
     if (e == GL_NO_ERROR) break;
+    if (e == GL_CONTEXT_LOST) {
+      lost = true;
+      continue;
+    }
     if (!errors.empty()) errors += ", ";
     errors += gl_error_name(e);
   }
+  if (lost)
+    throw ContextLost(std::string(what) + " failed: " + gl_error_name(GL_CONTEXT_LOST) +
+                      "; reset status: " + reset_status_name());
   if (!errors.empty()) throw GLError(std::string(what) + " failed: " + errors);
 }
 

@@ -16,6 +16,17 @@ struct GLError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// The GPU reset the context (GL_CONTEXT_LOST): every texture, buffer and program it held is
+// gone, and the work since the reset did nothing. Raised as blurlab.ContextLost, a GLError;
+// sweeps on a cluster open a new context and evaluate the chunk again.
+struct ContextLost : GLError {
+  using GLError::GLError;
+};
+
+// What glGetGraphicsResetStatus says of the current context: "none", "guilty" (its own work
+// caused the reset), "innocent" or "unknown". Always "none" without reset notification.
+std::string reset_status_name();
+
 // A shader failed to load, compile or link; raised as blurlab.ShaderError (a RuntimeError).
 struct ShaderError : std::runtime_error {
   using std::runtime_error::runtime_error;

@@ -16,6 +16,7 @@ or one per core with llvmpipe. Other machines' schedulers are reached over TLS
 from __future__ import annotations
 
 import json
+import logging
 import math
 import os
 import re
@@ -23,6 +24,7 @@ import time
 import uuid
 from collections import OrderedDict, deque
 
+from .._core import ContextLost
 from ..context import DEVICE_MODES, Context
 from . import identity
 from .evaluation import SETUP_PHASES, WARM_UP, evaluate_scene
@@ -179,14 +181,33 @@ def worker_context() -> Context:
         start = time.perf_counter()
         _worker_state["ctx"] = Context(worker_device(worker.name))
         _worker_state["scenes"] = OrderedDict()
-        _worker_state["log"] = _new_log(time.perf_counter() - start)
+        opened = time.perf_counter() - start
+        if "log" in _worker_state:  # a context opened again after a GPU reset
+            _worker_state["log"]["context_s"] += opened
+        else:
+            _worker_state["log"] = _new_log(opened)
     return _worker_state["ctx"]
+
+
+def _drop_lost_context(error: ContextLost) -> None:
+    """Forgets this worker's context, which the GPU reset, and everything made on it (its
+    scenes' frames and references): the next task opens a new one. Logged with the reset's
+    status (whether this context's own work caused it)."""
+    logging.getLogger("blurlab").warning("a new context after a GPU reset: %s", error)
+    _worker_state.pop("ctx", None)
+    _worker_state.pop("scenes", None)
+    _worker_state["log"]["context_resets"] += 1
 
 
 # Context's counters of troubles met and mended while evaluating (Context.fence_timeouts: waits
 # the driver cut short; Context.stale_readbacks: batches of metrics scored again), which a
 # worker's account and a sweep's table report by these names.
 CONTEXT_COUNTERS = ("fence_timeouts", "stale_readbacks")
+# And the worker's own: the contexts it opened again after the GPU reset one
+# (blurlab.ContextLost), each time evaluating its chunk again from the start.
+WORKER_COUNTERS = (*CONTEXT_COUNTERS, "context_resets")
+# The times one chunk is evaluated again on a new context before the sweep gives up on it.
+RESETS_PER_CHUNK = 2
 
 
 def context_counts(ctx: Context) -> dict[str, int]:
@@ -197,7 +218,7 @@ def context_counts(ctx: Context) -> dict[str, int]:
 def _new_log(context_s: float) -> dict:
     phases = {f"{phase}_s": 0.0 for phase in ACCOUNT}
     counts = {"tasks": 0, "evaluations": 0, "imports": 0, "exports": 0, "next_chunk_waiting": 0}
-    counts.update(dict.fromkeys(CONTEXT_COUNTERS, 0))
+    counts.update(dict.fromkeys(WORKER_COUNTERS, 0))
     return {"context_s": context_s, **counts, "busy_s": 0.0, **phases}
 
 
@@ -206,7 +227,21 @@ def run_chunk(scene, scene_key, jobs, settings, imported=None) -> tuple[str, lis
     costs = {"seconds": the task's wall time, "setup_s": what it spent on the scene's
     references and G-buffers, "evaluations": len(jobs)}: the client's estimate of what a
     helper on this scene would pay before its first evaluation. `imported`: the scene's
-    references from another worker (export_scene_inputs), used unless this worker has them."""
+    references from another worker (export_scene_inputs), used unless this worker has them.
+    Where the GPU resets the worker's context meanwhile (blurlab.ContextLost), the chunk is
+    evaluated again from the start on a new one, up to RESETS_PER_CHUNK times."""
+    resets = 0
+    while True:
+        try:
+            return _run_chunk_once(scene, scene_key, jobs, settings, imported)
+        except ContextLost as error:
+            resets += 1
+            if resets > RESETS_PER_CHUNK:
+                raise
+            _drop_lost_context(error)
+
+
+def _run_chunk_once(scene, scene_key, jobs, settings, imported) -> tuple[str, list, dict]:
     ctx = worker_context()  # its first call opens the context: counted apart, as context_s
     start = time.perf_counter()
     ctx.make_current()  # a no-op on the thread that made it, which is every task's thread
@@ -297,7 +332,8 @@ def worker_report() -> dict:
     ``fence_timeouts``: the waits for the GPU in its tasks that the driver ended early
     (Context.fence_timeouts), each waited again. ``stale_readbacks``: the batches of GPU
     metrics whose partial sums came back without their tickets (Context.stale_readbacks),
-    each scored again."""
+    each scored again. ``context_resets``: the times the GPU reset its context
+    (blurlab.ContextLost) and it opened a new one to evaluate the chunk again."""
     if "ctx" not in _worker_state:
         return {"device": None, **_new_log(0.0), "evaluations_s": 0.0, "scenes_kept": []}
     info = _worker_state["ctx"].info()

@@ -126,8 +126,12 @@ def sweep(
     ``table.attrs["fence_timeouts"]`` counts the waits for the GPU that the driver cut short and
     ``table.attrs["stale_readbacks"]`` the batches of GPU metrics refused for missing tickets
     and scored again (docs/spec.md §6.3); each row's ``stale_readbacks`` column counts the
-    refused reads of its own metrics, and a results file keeps it. ``table.attrs["resumed"]``
-    counts the rows this call took from `out` instead of evaluating them.
+    refused reads of its own metrics, and a results file keeps it.
+    ``table.attrs["context_resets"]`` counts the chunks a cluster's workers evaluated again on
+    a new context after the GPU reset theirs (blurlab.ContextLost); a local sweep whose context
+    the GPU resets raises ContextLost, and a new context resumes from `out`.
+    ``table.attrs["resumed"]`` counts the rows this call took from `out` instead of evaluating
+    them.
     `chunk_size`: at most this many configurations of one scene per task (default 8; chunks
     shrink towards the end of the sweep so that the workers finish together).
     `caches`: a dict that a local sweep fills, per scene name, with what it rendered (frames
@@ -262,12 +266,13 @@ def sweep(
         table.attrs["workers"] = accounts
     table.attrs["resumed"] = resumed
     # The context's counters over this sweep: summed over the workers' accounts on a cluster.
-    counters = dask_cluster.CONTEXT_COUNTERS
+    counters = dask_cluster.WORKER_COUNTERS
     if accounts is not None:
         table.attrs.update({n: sum(a[n] for a in accounts.values()) for n in counters})
-    elif ctx is not None:
+    elif ctx is not None:  # a lost context raised ContextLost here: no resets to count
         after = dask_cluster.context_counts(ctx)
-        table.attrs.update({n: after[n] - counts_before[n] for n in counters})
+        table.attrs.update({n: after[n] - counts_before[n] for n in dask_cluster.CONTEXT_COUNTERS})
+        table.attrs["context_resets"] = 0
     else:  # a cluster's sweep that had nothing left to evaluate
         table.attrs.update(dict.fromkeys(counters, 0))
     return table

@@ -16,7 +16,7 @@ import pandas as pd
 from ... import io, scenes
 from ...context import Context
 from ...methods.core import Param
-from ..cluster import ACCOUNT, CONTEXT_COUNTERS, local_cluster
+from ..cluster import ACCOUNT, WORKER_COUNTERS, local_cluster
 from ..sweep import sweep, sweep_methods
 from .core import Benchmark, register
 from .rescore import RESCORED, rescore
@@ -127,7 +127,7 @@ def _random_scenes(ctx, size, p, out) -> None:
         wall = time.perf_counter() - start - startup  # the cluster's start is reported apart
         table = pd.concat(tables, ignore_index=True)
         # concat keeps no attrs that differ between the batches' tables
-        table.attrs.update({n: sum(t.attrs[n] for t in tables) for n in CONTEXT_COUNTERS})
+        table.attrs.update({n: sum(t.attrs[n] for t in tables) for n in WORKER_COUNTERS})
         done = table["scene"].nunique()
         each = f"{workers} worker{'s' * (workers > 1)}"
         used = min(gpus or listed, listed)
@@ -142,6 +142,11 @@ def _random_scenes(ctx, size, p, out) -> None:
         out.figure(f"{each}: projected wall for {p['scenes']} scenes", projected, "s")
         waits = table.attrs["fence_timeouts"]
         out.figure(f"{each}: waits for the GPU that the driver cut short", waits, "waits")
+        out.figure(
+            f"{each}: chunks evaluated again on a new context after a GPU reset",
+            table.attrs["context_resets"],
+            "chunks",
+        )
         spent = _worker_seconds(tables, workers, wall)
         if spent:
             out.table(
