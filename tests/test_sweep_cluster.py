@@ -17,7 +17,7 @@ import pytest
 from process_group import run_or_fail
 
 import blurlab as bl
-from blurlab.studies import cluster
+from blurlab.studies import cluster, cluster_devices
 
 pytest.importorskip("distributed")
 
@@ -148,33 +148,33 @@ def test_a_chunk_whose_context_the_gpu_reset_is_evaluated_again_on_a_new_one(job
 
 
 def test_worker_rank_comes_from_the_worker_name():
-    assert cluster.worker_rank(3) == 3
-    assert cluster.worker_rank("node7-1") == 1
-    assert cluster.worker_rank("12") == 12
-    assert cluster.worker_rank("tcp://10.0.0.1:4000") is None
-    assert cluster.worker_rank(None) is None
+    assert cluster_devices.worker_rank(3) == 3
+    assert cluster_devices.worker_rank("node7-1") == 1
+    assert cluster_devices.worker_rank("12") == 12
+    assert cluster_devices.worker_rank("tcp://10.0.0.1:4000") is None
+    assert cluster_devices.worker_rank(None) is None
 
 
 def test_worker_device_follows_blurlab_device_then_rank():
-    assert cluster.worker_device(5, {"BLURLAB_DEVICE": "software"}) == "software"
-    assert cluster.worker_device(5, {"BLURLAB_DEVICE": " 1 "}) == 1
+    assert cluster_devices.worker_device(5, {"BLURLAB_DEVICE": "software"}) == "software"
+    assert cluster_devices.worker_device(5, {"BLURLAB_DEVICE": " 1 "}) == 1
     gpus = [d["index"] for d in bl.Context.devices() if d["kind"] == "gpu"]
     expected = gpus[3 % len(gpus)] if gpus else "software"
-    assert cluster.worker_device(3, {"BLURLAB_DEVICE": ""}) == expected
+    assert cluster_devices.worker_device(3, {"BLURLAB_DEVICE": ""}) == expected
     with pytest.raises(ValueError, match="BLURLAB_DEVICE must be one of"):
-        cluster.worker_device(0, {"BLURLAB_DEVICE": "tpu"})
+        cluster_devices.worker_device(0, {"BLURLAB_DEVICE": "tpu"})
 
 
 def test_blurlab_gpus_keeps_the_ranks_on_the_first_gpus():
-    assert cluster.gpu_share("", 4) == 4
-    assert cluster.gpu_share("0", 4) == 4
-    assert cluster.gpu_share(" 1 ", 4) == 1
-    assert cluster.gpu_share("8", 4) == 4  # no more than the machine has
+    assert cluster_devices.gpu_share("", 4) == 4
+    assert cluster_devices.gpu_share("0", 4) == 4
+    assert cluster_devices.gpu_share(" 1 ", 4) == 1
+    assert cluster_devices.gpu_share("8", 4) == 4  # no more than the machine has
     with pytest.raises(ValueError, match="BLURLAB_GPUS must be a GPU count"):
-        cluster.gpu_share("two", 4)
+        cluster_devices.gpu_share("two", 4)
     gpus = [d["index"] for d in bl.Context.devices() if d["kind"] == "gpu"]
     expected = gpus[0] if gpus else "software"
-    assert cluster.worker_device(3, {"BLURLAB_DEVICE": "", "BLURLAB_GPUS": "1"}) == expected
+    assert cluster_devices.worker_device(3, {"BLURLAB_DEVICE": "", "BLURLAB_GPUS": "1"}) == expected
 
 
 def test_bad_cluster_arguments_are_rejected(ctx):

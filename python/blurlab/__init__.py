@@ -27,7 +27,7 @@ from .sizes import DEFAULT_SIZE
 # The studies sit above the core (the core never imports them); the package offers the most
 # used ones by name.
 from .studies import failures, plots  # noqa: E402
-from .studies.cluster import local_cluster  # noqa: E402
+from .studies.cluster_devices import local_cluster  # noqa: E402
 from .studies.recommend import recommend, recommend_set  # noqa: E402
 from .studies.sweep import sweep  # noqa: E402
 from .version import __version__ as __version__  # noqa: E402

@@ -19,7 +19,8 @@ from .sequences import frame_scenes
 from .sizes import DEFAULT_SIZE
 from .studies import plots
 from .studies.bench import command as bench_command
-from .studies.cluster import account_table, local_cluster
+from .studies.cluster import account_table
+from .studies.cluster_devices import local_cluster
 from .studies.recommend import AGGREGATES, expand, ranking_metrics, recommend, recommend_set
 from .studies.scheduler import scheduler_client
 from .studies.sequence_study import run_sequence_study

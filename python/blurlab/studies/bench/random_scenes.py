@@ -16,7 +16,8 @@ import pandas as pd
 from ... import io, scenes
 from ...context import Context
 from ...methods.core import Param
-from ..cluster import ACCOUNT, WORKER_COUNTERS, local_cluster
+from ..cluster import ACCOUNT, WORKER_COUNTERS
+from ..cluster_devices import local_cluster
 from ..sweep import sweep, sweep_methods
 from .core import Benchmark, register
 from .rescore import RESCORED, rescore

@@ -12,7 +12,7 @@ import pandas as pd
 from ... import scenes
 from ...methods.core import Param
 from .. import rankings
-from ..cluster import local_cluster
+from ..cluster_devices import local_cluster
 from ..sweep import sweep
 from .core import Benchmark, register
 from .rescore import RESCORED, rescore

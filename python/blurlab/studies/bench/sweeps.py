@@ -15,7 +15,8 @@ from ... import metrics, scenes
 from ...methods import blur
 from ...methods.core import Param
 from ...sizes import DEFAULT_SIZE
-from ..cluster import forget_scenes, local_cluster
+from ..cluster import forget_scenes
+from ..cluster_devices import local_cluster
 from ..sweep import default_grids, grid_points, sweep
 from .core import Benchmark, register
 from .filters import GRID
