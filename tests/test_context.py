@@ -2,6 +2,10 @@
 
 from __future__ import annotations
 
+import json
+import os
+import subprocess
+import sys
 import threading
 
 import pytest
@@ -26,6 +30,33 @@ def test_the_context_asks_to_be_told_of_a_gpu_reset(ctx):
     assert ctx.reset_status() == "none"
     assert ctx.gl_errors() == []
     assert issubclass(bl.ContextLost, bl.GLError)  # code that catches GLError catches it too
+
+
+SYNCED_RUN = """
+import hashlib, json
+import blurlab as bl
+ctx = bl.Context()
+frame = ctx.render(bl.scenes.get("moving_glass"), (48, 27))
+before = ctx.waits()
+out = bl.blur(ctx, frame, "engine_hdrp", translucency="layered", timed=False).color
+print(json.dumps({"sync": ctx.info()["sync_passes"], "waits": ctx.waits() - before,
+                  "sha": hashlib.sha256(out.tobytes()).hexdigest()}))
+"""
+
+
+def test_blurlab_sync_passes_waits_after_every_pass_and_changes_no_bit():
+    runs = {}
+    for flag in ("0", "1"):
+        env = {**os.environ, "BLURLAB_SYNC_PASSES": flag}
+        done = subprocess.run(
+            [sys.executable, "-c", SYNCED_RUN], env=env, capture_output=True, text=True, timeout=300
+        )
+        assert done.returncode == 0, done.stderr
+        runs[flag] = json.loads(done.stdout.splitlines()[-1])
+    assert (runs["0"]["sync"], runs["1"]["sync"]) == ("off", "on")
+    assert runs["1"]["sha"] == runs["0"]["sha"]
+    # one wait per pass of the layered blur (the layer's split, both blurs, the over)
+    assert runs["1"]["waits"] >= runs["0"]["waits"] + 5
 
 
 def has_software_device() -> bool:

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <sstream>
 
 #include "gl/buffer.h"
@@ -252,6 +253,9 @@ void Context::create_on(EGLDisplay display, const std::string& platform, const E
   info_["device_index"] = device ? std::to_string(device->index) : "-1";
   info_["device_name"] = device ? device->name : "surfaceless";
   info_["timer"] = timer_queries_valid() ? "gl_time_elapsed" : "wall_glfinish";
+  const char* sync = std::getenv("BLURLAB_SYNC_PASSES");
+  sync_passes_ = sync && std::string(sync) == "1";
+  info_["sync_passes"] = sync_passes_ ? "on" : "off";
   GLint strategy = 0;
   glGetIntegerv(GL_RESET_NOTIFICATION_STRATEGY, &strategy);
   info_["reset_notification"] = strategy == GL_LOSE_CONTEXT_ON_RESET ? "lose_context" : "none";
@@ -331,6 +335,13 @@ std::vector<std::string> Context::gl_errors() {
     errors.push_back(gl_error_name(e));
   }
   return errors;
+}
+
+void Context::after_pass(const std::string& what) {
+  if (!sync_passes_) return;
+  count_wait();
+  glFinish();
+  check_gl(("running " + what + " (BLURLAB_SYNC_PASSES)").c_str());
 }
 
 std::string Context::reset_status() {

@@ -63,6 +63,11 @@ class Context : public std::enable_shared_from_this<Context> {
   // "available"); empty on drivers without it, llvmpipe included.
   std::map<std::string, long long> memory();
 
+  // After each pass: where BLURLAB_SYNC_PASSES=1 was set when the context was made, waits for the
+  // GPU and checks for errors, so that a GPU fault or reset is reported by the pass that caused
+  // it (ContextLost names it) rather than by a later read. Off, it does nothing.
+  void after_pass(const std::string& what);
+
   const std::map<std::string, std::string>& info() const { return info_; }
   bool is_software() const { return software_; }
   // llvmpipe's timer queries report nonsense (docs/gpu.md), so software contexts time by wall
@@ -108,6 +113,7 @@ class Context : public std::enable_shared_from_this<Context> {
   EGLContext context_ = EGL_NO_CONTEXT;
   std::thread::id owner_;
   bool software_ = false;
+  bool sync_passes_ = false;
   int max_texture_size_ = 0;
   std::string shader_dir_;
   std::map<std::string, std::string> info_;

@@ -41,6 +41,7 @@ void FullscreenDraw::draw(const Program& program, const Texture& target) {
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   glMemoryBarrier(GL_ALL_BARRIER_BITS);
   check_gl(("drawing " + program.name()).c_str());
+  context_->after_pass(program.name());
 }
 
 }  // namespace blurlab

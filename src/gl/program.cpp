@@ -579,6 +579,7 @@ void Program::dispatch(int groups_x, int groups_y, int groups_z) {
   // Later passes, downloads and draws read what this pass wrote.
   glMemoryBarrier(GL_ALL_BARRIER_BITS);
   check_gl(("dispatching " + name_).c_str());
+  context_->after_pass(name_);
 }
 
 }  // namespace blurlab

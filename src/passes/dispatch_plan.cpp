@@ -57,6 +57,7 @@ void DispatchPlan::run(const std::vector<const Texture*>& textures) {
       glDispatchCompute(step.groups[0], step.groups[1], step.groups[2]);
       // Later passes, downloads and draws read what this pass wrote.
       glMemoryBarrier(GL_ALL_BARRIER_BITS);
+      context_->after_pass(step.program->name());
     } else {
       if (!fullscreen_) fullscreen_ = std::make_unique<FullscreenDraw>(context_);
       fullscreen_->draw(*step.program, *textures[step.target]);

@@ -263,6 +263,7 @@ void GBufferPass::render(const GBufferTargets& targets, const GBufferCamera& cam
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   glMemoryBarrier(GL_ALL_BARRIER_BITS);
   check_gl("rendering the G-buffer");
+  context_->after_pass(layers ? "the G-buffer with fragment lists" : "the G-buffer");
 }
 
 }  // namespace blurlab
