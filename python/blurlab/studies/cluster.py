@@ -114,10 +114,10 @@ def run_chunk(scene, scene_key, jobs, settings, imported=None) -> tuple[str, lis
         try:
             return _run_chunk_once(scene, scene_key, jobs, settings, imported)
         except ContextLost as error:
+            _drop_lost_context(error)  # also when giving up: later chunks get a new context
             resets += 1
             if resets > RESETS_PER_CHUNK:
                 raise
-            _drop_lost_context(error)
 
 
 def _run_chunk_once(scene, scene_key, jobs, settings, imported) -> tuple[str, list, dict]:
