@@ -435,7 +435,7 @@ class Context:
     def reset_status(self) -> str:
         """Whether the GPU reset this context since it was made: "none", "guilty" (its own work
         caused it), "innocent" or "unknown". After a reset every texture and pass is lost and
-        blurlab's calls raise GL_CONTEXT_LOST; make a new Context. Where the driver gives no
+        blurlab's calls raise ``blurlab.ContextLost``; make a new Context. Where the driver gives no
         notification (``info()["reset_notification"]`` is "none") this is always "none"."""
         return self._core.reset_status()
 

@@ -18,7 +18,7 @@ from ...methods.core import Param
 from ...sizes import DEFAULT_SIZE
 from .. import transparency
 from .core import Benchmark, register
-from .timing import spin_up, split
+from .timing import median_passes, spin_up, split
 
 
 def layer_cost(ctx, scene_name: str, method: str, size, runs: int = 10) -> dict:
@@ -34,10 +34,7 @@ def layer_cost(ctx, scene_name: str, method: str, size, runs: int = 10) -> dict:
     drawn_opaque = ctx.render(
         transparency.drawn_opaque_scene(scene_name), size, instant=method_instant(method)
     )
-    spin_up(ctx, lambda: blur(ctx, drawn_opaque, method))
-    drawn_opaque_ms = float(
-        np.median([blur(ctx, drawn_opaque, method).total_ms for _ in range(runs)])
-    )
+    drawn_opaque_ms = median_passes(ctx, drawn_opaque, method, runs)[0]["total"]
     times = {}
     parts = {"opaque": [], "layer": [], "over": []}
     for approach in ("composite", "layered"):
