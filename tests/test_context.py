@@ -40,19 +40,26 @@ frame = ctx.render(bl.scenes.get("moving_glass"), (48, 27))
 before = ctx.waits()
 out = bl.blur(ctx, frame, "engine_hdrp", translucency="layered", timed=False).color
 print(json.dumps({"sync": ctx.info()["sync_passes"], "waits": ctx.waits() - before,
+                  "notification": ctx.info()["reset_notification"],
                   "sha": hashlib.sha256(out.tobytes()).hexdigest()}))
 """
 
 
+def _synced_run(**environment) -> dict:
+    """SYNCED_RUN in a process of its own with `environment` added to this one's."""
+    done = subprocess.run(
+        [sys.executable, "-c", SYNCED_RUN],
+        env={**os.environ, **environment},
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert done.returncode == 0, done.stderr
+    return json.loads(done.stdout.splitlines()[-1])
+
+
 def test_blurlab_sync_passes_waits_after_every_pass_and_changes_no_bit():
-    runs = {}
-    for flag in ("0", "1"):
-        env = {**os.environ, "BLURLAB_SYNC_PASSES": flag}
-        done = subprocess.run(
-            [sys.executable, "-c", SYNCED_RUN], env=env, capture_output=True, text=True, timeout=300
-        )
-        assert done.returncode == 0, done.stderr
-        runs[flag] = json.loads(done.stdout.splitlines()[-1])
+    runs = {flag: _synced_run(BLURLAB_SYNC_PASSES=flag) for flag in ("0", "1")}
     assert (runs["0"]["sync"], runs["1"]["sync"]) == ("off", "on")
     assert runs["1"]["sha"] == runs["0"]["sha"]
     # one wait per pass of the layered blur (the layer's split, both blurs, the over)
@@ -141,3 +148,10 @@ def test_contexts_can_be_created_and_freed_repeatedly():
         texture = context.upload(__import__("numpy").ones((3, 3), "float32"))
         assert texture.download().sum() == 9
         del texture, context
+
+
+def test_blurlab_reset_notification_0_makes_a_plain_context_with_the_same_images():
+    runs = {flag: _synced_run(BLURLAB_RESET_NOTIFICATION=flag) for flag in ("1", "0")}
+    assert runs["1"]["notification"] == "lose_context"
+    assert runs["0"]["notification"] == "none"
+    assert runs["0"]["sha"] == runs["1"]["sha"]

@@ -204,7 +204,11 @@ void Context::create_on(EGLDisplay display, const std::string& platform, const E
   }
   // Asked first: to be told when the GPU resets the context (EGL 1.5). A reset loses every
   // texture, and without notification the calls after it do nothing and report no error, so
-  // a read-back returns whatever the memory held. Where the driver refuses, a plain context.
+  // a read-back returns whatever the memory held. Where the driver refuses, a plain context;
+  // BLURLAB_RESET_NOTIFICATION=0 asks for the plain one, to compare a driver's resets with and
+  // without notification (docs/gpu.md).
+  const char* notification = std::getenv("BLURLAB_RESET_NOTIFICATION");
+  const bool ask_notification = !(notification && std::string(notification) == "0");
   EGLint attributes[] = {EGL_CONTEXT_MAJOR_VERSION,
                          4,
                          EGL_CONTEXT_MINOR_VERSION,
@@ -214,7 +218,7 @@ void Context::create_on(EGLDisplay display, const std::string& platform, const E
                          EGL_CONTEXT_OPENGL_RESET_NOTIFICATION_STRATEGY,
                          EGL_LOSE_CONTEXT_ON_RESET,
                          EGL_NONE};
-  if (major > 1 || (major == 1 && minor >= 5))
+  if (ask_notification && (major > 1 || (major == 1 && minor >= 5)))
     context_ = eglCreateContext(display, config, EGL_NO_CONTEXT, attributes);
   if (context_ == EGL_NO_CONTEXT) {
     eglGetError();  // the refusal of the notification, not a failure yet
