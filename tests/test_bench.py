@@ -298,3 +298,26 @@ def test_every_pass_layout_gives_the_default_layouts_image(ctx):
     for row in rows:
         bound = 1e-5 if row["pass"] == "film filter" else 0.0
         assert row["largest difference from the default"] <= bound, row
+
+
+class _GpuClockedContext:
+    """A context that reports GPU timer queries and counts its waits: spin_up's loop as it runs
+    on a GPU, without one."""
+
+    def __init__(self):
+        self.waits = 0
+
+    def info(self):
+        return {"timer": "gl_time_elapsed"}
+
+    def finish(self):
+        self.waits += 1
+
+
+def test_spin_up_waits_for_each_untimed_call_on_a_gpu_clock():
+    # Unwaited, a slow method's spin-up queued seconds of GPU work past SPIN_UP_S.
+    ctx, calls = _GpuClockedContext(), []
+    timing.spin_up(ctx, lambda: calls.append(ctx.waits))
+    assert len(calls) > 1
+    # every call after the first finds the one before it finished
+    assert calls == list(range(len(calls)))
