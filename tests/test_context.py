@@ -41,6 +41,7 @@ before = ctx.waits()
 out = bl.blur(ctx, frame, "engine_hdrp", translucency="layered", timed=False).color
 print(json.dumps({"sync": ctx.info()["sync_passes"], "waits": ctx.waits() - before,
                   "notification": ctx.info()["reset_notification"],
+                  "in_flight": ctx.info()["passes_in_flight"], "pacing": ctx.pacing_waits(),
                   "sha": hashlib.sha256(out.tobytes()).hexdigest()}))
 """
 
@@ -155,3 +156,26 @@ def test_blurlab_reset_notification_0_makes_a_plain_context_with_the_same_images
     assert runs["1"]["notification"] == "lose_context"
     assert runs["0"]["notification"] == "none"
     assert runs["0"]["sha"] == runs["1"]["sha"]
+
+
+def test_blurlab_passes_in_flight_bounds_the_queue_with_the_same_images():
+    runs = {flag: _synced_run(BLURLAB_PASSES_IN_FLIGHT=flag) for flag in ("", "1")}
+    assert (runs[""]["in_flight"], runs["1"]["in_flight"]) == ("unbounded", "1")
+    assert runs[""]["pacing"] == 0
+    assert runs["1"]["sha"] == runs[""]["sha"]
+    # llvmpipe finishes each pass before the next is issued, so the bound never waits there
+    assert runs["1"]["waits"] == runs[""]["waits"]
+
+
+@pytest.mark.parametrize("value", ["x", "-1", "2.5", "2000000"])
+def test_a_bad_blurlab_passes_in_flight_is_refused_in_words(value):
+    done = subprocess.run(
+        [sys.executable, "-c", "import blurlab as bl; bl.Context()"],
+        env={**os.environ, "BLURLAB_PASSES_IN_FLIGHT": value},
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert done.returncode != 0
+    allowed = "must be a whole number from 0 (no bound) to 1000000"
+    assert f"BLURLAB_PASSES_IN_FLIGHT {allowed}, not '{value}'" in done.stderr

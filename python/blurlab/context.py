@@ -416,6 +416,12 @@ class Context:
         reads memory the GPU is still writing. Nonzero on a busy GPU; a count for reports."""
         return self._core.fence_timeouts
 
+    def pacing_waits(self) -> int:
+        """How many times the CPU waited for the oldest of its issued passes because more than
+        BLURLAB_PASSES_IN_FLIGHT were unfinished (``info()["passes_in_flight"]``; docs/spec.md
+        §6.3). Not among waits(): nothing is read."""
+        return self._core.pacing_waits
+
     def stale_readbacks(self) -> int:
         """How many batches of GPU metrics came back lacking their passes' tickets, so not what
         the passes wrote (``blurlab.StaleReadback``, docs/spec.md §6.3), and were refused: a

@@ -106,6 +106,7 @@ void bind_gl(py::module_& m) {
       .def("finish", &Context::finish, py::call_guard<py::gil_scoped_release>())
       .def_property_readonly("waits", &Context::waits)
       .def_property_readonly("fence_timeouts", &Context::fence_timeouts)
+      .def_property_readonly("pacing_waits", &Context::pacing_waits)
       .def_property_readonly("stale_readbacks", &Context::stale_readbacks)
       .def("make_current", &Context::make_current)
       .def_property_readonly("software", &Context::is_software)

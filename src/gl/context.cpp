@@ -87,7 +87,25 @@ std::vector<EglDevice> Context::devices() {
   return result;
 }
 
+namespace {
+// BLURLAB_PASSES_IN_FLIGHT: the most issued passes a context leaves unfinished (0 or unset: no
+// bound; docs/spec.md §6.3).
+size_t passes_in_flight_bound() {
+  const char* in_flight = std::getenv("BLURLAB_PASSES_IN_FLIGHT");
+  if (!in_flight || !*in_flight) return 0;
+  char* end = nullptr;
+  const long bound = std::strtol(in_flight, &end, 10);
+  if (*end != '\0' || bound < 0 || bound > 1000000)
+    throw std::invalid_argument(
+        std::string("blurlab: BLURLAB_PASSES_IN_FLIGHT must be a whole number from 0 (no bound) "
+                    "to 1000000, not '") +
+        in_flight + "'");
+  return static_cast<size_t>(bound);
+}
+}  // namespace
+
 std::shared_ptr<Context> Context::create(const DeviceRequest& request, std::string shader_dir) {
+  passes_in_flight_bound();  // a bad value is the caller's error, not a device's
   load_egl();
   const std::vector<EglDevice> devices = Context::devices();
   std::vector<EGLDeviceEXT> handles(devices.size());
@@ -182,6 +200,7 @@ std::shared_ptr<Context> Context::create(const DeviceRequest& request, std::stri
 }
 
 void Context::create_on(EGLDisplay display, const std::string& platform, const EglDevice* device) {
+  max_passes_in_flight_ = passes_in_flight_bound();
   EGLint major = 0, minor = 0;
   if (!eglInitialize(display, &major, &minor))
     throw std::runtime_error("eglInitialize failed (" + egl_error_text() + ")");
@@ -260,6 +279,8 @@ void Context::create_on(EGLDisplay display, const std::string& platform, const E
   const char* sync = std::getenv("BLURLAB_SYNC_PASSES");
   sync_passes_ = sync && std::string(sync) == "1";
   info_["sync_passes"] = sync_passes_ ? "on" : "off";
+  info_["passes_in_flight"] =
+      max_passes_in_flight_ ? std::to_string(max_passes_in_flight_) : "unbounded";
   GLint strategy = 0;
   glGetIntegerv(GL_RESET_NOTIFICATION_STRATEGY, &strategy);
   info_["reset_notification"] = strategy == GL_LOSE_CONTEXT_ON_RESET ? "lose_context" : "none";
@@ -277,6 +298,7 @@ Context::~Context() {
       run_deferred();
       spare_pack_buffers_.clear();
       glFinish();
+      drop_passes_in_flight();
     }
     if (eglGetCurrentContext() == context_)
       eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
@@ -342,10 +364,40 @@ std::vector<std::string> Context::gl_errors() {
 }
 
 void Context::after_pass(const std::string& what) {
-  if (!sync_passes_) return;
-  count_wait();
-  glFinish();
-  check_gl(("running " + what + " (BLURLAB_SYNC_PASSES)").c_str());
+  if (sync_passes_) {
+    count_wait();
+    glFinish();
+    check_gl(("running " + what + " (BLURLAB_SYNC_PASSES)").c_str());
+  } else if (max_passes_in_flight_ > 0) {
+    bound_passes_in_flight();
+  }
+}
+
+void Context::bound_passes_in_flight() {
+  passes_in_flight_.push_back(glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0));
+  auto signalled = [](GLsync fence, GLbitfield flags, GLuint64 timeout) {
+    const GLenum waited = glClientWaitSync(fence, flags, timeout);
+    return waited == GL_ALREADY_SIGNALED || waited == GL_CONDITION_SATISFIED;
+  };
+  while (!passes_in_flight_.empty() && signalled(passes_in_flight_.front(), 0, 0)) {
+    glDeleteSync(passes_in_flight_.front());
+    passes_in_flight_.pop_front();
+  }
+  while (passes_in_flight_.size() > max_passes_in_flight_) {
+    ++pacing_waits_;
+    // A second at a time, as wait_for_fence: a reset context's fences may never signal, and
+    // its next read raises ContextLost.
+    while (!signalled(passes_in_flight_.front(), GL_SYNC_FLUSH_COMMANDS_BIT, 1000000000ull)) {
+      if (reset_status_name() != "none") return drop_passes_in_flight();
+    }
+    glDeleteSync(passes_in_flight_.front());
+    passes_in_flight_.pop_front();
+  }
+}
+
+void Context::drop_passes_in_flight() {
+  for (GLsync fence : passes_in_flight_) glDeleteSync(fence);
+  passes_in_flight_.clear();
 }
 
 std::string Context::reset_status() {

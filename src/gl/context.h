@@ -4,6 +4,7 @@
 #pragma once
 
 #include <atomic>
+#include <deque>
 #include <functional>
 #include <map>
 #include <memory>
@@ -65,8 +66,12 @@ class Context : public std::enable_shared_from_this<Context> {
 
   // After each pass: where BLURLAB_SYNC_PASSES=1 was set when the context was made, waits for the
   // GPU and checks for errors, so that a GPU fault or reset is reported by the pass that caused
-  // it (ContextLost names it) rather than by a later read. Off, it does nothing.
+  // it (ContextLost names it) rather than by a later read. Where BLURLAB_PASSES_IN_FLIGHT=N was
+  // set, it keeps at most N issued passes unfinished, waiting for the oldest beyond them
+  // (docs/spec.md §6.3). Otherwise it does nothing.
   void after_pass(const std::string& what);
+  // Waits of the BLURLAB_PASSES_IN_FLIGHT bound (not counted in waits(): nothing is read).
+  long long pacing_waits() const { return pacing_waits_; }
 
   const std::map<std::string, std::string>& info() const { return info_; }
   bool is_software() const { return software_; }
@@ -114,6 +119,13 @@ class Context : public std::enable_shared_from_this<Context> {
   std::thread::id owner_;
   bool software_ = false;
   bool sync_passes_ = false;
+  // BLURLAB_PASSES_IN_FLIGHT (0: no bound), and a fence after each pass issued under it, oldest
+  // first.
+  size_t max_passes_in_flight_ = 0;
+  std::deque<GLsync> passes_in_flight_;
+  long long pacing_waits_ = 0;  // the owner thread's, as fence_timeouts_
+  void bound_passes_in_flight();
+  void drop_passes_in_flight();
   int max_texture_size_ = 0;
   std::string shader_dir_;
   std::map<std::string, std::string> info_;

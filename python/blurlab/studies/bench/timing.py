@@ -23,8 +23,8 @@ def spin_up(ctx, call) -> None:
     """Calls `call()` untimed: once (compiled, pooled, JIT-compiled on llvmpipe), and on a GPU
     clock for SPIN_UP_S of the GPU's time, so that its clocks are up when timing starts. Each
     call is waited for: issued for SPIN_UP_S unwaited, the calls of reconstruct_urho3d at
-    1080p on the H100 queued about 1300 calls' work, up to 14 s, and the driver reset the
-    context in that queue on its two slowest scenes (docs/spec.md §6.3)."""
+    1080p on the H100 queued 1100 to 1900 calls' work (8.9 s on vehicle), and the driver
+    reset the context in that queue on its two slowest scenes (docs/spec.md §6.3)."""
     start, spin = time.perf_counter(), gpu_clock(ctx)
     call()
     while spin and time.perf_counter() - start < SPIN_UP_S:
