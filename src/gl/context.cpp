@@ -88,11 +88,11 @@ std::vector<EglDevice> Context::devices() {
 }
 
 namespace {
-// BLURLAB_PASSES_IN_FLIGHT: the most issued passes a context leaves unfinished (0 or unset: no
-// bound; docs/spec.md §6.3).
+// The most issued passes a context leaves unfinished: BLURLAB_PASSES_IN_FLIGHT where it is set
+// (0: no bound), else Context::kPassesInFlight (docs/spec.md §6.3).
 size_t passes_in_flight_bound() {
   const char* in_flight = std::getenv("BLURLAB_PASSES_IN_FLIGHT");
-  if (!in_flight || !*in_flight) return 0;
+  if (!in_flight || !*in_flight) return Context::kPassesInFlight;
   char* end = nullptr;
   const long bound = std::strtol(in_flight, &end, 10);
   if (*end != '\0' || bound < 0 || bound > 1000000)
