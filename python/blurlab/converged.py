@@ -132,7 +132,8 @@ def reference_render(
     per_subframe = not ctx.software
     timings = []
     # Translucent surfaces (docs/spec.md §20): every sub-frame's fragment count is checked once,
-    # after the loop, so the loop never waits for the GPU.
+    # after the loop, so the loop never waits for a result (only, past the context's bound on
+    # unfinished passes, for the GPU to catch up).
     most_fragments = ctx.pooled((1, 1), "uint32") if scene.translucent else None
     if most_fragments is not None:
         most_fragments.clear()
