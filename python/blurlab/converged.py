@@ -126,7 +126,7 @@ def reference_render(
         from tqdm.auto import tqdm
 
         iterator = tqdm(times, desc=f"reference N={samples}", unit="sub-frame", leave=False)
-    # No wait for the GPU per sub-frame (docs/spec.md §11): GL timer queries time each sub-frame
+    # No result read per sub-frame (docs/spec.md §11): GL timer queries time each sub-frame
     # and are read once after the loop; a wall clock (software contexts) can only time by waiting
     # (glFinish), so there one timer spans the whole loop instead.
     per_subframe = not ctx.software
