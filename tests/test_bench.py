@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 import warnings
 from pathlib import Path
 
@@ -321,3 +322,16 @@ def test_spin_up_waits_for_each_untimed_call_on_a_gpu_clock():
     assert len(calls) > 1
     # every call after the first finds the one before it finished
     assert calls == list(range(len(calls)))
+
+
+@pytest.mark.parametrize(
+    "given, message",
+    [
+        ({"settings": "bounded,fast"}, "queue_depth settings 'bounded,fast': from bounded"),
+        ({"method": "accumulation"}, "queue_depth method 'accumulation': one of"),
+        ({"scenes": "nowhere"}, "queue_depth scenes 'nowhere': built-in or failure scenes"),
+    ],
+)
+def test_queue_depth_refuses_what_it_cannot_run_in_words(ctx, given, message):
+    with pytest.raises(ValueError, match=re.escape(message)):
+        core.run_benchmark(ctx, "queue_depth", "tiny", None, given)
