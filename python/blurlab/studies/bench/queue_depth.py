@@ -1,6 +1,7 @@
-"""What a driver does with a deep queue (docs/spec.md §6.3): untimed calls of a slow
-fragment-pass method issued without a wait for a while, then a timer read, in a process of its
-own for each setting of the context's bound on unfinished passes and its reset notification.
+"""What a driver does with a deep queue (docs/spec.md §6.3): untimed calls of a slow method
+(by default the one drawn by fragment passes alone) issued without a wait for a while, then a
+timer read, in a process of its own for each setting of the context's bound on unfinished
+passes and its reset notification.
 The H100's driver reset contexts ("guilty") in such queues; this benchmark says whether a
 device does, and whether the bound or the notification is what decides it."""
 
@@ -12,6 +13,7 @@ import subprocess
 import sys
 
 from ... import scenes
+from ...methods import method
 from ...methods.core import Param
 from .core import Benchmark, register
 from .timing import post_process_methods, split
@@ -89,7 +91,8 @@ def _queue_depth(ctx, size, p, out) -> None:
             "comma-separated"
         )
     one_frame = post_process_methods()
-    if p["method"] not in one_frame:
+    name = p["method"] or next(n for n in one_frame if method(n).backends == ("fragment",))
+    if name not in one_frame:
         raise ValueError(
             f"blurlab: queue_depth method {p['method']!r}: one of {', '.join(one_frame)}"
         )
@@ -102,7 +105,7 @@ def _queue_depth(ctx, size, p, out) -> None:
     rows, lost = [], dict.fromkeys(settings, 0)
     for setting in settings:
         for scene in chosen:
-            run = _queue_run(ctx, setting, scene, p["method"], size, p["issue_s"])
+            run = _queue_run(ctx, setting, scene, name, size, p["issue_s"])
             lost[setting] += run["lost"] != "no"
             queued = run["calls"] * run["call_ms"] / 1e3 if "calls" in run else MISSING
             rows.append(
@@ -121,7 +124,7 @@ def _queue_depth(ctx, size, p, out) -> None:
                 ]
             )
     out.table(
-        f"{p['method']} issued for {p['issue_s']:g} s without a wait, then a timer read, in a "
+        f"{name} issued for {p['issue_s']:g} s without a wait, then a timer read, in a "
         "process of its own per setting and scene",
         [
             ("setting", ""),
@@ -153,9 +156,10 @@ register(
                 "camera_yaw,near_plane", object, "comma-separated built-in or failure scenes"
             ),
             "method": Param(
-                "reconstruct_urho3d",
+                "",
                 object,
-                "a method that blurs one frame (reconstruct_urho3d's passes are fragment passes)",
+                "a method that blurs one frame (empty: the one drawn by fragment passes alone, "
+                "the slowest on the H100)",
             ),
             "issue_s": Param(0.25, float, "seconds of issuing without a wait", 0.01, 10.0),
             "settings": Param(
