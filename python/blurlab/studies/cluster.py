@@ -79,9 +79,10 @@ def _drop_lost_context(error: ContextLost) -> None:
 
 
 # Context's counters of troubles met and mended while evaluating (Context.fence_timeouts: waits
-# the driver cut short; Context.stale_readbacks: batches of metrics scored again), which a
-# worker's account and a sweep's table report by these names.
-CONTEXT_COUNTERS = ("fence_timeouts", "stale_readbacks")
+# the driver cut short; Context.stale_readbacks: batches of metrics scored again;
+# Context.pacing_waits: waits at the bound on unfinished passes), which a worker's account and
+# a sweep's table report by these names.
+CONTEXT_COUNTERS = ("fence_timeouts", "stale_readbacks", "pacing_waits")
 # And the worker's own: the contexts it opened again after the GPU reset one
 # (blurlab.ContextLost), each time evaluating its chunk again from the start.
 WORKER_COUNTERS = (*CONTEXT_COUNTERS, "context_resets")
@@ -211,8 +212,10 @@ def worker_report() -> dict:
     ``fence_timeouts``: the waits for the GPU in its tasks that the driver ended early
     (Context.fence_timeouts), each waited again. ``stale_readbacks``: the batches of GPU
     metrics whose partial sums came back without their tickets (Context.stale_readbacks),
-    each scored again. ``context_resets``: the times the GPU reset its context
-    (blurlab.ContextLost) and it opened a new one to evaluate the chunk again."""
+    each scored again. ``pacing_waits``: the times its context waited for the GPU at the
+    bound on unfinished passes (Context.pacing_waits). ``context_resets``: the times the GPU
+    reset its context (blurlab.ContextLost) and it opened a new one to evaluate the chunk
+    again."""
     if "ctx" not in _worker_state:
         return {"device": None, **_new_log(0.0), "evaluations_s": 0.0, "scenes_kept": []}
     info = _worker_state["ctx"].info()

@@ -127,6 +127,8 @@ def sweep(
     ``table.attrs["stale_readbacks"]`` the batches of GPU metrics refused for missing tickets
     and scored again (docs/spec.md §6.3); each row's ``stale_readbacks`` column counts the
     refused reads of its own metrics, and a results file keeps it.
+    ``table.attrs["pacing_waits"]`` counts the waits at the context's bound on unfinished
+    passes (Context.pacing_waits).
     ``table.attrs["context_resets"]`` counts the chunks a cluster's workers evaluated again on
     a new context after the GPU reset theirs (blurlab.ContextLost); a local sweep whose context
     the GPU resets raises ContextLost, and a new context resumes from `out`.

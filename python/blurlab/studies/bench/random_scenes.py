@@ -143,6 +143,8 @@ def _random_scenes(ctx, size, p, out) -> None:
         out.figure(f"{each}: projected wall for {p['scenes']} scenes", projected, "s")
         waits = table.attrs["fence_timeouts"]
         out.figure(f"{each}: waits for the GPU that the driver cut short", waits, "waits")
+        paced = table.attrs["pacing_waits"]
+        out.figure(f"{each}: waits at the bound on unfinished passes", paced, "waits")
         out.figure(
             f"{each}: chunks evaluated again on a new context after a GPU reset",
             table.attrs["context_resets"],
