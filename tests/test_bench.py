@@ -329,7 +329,9 @@ def test_spin_up_waits_for_each_untimed_call_on_a_gpu_clock():
     [
         ({"settings": "bounded,fast"}, "queue_depth settings 'bounded,fast': from bounded"),
         ({"method": "accumulation"}, "queue_depth method 'accumulation': one of"),
-        ({"scenes": "nowhere"}, "queue_depth scenes 'nowhere': built-in or failure scenes"),
+        ({"scenes": "nowhere"}, "queue_depth scenes 'nowhere': built-in, failure or"),
+        ({"reference_scenes": "x"}, "queue_depth reference_scenes 'x': built-in, failure or"),
+        ({"scenes": "", "reference_scenes": ""}, "queue_depth needs scenes or reference_scenes"),
     ],
 )
 def test_queue_depth_refuses_what_it_cannot_run_in_words(ctx, given, message):

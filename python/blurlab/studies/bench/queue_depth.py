@@ -1,9 +1,9 @@
 """What a driver does with a deep queue (docs/spec.md §6.3): untimed calls of a slow method
 (by default the one drawn by fragment passes alone) issued without a wait for a while, then a
-timer read, in a process of its own for each setting of the context's bound on unfinished
-passes and its reset notification.
-The H100's driver reset contexts ("guilty") in such queues; this benchmark says whether a
-device does, and whether the bound or the notification is what decides it."""
+timer read, and a long reference, whose sub-frames' timers are read after the last, each in a
+process of its own for each setting of the context's bound on unfinished passes and its reset
+notification. The H100's driver reset contexts ("guilty") in such queues; this benchmark says
+whether a device does, and whether the bound or the notification is what decides it."""
 
 from __future__ import annotations
 
@@ -29,28 +29,35 @@ SETTINGS = {
 }
 MISSING = "–"  # a cell the run did not reach: its context was lost before
 
-# One setting on one scene, in a process of its own (its context made with the setting's
-# environment): JSON on the last line of its output.
+# One loop under one setting, in a process of its own (its context made with the setting's
+# environment): "calls" issues a method's untimed calls for issue_s, then reads a timer;
+# "reference" renders a reference of `samples` sub-frames, whose timers are read once after the
+# last (docs/spec.md §11). JSON on the last line of its output.
 _QUEUE_RUN = """
 import json, sys, time
 import blurlab as bl
-device, scene_name, method, size, issue_s = json.loads(sys.argv[1])
+device, loop, scene_name, method, size, issue_s, samples = json.loads(sys.argv[1])
 ctx = bl.Context(device)
 row = {"bound": ctx.info()["passes_in_flight"], "notification": ctx.info()["reset_notification"]}
 try:
-    frame = ctx.render(bl.scenes.get(scene_name), tuple(size))
-    bl.blur(ctx, frame, method, timed=False)
-    with ctx.timer() as one:
+    scene = bl.scenes.get(scene_name)
+    start = time.perf_counter()
+    if loop == "reference":
+        reference = ctx.reference(scene, tuple(size), samples=samples, progress=False)
+        row.update(each_ms=reference.ms_per_subframe, issued=samples)
+    else:
+        frame = ctx.render(scene, tuple(size))
         bl.blur(ctx, frame, method, timed=False)
-    row["call_ms"] = one.ms
-    calls, start = 0, time.perf_counter()
-    while time.perf_counter() - start < issue_s:
-        bl.blur(ctx, frame, method, timed=False)
-        calls += 1
-    issued = time.perf_counter()
-    with ctx.timer():  # its result is read on leaving: the read that met the resets
-        bl.blur(ctx, frame, method, timed=False)
-    row.update(calls=calls, issue_s=issued - start, drain_s=time.perf_counter() - issued)
+        with ctx.timer() as one:
+            bl.blur(ctx, frame, method, timed=False)
+        calls, start = 0, time.perf_counter()
+        while time.perf_counter() - start < issue_s:
+            bl.blur(ctx, frame, method, timed=False)
+            calls += 1
+        with ctx.timer():  # its result is read on leaving: the read that met the resets
+            bl.blur(ctx, frame, method, timed=False)
+        row.update(each_ms=one.ms, issued=calls)
+    row["wall_s"] = time.perf_counter() - start
     row["lost"] = "no"
 except bl.ContextLost as error:
     row["lost"] = str(error)
@@ -66,8 +73,10 @@ def _device(ctx):
     return index if index >= 0 else ctx.info()["device"]
 
 
-def _queue_run(ctx, setting: str, scene: str, name: str, size, issue_s: float) -> dict:
-    arguments = json.dumps([_device(ctx), scene, name, list(size), issue_s])
+def _queue_run(ctx, setting: str, loop: str, scene: str, name: str, size, p) -> dict:
+    arguments = json.dumps(
+        [_device(ctx), loop, scene, name, list(size), p["issue_s"], p["reference_samples"]]
+    )
     done = subprocess.run(
         [sys.executable, "-c", _QUEUE_RUN, arguments],
         env={**os.environ, **SETTINGS[setting]},
@@ -77,19 +86,27 @@ def _queue_run(ctx, setting: str, scene: str, name: str, size, issue_s: float) -
     )
     if done.returncode != 0:
         raise RuntimeError(
-            f"blurlab: queue_depth: the run of {setting!r} on {scene} failed:\n{done.stderr}"
+            f"blurlab: queue_depth: the {loop} run of {setting!r} on {scene} failed:\n{done.stderr}"
         )
     return json.loads(done.stdout.splitlines()[-1])
 
 
-def _queue_depth(ctx, size, p, out) -> None:
-    chosen = split(p["scenes"])
-    unknown = sorted(set(chosen) - set(scenes.names() + scenes.names("failure")))
-    if unknown or not chosen:
+def _scenes(text: str, what: str) -> list[str]:
+    chosen = split(text)
+    known = scenes.names() + scenes.names("failure") + scenes.names("transparency")
+    if set(chosen) - set(known):
         raise ValueError(
-            f"blurlab: queue_depth scenes {p['scenes']!r}: built-in or failure scenes, "
+            f"blurlab: queue_depth {what} {text!r}: built-in, failure or transparency scenes, "
             "comma-separated"
         )
+    return chosen
+
+
+def _queue_depth(ctx, size, p, out) -> None:
+    loops = [("calls", scene) for scene in _scenes(p["scenes"], "scenes")]
+    loops += [("reference", scene) for scene in _scenes(p["reference_scenes"], "reference_scenes")]
+    if not loops:
+        raise ValueError("blurlab: queue_depth needs scenes or reference_scenes")
     one_frame = post_process_methods()
     name = p["method"] or next(n for n in one_frame if method(n).backends == ("fragment",))
     if name not in one_frame:
@@ -102,39 +119,44 @@ def _queue_depth(ctx, size, p, out) -> None:
             f"blurlab: queue_depth settings {p['settings']!r}: from {', '.join(SETTINGS)}, "
             "separated by commas"
         )
+    labels = {
+        "calls": f"{name} for {p['issue_s']:g} s, then a timer",
+        "reference": f"a reference of {p['reference_samples']} sub-frames",
+    }
     rows, lost = [], dict.fromkeys(settings, 0)
     for setting in settings:
-        for scene in chosen:
-            run = _queue_run(ctx, setting, scene, name, size, p["issue_s"])
+        for loop, scene in loops:
+            run = _queue_run(ctx, setting, loop, scene, name, size, p)
             lost[setting] += run["lost"] != "no"
-            queued = run["calls"] * run["call_ms"] / 1e3 if "calls" in run else MISSING
+            queued = run["issued"] * run["each_ms"] / 1e3 if "issued" in run else MISSING
             rows.append(
                 [
                     setting,
+                    labels[loop],
                     scene,
                     run["bound"],
                     run["notification"],
-                    run.get("call_ms", MISSING),
-                    run.get("calls", MISSING),
+                    run.get("each_ms", MISSING),
+                    run.get("issued", MISSING),
                     queued,
-                    run.get("drain_s", MISSING),
+                    run.get("wall_s", MISSING),
                     run["pacing_waits"],
                     run["reset_status"],
                     run["lost"],
                 ]
             )
     out.table(
-        f"{name} issued for {p['issue_s']:g} s without a wait, then a timer read, in a "
-        "process of its own per setting and scene",
+        "loops that issue without a wait, each in a process of its own per setting and scene",
         [
             ("setting", ""),
+            ("loop", ""),
             ("scene", ""),
             ("passes in flight", ""),
             ("reset notification", ""),
-            ("ms a call", "ms"),
-            ("calls issued", ""),
+            ("ms each (a call, a sub-frame)", "ms"),
+            ("issued", ""),
             ("their GPU work", "s"),
-            ("wait for the last call", "s"),
+            ("wall of the loop and its read", "s"),
             ("pacing waits", ""),
             ("reset status", ""),
             ("context lost", ""),
@@ -142,18 +164,20 @@ def _queue_depth(ctx, size, p, out) -> None:
         rows,
     )
     for setting, count in lost.items():
-        out.figure(f"{setting}: contexts lost, of {len(chosen)}", count, "")
+        out.figure(f"{setting}: contexts lost, of {len(loops)}", count, "")
 
 
 register(
     Benchmark(
         "queue_depth",
-        "untimed calls of a slow fragment-pass method issued without a wait, then a timer "
-        "read, with and without the bound on unfinished passes and the reset notification: "
-        "whether the driver resets the context (docs/spec.md §6.3)",
+        "loops that issue without a wait (a slow fragment-pass method's untimed calls, then a "
+        "timer read; a long reference), with and without the bound on unfinished passes and "
+        "the reset notification: whether the driver resets the context (docs/spec.md §6.3)",
         {
             "scenes": Param(
-                "camera_yaw,near_plane", object, "comma-separated built-in or failure scenes"
+                "camera_yaw,near_plane",
+                object,
+                "comma-separated built-in, failure or transparency scenes",
             ),
             "method": Param(
                 "",
@@ -162,6 +186,13 @@ register(
                 "the slowest on the H100)",
             ),
             "issue_s": Param(0.25, float, "seconds of issuing without a wait", 0.01, 10.0),
+            "reference_scenes": Param(
+                "smoke_pan",
+                object,
+                "comma-separated scenes whose reference is rendered under each setting "
+                "(empty: none)",
+            ),
+            "reference_samples": Param(1024, int, "the references' sub-frames", 1, 1024),
             "settings": Param(
                 ",".join(SETTINGS),
                 object,
@@ -171,6 +202,9 @@ register(
         },
         _queue_depth,
         {"tiny": (32, 18), "software": (320, 180), "gpu": (1920, 1080)},
-        {"tiny": {"scenes": "camera_yaw", "issue_s": 0.05}},
+        {
+            "tiny": {"scenes": "camera_yaw", "issue_s": 0.05, "reference_samples": 4},
+            "software": {"reference_samples": 256},
+        },
     )
 )
