@@ -102,10 +102,16 @@ size_t passes_in_flight_bound() {
         in_flight + "'");
   return static_cast<size_t>(bound);
 }
+
+// Whether a glClientWaitSync found its fence reached.
+bool fence_reached(GLenum waited) {
+  return waited == GL_ALREADY_SIGNALED || waited == GL_CONDITION_SATISFIED;
+}
 }  // namespace
 
 std::shared_ptr<Context> Context::create(const DeviceRequest& request, std::string shader_dir) {
-  passes_in_flight_bound();  // a bad value is the caller's error, not a device's
+  // Read before any device is tried: a bad value is the caller's error, not a device's.
+  const size_t passes_in_flight = passes_in_flight_bound();
   load_egl();
   const std::vector<EglDevice> devices = Context::devices();
   std::vector<EGLDeviceEXT> handles(devices.size());
@@ -175,6 +181,7 @@ std::shared_ptr<Context> Context::create(const DeviceRequest& request, std::stri
     }
     std::shared_ptr<Context> ctx(new Context());
     ctx->shader_dir_ = shader_dir;
+    ctx->max_passes_in_flight_ = passes_in_flight;
     try {
       if (display == EGL_NO_DISPLAY)
         throw std::runtime_error("no EGL display (" + egl_error_text() + ")");
@@ -200,7 +207,6 @@ std::shared_ptr<Context> Context::create(const DeviceRequest& request, std::stri
 }
 
 void Context::create_on(EGLDisplay display, const std::string& platform, const EglDevice* device) {
-  max_passes_in_flight_ = passes_in_flight_bound();
   EGLint major = 0, minor = 0;
   if (!eglInitialize(display, &major, &minor))
     throw std::runtime_error("eglInitialize failed (" + egl_error_text() + ")");
@@ -375,11 +381,8 @@ void Context::after_pass(const std::string& what) {
 
 void Context::bound_passes_in_flight() {
   passes_in_flight_.push_back(glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0));
-  auto signalled = [](GLsync fence, GLbitfield flags, GLuint64 timeout) {
-    const GLenum waited = glClientWaitSync(fence, flags, timeout);
-    return waited == GL_ALREADY_SIGNALED || waited == GL_CONDITION_SATISFIED;
-  };
-  while (!passes_in_flight_.empty() && signalled(passes_in_flight_.front(), 0, 0)) {
+  while (!passes_in_flight_.empty() &&
+         fence_reached(glClientWaitSync(passes_in_flight_.front(), 0, 0))) {
     glDeleteSync(passes_in_flight_.front());
     passes_in_flight_.pop_front();
   }
@@ -387,7 +390,8 @@ void Context::bound_passes_in_flight() {
     ++pacing_waits_;
     // A second at a time, as wait_for_fence: a reset context's fences may never signal, and
     // its next read raises ContextLost.
-    while (!signalled(passes_in_flight_.front(), GL_SYNC_FLUSH_COMMANDS_BIT, 1000000000ull)) {
+    while (!fence_reached(
+        glClientWaitSync(passes_in_flight_.front(), GL_SYNC_FLUSH_COMMANDS_BIT, 1000000000ull))) {
       if (reset_status_name() != "none") return drop_passes_in_flight();
     }
     glDeleteSync(passes_in_flight_.front());
@@ -432,7 +436,7 @@ void Context::wait_for_fence(GLsync fence, const char* what) {
   GLbitfield flags = GL_SYNC_FLUSH_COMMANDS_BIT;  // else an unflushed fence is never reached
   for (;;) {
     const GLenum waited = glClientWaitSync(fence, flags, one_second);
-    if (waited == GL_ALREADY_SIGNALED || waited == GL_CONDITION_SATISFIED) return;
+    if (fence_reached(waited)) return;
     if (waited != GL_TIMEOUT_EXPIRED) {
       check_gl(what);  // GL_CONTEXT_LOST raises ContextLost
       throw GLError(std::string("blurlab: ") + what + " failed");
