@@ -46,15 +46,21 @@ print(json.dumps({"sync": ctx.info()["sync_passes"], "waits": ctx.waits() - befo
 """
 
 
-def _synced_run(**environment) -> dict:
-    """SYNCED_RUN in a process of its own with `environment` added to this one's."""
-    done = subprocess.run(
-        [sys.executable, "-c", SYNCED_RUN],
+def _in_process(script: str, **environment) -> subprocess.CompletedProcess:
+    """`script` run by Python in a process of its own, `environment` added to this one's (the
+    context reads these variables when it is made)."""
+    return subprocess.run(
+        [sys.executable, "-c", script],
         env={**os.environ, **environment},
         capture_output=True,
         text=True,
         timeout=300,
     )
+
+
+def _synced_run(**environment) -> dict:
+    """SYNCED_RUN's figures, run with `environment`."""
+    done = _in_process(SYNCED_RUN, **environment)
     assert done.returncode == 0, done.stderr
     return json.loads(done.stdout.splitlines()[-1])
 
@@ -170,13 +176,7 @@ def test_the_passes_in_flight_are_bounded_by_default_and_the_bound_changes_no_bi
 
 @pytest.mark.parametrize("value", ["x", "-1", "2.5", "2000000"])
 def test_a_bad_blurlab_passes_in_flight_is_refused_in_words(value):
-    done = subprocess.run(
-        [sys.executable, "-c", "import blurlab as bl; bl.Context()"],
-        env={**os.environ, "BLURLAB_PASSES_IN_FLIGHT": value},
-        capture_output=True,
-        text=True,
-        timeout=120,
-    )
+    done = _in_process("import blurlab as bl; bl.Context()", BLURLAB_PASSES_IN_FLIGHT=value)
     assert done.returncode != 0
     allowed = "must be a whole number from 0 (no bound) to 1000000"
     assert f"BLURLAB_PASSES_IN_FLIGHT {allowed}, not '{value}'" in done.stderr
