@@ -331,7 +331,11 @@ def test_spin_up_waits_for_each_untimed_call_on_a_gpu_clock():
         ({"method": "accumulation"}, "queue_depth method 'accumulation': one of"),
         ({"scenes": "nowhere"}, "queue_depth scenes 'nowhere': built-in, failure or"),
         ({"reference_scenes": "x"}, "queue_depth reference_scenes 'x': built-in, failure or"),
-        ({"scenes": "", "reference_scenes": ""}, "queue_depth needs scenes or reference_scenes"),
+        ({"cost_scenes": "x"}, "queue_depth cost_scenes 'x': built-in, failure or"),
+        (
+            {"scenes": "", "reference_scenes": "", "cost_scenes": ""},
+            "queue_depth needs scenes, reference_scenes or cost_scenes",
+        ),
     ],
 )
 def test_queue_depth_refuses_what_it_cannot_run_in_words(ctx, given, message):

@@ -42,6 +42,7 @@ out = bl.blur(ctx, frame, "engine_hdrp", translucency="layered", timed=False).co
 print(json.dumps({"sync": ctx.info()["sync_passes"], "waits": ctx.waits() - before,
                   "notification": ctx.info()["reset_notification"],
                   "in_flight": ctx.info()["passes_in_flight"], "pacing": ctx.pacing_waits(),
+                  "per_fence": ctx.info()["passes_per_fence"],
                   "sha": hashlib.sha256(out.tobytes()).hexdigest()}))
 """
 
@@ -167,6 +168,9 @@ def test_blurlab_reset_notification_0_makes_a_plain_context_with_the_same_images
 def test_the_passes_in_flight_are_bounded_by_default_and_the_bound_changes_no_bit():
     runs = {flag: _synced_run(BLURLAB_PASSES_IN_FLIGHT=flag) for flag in ("", "0", "1")}
     assert [runs[flag]["in_flight"] for flag in ("", "0", "1")] == ["32", "unbounded", "1"]
+    # four fences over the bound's passes: a fence after every pass cost the H100 a quarter
+    # of a short filter's time
+    assert [runs[flag]["per_fence"] for flag in ("", "0", "1")] == ["8", "none", "1"]
     assert runs["0"]["pacing"] == 0  # no bound, no pacing
     assert runs["1"]["sha"] == runs["0"]["sha"] == runs[""]["sha"]
     # llvmpipe finishes each pass before the next is issued, so no bound waits there, and the

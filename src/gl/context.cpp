@@ -182,6 +182,7 @@ std::shared_ptr<Context> Context::create(const DeviceRequest& request, std::stri
     std::shared_ptr<Context> ctx(new Context());
     ctx->shader_dir_ = shader_dir;
     ctx->max_passes_in_flight_ = passes_in_flight;
+    ctx->passes_per_fence_ = std::max<size_t>(1, passes_in_flight / kFencesInFlight);
     try {
       if (display == EGL_NO_DISPLAY)
         throw std::runtime_error("no EGL display (" + egl_error_text() + ")");
@@ -287,6 +288,7 @@ void Context::create_on(EGLDisplay display, const std::string& platform, const E
   info_["sync_passes"] = sync_passes_ ? "on" : "off";
   info_["passes_in_flight"] =
       max_passes_in_flight_ ? std::to_string(max_passes_in_flight_) : "unbounded";
+  info_["passes_per_fence"] = max_passes_in_flight_ ? std::to_string(passes_per_fence_) : "none";
   GLint strategy = 0;
   glGetIntegerv(GL_RESET_NOTIFICATION_STRATEGY, &strategy);
   info_["reset_notification"] = strategy == GL_LOSE_CONTEXT_ON_RESET ? "lose_context" : "none";
@@ -380,13 +382,16 @@ void Context::after_pass(const std::string& what) {
 }
 
 void Context::bound_passes_in_flight() {
+  if (++passes_since_fence_ < passes_per_fence_) return;
+  passes_since_fence_ = 0;
   passes_in_flight_.push_back(glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0));
   while (!passes_in_flight_.empty() &&
          fence_reached(glClientWaitSync(passes_in_flight_.front(), 0, 0))) {
     glDeleteSync(passes_in_flight_.front());
     passes_in_flight_.pop_front();
   }
-  while (passes_in_flight_.size() > max_passes_in_flight_) {
+  const size_t fences = std::max<size_t>(1, max_passes_in_flight_ / passes_per_fence_);
+  while (passes_in_flight_.size() > fences) {
     ++pacing_waits_;
     // A second at a time, as wait_for_fence: a reset context's fences may never signal, and
     // its next read raises ContextLost.

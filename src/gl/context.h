@@ -67,14 +67,19 @@ class Context : public std::enable_shared_from_this<Context> {
   // After each pass: where BLURLAB_SYNC_PASSES=1 was set when the context was made, waits for the
   // GPU and checks for errors, so that a GPU fault or reset is reported by the pass that caused
   // it (ContextLost names it) rather than by a later read. Otherwise it keeps at most
-  // kPassesInFlight issued passes unfinished (BLURLAB_PASSES_IN_FLIGHT=N: N, 0 for no bound),
-  // waiting for the oldest beyond them (docs/spec.md §6.3).
+  // kPassesInFlight issued passes unfinished (BLURLAB_PASSES_IN_FLIGHT=N: N, 0 for no bound):
+  // a fence after every (bound / kFencesInFlight)th pass, and a wait for the oldest fence
+  // beyond kFencesInFlight of them (docs/spec.md §6.3).
   void after_pass(const std::string& what);
   // Loops that issue without reading (a benchmark's untimed calls, a reference's sub-frames)
   // queue seconds of draws, and the H100's driver reset a benchmark's context in one. 32 passes
   // are at most about half a second of the slowest pass there (a 14 ms G-buffer at 1080p), and a
   // CPU that outruns the GPU waits only while 32 are queued, so the GPU is never left idle.
   static constexpr size_t kPassesInFlight = 32;
+  // A fence after every pass cost the H100 a quarter of a short filter's time (guertin2014's
+  // 0.071 ms per call became 0.095 at 1080p): the GPU drains before it signals one. Four fences
+  // over the bound's passes check it as closely at an eighth of that cost.
+  static constexpr size_t kFencesInFlight = 4;
   // Waits of that bound (not counted in waits(): nothing is read).
   long long pacing_waits() const { return pacing_waits_; }
 
@@ -124,9 +129,11 @@ class Context : public std::enable_shared_from_this<Context> {
   std::thread::id owner_;
   bool software_ = false;
   bool sync_passes_ = false;
-  // The bound on unfinished passes (0: none), and a fence after each pass issued under it,
-  // oldest first.
+  // The bound on unfinished passes (0: none); the passes between two fences and those issued
+  // since the last; the fences issued under the bound, oldest first.
   size_t max_passes_in_flight_ = 0;
+  size_t passes_per_fence_ = 1;
+  size_t passes_since_fence_ = 0;
   std::deque<GLsync> passes_in_flight_;
   long long pacing_waits_ = 0;  // the owner thread's, as fence_timeouts_
   void bound_passes_in_flight();
