@@ -419,7 +419,8 @@ class Context:
     def pacing_waits(self) -> int:
         """How many times the CPU waited for the oldest of its issued passes because more than
         ``info()["passes_in_flight"]`` were unfinished (32, unless BLURLAB_PASSES_IN_FLIGHT
-        sets another bound; docs/spec.md §6.3). Not among waits(): nothing is read."""
+        sets another bound), checked at a fence every ``info()["passes_per_fence"]`` passes
+        (docs/spec.md §6.3). Not among waits(): nothing is read."""
         return self._core.pacing_waits
 
     def stale_readbacks(self) -> int:
