@@ -108,6 +108,10 @@ def test_random_scenes_writes_every_scenes_scores_and_their_digests(ctx, tmp_pat
     rescored = next(t for t in records[0]["tables"] if t["name"].startswith("rows of the sweep"))
     swept = set(zip(scores["scene"], scores["method"], strict=True))
     assert {(r[0], r[1]) for r in rescored["rows"]} <= swept
+    for row in rescored["rows"]:  # the other metrics agree too, from references of the same N
+        assert row[6] == 0.0
+        sweep_n, again_n = row[7].split(" / ")
+        assert sweep_n == again_n == str(records[0]["params"]["reference_samples"])
 
 
 def test_rescore_picks_the_rows_that_stand_out_of_their_scene_then_draws():

@@ -78,17 +78,25 @@ def rescore(ctx, table: pd.DataFrame, size, p, metrics, out) -> None:
             readback_batch=1,
         ).iloc[0]
         was = getattr(row, metric)
-        rows.append([row.scene, row.method, row.params, was, again[metric], again[metric] - was])
+        # where one differs, what else does tells the frame's part from the reference's
+        others = max((abs(again[m] - getattr(row, m)) for m in metrics if m != metric), default=0.0)
+        swept_n = getattr(row, "reference_samples", "?")
+        samples = f"{swept_n} / {again.get('reference_samples', '?')}"
+        rows.append(
+            [row.scene, row.method, row.params, was, again[metric], again[metric] - was, others]
+            + [samples]
+        )
     out.figure("rows scored again, one evaluation at a time", len(rows), "rows")
     out.figure(
         f"largest {metric} difference of a row scored again",
-        max((abs(r[-1]) for r in rows), default=0.0),
+        max((abs(r[5]) for r in rows), default=0.0),
         "",
     )
     out.table(
         f"rows of the sweep scored again in this process (readback_batch 1): half those furthest "
         f"from their group's median {metric} in units of its spread, half drawn at random",
         [("scene", ""), ("method", ""), ("params", ""), ("sweep", ""), ("again", "")]
-        + [("again - sweep", "")],
+        + [("again - sweep", ""), ("other metrics' largest difference", "")]
+        + [("reference sub-frames, sweep / again", "")],
         rows,
     )
