@@ -280,6 +280,7 @@ register(
                 "reference_samples": 4,
                 "cost_scenes": "occluder",
                 "runs": 2,
+                "settings": "bounded,unbounded_plain",  # both switches, in 6 processes not 15
             },
             "software": {"reference_samples": 256},
         },
