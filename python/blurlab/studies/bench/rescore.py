@@ -78,13 +78,13 @@ def rescore(ctx, table: pd.DataFrame, size, p, metrics, out) -> None:
             readback_batch=1,
         ).iloc[0]
         was = getattr(row, metric)
-        # where one differs, what else does tells the frame's part from the reference's
+        # Where the scores part, whether the other metrics part too and whether the two
+        # references had the same sub-frames say where to look: the frame, or the reference.
         others = max((abs(again[m] - getattr(row, m)) for m in metrics if m != metric), default=0.0)
-        swept_n = getattr(row, "reference_samples", "?")
-        samples = f"{swept_n} / {again.get('reference_samples', '?')}"
+        samples = f"{row.reference_samples} / {again['reference_samples']}"
+        difference = again[metric] - was
         rows.append(
-            [row.scene, row.method, row.params, was, again[metric], again[metric] - was, others]
-            + [samples]
+            [row.scene, row.method, row.params, was, again[metric], difference, others, samples]
         )
     out.figure("rows scored again, one evaluation at a time", len(rows), "rows")
     out.figure(
