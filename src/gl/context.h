@@ -78,7 +78,8 @@ class Context : public std::enable_shared_from_this<Context> {
   static constexpr size_t kPassesInFlight = 32;
   // A fence after every pass cost the H100 a quarter of a short filter's time (guertin2014's
   // 0.085 ms a call became 0.109 at 1080p, queue_depth): the next pass no longer overlaps the
-  // last. Four fences over the bound's passes check it about as closely at an eighth the cost.
+  // last. Four fences over the bound's passes check it about as closely with an eighth of the
+  // fences, for +1 % (queue_depth).
   static constexpr size_t kFencesInFlight = 4;
   // Waits of that bound (not counted in waits(): nothing is read).
   long long pacing_waits() const { return pacing_waits_; }
