@@ -135,35 +135,23 @@ def render(
         ctx, scene, size, shutter, time, guard, jitter, sides=True
     )
     timings = {"gbuffer": timing}
-    layers = {}
     if "translucent" in targets:
         check_fragment_capacity(targets["most_fragments"], scene)
-        motion_depth = targets["translucent_motion"].download()
-        layers = {
-            "opaque_color": targets["opaque_color"].download(),
-            "translucent": targets["translucent"].download(),
-            "translucent_motion": motion_depth[..., :2].copy(),
-            "translucent_depth": motion_depth[..., 2].copy(),
-        }
     if motion_format != "rg32f":
         exact = targets["motion"]
         targets["motion"], timings["motion_encoding"] = encode_motion(
             ctx, exact, motion_format, maxlen
         )
         ctx.recycle(exact)
-    frame = Frame(
-        color=targets["color"].download(),
-        depth=targets["depth"].download(),
-        motion=targets["motion"].download(),
-        object_id=targets["object_id"].download(),
+    # Nothing is read back here: the frame's arrays are downloaded when first asked for.
+    frame = Frame.from_textures(
+        targets,
         shutter=shutter,
         time=time,
         motion_format=motion_format,
         camera=camera,
         timings=timings,
-        textures=targets,  # the GPU copies, so methods need not upload them again
         scene=scene,
-        **layers,
     )
     # The targets go back to the pool when the frame is freed: frame.textures live as long as
     # the frame does.

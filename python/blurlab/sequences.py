@@ -10,7 +10,9 @@ and returns a `Sequence`; ``Sequence.run(method, order, taa={...}, **params)`` r
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
+import weakref
 from dataclasses import dataclass, field
 from numbers import Integral, Real
 
@@ -67,7 +69,9 @@ def still(scene: Scene, time: float) -> Scene:
 class Sequence:
     """Frames i = 0 … N−1 of a scene: frame i is shown at `times[i]`, its shutter is
     `shutters[i]`, its G-buffer is rendered with its sub-pixel position `positions[i]`, and
-    `references[i]` is the (H, W, 4) reference over its shutter (docs/spec.md §21.1)."""
+    `references[i]` is the (H, W, 4) reference over its shutter (docs/spec.md §21.1). The
+    references stay on the GPU (`reference_textures`); `references` downloads them when first
+    read."""
 
     ctx: Context = field(repr=False)
     scene: Scene = field(repr=False)
@@ -77,9 +81,20 @@ class Sequence:
     times: np.ndarray
     shutters: np.ndarray  # (N, 2) seconds
     positions: np.ndarray  # (N, 2) inside the pixel, from its top-left corner
-    references: np.ndarray = field(repr=False)  # (N, H, W, 4) float32
+    # The N references (blurlab.converged.Reference): their (H, W, 4) float32 textures stay on
+    # the GPU as long as the sequence does.
+    reference_renders: list = field(repr=False)
     reference_samples: int
     antialias: bool
+
+    @property
+    def reference_textures(self) -> list[Texture]:
+        return [reference.texture for reference in self.reference_renders]
+
+    @functools.cached_property
+    def references(self) -> np.ndarray:
+        """(N, H, W, 4) float32: the references, downloaded on first use."""
+        return np.stack([texture.download() for texture in self.reference_textures])
 
     @property
     def frames(self) -> int:
@@ -125,20 +140,38 @@ class Sequence:
 
 @dataclass
 class SequenceRun:
-    """What a run over a sequence gave: the (N, H, W, 4) output (its alpha is the frame's), the
-    scores (per-frame metrics as (N,) arrays, sequence metrics as numbers) and per-frame GPU
-    milliseconds of the method and of TAA."""
+    """What a run over a sequence gave: the output frames (their alpha is the frame's), on the
+    GPU in `output_textures` and downloaded as the (N, H, W, 4) `color` when first read; the
+    scores (per-frame metrics as (N,) arrays, sequence metrics as numbers); per frame, its MSE
+    and its pair's temporal instability (frame i against i − 1, NaN for frame 0), both reduced
+    on the GPU; and per-frame GPU milliseconds of the method and of TAA."""
 
     method: str | None
     params: dict
     order: str
     taa: dict
-    color: np.ndarray = field(repr=False)
-    references: np.ndarray = field(repr=False)
+    sequence: Sequence = field(repr=False)
+    output_textures: list = field(repr=False)
     scores: dict
+    frame_mse: np.ndarray = field(repr=False)
+    pair_instability: np.ndarray = field(repr=False)
     blur_ms: np.ndarray
     taa_ms: np.ndarray
     fps: float
+
+    @functools.cached_property
+    def color(self) -> np.ndarray:
+        """(N, H, W, 4) float32: the output frames, downloaded on first use."""
+        return np.stack([texture.download() for texture in self.output_textures])
+
+    @property
+    def references(self) -> np.ndarray:
+        return self.sequence.references
+
+    def instability_after(self, warmup: int = 0) -> float:
+        """temporal_instability over frames warmup … N − 1 (their N − 1 − warmup pairs)."""
+        pairs = self.pair_instability[warmup + 1 :]
+        return float(pairs.mean()) if pairs.size else math.nan
 
     def side_by_side(self, frames=None) -> np.ndarray:
         """(n, H, 2W, 4): output frames (all, or the indices `frames`) with their references to
@@ -196,20 +229,18 @@ def sequence(
             "pass jitter='none', or keep antialias=True"
         )
     times, shutters = frame_shutters(scene, fps, frames, shutter_angle)
-    references = np.stack(
-        [
-            ctx.reference(
-                scene,
-                size,
-                tuple(s),
-                reference_samples,
-                seed=seed,
-                progress=False,
-                antialias=antialias,
-            ).color
-            for s in shutters
-        ]
-    )
+    references = [
+        ctx.reference(
+            scene,
+            size,
+            tuple(s),
+            reference_samples,
+            seed=seed,
+            progress=False,
+            antialias=antialias,
+        )
+        for s in shutters
+    ]
     return Sequence(
         ctx,
         scene,
@@ -279,42 +310,60 @@ def run_sequence(
         raise ValueError("blurlab: order 'blur_in_history' needs a method")
     taa_params = taa_values(**taa_given)
     instant = "center" if m is None else method_instant(m.name, params)
-    height, width = seq.size[1], seq.size[0]
-    color = np.empty((seq.frames, height, width, 4), np.float32)
-    blur_ms, taa_ms = np.zeros(seq.frames), np.zeros(seq.frames)
+    ctx, count = seq.ctx, seq.frames
+    references = seq.reference_textures
+    # Per frame nothing but scalars comes back to the host (docs/spec.md §21.3): the output
+    # stays a texture, and its scores are reductions on the GPU.
+    on_gpu = [n for n in names if not metrics.get(n).sequence and metrics.get(n).gpu is not None]
+    per_frame = {name: np.empty(count) for name in on_gpu}
+    mse, instability = np.empty(count), np.full(count, math.nan)
+    blur_ms, taa_ms = np.zeros(count), np.zeros(count)
+    outputs: list[Texture] = []
     history: Texture | None = None
     used: dict = {}
-    for i in range(seq.frames):
+    for i in range(count):
         frame = seq.frame(i, instant)
-        step = FrameStep(seq.ctx, m, params, taa_params)
+        step = FrameStep(ctx, m, params, taa_params)
         if order != "none" and history is not None:
             step.motion = seq.motion_from_previous(i, frame.time)
-        image, new_history = step.run(frame, order, history)
-        color[i] = image
-        color[i, ..., 3] = frame.color[..., 3]
+        output, new_history = step.run(frame, order, history)
+        mse[i] = metrics.gpu_mse(ctx, references[i], output)
+        for name in on_gpu:
+            per_frame[name][i] = metrics.get(name).gpu(ctx, references[i], output)
+        if i > 0:
+            instability[i] = metrics.gpu_pair_instability(
+                ctx, output, outputs[-1], references[i], references[i - 1]
+            )
+        outputs.append(output)
         blur_ms[i], taa_ms[i] = step.blur_ms, step.taa_ms
         used = step.used
-        seq.ctx.recycle(*[t for t in (history, step.motion) if t is not None])
+        ctx.recycle(*[t for t in (history, step.motion) if t is not None])
         history = new_history
     if history is not None:
-        seq.ctx.recycle(history)
-    return SequenceRun(
+        ctx.recycle(history)
+    run = SequenceRun(
         method_name,
         used,
         order,
         taa_params if order != "none" else {},
-        color,
-        seq.references,
-        scores(names, seq.references, color, seq.ctx),
+        seq,
+        outputs,
+        {},
+        mse,
+        instability,
         blur_ms,
         taa_ms,
         seq.fps,
     )
+    weakref.finalize(run, ctx.recycle, *outputs)
+    run.scores = scores(names, run, per_frame)
+    return run
 
 
 @dataclass
 class FrameStep:
-    """One frame of a run: the method (None: none) and TAA in an order (docs/spec.md §21.4)."""
+    """One frame of a run: the method (None: none) and TAA in an order (docs/spec.md §21.4), on
+    the frame's textures."""
 
     ctx: Context
     method: object  # the registered Method, or None
@@ -338,62 +387,67 @@ class FrameStep:
         return out
 
     def run(self, frame: Frame, order: str, history: Texture | None):
-        """(this frame's output (H, W, 4), the history the next frame reprojects or None)."""
-        m = self.method
+        """(this frame's output, a new (H, W, 4) texture with the frame's alpha; the history
+        the next frame reprojects, or None)."""
+        m, ctx = self.method, self.ctx
+        alpha = frame.textures["color"]
         if order == "none":
-            return (self.blurred(frame).color if m is not None else frame.color), None
+            result = self.blurred(frame) if m is not None else None
+            image = alpha if result is None else result.textures["color"]
+            return with_alpha(ctx, image, alpha), None
         if order == "blur_then_taa":
             # The result is held until TAA has read it: freed, its texture returns to the pool
             # that TAA's output is taken from.
             result = self.blurred(frame) if m is not None else None
-            current = frame.textures["color"] if result is None else result.textures["color"]
+            current = alpha if result is None else result.textures["color"]
             resolved = self.resolved(current, history)
-            return resolved.download(), resolved
-        resolved = self.resolved(frame.textures["color"], history)
-        antialiased = resolved.download()
+            return with_alpha(ctx, resolved, alpha), resolved
+        resolved = self.resolved(alpha, history)
         if m is None:
-            return antialiased, resolved
-        image = self.blurred(with_color(self.ctx, frame, antialiased)).color
+            return with_alpha(ctx, resolved, alpha), resolved
+        antialiased = with_color(ctx, frame, resolved)
+        image = self.blurred(antialiased).textures["color"]
+        output = with_alpha(ctx, image, alpha)
         if order == "blur_in_history":  # the next frame reprojects the blurred image
-            fed_back = np.concatenate([image[..., :3], antialiased[..., 3:]], axis=2)
-            resolved.upload(np.ascontiguousarray(fed_back))
-        return image, resolved
+            fed_back = with_alpha(ctx, image, resolved)
+            ctx.recycle(resolved)
+            resolved = fed_back
+        return output, resolved
 
 
-def with_color(ctx: Context, frame: Frame, color: np.ndarray) -> Frame:
-    """`frame` with another (H, W, 4) colour (its alpha kept): what a method after TAA reads.
+def with_alpha(ctx: Context, rgb: Texture, alpha: Texture) -> Texture:
+    """A new pooled (H, W, 4) texture: `rgb`'s colour with `alpha`'s alpha
+    (passes/rgb_alpha.comp)."""
+    result = ctx.pooled(rgb.shape)
+    ctx.shader_pass("passes/rgb_alpha.comp").run({"rgb": rgb, "alpha": alpha}, {"result": result})
+    return result
+
+
+def with_color(ctx: Context, frame: Frame, color: Texture) -> Frame:
+    """`frame` with another colour texture (its alpha kept): what a method after TAA reads.
     It shares the frame's other textures, so it lives no longer than the frame."""
-    color = np.concatenate([color[..., :3], frame.color[..., 3:]], axis=2)
-    textures = {**frame.textures, "color": ctx.upload(color)}
-    return dataclasses.replace(frame, color=color, textures=textures)
+    combined = with_alpha(ctx, color, frame.textures["color"])
+    meta = {key: getattr(frame, key) for key in ("shutter", "time", "motion_format", "camera")}
+    derived = Frame.from_textures({**frame.textures, "color": combined}, scene=frame.scene, **meta)
+    weakref.finalize(derived, ctx.recycle, combined)
+    return derived
 
 
-def scores(names, references: np.ndarray, color: np.ndarray, ctx: Context | None = None) -> dict:
+def scores(names, run: SequenceRun, on_gpu: dict) -> dict:
     """{metric: value}: the sequence metrics of `names` as numbers, the others per frame as
-    (N,) arrays (docs/spec.md §21.3). With `ctx`, per-frame metrics that have a GPU
-    implementation run on it (within its registered tolerance of the NumPy one)."""
+    (N,) arrays (docs/spec.md §21.3). `on_gpu` holds the per-frame ones already reduced on the
+    GPU; temporal_instability comes from the run's pairs; any other metric downloads the
+    frames and the references and runs its NumPy definition."""
+    result = dict(on_gpu)
     over_time = [n for n in names if metrics.get(n).sequence]
-    on_gpu = [n for n in names if ctx is not None and metrics.get(n).gpu is not None]
     on_cpu = [n for n in names if n not in over_time and n not in on_gpu]
-    result = metrics.per_frame(on_cpu, references, color)
-    if on_gpu:
-        result |= gpu_per_frame(ctx, on_gpu, references, color)
+    if on_cpu:
+        result |= metrics.per_frame(on_cpu, run.references, run.color)
     for name in over_time:
-        result[name] = metrics.get(name).numpy(references, color) if len(color) > 1 else math.nan
+        if len(run.output_textures) < 2:
+            result[name] = math.nan
+        elif name == "temporal_instability":
+            result[name] = run.instability_after(0)
+        else:
+            result[name] = metrics.get(name).numpy(run.references, run.color)
     return {name: result[name] for name in names}
-
-
-def gpu_per_frame(ctx: Context, names, references: np.ndarray, color: np.ndarray) -> dict:
-    """{metric: (N,) values} of metrics with a GPU implementation, frame by frame."""
-    shape = references.shape[1:]
-    reference, output = ctx.pooled(shape), ctx.pooled(shape)
-    values = {name: np.empty(len(color)) for name in names}
-    try:
-        for i in range(len(color)):
-            reference.upload(np.ascontiguousarray(references[i], np.float32))
-            output.upload(np.ascontiguousarray(color[i], np.float32))
-            for name in names:
-                values[name][i] = metrics.get(name).gpu(ctx, reference, output)
-    finally:
-        ctx.recycle(reference, output)
-    return values

@@ -24,7 +24,7 @@ def _run_accumulation(ctx: Context, frame: Frame, inputs: dict, values: dict, ba
         seed=values["seed"],
         progress=False,
     )
-    height, width = frame.color.shape[:2]
+    height, width = frame.shape
     result = ctx.pooled((height, width, 4))
     result.native.copy_from(reference.texture.native, 0, 0)
     timing = Timing(reference.ms_per_subframe * reference.samples, reference.clock)

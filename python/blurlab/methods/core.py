@@ -334,8 +334,8 @@ def blur_steps(
     steps = check_steps(name, len(frames))
     if steps == 1:
         return blur(ctx, frames[0], name, backend, timed, **params)
-    height, width = frames[0].color.shape[:2]
-    if any(f.color.shape[:2] != (height, width) for f in frames):
+    height, width = frames[0].shape
+    if any(f.shape != (height, width) for f in frames):
         raise ValueError("blurlab: the frames of blur_steps differ in size")
     total = ctx.pooled((height, width, 4))
     total.clear()

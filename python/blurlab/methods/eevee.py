@@ -13,6 +13,7 @@ packing of its velocity buffer (the G-buffer's float32 motion is read as it is).
 
 from __future__ import annotations
 
+import weakref
 from typing import NamedTuple
 
 import numpy as np
@@ -20,7 +21,7 @@ import numpy as np
 from ..context import Context, Texture
 from ..frame import Frame
 from ..twins import eevee as twin
-from .core import SEED, Method, Param, Pass, PassRunner, register
+from .core import SEED, Method, Param, Pass, PassRunner, frame_textures, register
 from .tile_filter import TILE_FILTER_PARAMS
 from .variants import PassVariants
 
@@ -82,9 +83,21 @@ def motion_sides_texture(ctx: Context, frame: Frame):
     """The frame's two-sided motion (§17.1) as one RGBA texture of `ctx`: the rendered one where
     the frame came from this context, uploaded (once per frame) otherwise."""
     texture = frame.textures.get("motion_sides")
-    if texture is None or texture.context is not ctx:
+    if texture is not None and texture.context is ctx:
+        return texture
+    if frame.sides_derived:  # f·M and (1 − f)·M, made on the GPU from the motion texture
+        motion = frame_textures(ctx, frame)["motion"]
+        texture = ctx.pooled(motion.shape[:2] + (4,))
+        f = frame.instant_fraction
+        ctx.shader_pass("passes/motion_sides.comp").run(
+            {"motion": motion},
+            {"motion_sides": texture},
+            {"share_prev": np.float32(f), "share_next": np.float32(1.0 - f)},
+        )
+        weakref.finalize(frame, ctx.recycle, texture)
+    else:
         texture = ctx.upload(np.concatenate([frame.motion_prev, frame.motion_next], axis=-1))
-        frame.textures["motion_sides"] = texture
+    frame.textures["motion_sides"] = texture
     return texture
 
 

@@ -10,8 +10,6 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 
-import numpy as np
-
 from ..context import Context
 from ..frame import Frame
 from ..render import render_targets
@@ -19,12 +17,6 @@ from ..twins import gathers as twin
 from .core import PARAM_SCALE_MAX, Method, Param, Pass, PassRunner, register
 
 EDGES = ("clamp", "ignore", "guard")
-
-
-def _longest_motion(frame: Frame) -> float:
-    speed = np.linalg.norm(frame.motion, axis=-1)
-    speed = speed[np.isfinite(speed)]
-    return float(speed.max()) if speed.size else 0.0
 
 
 def with_edge(ctx: Context, frame: Frame, inputs: dict, edge: str, reach: float, run):
@@ -37,10 +29,10 @@ def with_edge(ctx: Context, frame: Frame, inputs: dict, edge: str, reach: float,
             "blurlab: edge='guard' re-renders the frame with a margin, so it needs a frame "
             "made by ctx.render; use edge='clamp' or 'ignore' for frames built from arrays"
         )
-    guard = math.ceil(reach * _longest_motion(frame)) + 2
+    guard = math.ceil(reach * frame.longest_motion) + 2
     big, _, timing = render_targets(ctx, frame.scene, frame.size, frame.shutter, frame.time, guard)
     color, timings = run(big)
-    height, width = frame.color.shape[:2]
+    height, width = frame.shape
     result = ctx.pooled((height, width, 4))
     result.native.copy_from(color.native, guard, guard)
     ctx.recycle(color, *big.values())

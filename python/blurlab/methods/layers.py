@@ -96,13 +96,16 @@ def layer_textures(ctx: Context, frame: Frame) -> dict:
     return uploaded
 
 
-def layer_frame(frame: Frame, color, depth, motion, textures: dict) -> Frame:
-    """A frame of the same shutter, instant and camera as `frame` with other arrays and the
-    textures that hold them."""
-    kept = ("object_id", "shutter", "time", "motion_format", "camera", "scene")
-    derived = Frame(color, depth, motion, **{key: getattr(frame, key) for key in kept})
-    derived.textures = textures
-    return derived
+def layer_frame(frame: Frame, textures: dict) -> Frame:
+    """A frame of the same shutter, instant, camera and object ids as `frame` whose colour,
+    depth and motion are `textures`, read back only if asked for."""
+    meta = {key: getattr(frame, key) for key in ("shutter", "time", "motion_format", "camera")}
+    ids = frame.textures.get("object_id")
+    if ids is not None:  # a rendered frame's ids, shared on the GPU
+        textures = {**textures, "object_id": ids}
+    else:
+        meta["object_id"] = frame.object_id
+    return Frame.from_textures(textures, scene=frame.scene, **meta)
 
 
 # The layer frames made from a frame, by id(frame) and then by what they are ("opaque",
@@ -132,13 +135,7 @@ def opaque_frame(ctx: Context, frame: Frame) -> Frame:
         textures = {**frame.textures, **layer_textures(ctx, frame)}
         names = ("depth", "motion", "motion_sides")
         kept = {key: textures[key] for key in names if key in textures}
-        return layer_frame(
-            frame,
-            frame.opaque_color,
-            frame.depth,
-            frame.motion,
-            {"color": textures["opaque_color"], **kept},
-        )
+        return layer_frame(frame, {"color": textures["opaque_color"], **kept})
 
     return _made_once(ctx, frame, "opaque", make)
 
@@ -151,7 +148,7 @@ def translucent_frame(ctx: Context, frame: Frame) -> Frame:
 
     def make():
         textures = layer_textures(ctx, frame)
-        height, width = frame.depth.shape
+        height, width = frame.shape
         split_outputs = {
             "layer_motion": ctx.pooled((height, width, 2)),
             "layer_depth": ctx.pooled((height, width)),
@@ -169,9 +166,6 @@ def translucent_frame(ctx: Context, frame: Frame) -> Frame:
         weakref.finalize(frame, ctx.recycle, *split_outputs.values())
         return layer_frame(
             frame,
-            frame.translucent,
-            frame.translucent_depth,
-            frame.translucent_motion,
             {
                 "color": textures["translucent"],
                 "motion": split_outputs["layer_motion"],
@@ -191,7 +185,7 @@ def chosen_frame(ctx: Context, frame: Frame, motion_coverage: float) -> Frame:
 
     def make():
         textures = {**frame.textures, **layer_textures(ctx, frame)}
-        height, width = frame.depth.shape
+        height, width = frame.shape
         chosen = {
             "chosen_motion": ctx.pooled((height, width, 2)),
             "chosen_depth": ctx.pooled((height, width)),
@@ -209,9 +203,6 @@ def chosen_frame(ctx: Context, frame: Frame, motion_coverage: float) -> Frame:
         weakref.finalize(frame, ctx.recycle, *chosen.values())
         return layer_frame(
             frame,
-            frame.color,
-            chosen["chosen_depth"].download(),
-            chosen["chosen_motion"].download(),
             {
                 "color": textures["color"],
                 "depth": chosen["chosen_depth"],
@@ -231,8 +222,7 @@ STILL_PX = 1e-3
 def layer_still(frame: Frame) -> bool:
     """Whether no fragment of the frame's translucent layer moves (its motion is under
     STILL_PX everywhere: a still window, or no translucent surface in view)."""
-    motion = frame.translucent_motion
-    return motion is None or motion.size == 0 or float(np.abs(motion).max()) < STILL_PX
+    return frame.layer_moves < STILL_PX
 
 
 def blur_layers(
@@ -285,7 +275,7 @@ def blur_layers(
                 layer_result = blur(translucent_frame(ctx, frame), layer_method)
             layer = layer_result.textures["color"]
             extra.update({f"translucent_{k}": t for k, t in layer_result.timings.items()})
-    height, width = frame.depth.shape
+    height, width = frame.shape
     out = ctx.pooled((height, width, 4))
     over = ctx.shader_pass("passes/translucency_over.comp")
     timed(

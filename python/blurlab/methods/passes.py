@@ -16,15 +16,16 @@ from .params import Param
 
 
 def frame_textures(ctx: Context, frame: Frame) -> dict[str, Texture]:
-    """The frame's color, depth and motion as textures of `ctx`: the rendered ones where the
-    frame came from this context, uploaded (once per frame) otherwise."""
+    """The frame's textures on `ctx`: the rendered ones where the frame came from this context;
+    color, depth and motion uploaded from its arrays otherwise, once per frame (only those
+    missing: a frame whose colour was replaced keeps its other textures)."""
     textures = frame.textures
-    if not all(k in textures and textures[k].context is ctx for k in ("color", "depth", "motion")):
-        textures = {
-            "color": ctx.upload(frame.color),
-            "depth": ctx.upload(frame.depth),
-            "motion": ctx.upload(frame.motion),
-        }
+    names = ("color", "depth", "motion")
+    if any(k in textures and textures[k].context is not ctx for k in names):
+        textures = {}  # another context's: this one uploads its own
+    missing = [k for k in names if k not in textures]
+    if missing:
+        textures = {**textures, **{k: ctx.upload(getattr(frame, k)) for k in missing}}
         frame.textures = textures
     return textures
 

@@ -20,7 +20,7 @@ def _run_stochastic(ctx: Context, frame: Frame, inputs: dict, values: dict, back
     slices, seed = values["slices"], values["seed"]
     if frame.scene is None:
         raise ValueError("blurlab: stochastic renders time slices: use a frame made by ctx.render")
-    height, width = frame.color.shape[:2]
+    height, width = frame.shape
     result = ctx.pooled((height, width, 4))
     result.clear()
     combine = ctx.shader_pass(COMBINE.shader)

@@ -58,7 +58,7 @@ from .hdr import (
     ssim_tm,
     tone_map,
 )
-from .temporal import per_frame, temporal_instability
+from .temporal import gpu_pair_instability, per_frame, temporal_instability
 
 # isort: on
 
@@ -93,6 +93,7 @@ __all__ = [
     "gpu_flip",
     "gpu_flip_map",
     "gpu_mse",
+    "gpu_pair_instability",
     "gpu_mse_ssim",
     "gpu_psnr",
     "gpu_ssim",

@@ -44,6 +44,28 @@ def temporal_instability(reference, test) -> float:
     return float(total / (len(test) - 1))
 
 
+def gpu_pair_instability(ctx, output_now, output_before, reference_now, reference_before) -> float:
+    """One frame pair's share of `temporal_instability`, from four (H, W, 4) float32 textures:
+    the mean over pixels and RGB of |(O_i − O_{i−1}) − (R_i − R_{i−1})|, summed per 16 x 16
+    tile on the GPU (passes/temporal_difference.comp) and over the tiles here in float64."""
+    height, width = output_now.shape[:2]
+    tiles = ctx.pooled((-(-height // 16), -(-width // 16)))
+    try:
+        ctx.shader_pass("passes/temporal_difference.comp").run(
+            {
+                "output_now": output_now,
+                "output_before": output_before,
+                "reference_now": reference_now,
+                "reference_before": reference_before,
+            },
+            {"tile_sums": tiles},
+        )
+        total = tiles.download().sum(dtype=np.float64)
+    finally:
+        ctx.recycle(tiles)
+    return float(total / (3 * height * width))
+
+
 def per_frame(names, references, outputs) -> dict[str, np.ndarray]:
     """{metric: (N,) values}: each single-frame metric of `names` on each frame of `outputs`
     against the same frame of `references` (both (N, H, W, C)), with its NumPy definition. The

@@ -56,7 +56,7 @@ def object_errors(
     if reference is None:
         n = reference_samples or default_reference_samples(frame)
         reference = ctx.reference(scene, size, samples=n, progress=False)
-    elif reference.color.shape[:2] != frame.color.shape[:2]:
+    elif reference.color.shape[:2] != frame.shape:
         raise ValueError(
             f"blurlab.studies.objects: the reference is {reference.color.shape[1]}x"
             f"{reference.color.shape[0]}, the study renders {size[0]}x{size[1]}"

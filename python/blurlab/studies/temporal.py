@@ -33,13 +33,12 @@ def orders_of(name: str | None) -> tuple[str, ...]:
 
 def measured(run: SequenceRun, warmup: int) -> dict:
     """psnr (of the mean squared error over the frames after `warmup`) and temporal
-    instability over the same frames."""
-    color, references = run.color[warmup:], run.references[warmup:]
-    mse = float(np.mean([metrics.mse(r, o) for r, o in zip(references, color, strict=True)]))
+    instability over the same frames, from the run's per-frame reductions on the GPU."""
+    mse = float(np.mean(run.frame_mse[warmup:]))
     return {
         "psnr": metrics.psnr_from_mse(mse),
         "mse": mse,
-        "temporal_instability": metrics.temporal_instability(references, color),
+        "temporal_instability": run.instability_after(warmup),
     }
 
 
