@@ -1,4 +1,4 @@
-"""GPU-first data (docs/spec.md §1.4): images cross to the host only when a caller reads them.
+"""GPU-first data (docs/spec.md §1.1): images cross to the host only when a caller reads them.
 Every texture transfer is counted by wrapping the calls that make one (Texture.upload,
 Texture.download, Texture.download_async, Context.upload); an image transfer is one of a
 texture of the frame's size. Reductions read back a few numbers per tile, not an image."""

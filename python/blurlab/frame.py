@@ -1,6 +1,6 @@
 """A G-buffer: colour, depth, motion, object ids, and the layers of translucent scenes.
 
-GPU-first (docs/spec.md §1.4): a rendered frame is its textures, and its NumPy arrays are read
+GPU-first (docs/spec.md §1.1): a rendered frame is its textures, and its NumPy arrays are read
 from them lazily, once, when a caller asks for one. A frame built from arrays keeps them and
 uploads each once, when a pass first needs it (blurlab.methods.passes.frame_textures). What the
 CPU needs to choose parameters (depth_range, longest_motion, layer_moves) comes from GPU
@@ -58,7 +58,7 @@ class Frame:
                where none). All four or none (opaque frames).
 
     A rendered frame holds textures only: each array above is downloaded from its texture the
-    first time it is read, and kept (docs/spec.md §1.4). Setting an array replaces the frame's
+    first time it is read, and kept (docs/spec.md §1.1). Setting an array replaces the frame's
     data: its other arrays are read first, and its textures and recorded plans are dropped, so
     that the next pass uploads what was set.
 

@@ -1,5 +1,5 @@
 #version 450
-// Frame statistics, docs/spec.md §1.4: what the CPU needs to choose parameters, reduced per
+// Frame statistics, docs/spec.md §1.1: what the CPU needs to choose parameters, reduced per
 // 16 x 16 tile so that only a few numbers per tile are read back instead of the image. One
 // invocation per tile writes
 //   tile_stats   (nearest, farthest) finite positive depth of the tile (+inf, -inf where none),

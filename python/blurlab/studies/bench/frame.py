@@ -97,7 +97,7 @@ def _gbuffer(ctx, size, p, out) -> None:
         calls.append((time.perf_counter() - start) * 1e3)
         passes.append(frame.timings["gbuffer"].ms)
         for field in ("color", "depth", "motion", "object_id"):
-            getattr(frame, field)  # each downloaded when first read (docs/spec.md §1.4)
+            getattr(frame, field)  # each downloaded when first read (docs/spec.md §1.1)
         read.append((time.perf_counter() - start) * 1e3)
     out.figure("G-buffer pass", statistics.median(passes), "ms")
     out.figure("ctx.render call, no field read (wall)", statistics.median(calls), "ms")
