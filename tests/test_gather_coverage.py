@@ -26,10 +26,10 @@ from blurlab.methods.coverage import (
     tap_plan,
 )
 from blurlab.methods.coverage import tile_lines as coverage_tile_lines
-from blurlab.studies.bench.taps import tap_counts
 from blurlab.twins import coverage as ref
 from blurlab.twins import eevee as eevee_twin
 from blurlab.twins import film
+from blurlab_bench.taps import tap_counts
 
 METHOD = "gather_coverage"
 # The tile passes of the default dilation, by scatter with the keys resolved in the gather

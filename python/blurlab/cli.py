@@ -5,6 +5,9 @@ and ``bench``. User errors (bad names, values, sizes, files) print one line
 from __future__ import annotations
 
 import argparse
+import functools
+import importlib
+import importlib.util
 import json
 import re
 import sys
@@ -18,7 +21,6 @@ from .methods import blur, method, methods
 from .sequences import frame_scenes
 from .sizes import DEFAULT_SIZE
 from .studies import plots
-from .studies.bench import command as bench_command
 from .studies.cluster import account_table
 from .studies.cluster_devices import local_cluster
 from .studies.recommend import AGGREGATES, expand, ranking_metrics, recommend, recommend_set
@@ -28,6 +30,14 @@ from .studies.study import run_study, run_sweep_config
 from .twins.patterns import test_pattern
 
 DEFAULT_SIZE_TEXT = "{}x{}".format(*DEFAULT_SIZE)
+# The benchmarks are a development package of the checkout, which the wheel does not ship.
+BENCH_PACKAGE = "blurlab_bench"
+BENCH_FOLDER = Path(__file__).resolve().parents[2] / "benchmarks"  # python/blurlab -> root
+NO_BENCHMARKS = (
+    "the benchmarks are a development package in a checkout's benchmarks/ folder, which the "
+    "wheel does not ship: run `blurlab bench` from a checkout's source (PYTHONPATH=python), or "
+    "put the checkout's benchmarks/ folder on PYTHONPATH"
+)
 SIZE_HELP = f"WxH (default {DEFAULT_SIZE_TEXT})"
 
 
@@ -322,6 +332,18 @@ class _Parser(argparse.ArgumentParser):
 USER_ERRORS = (ValueError, TypeError, LookupError, OSError, RuntimeError, ImportError)
 
 
+@functools.cache
+def bench_command():
+    """`blurlab bench`'s module (blurlab_bench.command): the development package beside this
+    source where it is a checkout's, else one on the path; None where there is neither."""
+    if (BENCH_FOLDER / BENCH_PACKAGE / "__init__.py").is_file():
+        if str(BENCH_FOLDER) not in sys.path:
+            sys.path.insert(0, str(BENCH_FOLDER))
+    elif importlib.util.find_spec(BENCH_PACKAGE) is None:
+        return None
+    return importlib.import_module(f"{BENCH_PACKAGE}.command")
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The `blurlab` command line; docs/cli.md is printed from it (blurlab.cli_reference)."""
     parser = _Parser(prog="blurlab", description=__doc__)
@@ -451,14 +473,24 @@ def build_parser() -> argparse.ArgumentParser:
     sweep = sub.add_parser("sweep", help="run the sweep a TOML configuration describes")
     sweep.add_argument("config", help="TOML file: scenes, methods, size, shutter, ...")
     _add_cluster_options(sweep)
-    bench = sub.add_parser("bench", help="run, list and record the registered benchmarks")
-    bench_command.add_arguments(bench, parse_size)
+    benchmarks = bench_command()
+    bench = sub.add_parser(
+        "bench",
+        help="run, list and record the registered benchmarks (from a checkout)",
+        add_help=benchmarks is not None,
+    )
+    if benchmarks is not None:
+        benchmarks.add_arguments(bench, parse_size)
     return parser
 
 
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
-    args = parser.parse_args(argv)
+    args, unknown = parser.parse_known_args(argv)
+    if args.command == "bench" and bench_command() is None:
+        parser.error(NO_BENCHMARKS)
+    if unknown:
+        parser.error(f"unrecognized arguments: {' '.join(unknown)}")
     commands = {
         "info": _info,
         "demo": _demo,
@@ -467,7 +499,7 @@ def main(argv: list[str] | None = None) -> int:
         "recommend": _recommend,
         "study": _study,
         "sweep": _sweep,
-        "bench": lambda args: bench_command.main(args, args.device),
+        "bench": lambda args: bench_command().main(args, args.device),
     }
     try:
         return commands[args.command](args)

@@ -9,13 +9,14 @@ import time
 
 import numpy as np
 
-from ... import hatching as hatching_schemes
-from ... import scenes, tam
-from ...frame import MOTION_FORMATS
-from ...methods.core import Param
-from ...render import stored_motion
-from ...sizes import DEFAULT_SIZE
-from .. import hatching
+from blurlab import hatching as hatching_schemes
+from blurlab import scenes, tam
+from blurlab.frame import MOTION_FORMATS
+from blurlab.methods.core import Param
+from blurlab.render import stored_motion
+from blurlab.sizes import DEFAULT_SIZE
+from blurlab.studies import hatching
+
 from .core import Benchmark, register
 from .timing import per_call_us, split, wall_ms
 

@@ -11,12 +11,13 @@ import statistics
 
 import numpy as np
 
-from ... import blender, metrics, scenes
-from ...blender import crosscheck
-from ...methods import blur, method_instant
-from ...methods.core import Param
-from ...sizes import DEFAULT_SIZE
-from .. import transparency
+from blurlab import blender, metrics, scenes
+from blurlab.blender import crosscheck
+from blurlab.methods import blur, method_instant
+from blurlab.methods.core import Param
+from blurlab.sizes import DEFAULT_SIZE
+from blurlab.studies import transparency
+
 from .core import Benchmark, register
 from .timing import median_passes, spin_up, split
 

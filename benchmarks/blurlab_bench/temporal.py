@@ -9,14 +9,15 @@ import time
 
 import numpy as np
 
-from ... import metrics, scenes
-from ...methods import method as method_info
-from ...methods.core import Param
-from ...sequences import sequence, still
-from ...taa import PARAMS as TAA_PARAMS
-from ...taa import taa, taa_values
-from ...twins.taa import resolve
-from .. import temporal
+from blurlab import metrics, scenes
+from blurlab.methods import method as method_info
+from blurlab.methods.core import Param
+from blurlab.sequences import sequence, still
+from blurlab.studies import temporal
+from blurlab.taa import PARAMS as TAA_PARAMS
+from blurlab.taa import taa, taa_values
+from blurlab.twins.taa import resolve
+
 from .core import Benchmark, register
 from .timing import split
 

@@ -7,10 +7,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from ... import scenes
-from ...methods import methods, render_and_blur
-from ...methods.core import Param
-from ...metrics import psnr
+from blurlab import scenes
+from blurlab.methods import methods, render_and_blur
+from blurlab.methods.core import Param
+from blurlab.metrics import psnr
+
 from .core import Benchmark, register
 
 # The object each scene keeps still on screen: its pixels' error is reported apart.

@@ -9,11 +9,12 @@ import statistics
 
 import numpy as np
 
-from ... import metrics, scenes
-from ...methods import blur, coverage
-from ...methods.core import Param
-from ...sizes import DEFAULT_SIZE
-from ...twins import guertin2014
+from blurlab import metrics, scenes
+from blurlab.methods import blur, coverage
+from blurlab.methods.core import Param
+from blurlab.sizes import DEFAULT_SIZE
+from blurlab.twins import guertin2014
+
 from .core import Benchmark, register
 from .timing import film_method, median_passes, split, untimed_calls_ms
 

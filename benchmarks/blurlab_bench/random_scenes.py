@@ -13,12 +13,13 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ... import io, scenes
-from ...context import Context
-from ...methods.core import Param
-from ..cluster import ACCOUNT, WORKER_COUNTERS
-from ..cluster_devices import local_cluster
-from ..sweep import sweep, sweep_methods
+from blurlab import io, scenes
+from blurlab.context import Context
+from blurlab.methods.core import Param
+from blurlab.studies.cluster import ACCOUNT, WORKER_COUNTERS
+from blurlab.studies.cluster_devices import local_cluster
+from blurlab.studies.sweep import sweep, sweep_methods
+
 from .core import Benchmark, register
 from .rescore import RESCORED, rescore
 

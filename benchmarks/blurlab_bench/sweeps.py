@@ -11,13 +11,14 @@ import tempfile
 import time
 from pathlib import Path
 
-from ... import metrics, scenes
-from ...methods import blur
-from ...methods.core import Param
-from ...sizes import DEFAULT_SIZE
-from ..cluster import forget_scenes
-from ..cluster_devices import local_cluster
-from ..sweep import default_grids, grid_points, sweep
+from blurlab import metrics, scenes
+from blurlab.methods import blur
+from blurlab.methods.core import Param
+from blurlab.sizes import DEFAULT_SIZE
+from blurlab.studies.cluster import forget_scenes
+from blurlab.studies.cluster_devices import local_cluster
+from blurlab.studies.sweep import default_grids, grid_points, sweep
+
 from .core import Benchmark, register
 from .filters import GRID
 from .timing import split, tile_filters, wall_ms

@@ -9,11 +9,12 @@ import time
 
 import pandas as pd
 
-from ... import scenes
-from ...methods.core import Param
-from .. import rankings
-from ..cluster_devices import local_cluster
-from ..sweep import sweep
+from blurlab import scenes
+from blurlab.methods.core import Param
+from blurlab.studies import rankings
+from blurlab.studies.cluster_devices import local_cluster
+from blurlab.studies.sweep import sweep
+
 from .core import Benchmark, register
 from .rescore import RESCORED, rescore
 from .timing import post_process_methods, split

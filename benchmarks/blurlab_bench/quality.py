@@ -16,16 +16,17 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ... import blender, metrics, scenes
-from ...blender import crosscheck
-from ...context import Context
-from ...methods import blur, method, method_instant, methods
-from ...methods.core import Param
-from ...sizes import DEFAULT_SIZE
-from .. import failures, peers
-from ..recommend import recommend
-from ..study import run_study
-from ..sweep import sweep, sweep_methods
+from blurlab import blender, metrics, scenes
+from blurlab.blender import crosscheck
+from blurlab.context import Context
+from blurlab.methods import blur, method, method_instant, methods
+from blurlab.methods.core import Param
+from blurlab.sizes import DEFAULT_SIZE
+from blurlab.studies import failures, peers
+from blurlab.studies.recommend import recommend
+from blurlab.studies.study import run_study
+from blurlab.studies.sweep import sweep, sweep_methods
+
 from .core import ROOT, Benchmark, Unavailable, register
 from .timing import (
     film_method,

@@ -26,12 +26,13 @@ import os
 import time
 from concurrent.futures import ProcessPoolExecutor
 
-from ... import scenes
-from ...context import Context
-from ...methods import method
-from ...methods.core import Param
-from .. import evaluation
-from ..sweep import middle_point, sweep_methods
+from blurlab import scenes
+from blurlab.context import Context
+from blurlab.methods import method
+from blurlab.methods.core import Param
+from blurlab.studies import evaluation
+from blurlab.studies.sweep import middle_point, sweep_methods
+
 from .core import Benchmark, register
 
 SAMPLES = 20  # samples of memory and objects along a run, besides its start and end

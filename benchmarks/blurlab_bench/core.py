@@ -25,9 +25,9 @@ from dataclasses import dataclass, field
 from numbers import Integral, Real
 from pathlib import Path
 
-from ...context import Context
-from ...methods.core import Param
-from ...version import __version__
+from blurlab.context import Context
+from blurlab.methods.core import Param
+from blurlab.version import __version__
 
 PRESETS = ("tiny", "software", "gpu")  # CI's size, llvmpipe's records, the GPU's records
 CLOCKS = ("gl_time_elapsed", "wall_glfinish")
@@ -44,9 +44,18 @@ RECORD_KEYS = (
     "tables",
 )
 SIGNIFICANT = 5  # digits a figure keeps in a record: more is noise, and makes the file long
-# The checkout's records file, where there is a checkout (python/blurlab/studies/bench -> root).
-ROOT = Path(__file__).resolve().parents[4]
-RECORDS = ROOT / "benchmarks" / "records.jsonl"
+# The benchmarks are a development package of the checkout (benchmarks/blurlab_bench), never
+# in the wheel, so the records file beside them is always there.
+PACKAGE_PARENT = Path(__file__).resolve().parents[1]
+ROOT = PACKAGE_PARENT.parent
+RECORDS = PACKAGE_PARENT / "records.jsonl"
+
+
+def child_environment(extra: dict[str, str]) -> dict[str, str]:
+    """This process's environment with `extra` and this package's folder first on PYTHONPATH,
+    so that a child Python imports these benchmarks however this process found them."""
+    path = os.pathsep.join(p for p in (str(PACKAGE_PARENT), os.environ.get("PYTHONPATH")) if p)
+    return {**os.environ, **extra, "PYTHONPATH": path}
 
 
 class Unavailable(RuntimeError):

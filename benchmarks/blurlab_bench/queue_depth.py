@@ -9,15 +9,15 @@ bound costs: a short filter's time per call and back to back under each setting.
 from __future__ import annotations
 
 import json
-import os
 import statistics
 import subprocess
 import sys
 
-from ... import scenes
-from ...methods import method
-from ...methods.core import Param
-from .core import Benchmark, register
+from blurlab import scenes
+from blurlab.methods import method
+from blurlab.methods.core import Param
+
+from .core import Benchmark, child_environment, register
 from .taps import BASELINE
 from .timing import post_process_methods, split
 
@@ -42,7 +42,7 @@ MISSING = "–"  # a cell the run did not reach: its context was lost before
 _QUEUE_RUN = """
 import json, sys, time
 import blurlab as bl
-from blurlab.studies.bench.timing import back_to_back_ms, median_passes
+from blurlab_bench.timing import back_to_back_ms, median_passes
 device, loop, scene_name, method, size, issue_s, samples, runs = json.loads(sys.argv[1])
 ctx = bl.Context(device)
 row = {"bound": ctx.info()["passes_in_flight"], "per_fence": ctx.info()["passes_per_fence"],
@@ -102,7 +102,7 @@ def _queue_run(ctx, setting: str, loop: str, scene: str, name: str, size, p) -> 
     )
     done = subprocess.run(
         [sys.executable, "-c", _QUEUE_RUN, arguments],
-        env={**os.environ, **SETTINGS[setting]},
+        env=child_environment(SETTINGS[setting]),
         capture_output=True,
         text=True,
         timeout=600,

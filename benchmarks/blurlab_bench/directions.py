@@ -7,12 +7,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from ... import scenes
-from ...methods import blur, method, methods
-from ...methods.core import Param
-from ...sizes import DEFAULT_SIZE
-from ...twins.unreal5 import GATHER_2
-from .. import peers
+from blurlab import scenes
+from blurlab.methods import blur, method, methods
+from blurlab.methods.core import Param
+from blurlab.sizes import DEFAULT_SIZE
+from blurlab.studies import peers
+from blurlab.twins.unreal5 import GATHER_2
+
 from .core import Benchmark, register
 from .timing import film_method, median_passes, method_runs, split
 

@@ -8,11 +8,21 @@ import statistics
 
 import numpy as np
 
-from ... import metrics, scenes
-from ...converged import default_reference_samples
-from ...methods import blur, coverage, eevee, method, method_instant, methods, plans, tile_filter
-from ...methods.core import Param
-from ...sizes import DEFAULT_SIZE
+from blurlab import metrics, scenes
+from blurlab.converged import default_reference_samples
+from blurlab.methods import (
+    blur,
+    coverage,
+    eevee,
+    method,
+    method_instant,
+    methods,
+    plans,
+    tile_filter,
+)
+from blurlab.methods.core import Param
+from blurlab.sizes import DEFAULT_SIZE
+
 from .core import Benchmark, register
 from .timing import (
     film_method,

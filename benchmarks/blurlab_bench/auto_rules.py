@@ -8,10 +8,11 @@ from __future__ import annotations
 
 import json
 
-from ... import scenes
-from ...methods import method, methods
-from ...methods.core import Param
-from .. import auto_rules
+from blurlab import scenes
+from blurlab.methods import method, methods
+from blurlab.methods.core import Param
+from blurlab.studies import auto_rules
+
 from .core import Benchmark, register
 from .rankings import sweep_on_workers
 from .rescore import RESCORED, rescore
