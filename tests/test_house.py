@@ -14,6 +14,7 @@ import pytest
 import blurlab as bl
 from blurlab.cli import method_table
 from blurlab.methods.core import KINDS, check_param, twin_keywords
+from blurlab.methods.params import Param
 
 ROOT = Path(__file__).resolve().parents[1]
 PACKAGE = ROOT / "python" / "blurlab"
@@ -82,6 +83,16 @@ def test_a_shared_parameter_is_one_declaration():
             signature = (key, repr(param.default), repr(param.kind), param.low, param.high)
             first = seen.setdefault(signature, param)
             assert first is param, f"{name}.{key} is declared again with the same default/range"
+
+
+def test_a_params_flags_are_keyword_only():
+    """`Param(1.5, float, "...", 0, 100, True)` would not say what True is."""
+    with pytest.raises(TypeError):
+        Param(1.5, float, "tile side", 0, 100, True)
+    assert (
+        Param(1.5, float, "tile side", 0, 100, low_open=True).allowed()
+        == "finite and > 0 and <= 100"
+    )
 
 
 def test_no_param_declaration_states_its_range_in_its_doc():

@@ -1,7 +1,7 @@
 """The benchmarks' registry, record schema, records file and runner.
 
 A benchmark is registered once (``Benchmark``: name, one line of doc, its parameters declared
-with ``blurlab.methods.core.Param``, its sizes and presets, and ``run``), and everything else
+with ``blurlab.methods.params.Param``, its sizes and presets, and ``run``), and everything else
 reads it from here: ``blurlab bench``, benchmarks/gpu.sh, the CI test that runs each at a tiny
 size, and docs/benchmarks.md, which is generated from benchmarks/records.jsonl.
 
@@ -22,11 +22,11 @@ import subprocess
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from numbers import Integral, Real
+from numbers import Real
 from pathlib import Path
 
 from blurlab.context import Context
-from blurlab.methods.core import Param
+from blurlab.methods.params import Param, check_known, typed
 from blurlab.version import __version__
 
 PRESETS = ("tiny", "software", "gpu")  # CI's size, llvmpipe's records, the GPU's records
@@ -150,39 +150,15 @@ def benchmark(name: str) -> Benchmark:
 
 def check_value(bench: Benchmark, key: str, value):
     """`value` as parameter `key` of `bench` takes it, or a ValueError/TypeError that names the
-    benchmark, the parameter, the value and what is allowed."""
-    if key not in bench.params:
-        raise ValueError(
-            f"blurlab: benchmark {bench.name} has no parameter {key!r}; "
-            f"its parameters: {', '.join(bench.params) or 'none'}"
-        )
-    p = bench.params[key]
-    where = f"blurlab: benchmark {bench.name} parameter {key}"
-    if p.kind is object:
-        if not isinstance(value, str):
-            raise TypeError(f"{where} must be text ({p.doc}), not {value!r}")
-        return value
-    if p.kind is bool:
-        if not isinstance(value, bool):
-            raise TypeError(f"{where} must be True or False, not {value!r}")
-        return value
-    if isinstance(p.kind, tuple):
-        if value not in p.kind:
-            raise ValueError(f"{where} must be {p.allowed()}, not {value!r}")
-        return value
-    number = Integral if p.kind is int else Real
-    if isinstance(value, bool) or not isinstance(value, number):
-        raise TypeError(f"{where} must be {p.allowed()}, not {value!r}")
-    value = p.kind(value)
-    low = p.low is not None and (value <= p.low if p.low_open else value < p.low)
-    if not math.isfinite(value) or low or (p.high is not None and value > p.high):
-        raise ValueError(f"{where} = {value!r} must be {p.allowed()}")
-    return value
+    benchmark, the parameter, the value and what is allowed (the methods' own check)."""
+    owner = f"benchmark {bench.name}"
+    check_known(owner, bench.params, [key])
+    return typed(owner, key, value, bench.params[key])
 
 
 def parse_value(bench: Benchmark, key: str, text: str):
     """`--param key=text`'s value, converted to the parameter's type and checked."""
-    kind = bench.params[key].kind if key in bench.params else object
+    kind = bench.params[key].kind if key in bench.params else str
     value: object = text
     if kind is bool:
         if text not in ("true", "false"):

@@ -9,7 +9,7 @@ import numpy as np
 
 from blurlab import scenes
 from blurlab.methods import blur, method, methods
-from blurlab.methods.core import Param
+from blurlab.methods.params import Param
 from blurlab.sizes import DEFAULT_SIZE
 from blurlab.studies import peers
 from blurlab.twins.unreal5 import GATHER_2
@@ -80,8 +80,8 @@ register(
         "on the scenes where motions cross: PSNR against both references, two-direction tiles, "
         "ms",
         {
-            "scenes": Param("crossing,crossed_motions", object, "comma-separated scenes"),
-            "configs": Param("", object, "more rows: METHOD:KEY=VALUE,... separated by ';'"),
+            "scenes": Param("crossing,crossed_motions", str, "comma-separated scenes"),
+            "configs": Param("", str, "more rows: METHOD:KEY=VALUE,... separated by ';'"),
             "runs": Param(5, int, "timed runs per configuration (medians)", 1, 1000),
             "reference_samples": Param(0, int, "N of the references (0: from the motion)", 0),
         },

@@ -12,7 +12,7 @@ import numpy as np
 from blurlab import hatching as hatching_schemes
 from blurlab import scenes, tam
 from blurlab.frame import MOTION_FORMATS
-from blurlab.methods.core import Param
+from blurlab.methods.params import Param
 from blurlab.render import stored_motion
 from blurlab.sizes import DEFAULT_SIZE
 from blurlab.studies import hatching
@@ -203,7 +203,7 @@ register(
         "the reference's sub-frames: wall clock of ctx.reference per sub-frame beside the GPU "
         "time it reports",
         {
-            "scenes": Param("teapot_pass,vehicle", object, "comma-separated built-in scenes"),
+            "scenes": Param("teapot_pass,vehicle", str, "comma-separated built-in scenes"),
             "samples": Param(256, int, "sub-frames of each reference", 1, 65536),
             "runs": Param(3, int, "references per scene (medians)", 1, 1000),
         },
@@ -246,7 +246,7 @@ register(
         "§2), on the GPU's encode/decode pass",
         {
             "maxlen": Param(
-                math.hypot(1920, 1080), float, "the formats' maxlen, px", 0, None, True
+                math.hypot(1920, 1080), float, "the formats' maxlen, px", 0, None, low_open=True
             ),
             "vectors": Param(4096, int, "vectors of each length, evenly spread", 1, 1 << 20),
         },

@@ -15,7 +15,7 @@ import sys
 
 from blurlab import scenes
 from blurlab.methods import method
-from blurlab.methods.core import Param
+from blurlab.methods.params import Param
 
 from .core import Benchmark, child_environment, register
 from .taps import BASELINE
@@ -239,33 +239,33 @@ register(
         {
             "scenes": Param(
                 "camera_yaw,near_plane",
-                object,
+                str,
                 "comma-separated built-in, failure or transparency scenes",
             ),
             "method": Param(
                 "",
-                object,
+                str,
                 "a method that blurs one frame (empty: the one drawn by fragment passes alone, "
                 "the slowest on the H100)",
             ),
             "issue_s": Param(0.25, float, "seconds of issuing without a wait", 0.01, 10.0),
             "reference_scenes": Param(
                 "smoke_pan",
-                object,
+                str,
                 "comma-separated scenes whose reference is rendered under each setting "
                 "(empty: none)",
             ),
             "reference_samples": Param(1024, int, "the references' sub-frames", 1, 1024),
             "cost_scenes": Param(
                 "occluder,camera_yaw,fast_fan",
-                object,
+                str,
                 f"comma-separated scenes where {BASELINE} is timed under each setting (empty: "
                 "none)",
             ),
             "runs": Param(10, int, "timed calls per cost scene (their median)", 1, 1000),
             "settings": Param(
                 ",".join(SETTINGS),
-                object,
+                str,
                 "comma-separated, from bounded (the default bound on unfinished passes), "
                 "fence_per_pass (a bound of 4, a fence after every pass), unbounded (none), and "
                 "bounded_plain, unbounded_plain (a context without reset notification)",

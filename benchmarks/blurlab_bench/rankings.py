@@ -10,7 +10,7 @@ import time
 import pandas as pd
 
 from blurlab import scenes
-from blurlab.methods.core import Param
+from blurlab.methods.params import Param
 from blurlab.studies import rankings
 from blurlab.studies.cluster_devices import local_cluster
 from blurlab.studies.sweep import sweep
@@ -117,10 +117,10 @@ register(
         {
             "scenes": Param(200, int, "N random scenes", 2, 100_000),
             "first_seed": Param(0, int, "the first seed (seeds first_seed .. + N - 1)", 0),
-            "methods": Param("", object, "comma-separated methods (empty: every post-process)"),
-            "metrics": Param("psnr,ssim,flip", object, "comma-separated metrics (first: the map)"),
+            "methods": Param("", str, "comma-separated methods (empty: every post-process)"),
+            "metrics": Param("psnr,ssim,flip", str, "comma-separated metrics (first: the map)"),
             "map_features": Param(
-                ",".join(rankings.MAP_FEATURES), object, "the two scene features of the wins map"
+                ",".join(rankings.MAP_FEATURES), str, "the two scene features of the wins map"
             ),
             "bins": Param(4, int, "cells per feature of the wins map", 1, 64),
             "workers": Param(0, int, "local Dask workers (0: this process)", 0, 64),

@@ -10,7 +10,7 @@ import json
 import numpy as np
 import pandas as pd
 
-from blurlab.methods.core import Param
+from blurlab.methods.params import Param
 from blurlab.studies.evaluation import STALE_COLUMN
 from blurlab.studies.sweep import sweep
 

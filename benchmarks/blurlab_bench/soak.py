@@ -29,7 +29,7 @@ from concurrent.futures import ProcessPoolExecutor
 from blurlab import scenes
 from blurlab.context import Context
 from blurlab.methods import method
-from blurlab.methods.core import Param
+from blurlab.methods.params import Param
 from blurlab.studies import evaluation
 from blurlab.studies.sweep import middle_point, sweep_methods
 
@@ -269,10 +269,10 @@ register(
             "evaluations": Param(
                 20_000, int, "sweep evaluations after the warm-up cycle", 1, 10_000_000
             ),  # fmt: skip
-            "scene": Param("fan", object, "the built-in scene evaluated"),
+            "scene": Param("fan", str, "the built-in scene evaluated"),
             "devices": Param(
                 "",
-                object,
+                str,
                 "EGL device indices to soak on side by side, one process each "
                 "(e.g. 1,2,3 or 1,1,2,2); empty: this context's device",
             ),
