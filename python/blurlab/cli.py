@@ -9,7 +9,8 @@ import functools
 import importlib
 import importlib.util
 import json
-import re
+import os
+import signal
 import sys
 import time
 from contextlib import contextmanager
@@ -17,6 +18,7 @@ from pathlib import Path
 
 from . import io, metrics, scenes
 from .context import Context
+from .errors import cause
 from .methods import blur, method, methods
 from .sequences import frame_scenes
 from .sizes import DEFAULT_SIZE
@@ -484,6 +486,18 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _reader_gone() -> int:
+    """stdout's reader went away (`blurlab methods | head -1`): stop quietly, as Unix tools do,
+    with the status a shell shows for SIGPIPE. What is left in stdout's buffer goes to
+    /dev/null, so that the interpreter's last flush raises nothing either."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError, AttributeError):  # a stdout with no file descriptor
+        pass
+    return 128 + signal.SIGPIPE
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     args, unknown = parser.parse_known_args(argv)
@@ -502,13 +516,17 @@ def main(argv: list[str] | None = None) -> int:
         "bench": lambda args: bench_command().main(args, args.device),
     }
     try:
-        return commands[args.command](args)
+        status = commands[args.command](args)
+        sys.stdout.flush()  # a reader gone away shows here, not in the interpreter's last flush
+        return status
+    except BrokenPipeError:
+        return _reader_gone()
     except USER_ERRORS as error:
         if args.debug:
             raise
         # One line: a multi-line message (the EGL driver's remedy, say) is joined, not cut.
         lines = [line.strip() for line in str(error).splitlines() if line.strip()]
-        message = re.sub(r"^blurlab[\w. ]*: ", "", " ".join(lines)) or type(error).__name__
+        message = cause(" ".join(lines)) or type(error).__name__
         parser.exit(2, f"blurlab: error: {message}\n")
 
 
