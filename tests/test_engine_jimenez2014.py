@@ -7,8 +7,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import assert_blur_refuses, assert_timings_name, random_frame
-from filter_promises import PROMISES, assert_blurs_a_rendered_scene_as_its_twin, assert_matches_twin
+from conftest import assert_blur_refuses, assert_matches_twin, assert_timings_name, random_frame
+from filter_promises import assert_blurs_a_rendered_scene_as_its_twin
 
 import blurlab as bl
 from blurlab.twins import jimenez2014 as ref
@@ -76,11 +76,6 @@ def test_the_foreground_alpha_of_a_moving_bar(ctx):
     np.testing.assert_allclose(row[36:60], 0.25, atol=0.02)  # the bar's own pixels among them
     assert (np.diff(row[28:37]) > 0).all() and (np.diff(row[59:68]) < 0).all()  # the ramps
     assert row[:27].max() == 0.0 and row[69:].max() == 0.0  # beyond its reach
-
-
-@pytest.mark.parametrize("promise", PROMISES.values(), ids=PROMISES.keys())
-def test_the_filter_promises(ctx, rng, promise):
-    promise(ctx, rng, METHOD)
 
 
 @pytest.mark.parametrize(

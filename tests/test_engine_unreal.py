@@ -7,8 +7,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import assert_blur_refuses, assert_timings_name, random_frame
-from filter_promises import assert_blurs_a_rendered_scene_as_its_twin, assert_matches_twin
+from conftest import assert_blur_refuses, assert_matches_twin, assert_timings_name, random_frame
+from filter_promises import assert_blurs_a_rendered_scene_as_its_twin
 
 import blurlab as bl
 from blurlab.twins import polar_fixed_point as polar

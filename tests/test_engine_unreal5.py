@@ -7,8 +7,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import assert_blur_refuses, assert_timings_name, random_frame
-from filter_promises import PROMISES, assert_blurs_a_rendered_scene_as_its_twin, assert_matches_twin
+from conftest import assert_blur_refuses, assert_matches_twin, assert_timings_name, random_frame
+from filter_promises import assert_blurs_a_rendered_scene_as_its_twin
 
 import blurlab as bl
 from blurlab.twins import polar_fixed_point as polar
@@ -114,11 +114,6 @@ def test_half_res_gather_reads_the_half_size_colour_for_long_blurs(ctx, rng):
     assert np.abs(on.color - off.color).max() > 0.01
     assert_matches_twin(on, frame)
     assert_matches_twin(off, frame)
-
-
-@pytest.mark.parametrize("promise", PROMISES.values(), ids=PROMISES.keys())
-def test_the_filter_promises(ctx, rng, promise):
-    promise(ctx, rng, METHOD)
 
 
 @pytest.mark.parametrize(

@@ -8,12 +8,11 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import assert_blur_refuses, assert_timings_name, random_frame
+from conftest import assert_blur_refuses, assert_matches_twin, assert_timings_name, random_frame
 from filter_promises import (
     assert_blurs_a_rendered_scene_as_its_twin,
     assert_finite_for_motion_scale,
     assert_inside_the_input_range,
-    assert_matches_twin,
     two_sided_frame,
 )
 

@@ -7,8 +7,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import assert_blur_refuses, assert_timings_name, random_frame
-from filter_promises import PROMISES, assert_blurs_a_rendered_scene_as_its_twin, assert_matches_twin
+from conftest import assert_blur_refuses, assert_matches_twin, assert_timings_name, random_frame
+from filter_promises import assert_blurs_a_rendered_scene_as_its_twin
 
 import blurlab as bl
 from blurlab.twins import pixel_gather as ref
@@ -64,11 +64,6 @@ def test_a_tap_in_front_is_dropped(ctx):
     assert out[:, background, 0].max() == 0.0  # no red bleeds into the background
     assert np.abs(out[:, background, 1] - color[:, background, 1]).max() > 0.01  # it blurred
     assert_matches_twin(bl.blur(ctx, frame, METHOD), frame)
-
-
-@pytest.mark.parametrize("promise", PROMISES.values(), ids=PROMISES.keys())
-def test_the_filter_promises(ctx, rng, promise):
-    promise(ctx, rng, METHOD)
 
 
 @pytest.mark.parametrize(
