@@ -110,13 +110,6 @@ def assert_inside_input_range(out: np.ndarray, color: np.ndarray, tolerance: flo
         assert lo - tolerance <= out[..., c].min() and out[..., c].max() <= hi + tolerance, c
 
 
-def assert_blur_refuses(ctx, rng, method: str, params: dict, error: type, message: str):
-    """bl.blur(method, **params) on a small random frame raises `error` matching `message`: a
-    bad parameter is named with its allowed range."""
-    with pytest.raises(error, match=message):
-        bl.blur(ctx, random_frame(rng, 16, 16), method, **params)
-
-
 def assert_timings_name(ctx, rng, method: str, passes: list[str], **params):
     """bl.blur(method) reports a time for each of `passes`, in order, and a positive total;
     returns the result."""

@@ -14,10 +14,10 @@ from conftest import assert_inside_input_range, assert_matches_twin, random_fram
 import blurlab as bl
 
 
-def two_sided_frame(rng, width, height, reach=20.0):
+def two_sided_frame(rng, width, height, reach=20.0, k=10):
     """A random frame whose halves differ (not constant velocity): each half its own random
-    direction and length up to `reach` px."""
-    frame = random_frame(rng, width, height, k=10)
+    direction and length up to `reach` px (the colour and depth of random_frame(k=k))."""
+    frame = random_frame(rng, width, height, k=k)
     halves = []
     for _ in range(2):
         angle = rng.uniform(0, 2 * np.pi, (height, width))
@@ -96,13 +96,18 @@ def assert_seeded(ctx, frame, method: str) -> None:
 
 @dataclass(frozen=True)
 class Tried:
-    """How a method is tried on the promises: the frame maker (`make(rng, width, height)`; a
-    method that reads two-sided motion wants two_sided_frame), and the parameters that let its
-    blur reach far enough for the input-range check (`inside`) and for huge motion (`huge`)."""
+    """How a filter is tried: the frame maker (`make(rng, width, height, k=...)`; a method that
+    reads two-sided motion wants two_sided_frame); the parameters that let its blur reach far
+    enough for the input-range check (`inside`) and for huge motion (`huge`); the random frames
+    ((size, params) each, on every backend of `backends`) and rendered scenes ((scene, params)
+    each) on which it must match its twin."""
 
     make: Callable = random_frame
     inside: dict = field(default_factory=dict)
     huge: dict = field(default_factory=dict)
+    backends: tuple[str, ...] = ("compute",)
+    random: tuple = ()
+    scenes: tuple = ()
 
 
 def _finite(scale, huge=False):
