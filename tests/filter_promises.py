@@ -1,20 +1,23 @@
-"""The promises every motion-blur filter keeps, as checks the engines' test files share: the
+"""The promises every motion-blur filter keeps, as checks the test files share: the
 GPU matches the NumPy twin (docs/spec.md §13), a still frame comes back unchanged, the output
 stays inside the input range, zero, tiny and huge motion give no NaN, and the same seed gives
 the same bits (another seed, other noise)."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
 import numpy as np
-from conftest import assert_inside_input_range, random_frame
+from conftest import assert_inside_input_range, assert_matches_twin, random_frame
 
 import blurlab as bl
 
 
-def two_sided_frame(rng, width, height, reach=20.0):
+def two_sided_frame(rng, width, height, reach=20.0, k=10):
     """A random frame whose halves differ (not constant velocity): each half its own random
-    direction and length up to `reach` px."""
-    frame = random_frame(rng, width, height, k=10)
+    direction and length up to `reach` px (the colour and depth of random_frame(k=k))."""
+    frame = random_frame(rng, width, height, k=k)
     halves = []
     for _ in range(2):
         angle = rng.uniform(0, 2 * np.pi, (height, width))
@@ -27,18 +30,6 @@ def two_sided_frame(rng, width, height, reach=20.0):
         motion_prev=halves[0],
         motion_next=halves[1],
     )
-
-
-def assert_matches_twin(result, frame, diagnose=None) -> None:
-    """>= 99.9 % of pixels within 1e-3 of the twin, mean absolute error <= 1e-4. On a miss,
-    diagnose(expected), where given, adds its text to the failure's message."""
-    expected = bl.method(result.method).twin_output(frame, **result.params)
-    error = np.abs(result.color - expected)
-    within = (error.max(axis=-1) <= 1e-3).mean()
-    if within < 0.999 or error.mean() > 1e-4:
-        note = diagnose(expected) if diagnose else ""
-        assert within >= 0.999, f"{within:.5f} of pixels within 1e-3{note}"
-        assert error.mean() <= 1e-4, f"mean absolute error {error.mean():.2e}{note}"
 
 
 def share_within(a, b) -> float:
@@ -103,29 +94,45 @@ def assert_seeded(ctx, frame, method: str) -> None:
     assert a.tobytes() != c.tobytes()
 
 
-def _still(ctx, rng, method):
-    assert_still_frame_unchanged(ctx, rng, method)
+@dataclass(frozen=True)
+class Tried:
+    """How a filter is tried: the frame maker (`make(rng, width, height, k=...)`; a method that
+    reads two-sided motion wants two_sided_frame); the parameters that let its blur reach far
+    enough for the input-range check (`inside`) and for huge motion (`huge`); the random frames
+    ((size, params) each, on every backend of `backends`) and rendered scenes ((scene, params)
+    each) on which it must match its twin."""
+
+    make: Callable = random_frame
+    inside: dict = field(default_factory=dict)
+    huge: dict = field(default_factory=dict)
+    backends: tuple[str, ...] = ("compute",)
+    random: tuple = ()
+    scenes: tuple = ()
 
 
-def _inside(ctx, rng, method):
-    assert_inside_the_input_range(ctx, random_frame(rng, 64, 48), method)
+def _finite(scale, huge=False):
+    def check(ctx, rng, method, tried):
+        params = tried.huge if huge else {}
+        assert_finite_for_motion_scale(ctx, rng, method, scale, **params)
+
+    return check
 
 
-def _finite(scale):
-    return lambda ctx, rng, method: assert_finite_for_motion_scale(ctx, rng, method, scale)
-
-
-def _seeded(ctx, rng, method):
-    assert_seeded(ctx, random_frame(rng, 64, 48), method)
-
-
-# Every promise above at the method's defaults, as `check(ctx, rng, method)`, for a test file to
-# parametrize over: still frame, input range, no NaN at motion scales 0, 1e-6 and 1e7, seed.
+# Every promise, as `check(ctx, rng, method, tried)` (a Tried), for a test to parametrize over:
+# still frame, input range, no NaN from zero to huge motion, same seed same bits.
 PROMISES = {
-    "still_frame_unchanged": _still,
-    "inside_the_input_range": _inside,
+    "still_frame_unchanged": lambda ctx, rng, method, tried: assert_still_frame_unchanged(
+        ctx, rng, method
+    ),
+    "inside_the_input_range": lambda ctx, rng, method, tried: assert_inside_the_input_range(
+        ctx, tried.make(rng, 120, 80), method, **tried.inside
+    ),
     "finite_at_zero_motion": _finite(0.0),
     "finite_at_tiny_motion": _finite(1e-6),
-    "finite_at_huge_motion": _finite(1e7),
-    "same_seed_same_bits": _seeded,
+    "finite_at_small_motion": _finite(1e-3),
+    "finite_at_huge_motion": _finite(1e7, huge=True),
+    "finite_at_enormous_motion": _finite(1e30, huge=True),
+    "same_seed_same_bits": lambda ctx, rng, method, tried: assert_seeded(
+        ctx, tried.make(rng, 80, 60), method
+    ),
 }

@@ -37,6 +37,7 @@ import zipfile
 from pathlib import Path
 
 import numpy as np
+from conftest import random_frame
 
 import blurlab as bl
 
@@ -61,14 +62,9 @@ IMAGE_TOLERANCE = {
 }
 
 
-def random_frame() -> bl.Frame:
-    rng = np.random.default_rng(20261123)
-    width, height = GOLDEN_SIZE
-    color = rng.random((height, width, 4), dtype=np.float32)
-    depth = rng.uniform(1.0, 10.0, (height, width)).astype(np.float32)
-    depth[rng.random((height, width)) < 0.2] = np.inf
-    motion = rng.uniform(-30, 30, (height, width, 2)).astype(np.float32)
-    return bl.Frame(color=color, depth=depth, motion=motion)
+def golden_frame() -> bl.Frame:
+    """The random frame built from arrays: the tests' builder with a fixed seed."""
+    return random_frame(np.random.default_rng(20261123), *GOLDEN_SIZE, reach=30.0)
 
 
 def _grid_points(grid) -> list[dict]:
@@ -119,7 +115,7 @@ def _default_grid(name: str):
 def outputs(ctx: bl.Context) -> dict[str, np.ndarray | str]:
     """{case: output array, or 'error: <type>' where the call refuses} for every case on `ctx`."""
     made: dict[str, np.ndarray | str] = {}
-    frames = {"random": random_frame()}
+    frames = {"random": golden_frame()}
     scenes = {name: bl.scenes.get(name) for name in SCENES}
     for name in bl.methods():
         m = bl.method(name)
@@ -176,7 +172,7 @@ def _outputs(ctx, name, result, params, scene) -> dict[str, np.ndarray]:
     for key, array in sorted(result.buffers.items()):
         outputs[key] = array
     if name == "trail":  # the second frame blends with the first one's output
-        frame = ctx.render(scene, GOLDEN_SIZE, instant="close") if scene else random_frame()
+        frame = ctx.render(scene, GOLDEN_SIZE, instant="close") if scene else golden_frame()
         second = bl.blur(ctx, frame, name, history=result, **params)
         outputs["color_with_history"] = second.color
     return outputs

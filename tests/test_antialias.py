@@ -27,10 +27,6 @@ def still_scene() -> bl.Scene:
     return scene
 
 
-def psnr(a, b) -> float:
-    return float(10 * np.log10(1.0 / np.mean((a[..., :3] - b[..., :3]) ** 2)))
-
-
 @pytest.mark.parametrize("m", [4, 7, 10])
 def test_positions_are_a_net_and_times_are_stratified(m):
     n = 1 << m
@@ -89,9 +85,9 @@ def test_still_scene_equals_the_box_filtered_supersampled_image(ctx):
     supersampled = big.reshape(size[1], k, size[0], k, 4).mean(axis=(1, 3))
     antialiased = ctx.reference(scene, size, samples=1024, antialias=True).color
     centers = ctx.reference(scene, size, samples=1).color
-    assert psnr(antialiased, supersampled) > 65  # measured 73.4 dB
+    assert bl.metrics.psnr(antialiased, supersampled) > 65  # measured 73.4 dB
     assert np.abs(antialiased - supersampled).max() < 0.02
-    assert psnr(centers, supersampled) < 40  # pixel centers alias: measured 32.3 dB
+    assert bl.metrics.psnr(centers, supersampled) < 40  # pixel centers alias: measured 32.3 dB
 
 
 def box_filtered_square(scene, size) -> np.ndarray:

@@ -1,4 +1,4 @@
-"""The benchmark registry (blurlab.studies.bench): every benchmark runs on llvmpipe at its tiny
+"""The benchmark registry (benchmarks/blurlab_bench): every benchmark runs on llvmpipe at its tiny
 preset and gives a valid record with finite figures; records are validated on write and read, and
 merged by (benchmark, device); `blurlab bench`'s options refuse bad input; docs/benchmarks.md
 is the records file's Markdown."""
@@ -8,6 +8,7 @@ from __future__ import annotations
 import json
 import math
 import re
+import tomllib
 import warnings
 from pathlib import Path
 
@@ -15,9 +16,10 @@ import pandas as pd
 import pytest
 from conftest import CLI_DEVICE
 
-import blurlab.studies.bench as bench
+import blurlab_bench as bench
+from blurlab import cli
 from blurlab.cli import main
-from blurlab.studies.bench import core, filters, report, timing
+from blurlab_bench import core, filters, report, timing
 
 ROOT = Path(__file__).resolve().parents[1]
 # The glTF models beside the checkout; a git worktree sits one folder deeper.
@@ -75,8 +77,8 @@ def test_auto_rules_resumed_from_its_results_says_so(ctx, tmp_path):
 
 
 def test_random_scenes_writes_every_scenes_scores_and_their_digests(ctx, tmp_path):
-    from blurlab.studies.bench.random_scenes import scores_digest
     from blurlab.studies.sweep import read_row_file
+    from blurlab_bench.random_scenes import scores_digest
 
     path = tmp_path / "scores.csv"
     records = [
@@ -115,7 +117,7 @@ def test_random_scenes_writes_every_scenes_scores_and_their_digests(ctx, tmp_pat
 
 
 def test_rescore_picks_the_rows_that_stand_out_of_their_scene_then_draws():
-    from blurlab.studies.bench.rescore import rescore_picks
+    from blurlab_bench.rescore import rescore_picks
 
     table = pd.DataFrame(
         {
@@ -131,7 +133,7 @@ def test_rescore_picks_the_rows_that_stand_out_of_their_scene_then_draws():
 
 
 def test_rescore_picks_within_a_method_where_the_sweep_has_a_grid():
-    from blurlab.studies.bench.rescore import rescore_picks
+    from blurlab_bench.rescore import rescore_picks
 
     # Grids of k: one scene's method spans 20 dB from k to k, the other 1 dB. A read-back
     # wrong by NaN, and one by 5 dB in the tight method, stand out; the spread method's low k
@@ -229,14 +231,16 @@ def test_records_merge_by_benchmark_and_device(tmp_path):
 def test_parameters_are_checked_against_their_declaration():
     transfer = bench.benchmark("transfer")
     assert core.parse_value(transfer, "runs", "3") == 3
-    with pytest.raises(ValueError, match="runs = 0 must be 1..10000"):
+    with pytest.raises(ValueError, match="runs = 0 is outside 1..10000"):
         core.parse_value(transfer, "runs", "0")
     with pytest.raises(ValueError, match="must be an integer"):
         core.parse_value(transfer, "runs", "many")
-    with pytest.raises(ValueError, match="no parameter 'speed'; its parameters: runs, depth"):
+    with pytest.raises(TypeError, match=r"no parameter\(s\) \['speed'\]; its parameters are runs"):
         core.parse_value(transfer, "speed", "1")
     with pytest.raises(ValueError, match="must be one of '', 'eevee'"):
         core.check_value(bench.benchmark("engines"), "peers", "cycles")
+    with pytest.raises(TypeError, match="parameter scenes must be text"):
+        core.check_value(bench.benchmark("engines"), "scenes", 3)
 
 
 @pytest.mark.parametrize(
@@ -244,7 +248,7 @@ def test_parameters_are_checked_against_their_declaration():
     [
         (["bench", "nothing"], "no benchmark 'nothing'"),
         (["bench", "transfer", "--param", "runs"], "give KEY=VALUE"),
-        (["bench", "transfer", "--param", "runs=-1"], "runs = -1 must be"),
+        (["bench", "transfer", "--param", "runs=-1"], "runs = -1 is outside 1..10000"),
         (["bench"], "name a benchmark, or all"),
         (["bench", "motion_formats", "--size", "8x8"], "has no image size"),
     ],
@@ -261,6 +265,33 @@ def test_list_names_every_benchmark_with_its_doc(capsys):
     lines = capsys.readouterr().out.splitlines()
     assert [line.split()[0] for line in lines] == bench.names()
     assert all(bench.benchmark(line.split()[0]).doc in line for line in lines)
+
+
+def test_the_benchmarks_are_outside_the_package_the_wheel_ships():
+    """The wheel ships python/blurlab alone (pyproject's wheel.packages); the benchmarks are a
+    development package beside it, which nothing in the library imports."""
+    config = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["scikit-build"]
+    shipped = [ROOT / folder for folder in config["wheel"]["packages"]]
+    assert shipped == [ROOT / "python" / "blurlab"]
+    here = Path(bench.__file__).resolve()
+    assert here.parent == ROOT / "benchmarks" / "blurlab_bench"
+    assert not any(here.is_relative_to(folder) for folder in shipped)
+    importing = [
+        str(path.relative_to(ROOT))
+        for folder in shipped
+        for path in folder.rglob("*.py")
+        if re.search(r"^\s*(from|import) blurlab_bench\b", path.read_text(), re.M)
+    ]
+    assert not importing, importing
+
+
+def test_without_a_checkout_the_command_says_the_benchmarks_need_one(capsys, monkeypatch):
+    monkeypatch.setattr(cli, "bench_command", lambda: None)
+    for argv in (["bench", "--list"], ["bench", "transfer", "--tiny"], ["bench", "--help"]):
+        with pytest.raises(SystemExit) as exit:
+            main(argv)
+        assert exit.value.code == 2
+        assert "development package in a checkout's benchmarks/" in capsys.readouterr().err
 
 
 def test_config_rows_carry_their_parameters_and_bad_ones_are_refused():

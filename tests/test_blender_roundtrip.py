@@ -21,11 +21,6 @@ FRAME, SHUTTER_ANGLE = 13, 180  # tests/blender_export.py: RENDER_FRAME, a half-
 STILL_DB, BLUR_DB = 50.0, 45.0
 
 
-def psnr(a, b) -> float:
-    error = np.mean((np.clip(a, 0, 1) - np.clip(b, 0, 1)) ** 2)
-    return float(10 * np.log10(1.0 / error))
-
-
 def roundtrip_against_cycles(ctx, folder, size, samples, reference_samples):
     """(still PSNR, motion-blur PSNR) of blurlab's antialiased references against Cycles."""
     path, blender = blender_export("roundtrip", folder, size, samples)
@@ -45,8 +40,8 @@ def roundtrip_against_cycles(ctx, folder, size, samples, reference_samples):
     return (
         scene,
         blender,
-        psnr(still.color[..., :3], cycles["still"]),
-        psnr(blurred.color[..., :3], cycles["blur"]),
+        bl.metrics.psnr(still.color[..., :3], cycles["still"]),
+        bl.metrics.psnr(blurred.color[..., :3], cycles["blur"]),
     )
 
 

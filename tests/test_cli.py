@@ -45,6 +45,30 @@ def run_cli(*args, cwd=None):
     )
 
 
+def test_a_closed_pipe_ends_the_command_quietly():
+    """`blurlab methods | head -1`: the reader goes away; the command stops with no message and
+    the status a shell shows for SIGPIPE, as Unix tools do."""
+    child = subprocess.Popen(
+        [sys.executable, "-m", "blurlab", "methods"], stdout=subprocess.PIPE, stderr=subprocess.PIPE
+    )
+    child.stdout.close()  # the reader is gone before the first line
+    stderr = child.stderr.read()
+    assert child.wait() == 141 and stderr == b"", stderr.decode()
+
+
+def test_a_reader_gone_mid_listing_is_not_an_error(monkeypatch, capsys):
+    class ClosedPipe:
+        def write(self, text):
+            raise BrokenPipeError(32, "Broken pipe")
+
+        def flush(self):
+            raise BrokenPipeError(32, "Broken pipe")
+
+    monkeypatch.setattr(sys, "stdout", ClosedPipe())
+    assert cli.main(["methods"]) == 141
+    assert capsys.readouterr().err == ""
+
+
 def assert_one_line_error(result, *fragments):
     assert result.returncode == 2, result.stderr
     lines = result.stderr.strip().splitlines()

@@ -83,14 +83,16 @@ def _pages_with_commands() -> list[tuple[str, list[Command]]]:
 
 def _shims(folder: Path) -> dict[str, str]:
     """An environment whose `blurlab`, `python` and `python3` are this interpreter with this
-    tree's blurlab first on its path."""
+    tree's blurlab, and its benchmarks (a development package the wheel does not ship), first
+    on its path."""
     folder.mkdir()
     for name, run in (("blurlab", '-m blurlab "$@"'), ("python", '"$@"'), ("python3", '"$@"')):
         shim = folder / name
         shim.write_text(f'#!/bin/sh\nexec "{sys.executable}" {run}\n')
         shim.chmod(0o755)
     package_parent = str(Path(bl.__file__).resolve().parents[1])
-    path = os.pathsep.join(filter(None, [package_parent, os.environ.get("PYTHONPATH")]))
+    benchmarks = str(ROOT / "benchmarks")
+    path = os.pathsep.join(filter(None, [package_parent, benchmarks, os.environ.get("PYTHONPATH")]))
     return dict(os.environ, PATH=f"{folder}{os.pathsep}{os.environ['PATH']}", PYTHONPATH=path)
 
 

@@ -6,36 +6,12 @@ same bits."""
 from __future__ import annotations
 
 import numpy as np
-import pytest
-from conftest import assert_blur_refuses, assert_timings_name, random_frame
-from filter_promises import PROMISES, assert_blurs_a_rendered_scene_as_its_twin, assert_matches_twin
+from conftest import assert_matches_twin, assert_timings_name
 
 import blurlab as bl
 from blurlab.twins import jimenez2014 as ref
 
 METHOD = "engine_jimenez2014"
-
-
-@pytest.mark.parametrize("backend", ["compute", "fragment"])
-@pytest.mark.parametrize(
-    ("size", "params"),
-    [
-        ((160, 90), {}),
-        ((97, 61), {"k": 8, "samples": 3, "soft_z": 0.05}),
-        ((130, 70), {"k": 32, "samples": 24, "exposure": 2.5, "seed": 9}),
-    ],
-)
-def test_random_frames_match_reference(ctx, rng, backend, size, params):
-    # Half-vectors shorter than k: no two tiles tie at the clamp (conftest.random_frame).
-    frame = random_frame(rng, *size, k=min(10, params.get("k", 20)))
-    result = bl.blur(ctx, frame, METHOD, backend=backend, **params)
-    assert params.items() <= result.params.items()
-    assert_matches_twin(result, frame)
-
-
-@pytest.mark.parametrize("scene", ["teapot_pass", "crossing"])
-def test_rendered_frames_match_reference(ctx, scene):
-    assert_blurs_a_rendered_scene_as_its_twin(ctx, METHOD, scene)
 
 
 def test_interleaved_gradient_noise_is_the_talks_formula():
@@ -76,23 +52,6 @@ def test_the_foreground_alpha_of_a_moving_bar(ctx):
     np.testing.assert_allclose(row[36:60], 0.25, atol=0.02)  # the bar's own pixels among them
     assert (np.diff(row[28:37]) > 0).all() and (np.diff(row[59:68]) < 0).all()  # the ramps
     assert row[:27].max() == 0.0 and row[69:].max() == 0.0  # beyond its reach
-
-
-@pytest.mark.parametrize("promise", PROMISES.values(), ids=PROMISES.keys())
-def test_the_filter_promises(ctx, rng, promise):
-    promise(ctx, rng, METHOD)
-
-
-@pytest.mark.parametrize(
-    ("params", "error", "message"),
-    [
-        ({"k": 0}, ValueError, r"k = 0 is outside 1\.\.256"),
-        ({"soft_z": 0.0}, ValueError, "soft_z = 0.0 must be"),
-        ({"quality": 3}, TypeError, "no parameter.*quality.*samples"),
-    ],
-)
-def test_bad_parameters_name_the_range(ctx, rng, params, error, message):
-    assert_blur_refuses(ctx, rng, METHOD, params, error, message)
 
 
 def test_timings_name_every_pass(ctx, rng):

@@ -7,8 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import assert_blur_refuses, assert_timings_name, random_frame
-from filter_promises import PROMISES, assert_blurs_a_rendered_scene_as_its_twin, assert_matches_twin
+from conftest import assert_matches_twin, assert_timings_name, random_frame
 
 import blurlab as bl
 from blurlab.twins import polar_fixed_point as polar
@@ -16,29 +15,6 @@ from blurlab.twins import unreal as ue4
 from blurlab.twins import unreal5 as ref
 
 METHOD = "engine_unreal5"
-
-
-@pytest.mark.parametrize(
-    ("size", "params"),
-    [
-        ((160, 90), {}),
-        ((160, 90), {"directions": 2}),
-        ((97, 61), {"quality": 1, "max_blur": 12.0, "depth_extent": 0.05, "directions": 2}),
-        ((130, 70), {"quality": 4, "max_blur": 30.0, "exposure": 2.5, "seed": 9}),
-        ((40, 30), {"quality": 2, "max_blur": 1.0, "half_res_gather": 0, "directions": 2}),
-    ],
-)
-def test_random_frames_match_reference(ctx, rng, size, params):
-    frame = random_frame(rng, *size, k=10)
-    result = bl.blur(ctx, frame, METHOD, **params)
-    assert params.items() <= result.params.items()
-    assert_matches_twin(result, frame)
-
-
-@pytest.mark.parametrize("directions", [1, 2])
-@pytest.mark.parametrize("scene", ["teapot_pass", "fan", "crossed_motions"])
-def test_rendered_frames_match_reference(ctx, scene, directions):
-    assert_blurs_a_rendered_scene_as_its_twin(ctx, METHOD, scene, directions=directions)
 
 
 @pytest.mark.parametrize("directions", [1, 2])
@@ -114,24 +90,6 @@ def test_half_res_gather_reads_the_half_size_colour_for_long_blurs(ctx, rng):
     assert np.abs(on.color - off.color).max() > 0.01
     assert_matches_twin(on, frame)
     assert_matches_twin(off, frame)
-
-
-@pytest.mark.parametrize("promise", PROMISES.values(), ids=PROMISES.keys())
-def test_the_filter_promises(ctx, rng, promise):
-    promise(ctx, rng, METHOD)
-
-
-@pytest.mark.parametrize(
-    ("params", "error", "message"),
-    [
-        ({"directions": 3}, ValueError, r"directions = 3 is outside 1\.\.2"),
-        ({"half_res_gather": 2}, ValueError, r"half_res_gather = 2 is outside 0\.\.1"),
-        ({"quality": 5}, ValueError, r"quality = 5 is outside 1\.\.4"),
-        ({"samples": 8}, TypeError, "no parameter.*samples.*quality"),
-    ],
-)
-def test_bad_parameters_name_the_range(ctx, rng, params, error, message):
-    assert_blur_refuses(ctx, rng, METHOD, params, error, message)
 
 
 def test_timings_name_every_pass(ctx, rng):

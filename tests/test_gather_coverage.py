@@ -8,12 +8,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import assert_blur_refuses, assert_timings_name, random_frame
+from conftest import assert_matches_twin, assert_timings_name, random_frame
 from filter_promises import (
-    assert_blurs_a_rendered_scene_as_its_twin,
     assert_finite_for_motion_scale,
     assert_inside_the_input_range,
-    assert_matches_twin,
     two_sided_frame,
 )
 
@@ -26,46 +24,15 @@ from blurlab.methods.coverage import (
     tap_plan,
 )
 from blurlab.methods.coverage import tile_lines as coverage_tile_lines
-from blurlab.studies.bench.taps import tap_counts
 from blurlab.twins import coverage as ref
 from blurlab.twins import eevee as eevee_twin
 from blurlab.twins import film
+from blurlab_bench.taps import tap_counts
 
 METHOD = "gather_coverage"
 # The tile passes of the default dilation, by scatter with the keys resolved in the gather
 # (tests/test_scatter_dilation.py).
 TILE_PASSES = ["reach_keys_clear", "tile_flatten"]
-
-
-@pytest.mark.parametrize(
-    ("size", "params"),
-    [
-        ((160, 90), {}),
-        ((97, 61), {"tile_percent": 20.0, "samples": 5, "max_blur": 60.0, "soft_z": 2.0}),
-        ((130, 70), {"samples": 2, "exposure": 2.5, "seed": 9}),
-        ((40, 30), {"tile_percent": 1.0, "samples": 16, "max_blur": 10.0, "soft_z": 0.01}),
-        ((160, 90), {"film_filter": 0.5}),
-        ((64, 48), {"film_filter": 1.3, "samples": 6}),
-        ((160, 90), {"film_filter": 0.5, "film_through_taps": True}),
-        ((61, 37), {"film_filter": 0.7, "film_through_taps": True, "samples": 5, "seed": 4}),
-        ((160, 90), {"tap_spacing": 3.0}),
-        ((97, 61), {"tap_spacing": 1.5, "samples": 15, "early_exit": 6.0}),
-        ((130, 70), {"uniform_tolerance": 8.0, "samples": 7, "seed": 2}),
-        ((97, 61), {"half_res_above": 6.0, "tap_spacing": 2.0}),
-    ],
-)
-def test_random_frames_match_reference(ctx, rng, size, params):
-    frame = two_sided_frame(rng, *size)
-    result = bl.blur(ctx, frame, METHOD, **params)
-    assert params.items() <= result.params.items()
-    assert_matches_twin(result, frame)
-
-
-@pytest.mark.parametrize(
-    "scene", ["teapot_pass", "fan", "skinned_arm", "crossing", "occluder", "moire"]
-)
-def test_rendered_frames_match_reference(ctx, scene):
-    assert_blurs_a_rendered_scene_as_its_twin(ctx, METHOD, scene)
 
 
 # Each lever of "just enough taps" (§17.6) alone and all together, the film through the taps
@@ -366,23 +333,6 @@ def test_a_pixel_at_a_tiles_edge_reads_the_streak_beside_it(ctx):
     assert (tx[crossed] == 1).any()  # some of them read the tile on the left
     narrow = eevee_twin.tile_dilate(result.buffers["tiles"].astype(np.float64), 8, 32.0, 16.0)
     assert (np.linalg.norm(narrow[ty, tx][crossed][..., :2], axis=-1) == 0).any()
-
-
-@pytest.mark.parametrize(
-    ("params", "error", "message"),
-    [
-        ({"samples": 1}, ValueError, r"samples = 1 is outside 2\.\.32"),
-        ({"max_blur": 0.0}, ValueError, "max_blur = 0.0 must be"),
-        ({"tile_percent": 101.0}, ValueError, "tile_percent = 101.0"),
-        ({"film_filter": 4.5}, ValueError, r"film_filter = 4\.5 is outside \[0, 4\]"),
-        ({"film_filter": -0.5}, ValueError, "film_filter = -0.5"),
-        ({"k": 3}, TypeError, "no parameter.*k.*tile_percent"),
-        ({"tap_spacing": -1.0}, ValueError, "tap_spacing = -1.0"),
-        ({"uniform_tolerance": float("nan")}, ValueError, "uniform_tolerance must be finite"),
-    ],
-)
-def test_bad_parameters_name_the_range(ctx, rng, params, error, message):
-    assert_blur_refuses(ctx, rng, METHOD, params, error, message)
 
 
 def test_timings_name_every_pass(ctx, rng):

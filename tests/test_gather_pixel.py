@@ -6,35 +6,12 @@ same bits."""
 from __future__ import annotations
 
 import numpy as np
-import pytest
-from conftest import assert_blur_refuses, assert_timings_name, random_frame
-from filter_promises import PROMISES, assert_blurs_a_rendered_scene_as_its_twin, assert_matches_twin
+from conftest import assert_matches_twin, assert_timings_name
 
 import blurlab as bl
 from blurlab.twins import pixel_gather as ref
 
 METHOD = "gather_pixel"
-
-
-@pytest.mark.parametrize("backend", ["compute", "fragment"])
-@pytest.mark.parametrize(
-    ("size", "params"),
-    [
-        ((160, 90), {}),
-        ((97, 61), {"samples": 1, "spacing": 0.5, "depth_extent": 0.05}),
-        ((130, 70), {"samples": 16, "spacing": 1.0, "exposure": 2.5, "seed": 9}),
-    ],
-)
-def test_random_frames_match_reference(ctx, rng, backend, size, params):
-    frame = random_frame(rng, *size, k=10)
-    result = bl.blur(ctx, frame, METHOD, backend=backend, **params)
-    assert params.items() <= result.params.items()
-    assert_matches_twin(result, frame)
-
-
-@pytest.mark.parametrize("scene", ["teapot_pass", "crossing"])
-def test_rendered_frames_match_reference(ctx, scene):
-    assert_blurs_a_rendered_scene_as_its_twin(ctx, METHOD, scene)
 
 
 def test_taps_follow_the_speed():
@@ -64,24 +41,6 @@ def test_a_tap_in_front_is_dropped(ctx):
     assert out[:, background, 0].max() == 0.0  # no red bleeds into the background
     assert np.abs(out[:, background, 1] - color[:, background, 1]).max() > 0.01  # it blurred
     assert_matches_twin(bl.blur(ctx, frame, METHOD), frame)
-
-
-@pytest.mark.parametrize("promise", PROMISES.values(), ids=PROMISES.keys())
-def test_the_filter_promises(ctx, rng, promise):
-    promise(ctx, rng, METHOD)
-
-
-@pytest.mark.parametrize(
-    ("params", "error", "message"),
-    [
-        ({"samples": 0}, ValueError, r"samples = 0 is outside 1\.\.32"),
-        ({"spacing": 0.0}, ValueError, "spacing = 0.0 must be"),
-        ({"depth_extent": -1.0}, ValueError, "depth_extent = -1.0"),
-        ({"taps": 8}, TypeError, "no parameter.*taps.*samples"),
-    ],
-)
-def test_bad_parameters_name_the_range(ctx, rng, params, error, message):
-    assert_blur_refuses(ctx, rng, METHOD, params, error, message)
 
 
 def test_timings_name_its_pass(ctx, rng):

@@ -364,6 +364,61 @@ def test_bad_files_are_refused_clearly(tmp_path, case):
     assert "bad.gltf" in str(error.value)
 
 
+def _glb(json_chunk: bytes, magic: bytes = b"glTF") -> bytes:
+    length = 12 + 8 + len(json_chunk)
+    header = np.array([2, length, len(json_chunk), 0x4E4F534A], "<u4").tobytes()
+    return magic + header + json_chunk
+
+
+def _huge_texture(b, monkeypatch):
+    from PIL import Image
+
+    monkeypatch.setattr(bl.gltf.materials, "MAX_IMAGE_PIXELS", 1)
+    png = bytes_io.BytesIO()
+    Image.fromarray(np.zeros((2, 2, 4), np.uint8), "RGBA").save(png, format="PNG")
+    p, n, i = box_triangles()
+    material = b.texture_material(png.getvalue())
+    b.node(mesh=b.mesh(p, i, n, uvs=np.zeros((len(p), 2)), material=material))
+
+
+MALFORMED = {
+    "cut JSON": ("bad.gltf", b'{"asset": ', "(Expecting value: line 1 column 11 (char 10))"),
+    "broken GLB magic": (
+        "bad.glb",
+        _glb(b'{"asset": ', magic=b"glTX"),
+        "not a glTF JSON document or GLB (Expecting value: line 1 column 1 (char 0))",
+    ),
+    "GLB magic and text": ("bad.glb", b"glTX" + b'{"asset": ', "Expecting value"),
+    "not UTF-8": ("bad.glb", b"\xff\xfe{", "nor glTF JSON text: byte 0xff at 0 (invalid start"),
+    "GLB chunk not UTF-8": ("bad.glb", _glb(b"\xff\xff\xff\xff"), "not UTF-8: byte 0xff at 0"),
+}
+
+
+def assert_says_its_cause_once(message: str, name: str):
+    assert message.startswith(f"blurlab.gltf: {name}: "), message
+    assert message.count("blurlab") == 1 and message.count(name) == 1, message
+    assert message.lower().count("utf-8") <= 1, message
+
+
+@pytest.mark.parametrize("case", list(MALFORMED))
+def test_a_malformed_file_says_its_cause_once(tmp_path, case):
+    name, data, fragment = MALFORMED[case]
+    path = tmp_path / name
+    path.write_bytes(data)
+    with pytest.raises(GltfError) as error:
+        bl.scenes.gltf(path)
+    assert fragment in str(error.value)
+    assert_says_its_cause_once(str(error.value), name)
+
+
+def test_a_refused_texture_says_its_cause_once(tmp_path, monkeypatch):
+    path = _edit(tmp_path, "huge.glb", lambda b: _huge_texture(b, monkeypatch))
+    with pytest.raises(GltfError, match="at most 1 pixels are read") as error:
+        bl.scenes.gltf(path)
+    assert "could not be decoded" not in str(error.value)
+    assert_says_its_cause_once(str(error.value), "huge.glb")
+
+
 def test_nan_positions_and_keyframes_are_refused(tmp_path):
     for what in ("positions", "keys"):
         b = GltfBuilder()

@@ -115,8 +115,9 @@ def _load_all(ctx, paths, animations=None) -> tuple[int, float]:
                 assert np.isfinite(frame.motion).all()
             except ValueError as error:
                 assert str(error).startswith("blurlab")
-        except GltfError as error:
-            assert path.name in str(error)
+        except GltfError as error:  # naming the file once, and its cause once
+            assert str(error).startswith(f"blurlab.gltf: {path.name}: "), str(error)
+            assert str(error).count("blurlab") == 1, str(error)
         except (TypeError, ValueError) as error:  # a malformed choice, refused before reading
             assert animations is not None and str(error).startswith("blurlab.gltf: animation")
         except Exception as error:  # noqa: BLE001 - the point of the test

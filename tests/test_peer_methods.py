@@ -10,8 +10,8 @@ import numpy as np
 
 import blurlab as bl
 from blurlab.studies import failures, transparency
-from blurlab.studies.bench.quality import engine_methods
 from blurlab.studies.sweep import sweep_methods
+from blurlab_bench.quality import engine_methods
 
 NEW = ("engine_unreal5", "engine_jimenez2014", "gather_pixel")
 

@@ -17,8 +17,8 @@ from blurlab import cli
 from blurlab.scenes.features import features, features_of, thin_share
 from blurlab.scenes.parts import add_wall, flat_scene
 from blurlab.studies import study
-from blurlab.studies.bench.random_scenes import counts_of, worker_counts
 from blurlab.studies.identity import scene_digest
+from blurlab_bench.random_scenes import counts_of, worker_counts
 
 SIZE = (160, 90)
 SEEDS = (0, 1, 2)

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import blurlab as bl
-from blurlab.studies.bench import soak
+from blurlab_bench import soak
 
 SIZE = (32, 18)
 HUGE = 16384  # the largest GL_MAX_TEXTURE_SIZE blurlab meets (llvmpipe's, the H100's)

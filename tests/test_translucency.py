@@ -368,7 +368,7 @@ def test_the_transparency_study_measures_every_approach(ctx):
     gains = summary["median_gain_per_scene"]["psnr"]
     assert gains["foliage_spin"] == 0.0  # masked, no translucent layer: every approach alike
     assert gains["moving_glass"] > 0.5  # the pane's own motion, which only layered follows
-    from blurlab.studies.bench.transparency import layer_cost
+    from blurlab_bench.transparency import layer_cost
 
     cost = layer_cost(ctx, "moving_glass", "gather_coverage", (32, 18), runs=2)
     assert cost["layered_ms"] > 0 and cost["ratio"] == cost["layered_ms"] / cost["composite_ms"]
@@ -389,7 +389,7 @@ def test_drawn_opaque_scenes_give_their_translucent_surfaces_motion(ctx):
 
 
 def test_the_transparency_benchmark_times_every_cost_scene(ctx):
-    from blurlab.studies import bench
+    import blurlab_bench as bench
 
     record = bench.run_benchmark(ctx, "transparency", "tiny")
     scenes = record["params"]["cost_scenes"].split(",")

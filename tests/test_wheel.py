@@ -150,6 +150,18 @@ def test_wheel_carries_the_shaders_and_data_files(wheel):
     assert in_wheel == shaders, sorted(in_wheel ^ shaders)
 
 
+def test_wheel_holds_the_library_and_no_benchmark(wheel):
+    """The wheel holds what a user imports: the modules of python/blurlab, and none of the
+    benchmarks' development package (benchmarks/blurlab_bench)."""
+    with zipfile.ZipFile(wheel) as archive:
+        modules = {n for n in archive.namelist() if n.endswith(".py")}
+    package = ROOT / "python" / "blurlab"
+    library = {"blurlab/" + p.relative_to(package).as_posix() for p in package.rglob("*.py")}
+    assert modules == library, sorted(modules ^ library)
+    benchmarks = [n for n in modules if "bench" in Path(n).parent.as_posix()]
+    assert not benchmarks, benchmarks
+
+
 def test_installed_wheel_runs_outside_the_source_tree(wheel, tmp_path, timings):
     venv = tmp_path / "venv"
     start = time.perf_counter()
@@ -183,6 +195,11 @@ def test_installed_wheel_runs_outside_the_source_tree(wheel, tmp_path, timings):
 
     info = run([venv / "bin" / "blurlab", "--device", "software", "info"], cwd=tmp_path, env=env)
     assert json.loads(info.stdout)["context"]["device"] == "software"
+    # The benchmarks are not in the wheel, and its `blurlab bench` says where they are.
+    bench = subprocess.run(
+        [venv / "bin" / "blurlab", "bench", "--list"], cwd=tmp_path, env=env, capture_output=True
+    )
+    assert bench.returncode == 2 and b"development package" in bench.stderr, bench
 
 
 @pytest.mark.parametrize(

@@ -5,8 +5,12 @@ and ``bench``. User errors (bad names, values, sizes, files) print one line
 from __future__ import annotations
 
 import argparse
+import functools
+import importlib
+import importlib.util
 import json
-import re
+import os
+import signal
 import sys
 import time
 from contextlib import contextmanager
@@ -14,11 +18,11 @@ from pathlib import Path
 
 from . import io, metrics, scenes
 from .context import Context
+from .errors import cause
 from .methods import blur, method, methods
 from .sequences import frame_scenes
 from .sizes import DEFAULT_SIZE
 from .studies import plots
-from .studies.bench import command as bench_command
 from .studies.cluster import account_table
 from .studies.cluster_devices import local_cluster
 from .studies.recommend import AGGREGATES, expand, ranking_metrics, recommend, recommend_set
@@ -28,6 +32,14 @@ from .studies.study import run_study, run_sweep_config
 from .twins.patterns import test_pattern
 
 DEFAULT_SIZE_TEXT = "{}x{}".format(*DEFAULT_SIZE)
+# The benchmarks are a development package of the checkout, which the wheel does not ship.
+BENCH_PACKAGE = "blurlab_bench"
+BENCH_FOLDER = Path(__file__).resolve().parents[2] / "benchmarks"  # python/blurlab -> root
+NO_BENCHMARKS = (
+    "the benchmarks are a development package in a checkout's benchmarks/ folder, which the "
+    "wheel does not ship: run `blurlab bench` from a checkout's source (PYTHONPATH=python), or "
+    "put the checkout's benchmarks/ folder on PYTHONPATH"
+)
 SIZE_HELP = f"WxH (default {DEFAULT_SIZE_TEXT})"
 
 
@@ -322,6 +334,18 @@ class _Parser(argparse.ArgumentParser):
 USER_ERRORS = (ValueError, TypeError, LookupError, OSError, RuntimeError, ImportError)
 
 
+@functools.cache
+def bench_command():
+    """`blurlab bench`'s module (blurlab_bench.command): the development package beside this
+    source where it is a checkout's, else one on the path; None where there is neither."""
+    if (BENCH_FOLDER / BENCH_PACKAGE / "__init__.py").is_file():
+        if str(BENCH_FOLDER) not in sys.path:
+            sys.path.insert(0, str(BENCH_FOLDER))
+    elif importlib.util.find_spec(BENCH_PACKAGE) is None:
+        return None
+    return importlib.import_module(f"{BENCH_PACKAGE}.command")
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The `blurlab` command line; docs/cli.md is printed from it (blurlab.cli_reference)."""
     parser = _Parser(prog="blurlab", description=__doc__)
@@ -451,14 +475,36 @@ def build_parser() -> argparse.ArgumentParser:
     sweep = sub.add_parser("sweep", help="run the sweep a TOML configuration describes")
     sweep.add_argument("config", help="TOML file: scenes, methods, size, shutter, ...")
     _add_cluster_options(sweep)
-    bench = sub.add_parser("bench", help="run, list and record the registered benchmarks")
-    bench_command.add_arguments(bench, parse_size)
+    benchmarks = bench_command()
+    bench = sub.add_parser(
+        "bench",
+        help="run, list and record the registered benchmarks (from a checkout)",
+        add_help=benchmarks is not None,
+    )
+    if benchmarks is not None:
+        benchmarks.add_arguments(bench, parse_size)
     return parser
+
+
+def _reader_gone() -> int:
+    """stdout's reader went away (`blurlab methods | head -1`): stop quietly, as Unix tools do,
+    with the status a shell shows for SIGPIPE. What is left in stdout's buffer goes to
+    /dev/null, so that the interpreter's last flush raises nothing either."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError, AttributeError):  # a stdout with no file descriptor
+        pass
+    return 128 + signal.SIGPIPE
 
 
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
-    args = parser.parse_args(argv)
+    args, unknown = parser.parse_known_args(argv)
+    if args.command == "bench" and bench_command() is None:
+        parser.error(NO_BENCHMARKS)
+    if unknown:
+        parser.error(f"unrecognized arguments: {' '.join(unknown)}")
     commands = {
         "info": _info,
         "demo": _demo,
@@ -467,16 +513,20 @@ def main(argv: list[str] | None = None) -> int:
         "recommend": _recommend,
         "study": _study,
         "sweep": _sweep,
-        "bench": lambda args: bench_command.main(args, args.device),
+        "bench": lambda args: bench_command().main(args, args.device),
     }
     try:
-        return commands[args.command](args)
+        status = commands[args.command](args)
+        sys.stdout.flush()  # a reader gone away shows here, not in the interpreter's last flush
+        return status
+    except BrokenPipeError:
+        return _reader_gone()
     except USER_ERRORS as error:
         if args.debug:
             raise
         # One line: a multi-line message (the EGL driver's remedy, say) is joined, not cut.
         lines = [line.strip() for line in str(error).splitlines() if line.strip()]
-        message = re.sub(r"^blurlab[\w. ]*: ", "", " ".join(lines)) or type(error).__name__
+        message = cause(" ".join(lines)) or type(error).__name__
         parser.exit(2, f"blurlab: error: {message}\n")
 
 

@@ -12,6 +12,8 @@ from pathlib import Path
 
 import numpy as np
 
+from .errors import bad_byte, cause
+
 _DATA = Path(__file__).resolve().parent / "data"
 
 
@@ -283,7 +285,9 @@ def load(path: str | Path) -> Mesh:
     try:
         text = path.read_text()
     except UnicodeDecodeError as error:
-        raise OSError(f"blurlab.mesh.load: {path} is not a text OBJ file ({error})") from None
+        raise OSError(
+            f"blurlab.mesh.load: {path} is not a text OBJ file: {bad_byte(error)}"
+        ) from None
     v, vt, vn, corners = [], [], [], []
     for number, line in enumerate(text.splitlines(), 1):
         words = line.split("#", 1)[0].split()
@@ -328,7 +332,7 @@ def load(path: str | Path) -> Mesh:
     try:
         return Mesh(positions, normals, uvs, indices, name=path.stem)
     except ValueError as error:  # e.g. "nan" or "1e999" coordinates
-        raise OSError(f"blurlab.mesh.load: {path}: {error}") from None
+        raise OSError(f"blurlab.mesh.load: {path}: {cause(error)}") from None
 
 
 def _obj_corner(word: str, nv: int, nvt: int, nvn: int) -> tuple[int, int, int]:

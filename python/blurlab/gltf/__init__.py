@@ -15,6 +15,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from ..errors import cause
 from ..scene import Camera, Scene
 from .accessors import MAX_ACCESSOR_VALUES
 from .animation import (
@@ -75,4 +76,4 @@ def load(
         raise
     except (ValueError, TypeError, KeyError, IndexError, AttributeError, OverflowError) as error:
         # What slipped past the checks below still names the file and never escapes as a crash.
-        raise GltfError(f"blurlab.gltf: {path.name}: malformed file ({error})") from None
+        raise GltfError(f"blurlab.gltf: {path.name}: malformed file ({cause(error)})") from None

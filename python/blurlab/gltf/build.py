@@ -8,6 +8,7 @@ import warnings
 
 import numpy as np
 
+from ..errors import cause
 from ..scene import Camera, Scene
 from .animation import (
     DEFAULT_SHUTTER_S,
@@ -104,7 +105,7 @@ def _file_camera(
             motion=CameraNodeMotion(nodes, node),
         )
     except ValueError as error:
-        file.fail(f"camera {index}: {error}")
+        file.fail(f"camera {index}: {cause(error)}")
 
 
 def _framing_camera(scene: Scene, size_hint) -> Camera:

@@ -14,6 +14,8 @@ from urllib.parse import unquote, urlsplit
 
 import numpy as np
 
+from ..errors import bad_byte
+
 MAX_FILE_BYTES = 256 << 20  # a .gltf, .glb or external buffer larger than this is refused
 MAX_JSON_VALUES = 100_000  # pygltflib builds an object per JSON value: this bounds its time
 
@@ -58,9 +60,12 @@ class GltfFile:
         else:
             try:
                 text = data.decode("utf-8")
-                self._check_json(text)
+            except UnicodeDecodeError as error:
+                self.fail(f"neither a GLB nor glTF JSON text: {bad_byte(error)}")
+            self._check_json(text)  # fails with its own message
+            try:
                 doc = pygltflib.GLTF2.gltf_from_json(text)
-            except (UnicodeDecodeError, ValueError) as error:
+            except ValueError as error:
                 self.fail(f"not a glTF JSON document or GLB ({error})")
             except Exception as error:
                 self.fail(f"its JSON is not a glTF document ({type(error).__name__}: {error})")
@@ -96,7 +101,7 @@ class GltfFile:
         try:
             return data[20 : 20 + json_length].decode("utf-8")
         except UnicodeDecodeError as error:
-            self.fail(f"the GLB's JSON chunk is not UTF-8 ({error})")
+            self.fail(f"the GLB's JSON chunk is not UTF-8: {bad_byte(error)}")
 
     def _check_json(self, text: str):
         """Valid JSON (pygltflib accepts some broken JSON silently) of a bounded size."""

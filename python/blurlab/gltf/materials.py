@@ -8,7 +8,7 @@ import io as bytes_io
 import numpy as np
 
 from ..scene import MAX_EMISSION_STRENGTH, Material
-from .document import GltfFile
+from .document import GltfError, GltfFile
 
 MAX_IMAGE_PIXELS = 1 << 26  # 8192 x 8192: larger base colour textures are refused
 
@@ -110,6 +110,8 @@ def base_color_texture(file: GltfFile, info, material: int) -> np.ndarray:
             if w * h > MAX_IMAGE_PIXELS:
                 file.fail(f"{what} is {w}x{h}; at most {MAX_IMAGE_PIXELS} pixels are read")
             array = np.asarray(picture.convert("RGBA"))
+    except GltfError:
+        raise  # the size check above, which says what it found
     except (UnidentifiedImageError, OSError, ValueError, SyntaxError) as error:
         file.fail(f"{what} could not be decoded as PNG or JPEG ({error})")
     return array

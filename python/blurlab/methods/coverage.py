@@ -45,12 +45,14 @@ from .variants import PassVariants
 PARAMS = {
     # 16 samples and 1.5 % tiles: the held-out rule of docs/recommend.md met the bar with them.
     "tile_percent": Param(
-        1.5, float, "tile side, % of the image height (at least 8 px)", 0, 100, True
+        1.5, float, "tile side, % of the image height (at least 8 px)", 0, 100, low_open=True
     ),
     "samples": Param(
         16, int, "taps on each half-shutter (half along the tile, half along X)", 2, 32
     ),
-    "max_blur": Param(30.0, float, "longest half-motion, % of the image height", 0, 100, True),
+    "max_blur": Param(
+        30.0, float, "longest half-motion, % of the image height", 0, 100, low_open=True
+    ),
     "soft_z": TILE_FILTER_PARAMS["soft_z"],
     "exposure": TILE_FILTER_PARAMS["exposure"],
     "seed": SEED,

@@ -23,7 +23,7 @@ from .unreal import PARAMS as UNREAL_PARAMS
 PARAMS = {
     "samples": Param(8, int, "most taps on each side of the pixel (Bevy's samples)", 1, 32),
     "spacing": Param(
-        2.0, float, "pixels of half-motion per tap on each side", 0, FLOAT32_MAX, True
+        2.0, float, "pixels of half-motion per tap on each side", 0, FLOAT32_MAX, low_open=True
     ),
     "depth_extent": UNREAL_PARAMS["depth_extent"],  # a tap this far in front weighs 0
     "exposure": TILE_FILTER_PARAMS["exposure"],

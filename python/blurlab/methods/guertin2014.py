@@ -22,9 +22,11 @@ PARAMS = {
     **TILE_FILTER_PARAMS,
     **FILTER_OPTIONS,
     "gamma": Param(
-        1.5, float, "γ: px over 0.5 at which wc is V[X]'s direction", 0, FLOAT32_MAX, True
+        1.5, float, "γ: px over 0.5 at which wc is V[X]'s direction", 0, FLOAT32_MAX, low_open=True
     ),
-    "kappa": Param(40.0, float, "κ: center weight S / (κ len(V[X]))", 0, FLOAT32_MAX, True),
+    "kappa": Param(
+        40.0, float, "κ: center weight S / (κ len(V[X]))", 0, FLOAT32_MAX, low_open=True
+    ),
 }
 
 

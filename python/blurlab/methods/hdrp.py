@@ -39,7 +39,12 @@ PARAMS = {
         2.0, float, "Minimum Velocity: slower neighbourhoods keep C, px", 0, LONGEST_STORED
     ),
     "depth_comparison_extent": Param(
-        1.0, float, "Depth Comparison Extent: soft depth extent, depth units", 0, FLOAT32_MAX, True
+        1.0,
+        float,
+        "Depth Comparison Extent: soft depth extent, depth units",
+        0,
+        FLOAT32_MAX,
+        low_open=True,
     ),
     "camera_motion_blur": Param(True, bool, "Camera Motion Blur: False leaves camera motion out"),
     "camera_clamp_mode": Param(

@@ -1,12 +1,13 @@
-"""Method parameters: the declaration (`Param`) and the one check every value passes before a
-method runs. Each parameter is declared once, in its method's module."""
+"""Parameters: the declaration (`Param`) and the one check every value passes (`typed`), for
+methods, TAA, the layers and the benchmarks alike. Each parameter is declared once, in the module
+of what takes it."""
 
 from __future__ import annotations
 
 import math
 import struct
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import KW_ONLY, dataclass
 from numbers import Integral, Real
 
 import numpy as np
@@ -14,18 +15,19 @@ import numpy as np
 
 @dataclass(frozen=True)
 class Param:
-    """One parameter of a method: its default, its type and, for numbers, its allowed range.
+    """One parameter: its default, its type and, for numbers, its allowed range.
 
-    Every value passes through ``typed`` before a method runs, so a method never sees a value
-    of the wrong type or outside [low, high]: the error names the method, the parameter, the
-    value and what is allowed.
+    Every value passes through ``typed`` before it is used, so a method (or TAA, a layer, a
+    benchmark) never sees a value of the wrong type or outside [low, high]: the error names the
+    owner, the parameter, the value and what is allowed. The flags are keyword-only.
     """
 
     default: object  # a value, or a callable(frame) -> value
-    kind: object  # int, float, bool, a tuple of allowed strings, or object (anything)
+    kind: object  # int, float, bool, str (any text), a tuple of allowed strings, or object
     doc: str
     low: float | None = None  # inclusive bounds for int and float parameters
     high: float | None = None
+    _: KW_ONLY
     low_open: bool = False  # True: the value must be > low (e.g. soft_z > 0)
     # The rule that `"auto"` stands for: auto(frame, values) -> a value, where `values` holds
     # the call's other parameters (so a rule may read, say, the exposure); None: no "auto".
@@ -41,6 +43,8 @@ class Param:
             return "one of " + ", ".join(repr(k) for k in self.kind)
         if self.kind is bool:
             return "True or False"
+        if self.kind is str:
+            return "text"
         if self.kind is object:
             return "any value"
         if self.low is not None and self.high is not None and not self.low_open:
@@ -79,13 +83,31 @@ def is_auto(value) -> bool:
     return isinstance(value, str) and value == "auto"
 
 
-def typed(method_name: str, key: str, value, p: Param):
-    """`value` as parameter `key` of method `method_name` takes it (parameter declarations):
-    the one place where every method's parameters are type- and range-checked. Every error
-    names the method, the parameter, the value and what is allowed."""
-    where = f"blurlab: {method_name} parameter {key}"
+def check_known(owner: str, params: dict[str, Param], given) -> None:
+    """A TypeError naming `owner`'s parameters (and defaults) if `given` names any other."""
+    unknown = set(given) - set(params)
+    if unknown:
+        raise TypeError(
+            f"blurlab: {owner} has no parameter(s) {sorted(unknown)}; its parameters are "
+            + ", ".join(f"{k} (default {describe(p.default)})" for k, p in params.items())
+        )
+
+
+def describe(default) -> str:
+    return "from the frame" if callable(default) else repr(default)
+
+
+def typed(owner: str, key: str, value, p: Param):
+    """`value` as parameter `key` of `owner` (a method, "taa", "benchmark NAME") takes it: the
+    one place where every parameter is type- and range-checked. Every error names the owner,
+    the parameter, the value and what is allowed."""
+    where = f"blurlab: {owner} parameter {key}"
     kind = p.kind
     if kind is object:
+        return value
+    if kind is str:
+        if not isinstance(value, str):
+            raise TypeError(f"{where} must be text ({p.doc}), not {_show(value)}")
         return value
     if kind is bool:
         if not isinstance(value, (bool, np.bool_)):

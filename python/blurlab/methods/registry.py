@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..frame import Frame
-from .params import Param, is_auto, typed
+from .params import Param, check_known, is_auto, typed
 
 # What a method is, for the studies that choose methods by what they do:
 #   filter    - a tile-based reconstruction filter (k, samples, soft_z): failure-suite
@@ -205,12 +205,7 @@ def resolve_params(m: Method, frame: Frame | None, given: dict, frame_free: bool
 
 
 def _resolve_params(m: Method, frame: Frame | None, given: dict, frame_free: bool) -> dict:
-    unknown = set(given) - set(m.params)
-    if unknown:
-        raise TypeError(
-            f"blurlab: {m.name} has no parameter(s) {sorted(unknown)}; its parameters are "
-            + ", ".join(f"{k} (default {_describe(p.default)})" for k, p in m.params.items())
-        )
+    check_known(m.name, m.params, given)
     values = {}
     automatic = [key for key, value in given.items() if is_auto(value)]
     for key, p in m.params.items():
@@ -234,7 +229,3 @@ def _resolve_params(m: Method, frame: Frame | None, given: dict, frame_free: boo
             raise ValueError(f"blurlab: {m.name} parameter {key}='auto' reads a frame")
         values[key] = typed(m.name, key, m.params[key].auto(frame, values), m.params[key])
     return {key: values[key] for key in m.params if key in values}
-
-
-def _describe(default) -> str:
-    return "from the frame" if callable(default) else repr(default)

@@ -68,7 +68,7 @@ TILE_FILTER_PARAMS = {
     "k": Param(20, int, "tile size = largest blur radius, pixels", 1, 256, auto=auto_k),
     "samples": Param(15, int, "samples S per pixel", 1, 256, auto=auto_samples),
     "soft_z": Param(
-        depth_range_soft_z, float, "soft depth extent, depth units", 0, FLOAT32_MAX, True
+        depth_range_soft_z, float, "soft depth extent, depth units", 0, FLOAT32_MAX, low_open=True
     ),
     "exposure": Param(1.0, float, "exposure E, fraction of the shutter", 0, PARAM_SCALE_MAX),
     "seed": SEED,

@@ -23,7 +23,9 @@ from .urho3d import PARAMS as URHO3D_PARAMS
 
 PARAMS = {
     "samples": Param(10, int, "sample count (quality); fewer where NeighborMax is short", 4, 32),
-    "max_radius": Param(5.0, float, "largest blur radius, % of the image height", 0, 50, True),
+    "max_radius": Param(
+        5.0, float, "largest blur radius, % of the image height", 0, 50, low_open=True
+    ),
     "depth_factor": Param(
         20.0, float, "soft depth comparison factor on the 10-bit linear depth", 0, FLOAT32_MAX
     ),

@@ -29,9 +29,11 @@ from .tile_filter import TILE_FILTER_PARAMS
 PARAMS = {
     "quality": Param(3, int, "r.MotionBlurQuality: 4, 6, 8 or 16 samples", 1, 4),
     "max_blur": Param(
-        5.0, float, "Unreal's Max: longest blur radius, % of the image width", 0, 100, True
+        5.0, float, "Unreal's Max: longest blur radius, % of the image width", 0, 100, low_open=True
     ),
-    "depth_extent": Param(1.0, float, "soft depth extent, depth units", 0, FLOAT32_MAX, True),
+    "depth_extent": Param(
+        1.0, float, "soft depth extent, depth units", 0, FLOAT32_MAX, low_open=True
+    ),
     "exposure": TILE_FILTER_PARAMS["exposure"],
     "seed": SEED,
 }

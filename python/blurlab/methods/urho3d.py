@@ -26,7 +26,7 @@ def default_far(frame: Frame) -> float:
 
 PARAMS = {
     **TILE_FILTER_PARAMS,
-    "far": Param(default_far, float, "depth that +inf is read as", 0, FLOAT32_MAX, True),
+    "far": Param(default_far, float, "depth that +inf is read as", 0, FLOAT32_MAX, low_open=True),
 }
 # The seed picks the jitter texture; it is no uniform of the shader.
 RECONSTRUCT = Pass(

@@ -1,7 +1,9 @@
 """Benchmarks as a registry (core.py): each benchmark is registered once, with its parameters,
 sizes and runner, by one of the modules imported here; `blurlab bench` runs them and keeps
 their latest records in benchmarks/records.jsonl, from which report.py generates
-docs/benchmarks.md. The core never imports the studies, this package among them."""
+docs/benchmarks.md. It is a development package of the checkout, which the wheel does not ship:
+`blurlab bench` finds it beside the source it runs from, or on the path. The library never
+imports it."""
 
 # each module registers its own benchmarks
 from . import frame, filters, sweeps, quality, controls, soak, transparency  # noqa: F401, I001

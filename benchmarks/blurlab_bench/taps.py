@@ -9,11 +9,12 @@ import statistics
 
 import numpy as np
 
-from ... import metrics, scenes
-from ...methods import blur, coverage
-from ...methods.core import Param
-from ...sizes import DEFAULT_SIZE
-from ...twins import guertin2014
+from blurlab import metrics, scenes
+from blurlab.methods import blur, coverage
+from blurlab.methods.params import Param
+from blurlab.sizes import DEFAULT_SIZE
+from blurlab.twins import guertin2014
+
 from .core import Benchmark, register
 from .timing import film_method, median_passes, split, untimed_calls_ms
 
@@ -161,17 +162,19 @@ register(
         "reconstruct_guertin2014, taps per pixel",
         {
             "runs": Param(5, int, "timed runs per configuration (medians)", 1, 1000),
-            "scenes": Param("", object, "comma-separated scenes (empty: built-in + failure)"),
+            "scenes": Param("", str, "comma-separated scenes (empty: built-in + failure)"),
             "reference_samples": Param(0, int, "N of the reference (0: from the motion)", 0),
             "back_to_back": Param(True, bool, "time calls back to back too (slow on llvmpipe)"),
             "film_filter": Param(0.5, float, "σ px of the film-filter rows (0: none)", 0, 4),
-            "tap_spacing": Param(1.0, float, "tap_spacing of the lever's rows", 0, 1000, True),
+            "tap_spacing": Param(
+                1.0, float, "tap_spacing of the lever's rows", 0, 1000, low_open=True
+            ),
             "early_exit": Param(1.0, float, "early_exit of the lever's rows", 0, 1000),
             "uniform_tolerance": Param(
-                0.5, float, "uniform_tolerance of the lever's rows", 0, 1000, True
+                0.5, float, "uniform_tolerance of the lever's rows", 0, 1000, low_open=True
             ),
             "half_res_above": Param(
-                16.0, float, "half_res_above of the lever's rows", 0, 1000, True
+                16.0, float, "half_res_above of the lever's rows", 0, 1000, low_open=True
             ),
         },
         _coverage_taps,

@@ -16,16 +16,17 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ... import blender, metrics, scenes
-from ...blender import crosscheck
-from ...context import Context
-from ...methods import blur, method, method_instant, methods
-from ...methods.core import Param
-from ...sizes import DEFAULT_SIZE
-from .. import failures, peers
-from ..recommend import recommend
-from ..study import run_study
-from ..sweep import sweep, sweep_methods
+from blurlab import blender, metrics, scenes
+from blurlab.blender import crosscheck
+from blurlab.context import Context
+from blurlab.methods import blur, method, method_instant, methods
+from blurlab.methods.params import Param
+from blurlab.sizes import DEFAULT_SIZE
+from blurlab.studies import failures, peers
+from blurlab.studies.recommend import recommend
+from blurlab.studies.study import run_study
+from blurlab.studies.sweep import sweep, sweep_methods
+
 from .core import ROOT, Benchmark, Unavailable, register
 from .timing import (
     film_method,
@@ -167,23 +168,23 @@ register(
         "on every built-in and failure scene: PSNR, SSIM, FLIP, ms",
         {
             "runs": Param(5, int, "timed runs per method (medians)", 1, 1000),
-            "scenes": Param("", object, "comma-separated scenes (empty: built-in + failure)"),
+            "scenes": Param("", str, "comma-separated scenes (empty: built-in + failure)"),
             "methods": Param(
                 "",
-                object,
+                str,
                 "comma-separated methods (empty: the engines' set; post: every method that "
                 "blurs one rendered frame)",
             ),
             "peers": Param("", ("", *peers.PEERS), "Blender's EEVEE too (needs bpy)"),
             "references": Param(
-                "temporal", object, "comma-separated: temporal, antialiased (docs/spec.md §11)"
+                "temporal", str, "comma-separated: temporal, antialiased (docs/spec.md §11)"
             ),
             "reference_samples": Param(0, int, "N of the references (0: from the motion)", 0),
-            "metrics": Param("psnr,ssim,flip", object, "comma-separated, from psnr, ssim, flip"),
+            "metrics": Param("psnr,ssim,flip", str, "comma-separated, from psnr, ssim, flip"),
             "film_filter": Param(
                 0.0, float, "σ px of an extra row with a film filter (0: none)", 0
             ),
-            "config": Param("", object, "extra rows: METHOD:KEY=VALUE,... separated by ';'"),
+            "config": Param("", str, "extra rows: METHOD:KEY=VALUE,... separated by ';'"),
         },
         _engines,
         {"tiny": (64, 36), "software": (160, 90), "gpu": (1920, 1080)},
@@ -249,8 +250,8 @@ register(
         "every single-frame method on the HDR scenes: HDR-FLIP, tone-mapped PSNR and SSIM, "
         "log-luminance error, energy ratio, ms",
         {
-            "scenes": Param("", object, "comma-separated HDR scenes (empty: all)"),
-            "methods": Param("", object, "comma-separated methods (empty: the sweepable ones)"),
+            "scenes": Param("", str, "comma-separated HDR scenes (empty: all)"),
+            "methods": Param("", str, "comma-separated methods (empty: the sweepable ones)"),
             "repeats": Param(3, int, "timed runs per method", 1, 100),
         },
         _hdr,
@@ -281,7 +282,7 @@ register(
         "the failure-case table: every single-frame method on every failure scene (PSNR, "
         "SSIM, NaN/Inf, out-of-range colours, flicker)",
         {
-            "scenes": Param("", object, "comma-separated failure scenes (empty: all)"),
+            "scenes": Param("", str, "comma-separated failure scenes (empty: all)"),
             "frames": Param(16, int, "frames of the flicker animation", 2, 1000),
         },
         _failures,
@@ -329,8 +330,8 @@ register(
         'the k = "auto" rule against every fixed k on every built-in and failure scene, for '
         "each tile filter that offers it",
         {
-            "scenes": Param("", object, "comma-separated scenes (empty: built-in + failure)"),
-            "fixed_k": Param(",".join(map(str, FIXED_K)), object, "fixed k values to beat"),
+            "scenes": Param("", str, "comma-separated scenes (empty: built-in + failure)"),
+            "fixed_k": Param(",".join(map(str, FIXED_K)), str, "fixed k values to beat"),
         },
         _auto_k,
         {"tiny": (64, 36), "software": (160, 90), "gpu": (1920, 1080)},
@@ -374,8 +375,8 @@ register(
         "the answers of `blurlab recommend` for every built-in scene at several time budgets: "
         "each answer, its time and its error",
         {
-            "scenes": Param("", object, "comma-separated scenes (empty: every built-in)"),
-            "budgets_ms": Param("0.1,1,10", object, "comma-separated budgets, ms"),
+            "scenes": Param("", str, "comma-separated scenes (empty: every built-in)"),
+            "budgets_ms": Param("0.1,1,10", str, "comma-separated budgets, ms"),
         },
         _recommend,
         {"tiny": (48, 27), "software": (160, 90), "gpu": DEFAULT_SIZE},
@@ -418,8 +419,8 @@ register(
         "real content: the Khronos glTF sample models loaded, rendered and put through the "
         "study; each method's best PSNR and its time",
         {
-            "assets": Param("", object, "folder of glTF models (empty: shared/assets/gltf)"),
-            "models": Param("", object, "comma-separated model names (empty: all)"),
+            "assets": Param("", str, "folder of glTF models (empty: shared/assets/gltf)"),
+            "models": Param("", str, "comma-separated model names (empty: all)"),
         },
         _content,
         {"tiny": (48, 27), "software": (160, 90), "gpu": DEFAULT_SIZE},
@@ -466,7 +467,7 @@ register(
         "blurlab against Blender's Cycles: geometry at the shutter's ends, the reference and "
         "every method against Cycles (needs bpy)",
         {
-            "scenes": Param("", object, "comma-separated cross-check scenes (empty: all)"),
+            "scenes": Param("", str, "comma-separated cross-check scenes (empty: all)"),
             "cycles_samples": Param(2048, int, "Cycles samples per pixel", 1, 1 << 20),
             "instant_samples": Param(512, int, "Cycles samples of the unblurred frames", 1),
             "reference_samples": Param(1024, int, "sub-frames of blurlab's references", 1),

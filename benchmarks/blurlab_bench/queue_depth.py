@@ -9,15 +9,15 @@ bound costs: a short filter's time per call and back to back under each setting.
 from __future__ import annotations
 
 import json
-import os
 import statistics
 import subprocess
 import sys
 
-from ... import scenes
-from ...methods import method
-from ...methods.core import Param
-from .core import Benchmark, register
+from blurlab import scenes
+from blurlab.methods import method
+from blurlab.methods.params import Param
+
+from .core import Benchmark, child_environment, register
 from .taps import BASELINE
 from .timing import post_process_methods, split
 
@@ -42,7 +42,7 @@ MISSING = "–"  # a cell the run did not reach: its context was lost before
 _QUEUE_RUN = """
 import json, sys, time
 import blurlab as bl
-from blurlab.studies.bench.timing import back_to_back_ms, median_passes
+from blurlab_bench.timing import back_to_back_ms, median_passes
 device, loop, scene_name, method, size, issue_s, samples, runs = json.loads(sys.argv[1])
 ctx = bl.Context(device)
 row = {"bound": ctx.info()["passes_in_flight"], "per_fence": ctx.info()["passes_per_fence"],
@@ -102,7 +102,7 @@ def _queue_run(ctx, setting: str, loop: str, scene: str, name: str, size, p) -> 
     )
     done = subprocess.run(
         [sys.executable, "-c", _QUEUE_RUN, arguments],
-        env={**os.environ, **SETTINGS[setting]},
+        env=child_environment(SETTINGS[setting]),
         capture_output=True,
         text=True,
         timeout=600,
@@ -239,33 +239,33 @@ register(
         {
             "scenes": Param(
                 "camera_yaw,near_plane",
-                object,
+                str,
                 "comma-separated built-in, failure or transparency scenes",
             ),
             "method": Param(
                 "",
-                object,
+                str,
                 "a method that blurs one frame (empty: the one drawn by fragment passes alone, "
                 "the slowest on the H100)",
             ),
             "issue_s": Param(0.25, float, "seconds of issuing without a wait", 0.01, 10.0),
             "reference_scenes": Param(
                 "smoke_pan",
-                object,
+                str,
                 "comma-separated scenes whose reference is rendered under each setting "
                 "(empty: none)",
             ),
             "reference_samples": Param(1024, int, "the references' sub-frames", 1, 1024),
             "cost_scenes": Param(
                 "occluder,camera_yaw,fast_fan",
-                object,
+                str,
                 f"comma-separated scenes where {BASELINE} is timed under each setting (empty: "
                 "none)",
             ),
             "runs": Param(10, int, "timed calls per cost scene (their median)", 1, 1000),
             "settings": Param(
                 ",".join(SETTINGS),
-                object,
+                str,
                 "comma-separated, from bounded (the default bound on unfinished passes), "
                 "fence_per_pass (a bound of 4, a fence after every pass), unbounded (none), and "
                 "bounded_plain, unbounded_plain (a context without reset notification)",

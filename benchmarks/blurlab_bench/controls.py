@@ -7,10 +7,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from ... import scenes
-from ...methods import methods, render_and_blur
-from ...methods.core import Param
-from ...metrics import psnr
+from blurlab import scenes
+from blurlab.methods import methods, render_and_blur
+from blurlab.methods.params import Param
+from blurlab.metrics import psnr
+
 from .core import Benchmark, register
 
 # The object each scene keeps still on screen: its pixels' error is reported apart.
@@ -72,10 +73,8 @@ register(
         "every method on the blur-control scenes (fps_weapon: a camera-held weapon at "
         "motion_blur 0; tracked_car: a panning shot): PSNR, the subject's error apart, ms",
         {
-            "scenes": Param(
-                "", object, "comma-separated, from fps_weapon, tracked_car (empty: both)"
-            ),
-            "methods": Param("", object, "comma-separated methods (empty: every one)"),
+            "scenes": Param("", str, "comma-separated, from fps_weapon, tracked_car (empty: both)"),
+            "methods": Param("", str, "comma-separated methods (empty: every one)"),
             "reference_samples": Param(0, int, "N of the reference (0: from the motion)", 0),
         },
         _blur_controls,

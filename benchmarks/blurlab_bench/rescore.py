@@ -10,9 +10,9 @@ import json
 import numpy as np
 import pandas as pd
 
-from ...methods.core import Param
-from ..evaluation import STALE_COLUMN
-from ..sweep import sweep
+from blurlab.methods.params import Param
+from blurlab.studies.evaluation import STALE_COLUMN
+from blurlab.studies.sweep import sweep
 
 RESCORED = Param(8, int, "rows scored again in this process, to check the sweep's scores", 0, 1000)
 

@@ -8,7 +8,8 @@ import sys
 import time
 import traceback
 
-from ...context import Context
+from blurlab.context import Context
+
 from .core import (
     RECORDS,
     Unavailable,

@@ -12,13 +12,14 @@ import tempfile
 import time
 from pathlib import Path
 
-from ... import metrics, scenes
-from ...methods import blur
-from ...methods.core import Param
-from ...sizes import DEFAULT_SIZE
-from ..cluster import forget_scenes
-from ..cluster_devices import local_cluster
-from ..sweep import default_grids, grid_points, sweep
+from blurlab import metrics, scenes
+from blurlab.methods import blur
+from blurlab.methods.params import Param
+from blurlab.sizes import DEFAULT_SIZE
+from blurlab.studies.cluster import forget_scenes
+from blurlab.studies.cluster_devices import local_cluster
+from blurlab.studies.sweep import default_grids, grid_points, sweep
+
 from .core import Benchmark, register
 from .filters import GRID
 from .timing import split, tile_filters, wall_ms
@@ -163,9 +164,9 @@ register(
         "the same sweep on 1, 2, ... Dask workers (bl.local_cluster): wall time, speed-up, "
         "and whether every worker count gave the same rows",
         {
-            "workers": Param("1,2", object, "worker counts (comma-separated)"),
-            "scenes": Param("", object, "comma-separated scenes (empty: every built-in)"),
-            "metrics": Param("psnr,ssim,flip", object, "comma-separated metrics"),
+            "workers": Param("1,2", str, "worker counts (comma-separated)"),
+            "scenes": Param("", str, "comma-separated scenes (empty: every built-in)"),
+            "metrics": Param("psnr,ssim,flip", str, "comma-separated metrics"),
             "reference_samples": Param(0, int, "N of each reference (0: as sweeps choose)", 0),
             "repeats": Param(3, int, "timed runs per evaluation", 1, 100),
             "warm": Param(False, bool, "time clusters that ran a sweep before"),
@@ -229,10 +230,8 @@ register(
         "the wall time of `blurlab study` as a user runs it, and the phases the study times",
         {
             "runs": Param(1, int, "runs of the command", 1, 100),
-            "scenes": Param("", object, "comma-separated scenes (empty: the study's default)"),
-            "mode": Param(
-                "", object, "the study's mode flags, e.g. '--sequence' or '--random 100'"
-            ),
+            "scenes": Param("", str, "comma-separated scenes (empty: the study's default)"),
+            "mode": Param("", str, "the study's mode flags, e.g. '--sequence' or '--random 100'"),
         },
         _study,
         {"tiny": (48, 27), "software": (160, 90), "gpu": (1920, 1080)},

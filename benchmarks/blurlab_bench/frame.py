@@ -9,13 +9,14 @@ import time
 
 import numpy as np
 
-from ... import hatching as hatching_schemes
-from ... import scenes, tam
-from ...frame import MOTION_FORMATS
-from ...methods.core import Param
-from ...render import stored_motion
-from ...sizes import DEFAULT_SIZE
-from .. import hatching
+from blurlab import hatching as hatching_schemes
+from blurlab import scenes, tam
+from blurlab.frame import MOTION_FORMATS
+from blurlab.methods.params import Param
+from blurlab.render import stored_motion
+from blurlab.sizes import DEFAULT_SIZE
+from blurlab.studies import hatching
+
 from .core import Benchmark, register
 from .timing import per_call_us, split, wall_ms
 
@@ -209,7 +210,7 @@ register(
         "the reference's sub-frames: wall clock of ctx.reference per sub-frame beside the GPU "
         "time it reports",
         {
-            "scenes": Param("teapot_pass,vehicle", object, "comma-separated built-in scenes"),
+            "scenes": Param("teapot_pass,vehicle", str, "comma-separated built-in scenes"),
             "samples": Param(256, int, "sub-frames of each reference", 1, 65536),
             "runs": Param(3, int, "references per scene (medians)", 1, 1000),
         },
@@ -252,7 +253,7 @@ register(
         "§2), on the GPU's encode/decode pass",
         {
             "maxlen": Param(
-                math.hypot(1920, 1080), float, "the formats' maxlen, px", 0, None, True
+                math.hypot(1920, 1080), float, "the formats' maxlen, px", 0, None, low_open=True
             ),
             "vectors": Param(4096, int, "vectors of each length, evenly spread", 1, 1 << 20),
         },

@@ -26,12 +26,13 @@ import os
 import time
 from concurrent.futures import ProcessPoolExecutor
 
-from ... import scenes
-from ...context import Context
-from ...methods import method
-from ...methods.core import Param
-from .. import evaluation
-from ..sweep import middle_point, sweep_methods
+from blurlab import scenes
+from blurlab.context import Context
+from blurlab.methods import method
+from blurlab.methods.params import Param
+from blurlab.studies import evaluation
+from blurlab.studies.sweep import middle_point, sweep_methods
+
 from .core import Benchmark, register
 
 SAMPLES = 20  # samples of memory and objects along a run, besides its start and end
@@ -268,10 +269,10 @@ register(
             "evaluations": Param(
                 20_000, int, "sweep evaluations after the warm-up cycle", 1, 10_000_000
             ),  # fmt: skip
-            "scene": Param("fan", object, "the built-in scene evaluated"),
+            "scene": Param("fan", str, "the built-in scene evaluated"),
             "devices": Param(
                 "",
-                object,
+                str,
                 "EGL device indices to soak on side by side, one process each "
                 "(e.g. 1,2,3 or 1,1,2,2); empty: this context's device",
             ),

@@ -9,11 +9,12 @@ import time
 
 import pandas as pd
 
-from ... import scenes
-from ...methods.core import Param
-from .. import rankings
-from ..cluster_devices import local_cluster
-from ..sweep import sweep
+from blurlab import scenes
+from blurlab.methods.params import Param
+from blurlab.studies import rankings
+from blurlab.studies.cluster_devices import local_cluster
+from blurlab.studies.sweep import sweep
+
 from .core import Benchmark, register
 from .rescore import RESCORED, rescore
 from .timing import post_process_methods, split
@@ -116,10 +117,10 @@ register(
         {
             "scenes": Param(200, int, "N random scenes", 2, 100_000),
             "first_seed": Param(0, int, "the first seed (seeds first_seed .. + N - 1)", 0),
-            "methods": Param("", object, "comma-separated methods (empty: every post-process)"),
-            "metrics": Param("psnr,ssim,flip", object, "comma-separated metrics (first: the map)"),
+            "methods": Param("", str, "comma-separated methods (empty: every post-process)"),
+            "metrics": Param("psnr,ssim,flip", str, "comma-separated metrics (first: the map)"),
             "map_features": Param(
-                ",".join(rankings.MAP_FEATURES), object, "the two scene features of the wins map"
+                ",".join(rankings.MAP_FEATURES), str, "the two scene features of the wins map"
             ),
             "bins": Param(4, int, "cells per feature of the wins map", 1, 64),
             "workers": Param(0, int, "local Dask workers (0: this process)", 0, 64),

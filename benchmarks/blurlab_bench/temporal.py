@@ -9,14 +9,15 @@ import time
 
 import numpy as np
 
-from ... import metrics, scenes
-from ...methods import method as method_info
-from ...methods.core import Param
-from ...sequences import sequence, still
-from ...taa import PARAMS as TAA_PARAMS
-from ...taa import taa, taa_values
-from ...twins.taa import resolve
-from .. import temporal
+from blurlab import metrics, scenes
+from blurlab.methods import method as method_info
+from blurlab.methods.params import Param
+from blurlab.sequences import sequence, still
+from blurlab.studies import temporal
+from blurlab.taa import PARAMS as TAA_PARAMS
+from blurlab.taa import taa, taa_values
+from blurlab.twins.taa import resolve
+
 from .core import Benchmark, register
 from .timing import split
 
@@ -24,7 +25,7 @@ SEQUENCE_PARAMS = {
     "frames": Param(8, int, "frames measured per sequence", 2, 4096),
     "warmup": Param(4, int, "frames run before them, not measured (TAA's history fills)", 0),
     "reference_samples": Param(64, int, "sub-frames of each frame's reference", 1),
-    "methods": Param("", object, "comma-separated methods (empty: every per-frame method)"),
+    "methods": Param("", str, "comma-separated methods (empty: every per-frame method)"),
 }
 
 
@@ -94,7 +95,7 @@ register(
         "per method, which order wins and where the winner flips",
         {
             **SEQUENCE_PARAMS,
-            "scenes": Param("", object, "comma-separated scenes (empty: built-in and failure)"),
+            "scenes": Param("", str, "comma-separated scenes (empty: built-in and failure)"),
             "fps": Param(60.0, float, "frame rate; the shutter is 180°", 1.0, 1000.0),
         },
         _temporal_orders,
@@ -168,8 +169,8 @@ register(
         "departs from what the shutter implies",
         {
             **SEQUENCE_PARAMS,
-            "scenes": Param("", object, "comma-separated scenes (empty: built-in and failure)"),
-            "rates": Param("30,60,120,144", object, "comma-separated frame rates"),
+            "scenes": Param("", str, "comma-separated scenes (empty: built-in and failure)"),
+            "rates": Param("30,60,120,144", str, "comma-separated frame rates"),
         },
         _frame_rate,
         {"tiny": (32, 18), "software": (160, 90), "gpu": (1280, 720)},
@@ -224,11 +225,11 @@ register(
         "a sequence with its references, three metrics and a filter then TAA, timed whole: "
         "wall seconds of each part",
         {
-            "scene": Param("fan", object, "the scene"),
+            "scene": Param("fan", str, "the scene"),
             "frames": Param(60, int, "frames", 2, 4096),
             "reference_samples": Param(64, int, "sub-frames of each frame's reference", 1),
-            "method": Param("", object, "the method (empty: the first registered filter)"),
-            "metrics": Param("psnr,ssim,temporal_instability", object, "comma-separated metrics"),
+            "method": Param("", str, "the method (empty: the first registered filter)"),
+            "metrics": Param("psnr,ssim,temporal_instability", str, "comma-separated metrics"),
         },
         _sequence,
         {"tiny": (32, 18), "software": (320, 180), "gpu": (1920, 1080)},
@@ -290,7 +291,7 @@ register(
         "TAA on still scenes: how close jittered frames come to the antialiased reference "
         "after N frames with each clip, and the TAA pass against its NumPy twin",
         {
-            "scenes": Param("", object, "comma-separated scenes (empty: built-in and failure)"),
+            "scenes": Param("", str, "comma-separated scenes (empty: built-in and failure)"),
             "frames": Param(32, int, "jittered frames", 2, 4096),
             "reference_samples": Param(256, int, "sub-frames of the antialiased reference", 1),
         },

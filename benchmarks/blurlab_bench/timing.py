@@ -6,8 +6,8 @@ from __future__ import annotations
 import statistics
 import time
 
-from ...methods import blur, method, methods
-from ..sweep import sweep_methods
+from blurlab.methods import blur, method, methods
+from blurlab.studies.sweep import sweep_methods
 
 # Seconds of untimed calls before a timed set on a GPU: an H100 left idle (by CPU work, or a
 # benchmark's checks) clocks down, and the next set then timed 2-4x slow.

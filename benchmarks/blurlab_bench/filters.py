@@ -8,11 +8,21 @@ import statistics
 
 import numpy as np
 
-from ... import metrics, scenes
-from ...converged import default_reference_samples
-from ...methods import blur, coverage, eevee, method, method_instant, methods, plans, tile_filter
-from ...methods.core import Param
-from ...sizes import DEFAULT_SIZE
+from blurlab import metrics, scenes
+from blurlab.converged import default_reference_samples
+from blurlab.methods import (
+    blur,
+    coverage,
+    eevee,
+    method,
+    method_instant,
+    methods,
+    plans,
+    tile_filter,
+)
+from blurlab.methods.params import Param
+from blurlab.sizes import DEFAULT_SIZE
+
 from .core import Benchmark, register
 from .timing import (
     film_method,
@@ -122,8 +132,8 @@ register(
         "them, per-pass timers and calls back to back; the Urho3D thesis's S and k sweeps",
         {
             "runs": RUNS,
-            "s_sweep": Param("5,8,12,15,20,25", object, "S values at k = 32 (comma-separated)"),
-            "k_sweep": Param("4,8,16,32,64", object, "k values at S = 12 (comma-separated)"),
+            "s_sweep": Param("5,8,12,15,20,25", str, "S values at k = 32 (comma-separated)"),
+            "k_sweep": Param("4,8,16,32,64", str, "k values at S = 12 (comma-separated)"),
         },
         _filters,
         SIZES,
@@ -199,7 +209,7 @@ register(
         "option on every failure and built-in scene: PSNR, SSIM, ms, tile blockiness",
         {
             "runs": Param(5, int, "timed rounds (medians)", 1, 1000),
-            "scenes": Param("", object, "comma-separated scenes (empty: failure + built-in)"),
+            "scenes": Param("", str, "comma-separated scenes (empty: failure + built-in)"),
         },
         _stable_filter,
         {"tiny": (64, 36), "software": (320, 180), "gpu": (1920, 1080)},
@@ -324,7 +334,7 @@ register(
         "default layout's",
         {
             "runs": RUNS,
-            "scenes": Param("teapot_pass,near_plane", object, "comma-separated scenes"),
+            "scenes": Param("teapot_pass,near_plane", str, "comma-separated scenes"),
         },
         _layouts,
         SIZES,

@@ -1,7 +1,7 @@
 """The benchmarks' registry, record schema, records file and runner.
 
 A benchmark is registered once (``Benchmark``: name, one line of doc, its parameters declared
-with ``blurlab.methods.core.Param``, its sizes and presets, and ``run``), and everything else
+with ``blurlab.methods.params.Param``, its sizes and presets, and ``run``), and everything else
 reads it from here: ``blurlab bench``, benchmarks/gpu.sh, the CI test that runs each at a tiny
 size, and docs/benchmarks.md, which is generated from benchmarks/records.jsonl.
 
@@ -22,12 +22,12 @@ import subprocess
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from numbers import Integral, Real
+from numbers import Real
 from pathlib import Path
 
-from ...context import Context
-from ...methods.core import Param
-from ...version import __version__
+from blurlab.context import Context
+from blurlab.methods.params import Param, check_known, typed
+from blurlab.version import __version__
 
 PRESETS = ("tiny", "software", "gpu")  # CI's size, llvmpipe's records, the GPU's records
 CLOCKS = ("gl_time_elapsed", "wall_glfinish")
@@ -44,9 +44,18 @@ RECORD_KEYS = (
     "tables",
 )
 SIGNIFICANT = 5  # digits a figure keeps in a record: more is noise, and makes the file long
-# The checkout's records file, where there is a checkout (python/blurlab/studies/bench -> root).
-ROOT = Path(__file__).resolve().parents[4]
-RECORDS = ROOT / "benchmarks" / "records.jsonl"
+# The benchmarks are a development package of the checkout (benchmarks/blurlab_bench), never
+# in the wheel, so the records file beside them is always there.
+PACKAGE_PARENT = Path(__file__).resolve().parents[1]
+ROOT = PACKAGE_PARENT.parent
+RECORDS = PACKAGE_PARENT / "records.jsonl"
+
+
+def child_environment(extra: dict[str, str]) -> dict[str, str]:
+    """This process's environment with `extra` and this package's folder first on PYTHONPATH,
+    so that a child Python imports these benchmarks however this process found them."""
+    path = os.pathsep.join(p for p in (str(PACKAGE_PARENT), os.environ.get("PYTHONPATH")) if p)
+    return {**os.environ, **extra, "PYTHONPATH": path}
 
 
 class Unavailable(RuntimeError):
@@ -141,39 +150,15 @@ def benchmark(name: str) -> Benchmark:
 
 def check_value(bench: Benchmark, key: str, value):
     """`value` as parameter `key` of `bench` takes it, or a ValueError/TypeError that names the
-    benchmark, the parameter, the value and what is allowed."""
-    if key not in bench.params:
-        raise ValueError(
-            f"blurlab: benchmark {bench.name} has no parameter {key!r}; "
-            f"its parameters: {', '.join(bench.params) or 'none'}"
-        )
-    p = bench.params[key]
-    where = f"blurlab: benchmark {bench.name} parameter {key}"
-    if p.kind is object:
-        if not isinstance(value, str):
-            raise TypeError(f"{where} must be text ({p.doc}), not {value!r}")
-        return value
-    if p.kind is bool:
-        if not isinstance(value, bool):
-            raise TypeError(f"{where} must be True or False, not {value!r}")
-        return value
-    if isinstance(p.kind, tuple):
-        if value not in p.kind:
-            raise ValueError(f"{where} must be {p.allowed()}, not {value!r}")
-        return value
-    number = Integral if p.kind is int else Real
-    if isinstance(value, bool) or not isinstance(value, number):
-        raise TypeError(f"{where} must be {p.allowed()}, not {value!r}")
-    value = p.kind(value)
-    low = p.low is not None and (value <= p.low if p.low_open else value < p.low)
-    if not math.isfinite(value) or low or (p.high is not None and value > p.high):
-        raise ValueError(f"{where} = {value!r} must be {p.allowed()}")
-    return value
+    benchmark, the parameter, the value and what is allowed (the methods' own check)."""
+    owner = f"benchmark {bench.name}"
+    check_known(owner, bench.params, [key])
+    return typed(owner, key, value, bench.params[key])
 
 
 def parse_value(bench: Benchmark, key: str, text: str):
     """`--param key=text`'s value, converted to the parameter's type and checked."""
-    kind = bench.params[key].kind if key in bench.params else object
+    kind = bench.params[key].kind if key in bench.params else str
     value: object = text
     if kind is bool:
         if text not in ("true", "false"):

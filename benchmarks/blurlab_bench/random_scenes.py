@@ -13,12 +13,13 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ... import io, scenes
-from ...context import Context
-from ...methods.core import Param
-from ..cluster import ACCOUNT, WORKER_COUNTERS
-from ..cluster_devices import local_cluster
-from ..sweep import sweep, sweep_methods
+from blurlab import io, scenes
+from blurlab.context import Context
+from blurlab.methods.params import Param
+from blurlab.studies.cluster import ACCOUNT, WORKER_COUNTERS
+from blurlab.studies.cluster_devices import local_cluster
+from blurlab.studies.sweep import sweep, sweep_methods
+
 from .core import Benchmark, register
 from .rescore import RESCORED, rescore
 
@@ -223,13 +224,13 @@ register(
             "seed": Param(0, int, "the first seed", 0),
             "workers": Param(
                 "1",
-                object,
+                str,
                 "Dask workers, worker i on GPU i modulo the GPUs, so several may share one "
                 "(1: this process's context); several counts separated by commas run in turn",
             ),
             "gpus": Param(
                 "0",
-                object,
+                str,
                 "GPUs the workers spread over, the first that many (0: all); several counts "
                 "separated by commas run in turn, each with every worker count",
             ),
@@ -239,7 +240,7 @@ register(
             ),
             "reference_samples": Param(0, int, "N of each reference (0: as sweeps choose)", 0),
             "hashed": Param(4, int, "first seeds whose G-buffer digest is recorded", 0, 1000),
-            "results": Param("", object, "a .csv every scene's scores go to (empty: none)"),
+            "results": Param("", str, "a .csv every scene's scores go to (empty: none)"),
             "rescored": RESCORED,
         },
         _random_scenes,

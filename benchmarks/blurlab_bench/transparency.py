@@ -11,12 +11,13 @@ import statistics
 
 import numpy as np
 
-from ... import blender, metrics, scenes
-from ...blender import crosscheck
-from ...methods import blur, method_instant
-from ...methods.core import Param
-from ...sizes import DEFAULT_SIZE
-from .. import transparency
+from blurlab import blender, metrics, scenes
+from blurlab.blender import crosscheck
+from blurlab.methods import blur, method_instant
+from blurlab.methods.params import Param
+from blurlab.sizes import DEFAULT_SIZE
+from blurlab.studies import transparency
+
 from .core import Benchmark, register
 from .timing import median_passes, spin_up, split
 
@@ -265,14 +266,14 @@ register(
         "the four ways to blur translucency on the transparency scenes: PSNR and FLIP against "
         "the antialiased reference per approach, layered's margin, and its cost",
         {
-            "scenes": Param("", object, "comma-separated scenes (empty: the transparency tag)"),
-            "methods": Param("", object, "comma-separated methods (empty: filters and engines)"),
+            "scenes": Param("", str, "comma-separated scenes (empty: the transparency tag)"),
+            "methods": Param("", str, "comma-separated methods (empty: filters and engines)"),
             "reference_samples": Param(0, int, "N of the references (0: from the motion)", 0),
             # The three where translucent surfaces move: a still wall behind a moving pane (the
             # method alone exits early almost everywhere), and two whose opaque layers move too.
             "cost_scenes": Param(
                 "moving_glass,sparks_over_mover,smoke_pan",
-                object,
+                str,
                 "comma-separated scenes the costs are timed on",
             ),
             "runs": Param(5, int, "timed runs per method and approach (medians)", 1, 1000),

@@ -8,10 +8,11 @@ from __future__ import annotations
 
 import json
 
-from ... import scenes
-from ...methods import method, methods
-from ...methods.core import Param
-from .. import auto_rules
+from blurlab import scenes
+from blurlab.methods import method, methods
+from blurlab.methods.params import Param
+from blurlab.studies import auto_rules
+
 from .core import Benchmark, register
 from .rankings import sweep_on_workers
 from .rescore import RESCORED, rescore
@@ -238,17 +239,15 @@ register(
         "fitted on random seeds 0..A-1 and judged on seeds A..2A-1 and the built-in scenes",
         {
             "seeds": Param(25, int, "A: fitted on seeds 0..A-1, judged on A..2A-1", 1, 100_000),
-            "filters": Param(
-                "", object, "comma-separated methods (empty: tile filters + coverage)"
-            ),
-            "fixed_k": Param("4,8,12,16,20,24,32,40,48,64", object, "the tile filters' k grid"),
-            "samples": Param("15", object, "the tile filters' samples grid"),
-            "coverage_tiles": Param("1.5,3,6", object, "gather_coverage's tile_percent grid"),
-            "coverage_samples": Param("4,8,16", object, "gather_coverage's samples grid"),
+            "filters": Param("", str, "comma-separated methods (empty: tile filters + coverage)"),
+            "fixed_k": Param("4,8,12,16,20,24,32,40,48,64", str, "the tile filters' k grid"),
+            "samples": Param("15", str, "the tile filters' samples grid"),
+            "coverage_tiles": Param("1.5,3,6", str, "gather_coverage's tile_percent grid"),
+            "coverage_samples": Param("4,8,16", str, "gather_coverage's samples grid"),
             "bins": Param(4, int, "bins of the rule's threshold table", 1, 64),
-            "builtin_scenes": Param("", object, "comma-separated built-in scenes (empty: all)"),
+            "builtin_scenes": Param("", str, "comma-separated built-in scenes (empty: all)"),
             "reference_samples": Param(0, int, "N of each reference (0: as sweeps choose)", 0),
-            "results": Param("", object, "a .csv the sweep's rows go to and resume from"),
+            "results": Param("", str, "a .csv the sweep's rows go to and resume from"),
             "workers": Param(0, int, "local Dask workers (0: this process)", 0, 64),
             "rescored": RESCORED,
         },

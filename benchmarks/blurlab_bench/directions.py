@@ -7,12 +7,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from ... import scenes
-from ...methods import blur, method, methods
-from ...methods.core import Param
-from ...sizes import DEFAULT_SIZE
-from ...twins.unreal5 import GATHER_2
-from .. import peers
+from blurlab import scenes
+from blurlab.methods import blur, method, methods
+from blurlab.methods.params import Param
+from blurlab.sizes import DEFAULT_SIZE
+from blurlab.studies import peers
+from blurlab.twins.unreal5 import GATHER_2
+
 from .core import Benchmark, register
 from .timing import film_method, median_passes, method_runs, split
 
@@ -79,8 +80,8 @@ register(
         "on the scenes where motions cross: PSNR against both references, two-direction tiles, "
         "ms",
         {
-            "scenes": Param("crossing,crossed_motions", object, "comma-separated scenes"),
-            "configs": Param("", object, "more rows: METHOD:KEY=VALUE,... separated by ';'"),
+            "scenes": Param("crossing,crossed_motions", str, "comma-separated scenes"),
+            "configs": Param("", str, "more rows: METHOD:KEY=VALUE,... separated by ';'"),
             "runs": Param(5, int, "timed runs per configuration (medians)", 1, 1000),
             "reference_samples": Param(0, int, "N of the references (0: from the motion)", 0),
         },
