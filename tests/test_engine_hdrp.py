@@ -9,7 +9,7 @@ import math
 
 import numpy as np
 import pytest
-from conftest import assert_blur_refuses, assert_timings_name, random_frame
+from conftest import assert_timings_name, random_frame
 from filter_promises import assert_blurs_a_rendered_scene_as_its_twin, assert_matches_twin
 
 import blurlab as bl
@@ -229,22 +229,6 @@ def test_each_tile_path_is_taken_and_does_what_it_says(ctx, rng):
 
 def test_sample_count_keeps_taps_a_pixel_apart():
     assert list(ref.tap_count(np.array([0.0, 3.9, 7.0, 200.0]), 8)) == [1, 3, 7, 8]
-
-
-@pytest.mark.parametrize(
-    ("params", "error", "message"),
-    [
-        ({"samples": 1}, ValueError, r"samples = 1 is outside 2\.\.64"),
-        ({"maximum_velocity": -1.0}, ValueError, r"maximum_velocity = -1.0 is outside"),
-        ({"depth_comparison_extent": 0.0}, ValueError, "depth_comparison_extent = 0.0 must be"),
-        ({"camera_clamp_mode": "Rotation"}, ValueError, "must be one of 'none', 'rotation'"),
-        ({"fast_ratio": 1.5}, ValueError, r"fast_ratio = 1.5 is outside \[0, 1\]"),
-        ({"scatter": 1}, TypeError, "scatter must be True or False"),
-        ({"k": 3}, TypeError, "no parameter.*k.*samples"),
-    ],
-)
-def test_bad_parameters_name_the_range(ctx, rng, params, error, message):
-    assert_blur_refuses(ctx, rng, METHOD, params, error, message)
 
 
 def test_timings_name_every_pass(ctx, rng):

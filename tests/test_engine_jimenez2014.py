@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import assert_blur_refuses, assert_timings_name, random_frame
+from conftest import assert_timings_name, random_frame
 from filter_promises import PROMISES, assert_blurs_a_rendered_scene_as_its_twin, assert_matches_twin
 
 import blurlab as bl
@@ -81,18 +81,6 @@ def test_the_foreground_alpha_of_a_moving_bar(ctx):
 @pytest.mark.parametrize("promise", PROMISES.values(), ids=PROMISES.keys())
 def test_the_filter_promises(ctx, rng, promise):
     promise(ctx, rng, METHOD)
-
-
-@pytest.mark.parametrize(
-    ("params", "error", "message"),
-    [
-        ({"k": 0}, ValueError, r"k = 0 is outside 1\.\.256"),
-        ({"soft_z": 0.0}, ValueError, "soft_z = 0.0 must be"),
-        ({"quality": 3}, TypeError, "no parameter.*quality.*samples"),
-    ],
-)
-def test_bad_parameters_name_the_range(ctx, rng, params, error, message):
-    assert_blur_refuses(ctx, rng, METHOD, params, error, message)
 
 
 def test_timings_name_every_pass(ctx, rng):

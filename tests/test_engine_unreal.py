@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import assert_blur_refuses, assert_timings_name, random_frame
+from conftest import assert_timings_name, random_frame
 from filter_promises import assert_blurs_a_rendered_scene_as_its_twin, assert_matches_twin
 
 import blurlab as bl
@@ -139,21 +139,6 @@ def test_rendered_scene_counts_its_tiles(ctx):
     gpu = result.buffers["neighbors"][..., 3]
     np.testing.assert_array_equal(gpu, expected)
     assert (gpu == ref.SKIP).sum() > 0 and (gpu == ref.SLOW).sum() > 0
-
-
-@pytest.mark.parametrize(
-    ("params", "error", "message"),
-    [
-        ({"quality": 0}, ValueError, r"quality = 0 is outside 1\.\.4"),
-        ({"quality": 5}, ValueError, r"quality = 5 is outside 1\.\.4"),
-        ({"max_blur": 0.0}, ValueError, "max_blur = 0.0 must be"),
-        ({"max_blur": 101.0}, ValueError, "max_blur = 101.0"),
-        ({"depth_extent": 0.0}, ValueError, "depth_extent = 0.0 must be"),
-        ({"samples": 8}, TypeError, "no parameter.*samples.*quality"),
-    ],
-)
-def test_bad_parameters_name_the_range(ctx, rng, params, error, message):
-    assert_blur_refuses(ctx, rng, METHOD, params, error, message)
 
 
 def test_timings_name_every_pass(ctx, rng):

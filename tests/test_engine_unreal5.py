@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import assert_blur_refuses, assert_timings_name, random_frame
+from conftest import assert_timings_name, random_frame
 from filter_promises import PROMISES, assert_blurs_a_rendered_scene_as_its_twin, assert_matches_twin
 
 import blurlab as bl
@@ -119,19 +119,6 @@ def test_half_res_gather_reads_the_half_size_colour_for_long_blurs(ctx, rng):
 @pytest.mark.parametrize("promise", PROMISES.values(), ids=PROMISES.keys())
 def test_the_filter_promises(ctx, rng, promise):
     promise(ctx, rng, METHOD)
-
-
-@pytest.mark.parametrize(
-    ("params", "error", "message"),
-    [
-        ({"directions": 3}, ValueError, r"directions = 3 is outside 1\.\.2"),
-        ({"half_res_gather": 2}, ValueError, r"half_res_gather = 2 is outside 0\.\.1"),
-        ({"quality": 5}, ValueError, r"quality = 5 is outside 1\.\.4"),
-        ({"samples": 8}, TypeError, "no parameter.*samples.*quality"),
-    ],
-)
-def test_bad_parameters_name_the_range(ctx, rng, params, error, message):
-    assert_blur_refuses(ctx, rng, METHOD, params, error, message)
 
 
 def test_timings_name_every_pass(ctx, rng):

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import assert_blur_refuses, assert_timings_name, random_frame
+from conftest import assert_timings_name, random_frame
 from filter_promises import PROMISES, assert_blurs_a_rendered_scene_as_its_twin, assert_matches_twin
 
 import blurlab as bl
@@ -69,19 +69,6 @@ def test_a_tap_in_front_is_dropped(ctx):
 @pytest.mark.parametrize("promise", PROMISES.values(), ids=PROMISES.keys())
 def test_the_filter_promises(ctx, rng, promise):
     promise(ctx, rng, METHOD)
-
-
-@pytest.mark.parametrize(
-    ("params", "error", "message"),
-    [
-        ({"samples": 0}, ValueError, r"samples = 0 is outside 1\.\.32"),
-        ({"spacing": 0.0}, ValueError, "spacing = 0.0 must be"),
-        ({"depth_extent": -1.0}, ValueError, "depth_extent = -1.0"),
-        ({"taps": 8}, TypeError, "no parameter.*taps.*samples"),
-    ],
-)
-def test_bad_parameters_name_the_range(ctx, rng, params, error, message):
-    assert_blur_refuses(ctx, rng, METHOD, params, error, message)
 
 
 def test_timings_name_its_pass(ctx, rng):

@@ -54,9 +54,7 @@ def blurlab(*args, cwd: Path, env: dict | None = None) -> subprocess.CompletedPr
     )
 
 
-@pytest.mark.parametrize(
-    "language", ["glsl", pytest.param("hlsl", marks=needs_hlsl_tools)]
-)
+@pytest.mark.parametrize("language", ["glsl", pytest.param("hlsl", marks=needs_hlsl_tools)])
 def test_a_new_method_passes_the_contract_and_joins_a_study(tmp_path, language):
     """As a new user would, from an empty folder outside the repository."""
     made = blurlab("new-method", "my_tent", "--language", language, "--out", "X", cwd=tmp_path)
@@ -65,8 +63,17 @@ def test_a_new_method_passes_the_contract_and_joins_a_study(tmp_path, language):
     assert checked.returncode == 0, checked.stdout + checked.stderr
     assert "0 failed" in checked.stdout and "FAILED" not in checked.stdout
     study = blurlab(
-        "study", "--methods-from", "X", "--scenes", "fan", "teapot_pass", "--size", "160x90",
-        "--out", "out", cwd=tmp_path,
+        "study",
+        "--methods-from",
+        "X",
+        "--scenes",
+        "fan",
+        "teapot_pass",
+        "--size",
+        "160x90",
+        "--out",
+        "out",
+        cwd=tmp_path,
     )
     assert study.returncode == 0, study.stderr
     rows = pd.read_csv(tmp_path / "out" / "results.csv")
@@ -108,7 +115,7 @@ def test_nan_for_finite_input_fails_by_name(ctx, tmp_path):
     assert "non-finite values for finite input" in checks["finite_for_finite_input"]
 
 
-GL_ERROR_METHOD = '''
+GL_ERROR_METHOD = """
 import ctypes
 
 from blurlab.methods.chain import chain_run
@@ -127,7 +134,7 @@ def run(ctx, frame, inputs, values, backend, passes):
 
 
 METHOD = dataclasses.replace(METHOD, run=run)
-'''
+"""
 
 
 def test_a_gl_error_left_behind_fails_by_name(ctx, tmp_path):
@@ -145,8 +152,11 @@ def test_a_glsl_compile_error_fails_with_file_and_line(tmp_path):
     folder = tent(tmp_path, old="float total = 0.0;", new="float total = 0.0")
     result = blurlab("check-method", str(folder), cwd=tmp_path)
     assert result.returncode == 1
-    line = next(n for n, t in enumerate((folder / "gather.glsl").read_text().splitlines(), 1)
-                if "float total" in t)
+    line = next(
+        n
+        for n, t in enumerate((folder / "gather.glsl").read_text().splitlines(), 1)
+        if "float total" in t
+    )
     runs = next(r for r in result.stdout.splitlines() if r.strip().startswith("runs"))
     assert "FAILED" in runs and "failed to compile" in runs
     assert f"{folder / 'gather.glsl'}:" in result.stdout
@@ -160,8 +170,11 @@ def test_an_hlsl_compile_error_fails_with_file_and_line(tmp_path):
     assert result.returncode == 1
     loads = next(r for r in result.stdout.splitlines() if r.strip().startswith("loads"))
     assert "FAILED" in loads
-    line = next(n for n, t in enumerate((folder / "gather.hlsl").read_text().splitlines(), 1)
-                if "undeclared" in t)
+    line = next(
+        n
+        for n, t in enumerate((folder / "gather.hlsl").read_text().splitlines(), 1)
+        if "undeclared" in t
+    )
     assert f"gather.hlsl:{line}:" in result.stdout and "undeclared" in result.stdout
 
 
@@ -257,6 +270,8 @@ def test_a_shader_outside_the_folder_is_refused(tmp_path):
 def test_order_places_a_method_among_the_others(tmp_path):
     folder = write_template("my_tent", tmp_path)
     declaration = folder / "method.py"
-    declaration.write_text(declaration.read_text().replace('kind="gather",', 'kind="gather", order=-1,'))
+    declaration.write_text(
+        declaration.read_text().replace('kind="gather",', 'kind="gather", order=-1,')
+    )
     bl.load_methods(folder)
     assert bl.methods()[0] == "my_tent"

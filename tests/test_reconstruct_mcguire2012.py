@@ -84,25 +84,6 @@ def test_timings_name_every_pass_and_the_clock(ctx, rng):
     assert result.total_ms > 0
 
 
-@pytest.mark.parametrize(
-    ("params", "error", "message"),
-    [
-        ({"k": 0}, ValueError, r"k = 0 is outside 1\.\.256"),
-        ({"k": 2.5}, TypeError, "k must be an integer"),
-        ({"samples": 0}, ValueError, r"samples = 0 is outside 1\.\.256"),
-        ({"soft_z": 0.0}, ValueError, "soft_z .* must be finite and > 0"),
-        ({"soft_z": -1.0}, ValueError, "soft_z"),
-        ({"exposure": float("nan")}, ValueError, "exposure must be finite"),
-        ({"exposure": float("inf")}, ValueError, "exposure must be finite"),
-        ({"seed": -1}, ValueError, "seed"),
-        ({"taps": 3}, TypeError, "no parameter.*taps.*samples"),
-    ],
-)
-def test_bad_parameters_name_the_range(ctx, rng, params, error, message):
-    with pytest.raises(error, match=message):
-        bl.blur(ctx, random_frame(rng, 16, 16), "reconstruct_mcguire2012", **params)
-
-
 def test_unknown_method_and_backend(ctx, rng):
     frame = random_frame(rng, 16, 16)
     with pytest.raises(ValueError, match="registered methods"):

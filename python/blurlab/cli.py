@@ -1,6 +1,7 @@
 """The ``blurlab`` command: ``info``, ``demo``, ``methods``, ``metrics``, ``study``, ``sweep``,
-``bench``, ``check-method`` and ``new-method``. User errors (bad names, values, sizes, files) print one line
-``blurlab: error: ...`` and exit with status 2; ``--debug`` shows the traceback instead."""
+``bench``, ``check-method`` and ``new-method``. User errors (bad names, values, sizes, files)
+print one line ``blurlab: error: ...`` and exit with status 2; ``--debug`` shows the traceback
+instead."""
 
 from __future__ import annotations
 

@@ -34,6 +34,7 @@ from .core import (
     render_and_blur,
     render_steps,
 )
+
 # folders: method folders, loaded after the built-ins (and installed packages' on first use).
 from .folders import Declaration, MethodFolderError, load_methods, unload_methods
 from .registry import translucent_layer_method

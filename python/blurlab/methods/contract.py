@@ -66,7 +66,9 @@ def table(name: str, checks: list[Check]) -> str:
         detail = c.detail.replace("\n", "\n" + " " * (width + 12))
         lines.append(f"  {c.name:<{width}}  {mark:<7}  {detail}".rstrip())
     failed = sum(c.passed is False for c in checks)
-    lines.append(f"{len(checks) - failed} of {len(checks)} checks passed or skipped, {failed} failed")
+    lines.append(
+        f"{len(checks) - failed} of {len(checks)} checks passed or skipped, {failed} failed"
+    )
     return "\n".join(lines)
 
 
@@ -201,20 +203,29 @@ class _Checker:
         return SCENE
 
     def ranges(self) -> str:
+        """Each parameter refuses a value outside its declaration, of the error's type, in a
+        message that names it and what is allowed; an unknown one is refused listing them."""
         frame = self.frame(8, 6)
         refused = 0
         for key, p in self.m.params.items():
-            for value in _outside(p):
+            for value, error_type in _outside(p):
                 try:
                     self.blur(frame, **{key: value})
                 except (TypeError, ValueError) as error:
-                    _expect(key in str(error), f"{key}={value!r} was refused without naming it: {error}")
+                    text = str(error)
+                    _expect(
+                        isinstance(error, error_type) and key in text and p.allowed() in text,
+                        f"{key}={value!r} was refused as {type(error).__name__}: {text!r}; "
+                        f"expected a {error_type.__name__} naming {key} and {p.allowed()!r}",
+                    )
                     refused += 1
                     continue
                 raise _Failed(f"{key}={value!r} is outside {p.allowed()} and was accepted")
         try:
             self.blur(frame, no_such_parameter=1)
-        except TypeError:
+        except TypeError as error:
+            unnamed = [key for key in self.m.params if key not in str(error)]
+            _expect(not unnamed, f"an unknown parameter's error leaves out {unnamed}: {error}")
             refused += 1
         else:
             raise _Failed("an unknown parameter was accepted")
@@ -224,7 +235,9 @@ class _Checker:
         for point in self.points():
             out = self.blur(self.frame(*self.size, point), **point).color
             bad = int(np.count_nonzero(~np.isfinite(out)))
-            _expect(bad == 0, f"{bad} non-finite values for finite input with {point or 'defaults'}")
+            _expect(
+                bad == 0, f"{bad} non-finite values for finite input with {point or 'defaults'}"
+            )
         return ""
 
     def nonfinite(self) -> str:
@@ -257,7 +270,10 @@ class _Checker:
         for width, height in ODD_SIZES:
             frame = self.frame(width, height)
             result = self.blur(frame)
-            _expect(result.color.shape == (height, width, 4), f"{width}x{height}: shape {result.color.shape}")
+            _expect(
+                result.color.shape == (height, width, 4),
+                f"{width}x{height}: shape {result.color.shape}",
+            )
             _expect(np.isfinite(result.color).all(), f"{width}x{height}: non-finite output")
             if self.m.twin is not None:
                 self.agree(frame, {}, f"a {width}x{height} frame")
@@ -285,17 +301,25 @@ def _expect(condition: bool, message: str) -> None:
         raise _Failed(message)
 
 
-def _outside(p: Param) -> list:
-    """Values just outside what `p` allows."""
+def _outside(p: Param) -> list[tuple[object, type]]:
+    """Values `p` refuses, each with the error it raises: just below and above its range, a
+    value of the wrong type, NaN."""
     if isinstance(p.kind, tuple):
-        return ["no_such_choice"]
+        return [("no_such_choice", ValueError), (1, ValueError)]
     if p.kind is bool:
-        return [2]
+        return [(2, TypeError)]
     if p.kind not in (int, float):
         return []
-    values = []
+    values: list[tuple[object, type]] = []
+    if p.kind is int:
+        if p.low is not None:
+            values.append((int(p.low) - 1, ValueError))
+        if p.high is not None:
+            values.append((int(p.high) + 1, ValueError))
+        return values + [((p.low or 0) + 0.5, TypeError)]
     if p.low is not None:
-        values.append(p.low if p.low_open else (p.low - 1 if p.kind is int else p.low - max(1.0, abs(p.low))))
+        values.append((float(p.low) if p.low_open else p.low - max(1.0, abs(p.low)), ValueError))
     if p.high is not None:
-        values.append(p.high + 1 if p.kind is int else (math.inf if p.high >= FLOAT32_MAX else p.high + max(1.0, abs(p.high))))
-    return [p.kind(v) if p.kind is int else float(v) for v in values]
+        above = math.inf if p.high >= FLOAT32_MAX else p.high + max(1.0, abs(p.high))
+        values.append((float(above), ValueError))
+    return values + [(math.nan, ValueError)]

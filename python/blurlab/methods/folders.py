@@ -87,7 +87,9 @@ def load_methods(path) -> list[str]:
     refused, unless it came from the same method.py (loading a folder again replaces it)."""
     folder = Path(path).expanduser()
     if not folder.is_dir():
-        raise MethodFolderError(f"blurlab: {folder} is not a folder (a method folder or a folder of them)")
+        raise MethodFolderError(
+            f"blurlab: {folder} is not a folder (a method folder or a folder of them)"
+        )
     if (folder / DECLARATION_FILE).is_file():
         files = [folder / DECLARATION_FILE]
     else:

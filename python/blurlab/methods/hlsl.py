@@ -20,7 +20,9 @@ import subprocess
 import tempfile
 from pathlib import Path
 
-PACKAGES = "glslang-tools and spirv-cross (Debian/Ubuntu: apt-get install glslang-tools spirv-cross)"
+PACKAGES = (
+    "glslang-tools and spirv-cross (Debian/Ubuntu: apt-get install glslang-tools spirv-cross)"
+)
 TIMEOUT_S = 60  # each tool, per shader
 SUFFIXES = (".hlsl",)
 
@@ -77,8 +79,10 @@ def translate(source: Path, defines: dict[str, int]) -> Path:
     command = [glslang, "-D", "-V", "-S", "comp", "-e", "main", "--auto-map-bindings"]
     command += [f"-D{name}={value}" for name, value in sorted(defines.items())]
     _run([*command, "-o", str(spirv), str(source)], source)
-    glsl = _run([cross, "--version", "450", "--no-es", "--combined-samplers-inherit-bindings",
-                 str(spirv)], source)
+    glsl = _run(
+        [cross, "--version", "450", "--no-es", "--combined-samplers-inherit-bindings", str(spirv)],
+        source,
+    )
     reflection = json.loads(_run([cross, str(spirv), "--reflect"], source))
     target.write_text(named(glsl, reflection, source))
     return target

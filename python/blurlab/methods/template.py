@@ -11,7 +11,7 @@ from .registry import methods
 
 LANGUAGES = ("glsl", "hlsl")
 
-METHOD_PY = '''"""{name}: n taps along the motion, centred on the pixel, with tent weights (spec.md).
+METHOD_PY = '''"""{name}: n taps along the motion, centred on the pixel, tent-weighted (spec.md).
 Written by `blurlab new-method`; `blurlab check-method PATH/{name}` runs the contract."""
 
 from blurlab.methods import Declaration, Param, Pass
@@ -36,7 +36,7 @@ METHOD = Declaration(
 )
 '''
 
-TWIN_PY = '''"""The NumPy twin of {name}: spec.md in code, float64. The shader must agree with it."""
+TWIN_PY = '''"""The NumPy twin of {name}: spec.md in code, float64; the shader agrees with it."""
 
 import numpy as np
 
@@ -62,7 +62,7 @@ def {name}(color, motion, *, taps: int, scale: float) -> np.ndarray:
     return total / weights
 '''
 
-GATHER_GLSL = '''#version 450
+GATHER_GLSL = """#version 450
 // {name} (spec.md beside this file); NumPy twin: twin.py. blurlab's common/inputs.glsl gives
 // sanitize_color and sanitize_motion: how blurlab reads NaN and inf.
 #include "common/inputs.glsl"
@@ -91,10 +91,10 @@ vec4 {name}_at(ivec2 x) {{
 // The entry points: image `result`, one invocation per pixel.
 #define PASS_AT {name}_at
 #include "common/pass_main.glsl"
-'''
+"""
 
-GATHER_HLSL = '''// {name} (spec.md beside this file); NumPy twin: twin.py. An HLSL compute shader: blurlab
-// translates it to GLSL 4.50 (glslang, SPIRV-Cross) and binds its resources by name.
+GATHER_HLSL = """// {name} (spec.md beside this file); NumPy twin: twin.py. An HLSL compute shader:
+// blurlab translates it to GLSL 4.50 (glslang, SPIRV-Cross) and binds its resources by name.
 Texture2D<float4> color;
 Texture2D<float4> motion;
 RWTexture2D<float4> result;
@@ -139,9 +139,9 @@ void main(uint3 id : SV_DispatchThreadID) {{
     }}
     result[id.xy] = sum / total;
 }}
-'''
+"""
 
-SPEC_MD = '''# {name}
+SPEC_MD = """# {name}
 
 A gather along the pixel's motion M (pixels over the shutter, G-buffer at the shutter's
 centre). With n = `taps` and L = `scale`, tap i = 0..n-1 sits at
@@ -151,7 +151,7 @@ centre). With n = `taps` and L = `scale`, tap i = 0..n-1 sits at
 reads the pixel containing p_i (clamped to the image), and weighs 1 - 2|s_i| (a tent). The
 output is the weighted mean of the taps. Colour and motion are read as blurlab reads
 non-finite values (NaN colour is 0; a motion with NaN or inf is none).
-'''
+"""
 
 TEST_PY = '''"""{name} meets blurlab's method contract (run: pytest {folder})."""
 

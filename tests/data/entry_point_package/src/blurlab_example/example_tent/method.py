@@ -1,4 +1,4 @@
-"""example_tent: n taps along the motion, centred on the pixel, with tent weights (spec.md).
+"""example_tent: n taps along the motion, centred on the pixel, tent-weighted (spec.md).
 Written by `blurlab new-method`; `blurlab check-method PATH/example_tent` runs the contract."""
 
 from blurlab.methods import Declaration, Param, Pass

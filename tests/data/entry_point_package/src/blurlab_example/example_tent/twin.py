@@ -1,4 +1,4 @@
-"""The NumPy twin of example_tent: spec.md in code, float64. The shader must agree with it."""
+"""The NumPy twin of example_tent: spec.md in code, float64; the shader agrees with it."""
 
 import numpy as np
 
