@@ -179,12 +179,17 @@ def test_an_hlsl_compile_error_fails_with_file_and_line(tmp_path):
 
 
 def test_an_installed_package_offers_a_method_through_its_entry_point(tmp_path):
+    """tests/data/entry_point_package with the template's folder as its module
+    blurlab_example.example_tent, installed with pip offline into a folder on the path."""
+    package = shutil.copytree(PACKAGE, tmp_path / "package")
+    module = write_template("example_tent", package / "src" / "blurlab_example")
+    (module / "test_example_tent.py").unlink()
+    (module / "__init__.py").write_text('"""The method folder example_tent."""\n')
     target = tmp_path / "site"
     install = subprocess.run(
         [sys.executable, "-m", "pip", "install", "--no-deps", "--no-build-isolation",
-         "--no-index", "--quiet", "--target", str(target), str(tmp_path / "package")],
-        capture_output=True, text=True, timeout=300,
-        cwd=shutil.copytree(PACKAGE, tmp_path / "package"),
+         "--no-index", "--quiet", "--target", str(target), str(package)],
+        capture_output=True, text=True, timeout=300, cwd=package,
     )  # fmt: skip
     assert install.returncode == 0, install.stderr
     env = environment()

@@ -1,1 +1,0 @@
-"""The method folder example_tent: method.py declares it (blurlab loads that file itself)."""
