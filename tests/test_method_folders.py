@@ -280,3 +280,57 @@ def test_order_places_a_method_among_the_others(tmp_path):
     )
     bl.load_methods(folder)
     assert bl.methods()[0] == "my_tent"
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "message"),
+    [
+        ('name="my_tent"', 'name="My Tent"', "name 'My Tent' must be lower case"),
+        ('kind="gather"', 'kind="render"', "a render method needs a run of its own"),
+        ("tuple(PARAMS)", '("taps", "spread")', r"takes \['spread'\], which are not declared"),
+        ('{"taps": [5, 9, 17]}', '{"taps": [1]}', r"default_grid: .*taps = 1 is outside 2\.\.64"),
+        ('"gather.glsl"', '"gather.txt"', "must end in .glsl, .comp or .hlsl"),
+        ("METHOD = Declaration(", "raise RuntimeError('broken')\nMETHOD = Declaration(",
+         "failed to run: RuntimeError: broken"),
+    ],
+)  # fmt: skip
+def test_a_bad_declaration_is_refused_naming_the_file(tmp_path, old, new, message):
+    folder = write_template("my_tent", tmp_path)
+    declaration = folder / "method.py"
+    shutil.copy(folder / "gather.glsl", folder / "gather.txt")
+    text = declaration.read_text()
+    assert old in text
+    declaration.write_text(text.replace(old, new, 1))
+    with pytest.raises(folders.MethodFolderError, match=message) as error:
+        bl.load_methods(folder)
+    assert str(declaration) in str(error.value)
+
+
+def test_a_broken_entry_point_is_skipped_with_a_warning(monkeypatch):
+    class Broken:
+        name, value = "broken", "no_such_package.methods"
+
+        def load(self):
+            raise ImportError("No module named 'no_such_package'")
+
+    monkeypatch.setattr(folders.importlib.metadata, "entry_points", lambda group: [Broken()])
+    with pytest.warns(UserWarning, match="skipped the methods of entry point broken"):
+        assert folders.load_entry_points() == []
+
+
+def test_methods_from_goes_with_this_process_only(tmp_path):
+    write_template("my_tent", tmp_path)
+    result = blurlab(
+        "study", "--methods-from", str(tmp_path), "--workers", "2", "--out", "o", cwd=tmp_path
+    )
+    assert result.returncode == 2 and "--methods-from loads methods into this process" in (
+        result.stderr
+    )
+
+
+def test_methods_lists_a_loaded_method_with_its_folder(tmp_path):
+    folder = write_template("my_tent", tmp_path)
+    result = blurlab("methods", "my_tent", "--methods-from", str(tmp_path), cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    assert "## my_tent" in result.stdout and f"declared in {folder / 'method.py'}" in result.stdout
+    assert "| `scale` | 1.0 | [0, 4] |" in result.stdout

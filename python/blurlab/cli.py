@@ -290,6 +290,7 @@ def method_table(m) -> str:
         f"{m.doc}",
         "",
         f"kind: {m.kind}; G-buffer instant: {instant}; backends: {', '.join(m.backends)}",
+        *([f"declared in {m.source}"] if m.source else []),
         "",
         "| parameter | default | allowed | meaning |",
         "|---|---|---|---|",
