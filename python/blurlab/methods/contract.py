@@ -18,7 +18,7 @@ import numpy as np
 from .. import scenes
 from ..context import Context
 from ..frame import Frame
-from .core import blur, method
+from .core import blur, method, method_instant
 from .params import FLOAT32_MAX, Param
 from .registry import Method
 
@@ -128,10 +128,7 @@ class _Checker:
         return self.ctx.render(scenes.get(SCENE), (width, height), instant=instant)
 
     def instant(self, params: dict | None) -> str:
-        if not callable(self.m.instant):
-            return self.m.instant
-        values = {**{k: p.default for k, p in self.m.params.items()}, **(params or {})}
-        return self.m.instant(values)
+        return method_instant(self.m.name, params)
 
     def blur(self, frame: Frame, **params):
         """The method's result; GL errors it left set are read (and so cleared) at once, before

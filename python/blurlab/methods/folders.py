@@ -226,8 +226,8 @@ def _check_params(params, fail) -> None:
             fail(f"parameter {key} has no range: declare Param(..., low=..., high=...)")
         if p.kind is object or not (p.kind in (int, float, bool) or isinstance(p.kind, tuple)):
             fail(f"parameter {key} must be an int, float, bool or a tuple of choices")
-        if p.auto is not None or callable(p.default):
-            fail(f"parameter {key}: a method folder's defaults are values, without 'auto' rules")
+        if callable(p.default) or p.default is None:
+            continue  # read from the frame, or optional: checked when a call resolves it
         try:
             typed("method folder", key, p.default, p)
         except (TypeError, ValueError) as error:
