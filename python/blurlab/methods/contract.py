@@ -185,7 +185,7 @@ class _Checker:
     def twin_random(self) -> str:
         if self.m.twin is None:
             return "skipped: no NumPy twin"
-        sizes = [self.size, (self.size[0] - 9 | 1, self.size[1] - 4 | 1)]
+        sizes = [self.size, (max(1, self.size[0] - 9) | 1, max(1, self.size[1] - 4) | 1)]
         points = self.points()
         for index, point in enumerate(points):
             width, height = sizes[index % 2]
