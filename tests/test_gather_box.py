@@ -42,20 +42,6 @@ def test_instant_follows_the_direction():
     assert bl.method_instant("gather_box", {"direction": "centered"}) == "center"
 
 
-@pytest.mark.parametrize(
-    ("params", "message"),
-    [
-        ({"taps": 1}, r"taps = 1 is outside 2\.\.256"),
-        ({"intensity": -1.0}, "intensity"),
-        ({"direction": "forward"}, "direction must be one of"),
-        ({"edge": "wrap"}, "edge must be one of"),
-    ],
-)
-def test_bad_parameters(ctx, rng, params, message):
-    with pytest.raises(ValueError, match=message):
-        bl.blur(ctx, random_frame(rng, 16, 16), "gather_box", **params)
-
-
 def test_guard_needs_a_rendered_frame_and_removes_edge_error(ctx, rng):
     with pytest.raises(ValueError, match="guard"):
         bl.blur(ctx, random_frame(rng, 16, 16), "gather_box", edge="guard")

@@ -46,9 +46,3 @@ def test_a_wide_sigma_approaches_the_centered_box(ctx, rng):
 
 def test_instant_is_the_shutter_center():
     assert bl.method_instant(NAME) == "center"
-
-
-def test_sigma_outside_its_range_is_refused_by_name(ctx, rng):
-    frame = random_frame(rng, 16, 16)
-    with pytest.raises(ValueError, match=r"gather_gaussian parameter sigma .*\[0.05, 10\]"):
-        bl.blur(ctx, frame, NAME, sigma=0.01)

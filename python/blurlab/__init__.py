@@ -11,11 +11,13 @@ from .methods import (
     BlurResult,
     blur,
     blur_steps,
+    load_methods,
     method,
     method_instant,
     methods,
     render_and_blur,
     render_steps,
+    unload_methods,
 )
 from .motion import Bone, Keyframe, Motion, Skeleton, quaternion
 from .particles import Particle, particles
@@ -71,6 +73,8 @@ __all__ = [
     "mesh",
     "method",
     "method_instant",
+    "load_methods",
+    "unload_methods",
     "particles",
     "methods",
     "quaternion",

@@ -1,7 +1,9 @@
 """Motion-blur methods by name: ``bl.methods()`` lists them, ``bl.blur(ctx, frame, name, ...)``
 runs one. The core is ``core`` (blur, steps) with ``params``, ``registry`` and ``passes``; each
 method or family is a module of its own that registers itself on import, below. A new method
-is a new module here, its shader, its NumPy twin and its test (docs/adding_a_method.md).
+is a new module here, its shader, its NumPy twin and its test; a method from outside is a
+method folder, loaded by ``load_methods`` or an entry point (folders.py,
+docs/adding_a_method.md).
 """
 
 # Each module registers its methods on import; the order here is the registry's, which is the
@@ -20,6 +22,7 @@ from .core import (
     BlurResult,
     Method,
     Param,
+    Pass,
     blur,
     blur_steps,
     check_param,
@@ -31,17 +34,24 @@ from .core import (
     render_and_blur,
     render_steps,
 )
+
+# folders: method folders, loaded after the built-ins (and installed packages' on first use).
+from .folders import Declaration, MethodFolderError, load_methods, unload_methods
 from .registry import translucent_layer_method
 
 __all__ = [
     "KINDS",
     "BlurResult",
+    "Declaration",
     "Method",
+    "MethodFolderError",
     "Param",
+    "Pass",
     "blur",
     "blur_steps",
     "check_param",
     "check_steps",
+    "load_methods",
     "method",
     "method_instant",
     "methods",
@@ -49,4 +59,5 @@ __all__ = [
     "render_and_blur",
     "render_steps",
     "translucent_layer_method",
+    "unload_methods",
 ]

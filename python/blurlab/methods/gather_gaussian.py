@@ -2,7 +2,7 @@
 exp(-s² / 2σ²) where s ∈ [-1/2, 1/2] is the tap's position in motion lengths (docs/spec.md
 §4). A smoother falloff than gather_box's equal weights, for the same taps. Shader
 shaders/passes/gather_gaussian.glsl, NumPy twin blurlab.twins.gathers.gather_gaussian,
-test tests/test_gather_gaussian.py; docs/adding_a_method.md walks through this file.
+test tests/test_gather_gaussian.py.
 """
 
 from __future__ import annotations

@@ -57,6 +57,15 @@ class Method:
     # Reproduces a shipped engine's filter under a name other than engine_*: the engines
     # benchmark shows it beside them.
     engine_peer: bool = False
+    # The place of its rows in sweeps, studies and the failure suite: methods() sorts by order,
+    # then by registration (the modules in this package are 0; a method folder's default is
+    # later, blurlab.methods.folders).
+    order: float = 0
+    # The names of the timings its run reports, where it declares them (a method folder's
+    # passes): check-method holds the run to them. () where undeclared.
+    passes: tuple[str, ...] = ()
+    # Where it was declared: a method folder's method.py; None for the modules in this package.
+    source: str | None = None
 
     def __post_init__(self):
         if self.kind not in KINDS:
@@ -113,15 +122,57 @@ def twin_keywords(twin: Callable) -> set[str] | None:
 
 
 _REGISTRY: dict[str, Method] = {}
+# Functions that register more methods the first time the registry is read: the methods of
+# installed packages' entry points (blurlab.methods.folders), found once, when first asked for.
+_DISCOVERERS: list[Callable[[], None]] = []
 
 
-def register(method: Method) -> Method:
+def register(method: Method, replace: bool = False) -> Method:
+    """Adds `method` to the registry. Its name must be new; `replace=True` lets a method from
+    the same source (a method folder loaded again) take its own name's place."""
+    if not isinstance(method, Method):
+        raise TypeError(f"blurlab: register takes a Method, not {type(method).__name__}")
+    old = _REGISTRY.get(method.name)
+    if old is not None and not (replace and old.source == method.source):
+        raise ValueError(
+            f"blurlab: a method named {method.name!r} is registered already "
+            f"({describe_source(old)}); method names are unique"
+            + (f", so {method.source} cannot register it too" if method.source else "")
+        )
     _REGISTRY[method.name] = method
+    # methods() lists by order, then by registration: a stable sort keeps the latter.
+    ordered = sorted(_REGISTRY.values(), key=lambda m: m.order)
+    _REGISTRY.clear()
+    _REGISTRY.update((m.name, m) for m in ordered)
     return method
+
+
+def unregister(name: str) -> Method:
+    """Removes method `name` from the registry and returns it (a notebook or a test that
+    loaded a method folder and is done with it)."""
+    m = method(name)
+    del _REGISTRY[name]
+    return m
+
+
+def describe_source(m: Method) -> str:
+    """Where `m` was declared, in words."""
+    return f"from {m.source}" if m.source else "built in"
+
+
+def add_discoverer(discover: Callable[[], None]) -> None:
+    """Runs `discover()` before the registry is next read; it may register methods."""
+    _DISCOVERERS.append(discover)
+
+
+def _discover() -> None:
+    while _DISCOVERERS:
+        _DISCOVERERS.pop(0)()
 
 
 def methods() -> list[str]:
     """Names of the registered methods."""
+    _discover()
     return list(_REGISTRY)
 
 
@@ -136,6 +187,7 @@ def method_instant(name: str, params: dict | None = None) -> str:
 def translucent_layer_method() -> str:
     """The name of the method registered with translucent_layer=True: what blurs the
     translucent layer by default (docs/spec.md §20.4)."""
+    _discover()
     chosen = [name for name, m in _REGISTRY.items() if m.translucent_layer]
     if len(chosen) != 1:
         raise RuntimeError(f"blurlab: exactly one method blurs the translucent layer, not {chosen}")
@@ -143,6 +195,7 @@ def translucent_layer_method() -> str:
 
 
 def method(name: str) -> Method:
+    _discover()
     if name not in _REGISTRY:
         raise ValueError(f"blurlab: no method {name!r}; registered methods: {methods()}")
     return _REGISTRY[name]
