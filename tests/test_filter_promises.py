@@ -22,6 +22,7 @@ PROMISES = {
     "engine_unity": (random_frame, {"max_radius": 15.0}, {"max_radius": 50.0}),
     "engine_hdrp": (random_frame, {"fast_ratio": 0.2}, {"maximum_velocity": 65024.0}),
     "engine_unreal": (random_frame, {"max_blur": 15.0}, {"max_blur": 100.0}),
+    "engine_godot": (random_frame, {"k": 15}, {"k": 256}),
     "gather_coverage": (random_frame, {"max_blur": 40.0}, {"max_blur": 50.0}),
 }
 METHODS = list(PROMISES)
