@@ -1,4 +1,4 @@
-"""engine_godot (docs/spec.md §17.9) on the GPU against bl.twins.godot: the velocity pass (the
+"""engine_godot (docs/spec.md §17.10) on the GPU against bl.twins.godot: the velocity pass (the
 three parts and their multipliers, the clamp to the largest multiplier, the near-plane
 correction, the depth velocity, the frame-rate modes), the quality presets, and the whole
 method on random and rendered frames."""
@@ -146,3 +146,14 @@ def test_timings_and_refusals(ctx, rng):
     assert_blur_refuses(ctx, rng, METHOD, {"quality": "ultra"}, ValueError, "quality")
     assert_blur_refuses(ctx, rng, METHOD, {"object_multiplier": 1.5}, ValueError, "0")
     assert_blur_refuses(ctx, rng, METHOD, {"reference_fps": 0.0}, ValueError, "reference_fps")
+
+
+def test_reverse_near_plane_has_ends_behind_the_near_plane(ctx):
+    # The correction must have work to do on its scene: posts in front at the instant that
+    # were closer than the near plane at the shutter's open.
+    frame = ctx.render(bl.scenes.get("reverse_near_plane"), (96, 54))
+    params = bl.method(METHOD).defaults(frame)
+    corrected = _velocity_twin(frame, params)[..., :2]
+    plain = _velocity_twin(frame, {**params, "near_correction": False})[..., :2]
+    changed = np.linalg.norm(corrected - plain, axis=-1) > 1.0
+    assert changed.mean() > 0.01

@@ -1,4 +1,4 @@
-// What TileMax and NeighborMax compare a half-vector's length as (docs/spec.md §17.9): the
+// What TileMax and NeighborMax compare a half-vector's length as (docs/spec.md §17.10): the
 // length itself, or with LENGTH_KEY_STEPS defined, floor(length · steps + 1/4), so that lengths
 // within one 1/steps px step tie and go to the first candidate in row order. engine_godot asks
 // for it: its velocities clamped to the tile size are equal lengths that float32 rounding would

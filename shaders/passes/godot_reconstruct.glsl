@@ -1,5 +1,5 @@
 #version 450
-// engine_godot step 3, docs/spec.md §17.9: `taps` samples centred on X along the neighbourhood's
+// engine_godot step 3, docs/spec.md §17.10: `taps` samples centred on X along the neighbourhood's
 // half-vector vN (the blur is centred on the pixel), t_i = -1 + 2(i + j + 1)/(taps + 1), each
 // weighted as §3.4 weighs a sample, with the two depths compared at the tap's time t/2 of the
 // shutter: z + (t/2)·dz (the depth velocity). Half-vectors are the velocity's, clamped to k

@@ -1,5 +1,5 @@
 #version 450
-// engine_godot step 1, docs/spec.md §17.9: the velocity V = r·rotation + t·translation +
+// engine_godot step 1, docs/spec.md §17.10: the velocity V = r·rotation + t·translation +
 // o·object, the camera's two parts from the depth and the camera's transforms
 // (common/camera_motion.glsl), the object's the rest of the G-buffer's motion; V clamped to
 // max(r, t, o) times the original vector's length; an end of the shutter at which the point

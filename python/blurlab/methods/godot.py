@@ -1,6 +1,6 @@
 """engine_godot: the motion blur of Godot's motion-blur pull request (godotengine/godot#115027)
 and the addon it grew from, written from the design they document, not from their shaders
-(docs/spec.md §17.9). The velocity pass (shaders/passes/godot_velocity.glsl) splits the motion
+(docs/spec.md §17.10). The velocity pass (shaders/passes/godot_velocity.glsl) splits the motion
 into camera rotation, camera translation and object parts, each with its own multiplier, clamps
 the sum to the largest multiplier times the original vector, corrects ends behind the near
 plane and keeps the camera's depth velocity, all scaled by the frame-rate mode; TileMax and
@@ -101,6 +101,6 @@ register(
         "its documented design: camera rotation, camera translation and object multipliers with "
         "the clamp to the largest, near-plane correction, depth velocity, frame-rate modes, "
         "Guertin-style tiles and a gather centred on the pixel with 4/8/16 taps. "
-        "docs/spec.md §17.9.",
+        "docs/spec.md §17.10.",
     )
 )

@@ -205,8 +205,9 @@ def reverse_near_plane() -> Scene:
     """The camera backing away past posts close beside it: posts in front of the camera at
     the shutter's close were behind its near plane at its open, so their motion vectors have no
     true start."""
-    back = Motion.linear(velocity=(9.0, 0.0, 60.0))  # 1 unit back, 0.15 aside, per shutter
-    camera = Camera((0.0, 0.0, 0.0), (0.0, 0.0, -1.0), fov_y=70, near=0.1, motion=back)
+    # 1 unit back and 0.15 aside over the 1/60 s shutter, at the origin at its centre.
+    back = Motion.linear(velocity=(9.0, 0.0, 60.0))
+    camera = Camera((-0.075, 0.0, -0.5), (-0.075, 0.0, -1.5), fov_y=70, near=0.1, motion=back)
     scene = flat_scene("reverse_near_plane", camera)
     wall = mesh.plane(30.0, 30.0, uv_repeat=6).transformed(
         translation(0, 0, -8.0) @ rotation_x(math.pi / 2)

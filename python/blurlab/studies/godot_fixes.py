@@ -1,4 +1,4 @@
-"""What engine_godot's fixes buy (docs/failure_cases.md, "Godot's fixes"; docs/spec.md §17.9):
+"""What engine_godot's fixes buy (docs/failure_cases.md, "Godot's fixes"; docs/spec.md §17.10):
 each fix switched on and off on the failure scene it addresses, PSNR against the reference of
 the same shutter, over the whole image or over one object's pixels. The godot_fixes benchmark
 records the numbers; gallery() draws the reference beside the two outputs."""

@@ -1,4 +1,4 @@
-"""engine_godot, docs/spec.md §17.9, in NumPy float64: the motion blur that Godot's motion-blur
+"""engine_godot, docs/spec.md §17.10, in NumPy float64: the motion blur that Godot's motion-blur
 pull request (godotengine/godot#115027) and its addon describe, written from that design. One
 function per pass; the GPU passes (shaders/passes/godot_velocity.glsl, tile_max.glsl,
 neighbor_max.glsl, godot_reconstruct.glsl) must match them.
@@ -31,7 +31,7 @@ LENGTH_KEY_STEPS = 64
 
 
 def framerate_scale(framerate_mode: str, fps: float, reference_fps: float) -> float:
-    """§17.9 step 1: the factor on the frame's motion. native: 1 (the frame's own motion);
+    """§17.10 step 1: the factor on the frame's motion. native: 1 (the frame's own motion);
     fixed: fps / reference_fps (as long as a frame at the reference rate would blur); capped:
     the smaller of the two (never longer than at the reference rate)."""
     ratio = fps / reference_fps
@@ -49,7 +49,7 @@ def near_clipped(end: np.ndarray, instant: np.ndarray, near: float) -> np.ndarra
 
 
 def camera_parts(depth, camera: dict, size, near_correction: bool):
-    """§17.9 step 1: per pixel (camera motion, its depth change over the shutter), pixels and
+    """§17.10 step 1: per pixel (camera motion, its depth change over the shutter), pixels and
     depth units. With `near_correction` an end of the shutter at which the pixel's point lies
     closer than the near plane is replaced by the point where it crossed the near plane;
     without it the motion is the G-buffer's own (camera_motion: the point divided as if on
@@ -90,7 +90,7 @@ def velocity(
     fps: float,
     reference_fps: float,
 ) -> np.ndarray:
-    """§17.9 step 1: (H, W, 4): the velocity V (pixels, over the shutter), the depth and the
+    """§17.10 step 1: (H, W, 4): the velocity V (pixels, over the shutter), the depth and the
     depth velocity dz. V = r·rotation + t·translation + o·object, the camera's parts from depth
     and the camera's transforms, the object's the rest of the G-buffer's motion; clamped to
     max(r, t, o)·|original|; both scaled by the frame-rate mode. A frame without a camera has
@@ -123,7 +123,7 @@ def velocity(
 
 
 def reconstruct(color, vel, neighbor, *, k: int, exposure: float, soft_z: float, taps, seed):
-    """§17.9 step 3: `taps` samples centred on X along the neighbourhood's half-vector vN,
+    """§17.10 step 3: `taps` samples centred on X along the neighbourhood's half-vector vN,
     t_i = -1 + 2(i + j + 1)/(taps + 1), weighted as §3.4 weighs them, the two depths compared
     at the tap's time t/2 of the shutter: z + (t/2)·dz."""
     color = sanitize_color(color)
@@ -168,7 +168,7 @@ def engine_godot(
     seed: int,
     **velocity_params,
 ) -> np.ndarray:
-    """§17.9: (H, W, C) float64 blurred colour: velocity, TileMax → NeighborMax (with the
+    """§17.10: (H, W, C) float64 blurred colour: velocity, TileMax → NeighborMax (with the
     direction-keeping dilation) of its half-vectors, then the centred gather."""
     vel = velocity(depth, motion, camera, **velocity_params)
     key = length_key(LENGTH_KEY_STEPS)
