@@ -3,8 +3,8 @@
 // o·object, the camera's two parts from the depth and the camera's transforms
 // (common/camera_motion.glsl), the object's the rest of the G-buffer's motion; V clamped to
 // max(r, t, o) times the original vector's length; an end of the shutter at which the point
-// lies closer than the near plane moved back to where it crossed that plane
-// (near_correction); the camera's depth change dz (the depth velocity) beside it; V and dz
+// lies closer than the near plane moved back to where it crossed that plane (near_correction;
+// without it each end is divided by its own w and a point behind the eye flips); the camera's depth change dz (the depth velocity) beside it; V and dz
 // scaled by the frame-rate mode's factor. Stored as (V, depth, dz).
 // Compute, one invocation per pixel. NumPy twin: blurlab.twins.godot.velocity.
 #include "common/inputs.glsl"
@@ -19,6 +19,7 @@ uniform bool clamp_to_original;
 uniform bool near_correction;
 uniform bool depth_velocity;
 uniform float framerate_scale;  // the frame-rate mode's factor, from twins.godot.framerate_scale
+uniform float flip_guard;  // twins.godot.FLIP_GUARD
 uniform bool has_camera;  // false for a frame made from arrays: all of its motion is the object's
 
 layout(local_size_x = 16, local_size_y = 16) in;
@@ -33,6 +34,15 @@ vec4 near_clipped(vec4 end, vec4 instant) {
     return instant + s * (end - instant);
 }
 
+// Without the correction: the clip position divided by its own w, as a velocity buffer made
+// without clipping divides it (a point behind the eye flips through the image centre), |w| kept
+// at least flip_guard·near.
+vec2 divided_pixels(vec4 clip, vec2 size) {
+    float guard = flip_guard * near;
+    float w = abs(clip.w) < guard ? (clip.w < 0.0 ? -guard : guard) : clip.w;
+    return (clip.xy / w * 0.5 + 0.5) * size;
+}
+
 // The camera's motion of the point at finite depth z, and its depth change (dz).
 vec2 camera_part(ivec2 x, ivec2 size, float z, out float dz) {
     vec4 world = camera_world_point(x, size, z);
@@ -43,7 +53,8 @@ vec2 camera_part(ivec2 x, ivec2 size, float z, out float dz) {
         b = near_clipped(b, instant);
     }
     dz = b.w - a.w;
-    return camera_pixels(b, vec2(size)) - camera_pixels(a, vec2(size));
+    if (near_correction) return camera_pixels(b, vec2(size)) - camera_pixels(a, vec2(size));
+    return divided_pixels(b, vec2(size)) - divided_pixels(a, vec2(size));
 }
 
 void main() {

@@ -76,7 +76,7 @@ def _run_godot(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: 
         VELOCITY,
         {"depth": inputs["depth"], "motion": inputs["motion"]},
         {"velocity": velocity},
-        uniforms={**camera, "framerate_scale": scale},
+        uniforms={**camera, "framerate_scale": scale, "flip_guard": twin.FLIP_GUARD},
     )
     tiles, neighbors = tile_passes(
         passes, velocity, "compute", diagonal_reach=True, length_key_steps=twin.LENGTH_KEY_STEPS

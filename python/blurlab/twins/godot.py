@@ -28,6 +28,7 @@ FRAMERATE_MODES = ("native", "capped", "fixed")
 # TileMax and NeighborMax compare lengths in 1/64 px steps (shaders/common/length_key.glsl):
 # velocities clamped to the tile size are equal lengths, which the first in row order wins.
 LENGTH_KEY_STEPS = 64
+FLIP_GUARD = 1e-3  # without the near-plane correction, |w| >= this x near before dividing
 
 
 def framerate_scale(framerate_mode: str, fps: float, reference_fps: float) -> float:
@@ -51,9 +52,10 @@ def near_clipped(end: np.ndarray, instant: np.ndarray, near: float) -> np.ndarra
 def camera_parts(depth, camera: dict, size, near_correction: bool):
     """§17.10 step 1: per pixel (camera motion, its depth change over the shutter), pixels and
     depth units. With `near_correction` an end of the shutter at which the pixel's point lies
-    closer than the near plane is replaced by the point where it crossed the near plane;
-    without it the motion is the G-buffer's own (camera_motion: the point divided as if on
-    the near plane). Points at infinity move with the rotation and keep their depth."""
+    closer than the near plane is moved back to where it crossed that plane; without it each
+    end is divided by its own w, as a velocity buffer computed without clipping does, so a
+    point behind the eye is flipped through the image centre (|w| kept at least FLIP_GUARD·near).
+    Points at infinity move with the rotation and keep their depth."""
     z = sanitize_depth(depth)
     finite = np.isfinite(z)
     world = world_points(depth, camera, size)
@@ -67,7 +69,13 @@ def camera_parts(depth, camera: dict, size, near_correction: bool):
     width, height = size
 
     def pixels(c):
-        return (c[..., :2] / np.maximum(c[..., 3:], near) * 0.5 + 0.5) * [width, height]
+        w = c[..., 3:]
+        if near_correction:
+            w = np.maximum(w, near)
+        else:
+            guard = FLIP_GUARD * near
+            w = np.where(np.abs(w) < guard, np.where(w < 0, -guard, guard), w)
+        return (c[..., :2] / w * 0.5 + 0.5) * [width, height]
 
     motion = pixels(ends[1]) - pixels(ends[0])
     dz = ends[1][..., 3] - ends[0][..., 3]
