@@ -35,8 +35,11 @@ class Fix:
 
 # A user who halves the camera's part of the blur, as games let players do, keeps a tracked
 # car sharp only through the clamp; the reference shows the car as the panning shot does.
+# The near-plane correction again with k = 256 px, where the tile clamp (2k) no longer hides
+# the vectors' lengths.
 FIXES = (
     Fix("reverse_near_plane", "near_correction"),
+    Fix("reverse_near_plane", "near_correction", {"k": 256}),
     Fix("racing_road", "depth_velocity"),
     Fix("racing_road", "clamp_to_original", {"translation_multiplier": 0.5}, "car"),
     Fix("tracked_car", "clamp_to_original", {"rotation_multiplier": 0.5}, "car"),
