@@ -89,7 +89,7 @@ def _run_godot(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: 
     return outputs, passes.timings
 
 
-register(
+ENGINE_GODOT = register(
     Method(
         name="engine_godot",
         kind="gather",

@@ -11,10 +11,9 @@ import numpy as np
 
 from .. import scenes
 from ..methods import blur, method_instant
+from ..methods.godot import ENGINE_GODOT
 from ..metrics import psnr
 from . import plots
-
-METHOD = "engine_godot"
 
 
 @dataclass(frozen=True)
@@ -32,6 +31,8 @@ class Fix:
         held = ", ".join(f"{key}={value}" for key, value in self.held.items())
         return f"{self.switch}" + (f" ({held})" if held else "")
 
+
+METHOD = ENGINE_GODOT.name
 
 # A user who halves the camera's part of the blur, as games let players do, keeps a tracked
 # car sharp only through the clamp; the reference shows the car as the panning shot does.

@@ -4,6 +4,7 @@ addresses (blurlab.studies.godot_fixes, docs/failure_cases.md)."""
 from __future__ import annotations
 
 from ...methods.core import Param
+from ...sizes import DEFAULT_SIZE
 from .. import godot_fixes
 from .core import Benchmark, register
 
@@ -26,7 +27,7 @@ register(
         "the failure scene it addresses: PSNR against the reference",
         {"reference_samples": Param(0, int, "N of the references (0: from the motion)", 0)},
         _godot_fixes,
-        {"tiny": (64, 36), "software": (160, 90), "gpu": (640, 360)},
+        {"tiny": (64, 36), "software": (160, 90), "gpu": DEFAULT_SIZE},
         {"tiny": {"reference_samples": 8}},
     )
 )
