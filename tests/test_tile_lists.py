@@ -1,4 +1,4 @@
-"""Tile lists and indirect dispatch (docs/spec.md §10.1, blurlab.methods.tiles): the classify pass
+"""Tile lists and indirect dispatch (docs/spec.md §9.3, blurlab.methods.tiles): the classify pass
 sorts tiles into lists as its twin classes them, with the counters as indirect-dispatch counts,
 and a pass dispatched over each class's list gives the same bits as a full dispatch in which
 every tile runs its class's function."""

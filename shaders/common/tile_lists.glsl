@@ -1,4 +1,4 @@
-// Tile lists and indirect dispatch (docs/spec.md §10.1; python/blurlab/methods/tiles.py): a
+// Tile lists and indirect dispatch (docs/spec.md §9.3; python/blurlab/methods/tiles.py): a
 // classify pass appends each tile's index (row-major in the tile grid) to the list of its class,
 // counting with an atomic counter per class; the counters are the work-group counts of an
 // indirect dispatch (ShaderPass.run_indirect), so a later pass runs one work group per listed

@@ -1,5 +1,5 @@
 #version 450
-// Tile classes from motion (docs/spec.md §10.1): per tile of `tile` x `tile` pixels, the longest
+// Tile classes from motion (docs/spec.md §9.3): per tile of `tile` x `tile` pixels, the longest
 // and shortest motion length |M| of its pixels; class 0 (still) where the longest is under
 // `still_below` px, 1 (uniform) where the shortest is at least `uniform_ratio` times the longest,
 // else 2 (mixed), as UE5's and HDRP's designs split their tiles. Writes each tile's class and

@@ -1,4 +1,4 @@
-"""Tile lists and indirect dispatch (docs/spec.md §10.1): a classify pass appends each tile to
+"""Tile lists and indirect dispatch (docs/spec.md §9.3): a classify pass appends each tile to
 the list of its class with an atomic counter per class, the counters being the work-group
 counts of an indirect dispatch; a pass then runs over one list with glDispatchComputeIndirect
 (ShaderPass.run_indirect in src/passes/shader_pass.h), one work group per listed tile, so a
