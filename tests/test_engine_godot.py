@@ -11,20 +11,12 @@ from conftest import assert_blur_refuses, assert_timings_name, random_frame
 from filter_promises import assert_blurs_a_rendered_scene_as_its_twin, assert_matches_twin
 
 import blurlab as bl
+from blurlab.methods import godot
 from blurlab.twins import godot as ref
 
 METHOD = "engine_godot"
-VELOCITY_KEYS = (
-    "rotation_multiplier",
-    "translation_multiplier",
-    "object_multiplier",
-    "clamp_to_original",
-    "near_correction",
-    "depth_velocity",
-    "framerate_mode",
-    "fps",
-    "reference_fps",
-)
+# The velocity pass's parameters, and the frame-rate mode's, which the twin's velocity takes.
+VELOCITY_KEYS = (*godot.VELOCITY_PARAMS, "framerate_mode", "fps", "reference_fps")
 
 
 def _velocity_twin(frame, params):
