@@ -150,3 +150,8 @@ def test_reverse_near_plane_has_ends_behind_the_near_plane(ctx):
     plain = _velocity_twin(frame, {**params, "near_correction": False})[..., :2]
     changed = np.linalg.norm(corrected - plain, axis=-1) > 1.0
     assert changed.mean() > 0.01
+    # Uncorrected, some of them point the other way and run longer.
+    flipped = ((corrected * plain).sum(-1) < 0) & (
+        np.linalg.norm(plain, axis=-1) > np.linalg.norm(corrected, axis=-1)
+    )
+    assert flipped.sum() > 10
