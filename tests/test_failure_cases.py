@@ -22,9 +22,9 @@ def frames(ctx):
     }
 
 
-def test_the_suite_lists_eleven_tagged_scenes():
+def test_the_suite_lists_fourteen_tagged_scenes():
     names = bl.scenes.names("failure")
-    assert len(names) == 11 and not set(names) & set(bl.scenes.names())
+    assert len(names) == 14 and not set(names) & set(bl.scenes.names())
     with pytest.raises(ValueError, match="tag"):
         bl.scenes.names("broken")
 

@@ -76,6 +76,8 @@ TRIED = {
         ),
         scenes=(("teapot_pass", {}), ("fan", {}), ("crossing", {})),
     ),
+    # engine_godot's twin checks are in tests/test_engine_godot.py; its promises are here.
+    "engine_godot": Tried(inside={"k": 15}, huge={"k": 256}),
     "engine_unreal5": Tried(
         random=(
             ((160, 90), {}),

@@ -29,14 +29,19 @@ vec2 camera_rotation_motion(ivec2 x, ivec2 size) {
     return (a.w > 0.0 && b.w > 0.0) ? (b.xy / b.w - a.xy / a.w) * 0.5 * vec2(size) : vec2(0.0);
 }
 
-// z: the pixel's depth, read through sanitize_depth (+inf: a point at infinity).
-vec2 camera_motion(ivec2 x, ivec2 size, float z) {
-    if (isinf(z)) return camera_rotation_motion(x, size);
-    // The view-space ray through the pixel center, scaled to the stored linear depth.
+// The world point seen at pixel x's center at finite depth z: the view-space ray through the
+// center, scaled to the stored linear depth.
+vec4 camera_world_point(ivec2 x, ivec2 size, float z) {
     vec4 ray = view_from_clip * vec4(pixel_ndc(x, size), 1.0, 1.0);
     vec3 view = ray.xyz / ray.w;
     view *= z / -view.z;
-    vec4 world = world_from_view * vec4(view, 1.0);
+    return world_from_view * vec4(view, 1.0);
+}
+
+// z: the pixel's depth, read through sanitize_depth (+inf: a point at infinity).
+vec2 camera_motion(ivec2 x, ivec2 size, float z) {
+    if (isinf(z)) return camera_rotation_motion(x, size);
+    vec4 world = camera_world_point(x, size, z);
     return camera_pixels(clip_from_world[1] * world, vec2(size))
          - camera_pixels(clip_from_world[0] * world, vec2(size));
 }

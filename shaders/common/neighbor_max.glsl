@@ -4,7 +4,9 @@
 // only where its TileMax, extended both ways, can reach the center tile: both of its components
 // point along the diagonal, (v.x dx)(v.y dy) > 0. Shared by passes/neighbor_max.glsl and the
 // reconstruct passes that compute it in their prologue (common/tile_filter.glsl), so both give
-// the same bits. NumPy twin: blurlab.twins.mcguire2012.neighbor_max.
+// the same bits. Lengths compare as common/length_key.glsl says.
+// NumPy twin: blurlab.twins.mcguire2012.neighbor_max.
+#include "common/length_key.glsl"
 
 vec2 neighbor_max_at(sampler2D tile_max, ivec2 tile, bool diagonal_reach) {
     ivec2 grid = textureSize(tile_max, 0);
@@ -16,9 +18,9 @@ vec2 neighbor_max_at(sampler2D tile_max, ivec2 tile, bool diagonal_reach) {
             if (any(lessThan(t, ivec2(0))) || any(greaterThanEqual(t, grid))) continue;
             vec2 v = texelFetch(tile_max, t, 0).xy;
             if (diagonal_reach && dx != 0 && dy != 0 && (v.x * dx) * (v.y * dy) <= 0.0) continue;
-            if (length(v) > best_length) {
+            if (length_key(length(v)) > best_length) {
                 best = v;
-                best_length = length(v);
+                best_length = length_key(length(v));
             }
         }
     }

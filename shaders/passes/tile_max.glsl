@@ -28,6 +28,7 @@
 #include "common/group_pick.glsl"
 #include "common/inputs.glsl"
 #include "common/mcguire2012.glsl"
+#include "common/length_key.glsl"
 
 layout(binding = 0) uniform sampler2D motion;
 uniform int k;
@@ -35,7 +36,7 @@ uniform float exposure;
 
 void consider(ivec2 tile, ivec2 p, uint index) {
     vec2 v = half_velocity(sanitize_motion(texelFetch(motion, tile * k + p, 0).xy), exposure, float(k));
-    offer(0, v, length(v), index);
+    offer(0, v, length_key(length(v)), index);
 }
 
 // The tile's extent inside the image.

@@ -240,6 +240,16 @@ void bind_passes(py::module_& m) {
           py::arg("inputs"), py::arg("outputs"), py::arg("uniforms"),
           py::arg("backend") = "compute", py::arg("group_per_texel") = false)
       .def(
+          "run_indirect",
+          [](ShaderPass& pass, const py::dict& inputs, const py::dict& outputs,
+             const py::dict& uniforms, const Texture& counts, int slot) {
+            pass.run_indirect(named_textures(inputs, pass, "input"),
+                              named_textures(outputs, pass, "output"),
+                              uniform_values(uniforms, pass), counts, slot);
+          },
+          py::arg("inputs"), py::arg("outputs"), py::arg("uniforms"), py::arg("counts"),
+          py::arg("slot"))
+      .def(
           "reflect",
           [](ShaderPass& pass, const std::string& backend) {
             const ShaderReflection r = pass.reflect(parse_backend(backend));

@@ -582,4 +582,17 @@ void Program::dispatch(int groups_x, int groups_y, int groups_z) {
   context_->after_pass(name_);
 }
 
+void Program::dispatch_indirect(GLuint buffer, GLintptr offset) {
+  if (local_size_[0] == 0)
+    throw std::invalid_argument("blurlab: " + name_ + " is not a compute program");
+  context_->make_current();
+  glUseProgram(id_);
+  glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, buffer);
+  glDispatchComputeIndirect(offset);
+  glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+  glMemoryBarrier(GL_ALL_BARRIER_BITS);
+  check_gl(("dispatching " + name_ + " indirectly").c_str());
+  context_->after_pass(name_);
+}
+
 }  // namespace blurlab

@@ -111,6 +111,9 @@ class Program {
   void bind_texture(int unit, const Texture& texture);
   // Runs the compute program over groups.x × groups.y × groups.z work groups.
   void dispatch(int groups_x, int groups_y, int groups_z);
+  // Runs it over the work-group counts that the GPU finds at byte `offset` of `buffer`
+  // (glDispatchComputeIndirect: three uints), as written there by earlier passes.
+  void dispatch_indirect(GLuint buffer, GLintptr offset);
   // The largest work-group count along each axis (GL_MAX_COMPUTE_WORK_GROUP_COUNT).
   std::array<int, 3> max_groups() const { return max_groups_; }
 

@@ -3,6 +3,7 @@
 #include <set>
 #include <stdexcept>
 
+#include "gl/context.h"
 #include "gl/texture.h"
 
 namespace blurlab {
@@ -107,6 +108,38 @@ void ShaderPass::run(const NamedTextures& inputs, const NamedTextures& outputs,
     images.push_back({u.images[i], outputs[i].second, GL_READ_WRITE});
   for (const auto& [name, values] : uniforms) p.set_uniform(name, values);
   run_bound(backend, textures, images, *outputs.front().second, group_per_texel);
+}
+
+void ShaderPass::run_indirect(const NamedTextures& inputs, const NamedTextures& outputs,
+                              const UniformValues& uniforms, const Texture& counts, int slot) {
+  const TextureFormat& f = counts.format();
+  if (f.type != PixelType::u32 || f.channels != 1 || counts.height() != 1 ||
+      counts.width() % 4 != 0)
+    throw std::invalid_argument("blurlab: " + shader() +
+                                ": the work-group counts must be a uint32 texture of one row "
+                                "and 4 texels per list");
+  const int lists = counts.width() / 4;
+  if (slot < 0 || slot >= lists)
+    throw std::invalid_argument("blurlab: " + shader() + ": list " + std::to_string(slot) +
+                                " is outside 0.." + std::to_string(lists - 1));
+  Program& p = program(Backend::compute);
+  const Units& u = units(p, inputs, outputs, Backend::compute);
+  check_kinds(p, u, inputs, outputs);
+  for (size_t i = 0; i < inputs.size(); ++i) p.bind_texture(u.samplers[i], *inputs[i].second);
+  for (size_t i = 0; i < u.images.size(); ++i)
+    p.bind_image(u.images[i], *outputs[i].second, GL_READ_WRITE);  // as run() binds them
+  for (const auto& [name, values] : uniforms) p.set_uniform(name, values);
+  const size_t bytes = size_t(counts.width()) * sizeof(GLuint);
+  if (!indirect_ || indirect_->size() != bytes)
+    indirect_ = std::make_unique<Buffer>(context_.get(), bytes, Buffer::Usage::storage);
+  // The counts, GPU to GPU: the texture's row read into the buffer as a pixel-pack target.
+  context_->make_current();
+  glBindBuffer(GL_PIXEL_PACK_BUFFER, indirect_->id());
+  glGetTextureImage(counts.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, GLsizei(bytes), nullptr);
+  glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+  glMemoryBarrier(GL_COMMAND_BARRIER_BIT | GL_PIXEL_BUFFER_BARRIER_BIT);
+  check_gl(("copying the work-group counts of " + shader()).c_str());
+  p.dispatch_indirect(indirect_->id(), GLintptr(slot) * 4 * sizeof(GLuint));
 }
 
 ResolvedRun ShaderPass::resolve(const NamedTextures& inputs, const NamedTextures& outputs,

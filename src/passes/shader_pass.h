@@ -19,6 +19,7 @@
 #include <utility>
 #include <vector>
 
+#include "gl/buffer.h"
 #include "passes/post_process.h"
 
 namespace blurlab {
@@ -72,6 +73,15 @@ class ShaderPass : public PostProcessPass {
   void run(const NamedTextures& inputs, const NamedTextures& outputs, const UniformValues& uniforms,
            Backend backend, bool group_per_texel = false);
 
+  // run() dispatched indirectly (glDispatchComputeIndirect, compute only): the work-group counts
+  // are list `slot` of `counts`, an R32UI texture of 4 texels per list, (x, y, z, unused) from
+  // left to right, as a classify pass wrote them on the GPU (python/blurlab/methods/tiles.py). The
+  // counts are copied on the GPU into the pass's indirect buffer; nothing comes back to the host.
+  // The shader finds its list by its own uniforms and gl_WorkGroupID. Throws
+  // std::invalid_argument for a `counts` texture of another kind or a slot outside it.
+  void run_indirect(const NamedTextures& inputs, const NamedTextures& outputs,
+                    const UniformValues& uniforms, const Texture& counts, int slot);
+
   // What run() would do with these arguments, checked as run() checks them, without running it:
   // every texture named must be one of `textures`, and the result refers to them by index.
   ResolvedRun resolve(const NamedTextures& inputs, const NamedTextures& outputs,
@@ -99,6 +109,7 @@ class ShaderPass : public PostProcessPass {
   const Units& units(const Program& p, const NamedTextures& inputs, const NamedTextures& outputs,
                      Backend backend);
   std::map<std::pair<const Program*, std::string>, Units> units_;
+  std::unique_ptr<Buffer> indirect_;  // run_indirect's work-group counts, made on first use
 };
 
 }  // namespace blurlab

@@ -27,6 +27,27 @@ def camera_motion_uniforms(camera: dict) -> dict:
     }
 
 
+# What a pass that splits the camera's motion off reads for a frame made from arrays, which has
+# no camera: has_camera = False, and the matrices (unread then) that GL still wants set.
+_NO_CAMERA = {
+    "view_from_clip": np.eye(4, dtype=np.float32),
+    "world_from_view": np.eye(4, dtype=np.float32),
+    "clip_from_world": np.stack([np.eye(4, dtype=np.float32)] * 2),
+    "sky_from_clip": np.eye(4, dtype=np.float32),
+    "sky_projection": np.stack([np.eye(4, dtype=np.float32)] * 2),
+    "near": 1.0,
+    "has_camera": False,
+}
+
+
+def split_camera_uniforms(camera: dict | None) -> dict:
+    """The uniforms of a pass that splits the camera's part off a frame's motion
+    (common/camera_motion.glsl and `has_camera`), from the frame's camera matrices or None."""
+    if camera is None:
+        return _NO_CAMERA
+    return {**camera_motion_uniforms(camera), "has_camera": True}
+
+
 # Motion from depth and the camera's transforms; a compute pass whatever the gather's backend.
 CAMERA_MOTION = Pass("camera_motion", "passes/camera_motion.glsl")
 

@@ -16,13 +16,11 @@ atomics (a gather gives the same maxima).
 
 from __future__ import annotations
 
-import numpy as np
-
 from ..context import Context
 from ..frame import Frame
 from ..twins import hdrp as twin
 from ..twins.small_float import UF11_MANTISSA, largest_finite
-from .camera_only import camera_motion_uniforms
+from .camera_only import split_camera_uniforms
 from .core import FLOAT32_MAX, SEED, Method, Param, Pass, PassRunner, register
 from .gathers import BOX_PARAMS
 
@@ -74,28 +72,13 @@ RECONSTRUCT = Pass(
     ("samples", "depth_comparison_extent", "seed"),
 )
 
-# A frame made from arrays has no camera: the setup pass then splits nothing off
-# (has_camera = False) and reads none of these matrices, which GL still wants set.
-_NO_CAMERA = {
-    "view_from_clip": np.eye(4, dtype=np.float32),
-    "world_from_view": np.eye(4, dtype=np.float32),
-    "clip_from_world": np.stack([np.eye(4, dtype=np.float32)] * 2),
-    "sky_from_clip": np.eye(4, dtype=np.float32),
-    "sky_projection": np.stack([np.eye(4, dtype=np.float32)] * 2),
-    "near": 1.0,
-    "has_camera": False,
-}
-
 
 def _run_hdrp(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
     height, width = inputs["color"].shape[:2]
     tile = twin.tile_size(values["scatter"])
     passes = PassRunner(ctx, PARAMS, values)
     velocity = ctx.pooled((height, width, 4))
-    if frame.camera is None:
-        camera = _NO_CAMERA
-    else:
-        camera = {**camera_motion_uniforms(frame.camera), "has_camera": True}
+    camera = split_camera_uniforms(frame.camera)
     passes.run(
         SETUP,
         {"depth": inputs["depth"], "motion": inputs["motion"]},

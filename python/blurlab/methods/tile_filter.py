@@ -153,16 +153,19 @@ def largest_tile_for_one_thread(ctx: Context) -> int:
     return 32 if ctx.software else 8
 
 
-def tile_passes(passes: PassRunner, motion, backend: str, diagonal_reach=False):
+def tile_passes(
+    passes: PassRunner, motion, backend: str, diagonal_reach=False, length_key_steps: int = 0
+):
     """TileMax (§3.2) and NeighborMax (§3.3, or the direction-keeping dilation of
-    docs/guertin2014.md), run by `passes`: (tiles, neighbors)."""
+    docs/guertin2014.md), run by `passes`: (tiles, neighbors). With `length_key_steps` > 0 both
+    compare lengths in steps of 1/length_key_steps px (shaders/common/length_key.glsl)."""
     ctx = passes.ctx
     height, width = motion.shape[:2]
     k = passes.values["k"]
     grid = (-(-height // k), -(-width // k), 2)
     tiles, neighbors = ctx.pooled(grid), ctx.pooled(grid)
     group_per_tile = k > largest_tile_for_one_thread(ctx)
-    defines = {}
+    defines = {"LENGTH_KEY_STEPS": length_key_steps} if length_key_steps else {}
     if backend == "compute":
         defines["GROUP_PER_TILE"] = int(group_per_tile)  # common/group_pick.glsl
         if group_per_tile:
@@ -181,6 +184,7 @@ def tile_passes(passes: PassRunner, motion, backend: str, diagonal_reach=False):
         {"neighbor_max": neighbors},
         backend,
         uniforms={"diagonal_reach": diagonal_reach},
+        defines={"LENGTH_KEY_STEPS": length_key_steps} if length_key_steps else None,
     )
     return tiles, neighbors
 

@@ -22,6 +22,8 @@ from .failures import (
     moire,
     near_plane,
     occluder,
+    racing_road,
+    reverse_near_plane,
     subpixel,
     thin_bar,
 )
@@ -67,6 +69,9 @@ _FAILURES = {
         occluder,
         moire,
         fast_fan,
+        racing_road,
+        reverse_near_plane,
+        tracked_car,
     )
 }
 

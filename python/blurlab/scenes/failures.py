@@ -10,7 +10,7 @@ from .. import mesh
 from ..motion import Motion
 from ..scene import Camera, Material, Scene
 from .builtin import fan
-from .parts import add_wall, checker, flat_scene, rotation_x, turning_camera
+from .parts import add_wall, checker, flat_scene, rotation_x, translation, turning_camera
 
 
 def thin_bar() -> Scene:
@@ -172,4 +172,53 @@ def fast_fan() -> Scene:
     scene = fan()
     scene.name = "fast_fan"
     scene.objects[1].motion = Motion.linear(spin_axis=(0, 0, 1), spin_rate=-60.0)
+    return scene
+
+
+def racing_road() -> Scene:
+    """A chase camera tracking a fast car down a road: the car stays put on screen while the
+    road and the posts beside it stream past, their depth changing over the shutter."""
+    speed = 90.0  # units/s: 1.5 units over the 1/60 s shutter
+    drive = Motion.linear(velocity=(0.0, 0.0, -speed))
+    camera = Camera((0.0, 1.1, 3.2), (0.0, 0.2, -6.0), fov_y=55, motion=drive)
+    scene = Scene(camera, name="racing_road", background=(0.5, 0.65, 0.85, 1.0))
+    scene.add(
+        mesh.plane(8.0, 120.0, uv_repeat=40).transformed(translation(0, -0.25, -50.0)),
+        Material(texture=checker(256, 8, 0.2, 0.5)),
+        name="road",
+    )
+    for i in range(30):
+        for side in (-1, 1):
+            scene.add(
+                mesh.box((0.15, 1.2, 0.15)),
+                Material((0.85, 0.85, 0.8) if i % 2 else (0.8, 0.2, 0.15)),
+                Motion.static((side * 2.6, 0.35, 2.0 - 3.0 * i)),
+                name=f"post{i}{'lr'[side > 0]}",
+            )
+    scene.add(
+        mesh.box((1.0, 0.45, 2.0)), Material((0.1, 0.3, 0.8), specular=0.5), drive, name="car"
+    )
+    return scene
+
+
+def reverse_near_plane() -> Scene:
+    """The camera backing away past posts close beside it: posts in front of the camera at
+    the shutter's close were behind its near plane at its open, so their motion vectors have no
+    true start."""
+    # 1 unit back and 0.15 aside over the 1/60 s shutter, at the origin at its centre.
+    back = Motion.linear(velocity=(9.0, 0.0, 60.0))
+    camera = Camera((-0.075, 0.0, -0.5), (-0.075, 0.0, -1.5), fov_y=70, near=0.1, motion=back)
+    scene = flat_scene("reverse_near_plane", camera)
+    wall = mesh.plane(30.0, 30.0, uv_repeat=6).transformed(
+        translation(0, 0, -8.0) @ rotation_x(math.pi / 2)
+    )
+    scene.add(wall, Material(texture=checker(256, 8, 0.2, 0.6)), name="wall")
+    for i in range(10):
+        for side in (-1, 1):
+            scene.add(
+                mesh.box((0.1, 0.6, 0.1)),
+                Material((0.9, 0.5, 0.2) if (i + (side > 0)) % 2 else (0.2, 0.6, 0.9)),
+                Motion.static((side * 0.4, 0.0, -0.4 - 0.7 * i)),
+                name=f"post{i}{'lr'[side > 0]}",
+            )
     return scene

@@ -66,7 +66,7 @@ def gather_gaussian(color, motion, *, taps: int, sigma: float, edge: str) -> np.
     return _gather(color, [center - si * m for si in s], list(weights), edge)
 
 
-def _pixel_clip(size) -> np.ndarray:
+def pixel_clip(size) -> np.ndarray:
     """(H, W, 4): each pixel center in clip space at depth 1 (ndc x, y, 1, 1)."""
     width, height = size
     ndc = _centers(height, width) / np.array([width, height]) * 2 - 1
@@ -78,7 +78,7 @@ def camera_rotation_motion(camera: dict, size) -> np.ndarray:
     """The part of camera_motion due to the camera's rotation alone (its position held still),
     the same at every depth: the motion of points at infinity (docs/spec.md §17.4)."""
     width, height = size
-    clip = _pixel_clip(size)
+    clip = pixel_clip(size)
     far = clip @ camera["sky_from_clip"].T
     direction = np.concatenate([far[..., :3] / far[..., 3:], np.zeros(far.shape[:2] + (1,))], -1)
     s0 = direction @ camera["sky_projection"][0].T
@@ -89,20 +89,23 @@ def camera_rotation_motion(camera: dict, size) -> np.ndarray:
     return np.where(seen[..., None], sky, 0.0)
 
 
+def world_points(depth, camera: dict, size) -> np.ndarray:
+    """(H, W, 4): the world point seen at each pixel centre at its depth, from a rendered
+    frame's `camera` dict (at depth 1 where the depth is infinite)."""
+    depth = sanitize_depth(depth)
+    ray = pixel_clip(size) @ np.linalg.inv(camera["projection"]).T
+    view = ray[..., :3] / ray[..., 3:]
+    scale = np.where(np.isfinite(depth), depth, 1.0) / -view[..., 2]
+    view_point = np.concatenate([view * scale[..., None], np.ones(depth.shape + (1,))], -1)
+    return view_point @ np.linalg.inv(camera["view"][2]).T
+
+
 def camera_motion(depth, camera: dict, size) -> np.ndarray:
     """Motion from depth and the camera alone (Urho3D thesis §2.3.2): reproject each pixel's
     point to t0 and t1 with the matrices of a rendered frame's `camera` dict. Points at
     infinity move with the camera's rotation only."""
     width, height = size
-    depth = sanitize_depth(depth)
-    clip = _pixel_clip(size)
-    ones = np.ones(depth.shape)
-    ray = clip @ np.linalg.inv(camera["projection"]).T
-    view = ray[..., :3] / ray[..., 3:]
-    finite = np.isfinite(depth)
-    scale = np.where(finite, depth, 1.0) / -view[..., 2]
-    view_point = np.concatenate([view * scale[..., None], ones[..., None]], -1)
-    world = view_point @ np.linalg.inv(camera["view"][2]).T
+    world = world_points(depth, camera, size)
 
     def pixels(c):
         return (c[..., :2] / np.maximum(c[..., 3:], camera["near"]) * 0.5 + 0.5) * [width, height]
@@ -110,4 +113,5 @@ def camera_motion(depth, camera: dict, size) -> np.ndarray:
     motion = pixels(world @ camera["view_projection"][1].T) - pixels(
         world @ camera["view_projection"][0].T
     )
+    finite = np.isfinite(sanitize_depth(depth))
     return np.where(finite[..., None], motion, camera_rotation_motion(camera, size))

@@ -70,15 +70,28 @@ def tile_max(v: np.ndarray, k: int, key=None) -> np.ndarray:
     return np.take_along_axis(tiles, best[..., None, None], axis=2)[:, :, 0]
 
 
-def neighbor_max(tiles: np.ndarray, diagonal_reach: bool = False) -> np.ndarray:
-    """§3.3: the TileMax of largest length among the 3 x 3 tiles around each tile.
+def length_key(steps: int):
+    """What TileMax and NeighborMax compare lengths as with LENGTH_KEY_STEPS = `steps`
+    (shaders/common/length_key.glsl): floor(length · steps + 1/4), the length rounded to
+    float32 first as the GPU holds it."""
+
+    def key(length):
+        return np.floor(np.asarray(length, np.float32).astype(np.float64) * steps + 0.25)
+
+    return key
+
+
+def neighbor_max(tiles: np.ndarray, diagonal_reach: bool = False, key=None) -> np.ndarray:
+    """§3.3: the TileMax of largest length among the 3 x 3 tiles around each tile (lengths
+    compared as `key` maps them, by default as they are).
 
     `diagonal_reach` (reconstruct_guertin2014, docs/guertin2014.md step 1): a diagonal tile at
     offset (dx, dy) counts only where (v.x dx)(v.y dy) > 0, i.e. where its motion, extended
     both ways, can reach the center tile."""
     th, tw = tiles.shape[:2]
     lengths = np.full((th + 2, tw + 2), -1.0)  # outside the grid: never chosen
-    lengths[1:-1, 1:-1] = np.linalg.norm(tiles, axis=-1)
+    norms = np.linalg.norm(tiles, axis=-1)
+    lengths[1:-1, 1:-1] = norms if key is None else key(norms)
     padded = np.zeros((th + 2, tw + 2, 2))
     padded[1:-1, 1:-1] = tiles
     best_length = np.full((th, tw), -np.inf)
