@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 import blurlab as bl
-from blurlab.cli import method_table
+from blurlab.cli_methods import method_table
 from blurlab.methods.core import KINDS, check_param, twin_keywords
 from blurlab.methods.params import Param
 

@@ -18,14 +18,17 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from . import io, metrics, scenes
+from .cli_methods import (
+    add_method_commands,
+    add_methods_from,
+    check_method_command,
+    load_methods_from,
+    method_table,
+    new_method_command,
+)
 from .context import Context
 from .errors import cause
-from .methods import blur, load_methods, method, methods
-from .methods.contract import SIZE as CHECK_SIZE
-from .methods.contract import Check, check_method
-from .methods.contract import table as check_table
-from .methods.folders import MethodFolderError
-from .methods.template import LANGUAGES, write_template
+from .methods import blur, method, methods
 from .sequences import frame_scenes
 from .sizes import DEFAULT_SIZE
 from .studies import plots
@@ -293,76 +296,6 @@ def _metrics(args) -> int:
     return 0
 
 
-def method_table(m) -> str:
-    """A method's parameters as a Markdown table, from their declarations."""
-    instant = "depends on the parameters" if callable(m.instant) else m.instant
-    lines = [
-        f"## {m.name}",
-        "",
-        f"{m.doc}",
-        "",
-        f"kind: {m.kind}; G-buffer instant: {instant}; backends: {', '.join(m.backends)}",
-        *([f"declared in {m.source}"] if m.source else []),
-        "",
-        "| parameter | default | allowed | meaning |",
-        "|---|---|---|---|",
-    ]
-    for key, p in m.params.items():
-        default = "from the frame" if callable(p.default) else repr(p.default)
-        lines.append(f"| `{key}` | {default} | {p.allowed()} | {p.doc} |")
-    return "\n".join(lines) + "\n"
-
-
-def _check_method(args) -> int:
-    """Runs the contract on a method folder's methods or a registered method: a table of
-    checks each, status 1 when any failed."""
-    target = Path(args.method)
-    if target.is_dir():
-        try:
-            names = load_methods(target)
-        except MethodFolderError as error:  # it does not load: the first check failed
-            print(check_table(str(target), [Check("loads", False, str(error))]))
-            return 1
-    else:
-        names = [method(args.method).name]  # an unknown name is a user error
-    ctx = Context(args.device)
-    failed = False
-    for name in names:
-        checks = check_method(ctx, name, args.size)
-        print(check_table(name, checks))
-        failed = failed or any(c.passed is False for c in checks)
-    return 1 if failed else 0
-
-
-def _new_method(args) -> int:
-    folder = write_template(args.name, args.out, args.language)
-    print(f"wrote {folder}; check it with: blurlab check-method {folder}")
-    return 0
-
-
-def _load_methods_from(args) -> None:
-    """--methods-from: loads each folder into this process's registry before the command."""
-    paths = getattr(args, "methods_from", None) or []
-    if paths and (getattr(args, "workers", None) or getattr(args, "scheduler", None)):
-        raise ValueError(
-            "--methods-from loads methods into this process; the workers of --workers or "
-            "--scheduler would not have them (install them as a package with a blurlab.methods "
-            "entry point instead)"
-        )
-    for path in paths:
-        load_methods(path)
-
-
-def _add_methods_from(parser) -> None:
-    parser.add_argument(
-        "--methods-from",
-        action="append",
-        metavar="PATH",
-        help="load the method folder at PATH, or every method folder in it, beside the "
-        "built-in methods (repeatable; docs/adding_a_method.md)",
-    )
-
-
 def _positive_int(text: str) -> int:
     if not text.isdigit() or int(text) < 1:
         raise argparse.ArgumentTypeError(f"must be an integer >= 1, not {text!r}")
@@ -433,7 +366,7 @@ def build_parser() -> argparse.ArgumentParser:
         "methods", help="list the registered methods and their parameters (defaults, ranges)"
     )
     listing.add_argument("name", nargs="?", help="one method (default: all)")
-    _add_methods_from(listing)
+    add_methods_from(listing)
     sub.add_parser(
         "metrics", help="print every registered metric: direction, range, definition (Markdown)"
     )
@@ -490,7 +423,7 @@ def build_parser() -> argparse.ArgumentParser:
         "sequence.html + sequence.csv (docs/temporal.md)",
     )
     _add_cluster_options(study)
-    _add_methods_from(study)
+    add_methods_from(study)
     advice = sub.add_parser(
         "recommend",
         help="the cheapest method reaching a PSNR, or the most accurate within a time budget; "
@@ -534,29 +467,9 @@ def build_parser() -> argparse.ArgumentParser:
     sweep = sub.add_parser("sweep", help="run the sweep a TOML configuration describes")
     sweep.add_argument("config", help="TOML file: scenes, methods, size, shutter, ...")
     _add_cluster_options(sweep)
-    _add_methods_from(sweep)
-    _add_methods_from(advice)
-    checking = sub.add_parser(
-        "check-method",
-        help="run the contract every method meets on a method folder or a registered method; "
-        "a table of checks, status 1 when one fails",
-    )
-    checking.add_argument("method", metavar="PATH|NAME", help="a method folder, or a method's name")
-    checking.add_argument(
-        "--size",
-        type=parse_size,
-        default=CHECK_SIZE,
-        help="WxH of the checks' frames (default {}x{})".format(*CHECK_SIZE),
-    )
-    _add_methods_from(checking)
-    new = sub.add_parser(
-        "new-method",
-        help="write a method folder to start from (a gather along the motion with its twin) "
-        "that passes check-method",
-    )
-    new.add_argument("name", help="the method's name: lower case letters, digits and _")
-    new.add_argument("--language", choices=LANGUAGES, default="glsl", help="the shader's language")
-    new.add_argument("--out", default=".", help="the folder to write NAME/ in (default: .)")
+    add_methods_from(sweep)
+    add_methods_from(advice)
+    add_method_commands(sub, parse_size)
     benchmarks = bench_command()
     bench = sub.add_parser(
         "bench",
@@ -596,11 +509,11 @@ def main(argv: list[str] | None = None) -> int:
         "study": _study,
         "sweep": _sweep,
         "bench": lambda args: bench_command().main(args, args.device),
-        "check-method": _check_method,
-        "new-method": _new_method,
+        "check-method": check_method_command,
+        "new-method": new_method_command,
     }
     try:
-        _load_methods_from(args)
+        load_methods_from(args)
         status = commands[args.command](args)
         sys.stdout.flush()  # a reader gone away shows here, not in the interpreter's last flush
         return status

@@ -41,14 +41,16 @@ PARAMS = {
     "framerate_mode": Param(
         "native", twin.FRAMERATE_MODES, "blur as the frame's motion, capped or fixed at a rate"
     ),
-    "fps": Param(60.0, float, "the rate the frame is shown at, frames/s", 0, FRAME_RATE_MAX, True),
+    "fps": Param(
+        60.0, float, "the rate the frame is shown at, frames/s", 0, FRAME_RATE_MAX, low_open=True
+    ),
     "reference_fps": Param(
         30.0,
         float,
         "reference rate of the capped and fixed modes, frames/s",
         0,
         FRAME_RATE_MAX,
-        True,
+        low_open=True,
     ),
     "seed": TILE_FILTER_PARAMS["seed"],
 }
