@@ -218,6 +218,45 @@ class ShaderPass:
         return self._core.reflect(backend)
 
 
+class PendingTiming(Timing):
+    """A Timing whose GPU result is read when `ms` is first asked for: the work it times was
+    issued without a wait (Context.lazy_timers)."""
+
+    def __init__(self, core: _core.Timer):
+        self._core = core
+        self._ms: float | None = None
+        self.clock = core.clock
+
+    @property
+    def ms(self) -> float:
+        if self._ms is None:
+            self._ms = self._core.result()
+            self._core = None  # the query is read once
+        return self._ms
+
+    @ms.setter
+    def ms(self, value: float) -> None:
+        self._ms = value
+
+
+class LazyTimers:
+    """Timers whose results are read when each Timing is first asked for (Context.lazy_timers):
+    the G-buffer pass of ctx.render returns without waiting for the GPU (docs/spec.md §1.1)."""
+
+    def __init__(self, context: Context):
+        self._context = context
+
+    @contextmanager
+    def timer(self):
+        core = _core.Timer(self._context.native)
+        core.start()
+        timing = PendingTiming(core)
+        try:
+            yield timing
+        finally:
+            core.end()
+
+
 class DeferredTimers:
     """Timers whose results are read together (Context.deferred_timers)."""
 
@@ -386,6 +425,12 @@ class Context:
             yield timing
         finally:
             timing.ms = core.stop()
+
+    @property
+    def lazy_timers(self) -> LazyTimers:
+        """Timers read when first asked for (a PendingTiming each), for work whose time a caller
+        may never read."""
+        return LazyTimers(self)
 
     @contextmanager
     def deferred_timers(self):

@@ -131,8 +131,9 @@ def render(
     if not (isinstance(maxlen, Real) and math.isfinite(maxlen) and maxlen > 0):
         raise ValueError(f"blurlab: maxlen must be a finite number of pixels > 0, not {maxlen!r}")
     jitter = check_jitter(jitter)
+    # The pass's time is read when first asked for: the call itself does not wait for the GPU.
     targets, camera, timing = render_targets(
-        ctx, scene, size, shutter, time, guard, jitter, sides=True
+        ctx, scene, size, shutter, time, guard, jitter, sides=True, timers=ctx.lazy_timers
     )
     timings = {"gbuffer": timing}
     if "translucent" in targets:
@@ -175,7 +176,8 @@ def render_targets(
     """Runs the G-buffer pass into pooled textures: (targets, camera matrices, Timing).
     `sides` adds the target "motion_sides": M_prev in RG, M_next in BA (docs/spec.md §17.1).
     `timers`: a Context.deferred_timers() batch that times the pass (the Timing is filled when
-    the batch ends); None waits for the time here; False leaves the pass untimed (Timing None).
+    the batch ends) or Context.lazy_timers (read when first asked for); None waits for the time
+    here; False leaves the pass untimed (Timing None).
 
     `guard` > 0 renders a margin of that many pixels around the image (the frustum widened to
     match), for methods whose taps leave the image ("Blurry things": guard band). `jitter`
