@@ -37,6 +37,7 @@ NEEDS = {
 }
 FENCE = re.compile(r"^(\s*)(`{3,}|~{3,})\s*([\w+-]*)")
 NEED = re.compile(r"#\s*needs:\s*([\w, ]+)\s*$")
+OPTION = re.compile(r'(\w+)="([^"]*)"')
 
 
 @dataclass(frozen=True)
@@ -47,20 +48,33 @@ class Command:
     needs: tuple[str, ...]
 
 
-def console_commands(path: Path, root: Path = ROOT) -> list[Command]:
-    """The `$ ` lines of the ```console blocks of markdown file `path`."""
-    commands, fence, language = [], None, ""
+def fenced_blocks(path: Path) -> list[tuple[str, dict[str, str], int, list[str]]]:
+    """(language, options, first line number, lines) of each top-level fenced block of `path`.
+    Options are the `key="value"` words after the language on the opening fence."""
+    blocks, fence = [], None
     for number, line in enumerate(path.read_text().splitlines(), 1):
         opened = FENCE.match(line)
         if fence is None and opened:
-            fence, language = opened.group(2), opened.group(3)
+            fence, indent = opened.group(2), len(opened.group(1))
+            options = dict(OPTION.findall(line[opened.end() :]))
+            blocks.append((opened.group(3), options, number + 1, []))
         elif fence is not None and line.strip().startswith(fence):
             fence = None
-        elif fence is not None and language == "console" and line.lstrip().startswith("$ "):
-            text = line.lstrip()[2:].strip()
-            need = NEED.search(text)
-            needs = tuple(n.strip() for n in need.group(1).split(",")) if need else ()
-            commands.append(Command(str(path.relative_to(root)), number, text, needs))
+        elif fence is not None:
+            blocks[-1][3].append(line[indent:])
+    return blocks
+
+
+def console_commands(path: Path, root: Path = ROOT) -> list[Command]:
+    """The `$ ` lines of the ```console blocks of markdown file `path`."""
+    commands = []
+    for language, _options, first, lines in fenced_blocks(path):
+        for number, line in enumerate(lines, first):
+            if language == "console" and line.lstrip().startswith("$ "):
+                text = line.lstrip()[2:].strip()
+                need = NEED.search(text)
+                needs = tuple(n.strip() for n in need.group(1).split(",")) if need else ()
+                commands.append(Command(str(path.relative_to(root)), number, text, needs))
     return commands
 
 
@@ -215,3 +229,128 @@ def test_a_failing_command_fails_the_test(tmp_path):
         AssertionError, match=r"page.md:1 `blurlab methods no_such_method` exited 2"
     ):
         run_commands([failing], tmp_path)
+
+
+# Python blocks -------------------------------------------------------------------------------
+#
+# Every ```python block of a page runs, in page order, in one namespace per page that starts
+# with `bl` (blurlab), `np` (NumPy) and `ctx` (the session's context), in an empty folder. Image
+# sizes written as (W, H) with W:H = 16:9 run at TEST_SIZE, or at the size the block declares
+# with `size="WxH"`, so that a page can show 1080p and CI still runs in seconds. A block may
+# instead declare, on its opening fence:
+#   needs="bpy"                    what it needs (NEEDS above); skipped, saying so, where unmet;
+#   module="blurlab.metrics.x"     a new module: it runs as that module in a fresh interpreter;
+#   excerpt="python/blurlab/x.py"  an excerpt of that file: each of its lines is in the file, in
+#                                  order (a comment after two spaces at a line's end may differ).
+
+TEST_SIZE = (160, 90)
+SIZE_LITERAL = re.compile(r"\(\s*(\d{3,4})\s*,\s*(\d{2,4})\s*\)")
+
+
+@dataclass(frozen=True)
+class PythonBlock:
+    page: str
+    line: int
+    code: str
+    options: dict
+
+
+def python_blocks(path: Path, root: Path = ROOT) -> list[PythonBlock]:
+    page = str(path.relative_to(root))
+    return [
+        PythonBlock(page, first, "\n".join(lines) + "\n", options)
+        for language, options, first, lines in fenced_blocks(path)
+        if language == "python"
+    ]
+
+
+def at_test_size(block: PythonBlock) -> str:
+    """The block's code with its 16:9 (W, H) literals at its declared size or TEST_SIZE."""
+    size = TEST_SIZE
+    if "size" in block.options:
+        width, height = block.options["size"].split("x")
+        size = (int(width), int(height))
+
+    def scaled(match: re.Match) -> str:
+        width, height = int(match.group(1)), int(match.group(2))
+        return f"({size[0]}, {size[1]})" if width * 9 == height * 16 else match.group(0)
+
+    return SIZE_LITERAL.sub(scaled, block.code)
+
+
+def _code_line(line: str) -> str:
+    return " ".join(re.sub(r"\s{2,}#.*$", "", line).split())
+
+
+def check_excerpt(block: PythonBlock, root: Path = ROOT) -> None:
+    source = [
+        _code_line(line) for line in (root / block.options["excerpt"]).read_text().split("\n")
+    ]
+    at = 0
+    for number, line in enumerate(block.code.splitlines(), block.line):
+        wanted = _code_line(line)
+        if not wanted:
+            continue
+        assert wanted in source[at:], (
+            f"{block.page}:{number}: `{line.strip()}` is not in {block.options['excerpt']} "
+            "(after the block's previous lines)"
+        )
+        at = source.index(wanted, at) + 1
+
+
+def run_as_module(block: PythonBlock, folder: Path) -> None:
+    """Runs the block as module `module` of its package, in a fresh interpreter."""
+    name = block.options["module"]
+    program = (
+        "import importlib, sys, types\n"
+        f"name = {name!r}\n"
+        "module = types.ModuleType(name)\n"
+        "module.__package__ = name.rpartition('.')[0]\n"
+        "importlib.import_module(module.__package__)\n"
+        "sys.modules[name] = module\n"
+        f"exec(compile({block.code!r}, {block.page!r}, 'exec'), module.__dict__)\n"
+    )
+    result = subprocess.run(
+        [sys.executable, "-c", program],
+        cwd=folder,
+        env=_shims(folder / ".bin"),
+        capture_output=True,
+        text=True,
+        timeout=COMMAND_TIMEOUT_S,
+    )
+    assert result.returncode == 0, f"{block.page}:{block.line}:\n{result.stderr[-3000:]}"
+
+
+def run_python_blocks(blocks: list[PythonBlock], folder: Path, ctx) -> None:
+    """Runs a page's blocks in order in `folder`; skips at the first unmet need."""
+    import numpy as np
+
+    namespace = {"__name__": "__main__", "bl": bl, "np": np, "ctx": ctx}
+    for block in blocks:
+        unmet = [
+            NEEDS[n][1]
+            for n in block.options.get("needs", "").split(",")
+            if n and not NEEDS[n][0]()
+        ]
+        if unmet:
+            pytest.skip(f"{block.page}:{block.line}: {'; '.join(unmet)}")
+        if "excerpt" in block.options:
+            check_excerpt(block)
+        elif "module" in block.options:
+            run_as_module(block, folder)
+        else:
+            code = compile("\n" * (block.line - 1) + at_test_size(block), block.page, "exec")
+            exec(code, namespace)
+
+
+PYTHON_PAGES = [
+    (str(path.relative_to(ROOT)), blocks)
+    for path in documented_pages()
+    if (blocks := python_blocks(path))
+]
+
+
+@pytest.mark.parametrize("page, blocks", PYTHON_PAGES, ids=[page for page, _ in PYTHON_PAGES])
+def test_documented_python_runs_as_written(page, blocks, ctx, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    run_python_blocks(blocks, tmp_path, ctx)
