@@ -20,6 +20,7 @@ import sys
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 import blurlab as bl
@@ -239,6 +240,9 @@ def test_a_failing_command_fails_the_test(tmp_path):
 # with `size="WxH"`, so that a page can show 1080p and CI still runs in seconds. A block may
 # instead declare, on its opening fence:
 #   needs="bpy"                    what it needs (NEEDS above); skipped, saying so, where unmet;
+#   files="robot.glb shot.exr"     the user's files it reads: the test writes stand-ins first
+#                                  (DOC_FILES: an animated glTF, a Blender-named EXR capture,
+#                                  a PNG texture), chosen by suffix;
 #   module="blurlab.metrics.x"     a new module: it runs as that module in a fresh interpreter;
 #   excerpt="python/blurlab/x.py"  an excerpt of that file: each of its lines is in the file, in
 #                                  order (a comment after two spaces at a line's end may differ).
@@ -321,10 +325,39 @@ def run_as_module(block: PythonBlock, folder: Path) -> None:
     assert result.returncode == 0, f"{block.page}:{block.line}:\n{result.stderr[-3000:]}"
 
 
+def _animated_gltf(path: Path) -> None:
+    from gltf_writer import GltfBuilder, box_triangles
+
+    builder = GltfBuilder()
+    positions, normals, indices = box_triangles()
+    node = builder.node(mesh=builder.mesh(positions, indices, normals))
+    builder.animate(node, "translation", [0.0, 1.0], [[-2, 0, 0], [2, 0, 0]])
+    builder.node(camera=builder.camera(0.9, 0.1, 50.0), translation=[0, 0, 5])
+    builder.save(path)
+
+
+def _exr_capture(path: Path) -> None:
+    """Colour, a depth that reads as linear or as hardware depth, and a small motion, under
+    Blender's multi-layer names (every convention finds its channels among them)."""
+    height, width = TEST_SIZE[1], TEST_SIZE[0]
+    color = np.random.default_rng(0).random((height, width, 4))
+    depth_and_vector = np.full((height, width, 5), 0.5)
+    names = [f"ViewLayer.Combined.{c}" for c in "RGBA"] + ["ViewLayer.Depth.Z"]
+    names += [f"ViewLayer.Vector.{c}" for c in "XYZW"]
+    pixels = np.concatenate([color, depth_and_vector], axis=2).astype(np.float32)
+    bl.io.write(path, pixels, channel_names=names)
+
+
+def _png_texture(path: Path) -> None:
+    checker = (np.indices((64, 64)).sum(axis=0) // 8 % 2).astype(np.float32)
+    bl.io.write(path, np.repeat(checker[..., None], 3, axis=2))
+
+
+DOC_FILES = {".glb": _animated_gltf, ".exr": _exr_capture, ".png": _png_texture}
+
+
 def run_python_blocks(blocks: list[PythonBlock], folder: Path, ctx) -> None:
     """Runs a page's blocks in order in `folder`; skips at the first unmet need."""
-    import numpy as np
-
     namespace = {"__name__": "__main__", "bl": bl, "np": np, "ctx": ctx}
     for block in blocks:
         unmet = [
@@ -334,6 +367,8 @@ def run_python_blocks(blocks: list[PythonBlock], folder: Path, ctx) -> None:
         ]
         if unmet:
             pytest.skip(f"{block.page}:{block.line}: {'; '.join(unmet)}")
+        for name in block.options.get("files", "").split():
+            DOC_FILES[Path(name).suffix](folder / name)
         if "excerpt" in block.options:
             check_excerpt(block)
         elif "module" in block.options:
