@@ -1,4 +1,7 @@
-"""Every command the README and docs/ give a user runs as written.
+"""Every command and every Python block the README and docs/ give a user runs as written.
+
+Python blocks: see "Python blocks" below (one namespace per page, sizes at TEST_SIZE, and the
+few fence options: needs, files, module, excerpt).
 
 Commands are the lines of fenced ```console blocks that start with the prompt `$ `, one command
 a line. Each page's `blurlab ...` and `python -m blurlab ...`
@@ -356,8 +359,9 @@ def _png_texture(path: Path) -> None:
 DOC_FILES = {".glb": _animated_gltf, ".exr": _exr_capture, ".png": _png_texture}
 
 
-def run_python_blocks(blocks: list[PythonBlock], folder: Path, ctx) -> None:
-    """Runs a page's blocks in order in `folder`; skips at the first unmet need."""
+def run_python_blocks(blocks: list[PythonBlock], folder: Path, ctx) -> dict:
+    """Runs a page's blocks in order in `folder`, which is the working directory; gives their
+    namespace. Skips at the first unmet need."""
     namespace = {"__name__": "__main__", "bl": bl, "np": np, "ctx": ctx}
     for block in blocks:
         unmet = [
@@ -376,6 +380,7 @@ def run_python_blocks(blocks: list[PythonBlock], folder: Path, ctx) -> None:
         else:
             code = compile("\n" * (block.line - 1) + at_test_size(block), block.page, "exec")
             exec(code, namespace)
+    return namespace
 
 
 PYTHON_PAGES = [
@@ -389,3 +394,53 @@ PYTHON_PAGES = [
 def test_documented_python_runs_as_written(page, blocks, ctx, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     run_python_blocks(blocks, tmp_path, ctx)
+
+
+PYTHON_FIXTURE = """\
+```python
+frame = ctx.render(bl.scenes.fan(), (1920, 1080))
+shape = frame.color.shape
+```
+
+```python size="32x18"
+small = ctx.render(bl.scenes.fan(), (640, 360)).color.shape
+```
+
+```python excerpt="page.md"
+shape = frame.color.shape  # a comment of the excerpt's own
+```
+"""
+
+
+def test_python_blocks_run_in_order_at_the_test_size(ctx, tmp_path, monkeypatch):
+    page = tmp_path / "page.md"
+    page.write_text(PYTHON_FIXTURE)
+    blocks = python_blocks(page, tmp_path)
+    assert [(b.line, b.options) for b in blocks] == [
+        (2, {}),
+        (7, {"size": "32x18"}),
+        (11, {"excerpt": "page.md"}),
+    ]
+    monkeypatch.chdir(tmp_path)
+    namespace = run_python_blocks(blocks[:2], tmp_path, ctx)
+    assert namespace["shape"] == (TEST_SIZE[1], TEST_SIZE[0], 4)
+    assert namespace["small"] == (18, 32, 4)
+    check_excerpt(blocks[2], tmp_path)
+
+
+def test_a_broken_python_block_fails_and_names_its_line(ctx, tmp_path, monkeypatch):
+    page = tmp_path / "page.md"
+    page.write_text("Text.\n\n```python\nx = 1\nleaves = bl.Material(texture=rgba_leaves)\n```\n")
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(NameError, match="rgba_leaves") as raised:
+        run_python_blocks(python_blocks(page, tmp_path), tmp_path, ctx)
+    assert raised.traceback[-1].lineno + 1 == 5  # the page's own line
+    stale = PythonBlock("page.md", 3, "x = 2\n", {"excerpt": "page.md"})
+    with pytest.raises(AssertionError, match=r"page.md:3: `x = 2` is not in page.md"):
+        check_excerpt(stale, tmp_path)
+
+
+def test_a_python_block_with_an_unmet_need_is_skipped_saying_why(ctx, tmp_path):
+    block = PythonBlock("page.md", 3, "raise SystemExit\n", {"needs": "scheduler"})
+    with pytest.raises(pytest.skip.Exception, match="page.md:3: needs a running Dask scheduler"):
+        run_python_blocks([block], tmp_path, ctx)
