@@ -48,6 +48,7 @@ def test_site_builds_strict(ctx, monkeypatch, tmp_path):
     source = tmp_path / "source"
     shutil.copytree(ROOT / "docs", source / "docs", ignore=shutil.ignore_patterns("example-report"))
     shutil.copy(ROOT / "mkdocs.yml", source)
+    (source / "tools").symlink_to(ROOT / "tools")
     (source / "python").symlink_to(ROOT / "python")
     monkeypatch.setenv(DOCS_URL_VARIABLE, "..")
     run_study(
