@@ -7,10 +7,10 @@ that names the record, and the region's body is generated from it:
     ...generated: the record's source line and a table...
     <!-- end record -->
 
-`figures=` picks figures by name; `table=` picks a table by name instead, with optional
-`columns=` (names, "; "-separated) and `rows=` (the first n). A record is found by its
-benchmark, device and image size, the key under which `blurlab bench --record` keeps the latest
-one.
+Values are HTML-escaped where they hold a quote (`&quot;`). `figures=` picks figures by
+name; `table=` picks a table by name instead, with optional `columns=` (names, "; "-separated)
+and `rows=` (the first n). A record is found by its benchmark, device and image size, the key
+under which `blurlab bench --record` keeps the latest one.
 
 The same function fills the regions three ways: `python tools/doc_records.py` rewrites the
 pages in place (so the Markdown read raw is current), MkDocs runs it as a hook on every page at
@@ -20,6 +20,7 @@ differs from what the records give.
 
 from __future__ import annotations
 
+import html
 import json
 import re
 import sys
@@ -122,7 +123,7 @@ def fill(markdown: str, records: list[dict], page: str = "page") -> str:
     """`markdown` with every record region's body generated from `records`."""
 
     def filled(match: re.Match) -> str:
-        options = dict(OPTION.findall(match.group("options")))
+        options = {k: html.unescape(v) for k, v in OPTION.findall(match.group("options"))}
         try:
             body = region_markdown(options, records)
         except ValueError as error:
