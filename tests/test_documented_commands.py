@@ -383,11 +383,20 @@ def run_python_blocks(blocks: list[PythonBlock], folder: Path, ctx) -> dict:
     return namespace
 
 
-PYTHON_PAGES = [
-    (str(path.relative_to(ROOT)), blocks)
-    for path in documented_pages()
-    if (blocks := python_blocks(path))
-]
+def _pages_with_python() -> list[tuple[str, list[PythonBlock]]]:
+    """Each page's blocks, once: a page whose blocks repeat an earlier page's (the README's ten
+    lines are also docs/quickstart.md's) runs as that page."""
+    pages, seen = [], {}
+    for path in documented_pages():
+        blocks = python_blocks(path)
+        key = tuple((b.code, tuple(sorted(b.options.items()))) for b in blocks)
+        if blocks and key not in seen:
+            seen[key] = path
+            pages.append((str(path.relative_to(ROOT)), blocks))
+    return pages
+
+
+PYTHON_PAGES = _pages_with_python()
 
 
 @pytest.mark.parametrize("page, blocks", PYTHON_PAGES, ids=[page for page, _ in PYTHON_PAGES])
