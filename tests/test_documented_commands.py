@@ -20,6 +20,7 @@ import os
 import re
 import subprocess
 import sys
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -379,7 +380,11 @@ def run_python_blocks(blocks: list[PythonBlock], folder: Path, ctx) -> dict:
             run_as_module(block, folder)
         else:
             code = compile("\n" * (block.line - 1) + at_test_size(block), block.page, "exec")
-            exec(code, namespace)
+            with warnings.catch_warnings():
+                # A block that makes blurlab warn teaches a misuse (a frame at the wrong
+                # instant, say): it fails like an error.
+                warnings.filterwarnings("error", message="blurlab", category=UserWarning)
+                exec(code, namespace)
     return namespace
 
 
