@@ -26,6 +26,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from gltf_writer import moving_box
 
 import blurlab as bl
 
@@ -46,9 +47,15 @@ OPTION = re.compile(r'(\w+)="([^"]*)"')
 
 
 @dataclass(frozen=True)
-class Command:
+class Located:
+    """Where a documented thing is: its page and the line it starts on."""
+
     page: str
     line: int
+
+
+@dataclass(frozen=True)
+class Command(Located):
     text: str
     needs: tuple[str, ...]
 
@@ -256,9 +263,7 @@ SIZE_LITERAL = re.compile(r"\(\s*(\d{3,4})\s*,\s*(\d{2,4})\s*\)")
 
 
 @dataclass(frozen=True)
-class PythonBlock:
-    page: str
-    line: int
+class PythonBlock(Located):
     code: str
     options: dict
 
@@ -329,17 +334,6 @@ def run_as_module(block: PythonBlock, folder: Path) -> None:
     assert result.returncode == 0, f"{block.page}:{block.line}:\n{result.stderr[-3000:]}"
 
 
-def _animated_gltf(path: Path) -> None:
-    from gltf_writer import GltfBuilder, box_triangles
-
-    builder = GltfBuilder()
-    positions, normals, indices = box_triangles()
-    node = builder.node(mesh=builder.mesh(positions, indices, normals))
-    builder.animate(node, "translation", [0.0, 1.0], [[-2, 0, 0], [2, 0, 0]])
-    builder.node(camera=builder.camera(0.9, 0.1, 50.0), translation=[0, 0, 5])
-    builder.save(path)
-
-
 def _exr_capture(path: Path) -> None:
     """Colour, a depth that reads as linear or as hardware depth, and a small motion, under
     Blender's multi-layer names (every convention finds its channels among them)."""
@@ -357,7 +351,7 @@ def _png_texture(path: Path) -> None:
     bl.io.write(path, np.repeat(checker[..., None], 3, axis=2))
 
 
-DOC_FILES = {".glb": _animated_gltf, ".exr": _exr_capture, ".png": _png_texture}
+DOC_FILES = {".glb": moving_box, ".exr": _exr_capture, ".png": _png_texture}
 
 
 def run_python_blocks(blocks: list[PythonBlock], folder: Path, ctx) -> dict:
