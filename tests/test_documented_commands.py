@@ -352,6 +352,7 @@ def _png_texture(path: Path) -> None:
 
 
 DOC_FILES = {".glb": moving_box, ".exr": _exr_capture, ".png": _png_texture}
+BLOCK_OPTIONS = {"size", "needs", "files", "module", "excerpt"}
 
 
 def run_python_blocks(blocks: list[PythonBlock], folder: Path, ctx) -> dict:
@@ -359,14 +360,18 @@ def run_python_blocks(blocks: list[PythonBlock], folder: Path, ctx) -> dict:
     namespace. Skips at the first unmet need."""
     namespace = {"__name__": "__main__", "bl": bl, "np": np, "ctx": ctx}
     for block in blocks:
-        unmet = [
-            NEEDS[n][1]
-            for n in block.options.get("needs", "").split(",")
-            if n and not NEEDS[n][0]()
-        ]
+        where = f"{block.page}:{block.line}"
+        unknown = set(block.options) - BLOCK_OPTIONS
+        assert not unknown, f"{where}: unknown fence option {unknown}; {sorted(BLOCK_OPTIONS)}"
+        needs = [n.strip() for n in block.options.get("needs", "").split(",") if n.strip()]
+        assert set(needs) <= set(NEEDS), f"{where}: unknown need in {needs}; {list(NEEDS)}"
+        files = block.options.get("files", "").split()
+        strange = [f for f in files if Path(f).suffix not in DOC_FILES or Path(f).name != f]
+        assert not strange, f"{where}: no stand-in for {strange}; suffixes {list(DOC_FILES)}"
+        unmet = [NEEDS[n][1] for n in needs if not NEEDS[n][0]()]
         if unmet:
-            pytest.skip(f"{block.page}:{block.line}: {'; '.join(unmet)}")
-        for name in block.options.get("files", "").split():
+            pytest.skip(f"{where}: {'; '.join(unmet)}")
+        for name in files:
             DOC_FILES[Path(name).suffix](folder / name)
         if "excerpt" in block.options:
             check_excerpt(block)
@@ -385,12 +390,12 @@ def run_python_blocks(blocks: list[PythonBlock], folder: Path, ctx) -> dict:
 def _pages_with_python() -> list[tuple[str, list[PythonBlock]]]:
     """Each page's blocks, once: a page whose blocks repeat an earlier page's (the README's ten
     lines are also docs/quickstart.md's) runs as that page."""
-    pages, seen = [], {}
+    pages, seen = [], set()
     for path in documented_pages():
         blocks = python_blocks(path)
         key = tuple((b.code, tuple(sorted(b.options.items()))) for b in blocks)
         if blocks and key not in seen:
-            seen[key] = path
+            seen.add(key)
             pages.append((str(path.relative_to(ROOT)), blocks))
     return pages
 
@@ -451,4 +456,19 @@ def test_a_broken_python_block_fails_and_names_its_line(ctx, tmp_path, monkeypat
 def test_a_python_block_with_an_unmet_need_is_skipped_saying_why(ctx, tmp_path):
     block = PythonBlock("page.md", 3, "raise SystemExit\n", {"needs": "scheduler"})
     with pytest.raises(pytest.skip.Exception, match="page.md:3: needs a running Dask scheduler"):
+        run_python_blocks([block], tmp_path, ctx)
+
+
+@pytest.mark.parametrize(
+    "options, error",
+    [
+        ({"need": "bpy"}, "unknown fence option"),
+        ({"needs": "a_gpu"}, "unknown need"),
+        ({"files": "scene.usd"}, "no stand-in for"),
+        ({"files": "../outside.glb"}, "no stand-in for"),
+    ],
+)
+def test_a_python_block_with_a_mistyped_option_fails(ctx, tmp_path, options, error):
+    block = PythonBlock("page.md", 3, "x = 1\n", options)
+    with pytest.raises(AssertionError, match=f"page.md:3: {error}"):
         run_python_blocks([block], tmp_path, ctx)
