@@ -169,3 +169,14 @@ def box_triangles(size=1.0):
                 normals.append(n)
             indices += [base, base + 1, base + 2, base, base + 2, base + 3]
     return np.array(positions), np.array(normals), np.array(indices).reshape(-1, 3)
+
+
+def moving_box(path):
+    """Writes a box sliding 4 units along x over t in [0, 1] before a camera at z = 5 (.gltf or
+    .glb by the suffix); returns the path."""
+    builder = GltfBuilder()
+    positions, normals, indices = box_triangles()
+    node = builder.node(mesh=builder.mesh(positions, indices, normals))
+    builder.animate(node, "translation", [0.0, 1.0], [[-2, 0, 0], [2, 0, 0]])
+    builder.node(camera=builder.camera(0.9, 0.1, 50.0), translation=[0, 0, 5])
+    return builder.save(path)

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from gltf_writer import GltfBuilder, box_triangles
+from gltf_writer import moving_box
 
 import blurlab as bl
 
@@ -48,17 +48,8 @@ def test_sample_models_go_through_a_sweep(ctx):
     assert np.isfinite(table["psnr"]).all()
 
 
-def _moving_box(path: Path) -> Path:
-    b = GltfBuilder()
-    p, n, i = box_triangles()
-    node = b.node(mesh=b.mesh(p, i, n))
-    b.animate(node, "translation", [0.0, 1.0], [[-2, 0, 0], [2, 0, 0]])
-    b.node(camera=b.camera(0.9, 0.1, 50.0), translation=[0, 0, 5])
-    return b.save(path)
-
-
 def test_study_cli_takes_a_file_beside_a_built_in_name(tmp_path):
-    scene = _moving_box(tmp_path / "moving box.glb")
+    scene = moving_box(tmp_path / "moving box.glb")
     out = tmp_path / "study"
     command = [sys.executable, "-m", "blurlab", "study", "--scenes", str(scene), "fan"]
     command += ["--size", "64x36", "--metrics", "psnr", "--out", str(out)]
@@ -73,7 +64,7 @@ def test_study_cli_takes_a_file_beside_a_built_in_name(tmp_path):
 
 
 def test_recommend_cli_takes_a_file_and_refuses_a_missing_one(tmp_path):
-    scene = _moving_box(tmp_path / "box.gltf")
+    scene = moving_box(tmp_path / "box.gltf")
     command = [sys.executable, "-m", "blurlab", "recommend", str(scene), "--size", "64x36"]
     result = subprocess.run(
         command + ["--budget-ms", "1000"], capture_output=True, text=True, timeout=600

@@ -1,4 +1,4 @@
-"""Determinism (DESIGN.md): every method, the converged reference and the NumPy references
+"""Determinism (docs/spec.md §13): every method, the converged reference and the NumPy references
 give the same bits for the same inputs and seed, twice in one process and in two fresh
 processes. Methods are read from the registry, so new ones are covered."""
 

@@ -48,6 +48,7 @@ def test_site_builds_strict(ctx, monkeypatch, tmp_path):
     source = tmp_path / "source"
     shutil.copytree(ROOT / "docs", source / "docs", ignore=shutil.ignore_patterns("example-report"))
     shutil.copy(ROOT / "mkdocs.yml", source)
+    (source / "tools").symlink_to(ROOT / "tools")
     (source / "python").symlink_to(ROOT / "python")
     monkeypatch.setenv(DOCS_URL_VARIABLE, "..")
     run_study(
@@ -124,3 +125,19 @@ def test_report_without_docs_to_link_names_the_pages(ctx, monkeypatch, tmp_path)
     assert "docs/metrics.md in blurlab's source" in report
     assert "docs/study.md in blurlab's source" in report
     assert "href='None'" not in report
+
+
+def test_files_cite_the_architecture_page_not_a_missing_design_file():
+    """docs/architecture.md holds the architecture; no file cites a DESIGN.md the repository
+    does not have."""
+    folders = ("python", "src", "tests", "docs", "shaders", "benchmarks", "tools")
+    suffixes = {".py", ".md", ".h", ".cpp", ".glsl", ".comp", ".sh", ".yml", ".toml"}
+    files = [ROOT / "README.md", ROOT / "mkdocs.yml", ROOT / "pyproject.toml"]
+    files += [p for f in folders for p in (ROOT / f).rglob("*") if p.suffix in suffixes]
+    citing = [
+        str(p.relative_to(ROOT))
+        for p in files
+        if p.is_file() and p.name != "test_docs.py" and "DESIGN.md" in p.read_text(errors="ignore")
+    ]
+    assert (ROOT / "docs" / "architecture.md").is_file()
+    assert not citing, citing

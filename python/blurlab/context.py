@@ -1,8 +1,8 @@
 """The GL context and what lives in it: textures, compute programs, timers.
 
 Every array that crosses to the GPU has shape (H, W) or (H, W, C), C in 1..4, row 0 at the top
-of the image, dtype uint8, float16 or float32 (DESIGN.md "Arrays"), or uint32 for integer
-textures that passes update atomically (sampled as usampler2D, bound as r32ui images).
+of the image, dtype uint8, float16 or float32 (docs/architecture.md "Arrays"), or uint32 for
+integer textures that passes update atomically (sampled as usampler2D, bound as r32ui images).
 """
 
 from __future__ import annotations

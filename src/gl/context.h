@@ -1,6 +1,7 @@
 // An OpenGL 4.5 core context created through EGL with no display (no window, no X server).
 // Device choice: a hardware GPU where EGL enumerates one, else Mesa's software device
-// (llvmpipe), else Mesa's surfaceless platform. DESIGN.md "What Python sees".
+// (llvmpipe), else Mesa's surfaceless platform. docs/architecture.md, "What Python sees of the
+// context".
 #pragma once
 
 #include <atomic>

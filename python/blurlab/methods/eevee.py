@@ -66,10 +66,10 @@ TILE_PICK_LAYOUT = PassVariants("tile pick", TILE_PICK_VARIANTS, "rows_64")
 # 32-bit keys and a small pass resolves them (EEVEE's own way; the same bits), or the gather
 # resolves the keys itself (GATHER_READS_KEYS in passes/coverage_gather.glsl: one pass fewer,
 # a dependent read more a pixel; the keys, not the dilated tiles, come back as a buffer). The
-# keys hold a 12-bit tile index (shaders/common/reach_keys.glsl), so larger grids gather, as
-# engine_eevee always does: its exact lengths do not fit a key. On the H100 at 1080p,
-# teapot_pass, back to back: 0.0971 ms gather, 0.0936 scatter, 0.0917 scatter_in_gather
-# (docs/performance.md, 2026-11-26); the 15-scene medians rank them the same way.
+# keys hold a 14-bit tile index (shaders/common/reach_keys.glsl), so larger grids gather, as
+# engine_eevee always does: its exact lengths do not fit a key. On the H100 at 1080p the
+# scatter_in_gather layout is the fastest of the three, and the 15-scene medians rank them the
+# same way (`blurlab bench layouts` times each; docs/performance.md).
 DILATION_VARIANTS = {
     "gather": {},
     "scatter": {"SCATTER_DILATION": 1},
