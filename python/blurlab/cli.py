@@ -22,7 +22,7 @@ from .studies.bench import command as bench_command
 from .studies.cluster import account_table
 from .studies.cluster_devices import local_cluster
 from .studies.recommend import AGGREGATES, expand, ranking_metrics, recommend, recommend_set
-from .studies.scheduler import scheduler_client
+from .studies.scheduler import CONNECT_TIMEOUT_S, scheduler_client
 from .studies.sequence_study import run_sequence_study
 from .studies.study import run_study, run_sweep_config
 from .twins.patterns import test_pattern
@@ -110,10 +110,12 @@ def _demo(args) -> int:
 def _cluster(args):
     """The cluster that --scheduler or --workers asks for, or None (this process renders)."""
     tls = (args.tls_ca, args.tls_cert, args.tls_key)
-    if any(tls) and not args.scheduler:
-        raise ValueError("--tls-ca, --tls-cert and --tls-key go with --scheduler tls://...")
+    if (any(tls) or args.connect_timeout != CONNECT_TIMEOUT_S) and not args.scheduler:
+        raise ValueError(
+            "--tls-ca, --tls-cert, --tls-key and --connect-timeout go with --scheduler ADDRESS"
+        )
     if args.scheduler:
-        with scheduler_client(args.scheduler, *tls) as client:
+        with scheduler_client(args.scheduler, *tls, args.connect_timeout) as client:
             yield client
     elif args.workers:
         if not isinstance(args.device, str):
@@ -204,6 +206,13 @@ def _add_cluster_options(parser) -> None:
             metavar="PEM",
             help=f"with --scheduler tls://...: {what} (docs/distributed.md, 'Securing a cluster')",
         )
+    parser.add_argument(
+        "--connect-timeout",
+        type=float,
+        default=CONNECT_TIMEOUT_S,
+        metavar="SECONDS",
+        help=f"with --scheduler: how long to try to reach it (default {CONNECT_TIMEOUT_S:g})",
+    )
 
 
 def _recommend(args) -> int:
