@@ -236,10 +236,19 @@ def _recommend(args) -> int:
         ctx, items[0], args.size, args.budget_ms, args.target_psnr, args.metric, progress=True
     )
     print(f"recommend: {answer}")
-    columns = ["chosen", "method", "params", "total_ms", "psnr", "ssim"]
+    for line in answer.details():
+        print(f"  {line}")
+    columns = ["chosen", "method", "params", "total_ms", "ms_low", "ms_high", "psnr", "ssim"]
     columns += [c for c in answer.table if c.startswith("auto_")]
-    rows = answer.table.sort_values("total_ms")[columns]
-    print(rows.to_string(index=False, float_format=lambda v: f"{v:.4g}"))
+    if args.all:
+        rows, title = answer.table.sort_values("total_ms"), "every configuration, fastest first"
+    else:
+        rows, title = (
+            answer.front(),
+            "the Pareto front (none faster and more accurate; --all: every row)",
+        )
+    print(f"\n{title}:")
+    print(rows[columns].to_string(index=False, float_format=lambda v: f"{v:.4g}", na_rep=""))
     _print_clock(ctx)
     return 0
 
@@ -432,6 +441,11 @@ def build_parser() -> argparse.ArgumentParser:
     advice.add_argument("--budget-ms", type=float, default=None, help="GPU ms per frame at most")
     advice.add_argument("--target-psnr", type=float, default=None, help="PSNR in dB at least")
     advice.add_argument("--metric", choices=ranking_metrics(), default="psnr")
+    advice.add_argument(
+        "--all",
+        action="store_true",
+        help="print every configuration measured, not only the Pareto front",
+    )
     advice.add_argument(
         "--aggregate",
         default=None,
