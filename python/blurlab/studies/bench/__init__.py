@@ -6,7 +6,7 @@ docs/benchmarks.md. The core never imports the studies, this package among them.
 # each module registers its own benchmarks
 from . import frame, filters, sweeps, quality, controls, soak, transparency  # noqa: F401, I001
 from . import auto_rules, directions, random_scenes, rankings, taps, temporal  # noqa: F401
-from . import queue_depth  # noqa: F401
+from . import first_example, queue_depth  # noqa: F401
 from .core import (
     Benchmark,
     Measured,
