@@ -1,6 +1,6 @@
-"""The ``blurlab`` command: ``info``, ``demo``, ``methods``, ``metrics``, ``study``, ``sweep``
-and ``bench``. User errors (bad names, values, sizes, files) print one line
-``blurlab: error: ...`` and exit with status 2; ``--debug`` shows the traceback instead."""
+"""The ``blurlab`` command and its subcommands (build_parser; ``blurlab --help`` names every
+one). User errors (bad names, values, sizes, files) print one line ``blurlab: error: ...`` and
+exit with status 2; ``--debug`` shows the traceback instead."""
 
 from __future__ import annotations
 
@@ -476,6 +476,12 @@ def build_parser() -> argparse.ArgumentParser:
     _add_cluster_options(sweep)
     bench = sub.add_parser("bench", help="run, list and record the registered benchmarks")
     bench_command.add_arguments(bench, parse_size)
+    # The summary is made from the subcommands, so that none can be left out of it.
+    parser.description = (
+        f"The blurlab command: {', '.join(sub.choices)}. User errors (bad names, values, "
+        "sizes, files) print one line 'blurlab: error: ...' and exit with status 2; --debug "
+        "shows the traceback instead."
+    )
     return parser
 
 
