@@ -215,6 +215,27 @@ def _add_cluster_options(parser) -> None:
     )
 
 
+def _blender(args) -> int:
+    """blurlab blender install | status | uninstall (blurlab.blender.environment)."""
+    from .blender import environment
+
+    if args.python and args.action != "install":
+        raise ValueError("--python goes with blurlab blender install")
+    if args.action == "install":
+        environment.install(args.python)
+    elif args.action == "uninstall":
+        environment.uninstall()
+    else:
+        python = environment.interpreter()
+        print(
+            f"Blender runs with {python}"
+            if python
+            else "Blender is not set up: blurlab "
+            "blender install makes an environment of its own for it"
+        )
+    return 0
+
+
 def _recommend(args) -> int:
     """One line with the answer, then the table it was chosen from (fastest first); for
     several scenes or an --aggregate, one configuration for the set, then its per-scene rows."""
@@ -417,7 +438,7 @@ def build_parser() -> argparse.ArgumentParser:
         "--peers",
         default="",
         help="comma-separated peers rendered by Blender and scored alike: eevee "
-        "(needs pip install 'blurlab[blender]')",
+        "(needs blurlab blender install)",
     )
     study.add_argument(
         "--sequence",
@@ -476,6 +497,19 @@ def build_parser() -> argparse.ArgumentParser:
     _add_cluster_options(sweep)
     bench = sub.add_parser("bench", help="run, list and record the registered benchmarks")
     bench_command.add_arguments(bench, parse_size)
+    blender = sub.add_parser(
+        "blender",
+        help="set up Blender's bpy for the cross-checks in an environment of its own",
+    )
+    blender.add_argument(
+        "action",
+        choices=("install", "status", "uninstall"),
+        help="install: make the private environment with bpy (your own stays unchanged); "
+        "status: where Blender runs from; uninstall: remove the environment",
+    )
+    blender.add_argument(
+        "--python", metavar="PATH", help="with install: the Python 3.11 to make it with"
+    )
     # The summary is made from the subcommands, so that none can be left out of it.
     parser.description = (
         f"The blurlab command: {', '.join(sub.choices)}. User errors (bad names, values, "
@@ -497,6 +531,7 @@ def main(argv: list[str] | None = None) -> int:
         "study": _study,
         "sweep": _sweep,
         "bench": lambda args: bench_command.main(args, args.device),
+        "blender": _blender,
     }
     try:
         return commands[args.command](args)

@@ -29,6 +29,7 @@ import numpy as np
 import pandas as pd
 
 from .. import scenes
+from .._paths import cache_root
 from ..context import Context
 from ..methods import blur_steps, method, render_steps
 from ..metrics import get, registered
@@ -59,13 +60,9 @@ _CACHE: dict[str, pd.DataFrame] = {}
 
 
 def cache_dir() -> Path:
-    """Where answers' sweeps and timings are kept between commands: BLURLAB_CACHE_DIR, else
-    $XDG_CACHE_HOME/blurlab, else ~/.cache/blurlab; its `recommend` folder."""
-    root = os.environ.get("BLURLAB_CACHE_DIR") or os.path.join(
-        os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"),
-        "blurlab",
-    )
-    return Path(root) / "recommend"
+    """Where answers' sweeps and timings are kept between commands: the `recommend` folder of
+    blurlab's cache (BLURLAB_CACHE_DIR, else $XDG_CACHE_HOME/blurlab, else ~/.cache/blurlab)."""
+    return cache_root() / "recommend"
 
 
 @dataclass
