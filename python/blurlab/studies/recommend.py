@@ -2,10 +2,13 @@
 
 A small sweep answers it: every sweepable method on its default grid, plus the "auto" point of
 each parameter that has a rule (k and samples of the tile filters), with PSNR and SSIM reduced
-on the GPU. The sweep is cached per scene (name and content), device and size, so asking again
-with another budget or target costs nothing. The answer is the cheapest configuration that
-reaches `target_psnr`, or the most accurate one within `budget_ms`, or, with both, the cheapest
-that reaches the target within the budget; the rows behind it come with it.
+on the GPU. The sweep is kept on disk (cache_dir()) by the identity its rows have (scene name
+and content, device, code, size, ...), so asking again, with another budget or target or in
+another process, measures nothing. The configurations the answer could be are timed again for
+an interval of their median. The answer is the cheapest configuration that reaches
+`target_psnr` (or one as fast within the timing noise and more accurate), or the most accurate
+one within `budget_ms`, or, with both, the cheapest that reaches the target within the budget;
+the rows behind it come with it, with the near miss where there is one.
 
 `recommend_set` answers the same question for a set of scenes: one configuration for all of
 them, the best by an aggregate over the scenes that the user picks (the median, mean, worst,
