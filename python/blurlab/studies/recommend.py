@@ -301,11 +301,13 @@ def _timed_again(ctx, scene, size, table, indices, path: Path | None) -> pd.Data
     changed = False
     for index in indices:
         row = table.loc[index]
-        runs = kept.get(row["identity"])
+        key = row.get("identity")  # a sweep row's identity (absent from a table made by hand)
+        runs = kept.get(key)
         if runs is None:
             runs = _time_runs(ctx, scene, size, row, frames_of)
-            kept[row["identity"]] = runs
-            changed = True
+            if isinstance(key, str):
+                kept[key] = runs
+                changed = True
         ordered = sorted(runs)
         table.loc[index, "total_ms"] = statistics.median(ordered)
         table.loc[index, "ms_low"] = ordered[INTERVAL_RANKS[0]]
@@ -397,14 +399,16 @@ def measured(
     if key not in _CACHE:
         path = None
         if cache:
-            path = cache_dir() / f"{scene.name}-{size[0]}x{size[1]}-{key}.csv"
+            # The scene's name may come from a file: only safe characters reach the path.
+            name = re.sub(r"[^\w.@-]", "_", scene.name)[:64]
+            path = cache_dir() / f"{name}-{size[0]}x{size[1]}-{key}.csv"
             path.parent.mkdir(parents=True, exist_ok=True)
         table = sweep(
             ctx, [scene], grids, size, metrics=metrics, progress=progress,
             repeats=SWEEP_REPEATS, out=path,
         )  # fmt: skip
         table = table[[math.isfinite(v) for v in table["total_ms"]]].reset_index(drop=True)
-        when = path.stat().st_mtime if path is not None else time.time()
+        when = path.stat().st_mtime if path is not None and path.exists() else time.time()
         table.attrs["cache_file"] = None if path is None else str(path)
         table.attrs["measured_at"] = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime(when))
         _CACHE[key] = table
