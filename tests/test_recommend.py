@@ -350,3 +350,10 @@ def test_the_same_question_in_three_processes_is_measured_once(tmp_path):
     first, second = calls[0][0] - startup, calls[1][0] - startup
     assert second <= 0.10 * first, (calls[0][0], calls[1][0], startup)
     assert list(tmp_path.glob("recommend/fan-160x90-*.csv"))
+
+
+def test_auto_values_read_the_same_from_a_fresh_table_and_from_the_cache_file():
+    # a fresh sweep holds JSON text; its CSV file, read back, a float
+    assert advice._auto_value("8") == advice._auto_value(8.0) == 8
+    assert advice._auto_value("[8, 12]") == [8, 12]
+    assert advice._auto_value(float("nan")) is None and advice._auto_value(None) is None

@@ -200,9 +200,9 @@ def recommend(
     params = json.loads(row["params"])
     auto = []
     for key in params:
-        value = row.get(f"auto_{key}")
-        if params[key] == "auto" and isinstance(value, str):
-            params[key] = json.loads(value)
+        value = _auto_value(row.get(f"auto_{key}"))
+        if params[key] == "auto" and value is not None:
+            params[key] = value
             auto.append(key)
     near = near_miss(table, row, budget_ms)
     return Recommendation(
@@ -247,6 +247,17 @@ def choose(table: pd.DataFrame, budget_ms, target_psnr, metric: str = "psnr"):
             f"[{chosen['ms_low']:.3g}, {chosen['ms_high']:.3g}] ms reaches beyond it"
         )
     return best, notes
+
+
+def _auto_value(value):
+    """What an "auto" parameter chose, as the sweep's auto_KEY column holds it: JSON text in a
+    fresh table (a list where steps chose several), a number once read back from the CSV
+    file; None where the row has none."""
+    if isinstance(value, str):
+        return json.loads(value)
+    if isinstance(value, (int, float)) and math.isfinite(value):
+        return int(value) if float(value).is_integer() else float(value)
+    return None
 
 
 def _timed(row) -> bool:
