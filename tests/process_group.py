@@ -78,7 +78,14 @@ def start_dask_cluster(folder: Path, env: dict, processes: list, options=()) -> 
     of its own appended to `processes` (stop them with stop_group). Returns the scheduler's
     address once its file is written."""
     scheduler_file, log = folder / "scheduler.json", folder / "scheduler.log"
-    common = ["--host", "127.0.0.1", "--no-dashboard", *options]
+    common = [
+        "--host",
+        "127.0.0.1",
+        "--no-dashboard",
+        "--dashboard-address",
+        "127.0.0.1:0",
+        *options,
+    ]
     processes.append(
         start_in_group(
             ["dask", "scheduler", "--port", "0", "--scheduler-file", str(scheduler_file), *common],

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import os
 import stat
+import subprocess
+import sys
 import tempfile
 from pathlib import Path
 
@@ -14,13 +16,13 @@ import pytest
 from test_reference import square_scene
 
 import blurlab as bl
-from blurlab.blender import crosscheck
+from blurlab.blender import crosscheck, environment
 from blurlab.studies.peers import EEVEE_ROWS, check_peers
 from blurlab.studies.study import run_study
 
 SIZE = (80, 45)
 needs_bpy = pytest.mark.skipif(
-    not bl.blender.available(), reason="bpy is not installed (pip install 'blurlab[blender]')"
+    not bl.blender.available(), reason="bpy is not set up (blurlab blender install)"
 )
 
 
@@ -220,8 +222,41 @@ def test_a_skinned_mesh_blurs_by_its_baked_deformation(ctx):
 
 def test_without_bpy_the_error_says_how_to_install(monkeypatch):
     monkeypatch.setattr(bl.blender, "available", lambda: False)
-    with pytest.raises(ImportError, match=r"pip install 'blurlab\[blender\]'.*Python 3\.11"):
+    with pytest.raises(ImportError, match=r"blurlab blender install.*Python 3\.11.*unchanged"):
         bl.blender.render(square_scene(10.0), SIZE)
+
+
+def pip_freeze() -> str:
+    return subprocess.run(
+        [sys.executable, "-m", "pip", "freeze"], capture_output=True, text=True, check=True
+    ).stdout
+
+
+@pytest.mark.blender_install
+def test_installing_blender_support_leaves_pip_freeze_unchanged(tmp_path):
+    """`blurlab blender install` puts bpy and the NumPy it pins in an environment of its own
+    (a fresh folder here; pip's cache spares the download): this environment's packages stay
+    as they were, and the private one imports bpy."""
+    try:
+        environment.find_python311()
+    except RuntimeError as why:
+        pytest.skip(str(why))
+    before = pip_freeze()
+    env = {**os.environ, "BLURLAB_CACHE_DIR": str(tmp_path)}
+    command = [sys.executable, "-m", "blurlab", "blender", "install"]
+    done = subprocess.run(command, capture_output=True, text=True, env=env, timeout=1800)
+    assert done.returncode == 0, done.stderr[-3000:]
+    assert pip_freeze() == before
+    private = tmp_path / "environments" / environment.ENVIRONMENT / "bin" / "python"
+    probe = "import bpy, numpy; print(bpy.app.version_string, numpy.__version__)"
+    versions = subprocess.run([private, "-c", probe], capture_output=True, text=True)
+    assert versions.returncode == 0, versions.stderr[-2000:]
+    assert versions.stdout.split()[0].startswith("5.0")
+    status = subprocess.run(
+        [sys.executable, "-m", "blurlab", "blender", "status"], capture_output=True, text=True,
+        env=env,
+    )  # fmt: skip
+    assert str(private) in status.stdout
 
 
 def test_an_interpreter_without_bpy_is_an_import_error(tmp_path):
@@ -302,5 +337,5 @@ def test_unknown_or_unavailable_peers_fail_before_any_work(monkeypatch):
     with pytest.raises(ValueError, match="unknown peers"):
         check_peers(("cycles_x",))
     monkeypatch.setattr(bl.blender, "available", lambda: False)
-    with pytest.raises(ImportError, match=r"blurlab\[blender\]"):
+    with pytest.raises(ImportError, match="blurlab blender install"):
         check_peers(("eevee",))

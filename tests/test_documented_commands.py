@@ -15,7 +15,6 @@ Where one is not met the command is skipped, and the skip says which need was mi
 
 from __future__ import annotations
 
-import importlib.util
 import os
 import re
 import subprocess
@@ -38,7 +37,7 @@ NEEDS = {
         lambda: any(d["kind"] != "software" for d in bl.Context.devices()),
         "no GPU EGL device here",
     ),
-    "bpy": (lambda: importlib.util.find_spec("bpy") is not None, "bpy is not installed"),
+    "bpy": (bl.blender.available, "bpy is not set up (blurlab blender install)"),
     "scheduler": (lambda: False, "needs a running Dask scheduler at the address it names"),
 }
 FENCE = re.compile(r"^(\s*)(`{3,}|~{3,})\s*([\w+-]*)")

@@ -4,6 +4,7 @@ N="auto", and bl.recommend / `blurlab recommend` (docs/recommend.md)."""
 from __future__ import annotations
 
 import json
+import os
 import subprocess
 import sys
 
@@ -17,6 +18,19 @@ from blurlab.converged import default_reference_samples
 from blurlab.studies import recommend as advice
 
 FILTER = "reconstruct_mcguire2012"
+
+
+@pytest.fixture(autouse=True, scope="module")
+def private_cache(tmp_path_factory):
+    """Answers kept on disk go to a folder of this module's, not the user's cache."""
+    folder = tmp_path_factory.mktemp("recommend_cache")
+    before = os.environ.get("BLURLAB_CACHE_DIR")
+    os.environ["BLURLAB_CACHE_DIR"] = str(folder)
+    yield folder
+    if before is None:
+        del os.environ["BLURLAB_CACHE_DIR"]
+    else:
+        os.environ["BLURLAB_CACHE_DIR"] = before
 
 
 def uniform_motion_frame(width, height, motion, moving_share=1.0, seed=3):
@@ -112,7 +126,9 @@ def test_recommend_for_a_target_is_the_cheapest_row_that_reaches_it(ctx, fan_ans
     answer = bl.recommend(ctx, "fan", (64, 36), target_psnr=target)
     assert answer.row["psnr"] >= target
     reaching = answer.table[answer.table["psnr"] >= target]
-    assert answer.row["total_ms"] == reaching["total_ms"].min()
+    fastest = reaching.loc[reaching["total_ms"].idxmin()]
+    # the fastest, or one as fast within the timing noise (overlapping intervals) and better
+    assert answer.row["ms_low"] <= fastest["ms_high"] and answer.row["psnr"] >= fastest["psnr"]
     assert answer.table["chosen"].sum() == 1
 
 
@@ -143,8 +159,17 @@ def test_the_recommend_command_prints_one_answer_line_and_its_table():
     )
     assert result.returncode == 0, result.stderr
     lines = result.stdout.splitlines()
-    assert lines[0].startswith("recommend: ") and "ms, PSNR" in lines[0]
-    assert lines[1].split()[:3] == ["chosen", "method", "params"]
+    assert lines[0].startswith("recommend: ") and "ms [" in lines[0] and "PSNR" in lines[0]
+    header = next(i for i, line in enumerate(lines) if line.split()[:2] == ["chosen", "method"])
+    assert "Pareto front" in lines[header - 1]
+    front = lines[header + 1 : -1]  # then the clock's line
+    everything = blurlab_command(
+        *("--device", CLI_DEVICE, "recommend", "subpixel", "--size", "48x27"),
+        *("--budget-ms", "1000", "--all"),
+    )
+    assert everything.returncode == 0, everything.stderr
+    assert "every configuration" in everything.stdout
+    assert len(everything.stdout.splitlines()) > len(lines) and len(front) >= 1
     bad = blurlab_command("recommend", "no_such_scene", "--budget-ms", "1")
     assert bad.returncode == 2 and bad.stderr.startswith("blurlab: error: no built-in scene")
 
@@ -254,3 +279,91 @@ def test_a_seed_range_names_the_random_scenes():
     assert advice.expand("random:7-7") == ["random:7"]
     with pytest.raises(ValueError, match="A <= B"):
         advice.expand(["random:5-3"])
+
+
+def synthetic(rows) -> pd.DataFrame:
+    """A recommendation table from (method, total_ms, ms_low, ms_high, psnr) rows."""
+    table = pd.DataFrame(rows, columns=["method", "total_ms", "ms_low", "ms_high", "psnr"])
+    return table.assign(params="{}", ssim=0.9, goodness=table["psnr"])
+
+
+def test_choices_within_the_timing_noise_go_to_the_more_accurate_one():
+    nan = float("nan")
+    table = synthetic(
+        [("fast", 1.00, 0.95, 1.06, 30.5), ("close", 1.04, 1.01, 1.08, 33.0),
+         ("slower", 1.30, 1.25, 1.35, 40.0), ("untimed", 5.0, nan, nan, 45.0)]
+    )  # fmt: skip
+    best, notes = advice.choose(table, None, 30.0)
+    assert table.loc[best, "method"] == "close" and "within the timing noise" in notes[0]
+    # intervals apart: the fastest stays the answer, with nothing to note
+    apart = table.assign(ms_high=[1.00, 1.04, 1.30, nan], ms_low=[1.00, 1.04, 1.30, nan])
+    best, notes = advice.choose(apart, None, 30.0)
+    assert apart.loc[best, "method"] == "fast" and notes == []
+    # a budget: the most accurate whose median fits; an interval beyond it is noted
+    best, notes = advice.choose(table, 1.05, None)
+    assert table.loc[best, "method"] == "close" and "reaches beyond it" in notes[0]
+    assert advice.choose(table, None, 99.0) == (None, [])
+
+
+def test_a_near_miss_is_named():
+    # as the issue saw on teapot_pass with a 1 ms budget: 37.09 dB at 0.992 ms answered,
+    # 41.92 dB at 1.127 ms not named
+    table = synthetic(
+        [("answer", 0.992, 0.98, 1.0, 37.09), ("miss", 1.127, 1.1, 1.15, 41.92),
+         ("far", 3.0, 2.9, 3.1, 45.0)]
+    )  # fmt: skip
+    miss = advice.near_miss(table, table.loc[0].to_dict(), 1.0)
+    assert miss["row"]["method"] == "miss" and miss["gain_db"] == pytest.approx(4.83)
+    answer = advice.Recommendation(
+        "answer", {"k": 8}, table.loc[0].to_dict(), table, "q", ("k",), (), miss, "now"
+    )
+    assert 'k chosen by "auto"' in str(answer)
+    assert any(line.startswith("near miss: miss") for line in answer.details())
+    assert advice.near_miss(table.iloc[[0, 2]], table.loc[0].to_dict(), 1.0) is None
+    assert list(answer.front()["method"]) == ["answer", "miss", "far"]
+
+
+# One command in a process of its own, timed from after `import blurlab.cli` (Python's start
+# and the imports, about 2 s on the 2-core machine, are any command's cost) to its end; the
+# context, the cache lookup and the answer are inside.
+TIMED_COMMAND = (
+    "import sys, time\n"
+    "from blurlab import cli\n"
+    "start = time.perf_counter()\n"
+    "code = cli.main(sys.argv[1:])\n"
+    "print(f'seconds {time.perf_counter() - start}', file=sys.stderr)\n"
+    "sys.exit(code)\n"
+)
+
+
+def test_the_same_question_in_three_processes_is_measured_once(tmp_path):
+    """`blurlab recommend fan --size 160x90 --target-psnr 30`, three times, each in a process
+    of its own: one answer, and the later calls measure nothing: each costs at most 10 % of
+    the first, from after the imports that every blurlab command pays."""
+    env = {**os.environ, "BLURLAB_CACHE_DIR": str(tmp_path)}
+    question = ["--device", CLI_DEVICE, "recommend", "fan", "--size", "160x90"]
+
+    def timed():
+        result = subprocess.run(
+            [sys.executable, "-c", TIMED_COMMAND, *question, "--target-psnr", "30"],
+            capture_output=True,
+            text=True,
+            env=env,
+        )
+        assert result.returncode == 0, result.stderr
+        seconds = float(result.stderr.rsplit("seconds ", 1)[1])
+        return seconds, result.stdout.splitlines()[0]
+
+    calls = [timed() for _ in range(3)]
+    answers = {answer for _, answer in calls}
+    assert len(answers) == 1, answers
+    first, second, third = (seconds for seconds, _ in calls)
+    assert second <= 0.10 * first and third <= 0.10 * first, (first, second, third)
+    assert list(tmp_path.glob("recommend/fan-160x90-*.csv"))
+
+
+def test_auto_values_read_the_same_from_a_fresh_table_and_from_the_cache_file():
+    # a fresh sweep holds JSON text; its CSV file, read back, a float
+    assert advice._auto_value("8") == advice._auto_value(8.0) == 8
+    assert advice._auto_value("[8, 12]") == [8, 12]
+    assert advice._auto_value(float("nan")) is None and advice._auto_value(None) is None

@@ -216,6 +216,21 @@ def preset_of(ctx: Context) -> str:
     return "software" if ctx.info()["device"] == "software" else "gpu"
 
 
+def _usable(module: str) -> bool:
+    """Whether a benchmark's `needs` entry can be used: bpy runs in Blender's child process,
+    from blurlab's own environment for it (blurlab.blender.available); any other module is
+    imported here."""
+    if module == "bpy":
+        from ...blender import available
+
+        return available()
+    try:
+        __import__(module)
+    except ImportError:
+        return False
+    return True
+
+
 def run_benchmark(
     ctx: Context,
     name: str,
@@ -228,10 +243,8 @@ def run_benchmark(
     returns its record, validated."""
     bench = benchmark(name)
     for module in bench.needs:
-        try:
-            __import__(module)
-        except ImportError:
-            raise Unavailable(f"benchmark {name} needs the module {module!r}") from None
+        if not _usable(module):
+            raise Unavailable(f"benchmark {name} needs the module {module!r}")
     preset = preset or preset_of(ctx)
     if preset not in PRESETS:
         raise ValueError(f"blurlab: preset {preset!r}: one of {', '.join(PRESETS)}")

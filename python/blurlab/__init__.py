@@ -31,6 +31,7 @@ from .sizes import DEFAULT_SIZE
 from .studies import failures, plots  # noqa: E402
 from .studies.cluster_devices import local_cluster  # noqa: E402
 from .studies.recommend import recommend, recommend_set  # noqa: E402
+from .studies.scheduler import scheduler  # noqa: E402
 from .studies.sweep import sweep  # noqa: E402
 from .version import __version__ as __version__  # noqa: E402
 
@@ -82,6 +83,7 @@ __all__ = [
     "recommend_set",
     "reference_samples_needed",
     "render_and_blur",
+    "scheduler",
     "render_steps",
     "shutter",
     "metrics",

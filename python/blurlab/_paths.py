@@ -1,4 +1,4 @@
-"""Where blurlab finds its GLSL files."""
+"""Where blurlab finds its GLSL files, and where it keeps what it can make again."""
 
 from __future__ import annotations
 
@@ -26,3 +26,14 @@ def shader_dir() -> Path:
         + ", ".join(str(c) for c in candidates)
         + ". Reinstall blurlab (pip install .) or set BLURLAB_SHADER_DIR."
     )
+
+
+def cache_root() -> Path:
+    """The folder where blurlab keeps what it can make again (recommend's sweeps, the private
+    environment of Blender's bpy): ``BLURLAB_CACHE_DIR``, else ``$XDG_CACHE_HOME/blurlab``,
+    else ``~/.cache/blurlab``."""
+    override = os.environ.get("BLURLAB_CACHE_DIR")
+    if override:
+        return Path(override)
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return Path(base) / "blurlab"

@@ -1,7 +1,6 @@
-"""The ``blurlab`` command: ``info``, ``demo``, ``methods``, ``metrics``, ``study``, ``sweep``,
-``bench``, ``check-method`` and ``new-method``. User errors (bad names, values, sizes, files)
-print one line ``blurlab: error: ...`` and exit with status 2; ``--debug`` shows the traceback
-instead."""
+"""The ``blurlab`` command and its subcommands (build_parser; ``blurlab --help`` names every
+one). User errors (bad names, values, sizes, files) print one line ``blurlab: error: ...`` and
+exit with status 2; ``--debug`` shows the traceback instead."""
 
 from __future__ import annotations
 
@@ -35,7 +34,7 @@ from .studies import plots
 from .studies.cluster import account_table
 from .studies.cluster_devices import local_cluster
 from .studies.recommend import AGGREGATES, expand, ranking_metrics, recommend, recommend_set
-from .studies.scheduler import scheduler_client
+from .studies.scheduler import CONNECT_TIMEOUT_S, scheduler_client
 from .studies.sequence_study import run_sequence_study
 from .studies.study import run_study, run_sweep_config
 from .twins.patterns import test_pattern
@@ -131,10 +130,12 @@ def _demo(args) -> int:
 def _cluster(args):
     """The cluster that --scheduler or --workers asks for, or None (this process renders)."""
     tls = (args.tls_ca, args.tls_cert, args.tls_key)
-    if any(tls) and not args.scheduler:
-        raise ValueError("--tls-ca, --tls-cert and --tls-key go with --scheduler tls://...")
+    if (any(tls) or args.connect_timeout != CONNECT_TIMEOUT_S) and not args.scheduler:
+        raise ValueError(
+            "--tls-ca, --tls-cert, --tls-key and --connect-timeout go with --scheduler ADDRESS"
+        )
     if args.scheduler:
-        with scheduler_client(args.scheduler, *tls) as client:
+        with scheduler_client(args.scheduler, *tls, args.connect_timeout) as client:
             yield client
     elif args.workers:
         if not isinstance(args.device, str):
@@ -225,6 +226,34 @@ def _add_cluster_options(parser) -> None:
             metavar="PEM",
             help=f"with --scheduler tls://...: {what} (docs/distributed.md, 'Securing a cluster')",
         )
+    parser.add_argument(
+        "--connect-timeout",
+        type=float,
+        default=CONNECT_TIMEOUT_S,
+        metavar="SECONDS",
+        help=f"with --scheduler: how long to try to reach it (default {CONNECT_TIMEOUT_S:g})",
+    )
+
+
+def _blender(args) -> int:
+    """blurlab blender install | status | uninstall (blurlab.blender.environment)."""
+    from .blender import environment
+
+    if args.python and args.action != "install":
+        raise ValueError("--python goes with blurlab blender install")
+    if args.action == "install":
+        environment.install(args.python)
+    elif args.action == "uninstall":
+        environment.uninstall()
+    else:
+        python = environment.interpreter()
+        print(
+            f"Blender runs with {python}"
+            if python
+            else "Blender is not set up: blurlab "
+            "blender install makes an environment of its own for it"
+        )
+    return 0
 
 
 def _recommend(args) -> int:
@@ -248,10 +277,19 @@ def _recommend(args) -> int:
         ctx, items[0], args.size, args.budget_ms, args.target_psnr, args.metric, progress=True
     )
     print(f"recommend: {answer}")
-    columns = ["chosen", "method", "params", "total_ms", "psnr", "ssim"]
+    for line in answer.details():
+        print(f"  {line}")
+    columns = ["chosen", "method", "params", "total_ms", "ms_low", "ms_high", "psnr", "ssim"]
     columns += [c for c in answer.table if c.startswith("auto_")]
-    rows = answer.table.sort_values("total_ms")[columns]
-    print(rows.to_string(index=False, float_format=lambda v: f"{v:.4g}"))
+    if args.all:
+        rows, title = answer.table.sort_values("total_ms"), "every configuration, fastest first"
+    else:
+        rows, title = (
+            answer.front(),
+            "the Pareto front (none faster and more accurate; --all: every row)",
+        )
+    print(f"\n{title}:")
+    print(rows[columns].to_string(index=False, float_format=lambda v: f"{v:.4g}", na_rep=""))
     _print_clock(ctx)
     return 0
 
@@ -414,7 +452,7 @@ def build_parser() -> argparse.ArgumentParser:
         "--peers",
         default="",
         help="comma-separated peers rendered by Blender and scored alike: eevee "
-        "(needs pip install 'blurlab[blender]')",
+        "(needs blurlab blender install)",
     )
     study.add_argument(
         "--sequence",
@@ -439,6 +477,11 @@ def build_parser() -> argparse.ArgumentParser:
     advice.add_argument("--budget-ms", type=float, default=None, help="GPU ms per frame at most")
     advice.add_argument("--target-psnr", type=float, default=None, help="PSNR in dB at least")
     advice.add_argument("--metric", choices=ranking_metrics(), default="psnr")
+    advice.add_argument(
+        "--all",
+        action="store_true",
+        help="print every configuration measured, not only the Pareto front",
+    )
     advice.add_argument(
         "--aggregate",
         default=None,
@@ -478,6 +521,25 @@ def build_parser() -> argparse.ArgumentParser:
     )
     if benchmarks is not None:
         benchmarks.add_arguments(bench, parse_size)
+    blender = sub.add_parser(
+        "blender",
+        help="set up Blender's bpy for the cross-checks in an environment of its own",
+    )
+    blender.add_argument(
+        "action",
+        choices=("install", "status", "uninstall"),
+        help="install: make the private environment with bpy (your own stays unchanged); "
+        "status: where Blender runs from; uninstall: remove the environment",
+    )
+    blender.add_argument(
+        "--python", metavar="PATH", help="with install: the Python 3.11 to make it with"
+    )
+    # The summary is made from the subcommands, so that none can be left out of it.
+    parser.description = (
+        f"The blurlab command: {', '.join(sub.choices)}. User errors (bad names, values, "
+        "sizes, files) print one line 'blurlab: error: ...' and exit with status 2; --debug "
+        "shows the traceback instead."
+    )
     return parser
 
 
@@ -511,6 +573,7 @@ def main(argv: list[str] | None = None) -> int:
         "bench": lambda args: bench_command().main(args, args.device),
         "check-method": check_method_command,
         "new-method": new_method_command,
+        "blender": _blender,
     }
     try:
         load_methods_from(args)

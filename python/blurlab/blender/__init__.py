@@ -10,7 +10,6 @@ back in the exception.
 
 from __future__ import annotations
 
-import importlib.util
 import json
 import math
 import os
@@ -31,12 +30,14 @@ from ..blur_scales import scaled_scene
 from ..render import check_shutter, check_size
 from ..scene import Scene
 from ..sizes import DEFAULT_SIZE
+from . import environment
 
 CHILD = Path(__file__).with_name("child.py")
 ENGINES = {"CYCLES": "CYCLES", "EEVEE": "BLENDER_EEVEE"}
 INSTALL = (
-    "blurlab.blender needs Blender's Python module: pip install 'blurlab[blender]' "
-    "(the bpy package from PyPI, 5.0.x, which runs on Python 3.11 only)"
+    "blurlab.blender needs Blender's Python module: run `blurlab blender install`, which puts "
+    "bpy 5.0 (Python 3.11 only) in an environment of its own and leaves yours unchanged "
+    "(docs/crosscheck.md)"
 )
 # blurlab is y-up, Blender z-up: Blender (x, y, z) = blurlab (x, -z, y).
 Y_UP_TO_Z_UP = np.array([[1, 0, 0, 0], [0, 0, -1, 0], [0, 1, 0, 0], [0, 0, 0, 1.0]])
@@ -68,8 +69,9 @@ class BlenderRender:
 
 
 def available() -> bool:
-    """Whether `bpy` can be imported by this Python (it is not imported here)."""
-    return importlib.util.find_spec("bpy") is not None
+    """Whether Blender can run: blurlab's private environment has bpy (`blurlab blender
+    install`), or this Python can import it (bpy is not imported here)."""
+    return environment.interpreter() is not None
 
 
 def check_reproducible(scene: Scene) -> None:
@@ -273,7 +275,7 @@ def render(
     if python is None:
         if not available():
             raise ImportError(INSTALL)
-        python = sys.executable
+        python = environment.interpreter()
     description.update(
         engine=ENGINES[engine_name],
         samples=samples,
@@ -339,7 +341,7 @@ def render_gltf(
     if python is None:
         if not available():
             raise ImportError(INSTALL)
-        python = sys.executable
+        python = environment.interpreter()
     description = {
         "gltf": str(path.resolve()),
         "size": [width, height],

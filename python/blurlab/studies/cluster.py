@@ -10,7 +10,7 @@ a worker that keeps them, so a scene's reference is rendered once.
 
 ``local_cluster()`` (blurlab.studies.cluster_devices) starts workers on this machine, listening
 on its loopback only: one per GPU, or one per core with llvmpipe. Other machines' schedulers
-are reached over TLS (``blurlab.studies.scheduler.scheduler_client``); a plain tcp:// one on
+are reached over TLS (``bl.scheduler``, blurlab.studies.scheduler); a plain tcp:// one on
 another host gets a warning.
 """
 
@@ -28,7 +28,7 @@ from ..context import Context
 from . import identity
 from .cluster_devices import worker_device
 from .evaluation import SETUP_PHASES, WARM_UP, evaluate_scene
-from .scheduler import require_distributed, warn_if_exposed
+from .scheduler import CONNECT_TIMEOUT_S, Scheduler, require_distributed, scheduler
 
 # Scenes whose frames and references a worker keeps; the client keeps each worker on one scene
 # at a time, so two are enough for the hand-over between scenes.
@@ -287,27 +287,34 @@ def _scene_copy(scene):
 
 
 def check_cluster(cluster) -> None:
-    """Raises unless `cluster` is a Client, a cluster object or a scheduler address."""
+    """Raises unless `cluster` is a Client, a cluster object, a bl.scheduler(...) or a
+    scheduler address."""
     distributed = require_distributed()
     if not (
-        isinstance(cluster, (distributed.Client, str)) or hasattr(cluster, "scheduler_address")
+        isinstance(cluster, (distributed.Client, Scheduler, str))
+        or hasattr(cluster, "scheduler_address")
     ):
         raise TypeError(
             "blurlab.sweep: cluster must be a distributed.Client, a cluster (e.g. "
-            f"bl.local_cluster()) or a scheduler address 'tcp://host:8786', not {cluster!r}"
+            "bl.local_cluster()), a scheduler (bl.scheduler('tls://host:8786', tls_ca=..., "
+            f"tls_cert=..., tls_key=...)) or a scheduler address, not {cluster!r}"
         )
 
 
 def connect(cluster):
-    """(client, whether this call made it) for a Client, a cluster or a scheduler address
-    (a plain tcp:// one that is not on this machine gets exposed_warning's warning)."""
+    """(client, whether this call made it) for a Client, a cluster, a bl.scheduler(...) or a
+    scheduler address. An address is checked as bl.scheduler checks it: a tls:// one without
+    the TLS files is refused with the message the command line gives, and a plain tcp:// one
+    that is not on this machine gets warn_if_exposed's warning."""
     distributed = require_distributed()
     check_cluster(cluster)
     if isinstance(cluster, distributed.Client):
         return cluster, False
     if isinstance(cluster, str):
-        warn_if_exposed(cluster)
-    return distributed.Client(cluster, timeout="60s"), True
+        cluster = scheduler(cluster)
+    if isinstance(cluster, Scheduler):
+        return cluster.connect(), True
+    return distributed.Client(cluster, timeout=CONNECT_TIMEOUT_S), True
 
 
 def _device_info() -> dict:

@@ -74,32 +74,38 @@ def pareto(
         )
     plt = _pyplot()
     fig, ax = plt.subplots(figsize=(9, 4.5))
-    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
-    methods = sorted(set(rows["method"]))
     variants = rows.apply(_variant, axis=1)
-    for (name, options), group in rows.groupby([rows["method"], variants]):
+    series = rows.groupby([rows["method"], variants])
+    for i, ((name, options), group) in enumerate(series):
+        colour, marker = series_style(i)
         ax.scatter(
             group["total_ms"],
             group[metric],
             label=name + (f" +{options}" if options else ""),
             s=28,
             alpha=0.85,
-            color=colors[methods.index(name) % len(colors)],
-            marker=OPTION_MARKERS.get(options, "*") if options else "o",
+            color=colour,
+            marker=marker,
         )
     front = pareto_front(rows, metric)
     ax.step(
         front["total_ms"], front[metric], where="post", color="black", lw=1, label="Pareto front"
     )
-    # Every other label below its point: neighbours on the front often share a height.
-    for i, (_, row) in enumerate(front.iterrows()):
-        ax.annotate(
-            _short(row),
-            (row["total_ms"], row[metric]),
-            fontsize=6,
-            alpha=0.7,
-            xytext=(3, 3 if i % 2 == 0 else -9),
-            textcoords="offset points",
+    # Labels of points in the right part of the chart go to their left, inside the axes.
+    span = np.log(rows["total_ms"].max() / rows["total_ms"].min()) or 1.0
+    labels = []
+    for _, row in front.iterrows():
+        right = np.log(row["total_ms"] / rows["total_ms"].min()) / span > 0.7
+        labels.append(
+            ax.annotate(
+                _short(row),
+                (row["total_ms"], row[metric]),
+                fontsize=6,
+                alpha=0.7,
+                xytext=(-LABEL_OFFSET[0], LABEL_OFFSET[1]) if right else LABEL_OFFSET,
+                ha="right" if right else "left",
+                textcoords="offset points",
+            )
         )
     if budget_ms:
         label = budget_label or f"budget {budget_ms} ms"
@@ -112,14 +118,59 @@ def pareto(
     )
     ax.grid(True, which="both", alpha=0.3)
     # Outside the axes: with a dozen methods and options a legend inside hides points.
-    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    ax.legend(
+        fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), ncols=_legend_columns(series)
+    )
     fig.tight_layout()
+    separate_labels(fig, labels)
     return fig
 
 
-# Each filter option (blurlab.methods.tile_filter.FILTER_OPTIONS, in its order) its own marker
-# on the Pareto chart; a row with several options on, or an option past these, draws "*".
-OPTION_MARKERS = dict(zip(FILTER_OPTIONS, "^sDPvX<>", strict=False))
+# Every series of a Pareto chart (a method, or a method with filter options on) gets its own
+# pair of colour and marker: colours from a qualitative palette, and markers that advance one
+# more each round of the colours, so that up to len(COLOURS) * len(MARKERS) series are told
+# apart and neighbours in the legend differ in both.
+# matplotlib's tab10
+COLOURS = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f")
+COLOURS += ("#bcbd22", "#17becf")
+MARKERS = ("o", "s", "^", "D", "v", "P", "X", "<", ">", "p", "h", "*")
+LABEL_OFFSET = (3, 3)  # points from a front point to its label, before separate_labels
+LEGEND_ROWS = 24  # legend entries in a column before another column starts
+
+
+def series_style(i: int) -> tuple[str, str]:
+    """The (colour, marker) of the i-th series, i = q * len(COLOURS) + r: colour r, marker
+    r + q * (len(COLOURS) + 1) modulo len(MARKERS). Distinct for i < len(COLOURS) *
+    len(MARKERS), since len(COLOURS) + 1 (11) is prime to len(MARKERS) (12)."""
+    colours, markers = len(COLOURS), len(MARKERS)
+    if i >= colours * markers:
+        raise ValueError(f"blurlab.plots: at most {colours * markers} series on one chart")
+    return COLOURS[i % colours], MARKERS[(i + i // colours) % markers]
+
+
+def _legend_columns(series) -> int:
+    return max(1, -(-series.ngroups // LEGEND_ROWS))
+
+
+def separate_labels(fig, labels, tries: int = 60) -> None:
+    """Moves annotations (`labels`, in order) up or down from their offset, each to the
+    nearest place where its box overlaps no label placed before it."""
+    if not labels:
+        return
+    renderer = fig.canvas.get_renderer()
+    points_per_pixel = 72.0 / fig.dpi
+    placed = []
+    for label in labels:
+        dx, dy = label.xyann
+        box = label.get_window_extent(renderer)
+        step = (box.height + 1.0) * points_per_pixel
+        for k in range(tries):
+            shift = (k + 1) // 2 * step * (1 if k % 2 else -1)  # 0, +1, -1, +2, -2 ... rows
+            label.xyann = (dx, dy + shift)
+            box = label.get_window_extent(renderer)
+            if not any(box.overlaps(other) for other in placed):
+                break
+        placed.append(box)
 
 
 def _variant(row) -> str:

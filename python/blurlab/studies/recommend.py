@@ -2,10 +2,13 @@
 
 A small sweep answers it: every sweepable method on its default grid, plus the "auto" point of
 each parameter that has a rule (k and samples of the tile filters), with PSNR and SSIM reduced
-on the GPU. The sweep is cached per scene (name and content), device and size, so asking again
-with another budget or target costs nothing. The answer is the cheapest configuration that
-reaches `target_psnr`, or the most accurate one within `budget_ms`, or, with both, the cheapest
-that reaches the target within the budget; the rows behind it come with it.
+on the GPU. The sweep is kept on disk (cache_dir()) by the identity its rows have (scene name
+and content, device, code, size, ...), so asking again, with another budget or target or in
+another process, measures nothing. The configurations the answer could be are timed again for
+an interval of their median. The answer is the cheapest configuration that reaches
+`target_psnr` (or one as fast within the timing noise and more accurate), or the most accurate
+one within `budget_ms`, or, with both, the cheapest that reaches the target within the budget;
+the rows behind it come with it, with the near miss where there is one.
 
 `recommend_set` answers the same question for a set of scenes: one configuration for all of
 them, the best by an aggregate over the scenes that the user picks (the median, mean, worst,
@@ -19,15 +22,19 @@ import json
 import math
 import os
 import re
+import statistics
+import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
 from .. import scenes
+from .._paths import cache_root
 from ..context import Context
-from ..methods import method
+from ..methods import blur_steps, method, render_steps
 from ..metrics import get, registered
 from ..scene import Scene
 from ..sizes import DEFAULT_SIZE
@@ -38,19 +45,48 @@ from .sweep import default_grids, scene_identity, sweep
 # What every recommendation's sweep measures: PSNR (target_psnr reads it) and SSIM, from one
 # fused GPU pass (docs/spec.md §6). A `metric` to rank by beside them is measured too.
 MEASURED = ("psnr", "ssim")
+SWEEP_REPEATS = 3  # timed runs of each configuration in the sweep (its median is total_ms)
+# The configurations an answer could be are timed again, TIMING_RUNS runs each, for an
+# interval: with 15 runs, the 4th and 12th fastest bound the median with 96.5 % confidence
+# (a distribution-free interval: the binomial(15, 1/2) mass between them).
+TIMING_RUNS = 15
+INTERVAL_RANKS = (3, 11)  # 0-based ranks of the sorted runs bounding the median
+# Contenders: the rows within CONTENDER_SPAN of the fastest that qualify (a target), or of the
+# budget (a budget), at most MAX_CONTENDERS of them, the best first.
+CONTENDER_SPAN = 1.5
+MAX_CONTENDERS = 8
+# A near miss: a row that gives at least NEAR_MISS_DB more PSNR for at most NEAR_MISS_TIME
+# times the answer's time (or the budget's), named beside the answer.
+NEAR_MISS_DB = 1.0
+NEAR_MISS_TIME = 1.25
 _CACHE: dict[str, pd.DataFrame] = {}
+
+
+def cache_dir() -> Path:
+    """Where answers' sweeps and timings are kept between commands: the `recommend` folder of
+    blurlab's cache (BLURLAB_CACHE_DIR, else $XDG_CACHE_HOME/blurlab, else ~/.cache/blurlab)."""
+    return cache_root() / "recommend"
 
 
 @dataclass
 class Recommendation:
     """The answer: a method and its parameters, the row that measured them, and the table of
-    every configuration the answer was chosen from (`chosen` marks the answer)."""
+    every configuration the answer was chosen from (`chosen` marks the answer; `ms_low` and
+    `ms_high` bound the median time of the contenders timed again). `auto`: the parameters
+    whose value the "auto" rule chose. `notes`: what the answer line cannot say (a choice made
+    within the timing noise, a fit within the budget only within it). `near_miss`: a row with
+    much more accuracy for a little more time, or None. `measured_at`: when the sweep behind
+    it was run (UTC; an earlier command's, where it came from the cache)."""
 
     method: str | None
     params: dict
     row: dict | None
     table: pd.DataFrame = field(repr=False)
     question: str = ""
+    auto: tuple = ()
+    notes: tuple = ()
+    near_miss: dict | None = None
+    measured_at: str = ""
 
     def __str__(self) -> str:
         if self.row is None:
@@ -60,11 +96,45 @@ class Recommendation:
                 f"{fastest['params']} at {fastest['total_ms']:.3g} ms, "
                 f"PSNR {fastest['psnr']:.2f} dB"
             )
+        auto = f' ({" and ".join(self.auto)} chosen by "auto")' if self.auto else ""
         return (
-            f"{self.method} {json.dumps(self.params, sort_keys=True)}: "
-            f"{self.row['total_ms']:.3g} ms, PSNR {self.row['psnr']:.2f} dB, "
+            f"{self.method} {json.dumps(self.params, sort_keys=True)}{auto}: "
+            f"{_time_text(self.row)}, PSNR {self.row['psnr']:.2f} dB, "
             f"SSIM {self.row['ssim']:.4f} ({self.question})"
         )
+
+    def details(self) -> list[str]:
+        """The lines that follow the answer: its notes, the near miss and where it came from."""
+        lines = list(self.notes)
+        if self.near_miss is not None:
+            miss, row = self.near_miss, self.near_miss["row"]
+            lines.append(
+                f"near miss: {row['method']} {row['params']}: {_time_text(row)}, PSNR "
+                f"{row['psnr']:.2f} dB: {miss['gain_db']:+.2f} dB for {miss['extra']}"
+            )
+        if self.measured_at:
+            lines.append(f"measured {self.measured_at}")
+        return lines
+
+    def front(self) -> pd.DataFrame:
+        """The table's Pareto front: the rows no other row beats in both time and PSNR,
+        fastest first."""
+        ordered = self.table.sort_values(["total_ms", "psnr"], ascending=[True, False])
+        best = -math.inf
+        keep = []
+        for index, value in ordered["psnr"].items():
+            if value > best:
+                keep.append(index)
+                best = value
+        return ordered.loc[keep]
+
+
+def _time_text(row) -> str:
+    """A row's median time, with its interval where it was timed again."""
+    low, high = row.get("ms_low"), row.get("ms_high")
+    if low is None or not (isinstance(low, float) and math.isfinite(low)):
+        return f"{row['total_ms']:.3g} ms"
+    return f"{row['total_ms']:.3g} ms [{low:.3g}, {high:.3g}]"
 
 
 def recommendation_grids() -> dict:
@@ -86,11 +156,19 @@ def recommend(
     target_psnr: float | None = None,
     metric: str = "psnr",
     progress: bool = False,
+    cache: bool = True,
 ) -> Recommendation:
     """The cheapest method and parameters that reach `target_psnr` (dB), or the most accurate
     by `metric` (one of ranking_metrics(); which way is better, the registry says) within
-    `budget_ms` (the method's GPU time per frame, by the
-    context's clock); with both, the cheapest that reaches the target within the budget.
+    `budget_ms` (the method's GPU time per frame, by the context's clock); with both, the
+    cheapest that reaches the target within the budget.
+
+    The rows an answer could be are timed again (TIMING_RUNS runs each) for an interval of
+    their median time. With a target, rows whose intervals overlap the cheapest's are equally
+    cheap within the timing noise, and the most accurate of them is the answer (its notes say
+    so). A row with NEAR_MISS_DB more PSNR for at most NEAR_MISS_TIME times the time is
+    named as a near miss. `cache`: keep the sweep and the timings on disk (cache_dir()),
+    keyed as sweep rows are, so the same question in another process measures nothing.
     Returns a Recommendation whose `table` holds the rows it was chosen from; `method` is None
     where no row qualifies (its str() then names the fastest row)."""
     _check_request("blurlab.recommend", budget_ms, ("target_psnr", target_psnr), positive=True)
@@ -99,12 +177,9 @@ def recommend(
             f"blurlab.recommend: metric must be one of {ranking_metrics()}, not {metric!r}"
         )
     scene = scenes.get(scene) if isinstance(scene, (str, os.PathLike)) else scene
-    table = measured(ctx, scene, size, progress, tuple(dict.fromkeys(MEASURED + (metric,))))
-    rows = table
-    if budget_ms is not None:
-        rows = rows[rows["total_ms"] <= budget_ms]
-    if target_psnr is not None:
-        rows = rows[rows["psnr"] >= target_psnr]
+    wanted = tuple(dict.fromkeys(MEASURED + (metric,)))
+    table = measured(ctx, scene, size, progress, wanted, cache=cache)
+    measured_at, sweep_file = table.attrs["measured_at"], table.attrs["cache_file"]
     if target_psnr is not None:
         question = f"the cheapest with PSNR >= {target_psnr:g} dB"
         if budget_ms is not None:
@@ -112,22 +187,188 @@ def recommend(
     else:
         question = f"the best {metric.upper()} within {budget_ms:g} ms"
     question += f"; {len(table)} configurations on {scene.name} {size[0]}x{size[1]}"
+    table = table.assign(goodness=get(metric).goodness(table[metric]))
+    contenders = _contenders(table, budget_ms, target_psnr)
+    timings = Path(sweep_file).with_suffix(".timings.json") if sweep_file else None
+    table = _timed_again(ctx, scene, size, table, contenders, timings)
     table = table.assign(chosen=False)
-    if rows.empty:
-        return Recommendation(None, {}, None, table, question)
-    rows = rows.assign(goodness=get(metric).goodness(rows[metric]))
-    if target_psnr is not None:
-        best = rows.sort_values(["total_ms", "goodness"], ascending=[True, False]).index[0]
-    else:
-        best = rows.sort_values(["goodness", "total_ms"], ascending=[False, True]).index[0]
+    best, notes = choose(table, budget_ms, target_psnr, metric)
+    if best is None:
+        return Recommendation(None, {}, None, table.drop(columns="goodness"), question)
     table.loc[best, "chosen"] = True
     row = table.loc[best].to_dict()
     params = json.loads(row["params"])
+    auto = []
     for key in params:
-        chosen = row.get(f"auto_{key}")
-        if params[key] == "auto" and isinstance(chosen, str):
-            params[key] = json.loads(chosen)
-    return Recommendation(row["method"], params, row, table, question)
+        value = _auto_value(row.get(f"auto_{key}"))
+        if params[key] == "auto" and value is not None:
+            params[key] = value
+            auto.append(key)
+    near = near_miss(table, row, budget_ms)
+    return Recommendation(
+        row["method"], params, row, table.drop(columns="goodness"), question, tuple(auto),
+        tuple(notes), near, measured_at,
+    )  # fmt: skip
+
+
+def choose(table: pd.DataFrame, budget_ms, target_psnr, metric: str = "psnr"):
+    """(the index of the answer in `table`, its notes), or (None, []) where no row qualifies.
+    `table`: total_ms (median), ms_low and ms_high (its interval, NaN where not timed again),
+    psnr, `metric` and goodness (the metric, higher better). With a target, the rows that
+    qualify and whose interval overlaps the fastest one's are as fast within the timing
+    noise, and the most accurate of them is the answer; with a budget alone, the most
+    accurate row whose median fits."""
+    rows = table
+    if budget_ms is not None:
+        rows = rows[rows["total_ms"] <= budget_ms]
+    if target_psnr is not None:
+        rows = rows[rows["psnr"] >= target_psnr]
+    if rows.empty:
+        return None, []
+    notes = []
+    if target_psnr is not None:
+        fastest = rows.sort_values(["total_ms", "goodness"], ascending=[True, False]).iloc[0]
+        ties = rows[rows["ms_low"] <= fastest["ms_high"]] if _timed(fastest) else rows.iloc[:0]
+        best = rows.loc[[fastest.name]] if ties.empty else ties
+        best = best.sort_values(["goodness", "total_ms"], ascending=[False, True]).index[0]
+        if best != fastest.name:
+            notes.append(
+                f"as fast as the fastest that qualifies ({fastest['method']} "
+                f"{fastest['params']}, {_time_text(fastest)}) within the timing noise, and "
+                f"more accurate ({table.loc[best, metric]:.4g} against {fastest[metric]:.4g} "
+                f"{metric.upper()}), so chosen"
+            )
+    else:
+        best = rows.sort_values(["goodness", "total_ms"], ascending=[False, True]).index[0]
+    chosen = table.loc[best]
+    if budget_ms is not None and _timed(chosen) and chosen["ms_high"] > budget_ms:
+        notes.append(
+            f"fits the {budget_ms:g} ms budget by its median time; its interval "
+            f"[{chosen['ms_low']:.3g}, {chosen['ms_high']:.3g}] ms reaches beyond it"
+        )
+    return best, notes
+
+
+def _auto_value(value):
+    """What an "auto" parameter chose, as the sweep's auto_KEY column holds it: JSON text in a
+    fresh table (a list where steps chose several), a number once read back from the CSV
+    file; None where the row has none."""
+    if isinstance(value, str):
+        return json.loads(value)
+    if isinstance(value, (int, float)) and math.isfinite(value):
+        return int(value) if float(value).is_integer() else float(value)
+    return None
+
+
+def _timed(row) -> bool:
+    return isinstance(row["ms_low"], float) and math.isfinite(row["ms_low"])
+
+
+def _contenders(table: pd.DataFrame, budget_ms, target_psnr) -> list:
+    """The rows whose time decides the answer, best first: those that reach the target
+    within CONTENDER_SPAN of the fastest that does (a target), or the most accurate within
+    CONTENDER_SPAN of the budget (a budget alone); at most MAX_CONTENDERS."""
+    rows = table
+    if target_psnr is not None:
+        rows = rows[rows["psnr"] >= target_psnr]
+        if budget_ms is not None:
+            rows = rows[rows["total_ms"] <= budget_ms * CONTENDER_SPAN]
+        if rows.empty:
+            return []
+        rows = rows[rows["total_ms"] <= rows["total_ms"].min() * CONTENDER_SPAN]
+        rows = rows.sort_values("total_ms")
+    else:
+        rows = rows[rows["total_ms"] <= budget_ms * CONTENDER_SPAN]
+        rows = rows.sort_values(["goodness", "total_ms"], ascending=[False, True])
+    return list(rows.index[:MAX_CONTENDERS])
+
+
+def near_miss(table: pd.DataFrame, row: dict, budget_ms) -> dict | None:
+    """The row with the most PSNR among those that give NEAR_MISS_DB more than the answer for
+    at most NEAR_MISS_TIME times its time (a budget alone: times the budget), or None."""
+    limit = (budget_ms if budget_ms is not None else row["total_ms"]) * NEAR_MISS_TIME
+    better = table[
+        (table["psnr"] >= row["psnr"] + NEAR_MISS_DB)
+        & (table["total_ms"] <= limit)
+        & (table["total_ms"] > (budget_ms if budget_ms is not None else row["total_ms"]))
+    ]
+    if better.empty:
+        return None
+    miss = better.sort_values(["psnr", "total_ms"], ascending=[False, True]).iloc[0].to_dict()
+    extra_ms = miss["total_ms"] - row["total_ms"]
+    extra = f"{extra_ms:.3g} ms more ({extra_ms / row['total_ms']:+.0%} time)"
+    if budget_ms is not None:
+        extra += f", {miss['total_ms'] / budget_ms - 1:.0%} over the budget"
+    return {"row": miss, "gain_db": miss["psnr"] - row["psnr"], "extra": extra}
+
+
+def _timed_again(ctx, scene, size, table, indices, path: Path | None) -> pd.DataFrame:
+    """`table` with ms_low, ms_high and total_ms from TIMING_RUNS runs of each row of
+    `indices` (its median and the interval INTERVAL_RANKS bound); the other rows keep the
+    sweep's total_ms and NaN bounds. Runs are kept in the JSON file `path` by row identity."""
+    table = table.assign(ms_low=math.nan, ms_high=math.nan)
+    kept = _read_json(path) if path is not None else {}
+    frames_of: dict = {}
+    changed = False
+    for index in indices:
+        row = table.loc[index]
+        key = row.get("identity")  # a sweep row's identity (absent from a table made by hand)
+        runs = kept.get(key)
+        if runs is None:
+            runs = _time_runs(ctx, scene, size, row, frames_of)
+            if isinstance(key, str):
+                kept[key] = runs
+                changed = True
+        ordered = sorted(runs)
+        table.loc[index, "total_ms"] = statistics.median(ordered)
+        table.loc[index, "ms_low"] = ordered[INTERVAL_RANKS[0]]
+        table.loc[index, "ms_high"] = ordered[INTERVAL_RANKS[1]]
+    if changed and path is not None:
+        _write_json(path, kept)
+    return table
+
+
+def _time_runs(ctx, scene, size, row, frames_of: dict) -> list[float]:
+    """TIMING_RUNS timed runs of a row's configuration, after one untimed run, on the
+    scene's G-buffers (their total pass time each, as the sweep's total_ms sums them)."""
+    params = json.loads(row["params"])
+    steps = params.pop("steps", 1)
+    backend = row.get("backend") if isinstance(row.get("backend"), str) else None
+    key = (row["method"], steps, json.dumps(params, sort_keys=True))
+    if key not in frames_of:
+        frames_of[key] = render_steps(ctx, scene, row["method"], steps, size, **params)
+    frames = frames_of[key]
+    blur_steps(ctx, frames, row["method"], backend, **params)
+    runs = []
+    for _ in range(TIMING_RUNS):
+        result = blur_steps(ctx, frames, row["method"], backend, **params)
+        runs.append(float(sum(t.ms for t in result.timings.values())))
+        del result
+    return runs
+
+
+def _read_json(path: Path) -> dict:
+    """A timings file's {row identity: [ms, ...]}; an unreadable or malformed one is empty."""
+    try:
+        data = json.loads(path.read_text())
+    except (OSError, ValueError):
+        return {}
+    if not isinstance(data, dict):
+        return {}
+    return {
+        k: v
+        for k, v in data.items()
+        if isinstance(v, list)
+        and len(v) == TIMING_RUNS
+        and all(isinstance(x, float) and math.isfinite(x) for x in v)
+    }
+
+
+def _write_json(path: Path, data: dict) -> None:
+    """Writes `data` to `path` whole or not at all (a temporary file, then a rename)."""
+    temporary = path.with_name(f"{path.name}.{os.getpid()}.tmp")
+    temporary.write_text(json.dumps(data))
+    os.replace(temporary, path)
 
 
 def _check_request(caller: str, budget_ms, target: tuple, positive: bool) -> None:
@@ -151,25 +392,37 @@ def ranking_metrics() -> list[str]:
 
 
 def measured(
-    ctx: Context, scene: Scene, size, progress: bool = False, metrics=MEASURED
+    ctx: Context, scene: Scene, size, progress: bool = False, metrics=MEASURED, cache: bool = True
 ) -> pd.DataFrame:
     """The sweep behind recommend() for this scene, device and size, measuring `metrics`, run
-    once and cached by the identity a sweep's rows have (blurlab.studies.identity: the
-    scene's name and content, size, shutter, reference, metrics, device, blurlab's version),
-    so an edited scene file is measured anew."""
-    settings = Settings((int(size[0]), int(size[1])), None, None, tuple(metrics), repeats=3)
-    key = row_identity(scene_identity(scene, settings, device_identity(ctx)))
+    once and kept by the identity a sweep's rows have (blurlab.studies.identity: the scene's
+    name and content, size, shutter, reference, metrics, device, the code's digest, blurlab's
+    version), with the grids and repeats: in this process, and with `cache` in a CSV file
+    under cache_dir() that the sweep resumes from, so another process asking the same
+    measures nothing, and an edited scene file or other code is measured anew. attrs:
+    "cache_file" (or None) and "measured_at" (UTC, when the file's rows were written)."""
+    settings = Settings(
+        (int(size[0]), int(size[1])), None, None, tuple(metrics), repeats=SWEEP_REPEATS
+    )
+    grids = recommendation_grids()
+    components = scene_identity(scene, settings, device_identity(ctx))
+    key = row_identity({**components, "grids": grids, "repeats": SWEEP_REPEATS})
     if key not in _CACHE:
+        path = None
+        if cache:
+            # The scene's name may come from a file: only safe characters reach the path.
+            name = re.sub(r"[^\w.@-]", "_", scene.name)[:64]
+            path = cache_dir() / f"{name}-{size[0]}x{size[1]}-{key}.csv"
+            path.parent.mkdir(parents=True, exist_ok=True)
         table = sweep(
-            ctx,
-            [scene],
-            recommendation_grids(),
-            size,
-            metrics=metrics,
-            progress=progress,
-            repeats=3,
-        )
-        _CACHE[key] = table[[math.isfinite(v) for v in table["total_ms"]]].reset_index(drop=True)
+            ctx, [scene], grids, size, metrics=metrics, progress=progress,
+            repeats=SWEEP_REPEATS, out=path,
+        )  # fmt: skip
+        table = table[[math.isfinite(v) for v in table["total_ms"]]].reset_index(drop=True)
+        when = path.stat().st_mtime if path is not None and path.exists() else time.time()
+        table.attrs["cache_file"] = None if path is None else str(path)
+        table.attrs["measured_at"] = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime(when))
+        _CACHE[key] = table
     return _CACHE[key]
 
 
