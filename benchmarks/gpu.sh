@@ -96,7 +96,9 @@ if [ -n "${BASELINE:-}" ]; then  # the same build of the older tree, into a site
 fi
 # The benchmarks are this checkout's development package (benchmarks/blurlab_bench), which no
 # wheel ships (a BASELINE tree from before they left the wheel has them in its blurlab).
-export PYTHONPATH="$site:$PWD/benchmarks"
+# The library alone: the smoke test checks that no source folder is on the path; the benchmark
+# runs below add the checkout's development package, benchmarks/.
+export PYTHONPATH="$site"
 export PYTHONUNBUFFERED=1
 
 python3 -m blurlab --device gpu info | tee "$out/info_gpu.json"
@@ -113,7 +115,7 @@ gpus = [str(d["index"]) for d in bl.Context.devices() if d["kind"] == "gpu"][1:]
 print(",".join(g for g in gpus for _ in range('"${SOAK_PER_GPU:-2}"')))')"
   [ -n "$devices" ] || { echo "gpu.sh: SOAK=start needs a machine of two GPUs or more"; exit 1; }
   mkdir -p "$soak"
-  setsid bash -c "python3 -m blurlab bench soak --device gpu --param devices=$devices \
+  setsid bash -c "PYTHONPATH=$site:$PWD/benchmarks python3 -m blurlab bench soak --device gpu --param devices=$devices \
     --record $soak/records.jsonl >$soak/log 2>&1; echo \$? >$soak/rc" </dev/null &
   echo "gpu.sh: soak started on EGL devices $devices; SOAK=collect in the next call"
 fi
@@ -134,7 +136,8 @@ fi
 # "filters --param runs=50"; "golden ARGS" runs tests/golden.py; "study-report ARGS" runs
 # `blurlab study ARGS` and packs its report folder (the benchmark `study` times that command).
 bench() {  # NAME OPTIONS...: one benchmark or all, in one process; each one's wall time printed
-  python3 -m blurlab bench "$@" --device gpu --record "$out/records.jsonl"
+  PYTHONPATH="$site:$PWD/benchmarks" python3 -m blurlab bench "$@" --device gpu \
+    --record "$out/records.jsonl"
 }
 for item in "${@:-transfer}"; do
   read -r name rest <<<"$item"

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import assert_blur_refuses, assert_timings_name, random_frame
+from conftest import assert_timings_name, random_frame
 from filter_promises import assert_blurs_a_rendered_scene_as_its_twin, assert_matches_twin
 
 import blurlab as bl
@@ -134,11 +134,9 @@ def test_velocities_are_clamped_to_twice_the_tile(ctx):
     np.testing.assert_allclose(np.linalg.norm(result.buffers["tile_max"], axis=-1), 8.0, rtol=1e-6)
 
 
-def test_timings_and_refusals(ctx, rng):
+def test_timings_name_every_pass(ctx, rng):
+    # Its refusals of bad parameters are rows of tests/test_parameter_refusals.py.
     assert_timings_name(ctx, rng, METHOD, ["velocity", "tile_max", "neighbor_max", "reconstruct"])
-    assert_blur_refuses(ctx, rng, METHOD, {"quality": "ultra"}, ValueError, "quality")
-    assert_blur_refuses(ctx, rng, METHOD, {"object_multiplier": 1.5}, ValueError, "0")
-    assert_blur_refuses(ctx, rng, METHOD, {"reference_fps": 0.0}, ValueError, "reference_fps")
 
 
 def test_reverse_near_plane_has_ends_behind_the_near_plane(ctx):

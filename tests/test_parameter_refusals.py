@@ -17,6 +17,11 @@ REFUSALS = {
         ({"max_blur": -1.0}, ValueError, "max_blur = -1.0 is outside"),
         ({"k": 3}, TypeError, "no parameter.*k.*depth_scale"),
     ],
+    "engine_godot": [
+        ({"quality": "ultra"}, ValueError, "quality"),
+        ({"object_multiplier": 1.5}, ValueError, "object_multiplier = 1.5 is outside"),
+        ({"reference_fps": 0.0}, ValueError, "reference_fps"),
+    ],
     "engine_hdrp": [
         ({"samples": 1}, ValueError, r"samples = 1 is outside 2\.\.64"),
         ({"maximum_velocity": -1.0}, ValueError, r"maximum_velocity = -1.0 is outside"),
