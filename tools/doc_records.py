@@ -94,8 +94,9 @@ def region_markdown(options: dict, records: list[dict]) -> str:
         )
     record = find_record(records, options["benchmark"], options["device"], options["size"])
     source = (
-        f"*The `{record['benchmark']}` record: {record['device']}, {options['size']}, "
-        f"commit `{record['commit']}`, {record['date']}.*"
+        f"*The `{record['benchmark']}` record: {record['device']}, "
+        + (f"{options['size']}, " if options["size"] else "")
+        + f"commit `{record['commit']}`, {record['date']}.*"
     )
     if "table" in options:
         (table,) = _pick(record["tables"], [options["table"]], "table")

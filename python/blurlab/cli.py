@@ -17,6 +17,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from . import io, metrics, scenes
+from .blender import environment
 from .cli_methods import (
     add_method_commands,
     add_methods_from,
@@ -237,8 +238,6 @@ def _add_cluster_options(parser) -> None:
 
 def _blender(args) -> int:
     """blurlab blender install | status | uninstall (blurlab.blender.environment)."""
-    from .blender import environment
-
     if args.python and args.action != "install":
         raise ValueError("--python goes with blurlab blender install")
     if args.action == "install":

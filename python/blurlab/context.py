@@ -11,7 +11,6 @@ import math
 import weakref
 from collections.abc import Mapping, Sequence
 from contextlib import contextmanager
-from dataclasses import dataclass
 from numbers import Integral
 from pathlib import Path
 
@@ -22,6 +21,7 @@ from ._paths import shader_dir as _default_shader_dir
 from .converged import reference_render
 from .render import render
 from .sizes import DEFAULT_SIZE
+from .timers import DeferredTimers, LazyTimers, Timing
 
 TEXTURE_DTYPES = ("uint8", "float16", "float32", "uint32")
 DEVICE_MODES = ("auto", "gpu", "software")
@@ -49,14 +49,6 @@ def _check_array(array, what: str = "array") -> np.ndarray:
     if not array.dtype.isnative:  # e.g. big-endian '>f4': GL reads native bytes
         array = array.astype(array.dtype.newbyteorder("="))
     return np.ascontiguousarray(array)
-
-
-@dataclass
-class Timing:
-    """One measured interval: milliseconds and the clock that measured them."""
-
-    ms: float = math.nan
-    clock: str = ""
 
 
 class Texture:
@@ -216,73 +208,6 @@ class ShaderPass:
     def reflect(self, backend: str = "compute") -> dict:
         """The shader's samplers, images, fragment outputs and uniforms on `backend`."""
         return self._core.reflect(backend)
-
-
-class PendingTiming(Timing):
-    """A Timing whose GPU result is read when `ms` is first asked for: the work it times was
-    issued without a wait (Context.lazy_timers)."""
-
-    def __init__(self, core: _core.Timer):
-        self._core = core
-        self._ms: float | None = None
-        self.clock = core.clock
-
-    @property
-    def ms(self) -> float:
-        if self._ms is None:
-            self._ms = self._core.result()
-            self._core = None  # the query is read once
-        return self._ms
-
-    @ms.setter
-    def ms(self, value: float) -> None:
-        self._ms = value
-
-
-class LazyTimers:
-    """Timers whose results are read when each Timing is first asked for (Context.lazy_timers):
-    the G-buffer pass of ctx.render returns without waiting for the GPU (docs/spec.md §1.1)."""
-
-    def __init__(self, context: Context):
-        self._context = context
-
-    @contextmanager
-    def timer(self):
-        core = _core.Timer(self._context.native)
-        core.start()
-        timing = PendingTiming(core)
-        try:
-            yield timing
-        finally:
-            core.end()
-
-
-class DeferredTimers:
-    """Timers whose results are read together (Context.deferred_timers)."""
-
-    def __init__(self, context: Context):
-        self._context = context
-        self._pending: list[tuple[_core.Timer, Timing]] = []
-
-    @contextmanager
-    def timer(self):
-        """Times the GPU work issued inside the block: yields a Timing, filled when the
-        deferred_timers block ends."""
-        core = _core.Timer(self._context.native)
-        timing = Timing(clock=core.clock)
-        core.start()
-        try:
-            yield timing
-        finally:
-            core.end()
-            self._pending.append((core, timing))
-
-    def read(self) -> None:
-        """Fills every Timing of the timers that have ended (one wait for the GPU)."""
-        pending, self._pending = self._pending, []
-        # The last timer first: once the GPU has finished it, the earlier ones are there too.
-        for core, timing in reversed(pending):
-            timing.ms = core.result()
 
 
 class Context:

@@ -22,7 +22,6 @@ import json
 import math
 import os
 import re
-import statistics
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -34,23 +33,19 @@ import pandas as pd
 from .. import scenes
 from .._paths import cache_root
 from ..context import Context
-from ..methods import blur_steps, method, render_steps
+from ..methods import method
 from ..metrics import get, registered
 from ..scene import Scene
 from ..sizes import DEFAULT_SIZE
 from .evaluation import Settings
 from .identity import device_identity, row_identity
+from .recommend_timing import timed_again
 from .sweep import default_grids, scene_identity, sweep
 
 # What every recommendation's sweep measures: PSNR (target_psnr reads it) and SSIM, from one
 # fused GPU pass (docs/spec.md §6). A `metric` to rank by beside them is measured too.
 MEASURED = ("psnr", "ssim")
 SWEEP_REPEATS = 3  # timed runs of each configuration in the sweep (its median is total_ms)
-# The configurations an answer could be are timed again, TIMING_RUNS runs each, for an
-# interval: with 15 runs, the 4th and 12th fastest bound the median with 96.5 % confidence
-# (a distribution-free interval: the binomial(15, 1/2) mass between them).
-TIMING_RUNS = 15
-INTERVAL_RANKS = (3, 11)  # 0-based ranks of the sorted runs bounding the median
 # Contenders: the rows within CONTENDER_SPAN of the fastest that qualify (a target), or of the
 # budget (a budget), at most MAX_CONTENDERS of them, the best first.
 CONTENDER_SPAN = 1.5
@@ -190,7 +185,7 @@ def recommend(
     table = table.assign(goodness=get(metric).goodness(table[metric]))
     contenders = _contenders(table, budget_ms, target_psnr)
     timings = Path(sweep_file).with_suffix(".timings.json") if sweep_file else None
-    table = _timed_again(ctx, scene, size, table, contenders, timings)
+    table = timed_again(ctx, scene, size, table, contenders, timings)
     table = table.assign(chosen=False)
     best, notes = choose(table, budget_ms, target_psnr, metric)
     if best is None:
@@ -300,75 +295,6 @@ def near_miss(table: pd.DataFrame, row: dict, budget_ms) -> dict | None:
     if budget_ms is not None:
         extra += f", {miss['total_ms'] / budget_ms - 1:.0%} over the budget"
     return {"row": miss, "gain_db": miss["psnr"] - row["psnr"], "extra": extra}
-
-
-def _timed_again(ctx, scene, size, table, indices, path: Path | None) -> pd.DataFrame:
-    """`table` with ms_low, ms_high and total_ms from TIMING_RUNS runs of each row of
-    `indices` (its median and the interval INTERVAL_RANKS bound); the other rows keep the
-    sweep's total_ms and NaN bounds. Runs are kept in the JSON file `path` by row identity."""
-    table = table.assign(ms_low=math.nan, ms_high=math.nan)
-    kept = _read_json(path) if path is not None else {}
-    frames_of: dict = {}
-    changed = False
-    for index in indices:
-        row = table.loc[index]
-        key = row.get("identity")  # a sweep row's identity (absent from a table made by hand)
-        runs = kept.get(key)
-        if runs is None:
-            runs = _time_runs(ctx, scene, size, row, frames_of)
-            if isinstance(key, str):
-                kept[key] = runs
-                changed = True
-        ordered = sorted(runs)
-        table.loc[index, "total_ms"] = statistics.median(ordered)
-        table.loc[index, "ms_low"] = ordered[INTERVAL_RANKS[0]]
-        table.loc[index, "ms_high"] = ordered[INTERVAL_RANKS[1]]
-    if changed and path is not None:
-        _write_json(path, kept)
-    return table
-
-
-def _time_runs(ctx, scene, size, row, frames_of: dict) -> list[float]:
-    """TIMING_RUNS timed runs of a row's configuration, after one untimed run, on the
-    scene's G-buffers (their total pass time each, as the sweep's total_ms sums them)."""
-    params = json.loads(row["params"])
-    steps = params.pop("steps", 1)
-    backend = row.get("backend") if isinstance(row.get("backend"), str) else None
-    key = (row["method"], steps, json.dumps(params, sort_keys=True))
-    if key not in frames_of:
-        frames_of[key] = render_steps(ctx, scene, row["method"], steps, size, **params)
-    frames = frames_of[key]
-    blur_steps(ctx, frames, row["method"], backend, **params)
-    runs = []
-    for _ in range(TIMING_RUNS):
-        result = blur_steps(ctx, frames, row["method"], backend, **params)
-        runs.append(float(sum(t.ms for t in result.timings.values())))
-        del result
-    return runs
-
-
-def _read_json(path: Path) -> dict:
-    """A timings file's {row identity: [ms, ...]}; an unreadable or malformed one is empty."""
-    try:
-        data = json.loads(path.read_text())
-    except (OSError, ValueError):
-        return {}
-    if not isinstance(data, dict):
-        return {}
-    return {
-        k: v
-        for k, v in data.items()
-        if isinstance(v, list)
-        and len(v) == TIMING_RUNS
-        and all(isinstance(x, float) and math.isfinite(x) for x in v)
-    }
-
-
-def _write_json(path: Path, data: dict) -> None:
-    """Writes `data` to `path` whole or not at all (a temporary file, then a rename)."""
-    temporary = path.with_name(f"{path.name}.{os.getpid()}.tmp")
-    temporary.write_text(json.dumps(data))
-    os.replace(temporary, path)
 
 
 def _check_request(caller: str, budget_ms, target: tuple, positive: bool) -> None:
