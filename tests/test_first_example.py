@@ -9,8 +9,8 @@ from pathlib import Path
 
 import pytest
 
-from blurlab.studies import bench
-from blurlab.studies.bench.first_example import EXAMPLE, GOAL_S, documented_columns
+import blurlab_bench as bench
+from blurlab_bench.first_example import EXAMPLE, GOAL_S, documented_columns
 
 ROOT = Path(__file__).resolve().parents[1]
 

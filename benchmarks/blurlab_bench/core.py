@@ -25,6 +25,7 @@ from dataclasses import dataclass, field
 from numbers import Real
 from pathlib import Path
 
+from blurlab.blender import available as blender_available
 from blurlab.context import Context
 from blurlab.methods.params import Param, check_known, typed
 from blurlab.version import __version__
@@ -221,9 +222,7 @@ def _usable(module: str) -> bool:
     from blurlab's own environment for it (blurlab.blender.available); any other module is
     imported here."""
     if module == "bpy":
-        from ...blender import available
-
-        return available()
+        return blender_available()
     try:
         __import__(module)
     except ImportError:

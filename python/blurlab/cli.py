@@ -373,8 +373,10 @@ def bench_command():
     return importlib.import_module(f"{BENCH_PACKAGE}.command")
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """The `blurlab` command line; docs/cli.md is printed from it (blurlab.cli_reference)."""
+def build_parser(bench_arguments: bool = True) -> argparse.ArgumentParser:
+    """The `blurlab` command line; docs/cli.md is printed from it (blurlab.cli_reference).
+    `bench_arguments` False leaves the bench command's own arguments out, and so does not import
+    the benchmarks (a development package of every benchmark), for a command that is not it."""
     parser = _Parser(prog="blurlab", description=__doc__)
     parser.add_argument(
         "--debug", action="store_true", help="show the Python traceback of an error"
@@ -512,11 +514,11 @@ def build_parser() -> argparse.ArgumentParser:
     add_methods_from(sweep)
     add_methods_from(advice)
     add_method_commands(sub, parse_size)
-    benchmarks = bench_command()
+    benchmarks = bench_command() if bench_arguments else None
     bench = sub.add_parser(
         "bench",
         help="run, list and record the registered benchmarks (from a checkout)",
-        add_help=benchmarks is not None,
+        add_help=benchmarks is not None or not bench_arguments,
     )
     if benchmarks is not None:
         benchmarks.add_arguments(bench, parse_size)
@@ -555,7 +557,8 @@ def _reader_gone() -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = build_parser()
+    words = sys.argv[1:] if argv is None else argv
+    parser = build_parser(bench_arguments="bench" in words)
     args, unknown = parser.parse_known_args(argv)
     if args.command == "bench" and bench_command() is None:
         parser.error(NO_BENCHMARKS)
