@@ -28,6 +28,9 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 RECORDS = ROOT / "benchmarks" / "records.jsonl"
+sys.path.insert(0, str(ROOT / "benchmarks"))  # the checkout's development package
+from blurlab_bench.report import cell, heading  # noqa: E402 (cells as docs/benchmarks.md writes them)
+
 REGION = re.compile(
     r"(?P<open><!-- record (?P<options>[^>]*?) -->\n)(?P<body>.*?)(?P<close><!-- end record -->)",
     re.DOTALL,
@@ -56,20 +59,6 @@ def find_record(records: list[dict], benchmark: str, device: str, size: str) -> 
         )
         raise ValueError(f"no {benchmark} record for {device} at {size!r}; held: {held}")
     return found[-1]
-
-
-def _cell(value) -> str:
-    if value is None:
-        return "–"
-    if isinstance(value, bool):
-        return "yes" if value else "no"
-    if isinstance(value, float):
-        return f"{value:.4g}"
-    return str(value).replace("|", "\\|")
-
-
-def _heading(column: dict) -> str:
-    return f"{column['name']} ({column['unit']})" if column["unit"] else column["name"]
 
 
 def _names(text: str) -> list[str]:
@@ -109,14 +98,14 @@ def region_markdown(options: dict, records: list[dict]) -> str:
         indices = [columns.index(c) for c in picked]
         rows = table["rows"][: int(options["rows"])] if "rows" in options else table["rows"]
         lines = [
-            "| " + " | ".join(_heading(c) for c in picked) + " |",
+            "| " + " | ".join(heading(c) for c in picked) + " |",
             "|" + "---|" * len(picked),
-            *("| " + " | ".join(_cell(row[i]) for i in indices) + " |" for row in rows),
+            *("| " + " | ".join(cell(row[i]) for i in indices) + " |" for row in rows),
         ]
     else:
         figures = _pick(record["figures"], _names(options.get("figures", "")), "figure")
         lines = ["| figure | value | unit |", "|---|---|---|"]
-        lines += [f"| {f['name']} | {_cell(f['value'])} | {f['unit']} |" for f in figures]
+        lines += [f"| {f['name']} | {cell(f['value'])} | {f['unit']} |" for f in figures]
     return "\n".join([source, "", *lines]) + "\n"
 
 

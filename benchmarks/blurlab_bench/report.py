@@ -18,7 +18,7 @@ records and the scripts that made them are in git history (`benchmarks/results/`
 """
 
 
-def _cell(value) -> str:
+def cell(value) -> str:
     if value is None:
         return "–"
     if isinstance(value, bool):
@@ -28,7 +28,7 @@ def _cell(value) -> str:
     return str(value).replace("|", "\\|")
 
 
-def _heading(column: dict) -> str:
+def heading(column: dict) -> str:
     return f"{column['name']} ({column['unit']})" if column["unit"] else column["name"]
 
 
@@ -46,12 +46,12 @@ def record_markdown(record: dict) -> str:
         "| figure | value | unit |",
         "|---|---|---|",
     ]
-    lines += [f"| {f['name']} | {_cell(f['value'])} | {f['unit']} |" for f in record["figures"]]
+    lines += [f"| {f['name']} | {cell(f['value'])} | {f['unit']} |" for f in record["figures"]]
     for table in record["tables"]:
         lines += ["", f"{table['name']}:", ""]
-        lines.append("| " + " | ".join(_heading(c) for c in table["columns"]) + " |")
+        lines.append("| " + " | ".join(heading(c) for c in table["columns"]) + " |")
         lines.append("|" + "---|" * len(table["columns"]))
-        lines += ["| " + " | ".join(_cell(v) for v in row) + " |" for row in table["rows"]]
+        lines += ["| " + " | ".join(cell(v) for v in row) + " |" for row in table["rows"]]
     return "\n".join(lines) + "\n"
 
 
