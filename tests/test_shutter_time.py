@@ -7,7 +7,6 @@ from __future__ import annotations
 import json
 import math
 import subprocess
-import sys
 import warnings
 from pathlib import Path
 
@@ -55,7 +54,8 @@ def blender_export(scene: str, folder: Path, size=None, samples=0) -> tuple[Path
     out = folder / f"{scene}.glb"
     rendering = [] if size is None else [*map(str, size), str(samples)]
     result = subprocess.run(
-        [sys.executable, str(EXPORTER), scene, str(out), *rendering],
+        # The Python that has bpy: blurlab's private environment for it (blurlab blender install).
+        [bl.blender.environment.interpreter(), str(EXPORTER), scene, str(out), *rendering],
         capture_output=True,
         text=True,
         timeout=300,
