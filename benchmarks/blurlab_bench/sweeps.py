@@ -231,7 +231,12 @@ register(
         {
             "runs": Param(1, int, "runs of the command", 1, 100),
             "scenes": Param("", str, "comma-separated scenes (empty: the study's default)"),
-            "mode": Param("", str, "the study's mode flags, e.g. '--sequence' or '--random 100'"),
+            "mode": Param(
+                "",
+                str,
+                "the study's mode flags, e.g. '--sequence' or '--random 100' (a record of a mode "
+                "replaces the default's: one record per device and size)",
+            ),
         },
         _study,
         {"tiny": (48, 27), "software": (160, 90), "gpu": (1920, 1080)},
