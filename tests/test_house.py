@@ -243,7 +243,8 @@ LAYERS = {
     "passes": {"methods", "metrics"},
     "features": {"taa", "sequences"},
     "lab": {"studies", "blender"},
-    "front": {"cli", "cli_methods", "cli_reference", "__main__", ""},  # "": the package's own __init__
+    # "": the package's own __init__
+    "front": {"cli", "cli_methods", "cli_reference", "__main__", ""},
 }
 # Upward imports known and being removed, each with why it is still here. An entry that is gone
 # from the code must leave this list too.

@@ -1,7 +1,7 @@
 // A 2D texture with immutable storage, one mip level, nearest filtering and clamp-to-edge.
 //
-// Orientation (docs/architecture.md "Arrays"): texel row 0 holds image row 0, the top of the image. Arrays
-// move to and from textures with no flip; the one place that reconciles this with GL's
+// Orientation (docs/architecture.md "Arrays"): texel row 0 holds image row 0, the top of the image.
+// Arrays move to and from textures with no flip; the one place that reconciles this with GL's
 // bottom-left window origin is the projection used by raster passes.
 #pragma once
 
