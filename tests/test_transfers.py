@@ -125,3 +125,11 @@ def test_setting_an_array_replaces_the_frames_data(ctx):
         still = bl.blur(ctx, frame, "gather_pixel").color
     assert (still != before).any()
     assert (still[..., :3] == frame.color[..., :3]).all()  # no motion: the frame as it is
+
+
+def test_the_statistics_reduce_once_per_frame(ctx, monkeypatch):
+    """depth_range and longest_motion share one GPU reduction: one small read-back pair."""
+    frame = ctx.render(bl.scenes.fan(), SIZE)
+    with counted(monkeypatch) as counts:
+        _ = frame.depth_range, frame.longest_motion
+    assert counts["small_download"] == 2 and counts["download"] == 0

@@ -34,6 +34,15 @@ ARRAY_SOURCES = {
 TWO_SIDED = ("motion_prev", "motion_next")
 TRANSLUCENT_LAYER = ("opaque_color", "translucent", "translucent_motion", "translucent_depth")
 STATS_TILE = 16  # pixels on a side of a tile of passes/frame_stats.comp
+# What a frame keeps of its data once computed, dropped when an array is set.
+STATISTICS = (
+    "depth_range",
+    "moving_speeds",
+    "longest_motion",
+    "layer_moves",
+    "_stats_motion",
+    "_stats_translucent_motion",
+)
 
 
 @dataclass
@@ -243,7 +252,7 @@ class Frame:
             self.motion_prev  # noqa: B018 (reads both halves)
         self.textures = {}
         self.plans.clear()
-        for cached in ("depth_range", "moving_speeds", "longest_motion", "layer_moves"):
+        for cached in STATISTICS:
             self.__dict__.pop(cached, None)
 
     @property
@@ -266,7 +275,8 @@ class Frame:
 
     def _stats(self, motion_key: str = "motion") -> dict | None:
         """The GPU statistics of the frame's depth and motion textures (passes/frame_stats.comp)
-        where the arrays are not on the host; None where they are (NumPy reads them then)."""
+        where the arrays are not on the host, reduced once per frame and motion texture; None
+        where they are (NumPy reads them then)."""
         stored_name = "_motion" if motion_key == "motion" else "_translucent_motion"
         if self.__dict__.get(stored_name) is not None or motion_key not in self.textures:
             return None
@@ -274,8 +284,11 @@ class Frame:
             self.__dict__.get("_depth") is not None or "depth" not in self.textures
         ):
             return None
-        depth = self.textures["depth"] if "depth" in self.textures else self.textures[motion_key]
-        return frame_stats(depth, self.textures[motion_key])
+        cached = f"_stats_{motion_key}"
+        if cached not in self.__dict__:
+            depth = self.textures.get("depth", self.textures[motion_key])
+            self.__dict__[cached] = frame_stats(depth, self.textures[motion_key])
+        return self.__dict__[cached]
 
     @functools.cached_property
     def depth_range(self) -> tuple[float, float] | None:
@@ -371,6 +384,17 @@ def _drawn_ids(depth: np.ndarray) -> np.ndarray:
     return np.where(drawn, 0, -1).astype(np.int32)
 
 
+def _set_array(name: str):
+    """The setter of frame.NAME: on a built frame, the new array replaces the frame's data."""
+
+    def set_(self, value) -> None:
+        if self.__dict__.get("_built"):
+            self._replace_data()
+        self.__dict__[f"_{name}"] = value
+
+    return set_
+
+
 def _array_property(name: str) -> property:
     """frame.NAME: the array given or already read, else read from its texture now."""
 
@@ -378,12 +402,8 @@ def _array_property(name: str) -> property:
         value = self.__dict__.get(f"_{name}")
         return value if value is not None else self._read(name)
 
-    def set_(self, value) -> None:
-        if self.__dict__.get("_built"):
-            self._replace_data()
-        self.__dict__[f"_{name}"] = value
-
-    return property(get, set_, doc=f"The frame's {name} array (read from the GPU when first asked)")
+    doc = f"The frame's {name} array (read from the GPU when first asked)"
+    return property(get, _set_array(name), doc=doc)
 
 
 def _two_sided_property(name: str) -> property:
@@ -399,12 +419,7 @@ def _two_sided_property(name: str) -> property:
             given = self.__dict__[f"_{name}"]
         return given if given is not None else self._derived_half(name)
 
-    def set_(self, value) -> None:
-        if self.__dict__.get("_built"):
-            self._replace_data()
-        self.__dict__[f"_{name}"] = value
-
-    return property(get, set_, doc=f"(H, W, 2) {name} of docs/spec.md §17.1")
+    return property(get, _set_array(name), doc=f"(H, W, 2) {name} of docs/spec.md §17.1")
 
 
 # The dataclass's __init__ assigns these through the properties, which keep the arrays (and
