@@ -109,6 +109,18 @@ class Frame:
             raise ValueError(f"blurlab: Frame.from_textures needs the textures {missing}")
         return cls(textures=dict(textures), **metadata)
 
+    def with_textures(self, textures: dict) -> Frame:
+        """A frame of this one's shutter, instant, motion format, camera, scene and object ids
+        whose colour, depth and motion are `textures`, read back only if asked for."""
+        meta = {key: getattr(self, key) for key in ("shutter", "time", "motion_format", "camera")}
+        ids = self.textures.get("object_id")
+        if "object_id" not in textures:
+            if ids is not None:  # a rendered frame's ids, shared on the GPU
+                textures = {**textures, "object_id": ids}
+            else:
+                meta["object_id"] = self.object_id
+        return Frame.from_textures(textures, scene=self.scene, **meta)
+
     def __post_init__(self):
         stored = self.__dict__
         if stored.get("_color") is None and "color" not in self.textures:

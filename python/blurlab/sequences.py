@@ -427,8 +427,7 @@ def with_color(ctx: Context, frame: Frame, color: Texture) -> Frame:
     """`frame` with another colour texture (its alpha kept): what a method after TAA reads.
     It shares the frame's other textures, so it lives no longer than the frame."""
     combined = with_alpha(ctx, color, frame.textures["color"])
-    meta = {key: getattr(frame, key) for key in ("shutter", "time", "motion_format", "camera")}
-    derived = Frame.from_textures({**frame.textures, "color": combined}, scene=frame.scene, **meta)
+    derived = frame.with_textures({**frame.textures, "color": combined})
     weakref.finalize(derived, ctx.recycle, combined)
     return derived
 

@@ -96,18 +96,6 @@ def layer_textures(ctx: Context, frame: Frame) -> dict:
     return uploaded
 
 
-def layer_frame(frame: Frame, textures: dict) -> Frame:
-    """A frame of the same shutter, instant, camera and object ids as `frame` whose colour,
-    depth and motion are `textures`, read back only if asked for."""
-    meta = {key: getattr(frame, key) for key in ("shutter", "time", "motion_format", "camera")}
-    ids = frame.textures.get("object_id")
-    if ids is not None:  # a rendered frame's ids, shared on the GPU
-        textures = {**textures, "object_id": ids}
-    else:
-        meta["object_id"] = frame.object_id
-    return Frame.from_textures(textures, scene=frame.scene, **meta)
-
-
 # The layer frames made from a frame, by id(frame) and then by what they are ("opaque",
 # "translucent", ("chosen", motion_coverage)), dropped with the frame: each is made once per
 # frame, so calls after the first run no per-frame pass, upload or read-back, and the layer
@@ -135,7 +123,7 @@ def opaque_frame(ctx: Context, frame: Frame) -> Frame:
         textures = {**frame.textures, **layer_textures(ctx, frame)}
         names = ("depth", "motion", "motion_sides")
         kept = {key: textures[key] for key in names if key in textures}
-        return layer_frame(frame, {"color": textures["opaque_color"], **kept})
+        return frame.with_textures({"color": textures["opaque_color"], **kept})
 
     return _made_once(ctx, frame, "opaque", make)
 
@@ -164,8 +152,7 @@ def translucent_frame(ctx: Context, frame: Frame) -> Frame:
             )
         frame.timings["translucent_split"] = timing
         weakref.finalize(frame, ctx.recycle, *split_outputs.values())
-        return layer_frame(
-            frame,
+        return frame.with_textures(
             {
                 "color": textures["translucent"],
                 "motion": split_outputs["layer_motion"],
@@ -201,8 +188,7 @@ def chosen_frame(ctx: Context, frame: Frame, motion_coverage: float) -> Frame:
             select.run(inputs, chosen, {"motion_coverage": motion_coverage})
         frame.timings["translucency_motion"] = timing
         weakref.finalize(frame, ctx.recycle, *chosen.values())
-        return layer_frame(
-            frame,
+        return frame.with_textures(
             {
                 "color": textures["color"],
                 "depth": chosen["chosen_depth"],
