@@ -133,3 +133,27 @@ def test_the_statistics_reduce_once_per_frame(ctx, monkeypatch):
     with counted(monkeypatch) as counts:
         _ = frame.depth_range, frame.longest_motion
     assert counts["small_download"] == 2 and counts["download"] == 0
+
+
+@pytest.mark.parametrize("translucency", ["composite_motion", "layered", "unblurred"])
+def test_a_translucent_frame_from_arrays_blurs_as_the_rendered_one(ctx, translucency):
+    """The layer frames take the frame's textures, uploaded once where it was built from arrays:
+    the same bits as the rendered frame's."""
+    rendered = ctx.render(bl.scenes.get("moving_glass"), SIZE)
+    arrays = bl.Frame(
+        rendered.color,
+        rendered.depth,
+        rendered.motion,
+        rendered.object_id,
+        shutter=rendered.shutter,
+        time=rendered.time,
+        opaque_color=rendered.opaque_color,
+        translucent=rendered.translucent,
+        translucent_motion=rendered.translucent_motion,
+        translucent_depth=rendered.translucent_depth,
+    )
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # a frame from arrays has no camera to check instants by
+        expected = bl.blur(ctx, rendered, "reconstruct_guertin2014", translucency=translucency)
+        got = bl.blur(ctx, arrays, "reconstruct_guertin2014", translucency=translucency)
+    assert (got.color == expected.color).all()

@@ -26,7 +26,7 @@ import numpy as np
 from ..context import Context
 from ..frame import Frame
 from .params import Param, typed
-from .passes import timed
+from .passes import frame_textures, timed
 from .registry import method, methods, translucent_layer_method
 
 TRANSLUCENCY = Param(
@@ -120,7 +120,7 @@ def opaque_frame(ctx: Context, frame: Frame) -> Frame:
     """The frame's opaque layer as a frame of `ctx` (docs/spec.md §20.3), made once per frame."""
 
     def make():
-        textures = {**frame.textures, **layer_textures(ctx, frame)}
+        textures = {**frame_textures(ctx, frame), **layer_textures(ctx, frame)}
         names = ("depth", "motion", "motion_sides")
         kept = {key: textures[key] for key in names if key in textures}
         return frame.with_textures({"color": textures["opaque_color"], **kept})
@@ -171,7 +171,7 @@ def chosen_frame(ctx: Context, frame: Frame, motion_coverage: float) -> Frame:
     frame.timings["translucency_motion"])."""
 
     def make():
-        textures = {**frame.textures, **layer_textures(ctx, frame)}
+        textures = {**frame_textures(ctx, frame), **layer_textures(ctx, frame)}
         height, width = frame.shape
         chosen = {
             "chosen_motion": ctx.pooled((height, width, 2)),
@@ -180,8 +180,8 @@ def chosen_frame(ctx: Context, frame: Frame, motion_coverage: float) -> Frame:
         inputs = {
             "translucent": textures["translucent"],
             "translucent_motion": textures["translucent_motion"],
-            "motion": textures["motion"] if "motion" in textures else ctx.upload(frame.motion),
-            "depth": textures["depth"] if "depth" in textures else ctx.upload(frame.depth),
+            "motion": textures["motion"],
+            "depth": textures["depth"],
         }
         select = ctx.shader_pass("passes/translucency_motion.comp")
         with ctx.timer() as timing:
