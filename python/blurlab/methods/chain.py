@@ -20,18 +20,14 @@ def chain_run(passes: tuple[Pass, ...], params: dict[str, Param], source: str):
     lists as uniforms; `source` names the declaration in errors."""
     by_name = {step.name: step for step in passes}
 
-    def run(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
+    def wired(ctx: Context, backend: str):
+        """The passes wired from their shaders' reflection, once per context and backend."""
         nodes = [
-            Node(
-                step.name,
-                step.shader,
-                defines=tuple(choice_defines(params, step.params).items()),
-                first_output=None,
-            )
+            Node(step.name, step.shader, defines=tuple(choice_defines(params, step.params).items()))
             for step in passes
         ]
-        wired = wire(ctx, nodes, backend, source)
-        last = wired[-1]
+        reflected = wire(ctx, nodes, backend, source)
+        last = reflected[-1]
         if RESULT not in last.outputs:
             raise ValueError(
                 f"blurlab: {source}: the last pass, {last.node.name}, writes no image named "
@@ -40,16 +36,20 @@ def chain_run(passes: tuple[Pass, ...], params: dict[str, Param], source: str):
         # The dispatch covers the first output: the result where a pass writes one.
         nodes = [
             Node(n.name, n.shader, n.defines, first_output=RESULT if RESULT in w.outputs else None)
-            for n, w in zip(nodes, wired, strict=True)
+            for n, w in zip(nodes, reflected, strict=True)
         ]
-        wired = wire(ctx, nodes, backend, source)
+        return wire(ctx, nodes, backend, source)
+
+    def run(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
+        # Keyed by this declaration's own function: a folder loaded again wires its passes anew.
+        chain = ctx.cached(("method chain", wired, backend), lambda: wired(ctx, backend))
         runner = PassRunner(ctx, params, values)
 
         def run_pass(w, textures, outputs, uniforms):
             runner.run(by_name[w.node.name], textures, outputs, backend)
 
         frame_inputs = {name: inputs[name] for name in ("color", "depth", "motion")}
-        written = run_graph(ctx, wired, frame_inputs, run=run_pass, source=source)
+        written = run_graph(ctx, chain, frame_inputs, run=run_pass, source=source)
         color = written.pop(RESULT)
         return {"color": color, **written}, runner.timings
 
