@@ -4,8 +4,9 @@
 // (common/camera_motion.glsl), the object's the rest of the G-buffer's motion; V clamped to
 // max(r, t, o) times the original vector's length; an end of the shutter at which the point
 // lies closer than the near plane moved back to where it crossed that plane (near_correction;
-// without it each end is divided by its own w and a point behind the eye flips); the camera's depth change dz (the depth velocity) beside it; V and dz
-// scaled by the frame-rate mode's factor. Stored as (V, depth, dz).
+// without it each end is divided by its own w and a point behind the eye flips); the camera's
+// depth change dz (the depth velocity) beside it; V and dz scaled by the frame-rate mode's factor.
+// Stored as (V, depth, dz).
 // Compute, one invocation per pixel. NumPy twin: blurlab.twins.godot.velocity.
 #include "common/inputs.glsl"
 #include "common/camera_motion.glsl"
