@@ -7,7 +7,7 @@ import pytest
 from test_reference import square_scene
 
 import blurlab as bl
-from blurlab import sampling
+from blurlab.scene import sampling
 from blurlab.twins import projection
 
 SIZE = (160, 90)
@@ -17,7 +17,7 @@ def still_scene() -> bl.Scene:
     """A tilted box and a sphere, Lambert-shaded, nothing moving: every edge is a still edge."""
     camera = bl.Camera((0.3, 0.4, 4.0), (0, 0, 0), fov_y=40)
     scene = bl.Scene(camera, background=(0.1, 0.1, 0.2, 1))
-    tilt = bl.motion.quaternion((0.3, 1.0, 0.2), 0.7)
+    tilt = bl.quaternion((0.3, 1.0, 0.2), 0.7)
     scene.add(
         bl.mesh.box((1.0, 0.8, 0.6)),
         bl.Material((0.9, 0.5, 0.2)),

@@ -26,7 +26,7 @@ def roundtrip_against_cycles(ctx, folder, size, samples, reference_samples):
     path, blender = blender_export("roundtrip", folder, size, samples)
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # no other warning: every animation plays
-        warnings.filterwarnings("ignore", "blurlab.gltf: .*: ignored material extensions")
+        warnings.filterwarnings("ignore", "blurlab.scene.gltf: .*: ignored material extensions")
         scene = bl.scenes.gltf(path)
     fps = blender["fps"]
     still = ctx.reference(

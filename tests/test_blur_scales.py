@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 
 import blurlab as bl
-from blurlab import mesh
-from blurlab.blur_scales import check_blur_scale, scaled_scene
+from blurlab.scene import mesh
+from blurlab.scene.blur_scales import check_blur_scale, scaled_scene
 
 SIZE = (96, 54)
 SHUTTER = (0.0, 0.1)

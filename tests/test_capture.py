@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import blurlab as bl
-from blurlab import capture
+from blurlab.io import capture
 
 SIZE = (160, 90)
 
@@ -369,7 +369,7 @@ def test_bad_engine_captures_say_what_is_wrong(tmp_path):
         bl.Frame.from_exr(path, convention="uv", camera_motion=np.zeros((h, w, 2)))
     with pytest.raises(ValueError, match=r"camera_motion must have shape \(36, 64, 2\)"):
         bl.Frame.from_exr(path, convention="unreal", camera_motion=np.zeros((h, w)))
-    with pytest.raises(ValueError, match="must be a blurlab.capture.UnrealVelocity"):
+    with pytest.raises(ValueError, match="must be a blurlab.io.capture.UnrealVelocity"):
         bl.Frame.from_exr(path, convention="unreal", velocity_encoding={"sqrt": True})
     with pytest.raises(ValueError, match=r"scale must be in \(0, 0.5\]"):
         capture.UnrealVelocity(scale=0.0)

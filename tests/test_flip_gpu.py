@@ -13,7 +13,7 @@ import pytest
 
 import blurlab as bl
 from blurlab import metrics
-from blurlab.io import linear_to_srgb
+from blurlab.io.images import linear_to_srgb
 from blurlab.twins import flip as twin
 
 SIZE = (160, 90)

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import blurlab as bl
-from blurlab.render import gbuffer_pass, render_targets
+from blurlab.core.render import gbuffer_pass, render_targets
 from blurlab.twins import projection
 
 SIZE = (160, 90)

@@ -13,7 +13,8 @@ from gltf_writer import GltfBuilder, box_triangles
 from test_gbuffer import expected_motion
 
 import blurlab as bl
-from blurlab.gltf import GltfError
+from blurlab.scene.gltf import GltfError
+from blurlab.scene.motion import quaternion_matrix
 
 SIZE = (160, 90)
 SHUTTER = (0.4, 0.5)
@@ -21,7 +22,7 @@ CAMERA = bl.Camera((0.0, 0.0, 6.0), (0.0, 0.0, 0.0), fov_y=50)
 
 
 def xyzw(axis, angle):
-    q = bl.motion.quaternion(axis, angle)  # (w, x, y, z)
+    q = bl.quaternion(axis, angle)  # (w, x, y, z)
     return [q[1], q[2], q[3], q[0]]
 
 
@@ -213,9 +214,7 @@ def test_the_files_camera_and_the_framing_default(tmp_path):
     assert (scene.camera.near, scene.camera.far) == (0.05, 50.0)
     world = scene.camera.world(0.0)
     assert np.allclose(world[:3, 3], [3, 1, 8])
-    assert np.allclose(
-        world[:3, :3], bl.motion.quaternion_matrix(bl.motion.quaternion((0, 1, 0), 0.1))
-    )
+    assert np.allclose(world[:3, :3], quaternion_matrix(bl.quaternion((0, 1, 0), 0.1)))
     framed = bl.scenes.gltf(path, camera=None, size_hint=(90, 160))  # the file's camera wins
     assert framed.camera.fov_y == pytest.approx(math.degrees(0.7))
     # A file without a camera: every vertex lands inside the image at the hinted size.
@@ -278,7 +277,7 @@ def test_ignored_material_features_are_named_once(tmp_path):
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         bl.scenes.gltf(b.save(tmp_path / "features.gltf"))
-    messages = [str(w.message) for w in caught if "blurlab.gltf" in str(w.message)]
+    messages = [str(w.message) for w in caught if "blurlab.scene.gltf" in str(w.message)]
     assert len(messages) == 1
     assert "normalTexture" in messages[0] and "occlusionTexture" in messages[0]
     assert "alphaMode" not in messages[0]
@@ -395,7 +394,7 @@ MALFORMED = {
 
 
 def assert_says_its_cause_once(message: str, name: str):
-    assert message.startswith(f"blurlab.gltf: {name}: "), message
+    assert message.startswith(f"blurlab.scene.gltf: {name}: "), message
     assert message.count("blurlab") == 1 and message.count(name) == 1, message
     assert message.lower().count("utf-8") <= 1, message
 

@@ -12,7 +12,7 @@ import pytest
 from gltf_writer import GltfBuilder, box_triangles
 
 import blurlab as bl
-from blurlab.gltf import GltfError
+from blurlab.scene.gltf import GltfError
 
 SIZE = (64, 36)
 CAMERA = bl.Camera((0.0, 0.0, 9.0), (0.0, 0.0, 0.0), fov_y=50)

@@ -19,7 +19,7 @@ from gltf_writer import GltfBuilder, box_triangles
 from PIL import Image
 
 import blurlab as bl
-from blurlab.gltf import GltfError
+from blurlab.scene.gltf import GltfError
 
 FILES_PER_FORMAT = 1000
 SLOWEST_ALLOWED_S = 5.0
@@ -116,10 +116,10 @@ def _load_all(ctx, paths, animations=None) -> tuple[int, float]:
             except ValueError as error:
                 assert str(error).startswith("blurlab")
         except GltfError as error:  # naming the file once, and its cause once
-            assert str(error).startswith(f"blurlab.gltf: {path.name}: "), str(error)
+            assert str(error).startswith(f"blurlab.scene.gltf: {path.name}: "), str(error)
             assert str(error).count("blurlab") == 1, str(error)
         except (TypeError, ValueError) as error:  # a malformed choice, refused before reading
-            assert animations is not None and str(error).startswith("blurlab.gltf: animation")
+            assert animations is not None and str(error).startswith("blurlab.scene.gltf: animation")
         except Exception as error:  # noqa: BLE001 - the point of the test
             pytest.fail(f"{path.name}: {type(error).__name__}: {error}")
         slowest = max(slowest, time.perf_counter() - start)

@@ -1,12 +1,12 @@
-"""The pass graph (blurlab.graph, docs/spec.md §1.2): passes bound by their shaders' names, images
-pooled at the size of what they read and given back after their last reader unless kept."""
+"""The pass graph (blurlab.core.graph, docs/spec.md §1.2): passes bound by their shaders' names,
+images pooled at the size of what they read and given back after their last reader unless kept."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from blurlab.graph import Node, run_graph, wire
+from blurlab.core.graph import Node, run_graph, wire
 
 
 def _inputs(ctx, rng, height=9, width=13):

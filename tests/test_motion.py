@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 import blurlab as bl
-from blurlab import motion
-from blurlab.motion import quaternion_matrix, slerp
+from blurlab.scene import motion
+from blurlab.scene.motion import quaternion_matrix, slerp
 
 
 def test_linear_motion_and_spin():
@@ -58,7 +58,7 @@ def test_skeleton_rest_pose_is_identity_and_children_follow_parents():
             bl.Bone(-1, np.eye(4), bl.Motion.linear(velocity=(1, 0, 0))),
             bl.Bone(
                 0,
-                bl.motion.compose((1, 0, 0)),
+                motion.compose((1, 0, 0)),
                 bl.Motion.linear(spin_axis=(0, 0, 1), spin_rate=1.0),
             ),
         ]

@@ -14,8 +14,8 @@ from golden import GOLDEN_DIR, IMAGE_TOLERANCE, color_problems
 
 import blurlab as bl
 from blurlab import cli
-from blurlab.scenes.features import features, features_of, thin_share
-from blurlab.scenes.parts import add_wall, flat_scene
+from blurlab.scene.scenes.features import features, features_of, thin_share
+from blurlab.scene.scenes.parts import add_wall, flat_scene
 from blurlab.studies import study
 from blurlab.studies.identity import scene_digest
 from blurlab_bench.random_scenes import counts_of, worker_counts

@@ -14,7 +14,7 @@ import pytest
 from conftest import CLI_DEVICE
 
 import blurlab as bl
-from blurlab.converged import default_reference_samples
+from blurlab.core.references import default_reference_samples
 from blurlab.studies import recommend as advice
 
 FILTER = "reconstruct_mcguire2012"

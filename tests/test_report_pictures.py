@@ -14,7 +14,8 @@ import numpy as np
 import pytest
 
 import blurlab as bl
-from blurlab import io, metrics
+from blurlab import metrics
+from blurlab.io import images as io
 from blurlab.methods import method_instant
 from blurlab.studies import plots
 
@@ -227,7 +228,7 @@ def test_the_per_object_table_takes_the_sweeps_reference_and_gives_the_same_rows
     # The study hands textured_spin's reference from its sweep to the per-object table
     # instead of rendering it again: the same rows but for the times.
     objects = importlib.import_module("blurlab.studies.objects")
-    from blurlab.converged import default_reference_samples
+    from blurlab.core.references import default_reference_samples
 
     size, scene = (96, 54), bl.scenes.get("textured_spin")
     own = objects.object_errors(ctx, size, renders=(8,))

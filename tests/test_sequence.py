@@ -1,4 +1,4 @@
-"""Sequences (blurlab.sequences, docs/spec.md §21): each frame's shutter and jitter, the
+"""Sequences (blurlab.temporal.sequences, docs/spec.md §21): each frame's shutter and jitter, the
 references, the orders of a method and TAA, and the temporal metrics."""
 
 from __future__ import annotations
@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import blurlab as bl
-from blurlab.sequences import ORDERS, jitter_positions, still
+from blurlab.temporal.sequences import ORDERS, jitter_positions, still
 
 SIZE = (64, 36)
 GATHER = next(n for n in bl.methods() if bl.method(n).kind == "gather")

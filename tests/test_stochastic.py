@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import blurlab as bl
-from blurlab.render import render_targets
+from blurlab.core.render import render_targets
 from blurlab.twins import stochastic
 
 SIZE = (96, 54)

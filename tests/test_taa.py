@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 import blurlab as bl
-from blurlab.sequences import still
-from blurlab.taa import PARAMS, taa, taa_values
+from blurlab.temporal.sequences import still
+from blurlab.temporal.taa import PARAMS, taa, taa_values
 from blurlab.twins.taa import resolve
 
 SIZE = (160, 90)

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from blurlab import tam as tams
+from blurlab.hatching import tam as tams
 
 
 @pytest.fixture(scope="module")

@@ -12,7 +12,9 @@ from contextlib import contextmanager
 import pytest
 
 import blurlab as bl
-from blurlab.context import Context, Texture
+from blurlab.core.context import Context
+from blurlab.core.gl import Texture
+from blurlab.temporal.sequences import ORDERS
 
 SIZE = (64, 36)
 
@@ -86,7 +88,7 @@ def test_gpu_statistics_match_numpy(ctx):
         assert on_gpu == (arrays.depth_range, arrays.longest_motion, arrays.layer_moves), name
 
 
-@pytest.mark.parametrize("order", bl.sequences.ORDERS)
+@pytest.mark.parametrize("order", ORDERS)
 @pytest.mark.parametrize("method", [None, "reconstruct_guertin2014"])
 def test_sequence_frames_stay_on_the_gpu(ctx, monkeypatch, order, method):
     if method is None and order in ("taa_then_blur", "blur_in_history"):

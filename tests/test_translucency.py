@@ -7,10 +7,10 @@ import numpy as np
 import pytest
 
 import blurlab as bl
-from blurlab import translucency as fragment_lists
 from blurlab.methods.layers import TRANSLUCENCY
-from blurlab.particles import Particle, particles
-from blurlab.translucency import resolve_fragments
+from blurlab.scene import translucency as fragment_lists
+from blurlab.scene.particles import Particle, particles
+from blurlab.scene.translucency import resolve_fragments
 from blurlab.twins import translucency as twin
 
 SIZE = (48, 32)

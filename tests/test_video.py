@@ -1,4 +1,4 @@
-"""Sequences as files (blurlab.video, docs/spec.md §21.5): EXRs that read back bit for bit,
+"""Sequences as files (blurlab.io.video, docs/spec.md §21.5): EXRs that read back bit for bit,
 looping animations with one image per frame, and MP4 where imageio-ffmpeg is installed."""
 
 from __future__ import annotations
@@ -8,7 +8,7 @@ import pytest
 from PIL import Image
 
 import blurlab as bl
-from blurlab import video
+from blurlab.io import video
 
 
 @pytest.fixture(scope="module")

@@ -8,9 +8,9 @@ from __future__ import annotations
 
 import json
 
-from blurlab import scenes
 from blurlab.methods import method, methods
 from blurlab.methods.params import Param
+from blurlab.scene import scenes
 from blurlab.studies import auto_rules
 
 from .core import Benchmark, register

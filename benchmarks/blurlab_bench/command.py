@@ -8,7 +8,7 @@ import sys
 import time
 import traceback
 
-from blurlab.context import Context
+from blurlab.core.context import Context
 
 from .core import (
     RECORDS,

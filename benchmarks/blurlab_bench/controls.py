@@ -7,10 +7,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from blurlab import scenes
 from blurlab.methods import methods, render_and_blur
 from blurlab.methods.params import Param
 from blurlab.metrics import psnr
+from blurlab.scene import scenes
 
 from .core import Benchmark, register
 

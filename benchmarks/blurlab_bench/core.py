@@ -26,7 +26,7 @@ from numbers import Real
 from pathlib import Path
 
 from blurlab.blender import available as blender_available
-from blurlab.context import Context
+from blurlab.core.context import Context
 from blurlab.methods.params import Param, check_known, typed
 from blurlab.version import __version__
 

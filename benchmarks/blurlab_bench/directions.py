@@ -7,9 +7,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from blurlab import scenes
 from blurlab.methods import blur, method, methods
 from blurlab.methods.params import Param
+from blurlab.scene import scenes
 from blurlab.sizes import DEFAULT_SIZE
 from blurlab.studies import peers
 from blurlab.twins.unreal5 import GATHER_2

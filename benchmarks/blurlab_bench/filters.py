@@ -8,8 +8,8 @@ import statistics
 
 import numpy as np
 
-from blurlab import metrics, scenes
-from blurlab.converged import default_reference_samples
+from blurlab import metrics
+from blurlab.core.references import default_reference_samples
 from blurlab.methods import (
     blur,
     coverage,
@@ -21,6 +21,7 @@ from blurlab.methods import (
     tile_filter,
 )
 from blurlab.methods.params import Param
+from blurlab.scene import scenes
 from blurlab.sizes import DEFAULT_SIZE
 
 from .core import Benchmark, register

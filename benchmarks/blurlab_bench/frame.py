@@ -9,11 +9,12 @@ import time
 
 import numpy as np
 
-from blurlab import hatching as hatching_schemes
-from blurlab import scenes, tam
-from blurlab.frame import MOTION_FORMATS
+from blurlab.core.frame import MOTION_FORMATS
+from blurlab.core.render import stored_motion
+from blurlab.hatching import patterns as hatching_schemes
+from blurlab.hatching import tam
 from blurlab.methods.params import Param
-from blurlab.render import stored_motion
+from blurlab.scene import scenes
 from blurlab.sizes import DEFAULT_SIZE
 from blurlab.studies import hatching
 

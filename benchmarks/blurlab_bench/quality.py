@@ -16,11 +16,12 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from blurlab import blender, metrics, scenes
+from blurlab import blender, metrics
 from blurlab.blender import crosscheck
-from blurlab.context import Context
+from blurlab.core.context import Context
 from blurlab.methods import blur, method, method_instant, methods
 from blurlab.methods.params import Param
+from blurlab.scene import scenes
 from blurlab.sizes import DEFAULT_SIZE
 from blurlab.studies import failures, peers
 from blurlab.studies.recommend import recommend

@@ -13,9 +13,9 @@ import statistics
 import subprocess
 import sys
 
-from blurlab import scenes
 from blurlab.methods import method
 from blurlab.methods.params import Param
+from blurlab.scene import scenes
 
 from .core import Benchmark, child_environment, register
 from .taps import BASELINE

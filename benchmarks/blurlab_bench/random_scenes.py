@@ -13,9 +13,10 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from blurlab import io, scenes
-from blurlab.context import Context
+from blurlab.core.context import Context
+from blurlab.io import images as io
 from blurlab.methods.params import Param
+from blurlab.scene import scenes
 from blurlab.studies.cluster import ACCOUNT, WORKER_COUNTERS
 from blurlab.studies.cluster_devices import local_cluster
 from blurlab.studies.sweep import sweep, sweep_methods

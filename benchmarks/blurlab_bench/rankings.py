@@ -9,8 +9,8 @@ import time
 
 import pandas as pd
 
-from blurlab import scenes
 from blurlab.methods.params import Param
+from blurlab.scene import scenes
 from blurlab.studies import rankings
 from blurlab.studies.cluster_devices import local_cluster
 from blurlab.studies.sweep import sweep

@@ -26,10 +26,10 @@ import os
 import time
 from concurrent.futures import ProcessPoolExecutor
 
-from blurlab import scenes
-from blurlab.context import Context
+from blurlab.core.context import Context
 from blurlab.methods import method
 from blurlab.methods.params import Param
+from blurlab.scene import scenes
 from blurlab.studies import evaluation
 from blurlab.studies.sweep import middle_point, sweep_methods
 

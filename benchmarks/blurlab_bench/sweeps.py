@@ -12,9 +12,10 @@ import tempfile
 import time
 from pathlib import Path
 
-from blurlab import metrics, scenes
+from blurlab import metrics
 from blurlab.methods import blur
 from blurlab.methods.params import Param
+from blurlab.scene import scenes
 from blurlab.sizes import DEFAULT_SIZE
 from blurlab.studies.cluster import forget_scenes
 from blurlab.studies.cluster_devices import local_cluster

@@ -9,9 +9,10 @@ import statistics
 
 import numpy as np
 
-from blurlab import metrics, scenes
+from blurlab import metrics
 from blurlab.methods import blur, coverage
 from blurlab.methods.params import Param
+from blurlab.scene import scenes
 from blurlab.sizes import DEFAULT_SIZE
 from blurlab.twins import guertin2014
 

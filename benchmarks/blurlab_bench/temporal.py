@@ -9,13 +9,14 @@ import time
 
 import numpy as np
 
-from blurlab import metrics, scenes
+from blurlab import metrics
 from blurlab.methods import method as method_info
 from blurlab.methods.params import Param
-from blurlab.sequences import sequence, still
+from blurlab.scene import scenes
 from blurlab.studies import temporal
-from blurlab.taa import PARAMS as TAA_PARAMS
-from blurlab.taa import taa, taa_values
+from blurlab.temporal.sequences import sequence, still
+from blurlab.temporal.taa import PARAMS as TAA_PARAMS
+from blurlab.temporal.taa import taa, taa_values
 from blurlab.twins.taa import resolve
 
 from .core import Benchmark, register

@@ -11,10 +11,11 @@ import statistics
 
 import numpy as np
 
-from blurlab import blender, metrics, scenes
+from blurlab import blender, metrics
 from blurlab.blender import crosscheck
 from blurlab.methods import blur, method_instant
 from blurlab.methods.params import Param
+from blurlab.scene import scenes
 from blurlab.sizes import DEFAULT_SIZE
 from blurlab.studies import transparency
 

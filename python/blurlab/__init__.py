@@ -1,12 +1,13 @@
 """blurlab: real-time motion-blur methods run headless on the GPU, measured from Python."""
 
-from . import blender, capture, gltf, hatching, io, mesh, metrics, scenes, taa, tam, twins
+from . import blender, hatching, io, metrics, twins
 from ._core import ContextLost, GLError, ShaderError, StaleReadback
-from .blur_scales import CameraHeld
-from .context import ComputeProgram, Context, PendingDownload, Texture, Timing
-from .converged import Reference, reference_samples_needed
-from .frame import MOTION_FORMATS, Frame
-from .mesh import Mesh
+from .core.context import Context
+from .core.frame import MOTION_FORMATS, Frame
+from .core.gl import ComputeProgram, PendingDownload, Texture, Timing
+from .core.references import Reference, reference_samples_needed
+from .hatching import tam
+from .io import capture
 from .methods import (
     BlurResult,
     blur,
@@ -19,11 +20,13 @@ from .methods import (
     render_steps,
     unload_methods,
 )
-from .motion import Bone, Keyframe, Motion, Skeleton, quaternion
-from .particles import Particle, particles
-from .scene import Camera, DirectionalLight, Material, Scene
-from .sequences import Sequence, SequenceRun, frame_scenes, sequence
-from .shutters import shutter
+from .scene import gltf, mesh, scenes
+from .scene.blur_scales import CameraHeld
+from .scene.mesh import Mesh
+from .scene.model import Camera, DirectionalLight, Material, Scene
+from .scene.motion import Bone, Keyframe, Motion, Skeleton, quaternion
+from .scene.particles import Particle, particles
+from .scene.shutters import shutter
 from .sizes import DEFAULT_SIZE
 
 # The studies sit above the core (the core never imports them); the package offers the most
@@ -33,6 +36,8 @@ from .studies.cluster_devices import local_cluster  # noqa: E402
 from .studies.recommend import recommend, recommend_set  # noqa: E402
 from .studies.scheduler import scheduler  # noqa: E402
 from .studies.sweep import sweep  # noqa: E402
+from .temporal import taa
+from .temporal.sequences import Sequence, SequenceRun, frame_scenes, sequence
 from .version import __version__ as __version__  # noqa: E402
 
 __all__ = [

@@ -16,7 +16,7 @@ import time
 from contextlib import contextmanager
 from pathlib import Path
 
-from . import io, metrics, scenes
+from . import metrics
 from .blender import environment
 from .cli_methods import (
     add_method_commands,
@@ -26,10 +26,11 @@ from .cli_methods import (
     method_table,
     new_method_command,
 )
-from .context import Context
+from .core.context import Context
 from .errors import cause
+from .io import images as io
 from .methods import blur, method, methods
-from .sequences import frame_scenes
+from .scene import scenes
 from .sizes import DEFAULT_SIZE
 from .studies import plots
 from .studies.cluster import account_table
@@ -38,6 +39,7 @@ from .studies.recommend import AGGREGATES, expand, ranking_metrics, recommend, r
 from .studies.scheduler import CONNECT_TIMEOUT_S, scheduler_client
 from .studies.sequence_study import run_sequence_study
 from .studies.study import run_study, run_sweep_config
+from .temporal.sequences import frame_scenes
 from .twins.patterns import test_pattern
 
 DEFAULT_SIZE_TEXT = "{}x{}".format(*DEFAULT_SIZE)
@@ -67,7 +69,7 @@ def parse_size(text: str) -> tuple[int, int]:
 
 def parse_animation(text: str):
     """--animation: "all", "none" (the rest pose), or indices and names separated by commas
-    (blurlab.gltf.load's `animation`)."""
+    (blurlab.scene.gltf.load's `animation`)."""
     if text in ("all", "none"):
         return None if text == "none" else text
     items = [int(part) if part.strip().isdigit() else part.strip() for part in text.split(",")]
@@ -471,7 +473,7 @@ def build_parser(bench_arguments: bool = True) -> argparse.ArgumentParser:
     advice.add_argument(
         "scene",
         nargs="+",
-        help="built-in scenes (blurlab.scenes.names()), random:SEED or random:A-B (seeds A to B), "
+        help="built-in scenes (bl.scenes.names()), random:SEED or random:A-B (seeds A to B), "
         "or .gltf/.glb files; several give one configuration for the set",
     )
     advice.add_argument("--size", type=parse_size, default=DEFAULT_SIZE, help=SIZE_HELP)

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from .context import Context
+from .core.context import Context
 from .methods import load_methods, method
 from .methods.contract import SIZE as CHECK_SIZE
 from .methods.contract import Check, check_method

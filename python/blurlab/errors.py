@@ -1,4 +1,5 @@
-"""What every error message shares: it starts with one owner ("blurlab.gltf: ", "blurlab: ") and
+"""What every error message shares: it starts with one owner ("blurlab.scene.gltf: ",
+"blurlab: ") and
 says its cause once. A message that quotes another error quotes its cause, not its owner."""
 
 from __future__ import annotations

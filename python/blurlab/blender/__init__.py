@@ -25,10 +25,11 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import capture, io
-from ..blur_scales import scaled_scene
-from ..render import check_shutter, check_size
-from ..scene import Scene
+from ..core.render import check_shutter, check_size
+from ..io import capture
+from ..io import images as io
+from ..scene.blur_scales import scaled_scene
+from ..scene.model import Scene
 from ..sizes import DEFAULT_SIZE
 from . import environment
 

@@ -7,10 +7,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from .. import mesh
-from ..motion import Motion, quaternion
-from ..particles import Particle, particles
-from ..scene import Camera, DirectionalLight, Material, Scene
+from ..scene import mesh
+from ..scene.model import Camera, DirectionalLight, Material, Scene
+from ..scene.motion import Motion, quaternion
+from ..scene.particles import Particle, particles
 
 UNLIT = DirectionalLight(color=(0, 0, 0), ambient=(1, 1, 1))
 STILL = 1e-3  # |temporal reference - sharp render| above this: touched by motion blur

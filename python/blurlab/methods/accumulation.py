@@ -1,12 +1,13 @@
 """accumulation (Haeberli-Akeley; the OGRE paper): the converged reference of docs/spec.md §1 with a
 small N (4-32), which shows banding where N is below the motion's length in pixels. It renders
-its sub-frames itself through ctx.reference (blurlab.converged).
+its sub-frames itself through ctx.reference (blurlab.core.references).
 """
 
 from __future__ import annotations
 
-from ..context import Context, Timing
-from ..frame import Frame
+from ..core.context import Context
+from ..core.frame import Frame
+from ..core.gl import Timing
 from .core import SEED, Method, Param, register
 
 

@@ -8,9 +8,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..context import Context
-from ..frame import Frame
-from ..render import camera_matrices
+from ..core.context import Context
+from ..core.frame import Frame
+from ..core.render import camera_matrices
 from .core import Method, Pass, PassRunner, register
 from .gathers import BOX_PARAMS, GATHER_BOX, box_instant, box_reach, with_edge
 

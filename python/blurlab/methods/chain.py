@@ -1,14 +1,14 @@
 """The run of a method that is a chain of passes (a method folder's declaration), on the pass
-graph (blurlab.graph, docs/spec.md §1.2): each pass reads the frame's textures and the images
+graph (blurlab.core.graph, docs/spec.md §1.2): each pass reads the frame's textures and the images
 earlier passes wrote, by the names its shader gives its samplers, and writes its own images, one
 frame-sized texture each; the last pass's `result` is the method's color. Everything is bound by
 name (ShaderPass.reflect), so a folder needs no Python of its own to run."""
 
 from __future__ import annotations
 
-from ..context import Context
-from ..frame import Frame
-from ..graph import Node, run_graph, wire
+from ..core.context import Context
+from ..core.frame import Frame
+from ..core.graph import Node, run_graph, wire
 from .params import Param
 from .passes import Pass, PassRunner, choice_defines
 

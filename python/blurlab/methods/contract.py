@@ -15,9 +15,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import scenes
-from ..context import Context
-from ..frame import Frame
+from ..core.context import Context
+from ..core.frame import Frame
+from ..scene import scenes
 from .core import blur, method, method_instant
 from .params import FLOAT32_MAX, Param
 from .registry import Method

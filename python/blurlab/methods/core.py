@@ -16,11 +16,12 @@ from numbers import Integral
 
 import numpy as np
 
-from ..blur_scales import scaled_scene
-from ..context import Context, Texture, Timing
-from ..converged import accumulate
-from ..frame import Frame
-from ..render import check_shutter, instant_time
+from ..core.context import Context
+from ..core.frame import Frame
+from ..core.gl import Texture, Timing
+from ..core.references import accumulate
+from ..core.render import check_shutter, instant_time
+from ..scene.blur_scales import scaled_scene
 from ..sizes import DEFAULT_SIZE
 from . import layers, plans
 from .params import (

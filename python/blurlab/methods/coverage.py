@@ -21,8 +21,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..context import Context
-from ..frame import Frame
+from ..core.context import Context
+from ..core.frame import Frame
 from ..twins import coverage as twin
 from ..twins import film
 from ..twins.eevee import EARLY_EXIT, resolve_reach_keys

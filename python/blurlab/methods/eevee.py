@@ -18,8 +18,9 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..context import Context, Texture
-from ..frame import Frame
+from ..core.context import Context
+from ..core.frame import Frame
+from ..core.gl import Texture
 from ..twins import eevee as twin
 from .core import SEED, Method, Param, Pass, PassRunner, frame_textures, register
 from .tile_filter import TILE_FILTER_PARAMS

@@ -13,8 +13,8 @@ camera_only for that).
 
 from __future__ import annotations
 
-from ..context import Context
-from ..frame import Frame
+from ..core.context import Context
+from ..core.frame import Frame
 from ..twins import pixel_gather as twin
 from .core import FLOAT32_MAX, SEED, Method, Param, Pass, PassRunner, register
 from .tile_filter import TILE_FILTER_PARAMS

@@ -10,9 +10,9 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 
-from ..context import Context
-from ..frame import Frame
-from ..render import render_targets
+from ..core.context import Context
+from ..core.frame import Frame
+from ..core.render import render_targets
 from ..twins import gathers as twin
 from .core import PARAM_SCALE_MAX, Method, Param, Pass, PassRunner, register
 

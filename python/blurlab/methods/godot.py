@@ -14,8 +14,8 @@ motion), FSR2 support and its own blending heuristics, which its documentation d
 
 from __future__ import annotations
 
-from ..context import Context
-from ..frame import Frame
+from ..core.context import Context
+from ..core.frame import Frame
 from ..twins import godot as twin
 from .camera_only import split_camera_uniforms
 from .core import Method, Param, Pass, PassRunner, register

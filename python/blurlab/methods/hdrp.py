@@ -16,8 +16,8 @@ atomics (a gather gives the same maxima).
 
 from __future__ import annotations
 
-from ..context import Context
-from ..frame import Frame
+from ..core.context import Context
+from ..core.frame import Frame
 from ..twins import hdrp as twin
 from ..twins.small_float import UF11_MANTISSA, largest_finite
 from .camera_only import split_camera_uniforms

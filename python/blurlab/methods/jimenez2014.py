@@ -14,8 +14,8 @@ stands beside reconstruct_mcguire2012 and reconstruct_guertin2014 as a filter.
 
 from __future__ import annotations
 
-from ..context import Context
-from ..frame import Frame
+from ..core.context import Context
+from ..core.frame import Frame
 from ..twins import jimenez2014 as twin
 from .core import Method, Pass, PassRunner, register
 from .tile_filter import TILE_FILTER_PARAMS, tile_passes

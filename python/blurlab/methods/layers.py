@@ -23,8 +23,8 @@ import weakref
 
 import numpy as np
 
-from ..context import Context
-from ..frame import Frame
+from ..core.context import Context
+from ..core.frame import Frame
 from .params import Param, typed
 from .passes import frame_textures, timed
 from .registry import method, methods, translucent_layer_method

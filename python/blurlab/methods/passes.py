@@ -9,8 +9,9 @@ from collections.abc import Callable
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 
-from ..context import Context, Texture, Timing
-from ..frame import Frame
+from ..core.context import Context
+from ..core.frame import Frame
+from ..core.gl import Texture, Timing
 from . import plans
 from .params import Param
 

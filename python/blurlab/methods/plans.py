@@ -19,7 +19,8 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 
 from .. import _core
-from ..context import Context, ShaderPass, Texture, Timing
+from ..core.context import Context
+from ..core.gl import ShaderPass, Texture, Timing
 
 _RECORDER: contextvars.ContextVar[Recorder | None] = contextvars.ContextVar(
     "blurlab_recorder", default=None

@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..frame import Frame
+from ..core.frame import Frame
 from .params import Param, check_known, is_auto, typed
 
 # What a method is, for the studies that choose methods by what they do:

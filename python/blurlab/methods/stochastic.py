@@ -6,9 +6,10 @@ blurlab.twins.stochastic). Noise instead of banding. docs/spec.md §4.
 
 from __future__ import annotations
 
-from ..context import Context, Timing
-from ..frame import Frame
-from ..render import render_targets
+from ..core.context import Context
+from ..core.frame import Frame
+from ..core.gl import Timing
+from ..core.render import render_targets
 from ..twins.stochastic import ROTATED_GRID, slice_times
 from .core import SEED, Method, Param, Pass, register
 

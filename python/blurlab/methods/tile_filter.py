@@ -14,8 +14,8 @@ import weakref
 
 import numpy as np
 
-from ..context import Context
-from ..frame import Frame
+from ..core.context import Context
+from ..core.frame import Frame
 from .core import FLOAT32_MAX, PARAM_SCALE_MAX, SEED, Param, Pass, PassRunner
 from .variants import PassVariants
 

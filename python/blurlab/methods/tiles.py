@@ -13,7 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..context import Context, Texture
+from ..core.context import Context
+from ..core.gl import Texture
 from ..twins.inputs import sanitize_motion
 from .passes import Pass, timed
 

@@ -6,9 +6,10 @@ blend: its kind is "sequence".
 
 from __future__ import annotations
 
-from ..context import Context, Timing
-from ..converged import accumulate
-from ..frame import Frame
+from ..core.context import Context
+from ..core.frame import Frame
+from ..core.gl import Timing
+from ..core.references import accumulate
 from .core import BlurResult, Method, Param, register, timed
 
 

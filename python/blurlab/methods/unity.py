@@ -14,8 +14,8 @@ description does not give: the weights here are §3.4's cones with the engine's 
 
 from __future__ import annotations
 
-from ..context import Context
-from ..frame import Frame
+from ..core.context import Context
+from ..core.frame import Frame
 from ..twins import unity as twin
 from .core import FLOAT32_MAX, SEED, Method, Param, Pass, PassRunner, register
 from .tile_filter import TILE_FILTER_PARAMS

@@ -20,8 +20,8 @@ weights, which its description does not give (the choices are listed in §17.5).
 
 from __future__ import annotations
 
-from ..context import Context
-from ..frame import Frame
+from ..core.context import Context
+from ..core.frame import Frame
 from ..twins import unreal as twin
 from .core import FLOAT32_MAX, SEED, Method, Param, Pass, PassRunner, register
 from .tile_filter import TILE_FILTER_PARAMS

@@ -16,8 +16,8 @@ recalled (§17.7 says which).
 
 from __future__ import annotations
 
-from ..context import Context
-from ..frame import Frame
+from ..core.context import Context
+from ..core.frame import Frame
 from ..twins import unreal5 as twin
 from ..twins.unreal import SAMPLES_BY_QUALITY, TILE, max_radius_px
 from .core import Method, Param, Pass, PassRunner, register

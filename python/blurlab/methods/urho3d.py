@@ -7,8 +7,8 @@ the 64 x 64 jitter texture) and `far`, declared here.
 
 from __future__ import annotations
 
-from ..context import Context
-from ..frame import Frame
+from ..core.context import Context
+from ..core.frame import Frame
 from ..twins import urho3d as twin
 from .core import FLOAT32_MAX, Method, Param, Pass, PassRunner, register
 from .tile_filter import TILE_FILTER_PARAMS, tile_passes

@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-from ..io import linear_to_srgb
+from ..io.images import linear_to_srgb
 from .ldr import LUMINANCE, check_same_shape, psnr, rgb, ssim
 from .registry import Metric, get, register, registered
 

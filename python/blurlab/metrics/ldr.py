@@ -12,7 +12,7 @@ import math
 
 import numpy as np
 
-from ..io import linear_to_srgb
+from ..io.images import linear_to_srgb
 from .flip_gpu import gpu_flip
 from .reductions import gpu_mse, gpu_ssim
 from .registry import Metric, register

@@ -18,9 +18,9 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-from .. import scenes
-from ..frame import Frame, moving_speeds
-from ..scenes.features import features_of
+from ..core.frame import Frame, moving_speeds
+from ..scene import scenes
+from ..scene.scenes.features import features_of
 
 # The frame's motion radii a rule may read: the q-th percentile of |M|/2 over the pixels moving
 # at least 1 px (px at the frame's size; docs/spec.md §14's r with E = 1 is q = 95).

@@ -24,7 +24,7 @@ import uuid
 from collections import OrderedDict, deque
 
 from .._core import ContextLost
-from ..context import Context
+from ..core.context import Context
 from . import identity
 from .cluster_devices import worker_device
 from .evaluation import SETUP_PHASES, WARM_UP, evaluate_scene

@@ -7,7 +7,8 @@ from __future__ import annotations
 import os
 import re
 
-from ..context import DEVICE_MODES, Context
+from ..core.context import Context
+from ..core.gl import DEVICE_MODES
 from .scheduler import is_loopback, require_distributed
 
 

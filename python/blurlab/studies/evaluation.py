@@ -15,11 +15,11 @@ from dataclasses import dataclass
 
 from .. import metrics as m
 from .._core import StaleReadback
-from ..context import Context
-from ..converged import default_reference_samples
+from ..core.context import Context
+from ..core.references import default_reference_samples
+from ..core.render import check_shutter
 from ..methods import blur_steps, method_instant, render_steps
-from ..render import check_shutter
-from ..scene import Scene
+from ..scene.model import Scene
 
 
 @dataclass(frozen=True)

@@ -10,9 +10,9 @@ import numpy as np
 import pandas as pd
 
 from .. import metrics as m
-from .. import scenes
-from ..converged import default_reference_samples
+from ..core.references import default_reference_samples
 from ..methods import blur, method, method_instant, methods
+from ..scene import scenes
 from . import plots
 from .sweep import sweep_methods
 

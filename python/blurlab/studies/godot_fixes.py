@@ -9,10 +9,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .. import scenes
 from ..methods import blur, method_instant
 from ..methods.godot import ENGINE_GODOT
 from ..metrics import psnr
+from ..scene import scenes
 from . import plots
 
 

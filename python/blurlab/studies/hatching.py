@@ -10,10 +10,10 @@ import math
 
 import numpy as np
 
-from .. import mesh as meshes
-from ..motion import Motion
-from ..scene import Camera, DirectionalLight, Material, Scene
-from ..tam import TAM, default_tam
+from ..hatching.tam import TAM, default_tam
+from ..scene import mesh as meshes
+from ..scene.model import Camera, DirectionalLight, Material, Scene
+from ..scene.motion import Motion
 from ..twins import hatching as ref
 
 

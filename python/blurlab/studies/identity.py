@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..scene import Material, Scene
+from ..scene.model import Material, Scene
 from ..version import __version__
 
 # The row columns that spell the identity out, beside the hash in IDENTITY.

@@ -15,9 +15,10 @@ import math
 import numpy as np
 import pandas as pd
 
-from .. import metrics, scenes
-from ..converged import default_reference_samples
+from .. import metrics
+from ..core.references import default_reference_samples
 from ..methods import blur, method, methods
+from ..scene import scenes
 from ..sizes import DEFAULT_SIZE
 
 TEXTURES = ("low contrast", "medium contrast", "high contrast", "rainbow")

@@ -10,8 +10,8 @@ import pandas as pd
 
 from .. import blender, metrics
 from ..blender.crosscheck import psnr_in, regions
-from ..context import Context
-from ..converged import Reference
+from ..core.context import Context
+from ..core.references import Reference
 from ..twins.film import film_filter
 
 PEERS = ("eevee",)

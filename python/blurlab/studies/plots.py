@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ..io import srgb8, srgb_to_linear
+from ..io.images import srgb8, srgb_to_linear
 from ..methods.tile_filter import FILTER_OPTIONS
 from ..metrics import error_map, get, registered, tone_map
 

@@ -30,12 +30,12 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from .. import scenes
 from .._paths import cache_root
-from ..context import Context
+from ..core.context import Context
 from ..methods import method
 from ..metrics import get, registered
-from ..scene import Scene
+from ..scene import scenes
+from ..scene.model import Scene
 from ..sizes import DEFAULT_SIZE
 from .evaluation import Settings
 from .identity import device_identity, row_identity

@@ -11,10 +11,11 @@ from pathlib import Path
 
 import pandas as pd
 
-from .. import io, scenes
+from ..io import images as io
 from ..metrics import get
-from ..sequences import ORDERS
+from ..scene import scenes
 from ..sizes import DEFAULT_SIZE
+from ..temporal.sequences import ORDERS
 from . import interactive, temporal
 
 ANIMATED_ORDER = "blur_then_taa"  # the order every method takes, the one the animations show

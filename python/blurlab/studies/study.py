@@ -19,11 +19,13 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from .. import io, metrics, scenes
-from ..context import Context
+from .. import metrics
+from ..core.context import Context
 from ..docs_link import docs_anchor
+from ..io import images as io
 from ..methods import blur, method, method_instant
 from ..metrics import check_names, get, registered
+from ..scene import scenes
 from ..sizes import DEFAULT_SIZE
 from . import interactive, objects, peers, plots, rankings, transparency, workers
 from .cluster import account_table

@@ -23,12 +23,12 @@ from pathlib import Path
 
 import pandas as pd
 
-from .. import scenes as builtin_scenes
-from ..context import Context
+from ..core.context import Context
+from ..core.render import check_shutter, check_size
 from ..methods import check_param, check_steps, method, methods
 from ..metrics import check_names
-from ..render import check_shutter, check_size
-from ..scene import Scene
+from ..scene import scenes as builtin_scenes
+from ..scene.model import Scene
 from ..sizes import DEFAULT_SIZE
 from . import cluster as dask_cluster
 from . import identity

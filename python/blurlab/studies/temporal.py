@@ -8,10 +8,11 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from .. import metrics, scenes
+from .. import metrics
 from ..methods import method as method_info
 from ..methods import methods as method_names
-from ..sequences import ORDERS, SequenceRun, sequence
+from ..scene import scenes
+from ..temporal.sequences import ORDERS, SequenceRun, sequence
 
 # What a run is called when no method blurs: the frames as rendered, or TAA alone.
 NO_METHOD = "(none)"

@@ -11,13 +11,15 @@ from pathlib import Path
 
 import pandas as pd
 
-from .. import io, metrics, scenes
-from ..converged import default_reference_samples
+from .. import metrics
+from ..core.references import default_reference_samples
 from ..docs_link import docs_anchor
+from ..io import images as io
 from ..methods import blur, layers, method_instant, translucent_layer_method
 from ..methods import method as method_info
 from ..methods import methods as method_names
 from ..methods.layers import TRANSLUCENCY
+from ..scene import scenes
 from ..twins import translucency as translucency_twin
 from . import plots
 

@@ -1,5 +1,5 @@
 """The converged reference over a shutter, docs/spec.md §1, in NumPy: sample times and the mean.
-GPU twin: shaders/passes/accumulate.comp driven by blurlab.converged.reference_render."""
+GPU twin: shaders/passes/accumulate.comp driven by blurlab.core.references.reference_render."""
 
 from __future__ import annotations
 

@@ -1,0 +1,1 @@
+"""Time: temporal antialiasing (taa.py) and sequences of frames under it (sequences.py)."""
