@@ -73,7 +73,7 @@ class TimeScaledSkeleton:
 
 
 def scaled_scene(scene, shutter: tuple[float, float]):
-    """The bl.Scene `scene` (not imported here: scene.py imports this module) with its blur
+    """The bl.Scene `scene` (not imported here: model.py imports this module) with its blur
     scales applied around the centre of `shutter`: the scene itself when every scale is 1
     (nothing changes, not a bit), else a copy whose objects and camera move on scaled time and
     whose scales are 1 (so applying it again changes nothing)."""
