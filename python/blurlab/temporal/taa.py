@@ -16,8 +16,10 @@ from __future__ import annotations
 
 from ..core.context import Context
 from ..core.gl import Texture
-from ..methods.core import Pass, run_pass
+from ..core.graph import Node, run_graph, wire
+from ..methods.core import Pass
 from ..methods.params import Param, typed
+from ..methods.passes import PassRunner, choice_defines
 from ..twins.taa import NEIGHBOURHOODS
 
 PARAMS = {
@@ -44,6 +46,13 @@ PARAMS = {
     ),
 }
 RESOLVE = Pass("taa", "passes/taa.comp", tuple(PARAMS))
+
+
+def _wired(ctx: Context):
+    """TAA on the pass graph (docs/spec.md §1.2): its pass bound by the shader's own names
+    (current, motion, history -> resolved), wired once per context."""
+    node = Node(RESOLVE.name, RESOLVE.shader, tuple(choice_defines(PARAMS, RESOLVE.params).items()))
+    return ctx.cached(("taa graph",), lambda: wire(ctx, [node], source="taa"))
 
 
 def taa_values(**given) -> dict:
@@ -78,15 +87,16 @@ def taa(
                 f"blurlab: taa {name} is {texture.shape[1]}x{texture.shape[0]}, the current "
                 f"colour {width}x{height}: give both at the same size"
             )
-    resolved = ctx.pooled((height, width, 4))
-    run_pass(
+    runner = PassRunner(ctx, PARAMS, values, {} if timings is None else timings)
+    has_history = {"has_history": int(history is not None)}
+    written = run_graph(
         ctx,
-        {} if timings is None else timings,
-        RESOLVE,
-        PARAMS,
-        values,
+        _wired(ctx),
         {"current": current, "motion": motion, "history": current if history is None else history},
-        {"resolved": resolved},
-        uniforms={"has_history": int(history is not None)},
+        keep=("resolved",),
+        run=lambda w, inputs, outputs, uniforms: runner.run(
+            RESOLVE, inputs, outputs, uniforms=has_history
+        ),
+        source="taa",
     )
-    return resolved
+    return written["resolved"]
