@@ -306,6 +306,13 @@ def _prepared_reference(ctx, reference, cache: dict, kind: str) -> m.PreparedRef
     return held[1]
 
 
+def release_prepared(cache: dict) -> None:
+    """Returns the references a scene cache prepared for gpu_mse_ssim to the context's pool:
+    for a caller whose cache lives for one frame of many (a captured sequence)."""
+    for _, prepared in cache.pop("prepared_references", {}).values():
+        prepared.release()
+
+
 def _without_steps(point: dict) -> dict:
     return {k: v for k, v in point.items() if k != "steps"}
 
