@@ -122,20 +122,18 @@ def test_an_unknown_convention_or_option_is_refused_listing_the_known_ones(shot)
 # Scoring from files ---------------------------------------------------------------------------
 
 
+def scored(ctx, folder: Path, number: str, out: Path, **options) -> pd.DataFrame:
+    """results.csv, by method, of the capture study on the shot's frame `number` (or "####",
+    the sequence): its capture, reference and engine output."""
+    files = [folder / f"{what}.{number}.exr" for what in ("shot", "reference", "engine")]
+    run_capture_study(ctx, *files, convention="blender", out=out, **options)
+    return pd.read_csv(out / "results.csv").set_index("method")
+
+
 def test_the_engines_output_is_a_row_scored_as_the_methods_are(ctx, shot, tmp_path):
     folder, _ = shot
-    run_capture_study(
-        ctx,
-        folder / "shot.0007.exr",
-        folder / "reference.0007.exr",
-        folder / "engine.0007.exr",
-        engine_name="my_engine",
-        convention="blender",
-        out=tmp_path,
-        grids={ENGINE: {}, "gather_box": {}},
-        repeats=1,
-    )
-    table = pd.read_csv(tmp_path / "results.csv").set_index("method")
+    grids = {ENGINE: {}, "gather_box": {}}
+    table = scored(ctx, folder, "0007", tmp_path, grids=grids, repeats=1, engine_name="my_engine")
     assert list(table.index) == [ENGINE, "my_engine"]  # gather_box's default reads at close
     # The engine's file holds ENGINE's output on the same G-buffer: the same scores, computed
     # on the GPU for the method and in NumPy for the file.
@@ -153,17 +151,7 @@ def test_the_engines_output_is_a_row_scored_as_the_methods_are(ctx, shot, tmp_pa
 
 def test_a_sequence_adds_the_temporal_metric_over_its_frames(ctx, shot, tmp_path):
     folder, arrays = shot
-    run_capture_study(
-        ctx,
-        folder / "shot.####.exr",
-        folder / "reference.####.exr",
-        folder / "engine.####.exr",
-        convention="blender",
-        out=tmp_path,
-        grids={ENGINE: {}},
-        repeats=0,
-    )
-    table = pd.read_csv(tmp_path / "results.csv").set_index("method")
+    table = scored(ctx, folder, "####", tmp_path, grids={ENGINE: {}}, repeats=0)
     frames = pd.read_csv(tmp_path / "frames.csv")
     assert (table["frames"] == FRAMES).all() and len(frames) == 2 * FRAMES
     engine = table.loc["engine_output"]
@@ -337,3 +325,16 @@ def test_blenders_files_give_the_eevee_row_that_peers_eevee_gives(ctx, tmp_path)
     d_over_e = 10 ** ((peer["psnr_aa"] - bl.metrics.psnr(references[True].color, cycles)) / 20)
     assert abs(against_cycles - peer["psnr_aa"]) <= 20 * np.log10(1 + d_over_e)
     assert against_cycles == pytest.approx(peer["psnr_aa"], abs=0.01)  # measured: 0.0005 dB
+
+
+def test_a_reference_with_nan_or_an_engine_name_of_a_method_is_refused(ctx, shot, tmp_path):
+    folder, arrays = shot
+    broken = arrays["reference"][0].copy()
+    broken[3, 5, 1] = np.nan
+    bl.io.write(tmp_path / "nan.exr", broken)
+    files = (folder / "shot.0007.exr", tmp_path / "nan.exr", folder / "engine.0007.exr")
+    with pytest.raises(ValueError, match=r"the reference nan\.exr has 1 NaN or infinite"):
+        run_capture_study(ctx, *files, convention="blender", out=tmp_path / "a", grids={})
+    with pytest.raises(ValueError, match="no method's name, not 'engine_unreal'"):
+        run_capture_study(ctx, *files, engine_name=ENGINE, out=tmp_path / "b")
+    assert not (tmp_path / "a" / "results.csv").exists()

@@ -26,7 +26,7 @@ from .. import capture, io
 from ..context import Context
 from ..docs_link import docs_anchor
 from ..frame import Frame
-from ..methods import method, method_instant
+from ..methods import method, method_instant, methods
 from ..metrics import REFERENCES, check_names, cpu_scores, default_names, get, temporal_instability
 from ..render import check_size
 from . import interactive
@@ -166,7 +166,7 @@ def run_capture_study(
     converged image of the same shutter, or a pattern of one per frame. `engine_output_path`:
     the engine's own blurred output, likewise, scored as the row `engine_name`. `metrics`,
     `grids` and `repeats` as bl.sweep takes them (metrics default: capture_metrics)."""
-    if not NAME.fullmatch(str(engine_name)) or engine_name in _names(grids):
+    if not NAME.fullmatch(str(engine_name)) or engine_name in methods():
         raise ValueError(
             "blurlab study: --engine-name must be 1 to 64 letters, digits, '_', '.' or '-', and "
             f"no method's name, not {engine_name!r}"
@@ -181,6 +181,11 @@ def run_capture_study(
     size = check_size(shot.size(), ctx.max_texture_size)
     names = capture_metrics(metrics, len(shot))
     kept, left_out = capture_grids(grids)
+    if not kept and outputs is None:
+        raise ValueError(
+            f"blurlab study: nothing to score on a capture: no method runs on one "
+            f"({', '.join(left_out) or 'none given'}) and there is no engine output"
+        )
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     label = _label(shot)
@@ -305,10 +310,6 @@ def capture_command(ctx: Context, args) -> bool:
     return True
 
 
-def _names(grids) -> set:
-    return set(grids) if grids is not None else set(default_grids())
-
-
 def _label(shot: capture.CapturedSequence) -> str:
     """A name for the shot in rows and file names: its file name up to the frame number."""
     stem = Path(shot.pattern).name.split(capture.FRAME_NUMBER)[0].split(".")[0]
@@ -327,7 +328,7 @@ def _method_rows(ctx, shot, reference, kept: dict, settings: Settings, label, sh
     ]
     shown = {picture_key(name, points[len(points) // 2]) for name, points in kept.items()}
     per_job = settings.size[0] * settings.size[1] * 16  # an RGBA float32 colour
-    group = max(1, KEPT_BYTES // per_job) if len(shot) > 1 else len(jobs)
+    group = max(1, KEPT_BYTES // per_job if len(shot) > 1 else len(jobs))
     rows, images = [], {}
     for start in range(0, len(jobs), group):
         chosen = jobs[start : start + group]
@@ -335,7 +336,7 @@ def _method_rows(ctx, shot, reference, kept: dict, settings: Settings, label, sh
         previous = None
         for i in range(len(shot)):
             frame = Frame(**shot[i])
-            ref = _uploaded(ctx, reference.color(i))
+            ref = _uploaded(ctx, finite_color(reference, i, "reference"))
             cache = {
                 "frames": {(CAPTURE_INSTANT, 1): [frame]},
                 "reference": ref,
@@ -363,6 +364,19 @@ def _method_rows(ctx, shot, reference, kept: dict, settings: Settings, label, sh
     return rows, images
 
 
+def finite_color(files: capture.CapturedSequence, index: int, what: str) -> np.ndarray:
+    """Frame `index`'s colour from `files`, a reference or an engine's output; a NaN or an
+    infinity there would make every score of its frame NaN, so it is refused, naming the file."""
+    colour = files.color(index)
+    bad = ~np.isfinite(colour[..., :3])
+    if bad.any():
+        raise ValueError(
+            f"blurlab study: the {what} {files.paths[index].name} has {int(bad.sum())} NaN or "
+            "infinite colour values; a reference and an engine's output must be finite"
+        )
+    return colour
+
+
 def _uploaded(ctx, color: np.ndarray) -> FileReference:
     texture = ctx.pooled(color.shape)
     texture.upload(np.ascontiguousarray(color, np.float32))
@@ -382,7 +396,8 @@ def _engine_rows(outputs, reference, wanted, engine_name: str, label):
     rows, previous, shown = [], None, None
     shown_frame = len(outputs) // 2
     for i in range(len(outputs)):
-        ref, colour = reference.color(i), outputs.color(i)
+        ref = finite_color(reference, i, "reference")
+        colour = finite_color(outputs, i, "engine output")
         row = {
             "scene": label,
             "method": engine_name,
