@@ -4,8 +4,8 @@ file, as a row beside them (docs/spec.md §16.6, docs/engine_output.md). A file 
 (`shot.####.exr`) gives a sequence: each frame is scored, and the temporal metric
 (docs/spec.md §21.3) compares how the outputs change from frame to frame with the reference.
 Writes results.csv (one row per method configuration and one for the engine's output; a
-sequence's metrics are the means over its frames), frames.csv (a sequence's rows per frame)
-and report.html into one folder."""
+sequence's metrics are the means over its frames, its PSNR that of the mean squared error),
+frames.csv (a sequence's rows per frame) and report.html into one folder."""
 
 from __future__ import annotations
 
@@ -27,7 +27,15 @@ from ..context import Context
 from ..docs_link import docs_anchor
 from ..frame import Frame
 from ..methods import method, method_instant, methods
-from ..metrics import REFERENCES, check_names, cpu_scores, default_names, get, temporal_instability
+from ..metrics import (
+    REFERENCES,
+    check_names,
+    cpu_scores,
+    default_names,
+    get,
+    psnr_from_mse,
+    temporal_instability,
+)
 from ..render import check_size
 from . import interactive
 from .evaluation import Settings, evaluate_scene, picture_key, release_prepared
@@ -418,7 +426,9 @@ def _engine_rows(outputs, reference, wanted, engine_name: str, label):
 def _summary(frame_rows: list, names, shot, reference, outputs) -> pd.DataFrame:
     """One row per configuration and one for the engine: the first frame's row, with each
     per-frame metric and time its mean over the frames and temporal_instability the mean of
-    the frame pairs' shares."""
+    the frame pairs' shares. A PSNR (a metric reduced from the squared error) is that of the
+    mean squared error over the frames, as `blurlab study --sequence` takes it: a frame that
+    matches its reference exactly would otherwise make the mean infinite."""
     table = pd.DataFrame(frame_rows)
     averaged = [
         c
@@ -430,7 +440,12 @@ def _summary(frame_rows: list, names, shot, reference, outputs) -> pd.DataFrame:
         row = group.iloc[0].to_dict()
         for column in averaged:
             values = group[column].dropna()
-            row[column] = float(values.mean()) if len(values) else math.nan
+            if not len(values):
+                row[column] = math.nan
+            elif column in names and get(column).reduction == "squared_error":
+                row[column] = psnr_from_mse(float(np.mean(10.0 ** (-values / 10.0))))
+            else:
+                row[column] = float(values.mean())
         row.update(frames=len(group), capture=shot.pattern, reference=reference.pattern)
         if row["source"] != "method":
             row["source"] = outputs.pattern
@@ -464,7 +479,11 @@ def _html(info, shot, reference, outputs, table, names, left_out, gallery) -> st
         f"shutter fraction {shot.options.get('shutter_fraction', 1.0)}</li></ul>",
         "<p>Each method blurs the captured G-buffer; every row, the engine's output's too, is "
         "scored against the reference from the file"
-        + (", each metric the mean over the frames" if frames > 1 else "")
+        + (
+            ", each metric its mean over the frames (PSNR: that of the mean squared error)"
+            if frames > 1
+            else ""
+        )
         + ". Time is the sum of the method's passes on this device; the engine's output has "
         "none (its time is the engine's). The metrics "
         f"({docs_anchor('metrics', 'metrics')}):</p><ul>"
