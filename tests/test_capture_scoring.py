@@ -19,7 +19,7 @@ import blurlab as bl
 from blurlab import capture, cli
 from blurlab.blender.crosscheck import box_scene
 from blurlab.metrics import temporal_instability
-from blurlab.studies import peers
+from blurlab.studies import capture_study, peers
 from blurlab.studies.capture_study import capture_grids, run_capture_study
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -167,6 +167,24 @@ def test_a_sequence_adds_the_temporal_metric_over_its_frames(ctx, shot, tmp_path
     mse = np.mean([10 ** (-value / 10) for value in each])
     assert engine["psnr"] == pytest.approx(10 * np.log10(1 / mse), abs=1e-9)
     assert per_frame.nunique() == FRAMES  # each frame scored against its own reference
+
+
+def test_outputs_past_the_memory_bound_are_scored_in_further_passes(ctx, shot, tmp_path):
+    """With room for one configuration's outputs at a time, each configuration gets a pass of
+    its own over the files, and the same numbers."""
+    folder, _ = shot
+    grids = {ENGINE: {}, "reconstruct_urho3d": {}}
+    together = scored(ctx, folder, "####", tmp_path / "a", grids=grids, repeats=0)
+    reads = []
+    real = bl.io.read_channels
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(capture_study, "KEPT_BYTES", 1)
+        patch.setattr(bl.io, "read_channels", lambda path: reads.append(path) or real(path))
+        apart = scored(ctx, folder, "####", tmp_path / "b", grids=grids, repeats=0)
+    shots = [Path(p).name for p in reads if Path(p).name.startswith("shot.")]
+    assert len(shots) == 2 * FRAMES  # each capture frame read once per configuration
+    columns = ["psnr", "ssim", "flip", "temporal_instability"]
+    pd.testing.assert_frame_equal(together[columns], apart[columns])
 
 
 def documented_capture_command() -> str:
