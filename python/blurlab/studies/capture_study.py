@@ -179,6 +179,11 @@ def run_capture_study(
             "blurlab study: --engine-name must be 1 to 64 letters, digits, '_', '.' or '-', and "
             f"no method's name, not {engine_name!r}"
         )
+    if isinstance(repeats, bool) or not isinstance(repeats, int) or repeats < 0:
+        raise ValueError(
+            f"blurlab study: repeats must be an integer >= 1, or 0 to score without timing, "
+            f"not {repeats!r}"
+        )
     shot, reference, outputs = open_inputs(
         capture_path,
         reference_path,
@@ -302,7 +307,8 @@ def capture_command(ctx: Context, args) -> bool:
         )
     if args.reference is None:
         raise ValueError("study --capture needs --reference PATH, the image to score against")
-    print(f"device: {ctx.info()['device']} ({ctx.info()['renderer']}); capture {args.capture}")
+    info = ctx.info()
+    print(f"device: {info['device']} ({info['renderer']}); capture {args.capture}")
     report = run_capture_study(
         ctx,
         args.capture,
