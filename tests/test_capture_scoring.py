@@ -29,7 +29,14 @@ FRAMES = 3
 # A capture as Blender writes it: its multi-layer names, its Vector pass's convention.
 CHANNELS = [f"ViewLayer.Combined.{c}" for c in "RGBA"] + ["ViewLayer.Depth.Z"]
 CHANNELS += [f"ViewLayer.Vector.{c}" for c in "XYZW"]
-ENGINE = "engine_unreal"  # the method whose output stands for an engine's
+# Methods chosen by what they are, not by name: those whose defaults run on a capture (the
+# first one's output stands for an engine's), and one whose defaults read the G-buffer at
+# shutter close, which a capture does not have.
+AT_CENTRE = [name for name in bl.methods() if capture_grids({name: {}})[0]]
+ENGINE, OTHER = AT_CENTRE[:2]
+AT_CLOSE = next(
+    name for name in bl.methods() if "shutter close" in capture_grids({name: {}})[1].get(name, "")
+)
 
 
 def write_capture(path: Path, frame) -> Path:
@@ -132,9 +139,9 @@ def scored(ctx, folder: Path, number: str, out: Path, **options) -> pd.DataFrame
 
 def test_the_engines_output_is_a_row_scored_as_the_methods_are(ctx, shot, tmp_path):
     folder, _ = shot
-    grids = {ENGINE: {}, "gather_box": {}}
+    grids = {ENGINE: {}, AT_CLOSE: {}}
     table = scored(ctx, folder, "0007", tmp_path, grids=grids, repeats=1, engine_name="my_engine")
-    assert list(table.index) == [ENGINE, "my_engine"]  # gather_box's default reads at close
+    assert list(table.index) == [ENGINE, "my_engine"]  # AT_CLOSE does not run
     # The engine's file holds ENGINE's output on the same G-buffer: the same scores, computed
     # on the GPU for the method and in NumPy for the file.
     for metric, tolerance in (("psnr", 1e-3), ("ssim", 1e-4), ("flip", 1e-3)):
@@ -145,7 +152,7 @@ def test_the_engines_output_is_a_row_scored_as_the_methods_are(ctx, shot, tmp_pa
     assert np.isnan(table.loc["my_engine", "total_ms"])
     assert table.loc["my_engine", "source"].endswith("engine.0007.exr")
     report = html.unescape((tmp_path / "report.html").read_text())
-    assert "my_engine" in report and "gather_box: expects the G-buffer at shutter close" in report
+    assert "my_engine" in report and f"{AT_CLOSE}: expects the G-buffer at shutter close" in report
     assert "TAA" in report and (tmp_path / "shot_my_engine.png").is_file()
 
 
@@ -173,7 +180,7 @@ def test_outputs_past_the_memory_bound_are_scored_in_further_passes(ctx, shot, t
     """With room for one configuration's outputs at a time, each configuration gets a pass of
     its own over the files, and the same numbers."""
     folder, _ = shot
-    grids = {ENGINE: {}, "reconstruct_urho3d": {}}
+    grids = {ENGINE: {}, OTHER: {}}
     together = scored(ctx, folder, "####", tmp_path / "a", grids=grids, repeats=0)
     reads = []
     real = bl.io.read_channels
@@ -331,7 +338,7 @@ def test_blenders_files_give_the_eevee_row_that_peers_eevee_gives(ctx, tmp_path)
             engine_name="eevee",
             convention="blender",
             out=out,
-            grids={"engine_eevee": {}, "reconstruct_mcguire2012": {}},
+            grids={ENGINE: {}, OTHER: {}},
             repeats=0,
         )
         table = pd.read_csv(out / "results.csv").set_index("method")
@@ -358,6 +365,6 @@ def test_a_reference_with_nan_or_an_engine_name_of_a_method_is_refused(ctx, shot
     files = (folder / "shot.0007.exr", tmp_path / "nan.exr", folder / "engine.0007.exr")
     with pytest.raises(ValueError, match=r"the reference nan\.exr has 1 NaN or infinite"):
         run_capture_study(ctx, *files, convention="blender", out=tmp_path / "a", grids={})
-    with pytest.raises(ValueError, match="no method's name, not 'engine_unreal'"):
+    with pytest.raises(ValueError, match=f"no method's name, not '{ENGINE}'"):
         run_capture_study(ctx, *files, engine_name=ENGINE, out=tmp_path / "b")
     assert not (tmp_path / "a" / "results.csv").exists()
