@@ -32,7 +32,7 @@ from .io import images as io
 from .methods import blur, method, methods
 from .scene import scenes
 from .sizes import DEFAULT_SIZE
-from .studies import plots
+from .studies import capture_study, plots
 from .studies.cluster import account_table
 from .studies.cluster_devices import local_cluster
 from .studies.recommend import AGGREGATES, expand, ranking_metrics, recommend, recommend_set
@@ -154,6 +154,8 @@ def _cluster(args):
 
 def _study(args) -> int:
     ctx = Context(args.device)
+    if capture_study.capture_command(ctx, args):  # --capture; without it, refuses its options
+        return 0
     info = ctx.info()
     print(f"device: {info['device']} ({info['renderer']}); {args.size[0]}x{args.size[1]}")
     if args.sequence:
@@ -463,6 +465,7 @@ def build_parser(bench_arguments: bool = True) -> argparse.ArgumentParser:
         help="sequences instead: every method before TAA, after it and in its history, "
         "sequence.html + sequence.csv (docs/temporal.md)",
     )
+    capture_study.add_capture_options(study)
     _add_cluster_options(study)
     add_methods_from(study)
     advice = sub.add_parser(

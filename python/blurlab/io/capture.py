@@ -4,12 +4,17 @@ multi-layer file, with the motion and depth conventions of the renderer that wro
 
 Every convention converts to blurlab's: M in pixels from shutter open to close, +x right,
 +y down (§1), scaled by `shutter_fraction` where the stored motion spans a whole frame.
+
+A captured sequence is a file pattern, `shot.####.exr` (`sequence`, §16.6): its frames are
+read one at a time, when asked for, from the pattern's folder only.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import math
+import os
+import re
 import warnings
 from pathlib import Path
 
@@ -260,12 +265,8 @@ def read_exr(
     }
     if len(set(shapes.values())) != 1:
         raise ValueError(f"blurlab.Frame.from_exr: the images differ in size: {shapes}")
-    if color_px.shape[2] == 4:
-        rgba = color_px
-    else:
-        rgba = np.concatenate([color_px, np.ones(color_px.shape[:2] + (1,), np.float32)], axis=2)
     return {
-        "color": rgba,
+        "color": _rgba(color_px),
         "depth": depth_to_linear(depth_px[..., 0], depth_encoding, near, far, reversed_z),
         "motion": motion_to_blurlab(
             motion_px,
@@ -276,6 +277,181 @@ def read_exr(
         ),
         "shutter": tuple(float(t) for t in shutter),
     }
+
+
+def read_color(path, layer: str | None = None) -> np.ndarray:
+    """(H, W, 4) linear colour of an image file: a reference or an engine's blurred output. A
+    multi-layer file gives its `layer` (default: Blender's Combined, or another common colour
+    layer's name), a plain one its R, G, B (and A) channels; alpha is 1 where there is none."""
+    names, pixels = io.read_channels(path)
+    return _rgba(_layer(names, pixels, layer, "color", _COLOR_CHANNELS, 3, Path(path).name))
+
+
+def _rgba(color: np.ndarray) -> np.ndarray:
+    if color.shape[2] == 4:
+        return color
+    return np.concatenate([color, np.ones(color.shape[:2] + (1,), np.float32)], axis=2)
+
+
+# sequence(): the frame number in a pattern's file name, and the most frames one pattern gives.
+FRAME_NUMBER = "#"
+MAX_SEQUENCE_FRAMES = 4096
+# What a sequence's frames are read with: read_exr's keywords, the layer names among them.
+READ_OPTIONS = (
+    "color",
+    "depth",
+    "motion",
+    "convention",
+    "shutter_fraction",
+    "depth_encoding",
+    "near",
+    "far",
+    "reversed_z",
+    "shutter",
+    "velocity_encoding",
+    "camera_motion",
+)
+
+
+@dataclasses.dataclass(frozen=True)
+class CapturedSequence:
+    """The frames of one captured shot, as files (`sequence` makes it). Nothing is read until
+    a frame is asked for, and then that frame's file alone: ``bl.Frame(**shot[i])`` is frame
+    i's G-buffer, ``shot.color(i)`` its colour alone (a reference's or an engine's output)."""
+
+    pattern: str
+    paths: tuple[Path, ...]
+    numbers: tuple[int, ...]  # each file's frame number, consecutive
+    options: dict = dataclasses.field(default_factory=dict, repr=False, compare=False)
+
+    def __len__(self) -> int:
+        return len(self.paths)
+
+    def __getitem__(self, index: int) -> dict:
+        """Frame `index`'s arguments of a bl.Frame, as `read_exr` reads them."""
+        return read_exr(self.paths[index], **self.options)
+
+    def __iter__(self):
+        return (self[i] for i in range(len(self)))
+
+    def color(self, index: int) -> np.ndarray:
+        """Frame `index`'s (H, W, 4) colour (`read_color`, from the layer named by the
+        option `color`)."""
+        return read_color(self.paths[index], self.options.get("color"))
+
+    def size(self) -> tuple[int, int]:
+        """(width, height) of every frame, read from the files' headers; a ValueError names
+        the first file of another size."""
+        first = io.image_size(self.paths[0])
+        for path in self.paths[1:]:
+            here = io.image_size(path)
+            if here != first:
+                raise ValueError(
+                    f"blurlab.capture: {path.name} is {here[0]}x{here[1]}, but "
+                    f"{self.paths[0].name} of the same sequence is {first[0]}x{first[1]}"
+                )
+        return first
+
+
+def sequence(pattern: str | os.PathLike, **options) -> CapturedSequence:
+    """A captured sequence from the files `pattern` names (docs/spec.md §16.6).
+
+    The pattern is a path whose file name holds one run of ``#``, the frame number, padded
+    with zeros to the run's length at least: ``shots/shot.####.exr`` matches shot.0001.exr,
+    shot.0002.exr, ... and shot.10000.exr, as Blender names its frames. The frames are the
+    matching regular files of the pattern's folder (never a link, a sub-folder or another
+    folder), in frame order, consecutive, at most MAX_SEQUENCE_FRAMES. A path without ``#``
+    is a sequence of that one file. `options`: how each frame is read, read_exr's keywords
+    (convention, shutter_fraction, depth_encoding, the layer names color, depth and motion,
+    ...), checked now; each frame is read only when it is asked for (CapturedSequence)."""
+    unknown = sorted(set(options) - set(READ_OPTIONS))
+    if unknown:
+        raise TypeError(
+            f"blurlab.capture.sequence: unknown options {unknown}; it takes {list(READ_OPTIONS)}"
+        )
+    text = os.fspath(pattern)
+    try:
+        _check_convention(
+            options.get("convention", "blurlab"),
+            options.get("shutter_fraction", 1.0),
+            options.get("velocity_encoding"),
+            options.get("camera_motion"),
+        )
+    except ValueError as error:
+        raise ValueError(f"blurlab.capture.sequence({text!r}): {_without_prefix(error)}") from None
+    for layer in ("color", "depth", "motion"):
+        if options.get(layer) is not None and not isinstance(options[layer], str):
+            raise TypeError(
+                f"blurlab.capture.sequence: {layer} is a layer's name, not {options[layer]!r}"
+            )
+    numbers, paths = _frame_files(text)
+    return CapturedSequence(text, tuple(paths), tuple(numbers), dict(options))
+
+
+def _without_prefix(error: Exception) -> str:
+    return str(error).removeprefix("blurlab: ")
+
+
+def _frame_files(pattern: str) -> tuple[list[int], list[Path]]:
+    """The frame numbers and files of `pattern`, in frame order."""
+    folder_text, name = os.path.split(pattern)
+    if FRAME_NUMBER in folder_text:
+        raise ValueError(
+            f"blurlab.capture.sequence: {pattern!r}: the frame number ({FRAME_NUMBER}) goes "
+            "in the file name, not in a folder's"
+        )
+    runs = re.findall(f"{FRAME_NUMBER}+", name)
+    if not runs:
+        path = Path(pattern)
+        if not path.is_file():
+            raise FileNotFoundError(f"blurlab.capture.sequence: no such file: {pattern}")
+        return [0], [path]
+    if len(runs) > 1:
+        raise ValueError(
+            f"blurlab.capture.sequence: {name!r} has {len(runs)} runs of {FRAME_NUMBER}; one "
+            "run is the frame number (shot.####.exr)"
+        )
+    width = len(runs[0])
+    prefix, suffix = name.split(runs[0])
+    matcher = re.compile(re.escape(prefix) + r"([0-9]+)" + re.escape(suffix))
+    folder = Path(folder_text or ".")
+    if not folder.is_dir():
+        raise FileNotFoundError(f"blurlab.capture.sequence: no such folder: {folder}")
+    found: dict[int, Path] = {}
+    with os.scandir(folder) as entries:
+        for entry in entries:
+            matched = matcher.fullmatch(entry.name)
+            digits = matched.group(1) if matched else ""
+            # Padded to the run's width exactly, or longer without a leading zero.
+            if not digits or len(digits) < width or (len(digits) > width and digits[0] == "0"):
+                continue
+            if not entry.is_file(follow_symlinks=False):
+                raise ValueError(
+                    f"blurlab.capture.sequence: {folder / entry.name} matches {name!r} but is "
+                    "not a regular file (a link or a folder); frames are read from the "
+                    "pattern's folder's own files only"
+                )
+            found[int(digits)] = folder / entry.name
+            if len(found) > MAX_SEQUENCE_FRAMES:
+                raise ValueError(
+                    f"blurlab.capture.sequence: {pattern!r} matches more than "
+                    f"{MAX_SEQUENCE_FRAMES} files, the most one sequence reads"
+                )
+    if not found:
+        raise FileNotFoundError(
+            f"blurlab.capture.sequence: no file in {folder} matches {name!r} ({FRAME_NUMBER} "
+            f"is the frame number, {width} digits or more)"
+        )
+    numbers = sorted(found)
+    missing = sorted(set(range(numbers[0], numbers[-1] + 1)) - set(numbers))
+    if missing:
+        first = f"{prefix}{missing[0]:0{width}d}{suffix}"
+        raise FileNotFoundError(
+            f"blurlab.capture.sequence: {pattern!r} has frames {numbers[0]} to {numbers[-1]} "
+            f"but {len(missing)} missing, the first {folder / first}; a sequence's frames are "
+            "consecutive"
+        )
+    return numbers, [found[n] for n in numbers]
 
 
 def _check_convention(convention: str, shutter_fraction: float, velocity_encoding, camera_motion):

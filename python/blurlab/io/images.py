@@ -215,6 +215,23 @@ def read_channels(path: str | os.PathLike) -> tuple[list[str], np.ndarray]:
     return _read(path, "read_channels", keep_uint8=False, every_part=True)
 
 
+def image_size(path: str | os.PathLike) -> tuple[int, int]:
+    """(width, height) of an image file, from its header: no pixel is read, so a sequence's
+    frames can be checked against each other before any is loaded."""
+    path = Path(path)
+    if not path.is_file():
+        raise FileNotFoundError(f"blurlab.io.image_size: no such file: {path}")
+    oiio = _oiio()
+    image = oiio.ImageInput.open(str(path))
+    if image is None:
+        raise OSError(f"blurlab.io.image_size: cannot read {path}: {_error_text(oiio)}")
+    try:
+        spec = image.spec()
+        return int(spec.width), int(spec.height)
+    finally:
+        image.close()
+
+
 def _read(
     path, caller: str, keep_uint8: bool, every_part: bool = False
 ) -> tuple[list[str], np.ndarray]:

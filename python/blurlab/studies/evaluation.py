@@ -73,7 +73,10 @@ def evaluate_scene(
     """Evaluates `jobs` = [(method, point, backend, key)] of one scene; yields (key, row) as
     each row is finished. `cache` holds the scene's frames and reference between calls (a
     worker keeps one per scene it has worked on); where cache["keep_colours"] holds a job's
-    (method, params JSON), its output colour is kept in cache["colours"] under that key."""
+    (method, params JSON), its output colour is kept in cache["colours"] under that key.
+    Nothing is rendered that `cache` holds already: with every job's frames (by instant and
+    steps) and the references there, `scene` needs only its name and `hdr` (a captured frame,
+    blurlab.studies.capture_study)."""
     size = settings.size
     info = ctx.info()
     wanted = settings.metrics if settings.metrics is not None else scene_metrics(scene)
@@ -304,6 +307,13 @@ def _prepared_reference(ctx, reference, cache: dict, kind: str) -> m.PreparedRef
             held[1].release()
         held = prepared[kind] = (reference, m.prepare_reference(ctx, reference.texture))
     return held[1]
+
+
+def release_prepared(cache: dict) -> None:
+    """Returns the references a scene cache prepared for gpu_mse_ssim to the context's pool:
+    for a caller whose cache lives for one frame of many (a captured sequence)."""
+    for _, prepared in cache.pop("prepared_references", {}).values():
+        prepared.release()
 
 
 def _without_steps(point: dict) -> dict:
