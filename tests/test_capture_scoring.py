@@ -16,8 +16,9 @@ import pandas as pd
 import pytest
 
 import blurlab as bl
-from blurlab import capture, cli
+from blurlab import cli
 from blurlab.blender.crosscheck import box_scene
+from blurlab.io import capture, images
 from blurlab.metrics import temporal_instability
 from blurlab.studies import capture_study, peers
 from blurlab.studies.capture_study import capture_grids, run_capture_study
@@ -78,7 +79,7 @@ def test_a_pattern_gives_its_frames_in_order_each_read_only_when_asked_for(shot,
         (folder / decoy).write_bytes(b"not an image")
     reads = []
     real = bl.io.read_channels
-    monkeypatch.setattr(bl.io, "read_channels", lambda path: reads.append(path) or real(path))
+    monkeypatch.setattr(images, "read_channels", lambda path: reads.append(path) or real(path))
     frames = bl.capture.sequence(str(folder / "shot.####.exr"))
     assert frames.numbers == (7, 8, 9) and len(frames) == FRAMES
     assert [p.name for p in frames.paths] == ["shot.0007.exr", "shot.0008.exr", "shot.0009.exr"]
@@ -186,7 +187,7 @@ def test_outputs_past_the_memory_bound_are_scored_in_further_passes(ctx, shot, t
     real = bl.io.read_channels
     with pytest.MonkeyPatch.context() as patch:
         patch.setattr(capture_study, "KEPT_BYTES", 1)
-        patch.setattr(bl.io, "read_channels", lambda path: reads.append(path) or real(path))
+        patch.setattr(images, "read_channels", lambda path: reads.append(path) or real(path))
         apart = scored(ctx, folder, "####", tmp_path / "b", grids=grids, repeats=0)
     shots = [Path(p).name for p in reads if Path(p).name.startswith("shot.")]
     assert len(shots) == 2 * FRAMES  # each capture frame read once per configuration

@@ -12,6 +12,7 @@ import pytest
 from gltf_writer import GltfBuilder, box_triangles
 
 import blurlab as bl
+from blurlab.cli_args import parse_animation
 from blurlab.scene.gltf import GltfError
 
 SIZE = (64, 36)
@@ -177,6 +178,6 @@ def test_the_command_line_follows_the_same_rule_and_offers_the_choice(tmp_path):
     assert_one_line_error(run_cli("study", "--scenes", path, "--out", out), *both)
     built_in = run_cli("recommend", "fan", "--budget-ms", "1", "--animation", "0")
     assert_one_line_error(built_in, "--animation is for .gltf/.glb files")
-    assert bl.cli.parse_animation("Slide,2") == ["Slide", 2]
-    assert bl.cli.parse_animation("none") is None
-    assert bl.cli.parse_animation("3") == 3
+    assert parse_animation("Slide,2") == ["Slide", 2]
+    assert parse_animation("none") is None
+    assert parse_animation("3") == 3

@@ -234,7 +234,7 @@ LAYERS = {
     "temporal": {"temporal"},
     "lab": {"studies", "blender"},
     # "": the package's own __init__
-    "front": {"cli", "cli_methods", "cli_reference", "__main__", ""},
+    "front": {"cli", "cli_args", "cli_methods", "cli_recommend", "cli_reference", "__main__", ""},
 }
 
 

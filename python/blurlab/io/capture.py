@@ -347,7 +347,7 @@ class CapturedSequence:
             here = io.image_size(path)
             if here != first:
                 raise ValueError(
-                    f"blurlab.capture: {path.name} is {here[0]}x{here[1]}, but "
+                    f"blurlab.io.capture: {path.name} is {here[0]}x{here[1]}, but "
                     f"{self.paths[0].name} of the same sequence is {first[0]}x{first[1]}"
                 )
         return first
@@ -367,7 +367,7 @@ def sequence(pattern: str | os.PathLike, **options) -> CapturedSequence:
     unknown = sorted(set(options) - set(READ_OPTIONS))
     if unknown:
         raise TypeError(
-            f"blurlab.capture.sequence: unknown options {unknown}; it takes {list(READ_OPTIONS)}"
+            f"blurlab.io.capture.sequence: unknown options {unknown}; it takes {list(READ_OPTIONS)}"
         )
     text = os.fspath(pattern)
     try:
@@ -378,11 +378,13 @@ def sequence(pattern: str | os.PathLike, **options) -> CapturedSequence:
             options.get("camera_motion"),
         )
     except ValueError as error:
-        raise ValueError(f"blurlab.capture.sequence({text!r}): {_without_prefix(error)}") from None
+        raise ValueError(
+            f"blurlab.io.capture.sequence({text!r}): {_without_prefix(error)}"
+        ) from None
     for layer in ("color", "depth", "motion"):
         if options.get(layer) is not None and not isinstance(options[layer], str):
             raise TypeError(
-                f"blurlab.capture.sequence: {layer} is a layer's name, not {options[layer]!r}"
+                f"blurlab.io.capture.sequence: {layer} is a layer's name, not {options[layer]!r}"
             )
     numbers, paths = _frame_files(text)
     return CapturedSequence(text, tuple(paths), tuple(numbers), dict(options))
@@ -397,18 +399,18 @@ def _frame_files(pattern: str) -> tuple[list[int], list[Path]]:
     folder_text, name = os.path.split(pattern)
     if FRAME_NUMBER in folder_text:
         raise ValueError(
-            f"blurlab.capture.sequence: {pattern!r}: the frame number ({FRAME_NUMBER}) goes "
+            f"blurlab.io.capture.sequence: {pattern!r}: the frame number ({FRAME_NUMBER}) goes "
             "in the file name, not in a folder's"
         )
     runs = re.findall(f"{FRAME_NUMBER}+", name)
     if not runs:
         path = Path(pattern)
         if not path.is_file():
-            raise FileNotFoundError(f"blurlab.capture.sequence: no such file: {pattern}")
+            raise FileNotFoundError(f"blurlab.io.capture.sequence: no such file: {pattern}")
         return [0], [path]
     if len(runs) > 1:
         raise ValueError(
-            f"blurlab.capture.sequence: {name!r} has {len(runs)} runs of {FRAME_NUMBER}; one "
+            f"blurlab.io.capture.sequence: {name!r} has {len(runs)} runs of {FRAME_NUMBER}; one "
             "run is the frame number (shot.####.exr)"
         )
     width = len(runs[0])
@@ -416,7 +418,7 @@ def _frame_files(pattern: str) -> tuple[list[int], list[Path]]:
     matcher = re.compile(re.escape(prefix) + r"([0-9]+)" + re.escape(suffix))
     folder = Path(folder_text or ".")
     if not folder.is_dir():
-        raise FileNotFoundError(f"blurlab.capture.sequence: no such folder: {folder}")
+        raise FileNotFoundError(f"blurlab.io.capture.sequence: no such folder: {folder}")
     found: dict[int, Path] = {}
     with os.scandir(folder) as entries:
         for entry in entries:
@@ -427,19 +429,19 @@ def _frame_files(pattern: str) -> tuple[list[int], list[Path]]:
                 continue
             if not entry.is_file(follow_symlinks=False):
                 raise ValueError(
-                    f"blurlab.capture.sequence: {folder / entry.name} matches {name!r} but is "
+                    f"blurlab.io.capture.sequence: {folder / entry.name} matches {name!r} but is "
                     "not a regular file (a link or a folder); frames are read from the "
                     "pattern's folder's own files only"
                 )
             found[int(digits)] = folder / entry.name
             if len(found) > MAX_SEQUENCE_FRAMES:
                 raise ValueError(
-                    f"blurlab.capture.sequence: {pattern!r} matches more than "
+                    f"blurlab.io.capture.sequence: {pattern!r} matches more than "
                     f"{MAX_SEQUENCE_FRAMES} files, the most one sequence reads"
                 )
     if not found:
         raise FileNotFoundError(
-            f"blurlab.capture.sequence: no file in {folder} matches {name!r} ({FRAME_NUMBER} "
+            f"blurlab.io.capture.sequence: no file in {folder} matches {name!r} ({FRAME_NUMBER} "
             f"is the frame number, {width} digits or more)"
         )
     numbers = sorted(found)
@@ -447,7 +449,7 @@ def _frame_files(pattern: str) -> tuple[list[int], list[Path]]:
     if missing:
         first = f"{prefix}{missing[0]:0{width}d}{suffix}"
         raise FileNotFoundError(
-            f"blurlab.capture.sequence: {pattern!r} has frames {numbers[0]} to {numbers[-1]} "
+            f"blurlab.io.capture.sequence: {pattern!r} has frames {numbers[0]} to {numbers[-1]} "
             f"but {len(missing)} missing, the first {folder / first}; a sequence's frames are "
             "consecutive"
         )

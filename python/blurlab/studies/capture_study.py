@@ -22,10 +22,12 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from .. import capture, io
-from ..context import Context
+from ..core.context import Context
+from ..core.frame import Frame
+from ..core.render import check_size
 from ..docs_link import docs_anchor
-from ..frame import Frame
+from ..io import capture
+from ..io import images as io
 from ..methods import method, method_instant, methods
 from ..metrics import (
     REFERENCES,
@@ -36,7 +38,6 @@ from ..metrics import (
     psnr_from_mse,
     temporal_instability,
 )
-from ..render import check_size
 from . import interactive
 from .evaluation import Settings, evaluate_scene, picture_key, release_prepared
 from .study import write_pictures
