@@ -46,13 +46,11 @@ vec4 reconstruct_at(ivec2 x) {
     float len_x = length_at(x);
     int pairs = max(samples / 2, 1);
     float j = interleaved_gradient_noise(x);
-    vec2 center = vec2(x) + 0.5;
     vec4 sum = vec4(0.0);
     float weight = 0.0;
     for (int i = 0; i < pairs; ++i) {
-        float t = (float(i) + j) / float(pairs);
-        ivec2 y1 = clamp(ivec2(floor(center + t * vn)), ivec2(0), size - 1);
-        ivec2 y2 = clamp(ivec2(floor(center - t * vn)), ivec2(0), size - 1);
+        ivec2 y1, y2;
+        mirrored_taps(x, vn, i, j, pairs, size, y1, y2);
         float z1 = sanitize_depth(texelFetch(depth, y1, 0).x);
         float z2 = sanitize_depth(texelFetch(depth, y2, 0).x);
         float len1 = length_at(y1), len2 = length_at(y2);

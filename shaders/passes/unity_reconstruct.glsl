@@ -44,12 +44,9 @@ vec4 reconstruct_at(ivec2 x) {
     float weight = 1.0 / max(l_c, 0.5);
     vec4 sum = cx * weight;
     float j = rand(uint(x.x), uint(x.y), seed);
-    vec2 center = vec2(x) + 0.5;
     for (int i = 0; i < n; ++i) {
-        float t = (float(i) + j) / float(n);
-        vec2 d = (i % 2 == 0) ? vmax : v_alt;
-        ivec2 y1 = clamp(ivec2(floor(center + d * t)), ivec2(0), size - 1);
-        ivec2 y2 = clamp(ivec2(floor(center - d * t)), ivec2(0), size - 1);
+        ivec2 y1, y2;
+        mirrored_taps(x, (i % 2 == 0) ? vmax : v_alt, i, j, n, size, y1, y2);
         vec4 s1 = texelFetch(velocity, y1, 0);
         vec4 s2 = texelFetch(velocity, y2, 0);
         vec2 v1 = decode_velocity(s1.xy, radius);
