@@ -39,6 +39,13 @@ struct StaleReadback : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// The base of every class that owns GL objects or a context: one owner each, never copied.
+struct NotCopyable {
+  NotCopyable() = default;
+  NotCopyable(const NotCopyable&) = delete;
+  NotCopyable& operator=(const NotCopyable&) = delete;
+};
+
 // Reads and clears every pending GL error; throws GLError naming `what` if there was one.
 // Called after each operation so that no error is left set for the next caller.
 void check_gl(const char* what);
