@@ -50,6 +50,19 @@ struct NotCopyable {
 // Called after each operation so that no error is left set for the next caller.
 void check_gl(const char* what);
 
+// check_gl after the calls that made a GL object: on an error the object is deleted (`destroy`),
+// the error its deletion may set is cleared, and the GLError thrown.
+template <typename Destroy>
+void check_created(const char* what, Destroy destroy) {
+  try {
+    check_gl(what);
+  } catch (...) {
+    destroy();
+    glGetError();
+    throw;
+  }
+}
+
 std::string gl_error_name(GLenum error);
 
 }  // namespace blurlab
