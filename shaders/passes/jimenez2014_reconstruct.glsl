@@ -6,20 +6,12 @@
 // X's blur or the tap's reaches it (common/depth_spread.glsl, extent soft_z), each pair takes the
 // weight of its nearer and faster tap, and the weight the taps do not take stays with C: the
 // foreground's alpha. Compute or fragment. NumPy twin: blurlab.twins.jimenez2014.
-#include "common/inputs.glsl"
+#include "common/tile_filter_inputs.glsl"
 #include "common/mcguire2012.glsl"
 #include "common/mirrored_pair.glsl"
 #include "common/depth_spread.glsl"
 
-layout(binding = 0) uniform sampler2D color;
-layout(binding = 1) uniform sampler2D depth;
-layout(binding = 2) uniform sampler2D motion;
 layout(binding = 3) uniform sampler2D neighbor_max;
-uniform int k;
-uniform int samples;
-uniform float soft_z;
-uniform float exposure;
-uniform uint seed;
 
 const float EARLY_EXIT = 0.5 + 0.01;
 
