@@ -45,12 +45,9 @@ def run_gather(step: Pass, params: dict[str, Param], reach: Callable[[dict], flo
 
     def run(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
         def on(textures):
-            height, width = textures["color"].shape[:2]
-            result = ctx.pooled((height, width, 4))
             passes = PassRunner(ctx, params, values)
             gathered = {"color": textures["color"], "motion": textures["motion"]}
-            passes.run(step, gathered, {"result": result}, backend)
-            return result, passes.timings
+            return passes.run_result(step, gathered, backend), passes.timings
 
         color, timings = with_edge(ctx, frame, inputs, values["edge"], reach(values), on)
         return {"color": color}, timings

@@ -29,8 +29,7 @@ def _run_jimenez2014(ctx: Context, frame: Frame, inputs: dict, values: dict, bac
     tiles, neighbors = tile_passes(passes, inputs["motion"], backend)
     textures = {name: inputs[name] for name in ("color", "depth", "motion")}
     textures["neighbor_max"] = neighbors
-    result = ctx.pooled(inputs["color"].shape[:2] + (4,))
-    passes.run(RECONSTRUCT, textures, {"result": result}, backend)
+    result = passes.run_result(RECONSTRUCT, textures, backend)
     return {"color": result, "tile_max": tiles, "neighbor_max": neighbors}, passes.timings
 
 

@@ -229,11 +229,9 @@ def run_filter(params: dict[str, Param], reconstruct: Pass, diagonal_reach: bool
         passes = PassRunner(ctx, params, values)
         tiles, neighbors = tile_passes(passes, motion, backend, diagonal_reach)
         result_type = "float16" if values["half_result"] else "float32"
-        result = ctx.pooled(inputs["color"].shape[:2] + (4,), result_type)
         textures["neighbor_max"] = neighbors
-        passes.run(
-            reconstruct, textures, {"result": result}, backend, defines=variant_defines(values)
-        )
+        defines = variant_defines(values)
+        result = passes.run_result(reconstruct, textures, backend, result_type, defines=defines)
         return {"color": result, "tile_max": tiles, "neighbor_max": neighbors}, passes.timings
 
     return run

@@ -39,7 +39,6 @@ RECONSTRUCT = Pass(
 def _run_urho3d(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
     passes = PassRunner(ctx, PARAMS, values)
     tiles, neighbors = tile_passes(passes, inputs["motion"], backend)
-    result = ctx.pooled(inputs["color"].shape[:2] + (4,))
     seed = values["seed"]
     jitter = ctx.cached(("urho3d_jitter", seed), lambda: ctx.upload(twin.jitter_texture(seed)))
     textures = {
@@ -49,7 +48,7 @@ def _run_urho3d(ctx: Context, frame: Frame, inputs: dict, values: dict, backend:
         "neighbor_max": neighbors,
         "jitter": jitter,
     }
-    passes.run(RECONSTRUCT, textures, {"result": result}, backend)
+    result = passes.run_result(RECONSTRUCT, textures, backend)
     return {"color": result, "tile_max": tiles, "neighbor_max": neighbors}, passes.timings
 
 
