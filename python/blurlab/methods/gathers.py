@@ -55,6 +55,19 @@ def run_gather(step: Pass, params: dict[str, Param], reach: Callable[[dict], flo
     return run
 
 
+def edge_gather(name: str, step: Pass, params: dict[str, Param], reach, **rest) -> Method:
+    """The Method of a gather with the edge rules: `step` run by run_gather on both backends
+    (`reach` as run_gather's); `rest` are the Method's other fields (instant, twin, doc, ...)."""
+    return Method(
+        name=name,
+        kind="gather",
+        params=params,
+        backends=("compute", "fragment"),
+        run=run_gather(step, params, reach),
+        **rest,
+    )
+
+
 EDGE_PARAM = Param(
     "clamp", EDGES, "taps outside the image: clamp, ignore, or guard (re-render a margin)"
 )
@@ -62,13 +75,12 @@ WEIGHTED_PARAMS = {"edge": EDGE_PARAM}
 GATHER_WEIGHTED = Pass("gather_weighted", "passes/gather_weighted.glsl", ("edge",))
 
 register(
-    Method(
-        name="gather_weighted",
-        kind="gather",
+    edge_gather(
+        "gather_weighted",
+        GATHER_WEIGHTED,
+        WEIGHTED_PARAMS,
+        lambda v: 1.5,
         instant="close",
-        params=WEIGHTED_PARAMS,
-        backends=("compute", "fragment"),
-        run=run_gather(GATHER_WEIGHTED, WEIGHTED_PARAMS, lambda v: 1.5),
         twin=twin.gather_weighted,
         doc="ogldev tutorial 41: taps along M/2 with weights 0.4/0.3/0.2/0.1. docs/spec.md §4.",
     )
@@ -97,13 +109,12 @@ def box_instant(values: dict) -> str:
 
 
 register(
-    Method(
-        name="gather_box",
-        kind="gather",
+    edge_gather(
+        "gather_box",
+        GATHER_BOX,
+        BOX_PARAMS,
+        box_reach,
         instant=box_instant,
-        params=BOX_PARAMS,
-        backends=("compute", "fragment"),
-        run=run_gather(GATHER_BOX, BOX_PARAMS, box_reach),
         default_grid={"taps": [5, 10, 20]},
         twin=twin.gather_box,
         gallery=True,
