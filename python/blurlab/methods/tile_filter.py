@@ -227,14 +227,39 @@ def run_filter(params: dict[str, Param], reconstruct: Pass, diagonal_reach: bool
             textures = {key: inputs[key] for key in ("color", "depth", "motion")}
             motion = inputs["motion"]
         passes = PassRunner(ctx, params, values)
-        tiles, neighbors = tile_passes(passes, motion, backend, diagonal_reach)
         result_type = "float16" if values["half_result"] else "float32"
-        textures["neighbor_max"] = neighbors
         defines = variant_defines(values)
-        result = passes.run_result(reconstruct, textures, backend, result_type, defines=defines)
-        return {"color": result, "tile_max": tiles, "neighbor_max": neighbors}, passes.timings
+        return reconstruct_on_tiles(
+            passes,
+            reconstruct,
+            textures,
+            motion,
+            backend,
+            diagonal_reach,
+            result_type,
+            defines=defines,
+        )
 
     return run
+
+
+def reconstruct_on_tiles(
+    passes: PassRunner,
+    reconstruct: Pass,
+    textures: dict,
+    motion,
+    backend: str,
+    diagonal_reach=False,
+    dtype="float32",
+    **options,
+):
+    """A tile filter's run after its inputs: TileMax and NeighborMax of `motion` (tile_passes),
+    then `reconstruct` over `textures` and "neighbor_max" into a `dtype` result (`options` as
+    PassRunner.run's). Returns the run's outputs and timings."""
+    tiles, neighbors = tile_passes(passes, motion, backend, diagonal_reach)
+    inputs = {**textures, "neighbor_max": neighbors}
+    result = passes.run_result(reconstruct, inputs, backend, dtype, **options)
+    return {"color": result, "tile_max": tiles, "neighbor_max": neighbors}, passes.timings
 
 
 def filter_with_options(

@@ -11,7 +11,7 @@ from ..context import Context
 from ..frame import Frame
 from ..twins import urho3d as twin
 from .core import FLOAT32_MAX, Method, Param, Pass, PassRunner, register
-from .tile_filter import TILE_FILTER_PARAMS, tile_passes
+from .tile_filter import TILE_FILTER_PARAMS, reconstruct_on_tiles
 
 
 def default_far(frame: Frame) -> float:
@@ -38,18 +38,11 @@ RECONSTRUCT = Pass(
 
 def _run_urho3d(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
     passes = PassRunner(ctx, PARAMS, values)
-    tiles, neighbors = tile_passes(passes, inputs["motion"], backend)
     seed = values["seed"]
     jitter = ctx.cached(("urho3d_jitter", seed), lambda: ctx.upload(twin.jitter_texture(seed)))
-    textures = {
-        "color": inputs["color"],
-        "depth": inputs["depth"],
-        "motion": inputs["motion"],
-        "neighbor_max": neighbors,
-        "jitter": jitter,
-    }
-    result = passes.run_result(RECONSTRUCT, textures, backend)
-    return {"color": result, "tile_max": tiles, "neighbor_max": neighbors}, passes.timings
+    textures = {name: inputs[name] for name in ("color", "depth", "motion")}
+    textures["jitter"] = jitter
+    return reconstruct_on_tiles(passes, RECONSTRUCT, textures, inputs["motion"], backend)
 
 
 register(
