@@ -8,7 +8,7 @@ test tests/test_gather_gaussian.py.
 from __future__ import annotations
 
 from ..twins import gathers as twin
-from .core import Param, Pass, register
+from .core import Method, Param, Pass, register
 from .gathers import EDGE_PARAM, edge_gather
 
 PARAMS = {
@@ -20,11 +20,9 @@ PARAMS = {
 GATHER = Pass("gather_gaussian", "passes/gather_gaussian.glsl", tuple(PARAMS))
 
 register(
-    edge_gather(
-        "gather_gaussian",
-        GATHER,
-        PARAMS,
-        reach=lambda values: 0.5,
+    Method(
+        name="gather_gaussian",
+        **edge_gather(GATHER, PARAMS, reach=lambda values: 0.5),
         default_grid={"taps": [5, 9, 17], "sigma": [0.25]},
         twin=twin.gather_gaussian,
         doc="n taps along the motion around the pixel, weighted exp(-s²/2σ²). docs/spec.md §4.",

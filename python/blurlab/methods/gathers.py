@@ -55,17 +55,15 @@ def run_gather(step: Pass, params: dict[str, Param], reach: Callable[[dict], flo
     return run
 
 
-def edge_gather(name: str, step: Pass, params: dict[str, Param], reach, **rest) -> Method:
-    """The Method of a gather with the edge rules: `step` run by run_gather on both backends
-    (`reach` as run_gather's); `rest` are the Method's other fields (instant, twin, doc, ...)."""
-    return Method(
-        name=name,
-        kind="gather",
-        params=params,
-        backends=("compute", "fragment"),
-        run=run_gather(step, params, reach),
-        **rest,
-    )
+def edge_gather(step: Pass, params: dict[str, Param], reach) -> dict:
+    """The Method fields of a gather with the edge rules: `step` run by run_gather on both
+    backends (`reach` as run_gather's)."""
+    return {
+        "kind": "gather",
+        "params": params,
+        "backends": ("compute", "fragment"),
+        "run": run_gather(step, params, reach),
+    }
 
 
 EDGE_PARAM = Param(
@@ -75,11 +73,9 @@ WEIGHTED_PARAMS = {"edge": EDGE_PARAM}
 GATHER_WEIGHTED = Pass("gather_weighted", "passes/gather_weighted.glsl", ("edge",))
 
 register(
-    edge_gather(
-        "gather_weighted",
-        GATHER_WEIGHTED,
-        WEIGHTED_PARAMS,
-        lambda v: 1.5,
+    Method(
+        name="gather_weighted",
+        **edge_gather(GATHER_WEIGHTED, WEIGHTED_PARAMS, lambda v: 1.5),
         instant="close",
         twin=twin.gather_weighted,
         doc="ogldev tutorial 41: taps along M/2 with weights 0.4/0.3/0.2/0.1. docs/spec.md §4.",
@@ -109,11 +105,9 @@ def box_instant(values: dict) -> str:
 
 
 register(
-    edge_gather(
-        "gather_box",
-        GATHER_BOX,
-        BOX_PARAMS,
-        box_reach,
+    Method(
+        name="gather_box",
+        **edge_gather(GATHER_BOX, BOX_PARAMS, box_reach),
         instant=box_instant,
         default_grid={"taps": [5, 10, 20]},
         twin=twin.gather_box,

@@ -9,8 +9,8 @@ FILTER_OPTIONS, and the paper's two constants gamma and kappa declared here.
 from __future__ import annotations
 
 from ..twins import guertin2014 as twin
-from .core import FLOAT32_MAX, Param, Pass, register
-from .tile_filter import FILTER_OPTIONS, TILE_FILTER_PARAMS, filter_with_options, uniform_names
+from .core import FLOAT32_MAX, Method, Param, Pass, register
+from .tile_filter import FILTER_OPTIONS, TILE_FILTER_PARAMS, options_filter, uniform_names
 
 PARAMS = {
     **TILE_FILTER_PARAMS,
@@ -28,12 +28,11 @@ RECONSTRUCT = Pass("reconstruct", "passes/reconstruct_guertin2014.glsl", uniform
 
 
 register(
-    filter_with_options(
-        "reconstruct_guertin2014",
-        PARAMS,
-        RECONSTRUCT,
-        diagonal_reach=True,
-        grid={"k": [20], "samples": [9, 15, 25]},
+    Method(
+        name="reconstruct_guertin2014",
+        **options_filter(
+            PARAMS, RECONSTRUCT, diagonal_reach=True, grid={"k": [20], "samples": [9, 15, 25]}
+        ),
         twin=twin.reconstruct_guertin2014,
         doc="Guertin, McGuire, Nowrouzezahrai: A Fast and Stable Feature-Aware Motion Blur "
         "Filter (HPG 2014): docs/spec.md §3 with direction-keeping dilation, two sampling "

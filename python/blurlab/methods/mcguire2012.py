@@ -11,19 +11,21 @@ built as an option and removed: it measured slower (docs/classify_and_steps.md).
 from __future__ import annotations
 
 from ..twins import mcguire2012 as twin
-from .core import Pass, register
-from .tile_filter import FILTER_OPTIONS, TILE_FILTER_PARAMS, filter_with_options, uniform_names
+from .core import Method, Pass, register
+from .tile_filter import FILTER_OPTIONS, TILE_FILTER_PARAMS, options_filter, uniform_names
 
 PARAMS = {**TILE_FILTER_PARAMS, **FILTER_OPTIONS}
 RECONSTRUCT = Pass("reconstruct", "passes/reconstruct_mcguire2012.glsl", uniform_names(PARAMS))
 
 register(
-    filter_with_options(
-        "reconstruct_mcguire2012",
-        PARAMS,
-        RECONSTRUCT,
-        diagonal_reach=False,
-        grid={"k": [10, 20, 40], "samples": [5, 9, 15, 25]},
+    Method(
+        name="reconstruct_mcguire2012",
+        **options_filter(
+            PARAMS,
+            RECONSTRUCT,
+            diagonal_reach=False,
+            grid={"k": [10, 20, 40], "samples": [5, 9, 15, 25]},
+        ),
         twin=twin.reconstruct_mcguire2012,
         study_curves=("samples", "k"),
         gallery=True,

@@ -16,7 +16,7 @@ import numpy as np
 
 from ..context import Context
 from ..frame import Frame
-from .core import FLOAT32_MAX, PARAM_SCALE_MAX, SEED, Method, Param, Pass, PassRunner
+from .core import FLOAT32_MAX, PARAM_SCALE_MAX, SEED, Param, Pass, PassRunner
 from .variants import PassVariants
 
 
@@ -262,18 +262,16 @@ def reconstruct_on_tiles(
     return {"color": result, "tile_max": tiles, "neighbor_max": neighbors}, passes.timings
 
 
-def filter_with_options(
-    name: str, params: dict[str, Param], reconstruct: Pass, diagonal_reach: bool, grid: dict, **rest
-) -> Method:
-    """The Method of a filter that offers FILTER_OPTIONS (among its `params`): run_filter into
-    its `reconstruct` pass on both backends, swept over `grid` and then each option on its own
-    (OPTIONS_AT_DEFAULT); `rest` are the Method's other fields (twin, doc, ...)."""
-    return Method(
-        name=name,
-        kind="filter",
-        params=params,
-        backends=("compute", "fragment"),
-        run=run_filter(params, reconstruct, diagonal_reach),
-        default_grid=[grid, *OPTIONS_AT_DEFAULT],
-        **rest,
-    )
+def options_filter(
+    params: dict[str, Param], reconstruct: Pass, diagonal_reach: bool, grid: dict
+) -> dict:
+    """The Method fields of a filter that offers FILTER_OPTIONS (among its `params`): run_filter
+    into its `reconstruct` pass on both backends, swept over `grid` and then each option on its
+    own (OPTIONS_AT_DEFAULT)."""
+    return {
+        "kind": "filter",
+        "params": params,
+        "backends": ("compute", "fragment"),
+        "run": run_filter(params, reconstruct, diagonal_reach),
+        "default_grid": [grid, *OPTIONS_AT_DEFAULT],
+    }
