@@ -17,3 +17,9 @@ void mirrored_taps(ivec2 x, vec2 v, int i, float j, int pairs, ivec2 size, out i
     y1 = clamp(ivec2(floor(center + t * v)), ivec2(0), size - 1);
     y2 = clamp(ivec2(floor(center - t * v)), ivec2(0), size - 1);
 }
+
+// A mirrored pair's taps, weights a1, a2 and colours c1, c2, added to the sums.
+void add_pair(float a1, float a2, vec4 c1, vec4 c2, inout vec4 sum, inout float weight) {
+    weight += a1 + a2;
+    sum += a1 * c1 + a2 * c2;
+}

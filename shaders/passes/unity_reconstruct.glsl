@@ -57,9 +57,8 @@ vec4 reconstruct_at(ivec2 x) {
         float a1 = f1 * cone(length(vec2(y1 - x)), v1) + (1.0 - f1) * cone(length(vec2(y1 - x)), vc);
         float a2 = f2 * cone(length(vec2(y2 - x)), v2) + (1.0 - f2) * cone(length(vec2(y2 - x)), vc);
         mirror_pair(a1, a2, z1, z2, length(v1), length(v2));
-        weight += a1 + a2;
-        sum += a1 * sanitize_color(texelFetch(color, y1, 0))
-             + a2 * sanitize_color(texelFetch(color, y2, 0));
+        vec4 c1 = sanitize_color(texelFetch(color, y1, 0));
+        add_pair(a1, a2, c1, sanitize_color(texelFetch(color, y2, 0)), sum, weight);
     }
     return sum / weight;
 }
