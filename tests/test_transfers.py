@@ -59,6 +59,22 @@ def test_render_downloads_nothing_until_a_field_is_read(ctx, monkeypatch):
         assert frame.color is color and counts["download"] == 1  # read once, kept
 
 
+def from_arrays(rendered: bl.Frame) -> bl.Frame:
+    """A frame built from the rendered frame's arrays (its layers too): no textures, no camera."""
+    return bl.Frame(
+        rendered.color,
+        rendered.depth,
+        rendered.motion,
+        rendered.object_id,
+        shutter=rendered.shutter,
+        time=rendered.time,
+        opaque_color=rendered.opaque_color,
+        translucent=rendered.translucent,
+        translucent_motion=rendered.translucent_motion,
+        translucent_depth=rendered.translucent_depth,
+    )
+
+
 def test_translucent_render_downloads_nothing_until_read(ctx, monkeypatch):
     with counted(monkeypatch) as counts:
         frame = ctx.render(bl.scenes.get("moving_glass"), SIZE)
@@ -76,15 +92,7 @@ def test_gpu_statistics_match_numpy(ctx):
     for name in ("teapot_pass", "fan", "moving_glass"):
         rendered = ctx.render(bl.scenes.get(name), (67, 37))  # odd: partial tiles
         on_gpu = (rendered.depth_range, rendered.longest_motion, rendered.layer_moves)
-        arrays = bl.Frame(
-            rendered.color,
-            rendered.depth,
-            rendered.motion,
-            opaque_color=rendered.opaque_color,
-            translucent=rendered.translucent,
-            translucent_motion=rendered.translucent_motion,
-            translucent_depth=rendered.translucent_depth,
-        )
+        arrays = from_arrays(rendered)
         assert on_gpu == (arrays.depth_range, arrays.longest_motion, arrays.layer_moves), name
 
 
@@ -142,18 +150,7 @@ def test_a_translucent_frame_from_arrays_blurs_as_the_rendered_one(ctx, transluc
     """The layer frames take the frame's textures, uploaded once where it was built from arrays:
     the same bits as the rendered frame's."""
     rendered = ctx.render(bl.scenes.get("moving_glass"), SIZE)
-    arrays = bl.Frame(
-        rendered.color,
-        rendered.depth,
-        rendered.motion,
-        rendered.object_id,
-        shutter=rendered.shutter,
-        time=rendered.time,
-        opaque_color=rendered.opaque_color,
-        translucent=rendered.translucent,
-        translucent_motion=rendered.translucent_motion,
-        translucent_depth=rendered.translucent_depth,
-    )
+    arrays = from_arrays(rendered)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # a frame from arrays has no camera to check instants by
         expected = bl.blur(ctx, rendered, "reconstruct_guertin2014", translucency=translucency)

@@ -16,12 +16,6 @@ float depth_spread_weight(float z_x, float len_x, float z_y, float len_y, float 
     return min(behind * spread(dist, len_x) + (1.0 - behind) * spread(dist, len_y), 1.0);
 }
 
-// A mirrored pair's taps, weights a1, a2 and colours c1, c2, added to the sums.
-void add_pair(float a1, float a2, vec4 c1, vec4 c2, inout vec4 sum, inout float weight) {
-    weight += a1 + a2;
-    sum += a1 * c1 + a2 * c2;
-}
-
 // The pairs' mean over their 2·pairs taps; the weight the taps leave stays with C(X) = cx.
 vec4 left_to_center(vec4 sum, float weight, vec4 cx, int pairs) {
     float n = float(2 * pairs);

@@ -1,46 +1,13 @@
-// What every tile-based filter's reconstruct pass reads (docs/spec.md §3): the G-buffer, the
-// NeighborMax grid (neighbor_max_of, tile_grid), and blurlab/methods/tile_filter.py's
-// TILE_FILTER_PARAMS and FILTER_OPTIONS under the same names (values validated in Python, once
-// per call): uniforms, but for the options that pick the variant (VARIANT_OPTIONS: #defines).
-#include "common/inputs.glsl"
+// What the reconstruct passes of reconstruct_mcguire2012 and reconstruct_guertin2014 read
+// (docs/spec.md §3): common/tile_filter_inputs.glsl, the NeighborMax grid (neighbor_max_of,
+// tile_grid), and blurlab/methods/tile_filter.py's FILTER_OPTIONS under the same names (values
+// validated in Python, once per call): uniforms, but for the options that pick the variant
+// (VARIANT_OPTIONS: #defines).
+#include "common/tile_filter_inputs.glsl"
 #include "common/mcguire2012.glsl"
 #include "common/random.glsl"
 #include "common/filter_options.glsl"
 
-layout(binding = 0) uniform sampler2D color;
-// The G-buffer as docs/spec.md §10.1 reads it: three textures sanitized on every read, or with
-// PACKED_INPUTS the two half-float textures of passes/pack_inputs.comp (§19), sanitized once
-// when packed, depth and motion in one fetch.
-#ifdef PACKED_INPUTS
-layout(binding = 1) uniform sampler2D motion_depth;  // xy: motion, z: depth
-
-vec4 color_at(ivec2 p) {
-    return texelFetch(color, p, 0);
-}
-
-void depth_motion_at(ivec2 p, out float z, out vec2 m) {
-    vec4 texel = texelFetch(motion_depth, p, 0);
-    z = texel.z;
-    m = texel.xy;
-}
-#else
-layout(binding = 1) uniform sampler2D depth;
-layout(binding = 2) uniform sampler2D motion;
-
-vec4 color_at(ivec2 p) {
-    return sanitize_color(texelFetch(color, p, 0));
-}
-
-void depth_motion_at(ivec2 p, out float z, out vec2 m) {
-    z = sanitize_depth(texelFetch(depth, p, 0).x);
-    m = sanitize_motion(texelFetch(motion, p, 0).xy);
-}
-#endif
-uniform int k;
-uniform int samples;
-uniform float soft_z;
-uniform float exposure;
-uniform uint seed;
 // The options of common/filter_options.glsl that pick the pass's variant are #defines, 0 or 1
 // (blurlab.methods.tile_filter.variant_defines), not uniforms: the jittered lookup's code, compiled
 // in and switched off by a uniform, cost the H100 15 % of the reconstruct pass.

@@ -6,20 +6,12 @@
 // X's blur or the tap's reaches it (common/depth_spread.glsl, extent soft_z), each pair takes the
 // weight of its nearer and faster tap, and the weight the taps do not take stays with C: the
 // foreground's alpha. Compute or fragment. NumPy twin: blurlab.twins.jimenez2014.
-#include "common/inputs.glsl"
+#include "common/tile_filter_inputs.glsl"
 #include "common/mcguire2012.glsl"
 #include "common/mirrored_pair.glsl"
 #include "common/depth_spread.glsl"
 
-layout(binding = 0) uniform sampler2D color;
-layout(binding = 1) uniform sampler2D depth;
-layout(binding = 2) uniform sampler2D motion;
 layout(binding = 3) uniform sampler2D neighbor_max;
-uniform int k;
-uniform int samples;
-uniform float soft_z;
-uniform float exposure;
-uniform uint seed;
 
 const float EARLY_EXIT = 0.5 + 0.01;
 
@@ -46,13 +38,11 @@ vec4 reconstruct_at(ivec2 x) {
     float len_x = length_at(x);
     int pairs = max(samples / 2, 1);
     float j = interleaved_gradient_noise(x);
-    vec2 center = vec2(x) + 0.5;
     vec4 sum = vec4(0.0);
     float weight = 0.0;
     for (int i = 0; i < pairs; ++i) {
-        float t = (float(i) + j) / float(pairs);
-        ivec2 y1 = clamp(ivec2(floor(center + t * vn)), ivec2(0), size - 1);
-        ivec2 y2 = clamp(ivec2(floor(center - t * vn)), ivec2(0), size - 1);
+        ivec2 y1, y2;
+        mirrored_taps(x, vn, i, j, pairs, size, y1, y2);
         float z1 = sanitize_depth(texelFetch(depth, y1, 0).x);
         float z2 = sanitize_depth(texelFetch(depth, y2, 0).x);
         float len1 = length_at(y1), len2 = length_at(y2);

@@ -78,8 +78,7 @@ vec4 reconstruct_at(ivec2 x) {
         float a1 = sample_weight(length(vec2(y1 - x)), z1, v1, zx, vx, wc, d);
         float a2 = sample_weight(length(vec2(y2 - x)), z2, v2, zx, vx, wc, d);
         mirror_pair(a1, a2, z1, z2, length(v1), length(v2));
-        weight += a1 + a2;
-        sum += a1 * color_at(y1) + a2 * color_at(y2);
+        add_pair(a1, a2, color_at(y1), color_at(y2), sum, weight);
     }
     return sum / weight;
 }

@@ -44,12 +44,9 @@ vec4 reconstruct_at(ivec2 x) {
     float weight = 1.0 / max(l_c, 0.5);
     vec4 sum = cx * weight;
     float j = rand(uint(x.x), uint(x.y), seed);
-    vec2 center = vec2(x) + 0.5;
     for (int i = 0; i < n; ++i) {
-        float t = (float(i) + j) / float(n);
-        vec2 d = (i % 2 == 0) ? vmax : v_alt;
-        ivec2 y1 = clamp(ivec2(floor(center + d * t)), ivec2(0), size - 1);
-        ivec2 y2 = clamp(ivec2(floor(center - d * t)), ivec2(0), size - 1);
+        ivec2 y1, y2;
+        mirrored_taps(x, (i % 2 == 0) ? vmax : v_alt, i, j, n, size, y1, y2);
         vec4 s1 = texelFetch(velocity, y1, 0);
         vec4 s2 = texelFetch(velocity, y2, 0);
         vec2 v1 = decode_velocity(s1.xy, radius);
@@ -60,9 +57,8 @@ vec4 reconstruct_at(ivec2 x) {
         float a1 = f1 * cone(length(vec2(y1 - x)), v1) + (1.0 - f1) * cone(length(vec2(y1 - x)), vc);
         float a2 = f2 * cone(length(vec2(y2 - x)), v2) + (1.0 - f2) * cone(length(vec2(y2 - x)), vc);
         mirror_pair(a1, a2, z1, z2, length(v1), length(v2));
-        weight += a1 + a2;
-        sum += a1 * sanitize_color(texelFetch(color, y1, 0))
-             + a2 * sanitize_color(texelFetch(color, y2, 0));
+        vec4 c1 = sanitize_color(texelFetch(color, y1, 0));
+        add_pair(a1, a2, c1, sanitize_color(texelFetch(color, y2, 0)), sum, weight);
     }
     return sum / weight;
 }

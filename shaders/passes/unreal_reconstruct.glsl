@@ -39,13 +39,11 @@ vec4 reconstruct_at(ivec2 x) {
     float len_x = own.x / LENGTH_CODE_MAX * radius;
     int pairs = taps / 2;
     float j = rand(uint(x.x), uint(x.y), seed);
-    vec2 center = vec2(x) + 0.5;
     vec4 sum = vec4(0.0);
     float weight = 0.0;
     for (int i = 0; i < pairs; ++i) {
-        float t = (float(i) + j) / float(pairs);
-        ivec2 y1 = clamp(ivec2(floor(center + t * vmax)), ivec2(0), size - 1);
-        ivec2 y2 = clamp(ivec2(floor(center - t * vmax)), ivec2(0), size - 1);
+        ivec2 y1, y2;
+        mirrored_taps(x, vmax, i, j, pairs, size, y1, y2);
         float a1 = 1.0, a2 = 1.0;
         if (slow) {
             vec4 s1 = texelFetch(velocity, y1, 0);

@@ -13,13 +13,7 @@ Buffer::Buffer(Context* context, size_t bytes, Usage usage) : context_(context),
   const GLbitfield flags =
       usage == Usage::readback ? GL_CLIENT_STORAGE_BIT : GL_DYNAMIC_STORAGE_BIT;
   glNamedBufferStorage(id_, static_cast<GLsizeiptr>(bytes), nullptr, flags);
-  try {
-    check_gl("creating a GL buffer");
-  } catch (...) {
-    glDeleteBuffers(1, &id_);
-    glGetError();
-    throw;
-  }
+  check_created("creating a GL buffer", [this] { glDeleteBuffers(1, &id_); });
   context_->track("buffer", +1);
 }
 

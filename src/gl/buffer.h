@@ -11,14 +11,12 @@ namespace blurlab {
 
 class Context;
 
-class Buffer {
+class Buffer : NotCopyable {
  public:
   enum class Usage { storage, readback };
   // The buffer must not outlive `context`; its owner keeps the context alive.
   Buffer(Context* context, size_t bytes, Usage usage);
   ~Buffer();
-  Buffer(const Buffer&) = delete;
-  Buffer& operator=(const Buffer&) = delete;
 
   GLuint id() const { return id_; }
   size_t size() const { return bytes_; }

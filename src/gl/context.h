@@ -34,13 +34,11 @@ struct DeviceRequest {
   int index = -1;
 };
 
-class Context : public std::enable_shared_from_this<Context> {
+class Context : public std::enable_shared_from_this<Context>, NotCopyable {
  public:
   static std::shared_ptr<Context> create(const DeviceRequest& request, std::string shader_dir);
   static std::vector<EglDevice> devices();
   ~Context();
-  Context(const Context&) = delete;
-  Context& operator=(const Context&) = delete;
 
   // Makes this context current on the calling thread. Throws if the thread is not the one that
   // created the context: a GL context is current on one thread at a time.

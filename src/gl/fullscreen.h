@@ -13,12 +13,10 @@ class Context;
 class Program;
 class Texture;
 
-class FullscreenDraw {
+class FullscreenDraw : NotCopyable {
  public:
   explicit FullscreenDraw(std::shared_ptr<Context> context);
   ~FullscreenDraw();
-  FullscreenDraw(const FullscreenDraw&) = delete;
-  FullscreenDraw& operator=(const FullscreenDraw&) = delete;
 
   // Draws `program` (vertex stage: shaders/common/fullscreen.vert) over all of `target`.
   void draw(const Program& program, const Texture& target);

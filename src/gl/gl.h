@@ -39,9 +39,29 @@ struct StaleReadback : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// The base of every class that owns GL objects or a context: one owner each, never copied.
+struct NotCopyable {
+  NotCopyable() = default;
+  NotCopyable(const NotCopyable&) = delete;
+  NotCopyable& operator=(const NotCopyable&) = delete;
+};
+
 // Reads and clears every pending GL error; throws GLError naming `what` if there was one.
 // Called after each operation so that no error is left set for the next caller.
 void check_gl(const char* what);
+
+// check_gl after the calls that made a GL object: on an error the object is deleted (`destroy`),
+// the error its deletion may set is cleared, and the GLError thrown.
+template <typename Destroy>
+void check_created(const char* what, Destroy destroy) {
+  try {
+    check_gl(what);
+  } catch (...) {
+    destroy();
+    glGetError();
+    throw;
+  }
+}
 
 std::string gl_error_name(GLenum error);
 

@@ -32,12 +32,10 @@ struct MeshData {
   size_t triangle_count = 0;
 };
 
-class Mesh {
+class Mesh : NotCopyable {
  public:
   Mesh(std::shared_ptr<Context> context, const MeshData& data);
   ~Mesh();
-  Mesh(const Mesh&) = delete;
-  Mesh& operator=(const Mesh&) = delete;
 
   void draw() const;
   bool skinned() const { return skinned_; }

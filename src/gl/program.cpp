@@ -1,6 +1,7 @@
 #include "gl/program.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <regex>
@@ -117,6 +118,16 @@ class SourceBuilder {
   int depth_ = 0;
 };
 
+// The info log of a shader or program `id`, read by its kind's getters.
+template <typename GetInt, typename GetLog>
+std::string info_log(GLuint id, GetInt get_int, GetLog get_log) {
+  GLint length = 0;
+  get_int(id, GL_INFO_LOG_LENGTH, &length);
+  std::string log(std::max(length, 1), '\0');
+  get_log(id, length, nullptr, log.data());
+  return log;
+}
+
 GLuint compile(GLenum stage, const ShaderSource& source) {
   GLuint shader = glCreateShader(stage);
   const char* text = source.text.c_str();
@@ -125,10 +136,7 @@ GLuint compile(GLenum stage, const ShaderSource& source) {
   GLint ok = GL_FALSE;
   glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
   if (!ok) {
-    GLint length = 0;
-    glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &length);
-    std::string log(std::max(length, 1), '\0');
-    glGetShaderInfoLog(shader, length, nullptr, log.data());
+    const std::string log = info_log(shader, glGetShaderiv, glGetShaderInfoLog);
     glDeleteShader(shader);
     throw ShaderError("blurlab: " + source.files[0] + " failed to compile:\n" +
                       translate_shader_log(log.c_str(), source.files));
@@ -396,10 +404,7 @@ void Program::link(const std::vector<GLuint>& shaders,
   GLint ok = GL_FALSE;
   glGetProgramiv(id_, GL_LINK_STATUS, &ok);
   if (!ok) {
-    GLint length = 0;
-    glGetProgramiv(id_, GL_INFO_LOG_LENGTH, &length);
-    std::string log(std::max(length, 1), '\0');
-    glGetProgramInfoLog(id_, length, nullptr, log.data());
+    const std::string log = info_log(id_, glGetProgramiv, glGetProgramInfoLog);
     throw ShaderError("blurlab: " + name_ + " failed to link:\n" + log);
   }
   std::map<std::string, std::string> formats;
@@ -514,37 +519,40 @@ PreparedUniform Program::prepare_uniform(const std::string& name,
   return p;
 }
 
+namespace {
+
+// GL's setters of 1 to 4 components of one element type: the one for `components` sets `count`
+// elements at `location` of `program` (none for another count).
+template <typename T, typename Setter>
+void set_vectors(const std::array<Setter, 4>& setters, GLuint program, GLint location,
+                 GLsizei count, int components, const T* values) {
+  if (components >= 1 && components <= 4) setters[components - 1](program, location, count, values);
+}
+
+}  // namespace
+
 void Program::apply_uniform(const PreparedUniform& u) const {
   const GLint loc = u.location;
   const GLsizei n = u.count;
   const int c = u.components;
   switch (u.kind) {
-    case PreparedUniform::Kind::floats: {
-      const float* f = u.floats.data();
-      if (c == 1) glProgramUniform1fv(id_, loc, n, f);
-      if (c == 2) glProgramUniform2fv(id_, loc, n, f);
-      if (c == 3) glProgramUniform3fv(id_, loc, n, f);
-      if (c == 4) glProgramUniform4fv(id_, loc, n, f);
+    case PreparedUniform::Kind::floats:
       // Row by row, as NumPy holds matrices; GL's default is column by column.
-      if (c == 16) glProgramUniformMatrix4fv(id_, loc, n, GL_TRUE, f);
+      if (c == 16) glProgramUniformMatrix4fv(id_, loc, n, GL_TRUE, u.floats.data());
+      set_vectors(std::array{glProgramUniform1fv, glProgramUniform2fv, glProgramUniform3fv,
+                             glProgramUniform4fv},
+                  id_, loc, n, c, u.floats.data());
       break;
-    }
-    case PreparedUniform::Kind::uints: {
-      const GLuint* w = u.uints.data();
-      if (c == 1) glProgramUniform1uiv(id_, loc, n, w);
-      if (c == 2) glProgramUniform2uiv(id_, loc, n, w);
-      if (c == 3) glProgramUniform3uiv(id_, loc, n, w);
-      if (c == 4) glProgramUniform4uiv(id_, loc, n, w);
+    case PreparedUniform::Kind::uints:
+      set_vectors(std::array{glProgramUniform1uiv, glProgramUniform2uiv, glProgramUniform3uiv,
+                             glProgramUniform4uiv},
+                  id_, loc, n, c, u.uints.data());
       break;
-    }
-    case PreparedUniform::Kind::ints: {
-      const GLint* w = u.ints.data();
-      if (c == 1) glProgramUniform1iv(id_, loc, n, w);
-      if (c == 2) glProgramUniform2iv(id_, loc, n, w);
-      if (c == 3) glProgramUniform3iv(id_, loc, n, w);
-      if (c == 4) glProgramUniform4iv(id_, loc, n, w);
+    case PreparedUniform::Kind::ints:
+      set_vectors(std::array{glProgramUniform1iv, glProgramUniform2iv, glProgramUniform3iv,
+                             glProgramUniform4iv},
+                  id_, loc, n, c, u.ints.data());
       break;
-    }
   }
 }
 

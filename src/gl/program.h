@@ -74,7 +74,7 @@ struct PreparedUniform {
   std::vector<GLuint> uints;
 };
 
-class Program {
+class Program : NotCopyable {
  public:
   // A compute program from one file.
   static std::shared_ptr<Program> compute(std::shared_ptr<Context> context, const std::string& path,
@@ -85,8 +85,6 @@ class Program {
                                            const std::string& fragment_path,
                                            const Defines& defines);
   ~Program();
-  Program(const Program&) = delete;
-  Program& operator=(const Program&) = delete;
 
   GLuint id() const { return id_; }
   const std::string& name() const { return name_; }

@@ -14,12 +14,10 @@ class Buffer;
 class Context;
 class Texture;
 
-class PendingDownload {
+class PendingDownload : NotCopyable {
  public:
   explicit PendingDownload(const Texture& texture);
   ~PendingDownload();
-  PendingDownload(const PendingDownload&) = delete;
-  PendingDownload& operator=(const PendingDownload&) = delete;
 
   // True once the GPU has finished the copy (never blocks).
   bool done();

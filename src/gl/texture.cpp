@@ -61,13 +61,7 @@ Texture::Texture(std::shared_ptr<Context> context, int width, int height,
   glTextureParameteri(id_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
   glTextureParameteri(id_, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
   glTextureParameteri(id_, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-  try {
-    check_gl("creating a texture");
-  } catch (...) {
-    glDeleteTextures(1, &id_);
-    glGetError();
-    throw;
-  }
+  check_created("creating a texture", [this] { glDeleteTextures(1, &id_); });
   context_->track("texture", +1);
 }
 

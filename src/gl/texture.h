@@ -30,14 +30,12 @@ struct TextureFormat {
 // Throws std::invalid_argument for channels outside 1..4.
 TextureFormat texture_format(PixelType type, int channels);
 
-class Texture {
+class Texture : NotCopyable {
  public:
   // `levels` > 1 allocates a mipmap chain (material textures); passes use one level.
   Texture(std::shared_ptr<Context> context, int width, int height, const TextureFormat& format,
           int levels = 1);
   ~Texture();
-  Texture(const Texture&) = delete;
-  Texture& operator=(const Texture&) = delete;
 
   // Whole-image transfers of tightly packed rows, row 0 first.
   void upload(const void* data, size_t bytes);

@@ -13,12 +13,10 @@ namespace blurlab {
 
 class Context;
 
-class Timer {
+class Timer : NotCopyable {
  public:
   explicit Timer(std::shared_ptr<Context> context);
   ~Timer();
-  Timer(const Timer&) = delete;
-  Timer& operator=(const Timer&) = delete;
 
   void start();
   // Ends the interval and returns its length in milliseconds (waits for the GPU).

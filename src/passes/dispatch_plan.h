@@ -17,14 +17,12 @@ class Context;
 class FullscreenDraw;
 class Texture;
 
-class DispatchPlan {
+class DispatchPlan : NotCopyable {
  public:
   // `textures` are the plan's textures at recording time, in the order replays hand them over;
   // their sizes and formats are what every replay must match.
   DispatchPlan(std::shared_ptr<Context> context, const std::vector<const Texture*>& textures);
   ~DispatchPlan();
-  DispatchPlan(const DispatchPlan&) = delete;
-  DispatchPlan& operator=(const DispatchPlan&) = delete;
 
   // Appends `pass`.run(inputs, outputs, uniforms, backend, group_per_texel) as it would run with
   // the recording's textures, checked as run() checks it (ShaderPass::resolve).

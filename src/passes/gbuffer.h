@@ -92,12 +92,10 @@ struct GBufferTargets {
   std::shared_ptr<Texture> fragment_counts, fragment_surface, fragment_motion, opaque_depth;
 };
 
-class GBufferPass {
+class GBufferPass : NotCopyable {
  public:
   explicit GBufferPass(std::shared_ptr<Context> context);
   ~GBufferPass();
-  GBufferPass(const GBufferPass&) = delete;
-  GBufferPass& operator=(const GBufferPass&) = delete;
 
   void render(const GBufferTargets& targets, const GBufferCamera& camera, const GBufferLight& light,
               const std::vector<GBufferDraw>& draws);

@@ -9,6 +9,8 @@
 #include <memory>
 #include <vector>
 
+#include "gl/gl.h"
+
 namespace blurlab {
 
 class Buffer;
@@ -26,12 +28,10 @@ class Texture;
 // reduction (the uniform reduction_ticket, a whole float in 1 .. 2^24 - 1). read() checks every
 // group's ticket: where one is missing, the partials read back are not what the reduction's pass
 // wrote (docs/spec.md §6.3), and read() throws StaleReadback instead of returning them.
-class ReductionQueue {
+class ReductionQueue : NotCopyable {
  public:
   explicit ReductionQueue(Context* context);
   ~ReductionQueue();
-  ReductionQueue(const ReductionQueue&) = delete;
-  ReductionQueue& operator=(const ReductionQueue&) = delete;
 
   struct Reservation {
     size_t index;  // the reduction's place in the batch

@@ -64,14 +64,14 @@ def _run_camera_only(ctx: Context, frame: Frame, inputs: dict, values: dict, bac
         camera = frame.camera
         if guard:  # the margin's frustum, as render_targets widened it
             camera = camera_matrices(frame.scene, frame.size, tuple(camera["times"]), guard)
-        motion, result = ctx.pooled((height, width, 2)), ctx.pooled((height, width, 4))
+        motion = ctx.pooled((height, width, 2))
         passes = PassRunner(ctx, BOX_PARAMS, values)
         uniforms = camera_motion_uniforms(camera)
         passes.run(
             CAMERA_MOTION, {"depth": textures["depth"]}, {"motion": motion}, uniforms=uniforms
         )
         gathered = {"color": textures["color"], "motion": motion}
-        passes.run(GATHER_BOX, gathered, {"result": result}, backend)
+        result = passes.run_result(GATHER_BOX, gathered, backend)
         ctx.recycle(motion)
         return result, passes.timings
 

@@ -195,14 +195,13 @@ def _run_eevee(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: 
     sides, tiles, dilated, _ = dilated_tiles(
         ctx, frame, passes.timings, PARAMS, values, size, values["tile_size"], values["max_blur"]
     )
-    result = ctx.pooled((*size, 4))
     textures = {
         "color": inputs["color"],
         "depth": inputs["depth"],
         "motion_sides": sides,
         "dilated": dilated,
     }
-    passes.run(GATHER, textures, {"result": result}, backend)
+    result = passes.run_result(GATHER, textures, backend)
     return {"color": result, "tiles": tiles, "dilated": dilated}, passes.timings
 
 

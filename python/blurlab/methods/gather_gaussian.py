@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from ..twins import gathers as twin
 from .core import Method, Param, Pass, register
-from .gathers import EDGE_PARAM, run_gather
+from .gathers import EDGE_PARAM, edge_gather
 
 PARAMS = {
     "taps": Param(9, int, "n taps along the motion, centered on the pixel", 2, 256),
@@ -22,10 +22,7 @@ GATHER = Pass("gather_gaussian", "passes/gather_gaussian.glsl", tuple(PARAMS))
 register(
     Method(
         name="gather_gaussian",
-        kind="gather",
-        params=PARAMS,
-        backends=("compute", "fragment"),
-        run=run_gather(GATHER, PARAMS, reach=lambda values: 0.5),
+        **edge_gather(GATHER, PARAMS, reach=lambda values: 0.5),
         default_grid={"taps": [5, 9, 17], "sigma": [0.25]},
         twin=twin.gather_gaussian,
         doc="n taps along the motion around the pixel, weighted exp(-s²/2σ²). docs/spec.md §4.",

@@ -33,12 +33,9 @@ GATHER = Pass("gather", "passes/gather_pixel.glsl", tuple(PARAMS))
 
 
 def _run_gather_pixel(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
-    height, width = inputs["color"].shape[:2]
-    result = ctx.pooled((height, width, 4))
     passes = PassRunner(ctx, PARAMS, values)
     textures = {name: inputs[name] for name in ("color", "depth", "motion")}
-    passes.run(GATHER, textures, {"result": result}, backend)
-    return {"color": result}, passes.timings
+    return {"color": passes.run_result(GATHER, textures, backend)}, passes.timings
 
 
 register(

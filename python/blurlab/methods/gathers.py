@@ -45,17 +45,25 @@ def run_gather(step: Pass, params: dict[str, Param], reach: Callable[[dict], flo
 
     def run(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
         def on(textures):
-            height, width = textures["color"].shape[:2]
-            result = ctx.pooled((height, width, 4))
             passes = PassRunner(ctx, params, values)
             gathered = {"color": textures["color"], "motion": textures["motion"]}
-            passes.run(step, gathered, {"result": result}, backend)
-            return result, passes.timings
+            return passes.run_result(step, gathered, backend), passes.timings
 
         color, timings = with_edge(ctx, frame, inputs, values["edge"], reach(values), on)
         return {"color": color}, timings
 
     return run
+
+
+def edge_gather(step: Pass, params: dict[str, Param], reach) -> dict:
+    """The Method fields of a gather with the edge rules: `step` run by run_gather on both
+    backends (`reach` as run_gather's)."""
+    return {
+        "kind": "gather",
+        "params": params,
+        "backends": ("compute", "fragment"),
+        "run": run_gather(step, params, reach),
+    }
 
 
 EDGE_PARAM = Param(
@@ -67,11 +75,8 @@ GATHER_WEIGHTED = Pass("gather_weighted", "passes/gather_weighted.glsl", ("edge"
 register(
     Method(
         name="gather_weighted",
-        kind="gather",
+        **edge_gather(GATHER_WEIGHTED, WEIGHTED_PARAMS, lambda v: 1.5),
         instant="close",
-        params=WEIGHTED_PARAMS,
-        backends=("compute", "fragment"),
-        run=run_gather(GATHER_WEIGHTED, WEIGHTED_PARAMS, lambda v: 1.5),
         twin=twin.gather_weighted,
         doc="ogldev tutorial 41: taps along M/2 with weights 0.4/0.3/0.2/0.1. docs/spec.md §4.",
     )
@@ -102,11 +107,8 @@ def box_instant(values: dict) -> str:
 register(
     Method(
         name="gather_box",
-        kind="gather",
+        **edge_gather(GATHER_BOX, BOX_PARAMS, box_reach),
         instant=box_instant,
-        params=BOX_PARAMS,
-        backends=("compute", "fragment"),
-        run=run_gather(GATHER_BOX, BOX_PARAMS, box_reach),
         default_grid={"taps": [5, 10, 20]},
         twin=twin.gather_box,
         gallery=True,

@@ -83,10 +83,9 @@ def _run_godot(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: 
     tiles, neighbors = tile_passes(
         passes, velocity, "compute", diagonal_reach=True, length_key_steps=twin.LENGTH_KEY_STEPS
     )
-    result = ctx.pooled((height, width, 4))
     textures = {"color": inputs["color"], "velocity": velocity, "neighbor_max": neighbors}
     taps = twin.SAMPLES_BY_QUALITY[values["quality"]]
-    passes.run(RECONSTRUCT, textures, {"result": result}, backend, uniforms={"taps": taps})
+    result = passes.run_result(RECONSTRUCT, textures, backend, uniforms={"taps": taps})
     outputs = {"color": result, "velocity": velocity, "tile_max": tiles, "neighbor_max": neighbors}
     return outputs, passes.timings
 

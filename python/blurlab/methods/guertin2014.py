@@ -10,13 +10,7 @@ from __future__ import annotations
 
 from ..twins import guertin2014 as twin
 from .core import FLOAT32_MAX, Method, Param, Pass, register
-from .tile_filter import (
-    FILTER_OPTIONS,
-    OPTIONS_AT_DEFAULT,
-    TILE_FILTER_PARAMS,
-    run_filter,
-    uniform_names,
-)
+from .tile_filter import FILTER_OPTIONS, TILE_FILTER_PARAMS, options_filter, uniform_names
 
 PARAMS = {
     **TILE_FILTER_PARAMS,
@@ -36,11 +30,9 @@ RECONSTRUCT = Pass("reconstruct", "passes/reconstruct_guertin2014.glsl", uniform
 register(
     Method(
         name="reconstruct_guertin2014",
-        kind="filter",
-        params=PARAMS,
-        backends=("compute", "fragment"),
-        run=run_filter(PARAMS, RECONSTRUCT, diagonal_reach=True),
-        default_grid=[{"k": [20], "samples": [9, 15, 25]}, *OPTIONS_AT_DEFAULT],
+        **options_filter(
+            PARAMS, RECONSTRUCT, diagonal_reach=True, grid={"k": [20], "samples": [9, 15, 25]}
+        ),
         twin=twin.reconstruct_guertin2014,
         doc="Guertin, McGuire, Nowrouzezahrai: A Fast and Stable Feature-Aware Motion Blur "
         "Filter (HPG 2014): docs/spec.md §3 with direction-keeping dilation, two sampling "

@@ -18,7 +18,7 @@ from ..core.context import Context
 from ..core.frame import Frame
 from ..twins import jimenez2014 as twin
 from .core import Method, Pass, PassRunner, register
-from .tile_filter import TILE_FILTER_PARAMS, tile_passes
+from .tile_filter import TILE_FILTER_PARAMS, reconstruct_on_tiles
 
 PARAMS = dict(TILE_FILTER_PARAMS)
 RECONSTRUCT = Pass("reconstruct", "passes/jimenez2014_reconstruct.glsl", tuple(PARAMS))
@@ -26,12 +26,8 @@ RECONSTRUCT = Pass("reconstruct", "passes/jimenez2014_reconstruct.glsl", tuple(P
 
 def _run_jimenez2014(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
     passes = PassRunner(ctx, PARAMS, values)
-    tiles, neighbors = tile_passes(passes, inputs["motion"], backend)
     textures = {name: inputs[name] for name in ("color", "depth", "motion")}
-    textures["neighbor_max"] = neighbors
-    result = ctx.pooled(inputs["color"].shape[:2] + (4,))
-    passes.run(RECONSTRUCT, textures, {"result": result}, backend)
-    return {"color": result, "tile_max": tiles, "neighbor_max": neighbors}, passes.timings
+    return reconstruct_on_tiles(passes, RECONSTRUCT, textures, inputs["motion"], backend)
 
 
 register(

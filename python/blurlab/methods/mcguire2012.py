@@ -12,13 +12,7 @@ from __future__ import annotations
 
 from ..twins import mcguire2012 as twin
 from .core import Method, Pass, register
-from .tile_filter import (
-    FILTER_OPTIONS,
-    OPTIONS_AT_DEFAULT,
-    TILE_FILTER_PARAMS,
-    run_filter,
-    uniform_names,
-)
+from .tile_filter import FILTER_OPTIONS, TILE_FILTER_PARAMS, options_filter, uniform_names
 
 PARAMS = {**TILE_FILTER_PARAMS, **FILTER_OPTIONS}
 RECONSTRUCT = Pass("reconstruct", "passes/reconstruct_mcguire2012.glsl", uniform_names(PARAMS))
@@ -26,11 +20,12 @@ RECONSTRUCT = Pass("reconstruct", "passes/reconstruct_mcguire2012.glsl", uniform
 register(
     Method(
         name="reconstruct_mcguire2012",
-        kind="filter",
-        params=PARAMS,
-        backends=("compute", "fragment"),
-        run=run_filter(PARAMS, RECONSTRUCT, diagonal_reach=False),
-        default_grid=[{"k": [10, 20, 40], "samples": [5, 9, 15, 25]}, *OPTIONS_AT_DEFAULT],
+        **options_filter(
+            PARAMS,
+            RECONSTRUCT,
+            diagonal_reach=False,
+            grid={"k": [10, 20, 40], "samples": [5, 9, 15, 25]},
+        ),
         twin=twin.reconstruct_mcguire2012,
         study_curves=("samples", "k"),
         gallery=True,

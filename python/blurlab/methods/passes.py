@@ -107,6 +107,15 @@ class PassRunner:
             recorder.timing_names.append(step.name)
         _timed(ctx, self.timings, step.name, run)
 
+    def run_result(
+        self, step: Pass, inputs: dict[str, Texture], backend: str, dtype="float32", **options
+    ) -> Texture:
+        """Runs `step` into its one output `result`, an RGBA image of inputs["color"]'s size
+        from the context's pool (a method's blurred colour), and returns it; `options` as run's."""
+        result = self.ctx.pooled(inputs["color"].shape[:2] + (4,), dtype)
+        self.run(step, inputs, {"result": result}, backend, **options)
+        return result
+
 
 def run_pass(
     ctx: Context,

@@ -227,13 +227,51 @@ def run_filter(params: dict[str, Param], reconstruct: Pass, diagonal_reach: bool
             textures = {key: inputs[key] for key in ("color", "depth", "motion")}
             motion = inputs["motion"]
         passes = PassRunner(ctx, params, values)
-        tiles, neighbors = tile_passes(passes, motion, backend, diagonal_reach)
         result_type = "float16" if values["half_result"] else "float32"
-        result = ctx.pooled(inputs["color"].shape[:2] + (4,), result_type)
-        textures["neighbor_max"] = neighbors
-        passes.run(
-            reconstruct, textures, {"result": result}, backend, defines=variant_defines(values)
+        defines = variant_defines(values)
+        return reconstruct_on_tiles(
+            passes,
+            reconstruct,
+            textures,
+            motion,
+            backend,
+            diagonal_reach,
+            result_type,
+            defines=defines,
         )
-        return {"color": result, "tile_max": tiles, "neighbor_max": neighbors}, passes.timings
 
     return run
+
+
+def reconstruct_on_tiles(
+    passes: PassRunner,
+    reconstruct: Pass,
+    textures: dict,
+    motion,
+    backend: str,
+    diagonal_reach=False,
+    dtype="float32",
+    **options,
+):
+    """A tile filter's run after its inputs: TileMax and NeighborMax of `motion` (tile_passes),
+    then `reconstruct` over `textures` and "neighbor_max" into a `dtype` result (`options` as
+    PassRunner.run's). Returns the run's outputs and timings."""
+    tiles, neighbors = tile_passes(passes, motion, backend, diagonal_reach)
+    inputs = {**textures, "neighbor_max": neighbors}
+    result = passes.run_result(reconstruct, inputs, backend, dtype, **options)
+    return {"color": result, "tile_max": tiles, "neighbor_max": neighbors}, passes.timings
+
+
+def options_filter(
+    params: dict[str, Param], reconstruct: Pass, diagonal_reach: bool, grid: dict
+) -> dict:
+    """The Method fields of a filter that offers FILTER_OPTIONS (among its `params`): run_filter
+    into its `reconstruct` pass on both backends, swept over `grid` and then each option on its
+    own (OPTIONS_AT_DEFAULT)."""
+    return {
+        "kind": "filter",
+        "params": params,
+        "backends": ("compute", "fragment"),
+        "run": run_filter(params, reconstruct, diagonal_reach),
+        "default_grid": [grid, *OPTIONS_AT_DEFAULT],
+    }

@@ -63,10 +63,9 @@ def _run_unity(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: 
         level = reduced
     neighbors = ctx.pooled(level.shape[:2] + (4,))
     passes.run(NEIGHBOR_MAX, {"tiles": level}, {"neighbor_max": neighbors})
-    result = ctx.pooled((height, width, 4))
     textures = {"color": inputs["color"], "velocity": velocity, "neighbor_max": neighbors}
     uniforms = {"radius": radius, "tile": tile}
-    passes.run(RECONSTRUCT, textures, {"result": result}, backend, uniforms=uniforms)
+    result = passes.run_result(RECONSTRUCT, textures, backend, uniforms=uniforms)
     for texture in made[:-1]:
         ctx.recycle(texture)
     outputs = {"color": result, "velocity": velocity, "tile_max": level, "neighbor_max": neighbors}

@@ -49,7 +49,6 @@ def _run_unreal(ctx: Context, frame: Frame, inputs: dict, values: dict, backend:
     grid = (-(-height // twin.TILE), -(-width // twin.TILE), 4)
     velocity = ctx.pooled((height, width, 4))
     tiles, neighbors = ctx.pooled(grid), ctx.pooled(grid)
-    result = ctx.pooled((height, width, 4))
     passes = PassRunner(ctx, PARAMS, values)
     depth_motion = {"depth": inputs["depth"], "motion": inputs["motion"]}
     at_radius = {"radius": radius}
@@ -58,7 +57,7 @@ def _run_unreal(ctx: Context, frame: Frame, inputs: dict, values: dict, backend:
     passes.run(NEIGHBOR_DILATE, {"tiles": tiles}, {"neighbors": neighbors}, uniforms=at_radius)
     textures = {"color": inputs["color"], "velocity": velocity, "neighbors": neighbors}
     uniforms = {**at_radius, "taps": twin.SAMPLES_BY_QUALITY[values["quality"]]}
-    passes.run(RECONSTRUCT, textures, {"result": result}, backend, uniforms=uniforms)
+    result = passes.run_result(RECONSTRUCT, textures, backend, uniforms=uniforms)
     outputs = {"color": result, "velocity": velocity, "tiles": tiles, "neighbors": neighbors}
     return outputs, passes.timings
 

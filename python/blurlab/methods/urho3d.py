@@ -11,7 +11,7 @@ from ..core.context import Context
 from ..core.frame import Frame
 from ..twins import urho3d as twin
 from .core import FLOAT32_MAX, Method, Param, Pass, PassRunner, register
-from .tile_filter import TILE_FILTER_PARAMS, tile_passes
+from .tile_filter import TILE_FILTER_PARAMS, reconstruct_on_tiles
 
 
 def default_far(frame: Frame) -> float:
@@ -38,19 +38,11 @@ RECONSTRUCT = Pass(
 
 def _run_urho3d(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
     passes = PassRunner(ctx, PARAMS, values)
-    tiles, neighbors = tile_passes(passes, inputs["motion"], backend)
-    result = ctx.pooled(inputs["color"].shape[:2] + (4,))
     seed = values["seed"]
     jitter = ctx.cached(("urho3d_jitter", seed), lambda: ctx.upload(twin.jitter_texture(seed)))
-    textures = {
-        "color": inputs["color"],
-        "depth": inputs["depth"],
-        "motion": inputs["motion"],
-        "neighbor_max": neighbors,
-        "jitter": jitter,
-    }
-    passes.run(RECONSTRUCT, textures, {"result": result}, backend)
-    return {"color": result, "tile_max": tiles, "neighbor_max": neighbors}, passes.timings
+    textures = {name: inputs[name] for name in ("color", "depth", "motion")}
+    textures["jitter"] = jitter
+    return reconstruct_on_tiles(passes, RECONSTRUCT, textures, inputs["motion"], backend)
 
 
 register(

@@ -175,12 +175,8 @@ def recommend(
     wanted = tuple(dict.fromkeys(MEASURED + (metric,)))
     table = measured(ctx, scene, size, progress, wanted, cache=cache)
     measured_at, sweep_file = table.attrs["measured_at"], table.attrs["cache_file"]
-    if target_psnr is not None:
-        question = f"the cheapest with PSNR >= {target_psnr:g} dB"
-        if budget_ms is not None:
-            question += f" within {budget_ms:g} ms"
-    else:
-        question = f"the best {metric.upper()} within {budget_ms:g} ms"
+    floor = f"PSNR >= {target_psnr:g} dB" if target_psnr is not None else None
+    question = _question(metric.upper(), floor, budget_ms)
     question += f"; {len(table)} configurations on {scene.name} {size[0]}x{size[1]}"
     table = table.assign(goodness=get(metric).goodness(table[metric]))
     contenders = _contenders(table, budget_ms, target_psnr)
@@ -537,11 +533,16 @@ def set_table(rows: pd.DataFrame, aggregate: Aggregate, scene_count: int) -> pd.
     return pd.DataFrame(out)
 
 
+def _question(best: str, floor: str | None, budget_ms) -> str:
+    """What a recommendation answers: the cheapest row that meets `floor` (within budget_ms
+    where one is given), or, without a floor, the best `best` within budget_ms."""
+    if floor is None:
+        return f"the best {best} within {budget_ms:g} ms"
+    within = f" within {budget_ms:g} ms" if budget_ms is not None else ""
+    return f"the cheapest with {floor}{within}"
+
+
 def _set_question(aggregate, budget_ms, target, configurations, items, size) -> str:
-    if target is not None:
-        question = f"the cheapest with {aggregate} >= {target:g}"
-        if budget_ms is not None:
-            question += f" within {budget_ms:g} ms"
-    else:
-        question = f"the best {aggregate} within {budget_ms:g} ms"
+    floor = f"{aggregate} >= {target:g}" if target is not None else None
+    question = _question(str(aggregate), floor, budget_ms)
     return f"{question}; {configurations} configurations on {len(items)} scenes {size[0]}x{size[1]}"

@@ -58,6 +58,16 @@ def mirror_pair(a1, a2, z1, z2, s1, s2):
     return np.where(behind & slower, a2, a1), np.where(~behind & ~slower, a1, a2)
 
 
+def mirrored_taps(center: np.ndarray, offset: np.ndarray, h: int, w: int) -> list[tuple]:
+    """The (rows, columns) of a mirrored pair's two taps at center ± offset, clamped to an
+    h x w image (shaders/common/mirrored_pair.glsl, mirrored_taps)."""
+    taps = []
+    for sign in (1, -1):
+        p = np.floor(center + sign * offset).astype(np.int64)
+        taps.append((np.clip(p[..., 1], 0, h - 1), np.clip(p[..., 0], 0, w - 1)))
+    return taps
+
+
 def reconstruct_guertin2014(
     color,
     depth,
@@ -104,11 +114,7 @@ def reconstruct_guertin2014(
         t = (i + 0.5 + j) / np.maximum(pairs, 1)
         d = wn if i % 2 == 0 else wc
         step = d * (vn_length * t)[..., None]
-        ends = []
-        for sign in (1, -1):
-            p = np.floor(center + sign * step).astype(np.int64)
-            ends.append((np.clip(p[..., 1], 0, h - 1), np.clip(p[..., 0], 0, w - 1)))
-        (py1, px1), (py2, px2) = ends
+        (py1, px1), (py2, px2) = mirrored_taps(center, step, h, w)
         a1 = sample_weight(x, y, px1, py1, depth, v, vx, wc, d, soft_z)
         a2 = sample_weight(x, y, px2, py2, depth, v, vx, wc, d, soft_z)
         # Step 5, the mirror.

@@ -14,7 +14,7 @@ import math
 import numpy as np
 
 from .eevee import lookup_tile
-from .guertin2014 import mirror_pair
+from .guertin2014 import mirror_pair, mirrored_taps
 from .hashing import rand
 from .inputs import sanitize_color, sanitize_depth, sanitize_motion
 from .mcguire2012 import cone
@@ -152,9 +152,7 @@ def engine_unity(
         t = (i + j) / n
         d = vmax if i % 2 == 0 else v_alt
         pair = []
-        for sign in (1.0, -1.0):
-            p = np.floor(center + sign * d * t[..., None]).astype(np.int64)
-            py, px = np.clip(p[..., 1], 0, h - 1), np.clip(p[..., 0], 0, w - 1)
+        for py, px in mirrored_taps(center, d * t[..., None], h, w):
             dist = np.hypot(px - x, py - y)
             front = np.clip(0.5 + depth_factor * (z - z[py, px]), 0.0, 1.0)
             a = front * cone(dist, v[py, px]) + (1 - front) * cone(dist, vc)

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .guertin2014 import mirror_pair
+from .guertin2014 import mirror_pair, mirrored_taps
 from .hashing import rand
 from .inputs import sanitize_color, sanitize_depth, sanitize_motion
 from .polar_fixed_point import LENGTH_CODE_MAX, decode_polar, float10, polar_codes
@@ -130,9 +130,7 @@ def mirrored_pairs(
     for i in range(int(pairs.max(initial=1))):
         t = (i + j) / pairs
         taps_at = []
-        for sign in (1.0, -1.0):
-            p = np.floor(center + sign * t[..., None] * vmax).astype(np.int64)
-            py, px = np.clip(p[..., 1], 0, h - 1), np.clip(p[..., 0], 0, w - 1)
+        for py, px in mirrored_taps(center, t[..., None] * vmax, h, w):
             dist = np.hypot(px - x, py - y)
             a = tap_weight(z, radius_x, z[py, px], radius_at(py, px), dist, extent)
             c = color[py, px] if color_at is None else color_at(py, px)

@@ -8,15 +8,14 @@ from .. import mesh
 from ..blur_scales import CameraHeld
 from ..model import Camera, Material, Scene
 from ..motion import Motion, quaternion
-from .parts import add_wall, checker, flat_scene, rainbow, rotation_x, translation
+from .parts import checker, flat_scene, rainbow, rotation_x, translation, walled_scene
 
 
 def mostly_still() -> Scene:
     """A still room (checkered wall, a box and a sphere) with one small textured card sliding
     across it: most tiles are still, the card's inside moves uniformly, its edges do not. The
     scene the removed tile classification was measured on (docs/classify_and_steps.md)."""
-    scene = flat_scene("mostly_still")
-    add_wall(scene)
+    scene = walled_scene("mostly_still")
     scene.add(
         mesh.box((0.5, 0.5, 0.5)),
         Material((0.2, 0.4, 0.8)),

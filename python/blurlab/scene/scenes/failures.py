@@ -10,13 +10,12 @@ from .. import mesh
 from ..model import Camera, Material, Scene
 from ..motion import Motion
 from .builtin import fan
-from .parts import add_wall, checker, flat_scene, rotation_x, translation, turning_camera
+from .parts import checker, flat_scene, rotation_x, translation, turning_camera, walled_scene
 
 
 def thin_bar() -> Scene:
     """A bar 0.05 units wide crossing 1.2 units per shutter: far faster than its own width."""
-    scene = flat_scene("thin_bar")
-    add_wall(scene)
+    scene = walled_scene("thin_bar")
     scene.add(
         mesh.box((0.05, 1.6, 0.05)),
         Material((1.0, 0.9, 0.2)),
@@ -28,8 +27,7 @@ def thin_bar() -> Scene:
 
 def near_plane() -> Scene:
     """A large triangle sweeping through the near plane during the shutter."""
-    scene = flat_scene("near_plane", Camera((0.0, 0.0, 2.0), (0.0, 0.0, 0.0), fov_y=60, near=0.1))
-    add_wall(scene)
+    scene = walled_scene("near_plane", Camera((0.0, 0.0, 2.0), (0.0, 0.0, 0.0), fov_y=60, near=0.1))
     triangle = mesh.Mesh(
         [[-1.5, -1.0, 0.0], [1.5, -1.0, 0.0], [0.0, 1.2, 0.0]],
         [[0, 0, 1]] * 3,
@@ -48,8 +46,7 @@ def near_plane() -> Scene:
 
 def crossing() -> Scene:
     """Two boxes moving in opposite directions, overlapping at mid-shutter."""
-    scene = flat_scene("crossing")
-    add_wall(scene)
+    scene = walled_scene("crossing")
     scene.add(
         mesh.box((0.6, 0.6, 0.2)),
         Material((0.2, 0.5, 0.9)),
@@ -69,8 +66,7 @@ def crossed_motions() -> Scene:
     """A bar moving right in front of a bar moving down, crossing at mid-shutter: two
     directions of motion inside the same tiles, which a filter keeping one direction per tile
     blurs along one axis."""
-    scene = flat_scene("crossed_motions")
-    add_wall(scene)
+    scene = walled_scene("crossed_motions")
     scene.add(
         mesh.box((0.12, 1.0, 0.1)),
         Material((0.9, 0.3, 0.2)),
@@ -88,8 +84,7 @@ def crossed_motions() -> Scene:
 
 def long_motion() -> Scene:
     """A sphere moving about a third of the image per shutter: far longer than k = 20 px."""
-    scene = flat_scene("long_motion")
-    add_wall(scene)
+    scene = walled_scene("long_motion")
     scene.add(
         mesh.sphere(0.3),
         Material((0.3, 0.8, 0.4)),
@@ -101,8 +96,7 @@ def long_motion() -> Scene:
 
 def edge_exit() -> Scene:
     """A box leaving through the right edge of the image during the shutter."""
-    scene = flat_scene("edge_exit")
-    add_wall(scene)
+    scene = walled_scene("edge_exit")
     scene.add(
         mesh.box((0.7, 0.7, 0.2)),
         Material((0.9, 0.8, 0.2)),
@@ -115,8 +109,7 @@ def edge_exit() -> Scene:
 def subpixel() -> Scene:
     """A textured sphere moving 0.1 to 1 pixel per shutter (at 640 x 360): what 8-bit motion
     storage loses."""
-    scene = flat_scene("subpixel")
-    add_wall(scene)
+    scene = walled_scene("subpixel")
     scene.add(
         mesh.sphere(0.5),
         Material(texture=checker(256, 16)),
@@ -128,16 +121,14 @@ def subpixel() -> Scene:
 
 def camera_yaw() -> Scene:
     """The camera turning fast: screen paths curve, straight motion vectors approximate them."""
-    scene = flat_scene("camera_yaw", turning_camera(60, 9.0))
-    add_wall(scene, size=30.0)
+    scene = walled_scene("camera_yaw", turning_camera(60, 9.0), wall=30.0)
     scene.add(mesh.box((0.5, 0.5, 0.5)), Material((0.8, 0.3, 0.3)), Motion.static((0, 0, 1.0)))
     return scene
 
 
 def occluder() -> Scene:
     """A still post in front of a moving box: only the depth test keeps the post sharp."""
-    scene = flat_scene("occluder")
-    add_wall(scene)
+    scene = walled_scene("occluder")
     scene.add(
         mesh.box((0.8, 0.8, 0.3)),
         Material((0.3, 0.5, 0.9)),

@@ -55,6 +55,13 @@ def add_wall(scene: Scene, texture=None, z: float = -1.0, size: float = 12.0) ->
     )
 
 
+def walled_scene(name: str, camera: Camera | None = None, wall: float = 12.0) -> Scene:
+    """flat_scene `name` with add_wall's checkered wall, `wall` units wide, behind."""
+    scene = flat_scene(name, camera)
+    add_wall(scene, size=wall)
+    return scene
+
+
 def translation(x, y, z) -> np.ndarray:
     m = np.eye(4)
     m[:3, 3] = (x, y, z)

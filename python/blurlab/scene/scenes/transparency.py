@@ -12,14 +12,7 @@ from ..model import Camera, Material, Scene
 from ..motion import Motion, quaternion
 from ..particles import Particle
 from ..particles import particles as add_particles
-from .parts import add_wall, flat_scene, turning_camera
-
-
-def _before_wall(name: str, camera: Camera | None = None, wall: float = 12.0) -> Scene:
-    """A flat-lit scene with the checkered wall behind, for the transparency cases."""
-    scene = flat_scene(name, camera)
-    add_wall(scene, size=wall)
-    return scene
+from .parts import turning_camera, walled_scene
 
 
 def _facing(position) -> Motion:
@@ -50,7 +43,7 @@ def leaves(size: int = 64, count: int = 5) -> np.ndarray:
 
 def car_behind_window() -> Scene:
     """A car driving behind a still, streaked window: the glass takes the car's motion."""
-    scene = _before_wall("car_behind_window")
+    scene = walled_scene("car_behind_window")
     scene.add(
         mesh.box((1.2, 0.5, 0.4)),
         Material((0.85, 0.15, 0.1)),
@@ -64,7 +57,7 @@ def car_behind_window() -> Scene:
 
 def moving_glass() -> Scene:
     """A streaked glass pane sliding over a still wall: the pane writes no motion."""
-    scene = _before_wall("moving_glass")
+    scene = walled_scene("moving_glass")
     glass = Material(texture=streaked_glass(tint=(0.9, 0.7, 0.4)), blend="blend")
     scene.add(
         mesh.plane(1.2, 1.2),
@@ -81,7 +74,7 @@ def moving_glass() -> Scene:
 
 def sparks_over_mover() -> Scene:
     """Additive sparks flying up over a box moving the other way."""
-    scene = _before_wall("sparks_over_mover")
+    scene = walled_scene("sparks_over_mover")
     scene.add(
         mesh.box((0.8, 0.8, 0.3)),
         Material((0.2, 0.4, 0.85)),
@@ -107,7 +100,7 @@ def sparks_over_mover() -> Scene:
 
 def smoke_pan() -> Scene:
     """Soft alpha smoke near the camera while the camera pans over a wall and a post."""
-    scene = _before_wall("smoke_pan", turning_camera(45, 4.0), wall=30.0)
+    scene = walled_scene("smoke_pan", turning_camera(45, 4.0), wall=30.0)
     scene.max_layers = 32
     scene.add(mesh.box((0.3, 1.6, 0.3)), Material((0.8, 0.6, 0.2)), Motion.static((0.5, 0, 0)))
     rng = np.random.default_rng(5)
@@ -127,7 +120,7 @@ def smoke_pan() -> Scene:
 
 def foliage_spin() -> Scene:
     """Alpha-masked leaves spinning in front of a wall: cut-out edges, no translucency."""
-    scene = _before_wall("foliage_spin")
+    scene = walled_scene("foliage_spin")
     foliage = Material(texture=leaves(), blend="mask", alpha_cutoff=0.5)
     spin = Motion.linear(
         (0, 0, 0.5),
