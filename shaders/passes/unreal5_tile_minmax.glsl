@@ -2,10 +2,22 @@
 // engine_unreal5 step 2, docs/spec.md §17.7: per 16 x 16 tile engine_unreal's longest velocity
 // and smallest length code (common/block_extremes.glsl), and the longest velocity whose axis
 // lies more than AXIS_APART angle codes from the first's (the first in row-major order among
-// equal lengths; packed as c_l·PACK + c_a, 0: none). Compute, one thread per tile.
-// NumPy twin: blurlab.twins.unreal5.tile_minmax2.
+// equal lengths; packed as c_l·PACK + c_a, 0: none). With SCATTER (the image's radius reaches
+// past the 7 x 7 tiles), a tile whose velocity (either, with two directions) is SCATTER_BEYOND
+// tiles long or longer joins list LIST_FAR (common/tile_lists.glsl), and the tile's scatter
+// targets start empty: far_key 0, far_min all ones. Compute, one thread per tile.
+// NumPy twin: blurlab.twins.unreal5.tile_minmax2 and far_tiles.
+#include "common/polar_fixed_point.glsl"
 #include "common/unreal.glsl"
 #include "common/unreal5.glsl"
+#ifdef SCATTER
+#define TILE_LISTS_APPEND 1
+#include "common/tile_lists.glsl"
+layout(binding = 3, r32ui) uniform writeonly uimage2D far_key_out;
+layout(binding = 4, r32ui) uniform writeonly uimage2D far_min_out;
+uniform float radius;  // R, pixels
+uniform int directions;
+#endif
 
 float block_key(vec2 code) { return code.x; }
 #include "common/block_extremes.glsl"
@@ -29,4 +41,11 @@ void main() {
         }
     }
     imageStore(tiles, tile, vec4(e.longest, e.shortest, second.x * PACK + second.y));
+#ifdef SCATTER
+    imageStore(far_key_out, tile, uvec4(0u));
+    imageStore(far_min_out, tile, uvec4(0xffffffffu));
+    float longest = max(e.longest.x, directions == 2 ? second.x : 0.0);
+    if (longest / LENGTH_CODE_MAX * radius >= SCATTER_BEYOND * float(TILE))
+        append_tile(LIST_FAR, tile, imageSize(tiles).x);
+#endif
 }

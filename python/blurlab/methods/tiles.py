@@ -88,17 +88,27 @@ def run_over_list(
     outputs: dict[str, Texture],
     uniforms: dict | None = None,
     defines: dict | None = None,
+    only_used: bool = False,
 ) -> None:
     """Runs `step`'s shader over the tiles of class `cls` only, one work group per tile, timed
     under "step.name[class name]". The shader reads its tile with listed_tile()
     (common/tile_lists.glsl): `inputs` gain the lists as "tile_lists" and its uniforms
-    "tile_class"."""
+    "tile_class". With `only_used`, inputs and uniforms that the compiled shader does not use
+    are left out: a pass compiled once per class (a LIST_CLASS define) uses what its class
+    reads."""
     if not 0 <= cls < len(lists.names):
         raise ValueError(f"blurlab: class {cls!r} is outside 0..{len(lists.names) - 1}")
     shader = ctx.shader_pass(step.shader, defines)
-    native_inputs = {name: t.native for name, t in {**inputs, "tile_lists": lists.lists}.items()}
-    native_outputs = {name: t.native for name, t in outputs.items()}
+    inputs = {**inputs, "tile_lists": lists.lists}
     values = {**(uniforms or {}), "tile_class": cls}
+    if only_used:
+        used = ctx.cached(
+            ("run_over_list", step.shader, tuple(sorted((defines or {}).items()))), shader.reflect
+        )
+        inputs = {name: t for name, t in inputs.items() if name in used["samplers"]}
+        values = {name: v for name, v in values.items() if name in used["uniforms"]}
+    native_inputs = {name: t.native for name, t in inputs.items()}
+    native_outputs = {name: t.native for name, t in outputs.items()}
 
     def run():
         shader.native.run_indirect(native_inputs, native_outputs, values, lists.counts.native, cls)
