@@ -137,16 +137,22 @@ def test_uniform_motion_takes_the_uniform_path_everywhere(ctx, rng):
     assert_matches_twin(result, frame)
 
 
-@pytest.mark.parametrize("uniform", [True, False])
-def test_long_blurs_gather_at_half_resolution(ctx, rng, uniform):
-    """Taps 8 px apart or more: uniform tiles become uniform_half, mixed ones gather_half; the
-    half-resolution gather and its composite match the twin, odd sizes included."""
+@pytest.mark.parametrize("motion", ["uniform", "ramp", "random"])
+def test_long_blurs_gather_at_half_resolution(ctx, rng, motion):
+    """Taps 8 px apart or more: uniform tiles become uniform_half, the others gather_half; the
+    half-resolution gather and its composite match the twin, odd sizes included: blocks of one
+    depth and nearly one velocity (ramp) blend, blocks of random depths (random) are mixed and
+    gather each pixel."""
     frame = random_frame(rng, 99, 61, k=40)
-    if uniform:
+    if motion == "uniform":
         frame.motion[:] = (80.0, 10.0)
+    elif motion == "ramp":  # a still band, then motion growing along x, one depth
+        frame.depth[:] = 3.0
+        frame.motion[:] = 0.0
+        frame.motion[..., 0] = np.where(np.arange(99) < 20, 0.0, 20.0 + 0.5 * np.arange(99))
     result = bl.blur(ctx, frame, METHOD, max_blur=50.0)
     kinds = result.buffers["neighbors"][..., 3]
-    if uniform:
+    if motion == "uniform":
         assert (kinds == ref.UNIFORM_HALF).all()
     else:
         assert (kinds == ref.GATHER_HALF).sum() >= 4

@@ -13,9 +13,10 @@
 // pairs' mirror. Each line adds its taps' mean, Σa·C/2P, and its coverage, Σa/2P; the coverage
 // the lines leave goes to C, and where they cover more than the whole pixel the sum is
 // normalised. uniform_half and gather_half gather at half resolution, one invocation per 2 x 2
-// block of the tile (its line through the block's corner, its own blur the block's first
-// pixel's), and the tile's pixels take the bilinear mean of the block sums and coverages
-// inside the tile, then composite with their own C. NumPy twin: blurlab.twins.unreal5.
+// block of the tile (its line through the block's corner, weighed as the block's fastest
+// pixel), and the tile's pixels take the bilinear mean of the block sums and coverages inside
+// the tile, then composite with their own C; a gather_half block whose pixels differ in depth
+// or velocity gathers each of them at full resolution. NumPy twin: blurlab.twins.unreal5.
 #ifdef OVER_LIST
 #define TILE_LISTS_READ 1
 #define TILE_LIST_SAMPLER 4
@@ -40,8 +41,11 @@ uniform float radius;  // R, pixels
 uniform uint seed;
 
 const int HALF_TILE = TILE / 2;
+const float MIXED_DEPTH = 0.5;  // depth_extent: a pixel this far from its block's depth ...
+const float MIXED_PX = 1.0;     // ... or this far from its velocity makes the block mixed
 shared vec4 block_share[HALF_TILE * HALF_TILE];
 shared float block_coverage[HALF_TILE * HALF_TILE];
+shared bool block_mixed[HALF_TILE * HALF_TILE];
 
 // Blur radius along the unit `axis` of the pixel whose velocity texel is s.
 float along(vec4 s, vec2 axis) {
@@ -114,17 +118,45 @@ void half_res(ivec2 tile, vec4 n, float kind, ivec2 x, bool inside) {
     ivec2 local = ivec2(gl_LocalInvocationID.xy);
     ivec2 h = first + local;
     if (all(lessThan(local, ivec2(HALF_TILE))) && all(lessThanEqual(h, last))) {
-        ivec2 x0 = min(2 * h, size - 1);  // the block's first pixel
+        // The block's fastest pixel (the first of the 2 x 2 in row-major order among equal
+        // length codes) stands for it: a moving edge blurs rather than the still pixel beside it.
+        ivec2 x0 = min(2 * h, size - 1);
+        vec4 own = texelFetch(velocity, x0, 0);
+        for (int i = 1; i < 4; ++i) {
+            ivec2 p = min(2 * h + ivec2(i & 1, i >> 1), size - 1);
+            vec4 s = texelFetch(velocity, p, 0);
+            if (s.x > own.x) {
+                own = s;
+                x0 = p;
+            }
+        }
         float j = rand(uint(x0.x), uint(x0.y), seed);
         vec4 shares = vec4(0.0);
         float coverage = 0.0;
         gather_line(x0, vec2(2 * h) + 1.0, n.xy, kind == CLASS_UNIFORM_HALF, j, shares,
                     coverage);
-        block_share[local.y * HALF_TILE + local.x] = shares;
-        block_coverage[local.y * HALF_TILE + local.x] = coverage;
+        int b = local.y * HALF_TILE + local.x;
+        block_share[b] = shares;
+        block_coverage[b] = coverage;
+        // A gather_half block whose pixels differ from it (MIXED_DEPTH·depth_extent in depth or
+        // MIXED_PX in velocity) gathers each of its pixels at full resolution instead.
+        bool mixed = false;
+        vec2 v0 = decode_polar(own.xy, radius);
+        for (int i = 0; i < 4; ++i) {
+            vec4 s = texelFetch(velocity, min(2 * h + ivec2(i & 1, i >> 1), size - 1), 0);
+            if (abs(s.z - own.z) >= MIXED_DEPTH * depth_extent ||
+                length(decode_polar(s.xy, radius) - v0) >= MIXED_PX)
+                mixed = true;
+        }
+        block_mixed[b] = mixed && kind == CLASS_GATHER_HALF;
     }
     barrier();
     if (!inside) return;
+    ivec2 block = x / 2 - first;
+    if (block_mixed[block.y * HALF_TILE + block.x]) {
+        imageStore(result, x, full_res(x, n, CLASS_GATHER));
+        return;
+    }
     vec2 u = vec2(x) * 0.5 - 0.25;  // x's center in block coordinates
     ivec2 below = ivec2(floor(u));
     vec2 f = u - vec2(below);

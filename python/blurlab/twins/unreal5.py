@@ -36,6 +36,9 @@ CLASS_NAMES = ("skip", "uniform", "gather", "gather_2", "uniform_half", "gather_
 SCATTER_BEYOND = 3  # tiles of velocity from which a tile scatters past the 7 x 7 (48 px)
 PAIR_SPACING = 0.5  # px of a line's longest half-vector per pair of taps
 HALF_RES_SPACING = 8.0  # px between a line's taps from which they read the half-size colour
+QUAD = ((0, 0), (0, 1), (1, 0), (1, 1))  # (dy, dx) of a 2 x 2 block's pixels, row-major
+MIXED_DEPTH = 0.5  # depth_extent: a pixel this far from its block's depth ...
+MIXED_PX = 1.0  # ... or this far from its velocity makes a gather_half block mixed
 
 
 def axis_gap(a, b) -> np.ndarray:
@@ -194,9 +197,10 @@ def engine_unreal5(
     lines = _Lines(color, half, codes, radius, quality, half_res_gather, depth_extent, seed)
     y, x = np.mgrid[0 : color.shape[0], 0:w]
     kind = tiles[y // TILE, x // TILE, 3]
-    result = np.where((kind == SKIP)[..., None], color, lines.full_res(tiles))
+    full = lines.full_res(tiles)
+    result = np.where((kind == SKIP)[..., None], color, full)
     if (kind >= UNIFORM_HALF).any():
-        result = np.where((kind >= UNIFORM_HALF)[..., None], lines.half_res(tiles), result)
+        result = np.where((kind >= UNIFORM_HALF)[..., None], lines.half_res(tiles, full), result)
     return result
 
 
@@ -256,17 +260,33 @@ class _Lines:
         coverage = coverage + np.where(two, covered, 0.0)
         return _composite(share, coverage, self.color)
 
-    def half_res(self, tiles) -> np.ndarray:
+    def half_res(self, tiles, full) -> np.ndarray:
         """Classes uniform_half and gather_half at every pixel: the line through each 2 x 2
-        block's corner, weighed as the block's first pixel, then each pixel's bilinear mean of
-        the blocks of its own tile, composited with its C."""
+        block's corner, weighed as the block's fastest pixel (the first in row-major order
+        among equal length codes), then each pixel's bilinear mean of the blocks of its own
+        tile, composited with its C; in a gather_half block whose pixels differ from that
+        pixel by MIXED_DEPTH·extent in depth or MIXED_PX in velocity, `full` (full_res)."""
         h, w = self.z.shape
         hh, hw = -(-h // 2), -(-w // 2)
         by, bx = np.mgrid[0:hh, 0:hw]
         tile = tiles[by // (TILE // 2), bx // (TILE // 2)]
         center = np.stack([2 * bx, 2 * by], -1) + 1.0
         uniform = tile[..., 3] == UNIFORM_HALF
-        share, coverage = self.line(tile[..., :2], 2 * by, 2 * bx, center, uniform)
+        corners = [
+            (np.minimum(2 * by + dy, h - 1), np.minimum(2 * bx + dx, w - 1)) for dy, dx in QUAD
+        ]
+        y0, x0 = corners[0]
+        for py, px in corners[1:]:
+            faster = self.speed[py, px] > self.speed[y0, x0]
+            y0, x0 = np.where(faster, py, y0), np.where(faster, px, x0)
+        share, coverage = self.line(tile[..., :2], y0, x0, center, uniform)
+        mixed = np.zeros((hh, hw), bool)
+        for py, px in corners:
+            apart = np.linalg.norm(self.own[py, px] - self.own[y0, x0], axis=-1) >= MIXED_PX
+            with np.errstate(invalid="ignore"):  # two pixels at +inf depth: not apart
+                deeper = np.abs(self.z[py, px] - self.z[y0, x0]) >= MIXED_DEPTH * self.extent
+            mixed |= apart | deeper
+        mixed &= tile[..., 3] == GATHER_HALF
         y, x = np.mgrid[0:h, 0:w]
         per_pixel = []
         for rows, half_size in ((y, hh), (x, hw)):
@@ -284,7 +304,8 @@ class _Lines:
             bottom = (1 - wx) * values[yb, xa] + wx * values[yb, xb]
             return (1 - wy) * top + wy * bottom
 
-        return _composite(bilinear(share), bilinear(coverage), self.color)
+        blended = _composite(bilinear(share), bilinear(coverage), self.color)
+        return np.where(mixed[y // 2, x // 2][..., None], full, blended)
 
 
 def _composite(share, coverage, color) -> np.ndarray:
