@@ -40,7 +40,6 @@ from .core import (
     twin_keywords,
 )
 from .eevee import dilated_tiles
-from .passes import pass_uniforms
 from .tile_filter import TILE_FILTER_PARAMS
 from .variants import PassVariants
 
@@ -171,7 +170,7 @@ def _film_filter(passes: PassRunner, gathered):
 def _gather_over_lists(passes: PassRunner, textures, gathered, uniforms, defines):
     """§17.6.2: the blocks sorted into still and moving lists, then the gather over each list
     into `gathered`; the lists."""
-    ctx, values = passes.ctx, passes.values
+    ctx = passes.ctx
     lists = tile_lists.empty_lists(ctx, gathered.shape[:2], LIST_BLOCK, twin.BLOCK_CLASSES)
     tile_inputs = {k: t for k, t in textures.items() if k in ("color", "dilated", "tiles")}
     if "reach_keys" in textures:
@@ -183,20 +182,9 @@ def _gather_over_lists(passes: PassRunner, textures, gathered, uniforms, defines
         uniforms={k: uniforms[k] for k in ("tile_size", "reach_limit")},
         defines={**defines, "BLOCK_CLASSIFY": 1},
     )
-    all_uniforms = {**uniforms, **pass_uniforms(PARAMS, values, GATHER.params)}
-    for cls in range(len(twin.BLOCK_CLASSES)):
-        tile_lists.run_over_list(
-            ctx,
-            passes.timings,
-            GATHER,
-            lists,
-            cls,
-            textures,
-            {"result": gathered},
-            all_uniforms,
-            {**defines, "OVER_LIST": 1, "LIST_CLASS": cls},
-            only_used=True,
-        )
+    classes = range(len(twin.BLOCK_CLASSES))
+    into = {"result": gathered}
+    tile_lists.run_per_class(passes, GATHER, lists, classes, textures, into, uniforms, defines)
     return lists
 
 

@@ -25,7 +25,6 @@ from . import tiles as tile_lists
 from .camera_only import split_camera_uniforms
 from .core import FLOAT32_MAX, SEED, Method, Param, Pass, PassRunner, register
 from .gathers import BOX_PARAMS
-from .passes import pass_uniforms
 
 # Lengths are stored as unsigned 11-bit floats (§17.4): longer ones would all read as this.
 LONGEST_STORED = largest_finite(UF11_MANTISSA)
@@ -110,20 +109,9 @@ def run_hdrp(
     result = ctx.pooled((height, width, 4))
     textures = {"color": inputs["color"], "velocity": velocity, "neighborhood": neighborhood}
     if over_lists and backend == "compute":
-        uniforms = {"tile": tile, **pass_uniforms(PARAMS, values, RECONSTRUCT.params)}
-        for cls in range(len(twin.CLASS_NAMES)):
-            tile_lists.run_over_list(
-                ctx,
-                passes.timings,
-                RECONSTRUCT,
-                lists,
-                cls,
-                textures,
-                {"result": result},
-                uniforms,
-                {"OVER_LIST": 1, "LIST_CLASS": cls},
-                only_used=True,
-            )
+        classes = range(len(twin.CLASS_NAMES))
+        into, at_tile = {"result": result}, {"tile": tile}
+        tile_lists.run_per_class(passes, RECONSTRUCT, lists, classes, textures, into, at_tile)
     else:
         passes.run(RECONSTRUCT, textures, {"result": result}, backend, uniforms={"tile": tile})
     ctx.recycle(lists.classes, lists.lists)

@@ -15,7 +15,7 @@ import numpy as np
 
 from ..context import Context, Texture
 from ..twins.inputs import sanitize_motion
-from .passes import Pass, timed
+from .passes import Pass, PassRunner, pass_uniforms, timed
 
 # The motion classifier's classes, in the order of their indices (tile_classify.glsl).
 MOTION_CLASSES = ("still", "uniform", "mixed")
@@ -114,6 +114,35 @@ def run_over_list(
         shader.native.run_indirect(native_inputs, native_outputs, values, lists.counts.native, cls)
 
     timed(ctx, timings, f"{step.name}[{lists.names[cls]}]", run)
+
+
+def run_per_class(
+    passes: PassRunner,
+    step: Pass,
+    lists: TileLists,
+    classes,
+    inputs: dict[str, Texture],
+    outputs: dict[str, Texture],
+    uniforms: dict | None = None,
+    defines: dict | None = None,
+) -> None:
+    """Runs `step` once per class of `classes` over that class's list (run_over_list), each
+    compiled with OVER_LIST and LIST_CLASS = the class (so that its program holds its class's
+    path alone) and given the uniforms of the step's method parameters (passes' values)."""
+    values = {**pass_uniforms(passes.params, passes.values, step.params), **(uniforms or {})}
+    for cls in classes:
+        run_over_list(
+            passes.ctx,
+            passes.timings,
+            step,
+            lists,
+            cls,
+            inputs,
+            outputs,
+            values,
+            {**(defines or {}), "OVER_LIST": 1, "LIST_CLASS": cls},
+            only_used=True,
+        )
 
 
 def motion_classes(motion, tile: int, still_below: float = 0.5, uniform_ratio: float = 0.4):

@@ -27,7 +27,6 @@ from ..twins import unreal5 as twin
 from ..twins.unreal import SAMPLES_BY_QUALITY, TILE, max_radius_px
 from . import tiles as tile_lists
 from .core import Method, Param, Pass, PassRunner, register
-from .passes import pass_uniforms
 from .unreal import FLATTEN
 from .unreal import PARAMS as UNREAL_PARAMS
 
@@ -132,20 +131,9 @@ def run_unreal5(
     }
     uniforms = {**at_radius, "taps": taps}
     if over_lists:
-        uniforms |= pass_uniforms(PARAMS, values, RECONSTRUCT.params)
-        for cls in _possible_classes(values):
-            tile_lists.run_over_list(
-                ctx,
-                passes.timings,
-                RECONSTRUCT,
-                lists,
-                cls,
-                textures,
-                {"result": result},
-                uniforms,
-                {"OVER_LIST": 1, "LIST_CLASS": cls},
-                only_used=True,
-            )
+        classes = _possible_classes(values)
+        into = {"result": result}
+        tile_lists.run_per_class(passes, RECONSTRUCT, lists, classes, textures, into, uniforms)
     else:
         passes.run(RECONSTRUCT, textures, {"result": result}, backend, uniforms=uniforms)
     ctx.recycle(lists.classes, lists.lists, *scattered.values())
