@@ -95,6 +95,7 @@ def run_unreal5(
             {"tiles": tiles, **appended, **scattered},
             uniforms={**at_radius, "directions": values["directions"]},
             defines={"SCATTER": 1},
+            group_per_texel=True,
         )
         tile_lists.run_over_list(
             ctx,
@@ -108,7 +109,7 @@ def run_unreal5(
         )
         dilate_inputs = {"tiles": tiles, "far_key_in": far_key, "far_min_in": far_min}
     else:
-        passes.run(TILE_MINMAX, {"velocity": velocity}, {"tiles": tiles})
+        passes.run(TILE_MINMAX, {"velocity": velocity}, {"tiles": tiles}, group_per_texel=True)
         dilate_inputs = {"tiles": tiles}
     passes.run(
         NEIGHBOR_DILATE,
