@@ -306,11 +306,14 @@ def test_config_rows_carry_their_parameters_and_bad_ones_are_refused():
     config = timing.method_config("gather_coverage:samples=16,film_filter=0.5,seed=3")
     assert config == ("gather_coverage", {"samples": 16, "film_filter": 0.5, "seed": 3})
     assert timing.method_config("gather_coverage:packed_inputs=true")[1] == {"packed_inputs": True}
+    one = timing.method_config("engine_hdrp:tile_dispatch=one")
+    assert one == ("engine_hdrp", {"tile_dispatch": "one"})
     runs = timing.method_runs(["a"], 0.5, "gather_coverage:samples=4;gather_box:seed=1")
     assert runs[1] == ("gather_coverage, film_filter=0.5", "gather_coverage", {"film_filter": 0.5})
     assert runs[2] == ("gather_coverage, samples=4", "gather_coverage", {"samples": 4})
     assert len(runs) == 4
-    for bad in ("gather_coverage:samples", ":samples=4", "gather_coverage:samples=many"):
+    bad_ones = ("gather_coverage:samples", ":samples=4", "gather_coverage:samples=many")
+    for bad in (*bad_ones, "engine_hdrp:tile_dispatch=all", "no_such_method:tile_dispatch=one"):
         with pytest.raises(ValueError, match="METHOD:KEY=VALUE"):
             timing.method_config(bad)
 

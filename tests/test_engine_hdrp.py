@@ -210,7 +210,8 @@ def test_tile_lists_give_the_bits_of_one_pass_over_every_pixel(ctx, rng, scatter
     values = bl.method(METHOD).defaults(frame, scatter=scatter)
     inputs = frame_textures(ctx, frame)
     listed, timings = hdrp.run_hdrp(ctx, frame, inputs, values, "compute")
-    full, _ = hdrp.run_hdrp(ctx, frame, inputs, values, "compute", over_lists=False)
+    one = {**values, "tile_dispatch": "one"}
+    full, _ = hdrp.run_hdrp(ctx, frame, inputs, one, "compute")
     classes = listed["neighborhood"].download()[..., 3].astype(int)
     counts = listed["tile_counts"].download()[0, ::4, 0]
     np.testing.assert_array_equal(counts, np.bincount(classes.ravel(), minlength=3))

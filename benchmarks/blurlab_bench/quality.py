@@ -229,13 +229,16 @@ register(
         {
             "tiny": {"runs": 1, "scenes": "thin_bar", "reference_samples": 8},
             "software": {"runs": 3},
-            # every method that blurs one frame, and gather_coverage at 6 taps beside its 8
+            # every method that blurs one frame, gather_coverage at 6 taps beside its 8, and the
+            # methods with tile classes in one dispatch beside their lists (docs/spec.md §9.3)
             "gpu": {
                 "runs": 10,
                 "methods": "post",
                 "references": "temporal,antialiased",
                 "film_filter": 0.5,
-                "config": "gather_coverage:samples=6;gather_coverage:samples=6,film_filter=0.5",
+                "config": "gather_coverage:samples=6;gather_coverage:samples=6,film_filter=0.5;"
+                "engine_unreal5:tile_dispatch=one;engine_hdrp:tile_dispatch=one;"
+                "gather_coverage:tile_dispatch=one",
             },
         },
     )

@@ -104,6 +104,7 @@ PARAMS = {
         0,
         1000,
     ),
+    "tile_dispatch": tile_lists.TILE_DISPATCH,
 }
 GATHER = Pass(
     "gather",
@@ -188,12 +189,10 @@ def _gather_over_lists(passes: PassRunner, textures, gathered, uniforms, defines
     return lists
 
 
-def run_coverage(
-    ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str, over_lists: bool = True
-):
+def run_coverage(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
     """The method's passes (docs/spec.md §17.6). The gather runs over two lists of 16 px blocks,
     still (each pixel keeps its colour) and moving (§17.6.2), unless half_res_above is on or
-    over_lists is False: then one pass covers every pixel, with the same bits."""
+    tile_dispatch is "one": then one pass covers every pixel, with the same bits."""
     size = inputs["color"].shape[:2]
     s = twin.tile_size(size[0], values["tile_percent"])
     reach_limit = twin.max_blur_px(size[0], values["max_blur"])
@@ -243,7 +242,8 @@ def run_coverage(
         passes.run(GATHER_HALF, textures, {"result": half}, backend, uniforms, half_defines)
         textures["half_gathered"] = half
     lists = None
-    if over_lists and backend == "compute" and values["half_res_above"] == 0:
+    on_lists = values["tile_dispatch"] == "lists" and values["half_res_above"] == 0
+    if on_lists and backend == "compute":
         lists = _gather_over_lists(passes, textures, gathered, uniforms, defines)
     else:
         passes.run(GATHER, textures, {"result": gathered}, backend, uniforms, defines)

@@ -60,6 +60,7 @@ PARAMS = {
         0.5, float, "fast path where the shortest neighbourhood velocity is >= this x longest", 0, 1
     ),
     "seed": SEED,
+    "tile_dispatch": tile_lists.TILE_DISPATCH,
 }
 SETUP = Pass("velocity_setup", "passes/hdrp_velocity_setup.glsl", twin.SETUP_PARAMS)
 TILE_MIN_MAX = Pass("tile_min_max", "passes/hdrp_tile_min_max.glsl")
@@ -75,14 +76,11 @@ RECONSTRUCT = Pass(
 )
 
 
-def run_hdrp(
-    ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str, over_lists: bool = True
-):
+def run_hdrp(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
     """The method's passes (docs/spec.md §17.4). The neighbourhood pass lists each tile under
     its class, and the reconstruction runs once per class over that class's list by an
-    indirect dispatch, as HDRP dispatches its tile classes; over_lists=False (or the fragment
-    backend) runs it as one pass over every pixel instead, each taking its tile's class: the
-    same bits."""
+    indirect dispatch, as HDRP dispatches its tile classes; tile_dispatch="one" runs it as one
+    pass over every pixel instead, each taking its tile's class: the same bits."""
     height, width = inputs["color"].shape[:2]
     tile = twin.tile_size(values["scatter"])
     passes = PassRunner(ctx, PARAMS, values)
@@ -108,7 +106,7 @@ def run_hdrp(
     )
     result = ctx.pooled((height, width, 4))
     textures = {"color": inputs["color"], "velocity": velocity, "neighborhood": neighborhood}
-    if over_lists and backend == "compute":
+    if values["tile_dispatch"] == "lists" and backend == "compute":
         classes = range(len(twin.CLASS_NAMES))
         into, at_tile = {"result": result}, {"tile": tile}
         tile_lists.run_per_class(passes, RECONSTRUCT, lists, classes, textures, into, at_tile)

@@ -15,8 +15,17 @@ import numpy as np
 
 from ..context import Context, Texture
 from ..twins.inputs import sanitize_motion
+from . import plans
+from .params import Param
 from .passes import Pass, PassRunner, pass_uniforms, timed
 
+# How a method with tile classes dispatches them: declared once, taken by every such method.
+TILE_DISPATCH = Param(
+    "lists",
+    ("lists", "one"),
+    "lists: each tile class's pass runs over its own tile list (indirect dispatch); one: one "
+    "dispatch over every tile, each taking its class's path (the same bits)",
+)
 # The motion classifier's classes, in the order of their indices (tile_classify.glsl).
 MOTION_CLASSES = ("still", "uniform", "mixed")
 CLASSIFY = Pass("tile_classify", "passes/tile_classify.glsl")
@@ -45,7 +54,8 @@ class TileLists:
 
 def empty_lists(ctx: Context, size: tuple[int, int], tile: int, names) -> TileLists:
     """Lists for an image of `size` (H, W) in tiles of `tile` px, one per class of `names`,
-    their counters at zero."""
+    their counters at zero (set from the host: a run that makes lists is never replayed as a
+    dispatch plan, which would not set them again)."""
     if not (isinstance(tile, int) and tile >= 1):
         raise ValueError(f"blurlab: a tile is a whole number of pixels >= 1, not {tile!r}")
     rows, columns = -(-size[0] // tile), -(-size[1] // tile)
@@ -54,6 +64,9 @@ def empty_lists(ctx: Context, size: tuple[int, int], tile: int, names) -> TileLi
             f"blurlab: {rows * columns} tiles of {tile} px do not fit one list "
             f"({ctx.max_texture_size} at most): take larger tiles"
         )
+    recorder = plans.active_recorder()
+    if recorder is not None:
+        recorder.unfit()
     counts = ctx.pooled((1, 4 * len(names), 1), "uint32")
     counts.upload(np.tile(np.array([0, 1, 1, 0], np.uint32), len(names))[None, :, None])
     lists = ctx.pooled((len(names), rows * columns, 1), "uint32")

@@ -40,6 +40,7 @@ PARAMS = {
     "depth_extent": UNREAL_PARAMS["depth_extent"],
     "exposure": UNREAL_PARAMS["exposure"],
     "seed": UNREAL_PARAMS["seed"],
+    "tile_dispatch": tile_lists.TILE_DISPATCH,
 }
 TILE_MINMAX = Pass("tile_minmax", "passes/unreal5_tile_minmax.glsl")
 TILE_SCATTER = Pass("tile_scatter", "passes/unreal5_tile_scatter.glsl")
@@ -63,12 +64,11 @@ def run_unreal5(
     inputs: dict,
     values: dict,
     backend: str,
-    over_lists: bool = True,
 ):
     """The method's passes (docs/spec.md §17.7). The reconstruction runs once per tile class
-    that the settings allow, over that class's list by an indirect dispatch; over_lists=False
-    runs it as one dispatch over every tile instead, each tile taking its class's path: the
-    same bits, for the tests and for measuring what the lists save."""
+    that the settings allow, over that class's list by an indirect dispatch; with
+    tile_dispatch="one" as one dispatch over every tile instead, each tile taking its class's
+    path: the same bits."""
     height, width = inputs["color"].shape[:2]
     radius = max_radius_px(width, values["max_blur"])
     grid = (-(-height // TILE), -(-width // TILE), 4)
@@ -131,7 +131,7 @@ def run_unreal5(
         "half_color": half,
     }
     uniforms = {**at_radius, "taps": taps}
-    if over_lists:
+    if values["tile_dispatch"] == "lists":
         classes = _possible_classes(values)
         into = {"result": result}
         tile_lists.run_per_class(passes, RECONSTRUCT, lists, classes, textures, into, uniforms)
