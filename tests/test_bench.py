@@ -173,6 +173,14 @@ def test_engines_scores_every_frame_blurring_method_at_its_own_instant(ctx):
     film = f"{timing.film_method()}, film_filter=0.5"
     for label in (timing.film_method(), film):
         assert f"{label} / reconstruct_guertin2014, calls back to back (median)" in figures
+    # each pass by tile class, with the tiles of its list: thin_bar at 64 x 36 has 4 x 3 tiles
+    assert "engine_unreal5: median ms, reconstruct[gather]" in figures
+    table = next(t for t in record["tables"] if t["name"].startswith("each pass"))
+    rows = [r for r in table["rows"] if r[1] == "engine_unreal5" and r[2] == "reconstruct"]
+    assert {r[3] for r in rows} >= {"skip", "uniform", "gather"}
+    assert sum(r[4] for r in rows) == 12 and all(r[5] >= 0 for r in rows)
+    unclassed = [r for r in table["rows"] if r[1] == "engine_unreal"]
+    assert unclassed and all(r[3] == "" and r[4] is None for r in unclassed)
 
 
 def record(name="transfer", device="llvmpipe", value=1.0) -> dict:
@@ -298,11 +306,14 @@ def test_config_rows_carry_their_parameters_and_bad_ones_are_refused():
     config = timing.method_config("gather_coverage:samples=16,film_filter=0.5,seed=3")
     assert config == ("gather_coverage", {"samples": 16, "film_filter": 0.5, "seed": 3})
     assert timing.method_config("gather_coverage:packed_inputs=true")[1] == {"packed_inputs": True}
+    one = timing.method_config("engine_hdrp:tile_dispatch=one")
+    assert one == ("engine_hdrp", {"tile_dispatch": "one"})
     runs = timing.method_runs(["a"], 0.5, "gather_coverage:samples=4;gather_box:seed=1")
     assert runs[1] == ("gather_coverage, film_filter=0.5", "gather_coverage", {"film_filter": 0.5})
     assert runs[2] == ("gather_coverage, samples=4", "gather_coverage", {"samples": 4})
     assert len(runs) == 4
-    for bad in ("gather_coverage:samples", ":samples=4", "gather_coverage:samples=many"):
+    bad_ones = ("gather_coverage:samples", ":samples=4", "gather_coverage:samples=many")
+    for bad in (*bad_ones, "engine_hdrp:tile_dispatch=all", "no_such_method:tile_dispatch=one"):
         with pytest.raises(ValueError, match="METHOD:KEY=VALUE"):
             timing.method_config(bad)
 

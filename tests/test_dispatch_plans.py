@@ -1,7 +1,7 @@
 """Recorded dispatch plans (blurlab.methods.plans): an untimed call seen before is
 replayed by one C++ call. A replay must give the ordinary path's bits, fresh outputs that do not
 disturb results still held, and the same errors for bad input; runs a plan cannot replay (tile
-classes, "auto", timed calls, lookup textures) must take the ordinary path."""
+classes, tile lists, "auto", timed calls, lookup textures) must take the ordinary path."""
 
 from __future__ import annotations
 
@@ -66,8 +66,6 @@ CASES = [
     ("camera_only", "compute", {}),
     ("gather_pixel", "compute", {}),
     ("engine_jimenez2014", "compute", {}),
-    ("engine_unreal5", "compute", {"directions": 2}),
-    ("engine_unreal5", "compute", {"half_res_gather": 0}),
     ("engine_jimenez2014", "fragment", {"k": 8}),
     ("gather_pixel", "fragment", {"samples": 4}),
 ]
@@ -133,6 +131,7 @@ def test_bad_parameters_still_raise_after_a_recording(ctx, frame):
         ("reconstruct_mcguire2012", {"k": np.int64(20)}, False),  # not a plain int
         ("reconstruct_mcguire2012", {}, True),  # timed calls time each pass
         ("reconstruct_urho3d", {}, False),  # reads a cached lookup texture
+        ("engine_unreal5", {"directions": 2}, False),  # passes over tile lists
     ],
 )
 def test_runs_a_plan_cannot_replay_take_the_ordinary_path(ctx, name, params, timed):

@@ -1,6 +1,7 @@
 """engine_hdrp (docs/spec.md §17.4) on the GPU against bl.twins.hdrp: the B10G11R11 codes of
 the polar velocity and depth, the camera clamp modes, the min/max tiles, the 3 x 3 and scattered
-neighbourhoods, each per-tile path, and the filter's promises: still images unchanged, output
+neighbourhoods, each per-tile path, each class dispatched over its tile list with the bits of
+one pass over every pixel, and the filter's promises: still images unchanged, output
 inside the input range, no NaN, same seed same bits."""
 
 from __future__ import annotations
@@ -8,9 +9,12 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
 from conftest import assert_matches_twin, assert_timings_name, random_frame
 
 import blurlab as bl
+from blurlab.methods import hdrp
+from blurlab.methods.passes import frame_textures
 from blurlab.twins import gathers
 from blurlab.twins import hdrp as ref
 from blurlab.twins.polar_small_float import polar_codes, polar_decode
@@ -195,7 +199,32 @@ def test_sample_count_keeps_taps_a_pixel_apart():
     assert list(ref.tap_count(np.array([0.0, 3.9, 7.0, 200.0]), 8)) == [1, 3, 7, 8]
 
 
+@pytest.mark.parametrize("scatter", [False, True])
+def test_tile_lists_give_the_bits_of_one_pass_over_every_pixel(ctx, rng, scatter):
+    """Each class's reconstruction over its own list (indirect dispatch, 32 px tiles covered by
+    a 16 x 16 work group in four blocks; 16 px with scatter) against one pass in which every
+    pixel takes its tile's class; the lists hold the twin's classes (docs/spec.md §9.3)."""
+    frame = random_frame(rng, 250, 90, k=10)
+    frame.motion[:, :96] = 0.0  # early-out tiles on the left, random motion in the middle
+    frame.motion[:, 160:] = (9.0, 2.0)  # fast tiles on the right
+    values = bl.method(METHOD).defaults(frame, scatter=scatter)
+    inputs = frame_textures(ctx, frame)
+    listed, timings = hdrp.run_hdrp(ctx, frame, inputs, values, "compute")
+    one = {**values, "tile_dispatch": "one"}
+    full, _ = hdrp.run_hdrp(ctx, frame, inputs, one, "compute")
+    classes = listed["neighborhood"].download()[..., 3].astype(int)
+    counts = listed["tile_counts"].download()[0, ::4, 0]
+    np.testing.assert_array_equal(counts, np.bincount(classes.ravel(), minlength=3))
+    assert (counts > 0).all()
+    assert listed["color"].download().tobytes() == full["color"].download().tobytes()
+    assert [k for k in timings if k.startswith("reconstruct")] == [
+        f"reconstruct[{name}]" for name in ref.CLASS_NAMES
+    ]
+    assert ctx.gl_errors() == []
+
+
 def test_timings_name_every_pass(ctx, rng):
+    classes = [f"reconstruct[{name}]" for name in ref.CLASS_NAMES]
     assert_timings_name(
-        ctx, rng, METHOD, ["velocity_setup", "tile_min_max", "neighborhood", "reconstruct"]
+        ctx, rng, METHOD, ["velocity_setup", "tile_min_max", "neighborhood", *classes]
     )

@@ -1,7 +1,9 @@
 """engine_unreal5 (docs/spec.md §17.7) on the GPU against bl.twins.unreal5: the tiles with a
-second direction, the 7 x 7 scatter-as-gather and its four classes, the half-size colour, the
-per-tile sample counts, the two-direction path on crossed motions, and the filter's promises:
-still images unchanged, output inside the input range, no NaN, same seed same bits."""
+second direction, the 7 x 7 scatter-as-gather with the scatter past it and its six classes, the
+half-size colour, the half-resolution classes, the per-tile sample counts, the two-direction
+path on crossed motions; the reconstruction over each class's tile list giving the bits of one
+dispatch over every tile; and the filter's promises: still images unchanged, output inside the
+input range, no NaN, same seed same bits."""
 
 from __future__ import annotations
 
@@ -10,6 +12,8 @@ import pytest
 from conftest import assert_matches_twin, assert_timings_name, random_frame
 
 import blurlab as bl
+from blurlab.methods import unreal5
+from blurlab.methods.passes import frame_textures
 from blurlab.twins import polar_fixed_point as polar
 from blurlab.twins import unreal as ue4
 from blurlab.twins import unreal5 as ref
@@ -17,18 +21,81 @@ from blurlab.twins import unreal5 as ref
 METHOD = "engine_unreal5"
 
 
+def _fast_block(rng, width=320, height=64, speed=200.0):
+    """A still random frame with one 16 px block moving `speed` px along x: its half-vector
+    reaches 6 tiles at max_blur 40 (R = 128 px), past the 7 x 7."""
+    frame = random_frame(rng, width, height)
+    frame.motion[:] = 0.0
+    frame.motion[16:32, 144:160] = (speed, 0.0)
+    return frame
+
+
+def _check_tiles(result, frame, max_blur, directions, quality=3, half_res_gather=1):
+    width = frame.color.shape[1]
+    radius = ue4.max_radius_px(width, max_blur)
+    codes = result.buffers["velocity"][..., :3].astype(np.float64)
+    tiles = ref.tile_minmax2(codes)
+    np.testing.assert_array_equal(result.buffers["tiles"], tiles)
+    expected = ref.neighbor_dilate2(tiles, radius, directions, quality, half_res_gather)
+    np.testing.assert_array_equal(result.buffers["neighbors"], expected)
+    counts = result.buffers["tile_counts"][0, :, 0].reshape(-1, 4)[:, 0]
+    by_class = np.bincount(expected[..., 3].astype(int).ravel(), minlength=len(ref.CLASS_NAMES))
+    np.testing.assert_array_equal(counts[: len(ref.CLASS_NAMES)], by_class)
+    return expected, counts[unreal5.LISTS.index("far")]
+
+
 @pytest.mark.parametrize("directions", [1, 2])
 def test_tile_passes_equal_their_twins(ctx, rng, directions):
     frame = random_frame(rng, 150, 90, k=10)
     result = bl.blur(ctx, frame, METHOD, max_blur=8.0, directions=directions)
-    radius = ue4.max_radius_px(150, 8.0)
-    codes = result.buffers["velocity"][..., :3].astype(np.float64)
-    tiles = ref.tile_minmax2(codes)
-    np.testing.assert_array_equal(result.buffers["tiles"], tiles)
-    expected = ref.neighbor_dilate2(tiles, radius, directions)
-    np.testing.assert_array_equal(result.buffers["neighbors"], expected)
+    _check_tiles(result, frame, 8.0, directions)
     half = ref.half_color(frame.color)
     np.testing.assert_allclose(result.buffers["half_color"], half, atol=1e-6)
+
+
+@pytest.mark.parametrize("directions", [1, 2])
+def test_the_dilation_scatters_velocities_past_the_neighbourhood(ctx, rng, directions):
+    """A block whose blur reaches 6 tiles and more: the tiles 4 to 7 tiles away, which the 7 x 7
+    gather cannot see, take its velocity from the scatter, as the twin says."""
+    frame = _fast_block(rng)
+    result = bl.blur(ctx, frame, METHOD, max_blur=40.0, directions=directions)
+    neighbors, far = _check_tiles(result, frame, 40.0, directions)
+    assert far == 1  # the block's tile alone
+    row = neighbors[1, :, 3]  # the block is tile (1, 9); its blur spans x 9.5 ± 6.25 tiles
+    assert (row[2:17] != ref.SKIP).all() and row[1] == ref.SKIP and row[17] == ref.SKIP
+    assert (neighbors[1, [2, 3, 4, 5, 13, 14, 15, 16], 0] == neighbors[1, 9, 0]).all()
+    assert_matches_twin(result, frame)
+
+
+@pytest.mark.parametrize(
+    "params",
+    [
+        {"max_blur": 8.0},
+        {"max_blur": 8.0, "directions": 2, "half_res_gather": 0},
+        {"max_blur": 60.0, "directions": 2},
+        {"max_blur": 40.0, "quality": 4},
+    ],
+)
+def test_tile_lists_give_the_bits_of_one_dispatch_over_every_tile(ctx, rng, params):
+    """Each class's pass over its own list (indirect dispatch) against one dispatch in which
+    every tile takes its class's path (docs/spec.md §9.3)."""
+    frames = {
+        8.0: lambda: random_frame(rng, 150, 90, k=10),
+        60.0: lambda: random_frame(rng, 200, 120, k=40),  # half-resolution classes
+        40.0: lambda: _fast_block(rng),  # the scatter
+    }
+    frame = frames[params["max_blur"]]()
+    method = bl.method(METHOD)
+    values = method.defaults(frame, **params)
+    inputs = frame_textures(ctx, frame)
+    listed, timings = unreal5.run_unreal5(ctx, frame, inputs, values, "compute")
+    one = {**values, "tile_dispatch": "one"}
+    full, _ = unreal5.run_unreal5(ctx, frame, inputs, one, "compute")
+    counts = listed["tile_counts"].download()[0, :, 0].reshape(-1, 4)[:, 0]
+    assert (counts[:-1] > 0).sum() >= 1
+    assert listed["color"].download().tobytes() == full["color"].download().tobytes()
+    assert any(name.startswith("reconstruct[") for name in timings)
+    assert ctx.gl_errors() == []
 
 
 def test_axis_gap_and_packing_hand_values():
@@ -71,6 +138,28 @@ def test_uniform_motion_takes_the_uniform_path_everywhere(ctx, rng):
     assert_matches_twin(result, frame)
 
 
+@pytest.mark.parametrize("motion", ["uniform", "ramp", "random"])
+def test_long_blurs_gather_at_half_resolution(ctx, rng, motion):
+    """Taps 8 px apart or more: uniform tiles become uniform_half, the others gather_half; the
+    half-resolution gather and its composite match the twin, odd sizes included: blocks of one
+    depth and nearly one velocity (ramp) blend, blocks of random depths (random) are mixed and
+    gather each pixel."""
+    frame = random_frame(rng, 99, 61, k=40)
+    if motion == "uniform":
+        frame.motion[:] = (80.0, 10.0)
+    elif motion == "ramp":  # a still band, then motion growing along x, one depth
+        frame.depth[:] = 3.0
+        frame.motion[:] = 0.0
+        frame.motion[..., 0] = np.where(np.arange(99) < 20, 0.0, 20.0 + 0.5 * np.arange(99))
+    result = bl.blur(ctx, frame, METHOD, max_blur=50.0)
+    kinds = result.buffers["neighbors"][..., 3]
+    if motion == "uniform":
+        assert (kinds == ref.UNIFORM_HALF).all()
+    else:
+        assert (kinds == ref.GATHER_HALF).sum() >= 4
+    assert_matches_twin(result, frame)
+
+
 def test_sample_counts_follow_the_tile_motion():
     radius = 100.0  # half-vectors of 0.4, 0.6, 1.2, 1.7 and 50 px: a pair per 1/2 px
     lengths = np.array([0.4, 0.6, 1.2, 1.7, 50.0]) / radius * polar.LENGTH_CODE_MAX
@@ -93,6 +182,12 @@ def test_half_res_gather_reads_the_half_size_colour_for_long_blurs(ctx, rng):
 
 
 def test_timings_name_every_pass(ctx, rng):
-    passes = ["velocity_flatten", "tile_minmax", "neighbor_dilate", "half_color", "reconstruct"]
-    assert_timings_name(ctx, rng, METHOD, passes)
-    assert_timings_name(ctx, rng, METHOD, passes[:3] + passes[4:], half_res_gather=0)
+    passes = ["velocity_flatten", "tile_minmax", "neighbor_dilate", "half_color"]
+    classes = [f"reconstruct[{name}]" for name in ("skip", "uniform", "gather")]
+    halves = ["reconstruct[uniform_half]", "reconstruct[gather_half]"]
+    assert_timings_name(ctx, rng, METHOD, passes + classes + halves)
+    assert_timings_name(ctx, rng, METHOD, passes[:3] + classes, half_res_gather=0)
+    two = [*classes, "reconstruct[gather_2]"]
+    assert_timings_name(ctx, rng, METHOD, passes[:3] + two, half_res_gather=0, directions=2)
+    scatter = ["velocity_flatten", "tile_minmax", "tile_scatter[far]", "neighbor_dilate"]
+    assert_timings_name(ctx, rng, METHOD, scatter + classes, half_res_gather=0, max_blur=80.0)

@@ -16,6 +16,7 @@ from filter_promises import (
 )
 
 import blurlab as bl
+from blurlab.methods import coverage
 from blurlab.methods.coverage import (
     FILM_LAYOUT,
     FILM_VARIANTS,
@@ -24,15 +25,19 @@ from blurlab.methods.coverage import (
     tap_plan,
 )
 from blurlab.methods.coverage import tile_lines as coverage_tile_lines
+from blurlab.methods.passes import frame_textures
 from blurlab.twins import coverage as ref
 from blurlab.twins import eevee as eevee_twin
 from blurlab.twins import film
+from blurlab.twins.eevee import resolve_reach_keys
 from blurlab_bench.taps import tap_counts
 
 METHOD = "gather_coverage"
 # The tile passes of the default dilation, by scatter with the keys resolved in the gather
 # (tests/test_scatter_dilation.py).
 TILE_PASSES = ["reach_keys_clear", "tile_flatten"]
+# the gather over the lists of still and moving blocks (§17.6.2)
+GATHER_PASSES = ["block_classify", "gather[still]", "gather[moving]"]
 
 
 # Each lever of "just enough taps" (§17.6) alone and all together, the film through the taps
@@ -336,11 +341,11 @@ def test_a_pixel_at_a_tiles_edge_reads_the_streak_beside_it(ctx):
 
 
 def test_timings_name_every_pass(ctx, rng):
-    assert_timings_name(ctx, rng, METHOD, [*TILE_PASSES, "gather"])
+    assert_timings_name(ctx, rng, METHOD, [*TILE_PASSES, *GATHER_PASSES])
     filtered = bl.blur(ctx, random_frame(rng, 64, 36), METHOD, film_filter=0.5)
     two_passes = FILM_LAYOUT.chosen() == "separable"
     passes = ["film_rows", "film_columns"] if two_passes else ["film"]
-    assert list(filtered.timings) == [*TILE_PASSES, "gather", *passes]
+    assert list(filtered.timings) == [*TILE_PASSES, *GATHER_PASSES, *passes]
 
 
 def test_the_film_filter_spreads_a_point_by_its_gaussian(ctx):
@@ -382,7 +387,7 @@ def test_the_film_pass_equals_its_twin_across_group_edges(ctx, rng, variant, sig
     with FILM_LAYOUT.use(variant):
         out = bl.blur(ctx, frame, METHOD, film_filter=sigma)
     passes = ["film_rows", "film_columns"] if variant == "separable" else ["film"]
-    assert list(out.timings) == [*TILE_PASSES, "gather", *passes]
+    assert list(out.timings) == [*TILE_PASSES, *GATHER_PASSES, *passes]
     np.testing.assert_allclose(out.color, film.film_filter(color, sigma), atol=2e-6)
 
 
@@ -413,7 +418,7 @@ def test_the_film_read_through_the_taps_matches_its_twin_without_a_film_pass(ctx
     frame = ctx.render(bl.scenes.get(scene), (160, 90))
     result = bl.blur(ctx, frame, METHOD, film_filter=0.5, film_through_taps=True)
     assert_matches_twin(result, frame)
-    assert list(result.timings) == [*TILE_PASSES, "gather"]
+    assert list(result.timings) == [*TILE_PASSES, *GATHER_PASSES]
     after = bl.blur(ctx, frame, METHOD, film_filter=0.5).color
     assert np.abs(result.color - after).max() > 1e-3  # another filter, not the same pass
 
@@ -460,3 +465,33 @@ def test_the_film_through_the_taps_keeps_the_filters_promises(ctx, rng):
     result = bl.blur(ctx, frame, METHOD, **THROUGH_TAPS)
     assert np.isfinite(result.color).all()
     assert_matches_twin(result, frame)
+
+
+@pytest.mark.parametrize("film_through_taps", [False, True])
+def test_still_and_moving_block_lists_give_the_bits_of_one_pass(ctx, film_through_taps):
+    """§17.6.2: the gather over the still blocks' list and the moving blocks' list (indirect
+    dispatch) against one pass over every pixel; the classes are the twin's, and a still
+    block's pixels keep their colour."""
+    frame = ctx.render(bl.scenes.get("thin_bar"), (160, 96))
+    params = {"film_filter": 0.3, "film_through_taps": film_through_taps}
+    values = bl.method(METHOD).defaults(frame, **params)
+    inputs = frame_textures(ctx, frame)
+    listed, timings = coverage.run_coverage(ctx, frame, inputs, values, "compute")
+    one = {**values, "tile_dispatch": "one"}
+    full, _ = coverage.run_coverage(ctx, frame, inputs, one, "compute")
+    assert listed["color"].download().tobytes() == full["color"].download().tobytes()
+    result = bl.blur(ctx, frame, METHOD, **params)
+    dilated = resolve_reach_keys(result.buffers["reach_keys"], result.buffers["tiles"])
+    height = frame.color.shape[0]
+    s = ref.tile_size(height, values["tile_percent"])
+    reach_limit = ref.max_blur_px(height, values["max_blur"])
+    expected = ref.still_blocks(dilated, (96, 160), s, reach_limit, values["early_exit"])
+    np.testing.assert_array_equal(result.buffers["block_class"][..., 0], expected)
+    counts = result.buffers["tile_counts"][0, ::4, 0]
+    np.testing.assert_array_equal(counts, np.bincount(expected.ravel(), minlength=2))
+    assert counts.min() > 0
+    still = np.kron(expected == 0, np.ones((16, 16), bool))[:96, :160]
+    if not film_through_taps:
+        gathered = result.buffers["unfiltered"]
+        np.testing.assert_array_equal(gathered[still], frame.color[still])
+    assert ctx.gl_errors() == []

@@ -53,6 +53,7 @@ REFUSALS = {
     "engine_unreal5": [
         ({"directions": 3}, ValueError, r"directions = 3 is outside 1\.\.2"),
         ({"half_res_gather": 2}, ValueError, r"half_res_gather = 2 is outside 0\.\.1"),
+        ({"tile_dispatch": "all"}, ValueError, "tile_dispatch must be one of 'lists', 'one'"),
         ({"quality": 5}, ValueError, r"quality = 5 is outside 1\.\.4"),
         ({"samples": 8}, TypeError, "no parameter.*samples.*quality"),
     ],

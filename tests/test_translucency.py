@@ -304,7 +304,7 @@ def test_render_and_blur_takes_the_option():
     _, result = bl.render_and_blur(
         ctx, glass_and_sparks(), "gather_box", size=SIZE, translucency="layered"
     )
-    assert "translucency_over" in result.timings and "translucent_gather" in result.timings
+    assert "translucency_over" in result.timings and "translucent_gather[moving]" in result.timings
     assert result.params["translucency"] == "layered"
 
 

@@ -68,7 +68,7 @@ def _engine_scene(ctx, name, size, p, runs, references) -> list[dict]:
         frame = frames[method_instant(name_, params)]
         passes, _ = median_passes(ctx, frame, name_, p["runs"], **params)
         queued = untimed_calls_ms(ctx, frame, name_, **params)
-        timed[label] = (passes["total"], queued)
+        timed[label] = (passes["total"], queued, passes)
     # Metrics with a GPU implementation score on the context (within their registered
     # tolerance of NumPy's), so SSIM and FLIP at 1080p take milliseconds, not seconds.
     on_gpu = [m for m in split(p["metrics"]) if metrics.get(m).gpu is not None]
@@ -83,6 +83,7 @@ def _engine_scene(ctx, name, size, p, runs, references) -> list[dict]:
         frame = frames[method_instant(name_, params)]
         result = blur(ctx, frame, name_, timed=False, **params)
         row = {"scene": name, "method": label, "ms": timed[label][0], "b2b_ms": timed[label][1]}
+        row["passes"] = pass_rows(method(name_), result, timed[label][2])
         for suffix, reference_texture in uploaded.items():
             image = rendered[suffix != ""].color
             for m in split(p["metrics"]):
@@ -108,6 +109,24 @@ def _engine_scene(ctx, name, size, p, runs, references) -> list[dict]:
     return rows
 
 
+def pass_rows(m, result, medians: dict) -> list[tuple[str, str, int | None, float]]:
+    """(pass, class, tiles, median ms) of each pass of a method's run: a pass dispatched over a
+    tile list is timed as "pass[class]" (docs/spec.md §9.3), and where the method has tile lists
+    the tiles are its list's count on this frame; a pass over every pixel has no class."""
+    counts = {}
+    if m.tile_lists:
+        row = result.textures["tile_counts"].download()[0, :, 0]
+        counts = dict(zip(m.tile_lists, row[::4].tolist(), strict=True))
+    rows = []
+    for key, ms in medians.items():
+        if key == "total":
+            continue
+        step, _, cls = key.partition("[")
+        cls = cls.rstrip("]")
+        rows.append((step, cls, counts.get(cls) if cls else None, ms))
+    return rows
+
+
 def _engines(ctx, size, p, out) -> None:
     references = split(p["references"])
     if "temporal" not in references or set(references) - set(REFERENCES):
@@ -128,6 +147,11 @@ def _engines(ctx, size, p, out) -> None:
     rows = []
     for name in names:
         rows += _engine_scene(ctx, name, size, p, runs, references)
+    by_pass = [
+        [row["scene"], row["method"], step, cls, tiles, ms]
+        for row in rows
+        for step, cls, tiles, ms in row.pop("passes", ())
+    ]
     table = pd.DataFrame(rows)
     timed = table[table.method != EEVEE]
     psnrs = [m for m in ("psnr", "psnr" + peers.ANTIALIASED) if m in timed]
@@ -159,6 +183,20 @@ def _engines(ctx, size, p, out) -> None:
         "at their defaults; errors against the converged reference(s)",
         columns,
         [[None if v is None else v for v in row] for row in cells.values.tolist()],
+    )
+    # Where the time goes: each pass, and for a pass over tile lists each class with its tiles.
+    classed = {label for _, label, _, cls, _, _ in by_pass if cls}
+    passes = pd.DataFrame(by_pass, columns=["scene", "method", "pass", "class", "tiles", "ms"])
+    passes = passes[passes.method.isin(classed)]
+    for (label, step, cls), ms in (
+        passes.groupby(["method", "pass", "class"], sort=False).ms.median().items()
+    ):
+        named = f"{step}[{cls}]" if cls else step
+        out.figure(f"{label}: median ms, {named}", ms, "ms")
+    out.table(
+        "each pass of each method by tile class (per-pass timers, median ms; tiles listed)",
+        [("scene", ""), ("method", ""), ("pass", ""), ("class", ""), ("tiles", ""), ("ms", "ms")],
+        by_pass,
     )
 
 
@@ -192,13 +230,16 @@ register(
         {
             "tiny": {"runs": 1, "scenes": "thin_bar", "reference_samples": 8},
             "software": {"runs": 3},
-            # every method that blurs one frame, and gather_coverage at 6 taps beside its 8
+            # every method that blurs one frame, gather_coverage at 6 taps beside its 8, and the
+            # methods with tile classes in one dispatch beside their lists (docs/spec.md §9.3)
             "gpu": {
                 "runs": 10,
                 "methods": "post",
                 "references": "temporal,antialiased",
                 "film_filter": 0.5,
-                "config": "gather_coverage:samples=6;gather_coverage:samples=6,film_filter=0.5",
+                "config": "gather_coverage:samples=6;gather_coverage:samples=6,film_filter=0.5;"
+                "engine_unreal5:tile_dispatch=one;engine_hdrp:tile_dispatch=one;"
+                "gather_coverage:tile_dispatch=one",
             },
         },
     )

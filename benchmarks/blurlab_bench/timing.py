@@ -129,8 +129,8 @@ def split(text: str) -> list[str]:
 
 
 def method_config(text: str) -> tuple[str, dict]:
-    """One `config` item, METHOD:KEY=VALUE,KEY=VALUE (numbers, true or false), as (method,
-    parameters)."""
+    """One `config` item, METHOD:KEY=VALUE,KEY=VALUE (numbers, true or false, or one of the
+    choices of a choice parameter of METHOD), as (method, parameters)."""
     method, _, given = text.partition(":")
     params = {}
     for item in filter(None, given.split(",")):
@@ -138,6 +138,8 @@ def method_config(text: str) -> tuple[str, dict]:
         try:
             if value in ("true", "false"):
                 params[key] = value == "true"
+            elif value in _choices(method, key):
+                params[key] = value
             else:
                 params[key] = float(value) if "." in value or "e" in value else int(value)
         except ValueError:
@@ -145,9 +147,16 @@ def method_config(text: str) -> tuple[str, dict]:
         if not method or not key or not equals:
             raise ValueError(
                 f"blurlab: config {item!r} in {text!r}: give METHOD:KEY=VALUE,... with "
-                "numbers, true or false"
+                "numbers, true or false, or a choice of the method's parameter"
             )
     return method, params
+
+
+def _choices(method_name: str, key: str) -> tuple:
+    """The choices of `method_name`'s parameter `key` where it is a choice, else ()."""
+    params = method(method_name).params if method_name in methods() else {}
+    kind = params[key].kind if key in params else None
+    return kind if isinstance(kind, tuple) else ()
 
 
 def method_runs(names: list[str], film_filter: float = 0.0, configs: str = "") -> list[tuple]:

@@ -17,8 +17,15 @@
 // HALF_RES_GATHER (the option half_res_above > 0) this is the pass at half resolution that
 // gathers the top-left pixel of each 2 x 2 quad whose tile line and pixels' half-motions are
 // longer than half_res_above px; with HALF_RES_READ the full-resolution pass gives such a
-// quad's pixels that result.
+// quad's pixels that result. With BLOCK_CLASSIFY this file is the pass that sorts 16 px blocks
+// into still and moving lists, with OVER_LIST the gather over one list (docs/spec.md §17.6.2).
 // NumPy twin: blurlab.twins.coverage.gather_coverage (and twins.film's tap_color, own_color).
+#if defined(BLOCK_CLASSIFY)
+#define TILE_LISTS_APPEND 1
+#elif defined(OVER_LIST)
+#define TILE_LISTS_READ 1
+#endif
+#include "common/tile_lists.glsl"
 #include "common/eevee.glsl"
 #include "common/mcguire2012.glsl"
 #include "common/random.glsl"
@@ -207,12 +214,16 @@ vec4 uniform_gather(ivec2 x, vec4 cx, float zx, vec2 lines[2], int taps, float j
 #endif
 
 // The lines of X's jittered tile, each side's clamped to reach_limit; returns the longer's length.
-float tile_lines(ivec2 x, out vec2 lines[2]) {
-    ivec2 tile = jittered_tile(x, float(tile_size), seed, JITTER_SALTS, tile_grid());
+// Dilated tile `tile`'s two lines, each clamped to reach_limit; returns the longer's length.
+float lines_of(ivec2 tile, out vec2 lines[2]) {
     vec4 tile_motion = dilated_at(tile);
     lines = vec2[2](clamp_length(tile_motion.xy, reach_limit),
                     -clamp_length(tile_motion.zw, reach_limit));
     return max(length(lines[0]), length(lines[1]));
+}
+
+float tile_lines(ivec2 x, out vec2 lines[2]) {
+    return lines_of(jittered_tile(x, float(tile_size), seed, JITTER_SALTS, tile_grid()), lines);
 }
 
 #if defined(HALF_RES_GATHER) || defined(HALF_RES_READ)
@@ -237,16 +248,21 @@ bool quad_is_long(ivec2 x) {
 layout(binding = 5) uniform sampler2D half_gathered;
 #endif
 
+// X's own colour, through the film filter where colours are read so.
+vec4 own_color(ivec2 x, ivec2 size) {
+#ifdef FILM_THROUGH_TAPS
+    return film_own(x, size);
+#else
+    return sanitize_color(texelFetch(color, x, 0));
+#endif
+}
+
 vec4 gather_at(ivec2 x) {
 #ifdef HALF_RES_READ
     if (quad_is_long(x)) return texelFetch(half_gathered, x / 2, 0);
 #endif
     ivec2 size = textureSize(color, 0);
-#ifdef FILM_THROUGH_TAPS
-    vec4 cx = film_own(x, size);
-#else
-    vec4 cx = sanitize_color(texelFetch(color, x, 0));
-#endif
+    vec4 cx = own_color(x, size);
     vec2 lines[2];
     float longest = tile_lines(x, lines);
     if (longest < early_exit) return cx;
@@ -347,6 +363,59 @@ vec4 gather_at(ivec2 x) {
     return result;
 }
 
+#if defined(BLOCK_CLASSIFY) || defined(OVER_LIST)
+const int LIST_BLOCK = 16;  // px: the blocks the lists hold (docs/spec.md §17.6.2)
+#endif
+
+#ifdef BLOCK_CLASSIFY
+// The still blocks (docs/spec.md §17.6.2): block b of LIST_BLOCK px is still (class 0) where
+// every tile that a pixel of b may look up, its jitter of up to a quarter tile included (one
+// tile more on every side, against rounding), has lines shorter than early_exit, so that each of
+// its pixels keeps its colour; else moving (1). Writes the class and appends b to its list.
+// One invocation per block. NumPy twin: blurlab.twins.coverage.still_blocks.
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(binding = 0, r32ui) uniform writeonly uimage2D block_class;
+
+void main() {
+    ivec2 b = ivec2(gl_GlobalInvocationID.xy);
+    ivec2 blocks = imageSize(block_class);
+    if (any(greaterThanEqual(b, blocks))) return;
+    ivec2 size = textureSize(color, 0);
+    float s = float(tile_size);
+    vec2 low = vec2(b * LIST_BLOCK) + 0.5 - 0.25 * s;
+    vec2 high = vec2(min(b * LIST_BLOCK + LIST_BLOCK, size) - 1) + 0.5 + 0.25 * s;
+    ivec2 grid = tile_grid();
+    ivec2 first = clamp(ivec2(floor(low / s)) - 1, ivec2(0), grid - 1);
+    ivec2 last = clamp(ivec2(floor(high / s)) + 1, ivec2(0), grid - 1);
+    bool still = true;
+    for (int ty = first.y; ty <= last.y; ++ty) {
+        for (int tx = first.x; tx <= last.x; ++tx) {
+            vec2 lines[2];
+            if (!(lines_of(ivec2(tx, ty), lines) < early_exit)) still = false;
+        }
+    }
+    int cls = still ? 0 : 1;
+    imageStore(block_class, b, uvec4(uint(cls)));
+    append_tile(cls, b, blocks.x);
+}
+#elif defined(OVER_LIST)
+// One 16 x 16 work group per block of list LIST_CLASS: a still block's pixels keep their colour
+// (gather_at's early exit, which each of them takes), a moving block's gather.
+layout(local_size_x = 16, local_size_y = 16) in;
+layout(binding = 0, rgba32f) uniform writeonly image2D result;
+
+void main() {
+    ivec2 size = textureSize(color, 0);
+    ivec2 blocks = (size + LIST_BLOCK - 1) / LIST_BLOCK;
+    ivec2 x = listed_tile(blocks.x) * LIST_BLOCK + ivec2(gl_LocalInvocationID.xy);
+    if (any(greaterThanEqual(x, size))) return;
+#if LIST_CLASS == 0
+    imageStore(result, x, own_color(x, size));
+#else
+    imageStore(result, x, gather_at(x));
+#endif
+}
+#else
 #ifdef HALF_RES_GATHER
 // The half-resolution pass: invocation q gathers the top-left pixel 2q of its quad where the
 // quad is long (the full-resolution pass reads it for all four pixels), nothing elsewhere.
@@ -359,3 +428,4 @@ vec4 half_gather_at(ivec2 q) {
 #define PASS_AT gather_at
 #endif
 #include "common/pass_main.glsl"
+#endif

@@ -5,8 +5,11 @@
 // ± v/2, in tile units, meets D's square widened by h + REACH_MARGIN, h = 1/2 - 1/(2 tile)); the
 // shortest length over the 3 x 3 tiles; and D's class: early-out (0) where the longest is under
 // minimum_velocity, else fast (1) where the shortest is at least fast_ratio times the longest,
-// else slow (2). Compute, one thread per tile. NumPy twin: blurlab.twins.hdrp.neighborhood,
-// scatter_neighborhood, classify.
+// else slow (2). D joins the tile list of its class (docs/spec.md §9.3,
+// common/tile_lists.glsl). Compute, one thread per tile. NumPy twin: blurlab.twins.hdrp.
+// neighborhood, scatter_neighborhood, classify.
+#define TILE_LISTS_APPEND 1
+#include "common/tile_lists.glsl"
 #include "common/small_float.glsl"
 #include "common/polar_small_float.glsl"
 #include "common/tile_reach.glsl"
@@ -66,4 +69,5 @@ void main() {
     float c = shortest >= fast_ratio * longest ? FAST : SLOW;
     if (longest < minimum_velocity) c = EARLY_OUT;
     imageStore(neighborhood, d, vec4(best, shortest, c));
+    append_tile(int(c), d, grid.x);
 }

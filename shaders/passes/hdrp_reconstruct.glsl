@@ -4,7 +4,15 @@
 // v (length L), at t = (i + j)/n - 1/2 of it; a fast tile averages them with C(X) with equal
 // weights, a slow one weighs them by §3.4's cones and cylinders on the taps' radii (half their
 // stored lengths) and the soft depth comparison with extent depth_comparison_extent on the
-// stored depths. Compute, one invocation per pixel. NumPy twin: blurlab.twins.hdrp.engine_hdrp.
+// stored depths. Compute, one invocation per pixel: without OVER_LIST over the whole image,
+// each pixel taking its tile's class; with OVER_LIST one 16 x 16 work group per tile of one
+// class's list (docs/spec.md §9.3), the class being LIST_CLASS, covering the tile in 16 x 16
+// blocks. Both write the same bits. NumPy twin: blurlab.twins.hdrp.engine_hdrp.
+#ifdef OVER_LIST
+#define TILE_LISTS_READ 1
+#define TILE_LIST_SAMPLER 3
+#include "common/tile_lists.glsl"
+#endif
 #include "common/inputs.glsl"
 #include "common/mcguire2012.glsl"
 #include "common/random.glsl"
@@ -21,16 +29,16 @@ uniform uint seed;
 
 const float EARLY_OUT = 0.0, FAST = 1.0;
 
-vec4 reconstruct_at(ivec2 x) {
+// Pixel x of a tile of class `kind` whose neighbourhood texel is tile_info.
+vec4 reconstruct_class(ivec2 x, vec4 tile_info, float kind) {
     ivec2 size = textureSize(color, 0);
     vec4 cx = sanitize_color(texelFetch(color, x, 0));
-    vec4 tile_info = texelFetch(neighborhood, x / tile, 0);
-    if (tile_info.w == EARLY_OUT) return cx;
+    if (kind == EARLY_OUT) return cx;
     vec2 vmax = polar_decode(tile_info.xy);
     int n = int(clamp(floor(tile_info.x), 1.0, float(samples)));
     float j = rand(uint(x.x), uint(x.y), seed);
     vec2 center = vec2(x) + 0.5;
-    bool fast = tile_info.w == FAST;
+    bool fast = kind == FAST;
     vec4 own = texelFetch(velocity, x, 0);
     vec2 r_x = vec2(own.x * 0.5, 0.0);  // radius: half the stored length
     float weight = fast ? 1.0 : 1.0 / max(r_x.x, 0.5);
@@ -57,5 +65,29 @@ vec4 reconstruct_at(ivec2 x) {
     return sum / weight;
 }
 
+#ifdef OVER_LIST
+layout(local_size_x = 16, local_size_y = 16) in;
+layout(binding = 0, rgba32f) uniform writeonly image2D result;
+
+void main() {
+    ivec2 grid = textureSize(neighborhood, 0);
+    ivec2 t = listed_tile(grid.x);
+    vec4 tile_info = texelFetch(neighborhood, t, 0);
+    ivec2 size = textureSize(color, 0);
+    for (int by = 0; by < tile; by += 16) {
+        for (int bx = 0; bx < tile; bx += 16) {
+            ivec2 x = t * tile + ivec2(bx, by) + ivec2(gl_LocalInvocationID.xy);
+            if (all(lessThan(x, size)))
+                imageStore(result, x, reconstruct_class(x, tile_info, float(LIST_CLASS)));
+        }
+    }
+}
+#else
+vec4 reconstruct_at(ivec2 x) {
+    vec4 tile_info = texelFetch(neighborhood, x / tile, 0);
+    return reconstruct_class(x, tile_info, tile_info.w);
+}
+
 #define PASS_AT reconstruct_at
 #include "common/pass_main.glsl"
+#endif

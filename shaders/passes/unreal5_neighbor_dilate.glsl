@@ -1,34 +1,36 @@
 #version 450
 // engine_unreal5 step 3, docs/spec.md §17.7: scatter-as-gather over the 7 x 7 tiles around each
 // tile D, as engine_unreal's (§17.5 step 3), over each tile's first velocity and, with
-// directions = 2, its second. D keeps the longest velocity that reaches it, with two directions
-// the longest reaching one whose axis lies more than AXIS_APART from it, and its class: skip
-// under SKIP_BELOW px; gather_2 where a second direction of SKIP_BELOW px or more reaches;
-// uniform where min > 0.4·max (5·min > 2·max in codes); else gather. Compute, one thread per
-// tile. NumPy twin: blurlab.twins.unreal5.neighbor_dilate2.
-#include "common/polar_fixed_point.glsl"
-#include "common/tile_reach.glsl"
-#include "common/unreal.glsl"
+// directions = 2, its second. D keeps the longest velocity that reaches it; with SCATTER, the
+// scatter's far_key (unreal5_tile_scatter.glsl) replaces it where longer, and its far_min joins
+// the smallest minimum. With two directions D also keeps the longest reaching velocity of the
+// 7 x 7 whose axis lies more than AXIS_APART from it. D's class: skip under SKIP_BELOW px;
+// gather_2 where a second direction of SKIP_BELOW px or more reaches; uniform where
+// min > 0.4·max (5·min > 2·max in codes), else gather; uniform and gather become uniform_half
+// and gather_half where the first velocity's taps read half_color (line_from_half). D joins the
+// list of its class (common/tile_lists.glsl). Compute, one thread per tile.
+// NumPy twin: blurlab.twins.unreal5.neighbor_dilate2.
+#define TILE_LISTS_APPEND 1
+#include "common/tile_lists.glsl"
 #include "common/unreal5.glsl"
 
 layout(binding = 0) uniform sampler2D tiles;
+#ifdef SCATTER
+layout(binding = 1) uniform usampler2D far_key_in;
+layout(binding = 2) uniform usampler2D far_min_in;
+#endif
 uniform float radius;  // R, pixels
 uniform int directions;
+uniform int taps;  // the quality level's sample count
+uniform int half_res_gather;
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(binding = 0, rgba32f) uniform writeonly image2D neighbors;
-
-bool reaches_tile(vec2 codes, ivec2 offset, float widen) {
-    vec2 v = decode_polar(codes, radius) / float(TILE);
-    vec2 center = vec2(offset) + 0.5;  // the source's center, in D's tile coordinates
-    return segment_meets_box(center - v, 2.0 * v, -widen, 1.0 + widen);
-}
 
 void main() {
     ivec2 tile = ivec2(gl_GlobalInvocationID.xy);
     ivec2 grid = textureSize(tiles, 0);
     if (any(greaterThanEqual(tile, grid))) return;
-    float widen = reach_widening(TILE);
     vec2 longest = vec2(-1.0, 0.0);
     vec2 second = vec2(0.0);
     float shortest = 1e30;
@@ -41,7 +43,7 @@ void main() {
                 bool met = false;
                 for (int k = 0; k < directions; ++k) {
                     vec2 c = k == 0 ? s.xy : unpack_codes(s.w);
-                    if (!reaches_tile(c, ivec2(ox, oy), widen)) continue;
+                    if (!reaches_tile(c, ivec2(ox, oy), radius)) continue;
                     met = true;
                     if (pass == 0 && c.x > longest.x) longest = c;
                     if (pass == 1 && axis_gap(c.y, longest.y) > AXIS_APART && c.x > second.x)
@@ -50,10 +52,23 @@ void main() {
                 if (pass == 0 && met) shortest = min(shortest, s.z);
             }
         }
+#ifdef SCATTER
+        if (pass == 0) {
+            uint key = texelFetch(far_key_in, tile, 0).x;
+            if (key != 0u && far_codes(key).x > longest.x) longest = far_codes(key);
+            uint far_min = texelFetch(far_min_in, tile, 0).x;
+            if (far_min != 0xffffffffu) shortest = min(shortest, float(far_min));
+        }
+#endif
     }
     float kind = CLASS_GATHER;
-    if (longest.x / LENGTH_CODE_MAX * radius < SKIP_BELOW) kind = CLASS_SKIP;
+    float len = longest.x / LENGTH_CODE_MAX * radius;
+    if (len < SKIP_BELOW) kind = CLASS_SKIP;
     else if (second.x / LENGTH_CODE_MAX * radius >= SKIP_BELOW) kind = CLASS_GATHER_2;
     else if (5.0 * shortest > 2.0 * longest.x) kind = CLASS_UNIFORM;
+    if ((kind == CLASS_UNIFORM || kind == CLASS_GATHER) &&
+        line_from_half(len, line_pairs(len, taps), half_res_gather))
+        kind += CLASS_UNIFORM_HALF - CLASS_UNIFORM;
     imageStore(neighbors, tile, vec4(longest, second.x * PACK + second.y, kind));
+    append_tile(int(kind), tile, grid.x);
 }

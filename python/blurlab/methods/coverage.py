@@ -26,6 +26,7 @@ from ..core.frame import Frame
 from ..twins import coverage as twin
 from ..twins import film
 from ..twins.eevee import EARLY_EXIT, resolve_reach_keys
+from . import tiles as tile_lists
 from .core import (
     SEED,
     BlurResult,
@@ -103,6 +104,7 @@ PARAMS = {
         0,
         1000,
     ),
+    "tile_dispatch": tile_lists.TILE_DISPATCH,
 }
 GATHER = Pass(
     "gather",
@@ -110,6 +112,8 @@ GATHER = Pass(
     ("samples", "soft_z", "exposure", "seed", "early_exit"),
 )
 GATHER_HALF = Pass("gather_half", GATHER.shader, GATHER.params)
+BLOCK_CLASSIFY = Pass("block_classify", GATHER.shader, ("early_exit",))
+LIST_BLOCK = 16  # px: the blocks of the gather's lists (§17.6.2)
 # The options whose passes compile in a path of their own only where they are on (> 0).
 GATHER_OPTIONS = {
     "tap_spacing": "PER_TILE_SAMPLES",
@@ -164,7 +168,31 @@ def _film_filter(passes: PassRunner, gathered):
     return filtered
 
 
-def _run_coverage(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
+def _gather_over_lists(passes: PassRunner, textures, gathered, uniforms, defines):
+    """§17.6.2: the blocks sorted into still and moving lists, then the gather over each list
+    into `gathered`; the lists."""
+    ctx = passes.ctx
+    lists = tile_lists.empty_lists(ctx, gathered.shape[:2], LIST_BLOCK, twin.BLOCK_CLASSES)
+    tile_inputs = {k: t for k, t in textures.items() if k in ("color", "dilated", "tiles")}
+    if "reach_keys" in textures:
+        tile_inputs["reach_keys"] = textures["reach_keys"]
+    passes.run(
+        BLOCK_CLASSIFY,
+        tile_inputs,
+        {"block_class": lists.classes, "tile_counts": lists.counts, "tile_lists": lists.lists},
+        uniforms={k: uniforms[k] for k in ("tile_size", "reach_limit")},
+        defines={**defines, "BLOCK_CLASSIFY": 1},
+    )
+    classes = range(len(twin.BLOCK_CLASSES))
+    into = {"result": gathered}
+    tile_lists.run_per_class(passes, GATHER, lists, classes, textures, into, uniforms, defines)
+    return lists
+
+
+def run_coverage(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
+    """The method's passes (docs/spec.md §17.6). The gather runs over two lists of 16 px blocks,
+    still (each pixel keeps its colour) and moving (§17.6.2), unless half_res_above is on or
+    tile_dispatch is "one": then one pass covers every pixel, with the same bits."""
     size = inputs["color"].shape[:2]
     s = twin.tile_size(size[0], values["tile_percent"])
     reach_limit = twin.max_blur_px(size[0], values["max_blur"])
@@ -213,10 +241,18 @@ def _run_coverage(ctx: Context, frame: Frame, inputs: dict, values: dict, backen
         del half_defines["HALF_RES_READ"]
         passes.run(GATHER_HALF, textures, {"result": half}, backend, uniforms, half_defines)
         textures["half_gathered"] = half
-    passes.run(GATHER, textures, {"result": gathered}, backend, uniforms=uniforms, defines=defines)
+    lists = None
+    on_lists = values["tile_dispatch"] == "lists" and values["half_res_above"] == 0
+    if on_lists and backend == "compute":
+        lists = _gather_over_lists(passes, textures, gathered, uniforms, defines)
+    else:
+        passes.run(GATHER, textures, {"result": gathered}, backend, uniforms, defines)
     if values["half_res_above"] > 0:
         ctx.recycle(half)
     outputs = {"color": gathered, **tile_buffers}
+    if lists is not None:
+        outputs.update(tile_counts=lists.counts, block_class=lists.classes)
+        ctx.recycle(lists.lists)
     if values["film_filter"] > 0 and not through_taps:
         outputs.update(color=_film_filter(passes, gathered), unfiltered=gathered)
     return outputs, passes.timings
@@ -227,7 +263,8 @@ register(
         name="gather_coverage",
         kind="gather",
         params=PARAMS,
-        run=_run_coverage,
+        run=run_coverage,
+        tile_lists=twin.BLOCK_CLASSES,
         default_grid={"samples": [4, 8, 16], "max_blur": [15.0, 30.0]},
         twin=twin.gather_coverage,
         translucent_layer=True,

@@ -4,7 +4,8 @@ not from Unity's sources. Four passes: velocity setup with the
 camera clamp modes, polar velocity and linear depth in B10G11R11 codes
 (shaders/passes/hdrp_velocity_setup.glsl); per-tile min and max (hdrp_tile_min_max.glsl); the
 3 x 3 neighbourhood, or the scatter variant, and the tile classes early-out / fast / slow
-(hdrp_neighborhood.glsl); the reconstruction, its path chosen per tile (hdrp_reconstruct.glsl).
+(hdrp_neighborhood.glsl), which lists each tile under its class (docs/spec.md §9.3); the
+reconstruction, one pass per class over its tile list (hdrp_reconstruct.glsl).
 NumPy twin: blurlab.twins.hdrp.engine_hdrp. Parameters below, at the engine's defaults.
 
 What it leaves out: the real packed texture format (the codes are kept exactly in RGBA32F), the
@@ -20,6 +21,7 @@ from ..core.context import Context
 from ..core.frame import Frame
 from ..twins import hdrp as twin
 from ..twins.small_float import UF11_MANTISSA, largest_finite
+from . import tiles as tile_lists
 from .camera_only import split_camera_uniforms
 from .core import FLOAT32_MAX, SEED, Method, Param, Pass, PassRunner, register
 from .gathers import BOX_PARAMS
@@ -58,6 +60,7 @@ PARAMS = {
         0.5, float, "fast path where the shortest neighbourhood velocity is >= this x longest", 0, 1
     ),
     "seed": SEED,
+    "tile_dispatch": tile_lists.TILE_DISPATCH,
 }
 SETUP = Pass("velocity_setup", "passes/hdrp_velocity_setup.glsl", twin.SETUP_PARAMS)
 TILE_MIN_MAX = Pass("tile_min_max", "passes/hdrp_tile_min_max.glsl")
@@ -73,7 +76,11 @@ RECONSTRUCT = Pass(
 )
 
 
-def _run_hdrp(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
+def run_hdrp(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
+    """The method's passes (docs/spec.md §17.4). The neighbourhood pass lists each tile under
+    its class, and the reconstruction runs once per class over that class's list by an
+    indirect dispatch, as HDRP dispatches its tile classes; tile_dispatch="one" runs it as one
+    pass over every pixel instead, each taking its tile's class: the same bits."""
     height, width = inputs["color"].shape[:2]
     tile = twin.tile_size(values["scatter"])
     passes = PassRunner(ctx, PARAMS, values)
@@ -90,20 +97,28 @@ def _run_hdrp(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: s
     passes.run(TILE_MIN_MAX, {"velocity": velocity}, {"tiles": tiles}, uniforms={"tile": tile})
     neighborhood = ctx.pooled((*grid, 4))
     radius = twin.scatter_radius(tile, twin.reach_px((width, height), values), grid)
+    lists = tile_lists.empty_lists(ctx, (height, width), tile, twin.CLASS_NAMES)
     passes.run(
         NEIGHBORHOOD,
         {"tiles": tiles},
-        {"neighborhood": neighborhood},
+        {"neighborhood": neighborhood, "tile_counts": lists.counts, "tile_lists": lists.lists},
         uniforms={"tile": tile, "radius": radius},
     )
     result = ctx.pooled((height, width, 4))
     textures = {"color": inputs["color"], "velocity": velocity, "neighborhood": neighborhood}
-    passes.run(RECONSTRUCT, textures, {"result": result}, backend, uniforms={"tile": tile})
+    if values["tile_dispatch"] == "lists" and backend == "compute":
+        classes = range(len(twin.CLASS_NAMES))
+        into, at_tile = {"result": result}, {"tile": tile}
+        tile_lists.run_per_class(passes, RECONSTRUCT, lists, classes, textures, into, at_tile)
+    else:
+        passes.run(RECONSTRUCT, textures, {"result": result}, backend, uniforms={"tile": tile})
+    ctx.recycle(lists.classes, lists.lists)
     outputs = {
         "color": result,
         "velocity": velocity,
         "tiles": tiles,
         "neighborhood": neighborhood,
+        "tile_counts": lists.counts,
     }
     return outputs, passes.timings
 
@@ -113,12 +128,13 @@ register(
         name="engine_hdrp",
         kind="gather",
         params=PARAMS,
-        run=_run_hdrp,
+        run=run_hdrp,
         default_grid=[{"samples": [4, 8, 12]}, {"scatter": [True]}],
         twin=twin.engine_hdrp,
         doc="Unity HDRP's motion blur, from its described algorithm and manual: velocity polar "
         "with linear depth in B10G11R11 codes, camera clamp modes, 32 px min/max tiles (16 px "
-        "scattered), 3 x 3 neighbourhood, early-out / fast / slow path per tile. "
-        "docs/spec.md §17.4.",
+        "scattered), 3 x 3 neighbourhood, early-out / fast / slow tile classes, each "
+        "dispatched over its own tile list. docs/spec.md §17.4.",
+        tile_lists=twin.CLASS_NAMES,
     )
 )

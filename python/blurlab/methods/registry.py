@@ -64,6 +64,9 @@ class Method:
     # The names of the timings its run reports, where it declares them (a method folder's
     # passes): check-method holds the run to them. () where undeclared.
     passes: tuple[str, ...] = ()
+    # The names of its tile lists (docs/spec.md §9.3) in the order of the counts its run returns
+    # as the output "tile_counts"; () for a method that dispatches every pass over every pixel.
+    tile_lists: tuple[str, ...] = ()
     # Where it was declared: a method folder's method.py; None for the modules in this package.
     source: str | None = None
 

@@ -16,8 +16,17 @@ import numpy as np
 from ..core.context import Context
 from ..core.gl import Texture
 from ..twins.inputs import sanitize_motion
-from .passes import Pass, timed
+from . import plans
+from .params import Param
+from .passes import Pass, PassRunner, pass_uniforms, timed
 
+# How a method with tile classes dispatches them: declared once, taken by every such method.
+TILE_DISPATCH = Param(
+    "lists",
+    ("lists", "one"),
+    "lists: each tile class's pass runs over its own tile list (indirect dispatch); one: one "
+    "dispatch over every tile, each taking its class's path (the same bits)",
+)
 # The motion classifier's classes, in the order of their indices (tile_classify.glsl).
 MOTION_CLASSES = ("still", "uniform", "mixed")
 CLASSIFY = Pass("tile_classify", "passes/tile_classify.glsl")
@@ -46,7 +55,8 @@ class TileLists:
 
 def empty_lists(ctx: Context, size: tuple[int, int], tile: int, names) -> TileLists:
     """Lists for an image of `size` (H, W) in tiles of `tile` px, one per class of `names`,
-    their counters at zero."""
+    their counters at zero (set from the host: a run that makes lists is never replayed as a
+    dispatch plan, which would not set them again)."""
     if not (isinstance(tile, int) and tile >= 1):
         raise ValueError(f"blurlab: a tile is a whole number of pixels >= 1, not {tile!r}")
     rows, columns = -(-size[0] // tile), -(-size[1] // tile)
@@ -55,6 +65,9 @@ def empty_lists(ctx: Context, size: tuple[int, int], tile: int, names) -> TileLi
             f"blurlab: {rows * columns} tiles of {tile} px do not fit one list "
             f"({ctx.max_texture_size} at most): take larger tiles"
         )
+    recorder = plans.active_recorder()
+    if recorder is not None:
+        recorder.unfit()
     counts = ctx.pooled((1, 4 * len(names), 1), "uint32")
     counts.upload(np.tile(np.array([0, 1, 1, 0], np.uint32), len(names))[None, :, None])
     lists = ctx.pooled((len(names), rows * columns, 1), "uint32")
@@ -89,22 +102,61 @@ def run_over_list(
     outputs: dict[str, Texture],
     uniforms: dict | None = None,
     defines: dict | None = None,
+    only_used: bool = False,
 ) -> None:
     """Runs `step`'s shader over the tiles of class `cls` only, one work group per tile, timed
     under "step.name[class name]". The shader reads its tile with listed_tile()
     (common/tile_lists.glsl): `inputs` gain the lists as "tile_lists" and its uniforms
-    "tile_class"."""
+    "tile_class". With `only_used`, inputs and uniforms that the compiled shader does not use
+    are left out: a pass compiled once per class (a LIST_CLASS define) uses what its class
+    reads."""
     if not 0 <= cls < len(lists.names):
         raise ValueError(f"blurlab: class {cls!r} is outside 0..{len(lists.names) - 1}")
     shader = ctx.shader_pass(step.shader, defines)
-    native_inputs = {name: t.native for name, t in {**inputs, "tile_lists": lists.lists}.items()}
-    native_outputs = {name: t.native for name, t in outputs.items()}
+    inputs = {**inputs, "tile_lists": lists.lists}
     values = {**(uniforms or {}), "tile_class": cls}
+    if only_used:
+        used = ctx.cached(
+            ("run_over_list", step.shader, tuple(sorted((defines or {}).items()))), shader.reflect
+        )
+        inputs = {name: t for name, t in inputs.items() if name in used["samplers"]}
+        values = {name: v for name, v in values.items() if name in used["uniforms"]}
+    native_inputs = {name: t.native for name, t in inputs.items()}
+    native_outputs = {name: t.native for name, t in outputs.items()}
 
     def run():
         shader.native.run_indirect(native_inputs, native_outputs, values, lists.counts.native, cls)
 
     timed(ctx, timings, f"{step.name}[{lists.names[cls]}]", run)
+
+
+def run_per_class(
+    passes: PassRunner,
+    step: Pass,
+    lists: TileLists,
+    classes,
+    inputs: dict[str, Texture],
+    outputs: dict[str, Texture],
+    uniforms: dict | None = None,
+    defines: dict | None = None,
+) -> None:
+    """Runs `step` once per class of `classes` over that class's list (run_over_list), each
+    compiled with OVER_LIST and LIST_CLASS = the class (so that its program holds its class's
+    path alone) and given the uniforms of the step's method parameters (passes' values)."""
+    values = {**pass_uniforms(passes.params, passes.values, step.params), **(uniforms or {})}
+    for cls in classes:
+        run_over_list(
+            passes.ctx,
+            passes.timings,
+            step,
+            lists,
+            cls,
+            inputs,
+            outputs,
+            values,
+            {**(defines or {}), "OVER_LIST": 1, "LIST_CLASS": cls},
+            only_used=True,
+        )
 
 
 def motion_classes(motion, tile: int, still_below: float = 0.5, uniform_ratio: float = 0.4):

@@ -1,12 +1,17 @@
 """engine_unreal5: the motion blur of Unreal Engine 5, written from the algorithm as its
 console-variable documentation and public talks describe it (docs/spec.md §17.7), never from
-Epic's sources. engine_unreal's velocity flatten (11:11:10 codes), then tiles that keep their
-smallest length, their longest velocity and, with r.MotionBlur.Directions = 2, their longest
-velocity along a second axis (shaders/passes/unreal5_tile_minmax.glsl); the 7 x 7
-scatter-as-gather that also classifies each tile: skip, uniform (the cheap path), gather along
-one velocity or along two (unreal5_neighbor_dilate.glsl); the colour at half size for the long
-blurs (unreal5_half_color.glsl); and the gather, its sample count chosen per tile from the
-tile's motion (unreal5_reconstruct.glsl). NumPy twin: blurlab.twins.unreal5.engine_unreal5.
+Epic's sources, with the engine's structure: tiles classified on the GPU, each class's pass
+dispatched over its own tile list (docs/spec.md §9.3, blurlab.methods.tiles). engine_unreal's
+velocity flatten (11:11:10 codes), then tiles that keep their smallest length, their longest
+velocity and, with r.MotionBlur.Directions = 2, their longest velocity along a second axis
+(shaders/passes/unreal5_tile_minmax.glsl), listing the tiles whose velocity passes 3 tiles;
+the scatter of those velocities past the 7 x 7 (unreal5_tile_scatter.glsl); the 7 x 7
+scatter-as-gather that classifies each tile: skip, uniform (the cheap path), gather along one
+velocity or along two, and uniform or gather at half resolution where the taps lie far apart
+(unreal5_neighbor_dilate.glsl); the colour at half size (unreal5_half_color.glsl); and the
+reconstruction, one pass per class over its list, the half-resolution classes with their
+upsample and composite (unreal5_reconstruct.glsl). NumPy twin:
+blurlab.twins.unreal5.engine_unreal5.
 
 Unreal's settings here: r.MotionBlurQuality is `quality` (the most taps on one line, 4/6/8/16),
 Max is `max_blur` (engine_unreal's reading, §17.5), r.MotionBlur.Directions is `directions`
@@ -20,6 +25,7 @@ from ..core.context import Context
 from ..core.frame import Frame
 from ..twins import unreal5 as twin
 from ..twins.unreal import SAMPLES_BY_QUALITY, TILE, max_radius_px
+from . import tiles as tile_lists
 from .core import Method, Param, Pass, PassRunner, register
 from .unreal import FLATTEN
 from .unreal import PARAMS as UNREAL_PARAMS
@@ -29,35 +35,89 @@ PARAMS = {
     "max_blur": UNREAL_PARAMS["max_blur"],
     "directions": Param(1, int, "r.MotionBlur.Directions: velocity directions per tile", 1, 2),
     "half_res_gather": Param(
-        1, int, "r.MotionBlur.HalfResGather: long blurs read the colour at half size", 0, 1
+        1, int, "r.MotionBlur.HalfResGather: long blurs gather at half resolution", 0, 1
     ),
     "depth_extent": UNREAL_PARAMS["depth_extent"],
     "exposure": UNREAL_PARAMS["exposure"],
     "seed": UNREAL_PARAMS["seed"],
+    "tile_dispatch": tile_lists.TILE_DISPATCH,
 }
 TILE_MINMAX = Pass("tile_minmax", "passes/unreal5_tile_minmax.glsl")
-NEIGHBOR_DILATE = Pass("neighbor_dilate", "passes/unreal5_neighbor_dilate.glsl", ("directions",))
+TILE_SCATTER = Pass("tile_scatter", "passes/unreal5_tile_scatter.glsl")
+NEIGHBOR_DILATE = Pass(
+    "neighbor_dilate", "passes/unreal5_neighbor_dilate.glsl", ("directions", "half_res_gather")
+)
 HALF_COLOR = Pass("half_color", "passes/unreal5_half_color.glsl")
 RECONSTRUCT = Pass(
     "reconstruct",
     "passes/unreal5_reconstruct.glsl",
     ("half_res_gather", "depth_extent", "seed"),
 )
+# The tile lists (docs/spec.md §9.3): one per class, in the order of the class values, and the
+# tiles whose velocity reaches past the 7 x 7 (the scatter's sources).
+LISTS = (*twin.CLASS_NAMES, "far")
 
 
-def _run_unreal5(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
+def run_unreal5(
+    ctx: Context,
+    frame: Frame,
+    inputs: dict,
+    values: dict,
+    backend: str,
+):
+    """The method's passes (docs/spec.md §17.7). The reconstruction runs once per tile class
+    that the settings allow, over that class's list by an indirect dispatch; with
+    tile_dispatch="one" as one dispatch over every tile instead, each tile taking its class's
+    path: the same bits."""
     height, width = inputs["color"].shape[:2]
     radius = max_radius_px(width, values["max_blur"])
     grid = (-(-height // TILE), -(-width // TILE), 4)
     velocity = ctx.pooled((height, width, 4))
     tiles, neighbors = ctx.pooled(grid), ctx.pooled(grid)
     result = ctx.pooled((height, width, 4))
+    lists = tile_lists.empty_lists(ctx, (height, width), TILE, LISTS)
+    appended = {"tile_counts": lists.counts, "tile_lists": lists.lists}
     passes = PassRunner(ctx, PARAMS, values)
     at_radius = {"radius": radius}
+    taps = SAMPLES_BY_QUALITY[values["quality"]]
     depth_motion = {"depth": inputs["depth"], "motion": inputs["motion"]}
     passes.run(FLATTEN, depth_motion, {"velocity": velocity}, uniforms=at_radius)
-    passes.run(TILE_MINMAX, {"velocity": velocity}, {"tiles": tiles})
-    passes.run(NEIGHBOR_DILATE, {"tiles": tiles}, {"neighbors": neighbors}, uniforms=at_radius)
+    # A velocity can pass the 7 x 7 only where R can: then the dilation scatters too.
+    scatter = radius >= twin.SCATTER_BEYOND * TILE
+    scattered = {}
+    if scatter:
+        far_key = ctx.pooled(grid[:2] + (1,), "uint32")
+        far_min = ctx.pooled(grid[:2] + (1,), "uint32")
+        scattered = {"far_key_out": far_key, "far_min_out": far_min}
+        passes.run(
+            TILE_MINMAX,
+            {"velocity": velocity},
+            {"tiles": tiles, **appended, **scattered},
+            uniforms={**at_radius, "directions": values["directions"]},
+            defines={"SCATTER": 1},
+            group_per_texel=True,
+        )
+        tile_lists.run_over_list(
+            ctx,
+            passes.timings,
+            TILE_SCATTER,
+            lists,
+            LISTS.index("far"),
+            {"tiles": tiles},
+            scattered,
+            {**at_radius, "directions": values["directions"]},
+        )
+        dilate_inputs = {"tiles": tiles, "far_key_in": far_key, "far_min_in": far_min}
+    else:
+        passes.run(TILE_MINMAX, {"velocity": velocity}, {"tiles": tiles}, group_per_texel=True)
+        dilate_inputs = {"tiles": tiles}
+    passes.run(
+        NEIGHBOR_DILATE,
+        dilate_inputs,
+        {"neighbors": neighbors, **appended},
+        uniforms={**at_radius, "taps": taps},
+        defines={"SCATTER": 1} if scatter else None,
+    )
     outputs = {"velocity": velocity, "tiles": tiles, "neighbors": neighbors}
     half = inputs["color"]  # bound but never read where half_res_gather is off
     if values["half_res_gather"]:
@@ -70,9 +130,26 @@ def _run_unreal5(ctx: Context, frame: Frame, inputs: dict, values: dict, backend
         "neighbors": neighbors,
         "half_color": half,
     }
-    uniforms = {**at_radius, "taps": SAMPLES_BY_QUALITY[values["quality"]]}
-    passes.run(RECONSTRUCT, textures, {"result": result}, backend, uniforms=uniforms)
-    return {"color": result, **outputs}, passes.timings
+    uniforms = {**at_radius, "taps": taps}
+    if values["tile_dispatch"] == "lists":
+        classes = _possible_classes(values)
+        into = {"result": result}
+        tile_lists.run_per_class(passes, RECONSTRUCT, lists, classes, textures, into, uniforms)
+    else:
+        passes.run(RECONSTRUCT, textures, {"result": result}, backend, uniforms=uniforms)
+    ctx.recycle(lists.classes, lists.lists, *scattered.values())
+    return {"color": result, **outputs, "tile_counts": lists.counts}, passes.timings
+
+
+def _possible_classes(values: dict) -> list[int]:
+    """The classes a tile may take under these settings: gather_2 needs two directions, the
+    half-resolution classes half_res_gather."""
+    classes = [twin.SKIP, twin.UNIFORM, twin.GATHER]
+    if values["directions"] == 2:
+        classes.append(twin.GATHER_2)
+    if values["half_res_gather"]:
+        classes += [twin.UNIFORM_HALF, twin.GATHER_HALF]
+    return classes
 
 
 register(
@@ -80,12 +157,13 @@ register(
         name="engine_unreal5",
         kind="gather",
         params=PARAMS,
-        run=_run_unreal5,
+        run=run_unreal5,
         default_grid={"quality": [1, 2, 3, 4], "directions": [1, 2]},
         twin=twin.engine_unreal5,
         doc="Unreal Engine 5's motion blur, from its described algorithm: min/max tiles with up "
-        "to two directions, 7x7 scatter-as-gather, tiles classed skip/uniform/gather/two "
-        "velocities, per-tile sample counts, a half-resolution colour for long blurs. "
-        "docs/spec.md §17.7.",
+        "to two directions, 7x7 scatter-as-gather and a scatter past 3 tiles, tiles classed "
+        "skip/uniform/gather/two velocities/half-resolution uniform and gather, each class "
+        "dispatched over its own tile list, per-tile sample counts. docs/spec.md §17.7.",
+        tile_lists=LISTS,
     )
 )

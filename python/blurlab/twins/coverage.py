@@ -212,6 +212,35 @@ def tile_lines(
     return TileLines(prev, next_, lines, longest, dilated)
 
 
+BLOCK_CLASSES = ("still", "moving")  # the gather's lists of 16 px blocks (§17.6.2)
+LIST_BLOCK = 16  # px
+
+
+def still_blocks(dilated: np.ndarray, size, tile: int, reach_limit: float, early_exit: float):
+    """§17.6.2: (blocks_h, blocks_w) class of each 16 px block of an image of `size` (H, W):
+    0 (still) where every tile a pixel of the block may look up (its centre ± a quarter tile,
+    one tile more each way) has both clamped lines shorter than early_exit, else 1 (moving)."""
+    grid = dilated.shape[:2]
+    longest = np.maximum(
+        *(
+            np.linalg.norm(clamp_length(dilated[..., k : k + 2], reach_limit), axis=-1)
+            for k in (0, 2)
+        )
+    )
+    rows, columns = -(-size[0] // LIST_BLOCK), -(-size[1] // LIST_BLOCK)
+    classes = np.ones((rows, columns), np.int64)
+    for b in np.ndindex(rows, columns):
+        span = []
+        for axis in (0, 1):
+            low = b[axis] * LIST_BLOCK + 0.5 - 0.25 * tile
+            high = min(b[axis] * LIST_BLOCK + LIST_BLOCK, size[axis]) - 1 + 0.5 + 0.25 * tile
+            first = int(np.clip(np.floor(low / tile) - 1, 0, grid[axis] - 1))
+            last = int(np.clip(np.floor(high / tile) + 1, 0, grid[axis] - 1))
+            span.append(slice(first, last + 1))
+        classes[b] = 0 if (longest[span[0], span[1]] < early_exit).all() else 1
+    return classes
+
+
 def plan_taps(
     tiles: TileLines,
     *,

@@ -112,27 +112,42 @@ def tap_weight(z_x, len_x, z_y, len_y, dist, depth_extent: float) -> np.ndarray:
 
 
 def mirrored_pairs(
-    color, z, speed, vmax, j, pairs, extent: float, radius_at, uniform=None, color_at=None
+    color,
+    z,
+    speed,
+    vmax,
+    j,
+    pairs,
+    extent: float,
+    radius_at,
+    uniform=None,
+    color_at=None,
+    own=None,
+    center=None,
 ):
     """Jimenez 2014's taps (§17.5 step 4, §17.7, §17.8): `pairs` (an int or per pixel)
     mirrored pairs at X ± t·vmax, t = (i + j)/pairs, each tap weighted by tap_weight (depths z,
     extent `extent`, blur radii radius_at(rows, columns) of the pixels there), each pair by
     §7.2's mirror on z and `speed`; where `uniform` (an (H, W) bool) every tap weighs 1. A tap
     reads color_at(rows, columns), by default the color there. Returns (share, coverage): per
-    pixel Σa·C/2P and Σa/2P."""
+    pixel Σa·C/2P and Σa/2P. By default X runs over every pixel, its line through the pixel's
+    center; `own` = (rows, columns) and `center` ((..., 2) x, y) give other points X instead,
+    each weighed as the pixel `own` names (engine_unreal5's half-resolution blocks)."""
     h, w = z.shape
-    y, x = np.mgrid[0:h, 0:w]
-    pairs = np.broadcast_to(pairs, (h, w))
-    center = np.stack([x, y], -1) + 0.5
+    y, x = np.mgrid[0:h, 0:w] if own is None else own
+    if center is None:
+        center = np.stack([x, y], -1) + 0.5
+    pairs = np.broadcast_to(pairs, y.shape)
     radius_x = radius_at(y, x)
-    total = np.zeros_like(color)
-    weight = np.zeros((h, w))
+    z_x = z[y, x]
+    total = np.zeros(y.shape + color.shape[2:])
+    weight = np.zeros(y.shape)
     for i in range(int(pairs.max(initial=1))):
         t = (i + j) / pairs
         taps_at = []
         for py, px in mirrored_taps(center, t[..., None] * vmax, h, w):
             dist = np.hypot(px - x, py - y)
-            a = tap_weight(z, radius_x, z[py, px], radius_at(py, px), dist, extent)
+            a = tap_weight(z_x, radius_x, z[py, px], radius_at(py, px), dist, extent)
             c = color[py, px] if color_at is None else color_at(py, px)
             taps_at.append((a, py, px, c))
         (a1, py1, px1, c1), (a2, py2, px2, c2) = taps_at
