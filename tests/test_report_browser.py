@@ -15,6 +15,7 @@ import urllib.request
 from contextlib import contextmanager
 from pathlib import Path
 
+import pandas as pd
 import pytest
 
 from blurlab import cli
@@ -171,5 +172,14 @@ def test_the_report_works_in_a_browser(report, tmp_path):
         )
         assert " ms" in hover and "PSNR" in hover, hover
         assert re.search(r"=|defaults", hover), hover  # the parameters
+        # The scene's comparator (blurlab.studies.comparator): a panel per method, every
+        # picture loaded at the study's size (tests/test_comparator_browser.py drives it).
+        panels = browser.evaluate(
+            "[...document.querySelectorAll('.blurlab-look .bl-look-panel')].map(p =>"
+            " [p.dataset.method, [...p.querySelectorAll('img')].map(i => i.naturalWidth)])"
+        )
+        methods = set(pd.read_csv(report.parent / "results.csv")["method"])
+        assert {method for method, _ in panels} == methods, panels
+        assert all(widths == [64, 64, 64] for _, widths in panels), panels
         shot = browser.call("Page.captureScreenshot", format="png", captureBeyondViewport=True)
         (tmp_path / "report.png").write_bytes(base64.b64decode(shot["data"]))
