@@ -131,11 +131,9 @@ def test_the_wheel_zooms_every_panel_down_to_single_pixels(browser):
     )
     assert rendering and set(rendering) == {"pixelated"}, rendering
     # What the screen shows: the one-pixel checkerboard as squares of 32 screen pixels.
-    shot = browser.call(
-        "Page.captureScreenshot",
-        format="png",
-        clip={"x": view["x"], "y": view["y"], "width": 128, "height": 128, "scale": 1},
-    )
+    scroll = browser.evaluate("[scrollX, scrollY]")  # a clip is in page coordinates
+    clip = {"x": view["x"] + scroll[0], "y": view["y"] + scroll[1], "width": 128, "height": 128}
+    shot = browser.call("Page.captureScreenshot", format="png", clip=clip | {"scale": 1})
     screen = np.asarray(Image.open(io.BytesIO(base64.b64decode(shot["data"]))).convert("RGB"))
     blue = screen[..., 2].astype(int)
     runs = np.flatnonzero(np.diff(blue[64]) != 0)  # where the row's colour changes
@@ -156,6 +154,14 @@ def test_a_drag_pans_every_panel_together(browser):
     browser.evaluate(f"document.querySelector('{SDR} .bl-look-fit').click()")
     settle(browser)
     assert state(browser, SDR)["scale"] == 1
+    button = box(browser, f"{SDR} .bl-look-in")
+    point = (button["x"] + button["width"] / 2, button["y"] + button["height"] / 2)
+    mouse(browser, "mousePressed", *point, button="left", buttons=1, clickCount=1)
+    mouse(browser, "mouseReleased", *point, button="left", buttons=0, clickCount=1)
+    settle(browser)
+    assert state(browser, SDR)["scale"] == pytest.approx(np.exp(0.6))  # Panzoom's step
+    browser.evaluate(f"document.querySelector('{SDR} .bl-look-fit').click()")
+    settle(browser)
 
 
 @pytest.mark.parametrize("root", [SDR, HDR])

@@ -96,6 +96,7 @@
       view.addEventListener(
         "wheel",
         (event) => {
+          if (event.deltaY > 0 && panzoom.getScale() <= 1) return; // all out: the page scrolls
           // Panzoom measures from panel 0: the same point of the image there.
           const here = view.getBoundingClientRect();
           const first = views[0].getBoundingClientRect();
@@ -187,6 +188,12 @@
     }
     root.querySelector(".bl-look-fit").addEventListener("click", () =>
       panzoom.reset({ animate: false }),
+    );
+    root.querySelector(".bl-look-in").addEventListener("click", () =>
+      panzoom.zoomIn({ animate: false }),
+    );
+    root.querySelector(".bl-look-out").addEventListener("click", () =>
+      panzoom.zoomOut({ animate: false }),
     );
     setSplit(0.5);
 

@@ -211,11 +211,14 @@ def _fragment(name, element, methods, width, height, hdr, exposure, vmax) -> str
         "value='0.5'></label>"
         "<label><input type='checkbox' class='bl-look-error-toggle'> error map (|error|, 0 to "
         f"{vmax:.3g}, magma)</label>{exposure_control}"
-        "<button type='button' class='bl-look-fit'>fit</button>"
+        "<span><button type='button' class='bl-look-out' title='zoom out'>−</button>"
+        "<button type='button' class='bl-look-in' title='zoom in'>+</button>"
+        "<button type='button' class='bl-look-fit'>fit</button></span>"
         "<span class='bl-look-readout'></span></div>"
         "<div class='bl-look-panels'>" + "".join(panels) + "</div>"
         "<p style='font-size:11px'>Drag the white line to move the split; drag elsewhere to "
-        "pan; the wheel zooms, down to single pixels drawn as squares. Every panel follows.</p>"
+        "pan; the wheel (or + and −) zooms, down to single pixels drawn as squares. Every panel "
+        "follows.</p>"
         "</div>"
     )
 
