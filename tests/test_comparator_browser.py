@@ -125,6 +125,12 @@ def test_the_wheel_zooms_every_panel_down_to_single_pixels(browser):
     after = state(browser, SDR)
     assert after["pixel"] == pytest.approx(comparator.MAX_PIXEL_SIZE, rel=1e-6), after
     assert len(set(after["transforms"])) == 1 and "scale(16)" in after["transforms"][0]
+    # The zoom kept the point under the wheel (in panel 2, though Panzoom measures panel 1)
+    # where it was: its place on the unzoomed stage is where the wheel turned, to 0.1 px.
+    for axis, size, shift in ((0, view["width"], after["x"]), (1, view["height"], after["y"])):
+        under = centre[axis] - (view["x"], view["y"])[axis]
+        unzoomed = (under - size / 2) / after["scale"] + size / 2 - shift
+        assert unzoomed == pytest.approx(under, abs=0.1), (axis, after)
     rendering = browser.evaluate(
         f"[...document.querySelectorAll('{SDR} .bl-look-stage img')]"
         ".map(i => getComputedStyle(i).imageRendering)"
