@@ -39,6 +39,9 @@ PANEL_WIDTH = (320, 480)  # a panel's width on screen, px: at least, at most
 MAX_PIXEL_SIZE = 32  # the deepest zoom: one image pixel as this many screen px
 EXPOSURE_STOPS = 8  # the exposure control's range: ± this many stops about the scene's
 
+# A study's report holds hundreds of panels: each picture loads as it comes near the screen.
+LAZY = "loading='lazy' decoding='async' alt=''"
+
 _NAME = re.compile(r"[A-Za-z0-9_.-]{1,100}")
 
 
@@ -179,11 +182,11 @@ def _fragment(name, element, methods, width, height, hdr, exposure, vmax) -> str
                 f"<canvas class='{css}' data-image='{key}' width='{width}' height='{height}'>"
                 "</canvas>"
             )
-        return f"<img class='{css}' src='{FOLDER}/{name}_{key}.png' alt=''>"
+        return f"<img class='{css}' src='{FOLDER}/{name}_{key}.png' {LAZY}>"
 
     panels = []
     for i, method in enumerate(methods):
-        error = f"<img class='bl-look-error' src='{FOLDER}/{name}_{i}_error.png' alt=''>"
+        error = f"<img class='bl-look-error' src='{FOLDER}/{name}_{i}_error.png' {LAZY}>"
         panels.append(
             f"<figure class='bl-look-panel' data-method='{e(method)}'>"
             f"<div class='bl-look-view' style='{size}'>"
