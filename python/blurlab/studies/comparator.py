@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import base64
 import concurrent.futures
+import functools
 import html
 import io as bytes_io
 import json
@@ -95,34 +96,49 @@ def write_comparator(
     folder = Path(out) / FOLDER
     folder.mkdir(parents=True, exist_ok=True)
     height, width = reference.shape[:2]
-    errors = [metrics.error_map(shown(reference), shown(image)) for image in images.values()]
-    vmax = plots.error_scale(errors)
-    files = {}  # file name -> what writes it
-    for i, error in enumerate(errors):
-        files[f"{name}_{i}_error.png"] = lambda e=error: plots.error_colours(e, vmax)
-    if not hdr:
-        files[f"{name}_reference.png"] = lambda: reference
-        for i, image in enumerate(images.values()):
-            files[f"{name}_{i}.png"] = lambda image=image: image
-    write = lambda file, draw: io.write(folder / file, draw(), png_compression=1)  # noqa: E731
-    writes = []
-    for file, draw in files.items():
-        if pool is None:
-            write(file, draw)
-        else:
-            writes.append(pool.submit(write, file, draw))
     element = f"look-{name}"
+    shown_reference = shown(reference)
+    errors = [metrics.error_map(shown_reference, shown(image)) for image in images.values()]
+    vmax = plots.error_scale(errors)
+    # The writes, each a call: coloured and encoded on `pool` where there is one.
+    jobs = [
+        functools.partial(_write_error_png, folder / f"{name}_{i}_error.png", error, vmax)
+        for i, error in enumerate(errors)
+    ]
     if hdr:
-        data = {"reference": _log_png(reference)}
-        data.update({str(i): _log_png(image) for i, image in enumerate(images.values())})
-        data = {"steps": LOG_STEPS, "offset": LOG_OFFSET, "images": data}
-        script = (
-            "window.blurlabLookData = window.blurlabLookData || {};\n"
-            f"window.blurlabLookData[{json.dumps(element)}] = {json.dumps(data)};\n"
+        jobs.append(
+            functools.partial(_write_data, folder / f"{name}.js", element, reference, images)
         )
-        io.write_text(folder / f"{name}.js", script)
+    else:
+        pictures = {"reference": reference} | {str(i): v for i, v in enumerate(images.values())}
+        jobs += [
+            functools.partial(io.write, folder / f"{name}_{key}.png", picture, png_compression=1)
+            for key, picture in pictures.items()
+        ]
+    if pool is None:
+        for job in jobs:
+            job()
+        writes = []
+    else:
+        writes = [pool.submit(job) for job in jobs]
     fragment = _fragment(name, element, list(images), width, height, hdr, exposure, vmax)
     return fragment, writes
+
+
+def _write_error_png(path: Path, error: np.ndarray, vmax: float) -> Path:
+    return io.write(path, plots.error_colours(error, vmax), png_compression=1)
+
+
+def _write_data(path: Path, element: str, reference: np.ndarray, images: dict) -> Path:
+    """The HDR comparator's script: each picture's linear colour (_log_png) for the page."""
+    pictures = {"reference": _log_png(reference)}
+    pictures.update({str(i): _log_png(image) for i, image in enumerate(images.values())})
+    data = {"steps": LOG_STEPS, "offset": LOG_OFFSET, "images": pictures}
+    return io.write_text(
+        path,
+        "window.blurlabLookData = window.blurlabLookData || {};\n"
+        f"window.blurlabLookData[{json.dumps(element)}] = {json.dumps(data)};\n",
+    )
 
 
 def _checked(what: str, image, shape) -> np.ndarray:
