@@ -275,6 +275,10 @@ def test_study_report_shows_hdr_scenes_tone_mapped_with_the_exposure(ctx, tmp_pa
     exposure = float(table["exposure"].iloc[0])
     assert "HDR scene" in text and f"{exposure:.4g}" in text and "PSNR_TM" in text
     assert (tmp_path / "spinning_ring_reference.png").is_file()
+    # The comparator's panels hold the linear colour, tone-mapped in the page about the same
+    # exposure (tests/test_comparator_browser.py drives the exposure control).
+    assert (tmp_path / "look" / "spinning_ring.js").is_file()
+    assert f"about {exposure:.4g} (Reinhard)" in text
 
 
 def test_hdr_scores_names_its_metrics_and_the_exposure():

@@ -15,6 +15,7 @@ import urllib.request
 from contextlib import contextmanager
 from pathlib import Path
 
+import pandas as pd
 import pytest
 
 from blurlab import cli
@@ -81,7 +82,10 @@ class Browser:
             self.events.append(json.loads(self.socket.recv()))
 
     def evaluate(self, expression: str):
-        result = self.call("Runtime.evaluate", expression=expression, returnByValue=True)
+        """The expression's value (a promise's, once it settles)."""
+        result = self.call(
+            "Runtime.evaluate", expression=expression, returnByValue=True, awaitPromise=True
+        )
         if "exceptionDetails" in result:
             raise RuntimeError(result["exceptionDetails"])
         return result["result"].get("value")
@@ -171,5 +175,21 @@ def test_the_report_works_in_a_browser(report, tmp_path):
         )
         assert " ms" in hover and "PSNR" in hover, hover
         assert re.search(r"=|defaults", hover), hover  # the parameters
+        # The scene's comparator (blurlab.studies.comparator): a panel per method, every
+        # picture loaded at the study's size (tests/test_comparator_browser.py drives it).
+        # The pictures load lazily, as they come near the screen; the error maps once shown.
+        browser.evaluate("document.querySelector('.blurlab-look').scrollIntoView()")
+        shown = "img:not(.bl-look-error)"
+        panels = browser.evaluate(
+            f"Promise.all([...document.querySelectorAll('.blurlab-look {shown}')]"
+            ".map(i => i.decode())).then(() =>"
+            " [...document.querySelectorAll('.blurlab-look .bl-look-panel')].map(p =>"
+            f" [p.dataset.method, [...p.querySelectorAll('{shown}')].map(i => i.naturalWidth),"
+            " p.querySelector('.bl-look-error').getAttribute('src')]))"
+        )
+        methods = set(pd.read_csv(report.parent / "results.csv")["method"])
+        assert {method for method, _, _ in panels} == methods, panels
+        assert all(widths == [64, 64] for _, widths, _ in panels), panels
+        assert all((report.parent / error).is_file() for _, _, error in panels), panels
         shot = browser.call("Page.captureScreenshot", format="png", captureBeyondViewport=True)
         (tmp_path / "report.png").write_bytes(base64.b64decode(shot["data"]))

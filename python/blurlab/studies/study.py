@@ -27,7 +27,7 @@ from ..methods import blur, method, method_instant
 from ..metrics import check_names, get, registered
 from ..scene import scenes
 from ..sizes import DEFAULT_SIZE
-from . import interactive, objects, peers, plots, rankings, transparency, workers
+from . import comparator, interactive, objects, peers, plots, rankings, transparency, workers
 from .cluster import account_table
 from .evaluation import SETUP_PHASES, PhaseClock, picture_key
 from .sweep import default_grids, middle_point, sweep
@@ -343,13 +343,16 @@ def _scene_section(
             else:
                 frame = ctx.render(scene, size, instant=instant)
             images[method_name] = blur(ctx, frame, method_name, **point).color
+        look, writes = comparator.write_comparator(
+            name, reference.color, images, out, hdr=scene.hdr, pool=work.pictures
+        )
         shown_reference, exposure = reference.color, None
         if scene.hdr:  # every picture tone-mapped alike, at the reference's exposure
             exposure = metrics.exposure(reference.color)
             shown_reference = plots.tone_mapped(reference.color, exposure)
             images = {k: plots.tone_mapped(v, exposure) for k, v in images.items()}
         gallery, encodes = write_pictures(name, shown_reference, images, out, work.pictures)
-        work.pictures_written.extend(encodes)
+        work.pictures_written.extend(encodes + writes)
     best = []
     for budget in BUDGETS_MS:
         within = rows[rows["total_ms"] <= budget]
@@ -376,6 +379,7 @@ def _scene_section(
         "best": best,
         "chart": chart,
         "gallery": gallery
+        + look
         + transparency.report(ctx, scene, grids, size, out, work, clock, samples),
         "reference_samples": int(rows["reference_samples"].iloc[0]),
         "rank": rank,
@@ -454,7 +458,7 @@ def _html(info, size, table, sections, curves, per_object=None, peer_rows=None, 
     when = datetime.datetime.now().strftime("%Y-%m-%d %H:%M")
     parts = [
         "<!doctype html><meta charset='utf-8'><title>blurlab study</title>",
-        f"<style>{interactive.PAGE_STYLE}</style>",
+        f"<style>{interactive.PAGE_STYLE}</style>{comparator.assets_html()}",
         "<h1>blurlab study: speed against accuracy</h1>",
         f"<p>{e(when)} · device <b>{e(info['renderer'])}</b> ({e(info['version'])}) · "
         f"{size[0]}×{size[1]} · times by <code>{e(info['timer'])}</code> · "
