@@ -26,6 +26,7 @@ from .cli_methods import (
     method_table,
     new_method_command,
 )
+from .cli_suite import add_suite_command, suite_command
 from .context import Context
 from .errors import cause
 from .methods import blur, method, methods
@@ -514,6 +515,7 @@ def build_parser(bench_arguments: bool = True) -> argparse.ArgumentParser:
     add_methods_from(sweep)
     add_methods_from(advice)
     add_method_commands(sub, parse_size)
+    add_suite_command(sub, _add_cluster_options)
     benchmarks = bench_command() if bench_arguments else None
     bench = sub.add_parser(
         "bench",
@@ -575,6 +577,7 @@ def main(argv: list[str] | None = None) -> int:
         "bench": lambda args: bench_command().main(args, args.device),
         "check-method": check_method_command,
         "new-method": new_method_command,
+        "suite": lambda args: suite_command(args, _cluster),
         "blender": _blender,
     }
     try:

@@ -38,7 +38,7 @@ AUTHORED_FILES = {
 RANDOM_FIRST_SEED = 1_000_000
 
 LDR_METRICS = ("psnr", "ssim", "flip")
-HDR_METRICS = ("psnr_tm", "hdr_flip", "log_lum_error")
+HDR_METRICS = ("psnr_tm", "ssim_tm", "log_lum_error")
 SEQUENCE_METRICS = ("psnr", "temporal_instability")
 
 
