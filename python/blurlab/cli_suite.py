@@ -1,5 +1,5 @@
 """``blurlab suite run | compare | show``: the suite's command (docs/suite.md, docs/spec.md
-§26). The cluster options and their context manager are the study's, passed in by cli.py."""
+§24). The cluster options and their context manager are the study's, passed in by cli.py."""
 
 from __future__ import annotations
 
@@ -78,7 +78,7 @@ def add_suite_command(sub, add_cluster_options) -> None:
         "--preset",
         choices=PRESETS,
         default=None,
-        help="tiny (CI), software or gpu (default: software on llvmpipe, gpu on a GPU)",
+        help="the preset (default: software on llvmpipe, gpu on a GPU)",
     )
     run.add_argument(
         "--assets",
@@ -95,4 +95,4 @@ def add_suite_command(sub, add_cluster_options) -> None:
     )
     compare.add_argument("cards", nargs="+", metavar="CARD", help="card.json files or folders")
     show = actions.add_parser("show", help="print the suite's definition and hash as JSON")
-    show.add_argument("--preset", choices=PRESETS, default=None, help="tiny, software or gpu")
+    show.add_argument("--preset", choices=PRESETS, default=None, help="the preset (default: as run)")

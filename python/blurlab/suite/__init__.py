@@ -1,4 +1,4 @@
-"""The blurlab suite (docs/spec.md §26, docs/suite.md): one versioned benchmark that any method
+"""The blurlab suite (docs/spec.md §24, docs/suite.md): one versioned benchmark that any method
 can earn a card from. `definition` holds version 1's categories and presets, `content` its
 hash, `run` writes a card, `compare` sets cards of one suite side by side."""
 

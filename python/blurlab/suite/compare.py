@@ -1,4 +1,4 @@
-"""`blurlab suite compare CARD...` (docs/spec.md §26.4): cards of the same suite (the same
+"""`blurlab suite compare CARD...` (docs/spec.md §24.4): cards of the same suite (the same
 version, preset and hash) side by side, one table per category. Cards of other suites are
 refused with the hashes that differ and the part (definition, scenes, code) that makes them
 differ."""

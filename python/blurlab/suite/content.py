@@ -1,4 +1,4 @@
-"""The suite's identity (docs/spec.md §26.2): its version, and one hash over everything that
+"""The suite's identity (docs/spec.md §24.2): its version, and one hash over everything that
 defines it at a preset: the definition (categories, scenes, sizes, shutters, references,
 metrics, statistic), every scene's digest (blurlab.studies.identity.scene_digest, as sweeps
 key their rows), and the code of the references and the metrics: their Python modules and

@@ -1,4 +1,4 @@
-"""A card's figures for one category (docs/spec.md §26.3), from its rows (one per scene, or
+"""A card's figures for one category (docs/spec.md §24.3), from its rows (one per scene, or
 per sequence frame, and method): each metric's median with its 95 % bootstrap interval, the
 rank among the built-in methods, the win rate against the best built-in method, and the cost.
 The statistics are blurlab.studies.rankings' (the same bootstrap, seed and level as the study

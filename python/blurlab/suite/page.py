@@ -68,7 +68,7 @@ def card_html(card: dict, images: dict) -> str:
         f" ({e(device['device'])}, clock {e(device['clock'])}) · {e(card['date'])} · "
         f"blurlab {e(card['blurlab_version'])} · data: <a href='card.json'>card.json</a></p>",
         "<p>Each figure is the median over the category's scenes (over its frames for "
-        "sequences) with its 95 % bootstrap interval (docs/spec.md §26.3). The rank is among "
+        "sequences) with its 95 % bootstrap interval (docs/spec.md §24.3). The rank is among "
         f"the {len(card['field'])} built-in methods by the category's first metric; the win "
         "rate is the share of scenes on which the method beats the best other built-in "
         "method (ties count half); ms is the median GPU time per frame on this device.</p>",

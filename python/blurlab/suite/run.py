@@ -1,4 +1,4 @@
-"""`blurlab suite run` (docs/spec.md §26): every category of the suite for the methods asked and
+"""`blurlab suite run` (docs/spec.md §24): every category of the suite for the methods asked and
 the built-in methods they are ranked against, into a card (card.json and card.html).
 
 Single-frame categories are sweeps (blurlab.studies.sweep): each method at its declared

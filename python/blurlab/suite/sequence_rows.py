@@ -1,4 +1,4 @@
-"""The suite's sequence category (docs/spec.md §26.1): each method before TAA over a sequence of
+"""The suite's sequence category (docs/spec.md §24.1): each method before TAA over a sequence of
 each scene, one row per measured frame, kept in a keyed file so that a run resumes.
 
 A sequence is run by blurlab.sequences (frames, jitter, TAA, references) and measured by its
