@@ -22,6 +22,7 @@ from blurlab.suite import compare, compare_text, content, load_card, run_suite
 from blurlab.suite import definition as d
 
 ASSETS = Path(__file__).resolve().parents[2] / "shared" / "assets" / "gltf"
+ROOT = Path(__file__).resolve().parents[1]
 
 
 def blurlab(*args, cwd: Path) -> subprocess.CompletedProcess:
@@ -67,7 +68,9 @@ def test_tiny_card_for_a_method_folder_and_a_builtin_then_a_rerun(tmp_path):
         for f in entry["methods"].values():
             for value in f["metrics"].values():
                 assert value["low"] <= value["median"] <= value["high"]
-            assert 1 <= f["rank"] <= f["of"] == len(card["field"]) + (f is entry["methods"]["my_tent"])
+            assert (
+                1 <= f["rank"] <= f["of"] == len(card["field"]) + (f is entry["methods"]["my_tent"])
+            )
             assert 0 <= f["win_rate"] <= 1 and f["versus"] in card["field"]
             assert f["ms"] > 0 and f["clock"] == bl.Context(CLI_DEVICE).info()["timer"]
     page = (tmp_path / "card" / "card.html").read_text()
@@ -168,3 +171,11 @@ def test_bad_input_is_refused_with_what_is_allowed(ctx, tmp_path):
         load_card(tmp_path / "card.json")
     with pytest.raises(ValueError, match="at least two cards"):
         compare([tmp_path])
+
+
+def test_the_suite_page_shows_the_definition():
+    """docs/suite.md's settings table is the definition's own (blurlab.suite.definition)."""
+    page = (ROOT / "docs" / "suite.md").read_text()
+    assert d.markdown_table() in page, (
+        "docs/suite.md: paste blurlab.suite.definition.markdown_table()"
+    )

@@ -95,4 +95,6 @@ def add_suite_command(sub, add_cluster_options) -> None:
     )
     compare.add_argument("cards", nargs="+", metavar="CARD", help="card.json files or folders")
     show = actions.add_parser("show", help="print the suite's definition and hash as JSON")
-    show.add_argument("--preset", choices=PRESETS, default=None, help="the preset (default: as run)")
+    show.add_argument(
+        "--preset", choices=PRESETS, default=None, help="the preset (default: as run)"
+    )

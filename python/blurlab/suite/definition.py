@@ -66,20 +66,24 @@ class Sequences:
 
 @dataclass(frozen=True)
 class Category:
-    """A category of the suite. `primary`: the metric that ranks the methods and decides win
-    rates; the card gives every metric of `metrics` with its interval. `shutter`: "scene" is
-    each scene's own shutter (1/60 s for the built-ins; a glTF file's default, spec §15)."""
+    """A category of the suite. The first of `metrics` is its primary metric: it ranks the
+    methods and decides win rates; the card gives every metric with its interval. `shutter`:
+    "scene" is each scene's own shutter (1/60 s for the built-ins; a glTF file's default,
+    spec §15)."""
 
     name: str
     doc: str
     kind: str
     metrics: tuple[str, ...]
-    primary: str
     presets: dict[str, Preset]
     shutter: str = "scene"
     antialias: bool = False  # the reference of the metrics named (temporal unless an *_aa)
     needs_assets: bool = False
     sequences: Sequences | None = None
+
+    @property
+    def primary(self) -> str:
+        return self.metrics[0]
 
     def at(self, preset: str) -> Preset:
         return self.presets[check_preset(preset)]
@@ -135,7 +139,6 @@ CATEGORIES = (
         "the built-in scenes: a pass, a fan, a vehicle, a textured spin, a skinned arm",
         FRAMES,
         LDR_METRICS,
-        "psnr",
         _same(tuple(scenes.names()), SIZES, SAMPLES),
     ),
     Category(
@@ -143,24 +146,22 @@ CATEGORIES = (
         "the failure cases (docs/failure_cases.md): thin, fast, crossing and near-plane motion",
         FRAMES,
         LDR_METRICS,
-        "psnr",
-        _same(tuple(scenes.names("failure")), SIZES, SAMPLES, ("thin_bar", "crossing", "edge_exit")),
+        _same(
+            tuple(scenes.names("failure")), SIZES, SAMPLES, ("thin_bar", "crossing", "edge_exit")
+        ),
     ),
     Category(
         "transparency",
         "glass, smoke, sparks and foliage over moving objects (docs/transparency.md)",
         FRAMES,
         LDR_METRICS,
-        "psnr",
         _same(tuple(scenes.names("transparency")), SIZES, SAMPLES, ("moving_glass", "smoke_pan")),
     ),
     Category(
         "hdr",
-        "scenes lit by emission far above 1, scored tone-mapped and in log luminance "
-        "(docs/hdr.md)",
+        "scenes lit by emission far above 1, scored tone-mapped and in log luminance (docs/hdr.md)",
         FRAMES,
         HDR_METRICS,
-        "psnr_tm",
         _same(tuple(scenes.names("hdr")), SIZES, SAMPLES, ("sparks", "neon_pan")),
     ),
     Category(
@@ -169,7 +170,6 @@ CATEGORIES = (
         "digest; skipped without the assets folder",
         FRAMES,
         LDR_METRICS,
-        "psnr",
         _same(tuple(AUTHORED_FILES), SIZES, SAMPLES, ("RiggedSimple/RiggedSimple.gltf",)),
         needs_assets=True,
     ),
@@ -179,7 +179,6 @@ CATEGORIES = (
         "antialiased reference (docs/temporal.md)",
         SEQUENCE,
         SEQUENCE_METRICS,
-        "psnr",
         {
             "tiny": Preset(("fan",), SIZES["tiny"], 16),
             "software": Preset(("teapot_pass", "fan", "camera_yaw"), SIZES["software"], 32),
@@ -200,7 +199,6 @@ CATEGORIES = (
         f"procedural scenes (docs/random_scenes.md), seeds from {RANDOM_FIRST_SEED} on",
         FRAMES,
         LDR_METRICS,
-        "psnr",
         {
             p: Preset(_random_scenes(RANDOM_COUNTS[p]), RANDOM_SIZES[p], RANDOM_SAMPLES[p])
             for p in PRESETS
@@ -211,7 +209,9 @@ CATEGORIES = (
 
 def check_preset(preset) -> str:
     if preset not in PRESETS:
-        raise ValueError(f"blurlab suite: preset must be one of {', '.join(PRESETS)}, not {preset!r}")
+        raise ValueError(
+            f"blurlab suite: preset must be one of {', '.join(PRESETS)}, not {preset!r}"
+        )
     return preset
 
 
@@ -275,3 +275,20 @@ def authored_paths(category_: Category, preset: str, assets) -> tuple[list[Path]
             )
         paths.append(path)
     return paths, None
+
+
+def markdown_table() -> str:
+    """Each category's settings at each preset as a Markdown table (docs/suite.md shows it;
+    a test holds the page to it)."""
+    lines = [
+        "| category | scenes (tiny / software / gpu) | size | reference N "
+        "| metrics (first ranks) |",
+        "|---|---|---|---|---|",
+    ]
+    for c in CATEGORIES:
+        chosen = [c.at(p) for p in PRESETS]
+        counts = " / ".join(str(len(s.scenes)) for s in chosen)
+        sizes = " / ".join(f"{s.size[0]}×{s.size[1]}" for s in chosen)
+        samples = " / ".join(str(s.reference_samples) for s in chosen)
+        lines.append(f"| {c.name} | {counts} | {sizes} | {samples} | {', '.join(c.metrics)} |")
+    return "\n".join(lines) + "\n"

@@ -28,7 +28,8 @@ def category_figures(table: pd.DataFrame, metrics, primary: str, asked, field) -
     spread = rankings.distributions(table, metrics)
     by = {(r.metric, r.contender): r for r in spread.itertuples()}
     goodness = {
-        name: float(get(primary).goodness(by[primary, name].median)) for name in set(field) | set(asked)
+        name: float(get(primary).goodness(by[primary, name].median))
+        for name in set(field) | set(asked)
     }
     out = {}
     for name in asked:

@@ -87,9 +87,7 @@ def run_suite(
         "device": {"device": info["device"], "renderer": info["renderer"], "clock": info["timer"]},
         "date": datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%dT%H:%M:%SZ"),
         "blurlab_version": __version__,
-        "methods": {
-            n: {"builtin": n in field, "digest": content.method_digest(n)} for n in asked
-        },
+        "methods": {n: {"builtin": n in field, "digest": content.method_digest(n)} for n in asked},
         "field": field,
         "categories": {},
         "run": {},
@@ -218,4 +216,3 @@ def card_rows(card: dict) -> pd.DataFrame:
                 }
             )
     return pd.DataFrame(rows)
-

@@ -125,4 +125,3 @@ def _frame_rows(entry: dict, scene_name: str, name: str) -> list[dict]:
             }
         )
     return rows
-
