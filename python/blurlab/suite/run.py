@@ -77,6 +77,11 @@ def run_suite(
     asked = check_methods(methods)
     field = builtin_methods()
     everyone = field + [n for n in asked if n not in field]
+    # The authored files are checked before anything runs: a file of other content is refused
+    # now, not after the other categories.
+    authored = {
+        c.name: d.authored_paths(c, preset, assets) for c in d.categories() if c.needs_assets
+    }
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     suite = content.suite_identity(preset)
@@ -99,7 +104,7 @@ def run_suite(
     for category in d.categories():
         began = time.perf_counter()
         entry, table, count = _run_category(
-            ctx, category, preset, everyone, out, assets, cluster, progress
+            ctx, category, preset, everyone, out, authored.get(category.name), cluster, progress
         )
         resumed += count
         if table is not None:
@@ -107,7 +112,8 @@ def run_suite(
                 table, category.metrics, category.primary, asked, field
             )
             if pictures and category.kind == d.FRAMES:
-                images[category.name] = _pictures(ctx, category, preset, entry, out, assets)
+                files = authored.get(category.name, ([], None))[0]
+                images[category.name] = _pictures(ctx, category, preset, entry, out, files)
         card["categories"][category.name] = entry
         seconds[category.name] = round(time.perf_counter() - began, 3)
     card["run"] = {
@@ -120,13 +126,14 @@ def run_suite(
     return card
 
 
-def _run_category(ctx, category, preset, names, out: Path, assets, cluster, progress):
-    """(card entry, rows or None, rows resumed) of one category."""
+def _run_category(ctx, category, preset, names, out: Path, files, cluster, progress):
+    """(card entry, rows or None, rows resumed) of one category; `files`: authored_paths' answer
+    for a category of files."""
     chosen = category.at(preset)
     entry = {"status": "measured", "doc": category.doc, "primary": category.primary}
     items: list = list(chosen.scenes)
     if category.needs_assets:
-        items, why = d.authored_paths(category, preset, assets)
+        items, why = files
         if why is not None:
             return {**entry, "status": "skipped", "reason": why}, None, 0
     rows = out / "rows"
@@ -152,17 +159,13 @@ def _run_category(ctx, category, preset, names, out: Path, assets, cluster, prog
     return entry, table, int(table.attrs.get("resumed", 0))
 
 
-def _pictures(ctx, category, preset, entry: dict, out: Path, assets) -> dict:
+def _pictures(ctx, category, preset, entry: dict, out: Path, files) -> dict:
     """{label: PNG path relative to OUT}: the reference and each card method's output, with
     the best built-in method, on the category's first scene at its settings (tone-mapped with
     the reference's exposure where the category is HDR)."""
     chosen = category.at(preset)
     first = chosen.scenes[0]
-    scene = (
-        scenes.gltf(d.authored_paths(category, preset, assets)[0][0])
-        if category.needs_assets
-        else scenes.get(first)
-    )
+    scene = scenes.gltf(files[0]) if category.needs_assets else scenes.get(first)
     reference = ctx.reference(
         scene,
         chosen.size,
