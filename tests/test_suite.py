@@ -160,6 +160,8 @@ def test_bad_input_is_refused_with_what_is_allowed(ctx, tmp_path):
         run_suite(ctx, tmp_path / "a", ["gather_box", "nope"], "tiny")
     with pytest.raises(ValueError, match="trail blends frames itself"):
         run_suite(ctx, tmp_path / "a", ["trail"], "tiny")
+    with pytest.raises(ValueError, match="is not a folder"):
+        run_suite(ctx, tmp_path / "a", ["gather_box"], "tiny", assets=tmp_path / "none")
     assert not (tmp_path / "a").exists()  # refused before anything is written
     with pytest.raises(ValueError, match="no category 'glass'"):
         d.category("glass")

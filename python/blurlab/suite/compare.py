@@ -73,8 +73,8 @@ def compare(paths) -> dict[str, pd.DataFrame]:
         rows = card_rows(card)
         if rows.empty:
             continue
-        rows.insert(1, "device", card["device"]["renderer"])
-        rows.insert(2, "date", card["date"])
+        rows.insert(2, "device", card["device"]["renderer"])
+        rows.insert(3, "date", card["date"])
         for category, group in rows.groupby("category", sort=False):
             tables.setdefault(category, []).append(group.drop(columns="category"))
     return {c: pd.concat(parts, ignore_index=True) for c, parts in tables.items()}
