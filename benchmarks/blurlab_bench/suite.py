@@ -10,6 +10,7 @@ import tempfile
 from pathlib import Path
 
 from blurlab.methods.params import Param
+from blurlab.metrics import get
 from blurlab.suite import categories, run_suite
 from blurlab.suite.definition import PRESETS
 
@@ -73,8 +74,6 @@ def _suite(ctx, size, p, out) -> None:
 
 
 def _unit(metric: str) -> str:
-    from blurlab.metrics import get
-
     return get(metric).unit
 
 

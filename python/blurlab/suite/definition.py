@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from .. import scenes
+from ..studies.identity import HASH_CHARS, scene_files
 
 VERSION = 1
 PRESETS = ("tiny", "software", "gpu")  # CI; llvmpipe's cards; a GPU's cards
@@ -241,8 +242,6 @@ def definition(preset: str) -> dict:
 def file_digest(path: Path) -> str:
     """A glTF file's digest: its bytes and those of the files it refers to (buffers, images),
     each by name, as blurlab.studies.identity hashes a scene loaded from a file."""
-    from ..studies.identity import HASH_CHARS, scene_files
-
     h = hashlib.sha256()
     for part in scene_files(Path(path)):
         h.update(part.name.encode() + b"\0" + part.read_bytes())
