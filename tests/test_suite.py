@@ -171,6 +171,13 @@ def test_bad_input_is_refused_with_what_is_allowed(ctx, tmp_path):
     (tmp_path / "card.json").write_text("[1, 2")
     with pytest.raises(ValueError, match="not a card's JSON"):
         load_card(tmp_path / "card.json")
+    card = {"format": 1, "suite": {"hash": "a"}, "device": {}, "date": "", "methods": {}}
+    (tmp_path / "card.json").write_text(
+        json.dumps({**card, "categories": {"opaque": {"methods": {"x": {}}}}})
+    )
+    shutil.copy(tmp_path / "card.json", tmp_path / "other.json")
+    with pytest.raises(ValueError, match="lacks a figure"):
+        compare([tmp_path / "card.json", tmp_path / "other.json"])
     with pytest.raises(ValueError, match="at least two cards"):
         compare([tmp_path])
 

@@ -70,7 +70,13 @@ def compare(paths) -> dict[str, pd.DataFrame]:
     check_same_suite(cards)
     tables: dict[str, list] = {}
     for card in cards:
-        rows = card_rows(card)
+        try:
+            rows = card_rows(card)
+        except (KeyError, TypeError, IndexError) as error:  # a card edited by hand, or cut
+            raise ValueError(
+                f"blurlab suite: the card {card['path']} lacks a figure ({error!r}); "
+                "write it again with blurlab suite run"
+            ) from None
         if rows.empty:
             continue
         rows.insert(2, "device", card["device"]["renderer"])
