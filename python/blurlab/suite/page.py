@@ -56,8 +56,9 @@ def _category_table(entry: dict) -> str:
     return f"<table>{head}{''.join(rows)}</table>"
 
 
-def card_html(card: dict, images: dict) -> str:
-    suite, device = card["suite"], card["device"]
+def card_html(card: dict) -> str:
+    """The page of a card (blurlab.suite.run's dict, as card.json holds it)."""
+    suite, device, images = card["suite"], card["device"], card.get("images", {})
     parts = [
         "<!doctype html><meta charset='utf-8'><title>blurlab suite card</title>",
         f"<style>{PAGE_STYLE}td:first-child{{text-align:left}}"

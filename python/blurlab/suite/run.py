@@ -95,6 +95,7 @@ def run_suite(
         "methods": {n: {"builtin": n in field, "digest": content.method_digest(n)} for n in asked},
         "field": field,
         "categories": {},
+        "images": {},  # per category: its first scene's pictures (category_images_html)
         "run": {},
     }
     images: dict[str, dict] = {}
@@ -116,13 +117,14 @@ def run_suite(
                 images[category.name] = _pictures(ctx, category, preset, entry, out, files)
         card["categories"][category.name] = entry
         seconds[category.name] = round(time.perf_counter() - began, 3)
+    card["images"] = images
     card["run"] = {
         "wall_s": round(time.perf_counter() - start, 3),
         "category_s": seconds,
         "resumed_rows": resumed,
     }
     io.write_text(out / "card.json", json.dumps(card, indent=1, sort_keys=False) + "\n")
-    io.write_text(out / "card.html", page.card_html(card, images))
+    io.write_text(out / "card.html", page.card_html(card))
     return card
 
 
