@@ -95,7 +95,12 @@ def test_tiny_card_for_a_method_folder_and_a_builtin_then_a_rerun(tmp_path):
     tables = compare([tmp_path / "card", tmp_path / "copy"])
     assert set(tables) == {c.name for c in measured}
     assert len(tables["opaque"]) == 4  # two methods on each of two cards
-    assert "## sequences" in compare_text([tmp_path / "card", tmp_path / "copy" / "card.json"])
+    text = compare_text([tmp_path / "card", tmp_path / "copy" / "card.json"])
+    assert "## sequences" in text and "note:" not in text
+    moved = {**json.loads((tmp_path / "copy" / "card.json").read_text()), "field_digest": "f" * 16}
+    (tmp_path / "moved.json").write_text(json.dumps(moved))
+    text = compare_text([tmp_path / "card", tmp_path / "moved.json"])
+    assert "note: the cards' built-in methods ran other code" in text
     other = json.loads((tmp_path / "copy" / "card.json").read_text())
     other["suite"]["hash"], other["suite"]["parts"]["definition"] = "0" * 16, "1" * 16
     (tmp_path / "copy" / "card.json").write_text(json.dumps(other))

@@ -87,9 +87,17 @@ def compare(paths) -> dict[str, pd.DataFrame]:
 
 
 def compare_text(paths) -> str:
-    """compare() as text: a heading and a table per category."""
+    """compare() as text: a heading and a table per category, after a note where the cards'
+    built-in methods ran other code (their ranks and win rates are against other fields)."""
     tables = compare(paths)
+    fields = {load_card(p).get("field_digest") for p in paths}
     chunks = []
+    if len(fields) > 1:
+        chunks.append(
+            "note: the cards' built-in methods ran other code (field digests "
+            f"{', '.join(sorted(str(f) for f in fields))}): ranks and win rates are against "
+            "other fields\n"
+        )
     for category, table in tables.items():
         text = table.to_string(index=False, float_format=lambda v: f"{v:.4g}")
         chunks.append(f"## {category}\n{text}\n")

@@ -22,6 +22,7 @@ from .. import io, scenes
 from ..methods import blur, method, method_instant
 from ..metrics import get
 from ..metrics.hdr import exposure
+from ..studies import identity
 from ..studies.evaluation import REFERENCE_OPTIONS
 from ..studies.plots import tone_mapped
 from ..studies.sweep import sweep, sweep_methods
@@ -94,6 +95,8 @@ def run_suite(
         "blurlab_version": __version__,
         "methods": {n: {"builtin": n in field, "digest": content.method_digest(n)} for n in asked},
         "field": field,
+        # the code of the methods ranked against: blurlab's own (a built-in's digest)
+        "field_digest": identity.code_digest(ctx.shader_dir),
         "categories": {},
         "images": {},  # per category: its first scene's pictures (category_images_html)
         "run": {},
