@@ -79,13 +79,18 @@ def test_tiny_card_for_a_method_folder_and_a_builtin_then_a_rerun(tmp_path):
         assert (tmp_path / "card" / "images" / src.split('"')[0]).is_file()
     assert (tmp_path / "card" / "images" / "opaque" / "my_tent.png").is_file()
 
-    # A rerun: one category's rows removed are evaluated again, the rest are read back.
+    # A rerun: one category's rows removed are evaluated again, the rest are read back; a
+    # sequence row cut short by a crash is dropped.
     (tmp_path / "card" / "rows" / "opaque.csv").unlink()
+    sequence_rows = tmp_path / "card" / "rows" / "sequences.jsonl"
+    whole = sequence_rows.read_text()
+    sequence_rows.write_text(whole + '{"key": "cut sh')
     again = blurlab(*command, cwd=tmp_path)
     assert again.returncode == 0, again.stdout + again.stderr
     second = load_card(tmp_path / "card")
     assert second["suite"]["hash"] == card["suite"]["hash"]
     assert second["run"]["resumed_rows"] > 0
+    assert sequence_rows.read_text() == whole  # every sequence run read back, none made again
     assert figures_of(second, with_ms=False) == figures_of(card, with_ms=False)
     same_ms = {k: v for k, v in figures_of(card, True).items() if k[0] != "opaque"}
     assert {k: v for k, v in figures_of(second, True).items() if k[0] != "opaque"} == same_ms

@@ -19,6 +19,7 @@ from .. import metrics, scenes
 from ..methods import method
 from ..sequences import sequence
 from ..studies import identity
+from ..studies.sweep import drop_partial_line
 from . import definition as d
 
 
@@ -41,10 +42,11 @@ def _finished(path: Path) -> dict:
     """{key: entry} of the file's whole lines."""
     done = {}
     if path.exists():
+        drop_partial_line(path)  # so that the next line starts on a line of its own
         for line in path.read_text().splitlines():
             try:
                 entry = json.loads(line)
-            except json.JSONDecodeError:  # a line cut short: made again
+            except json.JSONDecodeError:  # not a whole entry: made again
                 continue
             if isinstance(entry, dict) and isinstance(entry.get("key"), str):
                 done[entry["key"]] = entry
