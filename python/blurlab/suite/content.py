@@ -66,7 +66,7 @@ def _builtin_scene_digest(name: str) -> str:
     return identity.scene_digest(scenes.get(name))
 
 
-def scene_digests(preset: str, assets=None) -> dict[str, dict[str, str]]:
+def scene_digests(preset: str) -> dict[str, dict[str, str]]:
     """{category: {scene: digest}}: built-in and random scenes by their content; the authored
     files by the digest the definition pins (the same on every machine, with or without them)."""
     out = {}
@@ -79,14 +79,14 @@ def scene_digests(preset: str, assets=None) -> dict[str, dict[str, str]]:
     return out
 
 
-def suite_identity(preset: str, assets=None) -> dict:
+def suite_identity(preset: str) -> dict:
     """{"version", "preset", "hash", "parts"}: the suite's hash at `preset` and the digest of
     each part it covers (the definition, the scenes, the code), so that two cards that differ
     say where."""
     definition = d.definition(preset)
     parts = {
         "definition": _json_digest(definition),
-        "scenes": _json_digest(scene_digests(preset, assets)),
+        "scenes": _json_digest(scene_digests(preset)),
         "code": code_digest(),
     }
     return {
