@@ -232,9 +232,18 @@ LAYERS = {
     "gpu core": {"core.frame", "core.render", "core.references", "core.context", "core"},
     "passes": {"methods", "metrics"},
     "temporal": {"temporal"},
-    "lab": {"studies", "blender"},
+    "lab": {"studies", "blender", "suite"},
     # "": the package's own __init__
-    "front": {"cli", "cli_args", "cli_methods", "cli_recommend", "cli_reference", "__main__", ""},
+    "front": {
+        "cli",
+        "cli_args",
+        "cli_methods",
+        "cli_recommend",
+        "cli_reference",
+        "cli_suite",
+        "__main__",
+        "",
+    },
 }
 
 

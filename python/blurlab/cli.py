@@ -28,6 +28,7 @@ from .cli_methods import (
     new_method_command,
 )
 from .cli_recommend import add_recommend_command, recommend_command
+from .cli_suite import add_suite_command, suite_command
 from .core.context import Context
 from .errors import cause
 from .io import images as io
@@ -386,6 +387,7 @@ def build_parser(bench_arguments: bool = True) -> argparse.ArgumentParser:
     _add_cluster_options(sweep)
     add_methods_from(sweep)
     add_method_commands(sub, parse_size)
+    add_suite_command(sub, _add_cluster_options)
     benchmarks = bench_command() if bench_arguments else None
     bench = sub.add_parser(
         "bench",
@@ -447,6 +449,7 @@ def main(argv: list[str] | None = None) -> int:
         "bench": lambda args: bench_command().main(args, args.device),
         "check-method": check_method_command,
         "new-method": new_method_command,
+        "suite": lambda args: suite_command(args, _cluster),
         "blender": _blender,
     }
     try:

@@ -97,15 +97,23 @@ def markdown(parser: argparse.ArgumentParser | None = None) -> str:
     parser = parser or build_parser()
     with _fixed_width():
         parts = [HEADER, "```text\n" + parser.format_usage() + "```\n", options_table(parser)]
-        for name, help_line, sub in subcommands(parser):
-            parts.append(f"## {parser.prog} {name}\n")
-            if help_line:
-                parts.append(help_line[0].upper() + help_line[1:] + ".\n")
-            parts.append("```text\n" + sub.format_usage() + "```\n")
-            table = options_table(sub)
-            if table:
-                parts.append(table)
+        parts += _sections(parser, parser.prog)
     return "\n".join(parts)
+
+
+def _sections(parser: argparse.ArgumentParser, prefix: str) -> list[str]:
+    """A section per subcommand, each followed by its own subcommands' (`blurlab suite run`)."""
+    parts = []
+    for name, help_line, sub in subcommands(parser):
+        parts.append(f"## {prefix} {name}\n")
+        if help_line:
+            parts.append(help_line[0].upper() + help_line[1:] + ".\n")
+        parts.append("```text\n" + sub.format_usage() + "```\n")
+        table = options_table(sub)
+        if table:
+            parts.append(table)
+        parts += _sections(sub, f"{prefix} {name}")
+    return parts
 
 
 def main() -> int:

@@ -28,7 +28,8 @@ from pathlib import Path
 import numpy as np
 from PIL import Image
 
-from .. import io, metrics
+from .. import metrics
+from ..io import images as io
 from . import plots
 
 HERE = Path(__file__).parent

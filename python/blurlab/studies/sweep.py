@@ -354,7 +354,7 @@ def _finished_rows(path: Path | None) -> dict:
     before rows had one) are evaluated again."""
     if path is None or not path.exists() or path.stat().st_size == 0:
         return {}
-    _drop_partial_line(path)
+    drop_partial_line(path)
     text = {
         c: str for c in (identity.IDENTITY, identity.SCENE_DIGEST, identity.VERSION, identity.CODE)
     }
@@ -380,7 +380,7 @@ def read_row_file(path: Path, **options) -> pd.DataFrame:
     return pd.read_csv(path, **options)
 
 
-def _drop_partial_line(path: Path) -> None:
+def drop_partial_line(path: Path) -> None:
     """Cuts a last line that has no newline (a write cut short by a crash or a kill), so the
     next row starts on a line of its own and the cut row is evaluated again."""
     with path.open("rb+") as f:
@@ -405,7 +405,7 @@ class _RowFile:
 
     def append(self, row: dict) -> None:
         if self.header is None and self.path.exists() and self.path.stat().st_size > 0:
-            _drop_partial_line(self.path)
+            drop_partial_line(self.path)
             with self.path.open(newline="") as f:
                 self._known(next(csv.reader(f)))
         if self.header is None or not self.columns.issuperset(row):

@@ -8,7 +8,7 @@ import math
 import numpy as np
 
 from .. import mesh
-from ..model import Camera, Material, Scene
+from ..model import Material, Scene
 from ..motion import Motion, quaternion
 from ..particles import Particle
 from ..particles import particles as add_particles

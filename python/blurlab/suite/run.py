@@ -1,0 +1,227 @@
+"""`blurlab suite run` (docs/spec.md §24): every category of the suite for the methods asked and
+the built-in methods they are ranked against, into a card (card.json and card.html).
+
+Single-frame categories are sweeps (blurlab.studies.sweep): each method at its declared
+defaults on every scene of the category, at its size, shutter and reference, rows kept in
+`OUT/rows/CATEGORY.csv` and keyed as sweeps key them, so a run resumes; with a Dask cluster
+their evaluations run on its workers. The sequence category runs on this process's context
+(blurlab.suite.sequence_rows), as `blurlab study --sequence` does.
+"""
+
+from __future__ import annotations
+
+import datetime
+import json
+import time
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from ..io import images as io
+from ..methods import blur, method, method_instant
+from ..metrics import get
+from ..metrics.hdr import exposure
+from ..scene import scenes
+from ..studies import identity
+from ..studies.evaluation import REFERENCE_OPTIONS
+from ..studies.plots import tone_mapped
+from ..studies.sweep import sweep, sweep_methods
+from ..version import __version__
+from . import content, figures, page
+from . import definition as d
+from .sequence_rows import run_sequences
+
+CARD_FORMAT = 1  # the layout of card.json (blurlab.suite.compare reads it)
+
+
+def builtin_methods() -> list[str]:
+    """The field every method is ranked against: the built-in methods a sweep evaluates."""
+    return [n for n in sweep_methods() if method(n).source is None]
+
+
+def check_methods(names) -> list[str]:
+    """`names` checked (each registered and single-frame), in order, each once; None: every
+    single-frame method registered (the built-ins and any loaded method folders)."""
+    if names is None:
+        return sweep_methods()
+    if isinstance(names, str) or not names:
+        raise ValueError("blurlab suite: methods must be a non-empty list of method names")
+    checked = []
+    for name in names:
+        m = method(name)  # an unknown name raises, naming the registered ones
+        if not m.sweepable:
+            raise ValueError(
+                f"blurlab suite: {name} blends frames itself; the suite scores methods that "
+                f"run on one frame ({', '.join(sweep_methods())})"
+            )
+        if name not in checked:
+            checked.append(name)
+    return checked
+
+
+def run_suite(
+    ctx,
+    out,
+    methods=None,
+    preset: str = "software",
+    assets=None,
+    cluster=None,
+    progress: bool = False,
+    pictures: bool = True,
+) -> dict:
+    """Runs the suite at `preset` for `methods` (default: every single-frame method registered)
+    and writes OUT/card.json and OUT/card.html; returns the card. `assets`: the folder holding
+    the authored category's glTF files (without it that category is skipped, and the card
+    says why). `cluster`: a Dask client, cluster or scheduler address for the single-frame
+    categories (bl.sweep's `cluster`); `ctx` runs the sequences and the pictures."""
+    d.check_preset(preset)
+    asked = check_methods(methods)
+    field = builtin_methods()
+    everyone = field + [n for n in asked if n not in field]
+    # The authored files are checked before anything runs: a file of other content is refused
+    # now, not after the other categories.
+    authored = {
+        c.name: d.authored_paths(c, preset, assets) for c in d.categories() if c.needs_assets
+    }
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    suite = content.suite_identity(preset)
+    info = ctx.info()
+    card = {
+        "format": CARD_FORMAT,
+        "suite": {**suite, "definition": d.definition(preset)},
+        "device": {"device": info["device"], "renderer": info["renderer"], "clock": info["timer"]},
+        "date": datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%dT%H:%M:%SZ"),
+        "blurlab_version": __version__,
+        "methods": {n: {"builtin": n in field, "digest": content.method_digest(n)} for n in asked},
+        "field": field,
+        # the code of the methods ranked against: blurlab's own (a built-in's digest)
+        "field_digest": identity.code_digest(ctx.shader_dir),
+        "categories": {},
+        "images": {},  # per category: its first scene's pictures (category_images_html)
+        "run": {},
+    }
+    images: dict[str, dict] = {}
+    start = time.perf_counter()
+    resumed = 0
+    seconds = {}
+    for category in d.categories():
+        began = time.perf_counter()
+        entry, table, count = _run_category(
+            ctx, category, preset, everyone, out, authored.get(category.name), cluster, progress
+        )
+        resumed += count
+        if table is not None:
+            entry["methods"] = figures.category_figures(
+                table, category.metrics, category.primary, asked, field
+            )
+            if pictures and category.kind == d.FRAMES:
+                files = authored.get(category.name, ([], None))[0]
+                images[category.name] = _pictures(ctx, category, preset, entry, out, files)
+        card["categories"][category.name] = entry
+        seconds[category.name] = round(time.perf_counter() - began, 3)
+    card["images"] = images
+    card["run"] = {
+        "wall_s": round(time.perf_counter() - start, 3),
+        "category_s": seconds,
+        "resumed_rows": resumed,
+    }
+    io.write_text(out / "card.json", json.dumps(card, indent=1, sort_keys=False) + "\n")
+    io.write_text(out / "card.html", page.card_html(card))
+    return card
+
+
+def _run_category(ctx, category, preset, names, out: Path, files, cluster, progress):
+    """(card entry, rows or None, rows resumed) of one category; `files`: authored_paths' answer
+    for a category of files."""
+    chosen = category.at(preset)
+    entry = {"status": "measured", "doc": category.doc, "primary": category.primary}
+    items: list = list(chosen.scenes)
+    if category.needs_assets:
+        items, why = files
+        if why is not None:
+            return {**entry, "status": "skipped", "reason": why}, None, 0
+    rows = out / "rows"
+    rows.mkdir(exist_ok=True)
+    if category.kind == d.SEQUENCE:
+        table, resumed = run_sequences(
+            ctx, category, preset, names, rows / f"{category.name}.jsonl"
+        )
+        entry["scenes"] = list(chosen.scenes)
+        return entry, table, resumed
+    table = sweep(
+        None if cluster is not None else ctx,
+        [scenes.get(item) if not isinstance(item, Path) else scenes.gltf(item) for item in items],
+        {name: {} for name in names},
+        size=chosen.size,
+        reference_samples=chosen.reference_samples,
+        metrics=category.metrics,
+        out=rows / f"{category.name}.csv",
+        progress=progress,
+        cluster=cluster,
+    )
+    entry["scenes"] = list(chosen.scenes)
+    return entry, table, int(table.attrs.get("resumed", 0))
+
+
+def _pictures(ctx, category, preset, entry: dict, out: Path, files) -> dict:
+    """{label: PNG path relative to OUT}: the reference and each card method's output, with
+    the best built-in method, on the category's first scene at its settings (tone-mapped with
+    the reference's exposure where the category is HDR)."""
+    chosen = category.at(preset)
+    first = chosen.scenes[0]
+    scene = scenes.gltf(files[0]) if category.needs_assets else scenes.get(first)
+    reference = ctx.reference(
+        scene,
+        chosen.size,
+        scene.shutter,
+        samples=chosen.reference_samples,
+        progress=False,
+        antialias=category.antialias,
+        **REFERENCE_OPTIONS,
+    ).color
+    hdr = get(category.primary).hdr
+    scale = exposure(reference) if hdr else None
+    folder = out / "images" / category.name
+    folder.mkdir(parents=True, exist_ok=True)
+    shown = list(entry["methods"])
+    shown += [b for b in (m["versus"] for m in entry["methods"].values()) if b not in shown]
+    paths = {"reference": _write(folder / "reference.png", reference, scale)}
+    for name in shown:
+        frame = ctx.render(scene, chosen.size, scene.shutter, instant=method_instant(name, {}))
+        result = blur(ctx, frame, name, timed=False)
+        paths[name] = _write(folder / f"{name}.png", result.color, scale)
+    return {
+        "scene": scenes.label(first),
+        "images": {k: v.relative_to(out).as_posix() for k, v in paths.items()},
+    }
+
+
+def _write(path: Path, color: np.ndarray, scale: float | None) -> Path:
+    rgb = np.asarray(color)[..., :3]
+    return io.write(path, tone_mapped(rgb, scale) if scale is not None else rgb)
+
+
+def card_rows(card: dict) -> pd.DataFrame:
+    """A card's figures as one row per (category, method): the primary metric's median and
+    interval, rank, win rate, the method it was measured against, and ms."""
+    rows = []
+    for name, entry in card["categories"].items():
+        for who, f in entry.get("methods", {}).items():
+            primary = f["metrics"][entry["primary"]]
+            rows.append(
+                {
+                    "category": name,
+                    "method": who,
+                    "metric": entry["primary"],
+                    "median": primary["median"],
+                    "low": primary["low"],
+                    "high": primary["high"],
+                    "rank": f"{f['rank']} of {f['of']}",
+                    "versus": f["versus"],
+                    "win_rate": f["win_rate"],
+                    "ms": f["ms"],
+                }
+            )
+    return pd.DataFrame(rows)
