@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import re
 import os
 import shutil
 import subprocess
@@ -79,6 +80,11 @@ def test_tiny_card_for_a_method_folder_and_a_builtin_then_a_rerun(tmp_path):
     for src in json.dumps(card).split('"images/')[1:]:  # no picture named that is not there
         assert (tmp_path / "card" / "images" / src.split('"')[0]).is_file()
     assert (tmp_path / "card" / "images" / "opaque" / "my_tent.png").is_file()
+    # each measured picture category has its comparator, with its pictures beside the page
+    for name in card["images"]:
+        assert f"id='look-{name}'" in page or f'id="look-{name}"' in page, name
+    looked = re.findall(r"look/[\w.-]+\.png", page)
+    assert looked and all((tmp_path / "card" / src).is_file() for src in looked)
 
     # A rerun: one category's rows removed are evaluated again, the rest are read back; a
     # sequence row cut short by a crash is dropped.

@@ -1,11 +1,13 @@
-"""card.html: a card as a page that needs nothing but its folder (no network, no script): the
-suite's identity, the device and clock, then per category a table of the methods' figures and
-its images section (`category_images_html`, the one place that shows a category's pictures)."""
+"""card.html: a card as a page that needs nothing but its folder (no network; its one script,
+the comparator's, is inline): the suite's identity, the device and clock, then per category a
+table of the methods' figures and its images section (`category_images_html`, the one place
+that shows a category's pictures)."""
 
 from __future__ import annotations
 
 import html
 
+from ..studies import comparator
 from ..studies.interactive import PAGE_STYLE
 
 e = html.escape
@@ -15,9 +17,10 @@ def number(value, digits: int = 4) -> str:
     return "–" if value is None else f"{value:.{digits}g}"
 
 
-def category_images_html(category: str, pictures: dict | None) -> str:
+def category_images_html(category: str, pictures: dict | None, look: str = "") -> str:
     """A category's images section: the reference and each method's output on the category's
-    first scene, side by side. `pictures`: {"scene": label, "images": {label: relative PNG
+    first scene, side by side, then `look`, the comparator of the same outputs
+    (blurlab.studies.comparator). `pictures`: {"scene": label, "images": {label: relative PNG
     path}} (blurlab.suite.run), or None where none were made (a cluster's rows, or
     pictures=False)."""
     if not pictures:
@@ -30,6 +33,7 @@ def category_images_html(category: str, pictures: dict | None) -> str:
             for label, src in pictures["images"].items()
         ),
         "</div>",
+        look,
     ]
     return "\n".join(parts)
 
@@ -56,8 +60,10 @@ def _category_table(entry: dict) -> str:
     return f"<table>{head}{''.join(rows)}</table>"
 
 
-def card_html(card: dict) -> str:
-    """The page of a card (blurlab.suite.run's dict, as card.json holds it)."""
+def card_html(card: dict, looks: dict | None = None) -> str:
+    """The page of a card (blurlab.suite.run's dict, as card.json holds it); `looks`: each
+    category's comparator (HTML), written with the card."""
+    looks = looks or {}
     suite, device, images = card["suite"], card["device"], card.get("images", {})
     parts = [
         "<!doctype html><meta charset='utf-8'><title>blurlab suite card</title>",
@@ -87,5 +93,7 @@ def card_html(card: dict) -> str:
             f"(ranked by {e(entry['primary'])}).</p>"
         )
         parts.append(_category_table(entry))
-        parts.append(category_images_html(name, images.get(name)))
+        parts.append(category_images_html(name, images.get(name), looks.get(name, "")))
+    if any(looks.values()):
+        parts.append(comparator.assets_html())
     return "\n".join(parts) + "\n"

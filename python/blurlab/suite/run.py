@@ -23,7 +23,7 @@ from ..methods import blur, method, method_instant
 from ..metrics import get
 from ..metrics.hdr import exposure
 from ..scene import scenes
-from ..studies import identity
+from ..studies import comparator, identity
 from ..studies.evaluation import REFERENCE_OPTIONS
 from ..studies.plots import tone_mapped
 from ..studies.sweep import sweep, sweep_methods
@@ -103,6 +103,7 @@ def run_suite(
         "run": {},
     }
     images: dict[str, dict] = {}
+    looks: dict[str, str] = {}  # per category: its comparator's HTML (card.html only)
     start = time.perf_counter()
     resumed = 0
     seconds = {}
@@ -118,7 +119,9 @@ def run_suite(
             )
             if pictures and category.kind == d.FRAMES:
                 files = authored.get(category.name, ([], None))[0]
-                images[category.name] = _pictures(ctx, category, preset, entry, out, files)
+                images[category.name], looks[category.name] = _pictures(
+                    ctx, category, preset, entry, out, files
+                )
         card["categories"][category.name] = entry
         seconds[category.name] = round(time.perf_counter() - began, 3)
     card["images"] = images
@@ -128,7 +131,7 @@ def run_suite(
         "resumed_rows": resumed,
     }
     io.write_text(out / "card.json", json.dumps(card, indent=1, sort_keys=False) + "\n")
-    io.write_text(out / "card.html", page.card_html(card))
+    io.write_text(out / "card.html", page.card_html(card, looks))
     return card
 
 
@@ -165,10 +168,12 @@ def _run_category(ctx, category, preset, names, out: Path, files, cluster, progr
     return entry, table, int(table.attrs.get("resumed", 0))
 
 
-def _pictures(ctx, category, preset, entry: dict, out: Path, files) -> dict:
-    """{label: PNG path relative to OUT}: the reference and each card method's output, with
-    the best built-in method, on the category's first scene at its settings (tone-mapped with
-    the reference's exposure where the category is HDR)."""
+def _pictures(ctx, category, preset, entry: dict, out: Path, files) -> tuple[dict, str]:
+    """({label: PNG path relative to OUT}, the comparator's HTML): the reference and each card
+    method's output, with the best built-in method, on the category's first scene at its
+    settings (tone-mapped with the reference's exposure where the category is HDR); the
+    comparator shows the same outputs beside the reference, zoomable to single pixels, with
+    an exposure control where the category is HDR (pictures in OUT/look/)."""
     chosen = category.at(preset)
     first = chosen.scenes[0]
     scene = scenes.gltf(files[0]) if category.needs_assets else scenes.get(first)
@@ -188,14 +193,19 @@ def _pictures(ctx, category, preset, entry: dict, out: Path, files) -> dict:
     shown = list(entry["methods"])
     shown += [b for b in (m["versus"] for m in entry["methods"].values()) if b not in shown]
     paths = {"reference": _write(folder / "reference.png", reference, scale)}
+    outputs = {}
     for name in shown:
         frame = ctx.render(scene, chosen.size, scene.shutter, instant=method_instant(name, {}))
-        result = blur(ctx, frame, name, timed=False)
-        paths[name] = _write(folder / f"{name}.png", result.color, scale)
-    return {
+        outputs[name] = blur(ctx, frame, name, timed=False).color
+        paths[name] = _write(folder / f"{name}.png", outputs[name], scale)
+    look, _ = comparator.write_comparator(
+        category.name, reference, outputs, out, hdr=hdr, exposure=scale
+    )
+    pictures = {
         "scene": scenes.label(first),
         "images": {k: v.relative_to(out).as_posix() for k, v in paths.items()},
     }
+    return pictures, look
 
 
 def _write(path: Path, color: np.ndarray, scale: float | None) -> Path:
