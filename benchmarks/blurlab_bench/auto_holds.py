@@ -49,10 +49,15 @@ def _auto_holds(ctx, size, p, out) -> None:
     names = split(p["methods"]) or None
     rules = auto_check.auto_parameters(names)
     held_out = auto_check.held_out_scenes(p["held_out"], p["first_seed"])
-    builtin = split(p["builtin_scenes"]) or scenes.names()
+    builtin = split(p["builtin_scenes"]) or scenes.names() + scenes.names("failure")
     every = held_out + builtin
     result = auto_check.check(
-        ctx, every, size, rules, reference_samples=p["reference_samples"] or None
+        ctx,
+        every,
+        size,
+        rules,
+        reference_samples=p["reference_samples"] or None,
+        out=p["results"] or None,
     )
     chosen = result.attrs["chosen"]
     table = result.attrs["table"]
@@ -83,7 +88,7 @@ register(
         'every "auto" rule (live or withdrawn) against its default and the best fixed value on '
         "held-out random seeds and the built-in scenes, with the verdict of docs/spec.md §14's bar",
         {
-            "held_out": Param(40, int, "random scenes that no fit read", 0, 100_000),
+            "held_out": Param(32, int, "random scenes that no fit read", 0, 100_000),
             "first_seed": Param(
                 auto_check.HELD_OUT_SEED,
                 int,
@@ -91,9 +96,12 @@ register(
                 auto_check.HELD_OUT_SEED,
                 2**32 - 1 - 100_000,
             ),
-            "builtin_scenes": Param("", str, "comma-separated built-in scenes (empty: all)"),
+            "builtin_scenes": Param(
+                "", str, "comma-separated built-in scenes (empty: built-in and failure)"
+            ),
             "methods": Param("", str, 'comma-separated methods (empty: every one with "auto")'),
             "reference_samples": Param(0, int, "N of each reference (0: as sweeps choose)", 0),
+            "results": Param("", str, "a .csv the sweep's rows go to and resume from"),
         },
         _auto_holds,
         {"tiny": (64, 36), "software": (320, 180), "gpu": (1920, 1080)},
