@@ -102,6 +102,25 @@ class Metric:
 
 
 _REGISTRY: dict[str, Metric] = {}
+# Metrics of optional extras that are not installed here: {name: what to install}. Not
+# registered (sweeps and docs skip them); asking for one by name says what it needs.
+_UNAVAILABLE: dict[str, str] = {}
+
+
+def register_unavailable(name: str, needs: str) -> None:
+    """Names metric `name`, which can't be registered here, and what it `needs` (an install
+    line), so that asking for it explains why it is missing."""
+    _UNAVAILABLE[name] = needs
+
+
+def _unknown(caller: str, names: list[str]) -> ValueError:
+    missing = [n for n in names if n in _UNAVAILABLE]
+    unknown = [n for n in names if n not in _UNAVAILABLE]
+    parts = [f"unknown metrics {unknown}; choose from {registered()}"] if unknown else []
+    if missing:
+        needs = "; ".join(f"{n}: {_UNAVAILABLE[n]}" for n in missing)
+        parts.append(f"metrics {missing} are not installed here ({needs})")
+    return ValueError(f"{caller}: " + "; ".join(parts))
 
 
 def register(metric: Metric) -> Metric:
@@ -133,6 +152,8 @@ def registered() -> list[str]:
 def get(name: str) -> Metric:
     """The registered metric `name`."""
     if name not in _REGISTRY:
+        if name in _UNAVAILABLE:
+            raise _unknown("blurlab.metrics", [name])
         raise ValueError(f"blurlab.metrics: no metric {name!r}; registered metrics: {registered()}")
     return _REGISTRY[name]
 
@@ -146,7 +167,7 @@ def check_names(names: Iterable[str], caller: str, sequences: bool = False) -> t
     names = tuple(names)
     unknown = [n for n in names if n not in _REGISTRY]
     if unknown:
-        raise ValueError(f"{caller}: unknown metrics {unknown}; choose from {registered()}")
+        raise _unknown(caller, unknown)
     over_time = [n for n in names if _REGISTRY[n].sequence]
     if over_time and not sequences:
         raise ValueError(
