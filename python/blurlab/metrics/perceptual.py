@@ -18,11 +18,11 @@ import logging
 import numpy as np
 
 from .. import io
-from .registry import Metric, register, register_unavailable
+from .registry import Metric, declare_optional, register
 from .temporal import check_sequence
 
 NAME = "fovvideovdp"
-INSTALL = "pip install 'blurlab[perceptual]' (pyfvvdp and PyTorch)"
+INSTALL = "pip install 'blurlab[perceptual]'"  # pyfvvdp and PyTorch
 # The display the frames are judged on: pyfvvdp's 24-inch 1920 x 1080 monitor of 200 cd/m² in
 # office light, seen from 60 cm, each frame pixel one display pixel, not foveated.
 DISPLAY = "standard_fhd"
@@ -71,13 +71,17 @@ def fovvideovdp(reference, test, fps: float = DEFAULT_FPS, display: str = DISPLA
     return float(quality)
 
 
+DOC = (
+    "FovVideoVDP (Mantiuk et al. 2021), a video difference metric calibrated on human "
+    "judgements, in JOD (10: no visible difference), of sequences clipped and sRGB-encoded on a "
+    f"1920 x 1080 monitor of 200 cd/m² at {DEFAULT_FPS:g} frames per second (docs/spec.md §21.3)."
+)
+declare_optional(NAME, DOC, INSTALL)
 if available():
     register(
         Metric(
             name=NAME,
-            doc="FovVideoVDP (Mantiuk et al. 2021), a video difference metric calibrated on "
-            "human judgements, in JOD (10: no visible difference), on a 1920 x 1080 monitor of "
-            f"200 cd/m² at {DEFAULT_FPS:g} frames per second. Optional: {INSTALL}.",
+            doc=DOC,
             spec="§21.3",
             higher_is_better=True,
             range=(-np.inf, 10.0),
@@ -88,5 +92,3 @@ if available():
             sequence=True,
         )
     )
-else:
-    register_unavailable(NAME, INSTALL)

@@ -102,23 +102,24 @@ class Metric:
 
 
 _REGISTRY: dict[str, Metric] = {}
-# Metrics of optional extras that are not installed here: {name: what to install}. Not
-# registered (sweeps and docs skip them); asking for one by name says what it needs.
-_UNAVAILABLE: dict[str, str] = {}
+# Metrics of optional extras: {name: (what it is, what to install)}. Each is registered only
+# where its extra is installed; asking for one elsewhere says what to install, and
+# docs/metrics.md lists them apart, the same with or without the extra.
+_OPTIONAL: dict[str, tuple[str, str]] = {}
 
 
-def register_unavailable(name: str, needs: str) -> None:
-    """Names metric `name`, which can't be registered here, and what it `needs` (an install
-    line), so that asking for it explains why it is missing."""
-    _UNAVAILABLE[name] = needs
+def declare_optional(name: str, doc: str, needs: str) -> None:
+    """Declares metric `name` as one of an optional extra (`needs`: the install line), whether
+    or not it is installed here; the module registers it too where it is."""
+    _OPTIONAL[name] = (doc, needs)
 
 
 def _unknown(caller: str, names: list[str]) -> ValueError:
-    missing = [n for n in names if n in _UNAVAILABLE]
-    unknown = [n for n in names if n not in _UNAVAILABLE]
+    missing = [n for n in names if n in _OPTIONAL]
+    unknown = [n for n in names if n not in _OPTIONAL]
     parts = [f"unknown metrics {unknown}; choose from {registered()}"] if unknown else []
     if missing:
-        needs = "; ".join(f"{n}: {_UNAVAILABLE[n]}" for n in missing)
+        needs = "; ".join(f"{n}: {_OPTIONAL[n][1]}" for n in missing)
         parts.append(f"metrics {missing} are not installed here ({needs})")
     return ValueError(f"{caller}: " + "; ".join(parts))
 
@@ -152,7 +153,7 @@ def registered() -> list[str]:
 def get(name: str) -> Metric:
     """The registered metric `name`."""
     if name not in _REGISTRY:
-        if name in _UNAVAILABLE:
+        if name in _OPTIONAL:
             raise _unknown("blurlab.metrics", [name])
         raise ValueError(f"blurlab.metrics: no metric {name!r}; registered metrics: {registered()}")
     return _REGISTRY[name]
@@ -216,14 +217,17 @@ def reference_page() -> str:
         "| metric | better | range | colour | reference | on the GPU | by default | spec |",
         "|---|---|---|---|---|---|---|---|",
     ]
-    for name, m in _REGISTRY.items():
+    # The optional extras' metrics are listed apart, so that the page is the same whether or
+    # not they are installed.
+    always = {name: m for name, m in _REGISTRY.items() if name not in _OPTIONAL}
+    for name, m in always.items():
         gpu = f"`{m.reduction}` reduction" if m.reduction else ("yes" if m.gpu else "no")
         default = "HDR scenes" if m.default and m.hdr else ("yes" if m.default else "no")
         lines.append(
             f"| `{name}` | {m.direction} | [{_number(m.range[0])}, {_number(m.range[1])}] | "
             f"{'HDR' if m.hdr else 'LDR'} | {m.reference} | {gpu} | {default} | {m.spec} |"
         )
-    for name, m in _REGISTRY.items():
+    for name, m in always.items():
         unit = f" in {m.unit}" if m.unit else ""
         lines += ["", f"## {name}: {m.label}", "", m.doc, ""]
         lines.append(
@@ -249,6 +253,12 @@ def reference_page() -> str:
         if m.default:
             where = "on HDR scenes" if m.hdr else "on every scene"
             lines.append(f"- Computed by default {where}.")
+    if _OPTIONAL:
+        lines += ["", "## Optional metrics", ""]
+        lines.append("Registered only where their optional extra is installed:")
+        lines.append("")
+        for name, (doc, needs) in _OPTIONAL.items():
+            lines.append(f"- `{name}`: {doc} Install: `{needs}`.")
     return "\n".join(lines) + "\n"
 
 

@@ -70,10 +70,8 @@ def taus(table: pd.DataFrame, judged: Sequence[str] = METRICS) -> pd.DataFrame:
     either gives every method the same value."""
     out = {}
     for scene, rows in table.groupby("scene", sort=False):
-        truth = metrics.get(perceptual.NAME).goodness(rows[perceptual.NAME])
-        out[scene] = {
-            name: _tau(metrics.get(name).goodness(rows[name]), truth) for name in judged
-        }
+        truth = rows[perceptual.NAME]  # JOD: higher is better
+        out[scene] = {name: _tau(metrics.get(name).goodness(rows[name]), truth) for name in judged}
     return pd.DataFrame.from_dict(out, orient="index")
 
 
@@ -112,7 +110,7 @@ def _same_best(table: pd.DataFrame, name: str) -> float:
     hits = []
     for _, rows in table.groupby("scene", sort=False):
         mine = metrics.get(name).goodness(rows[name])
-        truth = metrics.get(perceptual.NAME).goodness(rows[perceptual.NAME])
+        truth = rows[perceptual.NAME]  # JOD: higher is better
         best_mine = set(rows["method"][mine == mine.max()])
         best_truth = set(rows["method"][truth == truth.max()])
         hits.append(bool(best_mine & best_truth))
