@@ -291,6 +291,7 @@ register(
     )
 )
 
+
 def _recommend(ctx, size, p, out) -> None:
     rows = []
     budgets = [float(b) for b in split(p["budgets_ms"])]
