@@ -76,7 +76,8 @@ DOC = (
     "judgements, in JOD (10: no visible difference), of sequences clipped and sRGB-encoded on a "
     f"1920 x 1080 monitor of 200 cd/m² at {DEFAULT_FPS:g} frames per second (docs/spec.md §21.3)."
 )
-declare_optional(NAME, DOC, INSTALL)
+LABEL = "FovVideoVDP"
+declare_optional(NAME, LABEL, DOC, INSTALL)
 if available():
     register(
         Metric(
@@ -87,7 +88,7 @@ if available():
             range=(-np.inf, 10.0),
             reference="antialiased",
             numpy=fovvideovdp,
-            label="FovVideoVDP",
+            label=LABEL,
             unit="JOD",
             sequence=True,
         )

@@ -105,13 +105,14 @@ _REGISTRY: dict[str, Metric] = {}
 # Metrics of optional extras: {name: (what it is, what to install)}. Each is registered only
 # where its extra is installed; asking for one elsewhere says what to install, and
 # docs/metrics.md lists them apart, the same with or without the extra.
-_OPTIONAL: dict[str, tuple[str, str]] = {}
+_OPTIONAL: dict[str, tuple[str, str, str]] = {}
 
 
-def declare_optional(name: str, doc: str, needs: str) -> None:
-    """Declares metric `name` as one of an optional extra (`needs`: the install line), whether
-    or not it is installed here; the module registers it too where it is."""
-    _OPTIONAL[name] = (doc, needs)
+def declare_optional(name: str, label: str, doc: str, needs: str) -> None:
+    """Declares metric `name` (`label`, `doc` as its Metric's) as one of an optional extra
+    (`needs`: the install line), whether or not it is installed here; the module registers it
+    too where it is."""
+    _OPTIONAL[name] = (label, doc, needs)
 
 
 def _unknown(caller: str, names: list[str]) -> ValueError:
@@ -119,7 +120,7 @@ def _unknown(caller: str, names: list[str]) -> ValueError:
     unknown = [n for n in names if n not in _OPTIONAL]
     parts = [f"unknown metrics {unknown}; choose from {registered()}"] if unknown else []
     if missing:
-        needs = "; ".join(f"{n}: {_OPTIONAL[n][1]}" for n in missing)
+        needs = "; ".join(f"{n}: {_OPTIONAL[n][2]}" for n in missing)
         parts.append(f"metrics {missing} are not installed here ({needs})")
     return ValueError(f"{caller}: " + "; ".join(parts))
 
@@ -253,12 +254,9 @@ def reference_page() -> str:
         if m.default:
             where = "on HDR scenes" if m.hdr else "on every scene"
             lines.append(f"- Computed by default {where}.")
-    if _OPTIONAL:
-        lines += ["", "## Optional metrics", ""]
-        lines.append("Registered only where their optional extra is installed:")
-        lines.append("")
-        for name, (doc, needs) in _OPTIONAL.items():
-            lines.append(f"- `{name}`: {doc} Install: `{needs}`.")
+    for name, (label, doc, needs) in _OPTIONAL.items():
+        lines += ["", f"## {name}: {label} (optional)", "", doc, ""]
+        lines.append(f"- Registered only where its optional extra is installed: `{needs}`.")
     return "\n".join(lines) + "\n"
 
 
