@@ -6,7 +6,7 @@ It comes with the optional extra `blurlab[perceptual]` (pyfvvdp with PyTorch on 
 calibration and display models ship inside the package: nothing is downloaded when it runs.
 Where it is not installed the metric is not registered, and asking for it by name says what
 to install. (ColorVideoVDP, its successor, needs torchvision, whose only wheels on PyPI are
-built against CUDA PyTorch and fail to load beside the CPU one: docs/metrics.md.)
+built against CUDA PyTorch and fail to load beside the CPU one: docs/temporal.md.)
 """
 
 from __future__ import annotations
