@@ -1,7 +1,7 @@
 """Recorded dispatch plans (blurlab.methods.plans): an untimed call seen before is
 replayed by one C++ call. A replay must give the ordinary path's bits, fresh outputs that do not
 disturb results still held, and the same errors for bad input; runs a plan cannot replay (tile
-classes, tile lists, "auto", timed calls, lookup textures) must take the ordinary path."""
+classes, tile lists, timed calls, lookup textures) must take the ordinary path."""
 
 from __future__ import annotations
 
@@ -127,7 +127,6 @@ def test_bad_parameters_still_raise_after_a_recording(ctx, frame):
 @pytest.mark.parametrize(
     ("name", "params", "timed"),
     [
-        ("reconstruct_mcguire2012", {"k": "auto"}, False),  # chosen from the frame each call
         ("reconstruct_mcguire2012", {"k": np.int64(20)}, False),  # not a plain int
         ("reconstruct_mcguire2012", {}, True),  # timed calls time each pass
         ("reconstruct_urho3d", {}, False),  # reads a cached lookup texture

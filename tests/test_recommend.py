@@ -1,8 +1,11 @@
-"""k="auto" and samples="auto" (the rule in blurlab/methods/tile_filter.py), the reference's
-N="auto", and bl.recommend / `blurlab recommend` (docs/recommend.md)."""
+"""The "auto" mechanism (docs/spec.md §14) with the tile filters' k and samples rules
+(blurlab/methods/tile_filter.py, withdrawn: refused by the library, made live again here to
+test the mechanism a rule that holds would use), the reference's N="auto", and bl.recommend /
+`blurlab recommend` (docs/recommend.md)."""
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import os
 import subprocess
@@ -18,6 +21,33 @@ from blurlab.core.references import default_reference_samples
 from blurlab.studies import recommend as advice
 
 FILTER = "reconstruct_mcguire2012"
+TILE_FILTERS = ("reconstruct_mcguire2012", "reconstruct_guertin2014", "reconstruct_urho3d")
+
+
+@pytest.fixture
+def live_rules(monkeypatch):
+    """The tile filters' withdrawn k and samples rules made live again for one test, as a
+    parameter whose rule holds would declare it (Param.auto)."""
+    for name in TILE_FILTERS:
+        params = bl.method(name).params
+        for key in ("k", "samples"):
+            p = params[key]
+            live = dataclasses.replace(p, auto=p.withdrawn_auto.rule, withdrawn_auto=None)
+            monkeypatch.setitem(params, key, live)
+
+
+def test_withdrawn_auto_is_refused_naming_what_to_pass(ctx):
+    frame = uniform_motion_frame(64, 48, (4.0, 0.0))
+    for name in (*TILE_FILTERS, "engine_jimenez2014", "engine_godot"):
+        with pytest.raises(
+            ValueError, match=r'k="auto" was withdrawn.*fixed k, 1\.\.256.*recommend'
+        ):
+            bl.blur(ctx, frame, name, k="auto")
+    with pytest.raises(ValueError, match=r'samples="auto" was withdrawn.*blurlab recommend'):
+        bl.blur(ctx, frame, FILTER, samples="auto")
+    with pytest.raises(ValueError, match='k="auto" was withdrawn'):  # checked before any work
+        bl.sweep(ctx, ["fan"], {FILTER: {"k": ["auto"]}}, (32, 18), progress=False)
+    assert "auto" not in bl.method(FILTER).params["k"].allowed()
 
 
 @pytest.fixture(autouse=True, scope="module")
@@ -43,7 +73,7 @@ def uniform_motion_frame(width, height, motion, moving_share=1.0, seed=3):
     return bl.Frame(color=color, depth=depth, motion=field)
 
 
-def test_auto_k_is_the_documented_rule_on_known_motion(ctx):
+def test_auto_k_is_the_documented_rule_on_known_motion(ctx, live_rules):
     # |M| = 24 px everywhere: radius 12 -> k 12 (a multiple of 4), samples 2*ceil(6)+1 = 13.
     frame = uniform_motion_frame(200, 120, (24.0, 0.0))
     result = bl.blur(ctx, frame, FILTER, k="auto", samples="auto")
@@ -54,7 +84,7 @@ def test_auto_k_is_the_documented_rule_on_known_motion(ctx):
     assert bl.blur(ctx, frame, FILTER, k="auto").auto == {"k": 16}
 
 
-def test_auto_k_reads_the_exposure_and_the_95th_percentile(ctx):
+def test_auto_k_reads_the_exposure_and_the_95th_percentile(ctx, live_rules):
     frame = uniform_motion_frame(200, 120, (24.0, 0.0))
     assert bl.blur(ctx, frame, FILTER, k="auto", exposure=0.5).params["k"] == 8
     # 4 % of the pixels move 100 px, the rest 8 px: the 95th percentile ignores the fastest.
@@ -63,7 +93,7 @@ def test_auto_k_reads_the_exposure_and_the_95th_percentile(ctx):
     assert bl.blur(ctx, fast, FILTER, k="auto").params["k"] == 4
 
 
-def test_auto_k_is_capped_by_the_image_and_floored_for_a_still_frame(ctx):
+def test_auto_k_is_capped_by_the_image_and_floored_for_a_still_frame(ctx, live_rules):
     huge = uniform_motion_frame(200, 120, (400.0, 0.0))
     assert bl.blur(ctx, huge, FILTER, k="auto").params["k"] == 12  # 120 / 8 = 15 -> 12
     still = uniform_motion_frame(200, 120, (0.0, 0.0))
@@ -73,7 +103,7 @@ def test_auto_k_is_capped_by_the_image_and_floored_for_a_still_frame(ctx):
 
 
 @pytest.mark.parametrize("name", ["reconstruct_guertin2014", "reconstruct_urho3d"])
-def test_every_tile_filter_takes_auto(ctx, name):
+def test_every_tile_filter_takes_auto(ctx, live_rules, name):
     frame = uniform_motion_frame(200, 120, (24.0, 0.0))
     assert bl.blur(ctx, frame, name, k="auto").params["k"] == 12
 
@@ -84,7 +114,7 @@ def test_auto_is_refused_where_a_parameter_has_no_rule(ctx):
         bl.blur(ctx, frame, "gather_box", taps="auto")
 
 
-def test_steps_choose_auto_per_sub_interval(ctx):
+def test_steps_choose_auto_per_sub_interval(ctx, live_rules):
     scene = bl.scenes.get("fan")
     _, one = bl.render_and_blur(ctx, scene, FILTER, size=(160, 90), k="auto")
     _, two = bl.render_and_blur(ctx, scene, FILTER, size=(160, 90), steps=2, k="auto")
@@ -94,7 +124,7 @@ def test_steps_choose_auto_per_sub_interval(ctx):
     assert two.params["steps"] == 2
 
 
-def test_sweeps_record_what_auto_chose(ctx):
+def test_sweeps_record_what_auto_chose(ctx, live_rules):
     table = bl.sweep(
         ctx,
         ["fan"],

@@ -8,7 +8,7 @@ imports it."""
 # each module registers its own benchmarks
 from . import frame, filters, sweeps, quality, controls, soak, transparency  # noqa: F401, I001
 from . import auto_rules, directions, random_scenes, rankings, taps, temporal  # noqa: F401
-from . import first_example, godot_fixes, queue_depth, suite  # noqa: F401
+from . import auto_holds, first_example, godot_fixes, perceptual, queue_depth, suite  # noqa: F401
 from .core import (
     Benchmark,
     Measured,

@@ -1,8 +1,9 @@
 """The auto_rules benchmark (docs/spec.md §23.3, docs/recommend.md): for each tile filter (k
 and samples) and for gather_coverage (tile size and samples), a threshold rule on a frame's
 motion radius is fitted on random seeds 0..A-1, then judged on seeds A..2A-1, which it never
-saw, against each scene's best fixed configuration, today's default and today's "auto" rule;
-and on every built-in scene against today's default."""
+saw, against each scene's best fixed configuration, today's default and today's "auto" rule
+where one is live (blurlab.studies.auto_check judges the withdrawn ones); and on every
+built-in scene against today's default."""
 
 from __future__ import annotations
 
@@ -11,7 +12,7 @@ import json
 from blurlab.methods import method, methods
 from blurlab.methods.params import Param
 from blurlab.scene import scenes
-from blurlab.studies import auto_rules
+from blurlab.studies import auto_check, auto_rules
 
 from .core import Benchmark, register
 from .rankings import sweep_on_workers
@@ -20,8 +21,11 @@ from .timing import split
 
 
 def tile_filters() -> list[str]:
-    """The methods whose k has an "auto" rule."""
-    return [n for n in methods() if "k" in method(n).params and method(n).params["k"].auto]
+    """The methods whose k has an "auto" rule, live or withdrawn."""
+    return sorted(
+        {r.method for r in auto_check.auto_parameters() if r.param == "k"},
+        key=methods().index,
+    )
 
 
 def tile_gathers() -> list[str]:
@@ -37,7 +41,9 @@ def _grids(p, names: list[str]) -> dict:
         if name in tile_filters():
             k_values = [int(k) for k in split(p["fixed_k"])]
             samples = [int(s) for s in split(p["samples"])]
-            grids[name] = [{"k": k_values, "samples": samples}, {"k": ["auto"], "samples": [15]}]
+            grids[name] = [{"k": k_values, "samples": samples}]
+            if method(name).params["k"].auto is not None:  # a live rule is judged too
+                grids[name].append({"k": ["auto"], "samples": [15]})
         elif name in tile_gathers():
             grids[name] = {
                 "tile_percent": [float(t) for t in split(p["coverage_tiles"])],

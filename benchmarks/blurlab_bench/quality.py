@@ -1,5 +1,5 @@
 """Benchmarks of what the methods get right, with their time beside: the engines side by side,
-HDR scenes, the failure suite, k="auto", `blurlab recommend`, real content, Blender's
+HDR scenes, the failure suite, `blurlab recommend`, real content, Blender's
 cross-check, and resource use over long loops."""
 
 from __future__ import annotations
@@ -330,54 +330,6 @@ register(
         _failures,
         {"tiny": (32, 18), "software": (160, 90), "gpu": (320, 180)},
         {"tiny": {"scenes": "thin_bar", "frames": 2}},
-    )
-)
-
-FIXED_K = (4, 8, 12, 16, 20, 24, 32, 40, 48, 64, 80, 96, 128)
-
-
-def _auto_k(ctx, size, p, out) -> None:
-    filters = [n for n in methods() if "k" in method(n).params and method(n).params["k"].auto]
-    fixed = [int(k) for k in split(p["fixed_k"])]
-    names = split(p["scenes"]) or scenes.names() + scenes.names("failure")
-    grids = {name: {"k": [*fixed, "auto"]} for name in filters}
-    table = sweep(ctx, names, grids, size, metrics=("psnr",), progress=False, repeats=1)
-    rows, losses = [], []
-    for (scene, name), group in table.groupby(["scene", "method"], sort=False):
-        ks = [json.loads(params)["k"] for params in group["params"]]
-        psnr = dict(zip(ks, group["psnr"], strict=True))
-        best = max(fixed, key=lambda k: psnr[k])
-        losses.append(psnr["auto"] - psnr[best])
-        chosen = json.loads(group[[k == "auto" for k in ks]].iloc[0]["auto_k"])
-        short = name.removeprefix("reconstruct_")
-        rows.append([scene, short, best, psnr[best], str(chosen), psnr["auto"], losses[-1]])
-    out.figure(
-        "(scene, filter) with auto within 0.1 dB of the best fixed k",
-        sum(loss >= -0.1 for loss in losses),
-        f"of {len(losses)}",
-    )
-    out.figure("auto − best fixed k, median", statistics.median(losses), "dB")
-    out.figure("auto − best fixed k, worst", min(losses), "dB")
-    out.table(
-        f'k = "auto" against fixed k ({p["fixed_k"]}), PSNR against the reference',
-        [("scene", ""), ("filter", ""), ("best fixed k", ""), ("its PSNR", "dB")]
-        + [("auto k", ""), ("auto PSNR", "dB"), ("auto − best", "dB")],
-        rows,
-    )
-
-
-register(
-    Benchmark(
-        "auto_k",
-        'the k = "auto" rule against every fixed k on every built-in and failure scene, for '
-        "each tile filter that offers it",
-        {
-            "scenes": Param("", str, "comma-separated scenes (empty: built-in + failure)"),
-            "fixed_k": Param(",".join(map(str, FIXED_K)), str, "fixed k values to beat"),
-        },
-        _auto_k,
-        {"tiny": (64, 36), "software": (160, 90), "gpu": (1920, 1080)},
-        {"tiny": {"scenes": "fan", "fixed_k": "8,20"}},
     )
 )
 

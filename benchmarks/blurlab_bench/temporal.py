@@ -30,7 +30,8 @@ SEQUENCE_PARAMS = {
 }
 
 
-def _scenes(text: str) -> list[str]:
+def sequence_scenes(text: str) -> list[str]:
+    """The scenes named in `text` (comma-separated), or the built-in and failure scenes."""
     return split(text) or scenes.names() + scenes.names("failure")
 
 
@@ -38,7 +39,7 @@ def _temporal_orders(ctx, size, p, out) -> None:
     methods = split(p["methods"]) or temporal.sequence_methods()
     table = temporal.evaluate_orders(
         ctx,
-        _scenes(p["scenes"]),
+        sequence_scenes(p["scenes"]),
         methods,
         size,
         p["frames"],
@@ -120,7 +121,7 @@ def _frame_rate(ctx, size, p, out) -> None:
     rates = [float(r) for r in split(p["rates"])]
     table = temporal.evaluate_frame_rates(
         ctx,
-        _scenes(p["scenes"]),
+        sequence_scenes(p["scenes"]),
         methods,
         size,
         rates,
@@ -241,7 +242,7 @@ register(
 
 def _taa_convergence(ctx, size, p, out) -> None:
     rows = []
-    for name in _scenes(p["scenes"]):
+    for name in sequence_scenes(p["scenes"]):
         scene = scenes.get(name)
         held = still(scene, sum(scene.shutter) / 2)
         seq = sequence(ctx, held, size, frames=p["frames"], reference_samples=1)

@@ -14,6 +14,16 @@ import numpy as np
 
 
 @dataclass(frozen=True)
+class WithdrawnAuto:
+    """An "auto" rule withdrawn because it lost to the parameter's default on scenes no fit
+    had read (docs/spec.md §14). The parameter refuses "auto" with an error naming `instead`;
+    the rule stays so that the auto_holds benchmark shows, on every run, why it went."""
+
+    rule: Callable  # rule(frame, values) -> a value, as Param.auto
+    instead: str  # what to pass instead, in words
+
+
+@dataclass(frozen=True)
 class Param:
     """One parameter: its default, its type and, for numbers, its allowed range.
 
@@ -32,6 +42,9 @@ class Param:
     # The rule that `"auto"` stands for: auto(frame, values) -> a value, where `values` holds
     # the call's other parameters (so a rule may read, say, the exposure); None: no "auto".
     auto: Callable | None = None
+    # A rule withdrawn for failing the bar on held-out scenes: "auto" is refused, naming what
+    # to pass instead.
+    withdrawn_auto: WithdrawnAuto | None = None
 
     def allowed(self) -> str:
         """What values are allowed, in words (for error messages and docs)."""
@@ -83,6 +96,16 @@ def is_auto(value) -> bool:
     return isinstance(value, str) and value == "auto"
 
 
+def auto_refused(owner: str, key: str, p: Param) -> str:
+    """The error for `"auto"` given to parameter `key` of `owner`, which has no live rule."""
+    if p.withdrawn_auto is None:
+        return f"blurlab: {owner} parameter {key} has no 'auto' rule"
+    return (
+        f'blurlab: {owner} parameter {key}="auto" was withdrawn: its rule lost to the default '
+        f"on held-out scenes (docs/recommend.md). {p.withdrawn_auto.instead}"
+    )
+
+
 def check_known(owner: str, params: dict[str, Param], given) -> None:
     """A TypeError naming `owner`'s parameters (and defaults) if `given` names any other."""
     unknown = set(given) - set(params)
@@ -102,6 +125,8 @@ def typed(owner: str, key: str, value, p: Param):
     one place where every parameter is type- and range-checked. Every error names the owner,
     the parameter, the value and what is allowed."""
     where = f"blurlab: {owner} parameter {key}"
+    if p.withdrawn_auto is not None and is_auto(value):
+        raise ValueError(auto_refused(owner, key, p))
     kind = p.kind
     if kind is object:
         return value

@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..core.frame import Frame
-from .params import Param, check_known, is_auto, typed
+from .params import Param, auto_refused, check_known, is_auto, typed
 
 # What a method is, for the studies that choose methods by what they do:
 #   filter    - a tile-based reconstruction filter (k, samples, soft_z): failure-suite
@@ -268,7 +268,7 @@ def _resolve_params(m: Method, frame: Frame | None, given: dict, frame_free: boo
         value = given.get(key, None)
         if key in automatic:
             if p.auto is None:
-                raise ValueError(f"blurlab: {m.name} parameter {key} has no 'auto' rule")
+                raise ValueError(auto_refused(m.name, key, p))
             continue  # chosen below, once the other parameters are known
         if value is None and callable(p.default) and frame_free:
             continue  # defaults read from a frame are not needed to know the instant

@@ -102,6 +102,27 @@ class Metric:
 
 
 _REGISTRY: dict[str, Metric] = {}
+# Metrics of optional extras: {name: (what it is, what to install)}. Each is registered only
+# where its extra is installed; asking for one elsewhere says what to install, and
+# docs/metrics.md lists them apart, the same with or without the extra.
+_OPTIONAL: dict[str, tuple[str, str, str]] = {}
+
+
+def declare_optional(name: str, label: str, doc: str, needs: str) -> None:
+    """Declares metric `name` (`label`, `doc` as its Metric's) as one of an optional extra
+    (`needs`: the install line), whether or not it is installed here; the module registers it
+    too where it is."""
+    _OPTIONAL[name] = (label, doc, needs)
+
+
+def _unknown(caller: str, names: list[str]) -> ValueError:
+    missing = [n for n in names if n in _OPTIONAL]
+    unknown = [n for n in names if n not in _OPTIONAL]
+    parts = [f"unknown metrics {unknown}; choose from {registered()}"] if unknown else []
+    if missing:
+        needs = "; ".join(f"{n}: {_OPTIONAL[n][2]}" for n in missing)
+        parts.append(f"metrics {missing} are not installed here ({needs})")
+    return ValueError(f"{caller}: " + "; ".join(parts))
 
 
 def register(metric: Metric) -> Metric:
@@ -133,6 +154,8 @@ def registered() -> list[str]:
 def get(name: str) -> Metric:
     """The registered metric `name`."""
     if name not in _REGISTRY:
+        if name in _OPTIONAL:
+            raise _unknown("blurlab.metrics", [name])
         raise ValueError(f"blurlab.metrics: no metric {name!r}; registered metrics: {registered()}")
     return _REGISTRY[name]
 
@@ -146,7 +169,7 @@ def check_names(names: Iterable[str], caller: str, sequences: bool = False) -> t
     names = tuple(names)
     unknown = [n for n in names if n not in _REGISTRY]
     if unknown:
-        raise ValueError(f"{caller}: unknown metrics {unknown}; choose from {registered()}")
+        raise _unknown(caller, unknown)
     over_time = [n for n in names if _REGISTRY[n].sequence]
     if over_time and not sequences:
         raise ValueError(
@@ -195,14 +218,17 @@ def reference_page() -> str:
         "| metric | better | range | colour | reference | on the GPU | by default | spec |",
         "|---|---|---|---|---|---|---|---|",
     ]
-    for name, m in _REGISTRY.items():
+    # The optional extras' metrics are listed apart, so that the page is the same whether or
+    # not they are installed.
+    always = {name: m for name, m in _REGISTRY.items() if name not in _OPTIONAL}
+    for name, m in always.items():
         gpu = f"`{m.reduction}` reduction" if m.reduction else ("yes" if m.gpu else "no")
         default = "HDR scenes" if m.default and m.hdr else ("yes" if m.default else "no")
         lines.append(
             f"| `{name}` | {m.direction} | [{_number(m.range[0])}, {_number(m.range[1])}] | "
             f"{'HDR' if m.hdr else 'LDR'} | {m.reference} | {gpu} | {default} | {m.spec} |"
         )
-    for name, m in _REGISTRY.items():
+    for name, m in always.items():
         unit = f" in {m.unit}" if m.unit else ""
         lines += ["", f"## {name}: {m.label}", "", m.doc, ""]
         lines.append(
@@ -228,6 +254,9 @@ def reference_page() -> str:
         if m.default:
             where = "on HDR scenes" if m.hdr else "on every scene"
             lines.append(f"- Computed by default {where}.")
+    for name, (label, doc, needs) in _OPTIONAL.items():
+        lines += ["", f"## {name}: {label} (optional)", "", doc, ""]
+        lines.append(f"- Registered only where its optional extra is installed: `{needs}`.")
     return "\n".join(lines) + "\n"
 
 
