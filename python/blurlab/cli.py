@@ -40,7 +40,8 @@ from .studies.cluster import account_table
 from .studies.cluster_devices import local_cluster
 from .studies.scheduler import CONNECT_TIMEOUT_S, scheduler_client
 from .studies.sequence_study import run_sequence_study
-from .studies.study import run_study, run_sweep_config
+from .studies.study import run_study
+from .studies.sweep_config import run_sweep_config
 from .twins.patterns import test_pattern
 
 # The benchmarks are a development package of the checkout, which the wheel does not ship.
