@@ -3,11 +3,11 @@
 // validated in Python, once per call). A pass declares its NeighborMax input itself.
 #include "common/inputs.glsl"
 
-layout(binding = 0) uniform sampler2D color;
-// The G-buffer as docs/spec.md §10.1 reads it: three textures sanitized on every read, or with
-// PACKED_INPUTS the two half-float textures of passes/pack_inputs.comp (§19), sanitized once
-// when packed, depth and motion in one fetch.
+// The G-buffer as docs/spec.md §10.1 reads it: three textures sanitized on every read
+// (common/gbuffer.glsl), or with PACKED_INPUTS the two half-float textures of
+// passes/pack_inputs.comp (§19), sanitized once when packed, depth and motion in one fetch.
 #ifdef PACKED_INPUTS
+layout(binding = 0) uniform sampler2D color;
 layout(binding = 1) uniform sampler2D motion_depth;  // xy: motion, z: depth
 
 vec4 color_at(ivec2 p) {
@@ -20,16 +20,11 @@ void depth_motion_at(ivec2 p, out float z, out vec2 m) {
     m = texel.xy;
 }
 #else
-layout(binding = 1) uniform sampler2D depth;
-layout(binding = 2) uniform sampler2D motion;
-
-vec4 color_at(ivec2 p) {
-    return sanitize_color(texelFetch(color, p, 0));
-}
+#include "common/gbuffer.glsl"
 
 void depth_motion_at(ivec2 p, out float z, out vec2 m) {
-    z = sanitize_depth(texelFetch(depth, p, 0).x);
-    m = sanitize_motion(texelFetch(motion, p, 0).xy);
+    z = depth_at(p);
+    m = motion_at(p);
 }
 #endif
 uniform int k;

@@ -44,12 +44,3 @@ uint far_key(vec2 codes) {
 vec2 far_codes(uint key) {
     return vec2(float(key >> 11), float(key & 2047u));
 }
-
-// Whether velocity `codes` of the tile `offset` tiles from tile D (source minus D) reaches D:
-// §17.5 step 3's segment test, the one the 7 x 7 gather and the scatter both take.
-bool reaches_tile(vec2 codes, ivec2 offset, float radius) {
-    vec2 v = decode_polar(codes, radius) / float(TILE);
-    vec2 center = vec2(offset) + 0.5;  // the source's center, in D's tile coordinates
-    float widen = reach_widening(TILE);
-    return segment_meets_box(center - v, 2.0 * v, -widen, 1.0 + widen);
-}

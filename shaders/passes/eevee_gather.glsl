@@ -27,9 +27,7 @@ const uvec2 JITTER_SALTS = uvec2(0x3C6EF372u, 0xA54FF53Au);
 vec4 gather_at(ivec2 x) {
     ivec2 size = textureSize(color, 0);
     vec4 cx = sanitize_color(texelFetch(color, x, 0));
-    float s = float(tile_size);
-    ivec2 tile = jittered_tile(x, s, seed, JITTER_SALTS, textureSize(dilated, 0));
-    vec4 tile_motion = texelFetch(dilated, tile, 0);
+    vec4 tile_motion = jittered_tile_texel(dilated, x, tile_size, seed, JITTER_SALTS);
     vec4 reach = vec4(clamp_length(tile_motion.xy, max_blur), clamp_length(tile_motion.zw, max_blur));
     if (max(length(reach.xy), length(reach.zw)) < EARLY_EXIT) return cx;
 

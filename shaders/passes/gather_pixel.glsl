@@ -5,12 +5,9 @@
 // behind X's depth and fades to 0 where it lies depth_extent in front of X; C(X) weighs 1 and
 // the sum is normalised. Compute (default) or fragment.
 // NumPy twin: blurlab.twins.pixel_gather.gather_pixel.
-#include "common/inputs.glsl"
+#include "common/gbuffer.glsl"
 #include "common/random.glsl"
 
-layout(binding = 0) uniform sampler2D color;
-layout(binding = 1) uniform sampler2D depth;
-layout(binding = 2) uniform sampler2D motion;
 uniform int samples;
 uniform float spacing;
 uniform float depth_extent;
@@ -24,11 +21,11 @@ float front_weight(float z_x, float z_y) {
 
 vec4 gather_pixel_at(ivec2 x) {
     ivec2 size = textureSize(color, 0);
-    vec4 sum = sanitize_color(texelFetch(color, x, 0));
-    vec2 v = sanitize_motion(texelFetch(motion, x, 0).xy) * exposure * 0.5;
+    vec4 sum = color_at(x);
+    vec2 v = motion_at(x) * exposure * 0.5;
     int n = int(min(ceil(length(v) / spacing), float(samples)));
     if (n == 0) return sum;
-    float z_x = sanitize_depth(texelFetch(depth, x, 0).x);
+    float z_x = depth_at(x);
     float j = rand(uint(x.x), uint(x.y), seed);
     vec2 center = vec2(x) + 0.5;
     float weight = 1.0;
@@ -36,10 +33,9 @@ vec4 gather_pixel_at(ivec2 x) {
         vec2 offset = (float(i) + j) / float(n) * v;
         ivec2 y1 = clamp(ivec2(floor(center + offset)), ivec2(0), size - 1);
         ivec2 y2 = clamp(ivec2(floor(center - offset)), ivec2(0), size - 1);
-        float a1 = front_weight(z_x, sanitize_depth(texelFetch(depth, y1, 0).x));
-        float a2 = front_weight(z_x, sanitize_depth(texelFetch(depth, y2, 0).x));
-        sum += a1 * sanitize_color(texelFetch(color, y1, 0))
-             + a2 * sanitize_color(texelFetch(color, y2, 0));
+        float a1 = front_weight(z_x, depth_at(y1));
+        float a2 = front_weight(z_x, depth_at(y2));
+        sum += a1 * color_at(y1) + a2 * color_at(y2);
         weight += a1 + a2;
     }
     return sum / weight;

@@ -8,11 +8,9 @@
 // depth change dz (the depth velocity) beside it; V and dz scaled by the frame-rate mode's factor.
 // Stored as (V, depth, dz).
 // Compute, one invocation per pixel. NumPy twin: blurlab.twins.godot.velocity.
-#include "common/inputs.glsl"
+#include "common/velocity_setup.glsl"
 #include "common/camera_motion.glsl"
 
-layout(binding = 0) uniform sampler2D depth;
-layout(binding = 1) uniform sampler2D motion;
 uniform float rotation_multiplier;
 uniform float translation_multiplier;
 uniform float object_multiplier;
@@ -22,9 +20,6 @@ uniform bool depth_velocity;
 uniform float framerate_scale;  // the frame-rate mode's factor, from twins.godot.framerate_scale
 uniform float flip_guard;  // twins.godot.FLIP_GUARD
 uniform bool has_camera;  // false for a frame made from arrays: all of its motion is the object's
-
-layout(local_size_x = 16, local_size_y = 16) in;
-layout(binding = 0, rgba32f) uniform writeonly image2D velocity;
 
 // `end` moved back along the segment from `instant` to where it meets the near plane, where
 // it lies closer than that plane.
@@ -62,8 +57,8 @@ void main() {
     ivec2 x = ivec2(gl_GlobalInvocationID.xy);
     ivec2 size = imageSize(velocity);
     if (any(greaterThanEqual(x, size))) return;
-    float z = sanitize_depth(texelFetch(depth, x, 0).x);
-    vec2 m = sanitize_motion(texelFetch(motion, x, 0).xy);
+    float z = depth_at(x);
+    vec2 m = motion_at(x);
     vec2 v = object_multiplier * m;
     float dz = 0.0;
     if (has_camera) {

@@ -4,14 +4,12 @@
 // maximum_velocity; stored polar (length, turn) in two unsigned 11-bit floats and the linear
 // depth in an unsigned 10-bit float: the B10G11R11 texel, its codes kept exactly in RGBA32F.
 // Compute, one invocation per pixel. NumPy twin: blurlab.twins.hdrp.velocity_setup.
-#include "common/inputs.glsl"
+#include "common/velocity_setup.glsl"
 #include "common/camera_motion.glsl"
 #include "common/small_float.glsl"
 #include "common/polar_small_float.glsl"
 #include "common/vector_clamps.glsl"
 
-layout(binding = 0) uniform sampler2D depth;
-layout(binding = 1) uniform sampler2D motion;
 uniform float intensity;
 uniform float maximum_velocity;
 uniform bool camera_motion_blur;
@@ -21,11 +19,8 @@ uniform float translation_clamp;
 uniform float motion_vector_clamp;
 uniform bool has_camera;  // false for a frame made from arrays: no camera motion to split off
 
-layout(local_size_x = 16, local_size_y = 16) in;
-layout(binding = 0, rgba32f) uniform writeonly image2D velocity;
-
 vec2 hdrp_velocity(ivec2 x, ivec2 size, float z) {
-    vec2 m = sanitize_motion(texelFetch(motion, x, 0).xy) * intensity;
+    vec2 m = motion_at(x) * intensity;
     if (!has_camera || (camera_motion_blur && camera_clamp_mode == CAMERA_CLAMP_MODE_NONE))
         return clamp_length(m, maximum_velocity);
     vec2 whole = camera_motion(x, size, z) * intensity;
@@ -54,7 +49,7 @@ void main() {
     ivec2 x = ivec2(gl_GlobalInvocationID.xy);
     ivec2 size = imageSize(velocity);
     if (any(greaterThanEqual(x, size))) return;
-    float z = sanitize_depth(texelFetch(depth, x, 0).x);
+    float z = depth_at(x);
     vec2 v = hdrp_velocity(x, size, z);
     imageStore(velocity, x, vec4(polar_codes(v), quantize_small_float(z, UF10_MANTISSA), 0.0));
 }

@@ -26,15 +26,15 @@ float interleaved_gradient_noise(ivec2 x) {
 }
 
 float length_at(ivec2 p) {
-    return length(half_velocity(sanitize_motion(texelFetch(motion, p, 0).xy), exposure, float(k)));
+    return length(half_velocity(motion_at(p), exposure, float(k)));
 }
 
 vec4 reconstruct_at(ivec2 x) {
     ivec2 size = textureSize(color, 0);
-    vec4 cx = sanitize_color(texelFetch(color, x, 0));
+    vec4 cx = color_at(x);
     vec2 vn = texelFetch(neighbor_max, x / k, 0).xy;
     if (length(vn) <= EARLY_EXIT) return cx;
-    float z_x = sanitize_depth(texelFetch(depth, x, 0).x);
+    float z_x = depth_at(x);
     float len_x = length_at(x);
     int pairs = max(samples / 2, 1);
     float j = interleaved_gradient_noise(x);
@@ -43,14 +43,13 @@ vec4 reconstruct_at(ivec2 x) {
     for (int i = 0; i < pairs; ++i) {
         ivec2 y1, y2;
         mirrored_taps(x, vn, i, j, pairs, size, y1, y2);
-        float z1 = sanitize_depth(texelFetch(depth, y1, 0).x);
-        float z2 = sanitize_depth(texelFetch(depth, y2, 0).x);
+        float z1 = depth_at(y1);
+        float z2 = depth_at(y2);
         float len1 = length_at(y1), len2 = length_at(y2);
         float a1 = depth_spread_weight(z_x, len_x, z1, len1, length(vec2(y1 - x)), soft_z);
         float a2 = depth_spread_weight(z_x, len_x, z2, len2, length(vec2(y2 - x)), soft_z);
         mirror_pair(a1, a2, z1, z2, len1, len2);
-        vec4 c1 = sanitize_color(texelFetch(color, y1, 0));
-        add_pair(a1, a2, c1, sanitize_color(texelFetch(color, y2, 0)), sum, weight);
+        add_pair(a1, a2, color_at(y1), color_at(y2), sum, weight);
     }
     return left_to_center(sum, weight, cx, pairs);
 }

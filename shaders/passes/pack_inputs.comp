@@ -4,24 +4,21 @@
 // that the tile filters read with PACKED_INPUTS: colour, and (motion.x, motion.y, depth, 0).
 // An image format has no three-channel half-float layout, so w is written 0 and left unread.
 // NumPy twin: blurlab.twins.inputs.pack_half.
-#include "common/inputs.glsl"
+#include "common/gbuffer.glsl"
 #include "common/half_float.glsl"
 
 layout(local_size_x = 16, local_size_y = 16) in;
-layout(binding = 0) uniform sampler2D color;
-layout(binding = 1) uniform sampler2D depth;
-layout(binding = 2) uniform sampler2D motion;
 layout(binding = 0, rgba16f) uniform writeonly image2D packed_color;
 layout(binding = 1, rgba16f) uniform writeonly image2D packed_motion_depth;
 
 void main() {
     ivec2 p = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(p, imageSize(packed_color)))) return;
-    vec4 c = clamp(sanitize_color(texelFetch(color, p, 0)), -HALF_MAX, HALF_MAX);
-    vec2 m = clamp(sanitize_motion(texelFetch(motion, p, 0).xy), -HALF_MAX, HALF_MAX);
+    vec4 c = clamp(color_at(p), -HALF_MAX, HALF_MAX);
+    vec2 m = clamp(motion_at(p), -HALF_MAX, HALF_MAX);
     // A finite depth stays finite, positive and normal in half (0, or a subnormal that a driver
     // may flush to 0, would read as "nothing drawn"); the background's +inf stays +inf.
-    float z = sanitize_depth(texelFetch(depth, p, 0).x);
+    float z = depth_at(p);
     if (is_finite_bits(z)) z = clamp(z, HALF_MIN_NORMAL, HALF_MAX);
     imageStore(packed_color, p, round_to_half(c));
     imageStore(packed_motion_depth, p, round_to_half(vec4(m, z, 0.0)));

@@ -28,9 +28,8 @@ const uvec2 JITTER_SALTS = uvec2(0x1B873593u, 0xCC9E2D51u);
 vec4 reconstruct_at(ivec2 x) {
     ivec2 size = textureSize(color, 0);
     vec4 cx = sanitize_color(texelFetch(color, x, 0));
-    float s = float(tile);
-    ivec2 t_lookup = jittered_tile(x, s, seed, JITTER_SALTS, textureSize(neighbor_max, 0));
-    vec2 vmax = decode_velocity(texelFetch(neighbor_max, t_lookup, 0).xy, radius);
+    vec4 lookup = jittered_tile_texel(neighbor_max, x, tile, seed, JITTER_SALTS);
+    vec2 vmax = decode_velocity(lookup.xy, radius);
     float l_max = length(vmax);
     if (l_max < EARLY_EXIT) return cx;
 

@@ -3,17 +3,12 @@
 // radius R, mapped from [-R, R] to [0, 1], and the linear depth Z/far clamped to [0, 1], each
 // as a 10-bit code (the engine's 10:10:10:2 buffer; kept here in RGBA32F, the codes exact).
 // Compute, one invocation per pixel. NumPy twin: blurlab.twins.unity.velocity_setup.
-#include "common/inputs.glsl"
+#include "common/velocity_setup.glsl"
 #include "common/unity.glsl"
 
-layout(binding = 0) uniform sampler2D depth;
-layout(binding = 1) uniform sampler2D motion;
 uniform float exposure;
 uniform float far;
 uniform float radius;  // R, pixels
-
-layout(local_size_x = 16, local_size_y = 16) in;
-layout(binding = 0, rgba32f) uniform writeonly image2D velocity;
 
 float quantize(float x) {
     return floor(clamp(x, 0.0, 1.0) * CODE_MAX + 0.5);
@@ -22,10 +17,10 @@ float quantize(float x) {
 void main() {
     ivec2 x = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(x, imageSize(velocity)))) return;
-    vec2 v = sanitize_motion(texelFetch(motion, x, 0).xy) * exposure * 0.5;
+    vec2 v = motion_at(x) * exposure * 0.5;
     float n = length(v);
     if (n > radius) v *= radius / n;
-    float z = min(sanitize_depth(texelFetch(depth, x, 0).x) / far, 1.0);
+    float z = min(depth_at(x) / far, 1.0);
     vec2 c = vec2(quantize((v.x / radius + 1.0) * 0.5), quantize((v.y / radius + 1.0) * 0.5));
     imageStore(velocity, x, vec4(c, quantize(z), 0.0));
 }

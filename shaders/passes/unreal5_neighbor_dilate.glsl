@@ -13,19 +13,15 @@
 #define TILE_LISTS_APPEND 1
 #include "common/tile_lists.glsl"
 #include "common/unreal5.glsl"
+#include "common/neighbor_dilate.glsl"
 
-layout(binding = 0) uniform sampler2D tiles;
 #ifdef SCATTER
 layout(binding = 1) uniform usampler2D far_key_in;
 layout(binding = 2) uniform usampler2D far_min_in;
 #endif
-uniform float radius;  // R, pixels
 uniform int directions;
 uniform int taps;  // the quality level's sample count
 uniform int half_res_gather;
-
-layout(local_size_x = 8, local_size_y = 8) in;
-layout(binding = 0, rgba32f) uniform writeonly image2D neighbors;
 
 void main() {
     ivec2 tile = ivec2(gl_GlobalInvocationID.xy);
@@ -38,7 +34,7 @@ void main() {
         for (int oy = -NEIGHBORHOOD_REACH; oy <= NEIGHBORHOOD_REACH; ++oy) {
             for (int ox = -NEIGHBORHOOD_REACH; ox <= NEIGHBORHOOD_REACH; ++ox) {
                 ivec2 source = tile + ivec2(ox, oy);
-                if (any(lessThan(source, ivec2(0))) || any(greaterThanEqual(source, grid))) continue;
+                if (outside(source, grid)) continue;
                 vec4 s = texelFetch(tiles, source, 0);
                 bool met = false;
                 for (int k = 0; k < directions; ++k) {

@@ -6,31 +6,20 @@
 // among equal codes) and their smallest length, and is classified: skip under SKIP_BELOW px,
 // fast where min > 0.4·max (5·min > 2·max in codes), else slow. Compute, one thread per tile.
 // NumPy twin: blurlab.twins.unreal.neighbor_dilate.
-#include "common/polar_fixed_point.glsl"
-#include "common/tile_reach.glsl"
-#include "common/unreal.glsl"
-
-layout(binding = 0) uniform sampler2D tiles;
-uniform float radius;  // R, pixels
-
-layout(local_size_x = 8, local_size_y = 8) in;
-layout(binding = 0, rgba32f) uniform writeonly image2D neighbors;
+#include "common/neighbor_dilate.glsl"
 
 void main() {
     ivec2 tile = ivec2(gl_GlobalInvocationID.xy);
     ivec2 grid = textureSize(tiles, 0);
     if (any(greaterThanEqual(tile, grid))) return;
-    float widen = reach_widening(TILE);
     vec2 longest = vec2(-1.0, 0.0);
     float shortest = 1e30;
     for (int oy = -NEIGHBORHOOD_REACH; oy <= NEIGHBORHOOD_REACH; ++oy) {
         for (int ox = -NEIGHBORHOOD_REACH; ox <= NEIGHBORHOOD_REACH; ++ox) {
             ivec2 source = tile + ivec2(ox, oy);
-            if (any(lessThan(source, ivec2(0))) || any(greaterThanEqual(source, grid))) continue;
+            if (outside(source, grid)) continue;
             vec4 s = texelFetch(tiles, source, 0);
-            vec2 v = decode_polar(s.xy, radius) / float(TILE);
-            vec2 center = vec2(ox, oy) + 0.5;  // S's center, in D's tile coordinates
-            if (!segment_meets_box(center - v, 2.0 * v, -widen, 1.0 + widen)) continue;
+            if (!reaches_tile(s.xy, ivec2(ox, oy), radius)) continue;
             if (s.x > longest.x) longest = s.xy;
             shortest = min(shortest, s.z);
         }

@@ -116,6 +116,19 @@ def _made_once(ctx: Context, frame: Frame, key, make):
     return made[key]
 
 
+def _layer_pass(
+    ctx: Context, frame: Frame, shader: str, inputs: dict, outputs: dict, uniforms: dict
+) -> None:
+    """Runs the per-frame pass `shader` (passes/NAME.comp) that makes a layer frame: timed into
+    frame.timings[NAME], as the G-buffer's own passes are, and its outputs back to the pool
+    with the frame."""
+    program = ctx.shader_pass(shader)  # compiled outside the timing
+    with ctx.timer() as timing:
+        program.run(inputs, outputs, uniforms)
+    frame.timings[shader.removeprefix("passes/").removesuffix(".comp")] = timing
+    weakref.finalize(frame, ctx.recycle, *outputs.values())
+
+
 def opaque_frame(ctx: Context, frame: Frame) -> Frame:
     """The frame's opaque layer as a frame of `ctx` (docs/spec.md §20.3), made once per frame."""
 
@@ -143,15 +156,14 @@ def translucent_frame(ctx: Context, frame: Frame) -> Frame:
             "layer_sides": ctx.pooled((height, width, 4)),
         }
         share_prev = np.float32(frame.instant_fraction)
-        split = ctx.shader_pass("passes/translucent_split.comp")
-        with ctx.timer() as timing:
-            split.run(
-                {"translucent_motion": textures["translucent_motion"]},
-                split_outputs,
-                {"share_prev": share_prev, "share_next": np.float32(1.0 - share_prev)},
-            )
-        frame.timings["translucent_split"] = timing
-        weakref.finalize(frame, ctx.recycle, *split_outputs.values())
+        _layer_pass(
+            ctx,
+            frame,
+            "passes/translucent_split.comp",
+            {"translucent_motion": textures["translucent_motion"]},
+            split_outputs,
+            {"share_prev": share_prev, "share_next": np.float32(1.0 - share_prev)},
+        )
         return frame.with_textures(
             {
                 "color": textures["translucent"],
@@ -183,11 +195,14 @@ def chosen_frame(ctx: Context, frame: Frame, motion_coverage: float) -> Frame:
             "motion": textures["motion"],
             "depth": textures["depth"],
         }
-        select = ctx.shader_pass("passes/translucency_motion.comp")
-        with ctx.timer() as timing:
-            select.run(inputs, chosen, {"motion_coverage": motion_coverage})
-        frame.timings["translucency_motion"] = timing
-        weakref.finalize(frame, ctx.recycle, *chosen.values())
+        _layer_pass(
+            ctx,
+            frame,
+            "passes/translucency_motion.comp",
+            inputs,
+            chosen,
+            {"motion_coverage": motion_coverage},
+        )
         return frame.with_textures(
             {
                 "color": textures["color"],

@@ -73,6 +73,21 @@ def classify(longest: np.ndarray, shortest: np.ndarray, radius: float) -> np.nda
     return np.where(longest / LENGTH_CODE_MAX * radius < SKIP_BELOW, SKIP, kind)
 
 
+def neighborhood_sources(tiles: np.ndarray):
+    """The scatter-as-gather scan of §17.5 step 3 and §17.7 step 3: for each offset (ox, oy) of
+    the 7 x 7 around every tile D, in row-major order, the (tiles_h, tiles_w) mask of the D whose
+    source tile D + (ox, oy) lies in the grid, and the (tiles_h, tiles_w, 4) source tiles (edges
+    clamped where it does not)."""
+    th, tw = tiles.shape[:2]
+    ty, tx = np.mgrid[0:th, 0:tw]
+    reach = NEIGHBORHOOD_REACH
+    for oy in range(-reach, reach + 1):
+        for ox in range(-reach, reach + 1):
+            sy, sx = ty + oy, tx + ox
+            inside = (sy >= 0) & (sy < th) & (sx >= 0) & (sx < tw)
+            yield (ox, oy), inside, tiles[np.clip(sy, 0, th - 1), np.clip(sx, 0, tw - 1)]
+
+
 def neighbor_dilate(tiles: np.ndarray, radius: float) -> np.ndarray:
     """§17.5 step 3: (tiles_h, tiles_w, 4): for each tile D, the codes of the longest velocity
     among the tiles of its 7 x 7 neighbourhood that reach it (the first in row-major order
@@ -81,17 +96,11 @@ def neighbor_dilate(tiles: np.ndarray, radius: float) -> np.ndarray:
     longest = np.zeros((th, tw, 2))
     longest[..., 0] = -1
     shortest = np.full((th, tw), np.inf)
-    ty, tx = np.mgrid[0:th, 0:tw]
-    reach = NEIGHBORHOOD_REACH
-    for oy in range(-reach, reach + 1):
-        for ox in range(-reach, reach + 1):
-            sy, sx = ty + oy, tx + ox
-            valid = (sy >= 0) & (sy < th) & (sx >= 0) & (sx < tw)
-            source = tiles[np.clip(sy, 0, th - 1), np.clip(sx, 0, tw - 1)]
-            valid &= reaches(source, (-ox, -oy), radius)
-            better = valid & (source[..., 0] > longest[..., 0])
-            longest = np.where(better[..., None], source[..., :2], longest)
-            shortest = np.where(valid, np.minimum(shortest, source[..., 2]), shortest)
+    for (ox, oy), inside, source in neighborhood_sources(tiles):
+        valid = inside & reaches(source, (-ox, -oy), radius)
+        better = valid & (source[..., 0] > longest[..., 0])
+        longest = np.where(better[..., None], source[..., :2], longest)
+        shortest = np.where(valid, np.minimum(shortest, source[..., 2]), shortest)
     kind = classify(longest[..., 0], shortest, radius)
     return np.concatenate([longest, shortest[..., None], kind[..., None]], axis=-1)
 

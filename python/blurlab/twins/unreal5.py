@@ -21,6 +21,7 @@ from .unreal import (
     TILE,
     max_radius_px,
     mirrored_pairs,
+    neighborhood_sources,
     reaches,
     tile_minmax,
     velocity_flatten,
@@ -106,22 +107,16 @@ def neighbor_dilate2(
     longer, with two directions the longest of the 7 x 7 whose axis lies more than AXIS_APART
     from it (packed, 0: none), and D's class."""
     th, tw = tiles.shape[:2]
-    ty, tx = np.mgrid[0:th, 0:tw]
     candidates = []  # (codes, reaches D) in scan order: tiles row-major, first before second
     shortest = np.full((th, tw), np.inf)
-    reach = NEIGHBORHOOD_REACH
-    for oy in range(-reach, reach + 1):
-        for ox in range(-reach, reach + 1):
-            sy, sx = ty + oy, tx + ox
-            valid = (sy >= 0) & (sy < th) & (sx >= 0) & (sx < tw)
-            source = tiles[np.clip(sy, 0, th - 1), np.clip(sx, 0, tw - 1)]
-            velocities = [source[..., :2]] + ([unpack(source[..., 3])] if directions == 2 else [])
-            met = np.zeros((th, tw), bool)
-            for codes in velocities:
-                hit = valid & reaches(codes, (-ox, -oy), radius)
-                candidates.append((codes, hit))
-                met |= hit
-            shortest = np.where(met, np.minimum(shortest, source[..., 2]), shortest)
+    for (ox, oy), inside, source in neighborhood_sources(tiles):
+        velocities = [source[..., :2]] + ([unpack(source[..., 3])] if directions == 2 else [])
+        met = np.zeros((th, tw), bool)
+        for codes in velocities:
+            hit = inside & reaches(codes, (-ox, -oy), radius)
+            candidates.append((codes, hit))
+            met |= hit
+        shortest = np.where(met, np.minimum(shortest, source[..., 2]), shortest)
     longest = np.zeros((th, tw, 2))
     longest[..., 0] = -1
     for codes, hit in candidates:
