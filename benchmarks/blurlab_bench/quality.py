@@ -112,9 +112,10 @@ def _engine_scene(ctx, name, size, p, runs, references) -> list[dict]:
 def pass_rows(m, result, medians: dict) -> list[tuple[str, str, int | None, float]]:
     """(pass, class, tiles, median ms) of each pass of a method's run: a pass dispatched over a
     tile list is timed as "pass[class]" (docs/spec.md §9.3), and where the method has tile lists
-    the tiles are its list's count on this frame; a pass over every pixel has no class."""
+    the tiles are its list's count on this frame; a pass over every pixel has no class (nor a
+    run with tile_dispatch="one", or on the fragment backend, which make no lists)."""
     counts = {}
-    if m.tile_lists:
+    if m.tile_lists and "tile_counts" in result.textures:
         row = result.textures["tile_counts"].download()[0, :, 0]
         counts = dict(zip(m.tile_lists, row[::4].tolist(), strict=True))
     rows = []

@@ -122,8 +122,34 @@ def write_comparator(
         writes = []
     else:
         writes = [pool.submit(job) for job in jobs]
-    fragment = _fragment(name, element, list(images), width, height, hdr, exposure, vmax)
+    sources = {
+        key: f"{FOLDER}/{name}_{key}.png" for key in ["reference", *map(str, range(len(images)))]
+    }
+    sources |= {f"error:{i}": f"{FOLDER}/{name}_{i}_error.png" for i in range(len(images))}
+    fragment = _fragment(name, element, list(images), width, height, hdr, exposure, vmax, sources)
     return fragment, writes
+
+
+def comparator_of_files(
+    name: str, size: tuple[int, int], reference: str, pictures: Mapping[str, tuple[str, str]], vmax
+) -> str:
+    """The comparator of SDR pictures already written beside the page (the study's gallery):
+    `reference` and, per method, (its picture, its error map) as paths relative to the page,
+    the error maps coloured on one scale up to `vmax`; `size` = (W, H). Nothing is written, so
+    a report shows its pictures once, in the gallery and in the comparator."""
+    if not isinstance(name, str) or not _NAME.fullmatch(name):
+        raise ValueError(
+            f"blurlab comparator: name {name!r} must be 1 to 100 letters, digits, '_', '.', '-'"
+        )
+    if not pictures:
+        raise ValueError("blurlab comparator: pictures must be a non-empty {method: files}")
+    sources = {"reference": reference}
+    for i, (picture, error) in enumerate(pictures.values()):
+        sources |= {str(i): picture, f"error:{i}": error}
+    width, height = size
+    return _fragment(
+        name, f"look-{name}", list(pictures), width, height, False, None, vmax, sources
+    )
 
 
 def _write_error_png(path: Path, error: np.ndarray, vmax: float) -> Path:
@@ -186,7 +212,7 @@ def _log_png(image: np.ndarray) -> str:
     return base64.b64encode(buffer.getvalue()).decode("ascii")
 
 
-def _fragment(name, element, methods, width, height, hdr, exposure, vmax) -> str:
+def _fragment(name, element, methods, width, height, hdr, exposure, vmax, sources) -> str:
     e = html.escape
     # Small images at an integer enlargement, large ones shrunk to fit two panels a row.
     shown = min(PANEL_WIDTH[1], width * max(1, math.ceil(PANEL_WIDTH[0] / width)))
@@ -199,11 +225,11 @@ def _fragment(name, element, methods, width, height, hdr, exposure, vmax) -> str
                 f"<canvas class='{css}' data-image='{key}' width='{width}' height='{height}'>"
                 "</canvas>"
             )
-        return f"<img class='{css}' src='{FOLDER}/{name}_{key}.png' {LAZY}>"
+        return f"<img class='{css}' src='{e(sources[key])}' {LAZY}>"
 
     panels = []
     for i, method in enumerate(methods):
-        error = f"<img class='bl-look-error' src='{FOLDER}/{name}_{i}_error.png' {LAZY}>"
+        error = f"<img class='bl-look-error' src='{e(sources[f'error:{i}'])}' {LAZY}>"
         panels.append(
             f"<figure class='bl-look-panel' data-method='{e(method)}'>"
             f"<div class='bl-look-view' style='{size}'>"

@@ -343,15 +343,17 @@ def _scene_section(
             else:
                 frame = ctx.render(scene, size, instant=instant)
             images[method_name] = blur(ctx, frame, method_name, **point).color
-        look, writes = comparator.write_comparator(
-            name, reference.color, images, out, hdr=scene.hdr, pool=work.pictures
-        )
-        shown_reference, exposure = reference.color, None
-        if scene.hdr:  # every picture tone-mapped alike, at the reference's exposure
-            exposure = metrics.exposure(reference.color)
+        look, writes, shown_reference, exposure = "", [], reference.color, None
+        if scene.hdr:  # the comparator's exposure control needs the linear colours
+            look, writes = comparator.write_comparator(
+                name, reference.color, images, out, hdr=True, pool=work.pictures
+            )
+            exposure = metrics.exposure(reference.color)  # every picture tone-mapped alike
             shown_reference = plots.tone_mapped(reference.color, exposure)
             images = {k: plots.tone_mapped(v, exposure) for k, v in images.items()}
-        gallery, encodes = write_pictures(name, shown_reference, images, out, work.pictures)
+        gallery, encodes = write_pictures(
+            name, shown_reference, images, out, work.pictures, look=not scene.hdr
+        )
         work.pictures_written.extend(encodes + writes)
     best = []
     for budget in BUDGETS_MS:
@@ -397,14 +399,15 @@ def _write_png(path: Path, image) -> Path:
 
 
 def write_pictures(
-    name: str, reference: np.ndarray, images: dict, out: Path, pool
+    name: str, reference: np.ndarray, images: dict, out: Path, pool, look: bool = False
 ) -> tuple[str, list]:
     """Writes one scene's pictures into `out` as <name>_*.png: the reference, each method's
     image and error map at full size (the colour bar, shared by the scene, apart), the crops of
     the windows where each method errs most, and the image grid. Returns the HTML that shows
-    them (each thumbnail links to its full-size file) and the futures of the work left running
-    on `pool` (a ThreadPoolExecutor): every picture is NumPy and Pillow/OpenImageIO work that
-    mostly releases the GIL, so the caller's thread goes on while they encode."""
+    them (each thumbnail links to its full-size file; with `look`, then the comparator of the
+    same files) and the futures of the work left running on `pool` (a ThreadPoolExecutor):
+    every picture is NumPy and Pillow/OpenImageIO work that mostly releases the GIL, so the
+    caller's thread goes on while they encode."""
     rgb = lambda image: image[..., :3]  # noqa: E731 (the pictures carry no alpha)
     reference = rgb(reference)
     images = {method_name: rgb(image) for method_name, image in images.items()}
@@ -445,6 +448,12 @@ def write_pictures(
         f"every image, pixels as rendered): <a href='{name}_crops.png'>"
         f"<img src='{name}_crops.png'></a></p>"
     )
+    if look:
+        files = {m: (f"{name}_{m}.png", f"{name}_{m}_error.png") for m in images}
+        height, width = reference.shape[:2]
+        html_text += comparator.comparator_of_files(
+            name, (width, height), f"{name}_reference.png", files, vmax
+        )
     return html_text, encodes
 
 
