@@ -4,7 +4,7 @@ PYTHON ?= python3
 PIP := $(PYTHON) -m pip
 OUT ?= out/study
 
-.PHONY: deps install demo test lint format benchmark-transfer wheel docs
+.PHONY: deps install demo test test-e2e blender lint format benchmark-transfer wheel docs
 
 deps:
 	bash .ci/install-deps
@@ -19,11 +19,18 @@ demo: install
 # ~/.cache/blurlab), never into this one: bpy 5.0 pins numpy < 2. It needs a Python 3.11 (this
 # one or python3.11 on PATH); without one tests/test_blender.py skips what needs bpy.
 # One pytest-xdist worker per core, each with its own GL context; a file's tests stay on one
-# worker, so module fixtures (tests/test_golden.py's outputs, say) are made once.
-test: install
+# worker, so module fixtures (tests/test_golden.py's outputs, say) are made once. `make test`
+# leaves out what a user runs end to end (the docs' commands, the notebooks, Blender:
+# tests/conftest.py E2E_FILES), which `make test-e2e` runs; .ci/run runs both.
+test: blender
+	$(PYTHON) -m pytest -n auto --dist loadfile -m "not e2e"
+
+test-e2e: blender
+	$(PYTHON) -m pytest -n auto --dist loadfile -m e2e
+
+blender: install
 	if $(PYTHON) -c 'import shutil, sys; sys.exit(sys.version_info[:2] != (3, 11) and not shutil.which("python3.11"))'; then \
 		$(PYTHON) -m blurlab blender install; fi
-	$(PYTHON) -m pytest -n auto --dist loadfile
 
 lint: deps
 	$(PIP) install -q "ruff>=0.4"

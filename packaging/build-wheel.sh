@@ -57,6 +57,8 @@ if [ -n "${PYTHON_HEADERS:-}" ]; then
   build_dir="build/$toolchain-$PYTHON_TAG-cross"
   cross=(--python-tag "$PYTHON_TAG" --abi-tag "$PYTHON_TAG")
 fi
+# The wheel's toolchain compiles on its own, not through a developer's ccache (CMakeLists.txt).
+export CMAKE_ARGS="${CMAKE_ARGS:-} -DBLURLAB_CCACHE=OFF"
 isolation=()
 build_isolation=()
 if [ "${NO_ISOLATION:-0}" = 1 ]; then

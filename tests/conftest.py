@@ -23,6 +23,26 @@ try:
 except ImportError:  # hypothesis is in the test extra; only the fuzz tests need it
     pass
 
+# What a user runs, end to end: every command and code block of the docs and the README, the
+# notebooks, Blender's cross-checks, and a new method made and studied from an empty folder.
+# Each takes seconds to minutes on llvmpipe, so `make test` leaves them to `make test-e2e`
+# (pytest -m e2e); .ci/run runs both.
+E2E_FILES = {
+    "test_documented_commands.py",
+    "test_notebooks.py",
+    "test_blender.py",
+    "test_blender_roundtrip.py",
+    "test_translucency_blender.py",
+    "test_study_peers.py",
+}
+
+
+def pytest_collection_modifyitems(items):
+    for item in items:
+        if item.path.name in E2E_FILES:
+            item.add_marker(pytest.mark.e2e)
+
+
 # Examples run by the property tests (tests/test_fuzz.py calls count_example() in each);
 # the total is printed at the end of the run, and docs/reliability.md records it.
 EXAMPLES = {"count": 0}

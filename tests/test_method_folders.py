@@ -54,6 +54,7 @@ def blurlab(*args, cwd: Path, env: dict | None = None) -> subprocess.CompletedPr
     )
 
 
+@pytest.mark.e2e
 @pytest.mark.parametrize("language", ["glsl", pytest.param("hlsl", marks=needs_hlsl_tools)])
 def test_a_new_method_passes_the_contract_and_joins_a_study(tmp_path, language):
     """As a new user would, from an empty folder outside the repository."""
