@@ -28,6 +28,7 @@ import pytest
 from gltf_writer import moving_box
 
 import blurlab as bl
+from blurlab.metrics import perceptual
 
 ROOT = Path(__file__).resolve().parents[1]
 COMMAND_TIMEOUT_S = 120
@@ -39,6 +40,7 @@ NEEDS = {
     ),
     "bpy": (bl.blender.available, "bpy is not set up (blurlab blender install)"),
     "scheduler": (lambda: False, "needs a running Dask scheduler at the address it names"),
+    "perceptual": (perceptual.available, "the optional extra blurlab[perceptual] is not installed"),
     # The user's own capture files (tests/test_capture_scoring.py runs the command on its own).
     "captures": (lambda: False, "reads the user's own capture files"),
 }
