@@ -10,6 +10,9 @@
 #   GPU_TESTS="tests/test_flip_gpu.py" bash benchmarks/gpu.sh filters   (some tests)
 #   bash benchmarks/gpu.sh "golden --record"   (tests/golden.py there; tests/golden/ comes back)
 #   bash benchmarks/gpu.sh "study-report --size 1920x1080"   (a study's report, as one archive)
+#   bash benchmarks/gpu.sh suite-card   (the suite's gpu card, as suite.tgz; stopped after
+#     SUITE_SECONDS, default 420, it still returns the rows so far: copy suite.tgz into .suite/
+#     (ignored through .git/info/exclude), carry .suite too, and the next call resumes from it)
 #   BASELINE=.before bash benchmarks/gpu.sh "filters"   (carry .before too: an older tree, whose
 #     benchmarks are blurlab.studies.bench or benchmarks/blurlab_bench, e.g. `git archive REV | tar -x -C .before`; each benchmark then runs on
 #     both, baseline first, twice in turn, into records_baseline.jsonl and records.jsonl)
@@ -146,6 +149,18 @@ for item in "${@:-transfer}"; do
     study-report)  # the main job; its folder comes back as one archive
       python3 -m blurlab --device gpu study --out "$out/study" $rest
       tar czf "$out/study.tgz" -C "$out" study && rm -rf "$out/study"
+      continue ;;
+    suite-card)  # the `suite` benchmark at the gpu preset, resumable across calls: its card
+      # folder (thousands of row files and pictures) comes back as suite.tgz, and a call that
+      # carries .suite/suite.tgz (that archive, copied into an ignored folder) goes on from it
+      mkdir -p "$out/suite"
+      if [ -f .suite/suite.tgz ]; then tar xzf .suite/suite.tgz -C "$out"; fi
+      # stopped after SUITE_SECONDS (default 420) so that the archive is made within the call
+      timeout "${SUITE_SECONDS:-420}" env PYTHONPATH="$site:$PWD/benchmarks" python3 -m blurlab \
+        bench suite --param preset=gpu --param out="$out/suite" $rest --device gpu \
+        --record "$out/records.jsonl" \
+        || echo "gpu.sh: suite-card stopped or FAILED (its rows so far are in suite.tgz)"
+      tar czf "$out/suite.tgz" -C "$out" suite && rm -rf "$out/suite"
       continue ;;
     golden)
       python3 tests/golden.py $rest || echo "gpu.sh: golden $rest FAILED"
