@@ -75,10 +75,7 @@ def write_comparator(
     metrics.exposure(reference), as the study's pictures) times the page's 2^stops. The error
     maps are metrics.error_map of the pictures as shown at that exposure, coloured on one
     scale (plots.error_scale)."""
-    if not isinstance(name, str) or not _NAME.fullmatch(name):
-        raise ValueError(
-            f"blurlab comparator: name {name!r} must be 1 to 100 letters, digits, '_', '.', '-'"
-        )
+    _check_name(name)
     reference = _checked("reference", reference, None)
     if not isinstance(images, Mapping) or not images:
         raise ValueError("blurlab comparator: images must be a non-empty {method name: image}")
@@ -137,10 +134,7 @@ def comparator_of_files(
     `reference` and, per method, (its picture, its error map) as paths relative to the page,
     the error maps coloured on one scale up to `vmax`; `size` = (W, H). Nothing is written, so
     a report shows its pictures once, in the gallery and in the comparator."""
-    if not isinstance(name, str) or not _NAME.fullmatch(name):
-        raise ValueError(
-            f"blurlab comparator: name {name!r} must be 1 to 100 letters, digits, '_', '.', '-'"
-        )
+    _check_name(name)
     if not pictures:
         raise ValueError("blurlab comparator: pictures must be a non-empty {method: files}")
     sources = {"reference": reference}
@@ -166,6 +160,14 @@ def _write_data(path: Path, element: str, reference: np.ndarray, images: dict) -
         "window.blurlabLookData = window.blurlabLookData || {};\n"
         f"window.blurlabLookData[{json.dumps(element)}] = {json.dumps(data)};\n",
     )
+
+
+def _check_name(name) -> None:
+    """A comparator's name names its files and its element: refused unless plain."""
+    if not isinstance(name, str) or not _NAME.fullmatch(name):
+        raise ValueError(
+            f"blurlab comparator: name {name!r} must be 1 to 100 letters, digits, '_', '.', '-'"
+        )
 
 
 def _checked(what: str, image, shape) -> np.ndarray:

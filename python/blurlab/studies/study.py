@@ -345,10 +345,10 @@ def _scene_section(
             images[method_name] = blur(ctx, frame, method_name, **point).color
         look, writes, shown_reference, exposure = "", [], reference.color, None
         if scene.hdr:  # the comparator's exposure control needs the linear colours
-            look, writes = comparator.write_comparator(
-                name, reference.color, images, out, hdr=True, pool=work.pictures
-            )
             exposure = metrics.exposure(reference.color)  # every picture tone-mapped alike
+            look, writes = comparator.write_comparator(
+                name, reference.color, images, out, hdr=True, exposure=exposure, pool=work.pictures
+            )
             shown_reference = plots.tone_mapped(reference.color, exposure)
             images = {k: plots.tone_mapped(v, exposure) for k, v in images.items()}
         gallery, encodes = write_pictures(
