@@ -194,9 +194,12 @@ def _pictures(ctx, category, preset, entry: dict, out: Path, files) -> tuple[dic
     shown += [b for b in (m["versus"] for m in entry["methods"].values()) if b not in shown]
     paths = {"reference": _write(folder / "reference.png", reference, scale)}
     outputs = {}
+    frames = {}  # one G-buffer per instant the shown methods read
     for name in shown:
-        frame = ctx.render(scene, chosen.size, scene.shutter, instant=method_instant(name, {}))
-        outputs[name] = blur(ctx, frame, name, timed=False).color
+        instant = method_instant(name, {})
+        if instant not in frames:
+            frames[instant] = ctx.render(scene, chosen.size, scene.shutter, instant=instant)
+        outputs[name] = blur(ctx, frames[instant], name, timed=False).color
         paths[name] = _write(folder / f"{name}.png", outputs[name], scale)
     look, _ = comparator.write_comparator(
         category.name, reference, outputs, out, hdr=hdr, exposure=scale
