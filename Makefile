@@ -21,7 +21,7 @@ demo: install
 # One pytest-xdist worker per core, each with its own GL context; a file's tests stay on one
 # worker, so module fixtures (tests/test_golden.py's outputs, say) are made once. `make test`
 # leaves out what a user runs end to end (the docs' commands, the notebooks, Blender:
-# tests/conftest.py E2E_FILES), which `make test-e2e` runs; .ci/run runs both.
+# conftest.py E2E_FILES), which `make test-e2e` runs; .ci/run runs both.
 test: blender
 	$(PYTHON) -m pytest -n auto --dist loadfile -m "not e2e"
 
@@ -34,8 +34,8 @@ blender: install
 
 lint: deps
 	$(PIP) install -q "ruff>=0.4"
-	$(PYTHON) -m ruff check python tests benchmarks
-	$(PYTHON) -m ruff format --check python tests benchmarks
+	$(PYTHON) -m ruff check python tests benchmarks conftest.py
+	$(PYTHON) -m ruff format --check python tests benchmarks conftest.py
 	clang-format --dry-run --Werror src/*/*.cpp src/*/*.h
 
 format:

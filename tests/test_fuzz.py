@@ -28,7 +28,7 @@ SIZE = (16, 12)  # rendered frames: tiny, so a few thousand examples fit in CI
 
 
 def fuzz(examples: int) -> settings:
-    """The profile's settings (tests/conftest.py) with `examples` examples and no deadline
+    """The profile's settings (conftest.py) with `examples` examples and no deadline
     (llvmpipe compiles each new shader variant on first use)."""
     return settings(
         max_examples=examples,

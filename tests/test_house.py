@@ -5,6 +5,7 @@ cycles, no import upward between the package's layers, no module over 600 lines.
 from __future__ import annotations
 
 import ast
+import functools
 import inspect
 import re
 from pathlib import Path
@@ -24,43 +25,89 @@ def python_files(*folders: Path) -> list[Path]:
     return sorted(p for folder in folders for p in folder.rglob("*.py"))
 
 
-def string_constants(path: Path) -> set[str]:
-    """The string literals of a module, less the names in its __all__."""
-    tree = ast.parse(path.read_text())
-    exported = set()
-    for node in ast.walk(tree):
-        if isinstance(node, ast.Assign) and any(
-            getattr(target, "id", "") == "__all__" for target in node.targets
-        ):
-            exported.update(id(n) for n in ast.walk(node.value))
+BUILTIN = [name for name in bl.methods() if bl.method(name).source is None]
+# What may name a method outside its folder: prose (the docs, the notebooks, comments and
+# docstrings), the benchmarks' records and the golden hashes, which are keyed by method.
+ASIDE = ("docs/", "notebooks/", "tests/golden/", "benchmarks/records.jsonl")
+CODE_SUFFIXES = {".py", ".glsl", ".comp", ".vert", ".frag", ".hlsl", ".toml", ".sh", ".txt"}
+
+
+def code_files() -> list[Path]:
+    """The repository's files of code and configuration, outside the prose set aside."""
+    roots = ["python", "tests", "benchmarks", "tools", "shaders", "src", "packaging", ".ci"]
+    top = ("conftest.py", "Makefile", "pyproject.toml", "CMakeLists.txt")
+    files = [ROOT / name for name in top]
+    for root in roots:
+        files += [p for p in (ROOT / root).rglob("*") if p.is_file()]
+    return sorted(
+        p
+        for p in files
+        if (p.suffix in CODE_SUFFIXES or p.parent.name == ".ci" or p.name == "Makefile")
+        and "__pycache__" not in p.parts
+        and not str(p.relative_to(ROOT)).startswith(ASIDE)
+    )
+
+
+def docstrings(tree: ast.AST) -> set[int]:
+    kinds = (ast.Module, ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)
     return {
-        n.value
-        for n in ast.walk(tree)
-        if isinstance(n, ast.Constant) and isinstance(n.value, str) and id(n) not in exported
+        id(node.body[0].value)
+        for node in ast.walk(tree)
+        if isinstance(node, kinds)
+        and node.body
+        and isinstance(node.body[0], ast.Expr)
+        and isinstance(node.body[0].value, ast.Constant)
     }
 
 
-def registering_module(name: str) -> Path:
-    """The module whose Method(name=...) registers `name`."""
-    for path in python_files(PACKAGE / "methods"):
-        tree = ast.parse(path.read_text())
-        for node in ast.walk(tree):
-            if isinstance(node, ast.Call) and getattr(node.func, "id", None) == "Method":
-                for keyword in node.keywords:
-                    if keyword.arg == "name" and getattr(keyword.value, "value", None) == name:
-                        return path
-    raise AssertionError(f"no module registers {name}")
+def python_names(path: Path) -> set[str]:
+    """What a module's code says: its strings (not its docstrings), its identifiers and the
+    modules it imports; its comments and docstrings are prose."""
+    tree = ast.parse(path.read_text())
+    prose = docstrings(tree)
+    said = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Constant) and isinstance(node.value, str) and id(node) not in prose:
+            said.add(node.value)
+        elif isinstance(node, ast.Name):
+            said.add(node.id)
+        elif isinstance(node, ast.Attribute):
+            said.add(node.attr)
+        elif isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
+            said.add(node.name)
+        elif isinstance(node, ast.ImportFrom):
+            said.update((node.module or "").split("."))
+            said.update(a.name for a in node.names)
+        elif isinstance(node, ast.Import):
+            said.update(part for a in node.names for part in a.name.split("."))
+    return said
 
 
-@pytest.mark.parametrize("name", bl.methods())
-def test_a_method_name_is_written_only_where_it_is_registered(name):
-    own = registering_module(name)
-    elsewhere = [
+def other_code(path: Path) -> set[str]:
+    """A shader's or a script's lines less its comments."""
+    comment = re.compile(r"(//|#(?!include|define|version|if|else|endif|line|pragma)).*$")
+    return {comment.sub("", line) for line in path.read_text(errors="replace").splitlines()}
+
+
+@functools.lru_cache(maxsize=1)
+def said_by_file() -> dict[Path, set[str]]:
+    return {p: python_names(p) if p.suffix == ".py" else other_code(p) for p in code_files()}
+
+
+@pytest.mark.parametrize("name", BUILTIN)
+def test_a_method_is_named_only_in_its_folder(name):
+    """A built-in method is its folder (docs/spec.md §25): no code or test elsewhere names it,
+    so that a method is added, changed or removed in one place. Code that needs a method picks
+    it by what its declaration says (its kind, its parameters, its roles)."""
+    folder = PACKAGE / "methods" / name
+    assert (folder / "method.py").is_file(), f"{name} has no folder of its own"
+    word = re.compile(rf"(?<![A-Za-z0-9_]){name}(?![A-Za-z0-9_])")
+    elsewhere = sorted(
         str(path.relative_to(ROOT))
-        for path in python_files(PACKAGE)
-        if path != own and name in string_constants(path)
-    ]
-    assert not elsewhere, f"{name} is listed outside its module {own.name}: {elsewhere}"
+        for path, said in said_by_file().items()
+        if not path.is_relative_to(folder) and any(word.search(text) for text in said)
+    )
+    assert not elsewhere, f"{name} is named outside {folder.relative_to(ROOT)}: {elsewhere}"
 
 
 def test_every_method_says_what_it_is():

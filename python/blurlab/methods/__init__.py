@@ -15,7 +15,6 @@ from . import gather_gaussian  # noqa: F401
 from . import eevee, unity, hdrp, unreal, unreal5, jimenez2014  # noqa: F401
 from . import godot  # noqa: F401
 from . import coverage  # noqa: F401
-from . import gather_pixel  # noqa: F401
 
 # isort: on
 from .core import (
@@ -37,8 +36,16 @@ from .core import (
 )
 
 # folders: method folders, loaded after the built-ins (and installed packages' on first use).
-from .folders import Declaration, MethodFolderError, load_methods, unload_methods
-from .registry import translucent_layer_method
+from .folders import (
+    Declaration,
+    MethodFolderError,
+    load_builtin_methods,
+    load_methods,
+    unload_methods,
+)
+from .registry import example_method, translucent_layer_method
+
+load_builtin_methods()
 
 __all__ = [
     "KINDS",
@@ -52,6 +59,7 @@ __all__ = [
     "blur_steps",
     "check_param",
     "check_steps",
+    "example_method",
     "load_methods",
     "method",
     "method_instant",

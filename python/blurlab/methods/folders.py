@@ -13,6 +13,7 @@ read."""
 from __future__ import annotations
 
 import hashlib
+import importlib
 import importlib.metadata
 import importlib.util
 import re
@@ -41,6 +42,9 @@ from .registry import (
 from .registry import method as registered
 
 DECLARATION_FILE = "method.py"
+# The folder `blurlab new-method` copies (blurlab.methods.template): a method folder, not a
+# built-in method.
+TEMPLATE_FOLDER = "template_files"
 ENTRY_POINT_GROUP = "blurlab.methods"
 GLSL_SUFFIXES = (".glsl", ".comp")
 # A method folder's rows come after the built-in methods' (order 0) unless it says otherwise.
@@ -79,6 +83,15 @@ class Declaration:
     twin: Callable | None = None  # as Method.twin: optional for a method folder
     twin_inputs: tuple[str, ...] | None = None
     run: Callable | None = None
+    # The roles studies and benchmarks choose methods by, as Method declares them: so that no
+    # code outside a method's folder names it.
+    study_curves: tuple[str, ...] = ()
+    gallery: bool = False
+    translucent_layer: bool = False
+    example: bool = False
+    renders_for: Callable[[int], dict] | None = None
+    engine_peer: bool = False
+    tile_lists: tuple[str, ...] = ()
 
 
 def load_methods(path) -> list[str]:
@@ -136,6 +149,28 @@ def _method(file: Path) -> Method:
     return method_of(declaration, file.parent, str(file))
 
 
+def load_builtin_methods() -> list[str]:
+    """Registers blurlab's own methods: each folder of this package with a method.py, imported
+    as a module of the package (blurlab.methods.<name>.method) and declared as a user's folder
+    is. Methods are found, not listed: a new folder is a new method."""
+    names = []
+    for file in sorted(Path(__file__).parent.glob(f"*/{DECLARATION_FILE}")):
+        if file.parent.name == TEMPLATE_FOLDER:
+            continue
+        module = importlib.import_module(f"{__package__}.{file.parent.name}.method")
+        declaration = getattr(module, "METHOD", None)
+        if not isinstance(declaration, Declaration):
+            raise MethodFolderError(f"blurlab: {file} must set METHOD = Declaration(...)")
+        if declaration.name != file.parent.name:
+            raise MethodFolderError(
+                f"blurlab: {file} declares {declaration.name!r}; a built-in method's folder "
+                "is named as the method"
+            )
+        register(method_of(declaration, file.parent, str(file), builtin=True))
+        names.append(declaration.name)
+    return names
+
+
 def _declaration(file: Path) -> Declaration:
     """Runs method.py as a package of its folder (so that `from .twin import ...` works) and
     returns its METHOD."""
@@ -163,9 +198,9 @@ def _declaration(file: Path) -> Declaration:
     return declaration
 
 
-def method_of(d: Declaration, folder: Path, source: str) -> Method:
+def method_of(d: Declaration, folder: Path, source: str, builtin: bool = False) -> Method:
     """The registry's Method of declaration `d` of the folder `folder` (`source`: its
-    method.py, named in every error)."""
+    method.py, named in every error; a `builtin` method's source is None)."""
 
     def fail(message: str):
         raise MethodFolderError(f"blurlab: {source}: {message}")
@@ -210,7 +245,14 @@ def method_of(d: Declaration, folder: Path, source: str) -> Method:
         twin_inputs=d.twin_inputs,
         order=d.order,
         passes=tuple(by_name),
-        source=source,
+        study_curves=tuple(d.study_curves),
+        gallery=d.gallery,
+        translucent_layer=d.translucent_layer,
+        example=d.example,
+        renders_for=d.renders_for,
+        engine_peer=d.engine_peer,
+        tile_lists=tuple(d.tile_lists),
+        source=None if builtin else source,
     )
 
 

@@ -29,6 +29,7 @@ register(
         twin=twin.reconstruct_mcguire2012,
         study_curves=("samples", "k"),
         gallery=True,
+        example=True,
         doc="McGuire, Hennessy, Bukowski, Osman: A Reconstruction Filter for Plausible Motion "
         "Blur (I3D 2012). docs/spec.md §3; options in docs/guertin2014.md.",
     )

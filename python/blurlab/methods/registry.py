@@ -57,6 +57,9 @@ class Method:
     # Reproduces a shipped engine's filter under a name other than engine_*: the engines
     # benchmark shows it beside them.
     engine_peer: bool = False
+    # The method examples run when they need one (the CLI's first pictures, the docs' first
+    # example, tests of what every method shares); one method says so.
+    example: bool = False
     # The place of its rows in sweeps, studies and the failure suite: methods() sorts by order,
     # then by registration (the modules in this package are 0; a method folder's default is
     # later, blurlab.methods.folders).
@@ -190,10 +193,20 @@ def method_instant(name: str, params: dict | None = None) -> str:
 def translucent_layer_method() -> str:
     """The name of the method registered with translucent_layer=True: what blurs the
     translucent layer by default (docs/spec.md §20.4)."""
+    return _the_one("translucent_layer")
+
+
+def example_method() -> str:
+    """The name of the method registered with example=True: the one an example runs when it
+    needs a method (the CLI's first pictures, the docs' first example)."""
+    return _the_one("example")
+
+
+def _the_one(role: str) -> str:
     _discover()
-    chosen = [name for name, m in _REGISTRY.items() if m.translucent_layer]
+    chosen = [name for name, m in _REGISTRY.items() if getattr(m, role)]
     if len(chosen) != 1:
-        raise RuntimeError(f"blurlab: exactly one method blurs the translucent layer, not {chosen}")
+        raise RuntimeError(f"blurlab: exactly one method is registered {role}=True, not {chosen}")
     return chosen[0]
 
 

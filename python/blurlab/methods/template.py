@@ -8,11 +8,11 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from .folders import DECLARATION_FILE, NAME, MethodFolderError
+from .folders import DECLARATION_FILE, NAME, TEMPLATE_FOLDER, MethodFolderError
 from .registry import methods
 
 LANGUAGES = ("glsl", "hlsl")
-TEMPLATE = Path(__file__).resolve().parent / "template_files"
+TEMPLATE = Path(__file__).resolve().parent / TEMPLATE_FOLDER
 TEMPLATE_NAME = "my_tent"
 
 

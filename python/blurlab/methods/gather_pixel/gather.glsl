@@ -4,7 +4,7 @@
 // X ± (i + j)/n · V, j = rand(x, y, seed), taps clamped to the image; a tap weighs 1 at or
 // behind X's depth and fades to 0 where it lies depth_extent in front of X; C(X) weighs 1 and
 // the sum is normalised. Compute (default) or fragment.
-// NumPy twin: blurlab.twins.pixel_gather.gather_pixel.
+// NumPy twin: twin.py, gather_pixel.
 #include "common/gbuffer.glsl"
 #include "common/random.glsl"
 

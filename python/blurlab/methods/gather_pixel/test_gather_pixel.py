@@ -9,7 +9,7 @@ import numpy as np
 from conftest import assert_matches_twin, assert_timings_name
 
 import blurlab as bl
-from blurlab.twins import pixel_gather as ref
+from blurlab.methods.gather_pixel import twin as ref
 
 METHOD = "gather_pixel"
 

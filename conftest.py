@@ -10,7 +10,7 @@ import pytest
 
 import blurlab as bl
 
-TEST_SHADERS = Path(__file__).parent / "shaders"
+TEST_SHADERS = Path(__file__).parent / "tests" / "shaders"
 
 try:
     from hypothesis import settings

@@ -1,13 +1,13 @@
 """gather_pixel, docs/spec.md §17.9, in NumPy float64: the tile-free gather along each pixel's
-own motion of Bevy (0.14) and Unity URP, its tap count following the pixel's speed. GPU twin:
-shaders/passes/gather_pixel.glsl."""
+own motion of Bevy (0.14) and Unity URP, its tap count following the pixel's speed. GPU pass:
+gather.glsl beside it."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from .hashing import rand
-from .inputs import sanitize_color, sanitize_depth, sanitize_motion
+from ...twins.hashing import rand
+from ...twins.inputs import sanitize_color, sanitize_depth, sanitize_motion
 
 
 def pixel_taps(motion, *, exposure: float, spacing: float, samples: int) -> np.ndarray:
