@@ -40,6 +40,7 @@ from .passes import (
     frame_textures,
     pass_uniforms,
     run_pass,
+    shader_beside,
     timed,
     timers,
 )
@@ -73,6 +74,7 @@ __all__ = [
     "blur_steps",
     "check_param",
     "check_steps",
+    "shader_beside",
     "choice_defines",
     "frame_textures",
     "method",

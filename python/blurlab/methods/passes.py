@@ -8,6 +8,7 @@ import math
 from collections.abc import Callable
 from contextlib import contextmanager
 from dataclasses import dataclass, field
+from pathlib import Path
 
 from ..core.context import Context
 from ..core.frame import Frame
@@ -38,8 +39,14 @@ class Pass:
     (ShaderPass.reflect lists them); `name` keys its timing."""
 
     name: str
-    shader: str  # under shaders/
+    shader: str  # under shaders/, or a method folder's own (shader_beside)
     params: tuple[str, ...] = ()
+
+
+def shader_beside(module_file: str, name: str) -> str:
+    """The path of shader `name` in the folder of the module `module_file` (a method folder's
+    method.py passes its own __file__): a built-in method's shaders sit beside it."""
+    return str(Path(module_file).resolve().parent / name)
 
 
 def pass_uniforms(params: dict[str, Param], values: dict, names) -> dict:

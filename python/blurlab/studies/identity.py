@@ -169,6 +169,8 @@ def _package_digest() -> str:
     h = hashlib.sha256()
     package = Path(__file__).resolve().parents[1]
     _feed_files(h, package, "*.py")
+    for suffix in ("glsl", "comp", "hlsl"):  # the method folders' shaders
+        _feed_files(h, package, f"*.{suffix}")
     _feed_files(h, package, "_core*")
     return h.hexdigest()
 
