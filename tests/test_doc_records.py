@@ -114,3 +114,15 @@ def test_a_region_naming_what_no_record_holds_says_so():
         doc_records.fill(PAGE.replace("160x90", "320x180", 1), [RECORD], "page.md")
     with pytest.raises(ValueError, match=r"no figure \['slow'\]"):
         doc_records.fill(PAGE.replace('figures="speed"', 'figures="slow"'), [RECORD])
+
+
+def test_a_method_region_is_its_folders_spec(tmp_path):
+    """docs/spec.md shows each method's specification from the method's folder (spec.md), so
+    the spec is written once, where the method is."""
+    (tmp_path / "tent").mkdir()
+    (tmp_path / "tent" / "spec.md").write_text("Taps along M, tent-weighted.\n")
+    page = '# Spec\n\n<!-- method spec="tent" -->\nan old text\n<!-- end method -->\n'
+    filled = doc_records.fill_specs(page, "spec.md", tmp_path)
+    assert filled == page.replace("an old text", "Taps along M, tent-weighted.")
+    with pytest.raises(ValueError, match=r"spec.md:3: no method folder holds .*blur/spec.md"):
+        doc_records.fill_specs(page.replace('"tent"', '"blur"'), "spec.md", tmp_path)

@@ -1,4 +1,5 @@
-"""The docs' figures, filled in from benchmarks/records.jsonl.
+"""The docs' figures, filled in from benchmarks/records.jsonl, and the methods' specifications,
+filled in from their folders.
 
 A hand-written page holds no measured number of its own. Where it shows one, it marks a region
 that names the record, and the region's body is generated from it:
@@ -11,6 +12,13 @@ Values are HTML-escaped where they hold a quote (`&quot;`). `figures=` picks fig
 name; `table=` picks a table by name instead, with optional `columns=` (names, "; "-separated)
 and `rows=` (the first n). A record is found by its benchmark, device and image size, the key
 under which `blurlab bench --record` keeps the latest one.
+
+A method's specification lives in its folder (python/blurlab/methods/<name>/spec.md); the
+docs' spec shows it in a region that names the method, generated from that file:
+
+    <!-- method spec="gather_pixel" -->
+    ...generated: the folder's spec.md...
+    <!-- end method -->
 
 The same function fills the regions three ways: `python tools/doc_records.py` rewrites the
 pages in place (so the Markdown read raw is current), MkDocs runs it as a hook on every page at
@@ -35,6 +43,12 @@ REGION = re.compile(
     r"(?P<open><!-- record (?P<options>[^>]*?) -->\n)(?P<body>.*?)(?P<close><!-- end record -->)",
     re.DOTALL,
 )
+METHOD_REGION = re.compile(
+    r'(?P<open><!-- method spec="(?P<name>[a-z0-9_]+)" -->\n)'
+    r"(?P<body>.*?)(?P<close><!-- end method -->)",
+    re.DOTALL,
+)
+METHODS = ROOT / "python" / "blurlab" / "methods"
 OPTION = re.compile(r'(\w+)="([^"]*)"')
 KNOWN = {"benchmark", "device", "size", "figures", "table", "columns", "rows"}
 
@@ -121,7 +135,26 @@ def fill(markdown: str, records: list[dict], page: str = "page") -> str:
             raise ValueError(f"{page}:{line}: {error}") from None
         return match.group("open") + body + match.group("close")
 
-    return REGION.sub(filled, markdown)
+    return fill_specs(REGION.sub(filled, markdown), page)
+
+
+def fill_specs(markdown: str, page: str = "page", methods: Path = METHODS) -> str:
+    """`markdown` with every method region's body the spec.md of that method's folder."""
+
+    def filled(match: re.Match) -> str:
+        spec = methods / match.group("name") / "spec.md"
+        if not spec.is_file():
+            line = markdown.count("\n", 0, match.start()) + 1
+            raise ValueError(f"{page}:{line}: no method folder holds {spec}")
+        body = spec.read_text()
+        return (
+            match.group("open")
+            + body
+            + ("" if body.endswith("\n") else "\n")
+            + match.group("close")
+        )
+
+    return METHOD_REGION.sub(filled, markdown)
 
 
 def on_page_markdown(markdown, page, config, files):
