@@ -96,7 +96,7 @@ def said_by_file() -> dict[Path, set[str]]:
 
 @pytest.mark.parametrize("name", BUILTIN)
 def test_a_method_is_named_only_in_its_folder(name):
-    """A built-in method is its folder (docs/spec.md §25): no code or test elsewhere names it,
+    """A built-in method is its folder (docs/spec.md §25.2): no code or test elsewhere names it,
     so that a method is added, changed or removed in one place. Code that needs a method picks
     it by what its declaration says (its kind, its parameters, its roles)."""
     folder = PACKAGE / "methods" / name
@@ -169,7 +169,7 @@ def test_shaders_declare_no_parameter_defaults():
     pattern = re.compile(r"^\s*uniform\s+\w+\s+\w+\s*=", re.M)
     offenders = [
         str(p.relative_to(ROOT))
-        for p in sorted((ROOT / "shaders").rglob("*"))
+        for p in sorted([*(ROOT / "shaders").rglob("*"), *(PACKAGE / "methods").rglob("*.glsl")])
         if p.is_file() and pattern.search(p.read_text())
     ]
     assert not offenders
