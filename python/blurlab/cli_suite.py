@@ -8,7 +8,9 @@ from pathlib import Path
 
 from .cli_methods import add_methods_from
 from .core.context import Context
+from .studies.capture_study import add_capture_file_options
 from .suite import PRESETS, compare_text, run_suite, suite_identity
+from .suite.captured import captures_of
 from .suite.definition import definition
 from .suite.run import card_rows
 
@@ -39,6 +41,9 @@ def suite_command(args, cluster_of) -> int:
             assets=args.assets,
             cluster=cluster,
             progress=False,
+            captures=captures_of(
+                args.capture, args.reference, args.convention, args.shutter_fraction
+            ),
         )
     table = card_rows(card)
     if not table.empty:
@@ -88,6 +93,13 @@ def add_suite_command(sub, add_cluster_options) -> None:
         "without it that category is skipped",
     )
     run.add_argument("--out", required=True, help="the card's folder (rows are kept there)")
+    add_capture_file_options(
+        run.add_argument_group(
+            "captured frames (docs/suite.md)",
+            "an engine's captures, scored as the suite's captured category where given",
+        ),
+        repeated=True,
+    )
     add_cluster_options(run)
     add_methods_from(run)
     compare = actions.add_parser(

@@ -202,12 +202,12 @@ def run_capture_study(
         )
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    label = _label(shot)
+    label = shot_label(shot)
     shown_frame = len(shot) // 2
     settings = Settings(
         size, None, 0, tuple(n for n in names if not get(n).sequence), repeats, readback_batch=16
     )
-    frame_rows, images = _method_rows(ctx, shot, reference, kept, settings, label, shown_frame)
+    frame_rows, images = method_rows(ctx, shot, reference, kept, settings, label, shown_frame)
     engine = None
     if outputs is not None:
         rows, engine = _engine_rows(outputs, reference, settings.metrics, engine_name, label)
@@ -245,17 +245,7 @@ def add_capture_options(study) -> None:
         "score every method on a G-buffer an engine captured (at its own size; --size does "
         "not apply), against a reference from a file, the engine's own output beside them",
     )
-    group.add_argument(
-        "--capture",
-        metavar="PATH",
-        help="a multi-layer EXR of colour, depth and motion (Blender's Combined, Depth, "
-        "Vector), or a pattern shot.####.exr (# = the frame number) for a sequence",
-    )
-    group.add_argument(
-        "--reference",
-        metavar="PATH",
-        help="with --capture: the converged image of the same shutter (EXR), or a pattern",
-    )
+    add_capture_file_options(group)
     group.add_argument(
         "--engine-output",
         metavar="PATH",
@@ -266,6 +256,28 @@ def add_capture_options(study) -> None:
         "--engine-name",
         default=ENGINE_OUTPUT,
         help=f"with --capture: the engine output's row (default {ENGINE_OUTPUT})",
+    )
+
+
+def add_capture_file_options(group, repeated: bool = False) -> None:
+    """--capture, --reference, --convention and --shutter-fraction, for `blurlab study` and
+    `blurlab suite run`; `repeated`: --capture and --reference may each be given more than
+    once, paired in order."""
+    action = "append" if repeated else "store"
+    again = " (again for another capture)" if repeated else ""
+    group.add_argument(
+        "--capture",
+        metavar="PATH",
+        action=action,
+        help="a multi-layer EXR of colour, depth and motion (Blender's Combined, Depth, "
+        f"Vector), or a pattern shot.####.exr (# = the frame number) for a sequence{again}",
+    )
+    group.add_argument(
+        "--reference",
+        metavar="PATH",
+        action=action,
+        help="with --capture: the converged image of the same shutter (EXR), or a pattern"
+        + (", one for each --capture in order" if repeated else ""),
     )
     group.add_argument(
         "--convention",
@@ -325,13 +337,13 @@ def capture_command(ctx: Context, args) -> bool:
     return True
 
 
-def _label(shot: capture.CapturedSequence) -> str:
+def shot_label(shot: capture.CapturedSequence) -> str:
     """A name for the shot in rows and file names: its file name up to the frame number."""
     stem = Path(shot.pattern).name.split(capture.FRAME_NUMBER)[0].split(".")[0]
     return re.sub(r"[^A-Za-z0-9_.-]", "_", stem).strip("._") or "capture"
 
 
-def _method_rows(ctx, shot, reference, kept: dict, settings: Settings, label, shown_frame):
+def method_rows(ctx, shot, reference, kept: dict, settings: Settings, label, shown_frame):
     """Every configuration of `kept` on every frame: the rows (one per frame, with "frame" and,
     for a sequence, the frame pair's share of temporal_instability), and each method's middle
     point's colour on frame `shown_frame`. Configurations whose kept colours would pass

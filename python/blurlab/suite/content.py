@@ -85,9 +85,10 @@ def scene_digests(preset: str) -> dict[str, dict[str, str]]:
     return out
 
 
-def suite_identity(preset: str) -> dict:
+def suite_identity(preset: str, captured: dict | None = None) -> dict:
     """{"version", "preset", "hash", "parts"}: the suite's hash at `preset` and the digest of
-    each part it covers (the definition, the scenes, the code), so that two cards that differ
+    each part it covers (the definition, the scenes, the code, and the captured frames where
+    `captured` gives their digests: blurlab.suite.captured), so that two cards that differ
     say where."""
     definition = d.definition(preset)
     parts = {
@@ -95,6 +96,8 @@ def suite_identity(preset: str) -> dict:
         "scenes": _json_digest(scene_digests(preset)),
         "code": code_digest(),
     }
+    if captured:
+        parts["captured"] = _json_digest(captured)
     return {
         "version": d.VERSION,
         "preset": preset,

@@ -28,7 +28,7 @@ from ..studies.evaluation import REFERENCE_OPTIONS
 from ..studies.plots import tone_mapped
 from ..studies.sweep import sweep, sweep_methods
 from ..version import __version__
-from . import content, figures, page
+from . import captured, content, figures, page
 from . import definition as d
 from .sequence_rows import run_sequences
 
@@ -69,28 +69,42 @@ def run_suite(
     cluster=None,
     progress: bool = False,
     pictures: bool = True,
+    captures=None,
 ) -> dict:
     """Runs the suite at `preset` for `methods` (default: every single-frame method registered)
     and writes OUT/card.json and OUT/card.html; returns the card. `assets`: the folder holding
     the authored category's glTF files (without it that category is skipped, and the card
     says why). `cluster`: a Dask client, cluster or scheduler address for the single-frame
-    categories (bl.sweep's `cluster`); `ctx` runs the sequences and the pictures."""
+    categories (bl.sweep's `cluster`); `ctx` runs the sequences and the pictures.
+    `captures`: blurlab.suite.captured.Capture of an engine's frames, scored as the captured
+    category (§24.1) where given."""
     d.check_preset(preset)
     asked = check_methods(methods)
     field = builtin_methods()
     everyone = field + [n for n in asked if n not in field]
-    # The authored files are checked before anything runs: a file of other content is refused
-    # now, not after the other categories.
+    # The authored files and the captures are checked before anything runs: a file of other
+    # content is refused now, not after the other categories.
     authored = {
         c.name: d.authored_paths(c, preset, assets) for c in d.categories() if c.needs_assets
     }
+    captures = list(captures or ())
+    captured_digests = captured.digests(captures) if captures else None
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    suite = content.suite_identity(preset)
+    suite = content.suite_identity(preset, captured_digests)
+    definition = d.definition(preset)
+    if captures:
+        first = captured.opened(captures[0])[0].size()
+        definition["categories"][captured.NAME] = {
+            "size": list(first),
+            "reference": {"samples": "files"},
+            "metrics": list(captured.metrics()),
+            "captures": captured_digests,
+        }
     info = ctx.info()
     card = {
         "format": CARD_FORMAT,
-        "suite": {**suite, "definition": d.definition(preset)},
+        "suite": {**suite, "definition": definition},
         "device": {"device": info["device"], "renderer": info["renderer"], "clock": info["timer"]},
         "date": datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%dT%H:%M:%SZ"),
         "blurlab_version": __version__,
@@ -124,6 +138,10 @@ def run_suite(
                 )
         card["categories"][category.name] = entry
         seconds[category.name] = round(time.perf_counter() - began, 3)
+    if captures:
+        began = time.perf_counter()
+        card["categories"][captured.NAME] = _captured_category(ctx, captures, asked, field)
+        seconds[captured.NAME] = round(time.perf_counter() - began, 3)
     card["images"] = images
     card["run"] = {
         "wall_s": round(time.perf_counter() - start, 3),
@@ -166,6 +184,28 @@ def _run_category(ctx, category, preset, names, out: Path, files, cluster, progr
     )
     entry["scenes"] = list(chosen.scenes)
     return entry, table, int(table.attrs.get("resumed", 0))
+
+
+def _captured_category(ctx, captures, asked, field) -> dict:
+    """The captured category's card entry: the methods that run on a captured G-buffer, ranked
+    against the built-in methods that do; the others are named with the reason."""
+    field_kept, left_out = captured.runnable(field)
+    asked_kept, _ = captured.runnable(asked)
+    entry = {
+        "status": "measured",
+        "doc": captured.DOC,
+        "primary": captured.PRIMARY,
+        "scenes": list(captured.digests(captures)),
+        "left_out": {n: why for n, why in left_out.items() if n in asked},
+    }
+    if not asked_kept:
+        return {**entry, "status": "skipped", "reason": "no method asked runs on a capture"}
+    names = field_kept + [n for n in asked_kept if n not in field_kept]
+    table = captured.captured_rows(ctx, captures, names)
+    entry["methods"] = figures.category_figures(
+        table, captured.metrics(), captured.PRIMARY, asked_kept, field_kept
+    )
+    return entry
 
 
 def _pictures(ctx, category, preset, entry: dict, out: Path, files) -> tuple[dict, str]:
