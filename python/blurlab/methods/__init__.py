@@ -1,9 +1,9 @@
 """Motion-blur methods by name: ``bl.methods()`` lists them, ``bl.blur(ctx, frame, name, ...)``
-runs one. The core is ``core`` (blur, steps) with ``params``, ``registry`` and ``passes``; each
-method or family is a module of its own that registers itself on import, below. A new method
-is a new module here, its shader, its NumPy twin and its test; a method from outside is a
-method folder, loaded by ``load_methods`` or an entry point (folders.py,
-docs/adding_a_method.md).
+runs one. The core is ``core`` (blur, steps) with ``params``, ``registry`` and ``passes``; the
+families' shared code (tile filters, tile lists, layers) is a module each. Every method is a
+folder, ``<name>/`` here for the built-in ones (method.py, its shaders, twin.py, spec.md, its
+tests), found by ``load_builtin_methods``; a user's folder is loaded by ``load_methods`` or an
+entry point (folders.py, docs/spec.md §25, docs/adding_a_method.md).
 """
 
 # Each module registers its methods on import; the order here is the registry's, which is the
