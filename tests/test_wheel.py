@@ -151,12 +151,21 @@ def test_wheel_carries_the_shaders_and_data_files(wheel):
 
 
 def test_wheel_holds_the_library_and_no_benchmark(wheel):
-    """The wheel holds what a user imports: the modules of python/blurlab, and none of the
+    """The wheel holds what a user imports: the modules of python/blurlab less the built-in
+    method folders' tests (the template's stays: new-method writes it), and none of the
     benchmarks' development package (benchmarks/blurlab_bench)."""
     with zipfile.ZipFile(wheel) as archive:
         modules = {n for n in archive.namelist() if n.endswith(".py")}
     package = ROOT / "python" / "blurlab"
-    library = {"blurlab/" + p.relative_to(package).as_posix() for p in package.rglob("*.py")}
+    tests = {
+        p for p in (package / "methods").glob("*/test_*.py") if p.parent.name != "template_files"
+    }
+    assert tests, "the method folders' tests were not found in the tree"
+    library = {
+        "blurlab/" + p.relative_to(package).as_posix()
+        for p in package.rglob("*.py")
+        if p not in tests
+    }
     assert modules == library, sorted(modules ^ library)
     benchmarks = [n for n in modules if "bench" in Path(n).parent.as_posix()]
     assert not benchmarks, benchmarks
