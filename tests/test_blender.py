@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import pytest
+from method_picks import pick
 from test_reference import square_scene
 
 import blurlab as bl
@@ -318,7 +319,7 @@ def test_study_scores_eevee_as_a_peer(ctx, tmp_path):
         tmp_path,
         reference_samples=16,
         metrics=("psnr", "psnr_aa"),
-        grids={"gather_box": {"taps": [4]}},
+        grids={pick(params=("taps",)): {"taps": [4]}},
         progress=False,
         peer_names=("eevee",),
     )

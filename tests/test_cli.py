@@ -9,6 +9,7 @@ import sys
 import numpy as np
 import pytest
 from conftest import CLI_DEVICE
+from method_picks import pick
 
 import blurlab as bl
 from blurlab import cli
@@ -78,6 +79,10 @@ def assert_one_line_error(result, *fragments):
         assert fragment in lines[0], lines[0]
 
 
+# A method with a `taps` parameter: "tap" is a near miss it refuses.
+TAPPED = pick(params=("taps",))
+
+
 @pytest.mark.parametrize(
     ("config", "fragments"),
     [
@@ -85,8 +90,8 @@ def assert_one_line_error(result, *fragments):
         ('scenes = ["no_such_scene"]\n', ("no_such_scene",)),
         ('scenes = ["fan"]\nmethods = {no_such_method = {}}\n', ("no_such_method",)),
         (
-            'scenes = ["fan"]\nmethods = {gather_box = {tap = [3]}}\n',
-            ("gather_box", "tap"),
+            f'scenes = ["fan"]\nmethods = {{{TAPPED} = {{tap = [3]}}}}\n',
+            (TAPPED, "tap"),
         ),
         ('scenes = ["fan"]\nsize = [0, 90]\n', ("size",)),
     ],

@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from gltf_writer import moving_box
+from method_picks import EXAMPLE, pick
 
 import blurlab as bl
 
@@ -39,7 +40,7 @@ def test_sample_models_go_through_a_sweep(ctx):
     table = bl.sweep(
         ctx,
         [str(p) for p in MODELS] + ["teapot_pass"],
-        {"reconstruct_mcguire2012": {"k": [4]}, "gather_box": {"taps": [8]}},
+        {EXAMPLE: {"k": [4]}, pick(params=("taps",)): {"taps": [8]}},
         size=(96, 54),
         metrics=("psnr",),
         progress=False,

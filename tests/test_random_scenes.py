@@ -11,6 +11,7 @@ import numpy as np
 import pandas as pd
 import pytest
 from golden import GOLDEN_DIR, IMAGE_TOLERANCE, color_problems
+from method_picks import pick
 
 import blurlab as bl
 from blurlab import cli
@@ -225,7 +226,7 @@ def test_features_need_a_rendered_frame():
 
 
 def test_study_over_random_scenes_carries_the_features(tmp_path, monkeypatch):
-    monkeypatch.setattr(study, "default_grids", lambda: {"gather_box": {"taps": [5]}})
+    monkeypatch.setattr(study, "default_grids", lambda: {pick(params=("taps",)): {"taps": [5]}})
     out = tmp_path / "study"
     argv = ["study", "--random", "2", "--seed", "4", "--size", "160x90"]
     assert cli.main([*argv, "--reference-samples", "16", "--out", str(out)]) == 0

@@ -17,6 +17,7 @@ import numpy as np
 
 import blurlab as bl
 from blurlab import _core
+from blurlab.methods import example_method
 
 
 def inside(path: Path, folder: Path) -> bool:
@@ -40,7 +41,7 @@ def main() -> None:
     size = (160, 90)
     scene = bl.scenes.teapot_pass()
     frame = ctx.render(scene, size)
-    blurred = bl.blur(ctx, frame, "reconstruct_mcguire2012")
+    blurred = bl.blur(ctx, frame, example_method())
     reference = ctx.reference(scene, size, samples=64, progress=False)
     result = {
         "blurlab": str(package),

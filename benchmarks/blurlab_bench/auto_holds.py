@@ -4,6 +4,7 @@ random seeds that no fit read and on the built-in scenes (blurlab.studies.auto_c
 
 from __future__ import annotations
 
+from blurlab.methods import example_method
 from blurlab.methods.params import Param
 from blurlab.scene import scenes
 from blurlab.studies import auto_check
@@ -109,7 +110,7 @@ register(
             "tiny": {
                 "held_out": 2,
                 "builtin_scenes": "fan",
-                "methods": "reconstruct_mcguire2012",
+                "methods": example_method(),  # a tile filter with "auto" rules for k and samples
                 "reference_samples": 8,
             },
             "gpu": {"held_out": 200},

@@ -33,6 +33,11 @@ def tile_gathers() -> list[str]:
     return [n for n in methods() if "tile_percent" in method(n).params]
 
 
+def _tile_gathers_named() -> str:
+    """The tile gathers' names, for the benchmark's doc lines."""
+    return " and ".join(tile_gathers())
+
+
 def _grids(p, names: list[str]) -> dict:
     """Each method's grid: k × samples (and k = "auto") for a tile filter, tile_percent ×
     samples for a tile gather."""
@@ -241,15 +246,16 @@ def _auto_rules(ctx, size, p, out) -> None:
 register(
     Benchmark(
         "auto_rules",
-        "threshold rules for k and samples (tile filters) and gather_coverage's tile and samples, "
-        "fitted on random seeds 0..A-1 and judged on seeds A..2A-1 and the built-in scenes",
+        f"threshold rules for k and samples (tile filters) and {_tile_gathers_named()}'s tile "
+        "and samples, fitted on random seeds 0..A-1 and judged on seeds A..2A-1 and the built-in "
+        "scenes",
         {
             "seeds": Param(25, int, "A: fitted on seeds 0..A-1, judged on A..2A-1", 1, 100_000),
             "filters": Param("", str, "comma-separated methods (empty: tile filters + coverage)"),
             "fixed_k": Param("4,8,12,16,20,24,32,40,48,64", str, "the tile filters' k grid"),
             "samples": Param("15", str, "the tile filters' samples grid"),
-            "coverage_tiles": Param("1.5,3,6", str, "gather_coverage's tile_percent grid"),
-            "coverage_samples": Param("4,8,16", str, "gather_coverage's samples grid"),
+            "coverage_tiles": Param("1.5,3,6", str, f"{_tile_gathers_named()}'s tile_percent grid"),
+            "coverage_samples": Param("4,8,16", str, f"{_tile_gathers_named()}'s samples grid"),
             "bins": Param(4, int, "bins of the rule's threshold table", 1, 64),
             "builtin_scenes": Param("", str, "comma-separated built-in scenes (empty: all)"),
             "reference_samples": Param(0, int, "N of each reference (0: as sweeps choose)", 0),
@@ -262,7 +268,7 @@ register(
         {
             "tiny": {
                 "seeds": 2,
-                "filters": "reconstruct_mcguire2012,gather_coverage",
+                "filters": f"{tile_filters()[0]},{tile_gathers()[0]}",  # one of each
                 "fixed_k": "4,20",
                 "coverage_tiles": "1.5",
                 "coverage_samples": "8,16",

@@ -13,6 +13,7 @@ from blurlab.metrics import psnr
 from blurlab.scene import scenes
 
 from .core import Benchmark, register
+from .timing import gallery_methods
 
 # The object each scene keeps still on screen: its pixels' error is reported apart.
 SUBJECTS = {"fps_weapon": "weapon", "tracked_car": "car"}
@@ -79,6 +80,12 @@ register(
         },
         _blur_controls,
         {"tiny": (64, 36), "software": (160, 90), "gpu": (1280, 720)},
-        {"tiny": {"methods": "reconstruct_mcguire2012,gather_box", "reference_samples": 8}},
+        {
+            "tiny": {
+                # a tile filter and a gather
+                "methods": f"{gallery_methods('filter')[0]},{gallery_methods('gather')[0]}",
+                "reference_samples": 8,
+            }
+        },
     )
 )

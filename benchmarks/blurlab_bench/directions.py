@@ -12,19 +12,28 @@ from blurlab.methods.params import Param
 from blurlab.scene import scenes
 from blurlab.sizes import DEFAULT_SIZE
 from blurlab.studies import peers
-from blurlab.twins.unreal5 import GATHER_2
 
 from .core import Benchmark, register
 from .timing import film_method, median_passes, method_runs, split
+
+# The tile class of the two-direction path: a directions method's tile lists are named in the
+# order of its class codes (Method.tile_lists).
+TWO_DIRECTIONS = "gather_2"
+
+
+def direction_methods() -> list[str]:
+    """The methods that keep a number of velocity directions per tile (a `directions`
+    parameter)."""
+    return [name for name in methods() if "directions" in method(name).params]
 
 
 def direction_runs() -> list[tuple]:
     """(label, method, parameters): each method that keeps a number of velocity directions per
     tile (its `directions` parameter) at every number it allows, then film_method()."""
     runs = []
-    for name in methods():
-        declared = method(name).params.get("directions")
-        for count in range(declared.low, declared.high + 1) if declared else []:
+    for name in direction_methods():
+        declared = method(name).params["directions"]
+        for count in range(declared.low, declared.high + 1):
             runs.append((f"{name}, directions={count}", name, {"directions": count}))
     return [*runs, (film_method(), film_method(), {})]
 
@@ -47,7 +56,8 @@ def _crossing_directions(ctx, size, p, out) -> None:
             classes = result.buffers.get("neighbors")
             two = None
             if "directions" in params:
-                two = float(np.mean(classes[..., 3] == GATHER_2))
+                code = method(name_).tile_lists.index(TWO_DIRECTIONS)
+                two = float(np.mean(classes[..., 3] == code))
             rows.append(
                 [
                     name,
@@ -76,9 +86,9 @@ def _crossing_directions(ctx, size, p, out) -> None:
 register(
     Benchmark(
         "crossing_directions",
-        "engine_unreal5 with one velocity direction per tile against two, and gather_coverage, "
-        "on the scenes where motions cross: PSNR against both references, two-direction tiles, "
-        "ms",
+        f"{' and '.join(direction_methods())} with one velocity direction per tile against two, "
+        f"and {film_method()}, on the scenes where motions cross: PSNR against both references, "
+        "two-direction tiles, ms",
         {
             "scenes": Param("crossing,crossed_motions", str, "comma-separated scenes"),
             "configs": Param("", str, "more rows: METHOD:KEY=VALUE,... separated by ';'"),

@@ -13,6 +13,7 @@ import sys
 import tempfile
 import time
 
+from blurlab.methods import example_method
 from blurlab.methods.params import Param
 
 from .core import Benchmark, register
@@ -24,12 +25,12 @@ ctx = bl.Context()                        # "auto": GPU if EGL finds one, else l
 print(ctx.info()["renderer"])
 scene = bl.scenes.teapot_pass()           # or bl.Scene(...).add(mesh, material, motion)
 frame = ctx.render(scene, (320, 180))     # .color, .depth, .motion: NumPy, read when asked
-out = bl.blur(ctx, frame, "reconstruct_mcguire2012", k=20, samples=15)
+out = bl.blur(ctx, frame, "{method}", k=20, samples=15)
 ref = ctx.reference(scene, (320, 180), samples=64)
 print(bl.metrics.psnr(ref.color, out.color), out.timings)  # each pass's ms and its clock
 table = bl.sweep(ctx, ["teapot_pass"], size=(160, 90))  # pandas: method, params, total_ms, psnr
 bl.plots.save(bl.plots.pareto(table, "teapot_pass"), "pareto.png")
-"""
+""".replace("{method}", example_method())  # the method examples run, a tile filter with k
 GOAL_S = 15.0  # what the example may take on a 2-core machine with llvmpipe
 
 

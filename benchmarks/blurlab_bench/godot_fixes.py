@@ -15,7 +15,7 @@ def _godot_fixes(ctx, size, p, out) -> None:
     for scene, label, region, on, off in rows:
         out.figure(f"{scene}, {label}, {region}: on − off", on - off, "dB")
     out.table(
-        "engine_godot with each fix on and off, PSNR against the reference",
+        f"{godot_fixes.fixed_method()} with each fix on and off, PSNR against the reference",
         [("scene", ""), ("fix", ""), ("pixels", ""), ("on", "dB"), ("off", "dB")],
         rows,
     )
@@ -24,8 +24,8 @@ def _godot_fixes(ctx, size, p, out) -> None:
 register(
     Benchmark(
         "godot_fixes",
-        "engine_godot's near-plane correction, depth velocity and clamp, each on and off on "
-        "the failure scene it addresses: PSNR against the reference",
+        f"{godot_fixes.fixed_method()}'s near-plane correction, depth velocity and clamp, each on "
+        "and off on the failure scene it addresses: PSNR against the reference",
         {"reference_samples": Param(0, int, "N of the references (0: from the motion)", 0)},
         _godot_fixes,
         {"tiny": (64, 36), "software": (160, 90), "gpu": DEFAULT_SIZE},

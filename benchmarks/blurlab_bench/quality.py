@@ -51,6 +51,18 @@ def engine_methods() -> list[str]:
     return engines + [film_method(), *optioned_filters()]
 
 
+def _gpu_configs() -> str:
+    """The engines benchmark's extra GPU rows: film_method() at 6 taps (with and without its
+    film filter), and each method with tile classes in one dispatch (tile_dispatch=one)."""
+    film = film_method()
+    rows = [f"{film}:samples=6", f"{film}:samples=6,film_filter=0.5"]
+    for name in methods():
+        dispatch = method(name).params.get("tile_dispatch")
+        if dispatch is not None and "one" in dispatch.kind:
+            rows.append(f"{name}:tile_dispatch=one")
+    return ";".join(rows)
+
+
 def _engine_scene(ctx, name, size, p, runs, references) -> list[dict]:
     """Every row's pass times first, back to back, then every row's errors: reading results
     back and the CPU's metrics leave the GPU idle, and an idle GPU clocks down."""
@@ -238,9 +250,7 @@ register(
                 "methods": "post",
                 "references": "temporal,antialiased",
                 "film_filter": 0.5,
-                "config": "gather_coverage:samples=6;gather_coverage:samples=6,film_filter=0.5;"
-                "engine_unreal5:tile_dispatch=one;engine_hdrp:tile_dispatch=one;"
-                "gather_coverage:tile_dispatch=one",
+                "config": _gpu_configs(),
             },
         },
     )

@@ -17,7 +17,7 @@ from blurlab.studies.sweep import sweep
 
 from .core import Benchmark, register
 from .rescore import RESCORED, rescore
-from .timing import post_process_methods, split
+from .timing import gallery_methods, post_process_methods, split
 
 
 def ranked_sweep(ctx, names, size, p) -> pd.DataFrame:
@@ -132,7 +132,8 @@ register(
         {
             "tiny": {
                 "scenes": 3,
-                "methods": "gather_box,reconstruct_mcguire2012",
+                # a gather and a tile filter
+                "methods": f"{gallery_methods('gather')[0]},{gallery_methods('filter')[0]}",
                 "metrics": "psnr",
                 "bins": 1,
                 "reference_samples": 8,

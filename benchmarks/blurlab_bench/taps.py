@@ -10,19 +10,24 @@ import statistics
 import numpy as np
 
 from blurlab import metrics
-from blurlab.methods import blur, coverage
+from blurlab.methods import blur, coverage, method, methods
 from blurlab.methods.params import Param
 from blurlab.scene import scenes
 from blurlab.sizes import DEFAULT_SIZE
-from blurlab.twins import guertin2014
 
 from .core import Benchmark, register
-from .timing import film_method, median_passes, split, untimed_calls_ms
+from .timing import median_passes, split, tile_filters, untimed_calls_ms
 
-# The time every row is measured against: Guertin 2014's filter, named by its twin.
-BASELINE = guertin2014.reconstruct_guertin2014.__name__
+# The time every row is measured against: Guertin 2014's filter, the tile filter whose center
+# weight has a κ (its `kappa` parameter).
+BASELINE = next(name for name in tile_filters() if "kappa" in method(name).params)
 TODAY = "today"  # the label of the defaults' row
 LEVERS = ("tap_spacing", "early_exit", "uniform_tolerance", "half_res_above")
+
+
+def lever_method() -> str:
+    """The method the levers are parameters of (docs/spec.md §17.6.1)."""
+    return next(name for name in methods() if set(LEVERS) <= set(method(name).params))
 
 
 def lever_configs(p) -> list[tuple[str, dict]]:
@@ -56,7 +61,7 @@ def _scene_rows(ctx, name, size, p, configs) -> list[dict]:
     samples = p["reference_samples"] or "auto"
     reference = ctx.reference(scene, size, samples=samples, antialias=True, progress=False)
     runs = [(BASELINE, BASELINE, {})]
-    runs += [(label, film_method(), params) for label, params in configs]
+    runs += [(label, lever_method(), params) for label, params in configs]
     timed = {}
     for label, method_name, params in runs:
         passes, _ = median_passes(ctx, frame, method_name, p["runs"], **params)
@@ -77,7 +82,7 @@ def _scene_rows(ctx, name, size, p, configs) -> list[dict]:
             "ratio": ms / base_ms,
             "b2b_ratio": None if queued is None else queued / base_queued,
         }
-        if method_name == film_method():
+        if method_name == lever_method():
             if tiles is None:
                 tiles = coverage.tile_lines(frame, result, **params)
             levers = tuple((key, params.get(key)) for key in LEVERS)
@@ -122,7 +127,7 @@ def _coverage_taps(ctx, size, p, out) -> None:
     keys = ["scene", "config", "psnr_aa", "ms", "ratio", "b2b_ratio"]
     keys += ["taps_mean", "taps_p50", "taps_p90", "taps_max", "taps_none", "fast", "half"]
     out.table(
-        "gather_coverage's levers ("
+        f"{lever_method()}'s levers ("
         + ", ".join(f"{key}={p[key]:g}" for key in LEVERS)
         + f") against {BASELINE}; PSNR against the antialiased reference; taps per pixel over "
         "both half-shutters",
@@ -156,11 +161,11 @@ def _mean(rows, key) -> float:
 register(
     Benchmark(
         "coverage_taps",
-        "Just-enough-taps levers of gather_coverage (per-tile sample counts, early exit, "
+        f"Just-enough-taps levers of {lever_method()} (per-tile sample counts, early exit, "
         "uniform-motion path, half resolution for long blurs) alone and together, with and "
         "without the film filter, on every built-in and failure scene: PSNR against the "
         "antialiased reference, time against "
-        "reconstruct_guertin2014, taps per pixel",
+        f"{BASELINE}, taps per pixel",
         {
             "runs": Param(5, int, "timed runs per configuration (medians)", 1, 1000),
             "scenes": Param("", str, "comma-separated scenes (empty: built-in + failure)"),

@@ -123,6 +123,12 @@ def film_method() -> str:
     return next(name for name in methods() if "film_filter" in method(name).params)
 
 
+def gallery_methods(kind: str) -> list[str]:
+    """The methods of `kind` that the failure suite's gallery shows (registered gallery=True),
+    in registry order: the small presets' typical methods of that kind."""
+    return [name for name in methods() if method(name).kind == kind and method(name).gallery]
+
+
 def split(text: str) -> list[str]:
     """A comma-separated parameter's items ("" -> [])."""
     return [item for item in text.split(",") if item]

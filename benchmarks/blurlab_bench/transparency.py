@@ -13,7 +13,7 @@ import numpy as np
 
 from blurlab import blender, metrics
 from blurlab.blender import crosscheck
-from blurlab.methods import blur, method_instant
+from blurlab.methods import blur, example_method, method_instant, translucent_layer_method
 from blurlab.methods.params import Param
 from blurlab.scene import scenes
 from blurlab.sizes import DEFAULT_SIZE
@@ -284,7 +284,8 @@ register(
         {
             "tiny": {
                 "scenes": "moving_glass,sparks_over_mover",
-                "methods": "reconstruct_mcguire2012,gather_coverage",
+                # the examples' tile filter and the method that blurs the translucent layer
+                "methods": f"{example_method()},{translucent_layer_method()}",
                 "reference_samples": 8,
                 "cost_scenes": "moving_glass,sparks_over_mover",
                 "runs": 1,

@@ -32,7 +32,7 @@ from .cli_suite import add_suite_command, suite_command
 from .core.context import Context
 from .errors import cause
 from .io import images as io
-from .methods import blur, method, methods
+from .methods import blur, example_method, method, methods
 from .scene import scenes
 from .sizes import DEFAULT_SIZE
 from .studies import capture_study, plots
@@ -100,8 +100,10 @@ def _demo(args) -> int:
             f"{speed.max():>11.1f}"
         )
     print(f"(times by {info['timer']})")
+    # The blur's name and its tile filter's k and samples, as the last call resolved them.
+    shown = [f"{key} = {result.params[key]}" for key in ("k", "samples") if key in result.params]
     print(
-        f"\nwrote sharp, blurred (reconstruct_mcguire2012, k = 20, S = 15) and motion pictures, "
+        f"\nwrote sharp, blurred ({', '.join([args.method, *shown])}) and motion pictures, "
         f"and G-buffer EXRs (R, G, B, A, Z, Mx, My) to {out}/"
     )
     return 0
@@ -316,8 +318,8 @@ def build_parser(bench_arguments: bool = True) -> argparse.ArgumentParser:
     demo.add_argument(
         "--method",
         choices=methods(),
-        default=methods()[0],
-        help=f"the method that blurs each scene (default: {methods()[0]})",
+        default=example_method(),
+        help=f"the method that blurs each scene (default: {example_method()})",
     )
     listing = sub.add_parser(
         "methods", help="list the registered methods and their parameters (defaults, ranges)"

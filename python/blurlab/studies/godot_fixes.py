@@ -9,8 +9,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..methods import blur, method_instant
-from ..methods.godot import ENGINE_GODOT
+from ..methods import blur, method, method_instant, methods
 from ..metrics import psnr
 from ..scene import scenes
 from . import plots
@@ -32,8 +31,6 @@ class Fix:
         return f"{self.switch}" + (f" ({held})" if held else "")
 
 
-METHOD = ENGINE_GODOT.name
-
 # A user who halves the camera's part of the blur, as games let players do, keeps a tracked
 # car sharp only through the clamp; the reference shows the car as the panning shot does.
 # The near-plane correction again with k = 256 px, where the tile clamp (2k) no longer hides
@@ -45,6 +42,16 @@ FIXES = (
     Fix("racing_road", "clamp_to_original", {"translation_multiplier": 0.5}, "car"),
     Fix("tracked_car", "clamp_to_original", {"rotation_multiplier": 0.5}, "car"),
 )
+
+
+def fixed_method() -> str:
+    """The method the fixes belong to: the first registered one whose declared parameters
+    include every fix's switch and every parameter a fix holds."""
+    wanted = {fix.switch for fix in FIXES} | {key for fix in FIXES for key in fix.held}
+    for name in methods():
+        if wanted <= set(method(name).params):
+            return name
+    raise LookupError(f"blurlab: no registered method takes every one of {sorted(wanted)}")
 
 
 def _region(frame, name: str | None) -> np.ndarray:
@@ -61,19 +68,19 @@ def _scored(reference, image, mask) -> float:
 
 def measure(ctx, size, reference_samples: int | str = "auto") -> list[list]:
     """One row per fix: scene, fix, pixels scored, PSNR on, PSNR off (dB)."""
-    rows, references = [], {}
+    rows, references, fixed = [], {}, fixed_method()
     for fix in FIXES:
         scene = scenes.get(fix.scene)
         if fix.scene not in references:
             references[fix.scene] = ctx.reference(
                 scene, size, samples=reference_samples, progress=False
             ).color
-        frame = ctx.render(scene, size, instant=method_instant(METHOD, {}))
+        frame = ctx.render(scene, size, instant=method_instant(fixed, {}))
         mask = _region(frame, fix.region)
         scores = [
             _scored(
                 references[fix.scene],
-                blur(ctx, frame, METHOD, **fix.held, **{fix.switch: on}).color,
+                blur(ctx, frame, fixed, **fix.held, **{fix.switch: on}).color,
                 mask,
             )
             for on in (True, False)
@@ -84,13 +91,13 @@ def measure(ctx, size, reference_samples: int | str = "auto") -> list[list]:
 
 def gallery(ctx, fix: Fix, size, reference_samples: int | str = "auto"):
     """A figure: the reference, engine_godot with the fix on and off, and their |error| maps."""
-    scene = scenes.get(fix.scene)
+    scene, fixed = scenes.get(fix.scene), fixed_method()
     reference = ctx.reference(scene, size, samples=reference_samples, progress=False).color
-    frame = ctx.render(scene, size, instant=method_instant(METHOD, {}))
+    frame = ctx.render(scene, size, instant=method_instant(fixed, {}))
     images = {
         f"{fix.switch} {'on' if on else 'off'}": blur(
-            ctx, frame, METHOD, **fix.held, **{fix.switch: on}
+            ctx, frame, fixed, **fix.held, **{fix.switch: on}
         ).color
         for on in (True, False)
     }
-    return plots.image_grid(reference, images, title=f"{fix.scene}: engine_godot, {fix.label}")
+    return plots.image_grid(reference, images, title=f"{fix.scene}: {fixed}, {fix.label}")

@@ -23,7 +23,7 @@ from .. import metrics
 from ..core.context import Context
 from ..docs_link import docs_anchor
 from ..io import images as io
-from ..methods import blur, method, method_instant
+from ..methods import blur, method, method_instant, methods
 from ..metrics import check_names, get, registered
 from ..scene import scenes
 from ..sizes import DEFAULT_SIZE
@@ -462,6 +462,16 @@ def _html_table(table: pd.DataFrame, number: str = ".4g") -> str:
     return table.to_html(index=False, float_format=lambda v: f"{v:{number}}", border=0)
 
 
+def _equal_renders(count: int) -> str:
+    """The methods of the per-object table (blurlab.studies.objects) at `count` renders each."""
+    compared = [n for n in methods() if method(n).renders_for is not None]
+    at = [
+        f"{n} ({', '.join(f'{k} = {v}' for k, v in method(n).renders_for(count).items())})"
+        for n in compared
+    ]
+    return f"{' against '.join(at)}: the same {count} renders"
+
+
 def _html(info, size, table, sections, curves, per_object=None, peer_rows=None, clock=None) -> str:
     e = html.escape
     when = datetime.datetime.now().strftime("%Y-%m-%d %H:%M")
@@ -474,9 +484,9 @@ def _html(info, size, table, sections, curves, per_object=None, peer_rows=None, 
         f"{len(table)} evaluations · data: <a href='results.csv'>results.csv</a></p>",
         "<p>Each method runs on the G-buffer rendered at the instant it expects; its error is "
         "measured against the converged reference of the same shutter (the mean of N renders). "
-        "Time is the sum of the method's passes; methods that render (accumulation, "
-        f"stochastic) include their renders. The {docs_anchor('metrics', 'metrics')}:"
-        "</p>",
+        "Time is the sum of the method's passes; methods that render "
+        f"({e(', '.join(n for n in methods() if method(n).renders))}) include their renders. "
+        f"The {docs_anchor('metrics', 'metrics')}:</p>",
         "<ul>"
         + "".join(
             f"<li><code>{e(n)}</code>: {e(get(n).axis_title)} (docs/spec.md {get(n).spec})</li>"
@@ -529,8 +539,7 @@ def _html(info, size, table, sections, curves, per_object=None, peer_rows=None, 
         parts.append(
             "<h2>Per object: the OGRE paper's Table 1, with accuracy (textured_spin)</h2>"
             "<p>Each sphere's PSNR inside its box (its pixels, widened by half its motion) "
-            "against the reference; accumulation of N sub-frames against stochastic blur with "
-            "N/4 time slices (4 jittered renders each: the same N renders). Times are the whole "
+            f"against the reference; {e(_equal_renders(16))}. Times are the whole "
             "frame's. Data: <a href='per_object.csv'>per_object.csv</a>.</p>"
         )
         parts.append(_html_table(per_object, ".2f"))
