@@ -1,4 +1,4 @@
-// Taps of the engines' gathers (docs/spec.md §4), shared by gather_weighted and gather_box.
+// Taps of the engines' gathers (docs/spec.md §4), shared by the gathers along the motion.
 // A tap at continuous position p reads the pixel containing it. Edge rules ("Blurry things"):
 //   clamp  - a tap outside the image reads the nearest edge pixel;
 //   ignore - a tap outside the image is dropped and the weights of the others renormalized;

@@ -1,7 +1,7 @@
 #version 450
 // Accumulation, docs/spec.md §1 "Reference": sum += weight * color, in float32, one sub-frame at a
 // time. With weight 1/N over N sub-frames the sum is their mean.
-// NumPy twin: blurlab.twins.accumulation.mean_of_renders.
+// NumPy twin: blurlab.twins.sub_frames.mean_of_renders.
 #include "common/inputs.glsl"
 
 layout(local_size_x = 16, local_size_y = 16) in;

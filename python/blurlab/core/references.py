@@ -15,7 +15,7 @@ from ..scene.blur_scales import scaled_scene
 from ..scene.model import Scene
 from ..scene.sampling import shutter_samples
 from ..sizes import DEFAULT_SIZE
-from ..twins.accumulation import sample_times
+from ..twins.sub_frames import sample_times
 from .frame import Frame
 from .render import check_fragment_capacity, check_shutter, check_size, render, render_targets
 

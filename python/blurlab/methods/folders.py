@@ -69,7 +69,8 @@ class Declaration:
     timing, its shader file in the folder (.glsl or .comp: GLSL 4.50; .hlsl: an HLSL compute
     shader) and the parameters it takes as uniforms of the same names. A method whose passes
     need more wiring than a chain gives `run(ctx, frame, inputs, values, backend, passes)`, with
-    `passes` the declared ones by name, their shaders resolved."""
+    `passes` the declared ones by name, their shaders resolved; such a method may declare no
+    passes where it only renders or blends frames with blurlab's own."""
 
     name: str
     kind: str  # one of CHAIN_KINDS, or any of KINDS with a `run`
@@ -213,7 +214,7 @@ def method_of(d: Declaration, folder: Path, source: str, builtin: bool = False) 
         fail(f"a {d.kind} method needs a run of its own; a chain of passes is {CHAIN_KINDS}")
     if not isinstance(d.doc, str) or not d.doc.strip():
         fail("doc must say in a line what the method does")
-    _check_params(d.params, fail)
+    _check_params(d.params, fail, d.kind)
     if not callable(d.instant) and d.instant not in INSTANTS:
         fail(f"instant {d.instant!r} must be one of {INSTANTS} or a function of the parameters")
     backends = tuple(d.backends)
@@ -256,7 +257,7 @@ def method_of(d: Declaration, folder: Path, source: str, builtin: bool = False) 
     )
 
 
-def _check_params(params, fail) -> None:
+def _check_params(params, fail, kind: str) -> None:
     if not isinstance(params, dict):
         fail(f"params must be a dict of name: Param, not {type(params).__name__}")
     for key, p in params.items():
@@ -264,6 +265,8 @@ def _check_params(params, fail) -> None:
             fail(f"parameter name {key!r} is not an identifier (it is the shader's uniform)")
         if not isinstance(p, Param):
             fail(f"parameter {key} must be a Param, not {type(p).__name__}")
+        if p.kind is object and kind == "sequence" and p.default is None:
+            continue  # what a sequence method is handed from the frame before: not swept
         if p.kind in (int, float) and (p.low is None or p.high is None):
             fail(f"parameter {key} has no range: declare Param(..., low=..., high=...)")
         if p.kind is object or not (p.kind in (int, float, bool) or isinstance(p.kind, tuple)):
@@ -279,6 +282,8 @@ def _check_params(params, fail) -> None:
 def _resolved_passes(d: Declaration, folder: Path, backends, fail) -> tuple[Pass, ...]:
     """The declared passes with each shader as a path blurlab compiles: the folder's GLSL file,
     or the GLSL translated from its HLSL one."""
+    if d.run is not None and isinstance(d.passes, (tuple, list)) and not d.passes:
+        return ()  # a run that renders or blends frames with blurlab's own passes
     if not isinstance(d.passes, (tuple, list)) or not d.passes:
         fail("passes must be a non-empty tuple of Pass(name, shader, params)")
     resolved = []

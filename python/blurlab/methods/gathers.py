@@ -1,8 +1,9 @@
-"""The engines' gathers along the motion (docs/spec.md §4): gather_weighted (ogldev tutorial 41)
-and gather_box ("Blurry things"), with the edge rules of "Blurry things" (clamp, ignore, or a
-guard band re-rendered around the frame). Shaders shaders/passes/gather_weighted.glsl and
-gather_box.glsl over shaders/common/gather.glsl; NumPy twins blurlab.twins.gathers.
-camera_only (camera_only.py) reuses gather_box's parameters and edge handling.
+"""What the engines' gathers along the motion share (docs/spec.md §4): the edge rules of
+"Blurry things" (clamp, ignore, or a guard band re-rendered around the frame), the run of a
+gather with them, and the box gather's parameters (shaders/common/box_gather.glsl; NumPy twin
+blurlab.twins.gathers.box_gather). The gathers themselves are method folders:
+gather_weighted/, gather_box/, gather_gaussian/ and camera_only/, which gathers the box along
+the camera's motion alone.
 """
 
 from __future__ import annotations
@@ -13,8 +14,7 @@ from collections.abc import Callable
 from ..core.context import Context
 from ..core.frame import Frame
 from ..core.render import render_targets
-from ..twins import gathers as twin
-from .core import PARAM_SCALE_MAX, Method, Param, Pass, PassRunner, register
+from .core import PARAM_SCALE_MAX, Param, Pass, PassRunner
 
 EDGES = ("clamp", "ignore", "guard")
 
@@ -40,14 +40,15 @@ def with_edge(ctx: Context, frame: Frame, inputs: dict, edge: str, reach: float,
 
 
 def run_gather(step: Pass, params: dict[str, Param], reach: Callable[[dict], float]):
-    """A gather's run function: `step` over the frame's color and motion, inside a guard band
-    where edge="guard" (`reach`: the farthest tap, in motion lengths)."""
+    """A gather's run function (a Declaration's): the pass named as `step` over the frame's
+    color and motion, inside a guard band where edge="guard" (`reach`: the farthest tap, in
+    motion lengths)."""
 
-    def run(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
+    def run(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str, passes: dict):
         def on(textures):
-            passes = PassRunner(ctx, params, values)
+            runner = PassRunner(ctx, params, values)
             gathered = {"color": textures["color"], "motion": textures["motion"]}
-            return passes.run_result(step, gathered, backend), passes.timings
+            return runner.run_result(passes[step.name], gathered, backend), runner.timings
 
         color, timings = with_edge(ctx, frame, inputs, values["edge"], reach(values), on)
         return {"color": color}, timings
@@ -56,11 +57,12 @@ def run_gather(step: Pass, params: dict[str, Param], reach: Callable[[dict], flo
 
 
 def edge_gather(step: Pass, params: dict[str, Param], reach) -> dict:
-    """The Method fields of a gather with the edge rules: `step` run by run_gather on both
+    """The Declaration fields of a gather with the edge rules: `step` run by run_gather on both
     backends (`reach` as run_gather's)."""
     return {
         "kind": "gather",
         "params": params,
+        "passes": (step,),
         "backends": ("compute", "fragment"),
         "run": run_gather(step, params, reach),
     }
@@ -69,19 +71,9 @@ def edge_gather(step: Pass, params: dict[str, Param], reach) -> dict:
 EDGE_PARAM = Param(
     "clamp", EDGES, "taps outside the image: clamp, ignore, or guard (re-render a margin)"
 )
-WEIGHTED_PARAMS = {"edge": EDGE_PARAM}
-GATHER_WEIGHTED = Pass("gather_weighted", "passes/gather_weighted.glsl", ("edge",))
 
-register(
-    Method(
-        name="gather_weighted",
-        **edge_gather(GATHER_WEIGHTED, WEIGHTED_PARAMS, lambda v: 1.5),
-        instant="close",
-        twin=twin.gather_weighted,
-        doc="ogldev tutorial 41: taps along M/2 with weights 0.4/0.3/0.2/0.1. docs/spec.md §4.",
-    )
-)
-
+# The box gather's parameters, for the gathers of common/box_gather.glsl (and the intensity
+# another method's gather shares).
 BOX_PARAMS = {
     "taps": Param(10, int, "n equal taps", 2, 256),
     "intensity": Param(
@@ -92,9 +84,6 @@ BOX_PARAMS = {
 }
 
 
-GATHER_BOX = Pass("gather_box", "passes/gather_box.glsl", tuple(BOX_PARAMS))
-
-
 def box_reach(values: dict) -> float:
     return values["intensity"] * (0.5 if values["direction"] == "centered" else 1.0)
 
@@ -102,17 +91,3 @@ def box_reach(values: dict) -> float:
 def box_instant(values: dict) -> str:
     """Taps around X read the G-buffer at the shutter's center, taps behind it at its close."""
     return "center" if values.get("direction") == "centered" else "close"
-
-
-register(
-    Method(
-        name="gather_box",
-        **edge_gather(GATHER_BOX, BOX_PARAMS, box_reach),
-        instant=box_instant,
-        default_grid={"taps": [5, 10, 20]},
-        twin=twin.gather_box,
-        gallery=True,
-        doc='"Blurry things": n equal taps along the motion, backward or centered. '
-        "docs/spec.md §4.",
-    )
-)

@@ -17,7 +17,7 @@ from __future__ import annotations
 from ..core.context import Context
 from ..core.frame import Frame
 from ..twins import godot as twin
-from .camera_only import split_camera_uniforms
+from .camera_motion import split_camera_uniforms
 from .core import Method, Param, Pass, PassRunner, register
 from .tile_filter import TILE_FILTER_PARAMS, tile_passes
 

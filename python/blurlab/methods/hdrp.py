@@ -22,7 +22,7 @@ from ..core.frame import Frame
 from ..twins import hdrp as twin
 from ..twins.small_float import UF11_MANTISSA, largest_finite
 from . import tiles as tile_lists
-from .camera_only import split_camera_uniforms
+from .camera_motion import split_camera_uniforms
 from .core import FLOAT32_MAX, SEED, Method, Param, Pass, PassRunner, register
 from .gathers import BOX_PARAMS
 

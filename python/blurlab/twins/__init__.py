@@ -1,10 +1,10 @@
 """The NumPy twins: the specification (docs/spec.md) in code, float64 where it computes.
 
-Each GPU pass has its twin here, and the tests hold the GPU to it.
+Each GPU pass has its twin here or, for a method's own pass, in its folder (twin.py beside
+method.py), and the tests hold the GPU to it.
 """
 
 from . import (
-    accumulation,
     flip,
     gathers,
     guertin2014,
@@ -13,7 +13,7 @@ from . import (
     mcguire2012,
     motion_encoding,
     projection,
-    stochastic,
+    sub_frames,
     taa,
     urho3d,
 )
@@ -21,7 +21,6 @@ from .hashing import pcg, rand
 from .patterns import test_pattern
 
 __all__ = [
-    "accumulation",
     "flip",
     "gathers",
     "guertin2014",
@@ -32,7 +31,7 @@ __all__ = [
     "pcg",
     "projection",
     "rand",
-    "stochastic",
+    "sub_frames",
     "taa",
     "test_pattern",
     "urho3d",

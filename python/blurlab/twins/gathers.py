@@ -1,8 +1,9 @@
-"""The gathers along the motion, docs/spec.md §4, in NumPy float64 (GPU twins:
-shaders/passes/gather_weighted.glsl, gather_box.glsl, gather_gaussian.glsl, camera_motion.glsl).
-A tap at continuous position p reads the pixel containing it; edge "clamp" reads the nearest
-edge pixel for taps outside the image, "ignore" drops them and renormalizes the remaining
-weights."""
+"""What the gathers along the motion share, docs/spec.md §4, in NumPy float64: the taps and
+their edge rules (GPU: shaders/common/gather.glsl), the box gather (common/box_gather.glsl) and
+the motion of the camera alone (common/camera_motion.glsl). Each method's own twin is its
+folder's twin.py. A tap at continuous position p reads the pixel containing it; edge "clamp"
+reads the nearest edge pixel for taps outside the image, "ignore" drops them and renormalizes
+the remaining weights."""
 
 from __future__ import annotations
 
@@ -13,7 +14,7 @@ from .inputs import sanitize_color, sanitize_depth, sanitize_motion
 EDGES = ("clamp", "ignore")
 
 
-def _gather(color, positions, weights, edge: str) -> np.ndarray:
+def gather_taps(color, positions, weights, edge: str) -> np.ndarray:
     """Sum of weights[i] * color at positions[i] (each (H, W, 2)), normalized."""
     if edge not in EDGES:  # "guard" re-renders the frame; on arrays it has no meaning
         raise ValueError(f"blurlab: the gathers' twins take edge {EDGES}, not {edge!r}")
@@ -34,42 +35,27 @@ def _gather(color, positions, weights, edge: str) -> np.ndarray:
     return np.where(total[..., None] > 0, acc / safe[..., None], color)
 
 
-def _centers(h: int, w: int) -> np.ndarray:
+def tap_centers(h: int, w: int) -> np.ndarray:
+    """(H, W, 2): each pixel's center X_c, where its taps start."""
     y, x = np.mgrid[0:h, 0:w]
     return np.stack([x, y], -1) + 0.5
 
 
-def gather_weighted(color, motion, *, edge: str) -> np.ndarray:
-    """ogldev tutorial 41: m = M/2; taps X, X - m, X - 2m, X - 3m, weights 0.4, 0.3, 0.2, 0.1."""
-    m = sanitize_motion(motion) / 2
-    center = _centers(*m.shape[:2])
-    return _gather(color, [center - i * m for i in range(4)], [0.4, 0.3, 0.2, 0.1], edge)
-
-
-def gather_box(
+def box_gather(
     color, motion, *, taps: int, intensity: float, direction: str, edge: str
 ) -> np.ndarray:
-    """ "Blurry things": n equal taps at X - s·M·intensity, s = i/(n-1), minus 1/2 for
-    direction "centered" ("backward": the taps lie behind X)."""
+    """The box gather ("Blurry things"): n equal taps at X - s·M·intensity, s = i/(n-1), minus
+    1/2 for direction "centered" ("backward": the taps lie behind X)."""
     m = sanitize_motion(motion) * intensity
-    center = _centers(*m.shape[:2])
+    center = tap_centers(*m.shape[:2])
     s = np.arange(taps) / (taps - 1) - (0.5 if direction == "centered" else 0.0)
-    return _gather(color, [center - si * m for si in s], [1.0] * taps, edge)
-
-
-def gather_gaussian(color, motion, *, taps: int, sigma: float, edge: str) -> np.ndarray:
-    """n taps at X - s·M, s = i/(n-1) - 1/2, weighted exp(-s² / 2σ²) (σ in motion lengths)."""
-    m = sanitize_motion(motion)
-    center = _centers(*m.shape[:2])
-    s = np.arange(taps) / (taps - 1) - 0.5
-    weights = np.exp(-(s**2) / (2 * sigma**2))
-    return _gather(color, [center - si * m for si in s], list(weights), edge)
+    return gather_taps(color, [center - si * m for si in s], [1.0] * taps, edge)
 
 
 def pixel_clip(size) -> np.ndarray:
     """(H, W, 4): each pixel center in clip space at depth 1 (ndc x, y, 1, 1)."""
     width, height = size
-    ndc = _centers(height, width) / np.array([width, height]) * 2 - 1
+    ndc = tap_centers(height, width) / np.array([width, height]) * 2 - 1
     ones = np.ones(ndc.shape[:2])
     return np.stack([ndc[..., 0], ndc[..., 1], ones, ones], -1)
 

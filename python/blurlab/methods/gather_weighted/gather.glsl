@@ -1,7 +1,7 @@
 #version 450
 // gather_weighted, docs/spec.md §4 (ogldev tutorial 41): m = M/2; taps at X, X - m, X - 2m, X - 3m
 // with weights 0.4, 0.3, 0.2, 0.1. Instant t1. Compute (default) or fragment (the tutorial's).
-// NumPy twin: blurlab.twins.gathers.gather_weighted.
+// NumPy twin: twin.py, gather_weighted.
 #include "common/gather.glsl"
 
 vec4 gather_weighted_at(ivec2 x) {

@@ -1,13 +1,13 @@
 """stochastic (docs/spec.md §4, the OGRE paper) in NumPy: slice times, the rotated grid, the
 per-pixel slice choice, and the combination of the jittered slice renders. GPU twin:
-shaders/passes/stochastic.comp, whose header gives the rule."""
+combine.comp beside it, whose header gives the rule."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from .hashing import pcg, rand
-from .inputs import sanitize_color
+from ...twins.hashing import pcg, rand
+from ...twins.inputs import sanitize_color
 
 # Rotated-grid sample positions inside a pixel, from its top-left corner (pixels).
 ROTATED_GRID = np.array([[0.375, 0.125], [0.875, 0.375], [0.125, 0.625], [0.625, 0.875]])

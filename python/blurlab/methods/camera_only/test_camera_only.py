@@ -1,4 +1,5 @@
-"""camera_only (docs/spec.md §4, Urho3D thesis §2.3.2): motion from depth and the camera alone."""
+"""camera_only (docs/spec.md §4, Urho3D thesis §2.3.2; spec.md here): motion from depth and the
+camera alone, then the box gather along it."""
 
 from __future__ import annotations
 
@@ -7,6 +8,7 @@ import pytest
 from conftest import assert_matches_twin
 
 import blurlab as bl
+from blurlab.methods.camera_only import twin
 from blurlab.twins import gathers
 
 
@@ -29,8 +31,7 @@ def test_camera_motion_equals_the_gbuffer_motion_of_a_still_world(ctx):
 def test_gpu_matches_reference(ctx):
     frame = ctx.render(panning_scene(), (160, 90), instant="close")
     result = bl.blur(ctx, frame, "camera_only", taps=8)
-    motion = gathers.camera_motion(frame.depth, frame.camera, frame.size)
-    expected = gathers.gather_box(frame.color, motion, **result.params)
+    expected = twin.camera_only(frame.color, frame.depth, frame.camera, frame.size, **result.params)
     assert_matches_twin(result, frame, expected=expected)
 
 

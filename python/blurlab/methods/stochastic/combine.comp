@@ -7,7 +7,7 @@
 // Slice l, sample position i is one render (jittered to put position i at the pixel center);
 // this pass adds its share. The neighbour to the right gives its leftmost sample (i = 2), the
 // one below its topmost (0), the one to the left its rightmost (1), the one above its
-// bottommost (3). NumPy twin: blurlab.twins.stochastic.
+// bottommost (3). NumPy twin: twin.py beside it.
 #include "common/inputs.glsl"
 #include "common/random.glsl"
 

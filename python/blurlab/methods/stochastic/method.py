@@ -1,30 +1,31 @@
 """stochastic (the OGRE paper): K time slices, each rendered at a hashed time inside its part of
 the shutter with four rotated-grid sub-pixel offsets, combined per pixel with weights 5/32
-inside and 3/32 from the neighbors (shaders/passes/stochastic.comp; NumPy twin
-blurlab.twins.stochastic). Noise instead of banding. docs/spec.md §4.
+inside and 3/32 from the neighbors (combine.comp here; NumPy twin twin.py here). Noise instead
+of banding. docs/spec.md §4; spec.md here.
 """
 
 from __future__ import annotations
 
-from ..core.context import Context
-from ..core.frame import Frame
-from ..core.gl import Timing
-from ..core.render import render_targets
-from ..twins.stochastic import ROTATED_GRID, slice_times
-from .core import SEED, Method, Param, Pass, register
+from ...core.context import Context
+from ...core.frame import Frame
+from ...core.gl import Timing
+from ...core.render import render_targets
+from ..core import SEED, Param, Pass, shader_beside
+from ..folders import Declaration
+from .twin import ROTATED_GRID, slice_times
 
 # Adds one jittered slice render into the sum; its time is summed over the 4 K renders.
-COMBINE = Pass("stochastic", "passes/stochastic.comp", ("slices", "seed"))
+COMBINE = Pass("stochastic", shader_beside(__file__, "combine.comp"), ("slices", "seed"))
 
 
-def _run_stochastic(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
+def run(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str, passes: dict):
     slices, seed = values["slices"], values["seed"]
     if frame.scene is None:
         raise ValueError("blurlab: stochastic renders time slices: use a frame made by ctx.render")
     height, width = frame.shape
     result = ctx.pooled((height, width, 4))
     result.clear()
-    combine = ctx.shader_pass(COMBINE.shader)
+    combine = ctx.shader_pass(passes[COMBINE.name].shader)
     renders = combines = 0.0
     clock = ""
     for slice_index, t in enumerate(slice_times(frame.shutter, slices, seed)):
@@ -49,19 +50,19 @@ def _run_stochastic(ctx: Context, frame: Frame, inputs: dict, values: dict, back
     }
 
 
-register(
-    Method(
-        name="stochastic",
-        kind="render",
-        params={
-            "slices": Param(4, int, "time slices K; 4 K jittered renders", 1, 64),
-            "seed": SEED,
-        },
-        run=_run_stochastic,
-        default_grid={"slices": [2, 4, 8]},
-        renders_for=lambda n: {"slices": max(1, n // len(ROTATED_GRID))},  # 4 renders a slice
-        gallery=True,
-        doc="The OGRE paper's stochastic blur: K time slices, rotated-grid samples in and "
-        "around each pixel, weights 5/32 and 3/32. docs/spec.md §4.",
-    )
+METHOD = Declaration(
+    name="stochastic",
+    kind="render",
+    order=9,
+    params={
+        "slices": Param(4, int, "time slices K; 4 K jittered renders", 1, 64),
+        "seed": SEED,
+    },
+    passes=(COMBINE,),
+    run=run,
+    default_grid={"slices": [2, 4, 8]},
+    renders_for=lambda n: {"slices": max(1, n // len(ROTATED_GRID))},  # 4 renders a slice
+    gallery=True,
+    doc="The OGRE paper's stochastic blur: K time slices, rotated-grid samples in and "
+    "around each pixel, weights 5/32 and 3/32. docs/spec.md §4.",
 )

@@ -1,7 +1,7 @@
 #version 450
 // gather_gaussian (docs/spec.md §4): n taps at X - s·M, s = i/(n - 1) - 1/2, each weighted
 // exp(-s² / 2σ²) with σ a fraction of the motion's length; the G-buffer at the shutter's
-// center. Compute (default) or fragment. NumPy twin: blurlab.twins.gathers.gather_gaussian.
+// center. Compute (default) or fragment. NumPy twin: twin.py, gather_gaussian.
 #include "common/gather.glsl"
 
 uniform int taps;

@@ -1,4 +1,5 @@
-"""stochastic (docs/spec.md §4, the OGRE paper): K jittered time slices combined per pixel."""
+"""stochastic (docs/spec.md §4, the OGRE paper; spec.md here): K jittered time slices combined per
+pixel."""
 
 from __future__ import annotations
 
@@ -7,7 +8,7 @@ import pytest
 
 import blurlab as bl
 from blurlab.core.render import render_targets
-from blurlab.twins import stochastic
+from blurlab.methods.stochastic import twin
 
 SIZE = (96, 54)
 
@@ -17,14 +18,14 @@ def test_combination_matches_reference(ctx, slices):
     scene = bl.scenes.teapot_pass()
     frame = ctx.render(scene, SIZE)
     renders = np.zeros((slices, 4, SIZE[1], SIZE[0], 4))
-    for index, t in enumerate(stochastic.slice_times(frame.shutter, slices, 9)):
-        for position, p in enumerate(stochastic.ROTATED_GRID):
+    for index, t in enumerate(twin.slice_times(frame.shutter, slices, 9)):
+        for position, p in enumerate(twin.ROTATED_GRID):
             targets, _, _ = render_targets(
                 ctx, scene, SIZE, frame.shutter, float(t), 0, (0.5 - p[0], 0.5 - p[1])
             )
             renders[index, position] = targets["color"].download()
     result = bl.blur(ctx, frame, "stochastic", slices=slices, seed=9)
-    np.testing.assert_allclose(result.color, stochastic.combine(renders, slices, 9), atol=1e-6)
+    np.testing.assert_allclose(result.color, twin.combine(renders, slices, 9), atol=1e-6)
 
 
 def test_error_against_the_reference_falls_as_k_grows(ctx):
@@ -52,10 +53,10 @@ def test_weights_sum_to_one(ctx):
 
 def test_every_slice_is_used_and_choices_are_deterministic():
     y, x = np.mgrid[0:64, 0:64]
-    chosen = stochastic.slice_of(x, y, 2, 7, 3)
+    chosen = twin.slice_of(x, y, 2, 7, 3)
     assert set(np.unique(chosen)) == set(range(7))
-    np.testing.assert_array_equal(chosen, stochastic.slice_of(x, y, 2, 7, 3))
-    quarters = [stochastic.slice_of(x, y, i, 4, 3) for i in range(4)]
+    np.testing.assert_array_equal(chosen, twin.slice_of(x, y, 2, 7, 3))
+    quarters = [twin.slice_of(x, y, i, 4, 3) for i in range(4)]
     assert (np.sort(np.stack(quarters), axis=0) == np.arange(4)[:, None, None]).all()
 
 

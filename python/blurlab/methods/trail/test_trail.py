@@ -1,4 +1,5 @@
-"""trail (docs/spec.md §4): out_n = α·C_n + (1 - α)·out_{n-1} over a frame sequence."""
+"""trail (docs/spec.md §4; spec.md here): out_n = α·C_n + (1 - α)·out_{n-1} over a frame
+sequence."""
 
 from __future__ import annotations
 
@@ -30,13 +31,3 @@ def test_feedback_over_a_sequence_matches_numpy(ctx, rng):
 def test_alpha_outside_unit_interval(ctx, rng, alpha):
     with pytest.raises(ValueError, match=r"alpha = .* is outside \[0, 1\]"):
         bl.blur(ctx, random_frame(rng, 8, 8), "trail", alpha=alpha)
-
-
-def test_accumulation_method_is_the_small_n_reference(ctx):
-    scene = bl.scenes.fan()
-    frame = ctx.render(scene, (64, 64))
-    result = bl.blur(ctx, frame, "accumulation", samples=4)
-    reference = ctx.reference(scene, (64, 64), samples=4, stratified=False, progress=False)
-    assert result.color.tobytes() == reference.color.tobytes()
-    with pytest.raises(ValueError, match=r"samples = 0 is outside 1\.\.4096"):
-        bl.blur(ctx, frame, "accumulation", samples=0)

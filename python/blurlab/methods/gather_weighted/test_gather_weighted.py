@@ -1,4 +1,5 @@
-"""gather_weighted (docs/spec.md §4, ogldev tutorial 41) against its NumPy twin."""
+"""gather_weighted (docs/spec.md §4, ogldev tutorial 41; spec.md here) against its NumPy
+twin."""
 
 from __future__ import annotations
 
@@ -7,7 +8,7 @@ import pytest
 from conftest import random_frame
 
 import blurlab as bl
-from blurlab.twins import gathers
+from blurlab.methods.gather_weighted import twin
 
 
 def close_enough(gpu, expected):
@@ -20,7 +21,7 @@ def close_enough(gpu, expected):
 def test_matches_reference(ctx, rng, backend, edge):
     frame = random_frame(rng, 97, 61)
     result = bl.blur(ctx, frame, "gather_weighted", backend=backend, edge=edge)
-    assert close_enough(result.color, gathers.gather_weighted(frame.color, frame.motion, edge=edge))
+    assert close_enough(result.color, twin.gather_weighted(frame.color, frame.motion, edge=edge))
 
 
 def test_zero_motion_is_the_identity(ctx, rng):

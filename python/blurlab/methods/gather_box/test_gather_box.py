@@ -1,4 +1,4 @@
-"""gather_box (docs/spec.md §4, "Blurry things") against its NumPy twin."""
+"""gather_box (docs/spec.md §4, "Blurry things"; spec.md here) against its NumPy twin."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import pytest
 from conftest import random_frame
 
 import blurlab as bl
-from blurlab.twins import gathers
+from blurlab.methods.gather_box import twin
 
 
 @pytest.mark.parametrize("backend", ["compute", "fragment"])
@@ -24,7 +24,7 @@ def test_matches_reference(ctx, rng, backend, taps, intensity, direction, edge):
     frame = random_frame(rng, 97, 61)
     params = {"taps": taps, "intensity": intensity, "direction": direction, "edge": edge}
     result = bl.blur(ctx, frame, "gather_box", backend=backend, **params)
-    expected = gathers.gather_box(frame.color, frame.motion, **params)
+    expected = twin.gather_box(frame.color, frame.motion, **params)
     error = np.abs(result.color - expected).max(axis=-1)
     assert (error <= 1e-3).mean() >= 0.999
 
