@@ -3,7 +3,7 @@ python/blurlab/methods/engine_eevee/, has the gather) and gather_coverage: the t
 of §17.1 as a texture, tile flatten (shaders/passes/eevee_tile_flatten.glsl) and dilation
 along each tile's motion (eevee_tile_dilate.glsl; by scatter, reach_keys_clear.glsl and
 eevee_tile_resolve.glsl), with the layouts of their work groups. NumPy twins:
-blurlab.twins.eevee. PARAMS: EEVEE's parameters at its defaults, engine_eevee's.
+blurlab.twins.eevee.
 """
 
 from __future__ import annotations
@@ -17,20 +17,13 @@ from ..core.context import Context
 from ..core.frame import Frame
 from ..core.gl import Texture
 from ..twins import eevee as twin
-from .core import SEED, Param, Pass, PassRunner, frame_textures
+from .core import Pass, PassRunner, frame_textures
 from .tile_filter import TILE_FILTER_PARAMS
 from .variants import PassVariants
 
-PARAMS = {
-    "tile_size": Param(32, int, "tile side, pixels", 4, 256),
-    "samples": Param(8, int, "samples on each side (prev and next half-shutter)", 1, 64),
-    "max_blur": Param(32.0, float, "longest half-motion, pixels (Blender's Max Blur)", 0, 2**20),
-    "depth_scale": Param(
-        100.0, float, "1 / soft depth extent, per depth unit (Background Separation)", 2**-20, 2**20
-    ),
-    "exposure": TILE_FILTER_PARAMS["exposure"],
-    "seed": SEED,
-}
+# The parameter the tile passes take (the flatten scales motion by exposure): a method that runs
+# them declares it among its own params; a call of dilated_tiles outside a method passes these.
+PARAMS = {"exposure": TILE_FILTER_PARAMS["exposure"]}
 # Tile size and limit come as uniforms in pixels (dilated_tiles): gather_coverage runs the same
 # passes with sizes of its own.
 FLATTEN = Pass("tile_flatten", "passes/eevee_tile_flatten.glsl", ("exposure",))

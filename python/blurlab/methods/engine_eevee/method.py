@@ -4,8 +4,8 @@ sources: spec.md here, docs/spec.md §17.2. Three passes on the two-sided motion
 flatten (shaders/passes/eevee_tile_flatten.glsl), dilation along each tile's motion
 (eevee_tile_dilate.glsl), both shared with another method (blurlab.methods.eevee), and the
 gather over both half-shutters (gather.glsl beside this file). NumPy twin: twin.engine_eevee.
-Parameters: blurlab.methods.eevee.PARAMS, at EEVEE's defaults; `steps` (bl.render_and_blur)
-gives EEVEE's 2·steps + 1 time points.
+Parameters: below, at EEVEE's defaults; `steps` (bl.render_and_blur) gives EEVEE's 2·steps + 1
+time points.
 
 What it leaves out: EEVEE's accumulation of render samples (one pass here is one sample), its
 shutter curve, its atomic scatter (replaced by a gather with the same result) and the
@@ -14,11 +14,22 @@ packing of its velocity buffer (the G-buffer's float32 motion is read as it is).
 
 from __future__ import annotations
 
-from ..core import Pass, PassRunner, shader_beside
-from ..eevee import PARAMS, dilated_tiles
+from ..core import SEED, Param, Pass, PassRunner, shader_beside
+from ..eevee import dilated_tiles
 from ..folders import Declaration
+from ..tile_filter import TILE_FILTER_PARAMS
 from .twin import engine_eevee
 
+PARAMS = {
+    "tile_size": Param(32, int, "tile side, pixels", 4, 256),
+    "samples": Param(8, int, "samples on each side (prev and next half-shutter)", 1, 64),
+    "max_blur": Param(32.0, float, "longest half-motion, pixels (Blender's Max Blur)", 0, 2**20),
+    "depth_scale": Param(
+        100.0, float, "1 / soft depth extent, per depth unit (Background Separation)", 2**-20, 2**20
+    ),
+    "exposure": TILE_FILTER_PARAMS["exposure"],
+    "seed": SEED,
+}
 GATHER = Pass("gather", shader_beside(__file__, "gather.glsl"), tuple(PARAMS))
 
 
