@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from test_eevee_tile_groups import CASES, tied_frame
+from tied_tiles import CASES, tied_frame
 
 import blurlab as bl
 from blurlab.methods import eevee

@@ -1,5 +1,5 @@
 // Length clamps of a motion vector (pixels). NumPy twins: blurlab.twins.eevee.clamp_length,
-// blurlab.twins.hdrp.clamp_screen_fraction.
+// blurlab.methods.engine_hdrp.twin.clamp_screen_fraction.
 
 // v with its length clamped to max_len pixels (Blender's Max Blur, HDRP's Maximum Velocity).
 vec2 clamp_length(vec2 v, float max_len) {

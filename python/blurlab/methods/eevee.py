@@ -1,14 +1,9 @@
-"""engine_eevee: the post-process motion blur of Blender EEVEE-Next, written from the algorithm
-as Blender's user manual (Render > Motion Blur) describes it, not from Blender's
-sources: docs/spec.md §17.2. Three passes on the two-sided motion of §17.1: tile flatten
-(shaders/passes/eevee_tile_flatten.glsl), dilation along each tile's motion
-(eevee_tile_dilate.glsl) and the gather over both half-shutters (eevee_gather.glsl). NumPy
-twin: blurlab.twins.eevee.engine_eevee. Parameters: below, at EEVEE's defaults; `steps`
-(bl.render_and_blur) gives EEVEE's 2·steps + 1 time points.
-
-What it leaves out: EEVEE's accumulation of render samples (one pass here is one sample), its
-shutter curve, its atomic scatter (replaced by a gather with the same result) and the
-packing of its velocity buffer (the G-buffer's float32 motion is read as it is).
+"""EEVEE's tile passes (docs/spec.md §17.2 steps 1-2), shared by engine_eevee (its folder,
+python/blurlab/methods/engine_eevee/, has the gather) and gather_coverage: the two-sided motion
+of §17.1 as a texture, tile flatten (shaders/passes/eevee_tile_flatten.glsl) and dilation
+along each tile's motion (eevee_tile_dilate.glsl; by scatter, reach_keys_clear.glsl and
+eevee_tile_resolve.glsl), with the layouts of their work groups. NumPy twins:
+blurlab.twins.eevee.
 """
 
 from __future__ import annotations
@@ -22,27 +17,19 @@ from ..core.context import Context
 from ..core.frame import Frame
 from ..core.gl import Texture
 from ..twins import eevee as twin
-from .core import SEED, Method, Param, Pass, PassRunner, frame_textures, register
+from .core import Pass, PassRunner, frame_textures
 from .tile_filter import TILE_FILTER_PARAMS
 from .variants import PassVariants
 
-PARAMS = {
-    "tile_size": Param(32, int, "tile side, pixels", 4, 256),
-    "samples": Param(8, int, "samples on each side (prev and next half-shutter)", 1, 64),
-    "max_blur": Param(32.0, float, "longest half-motion, pixels (Blender's Max Blur)", 0, 2**20),
-    "depth_scale": Param(
-        100.0, float, "1 / soft depth extent, per depth unit (Background Separation)", 2**-20, 2**20
-    ),
-    "exposure": TILE_FILTER_PARAMS["exposure"],
-    "seed": SEED,
-}
+# The parameter the tile passes take (the flatten scales motion by exposure): a method that runs
+# them declares it among its own params; a call of dilated_tiles outside a method passes these.
+PARAMS = {"exposure": TILE_FILTER_PARAMS["exposure"]}
 # Tile size and limit come as uniforms in pixels (dilated_tiles): gather_coverage runs the same
 # passes with sizes of its own.
 FLATTEN = Pass("tile_flatten", "passes/eevee_tile_flatten.glsl", ("exposure",))
 DILATE = Pass("tile_dilate", "passes/eevee_tile_dilate.glsl")
 CLEAR_KEYS = Pass("reach_keys_clear", "passes/reach_keys_clear.glsl")
 RESOLVE = Pass("tile_resolve", "passes/eevee_tile_resolve.glsl")
-GATHER = Pass("gather", "passes/eevee_gather.glsl", tuple(PARAMS))
 
 # The layouts of the tile passes' work group per tile (shaders/common/tile_pick.glsl): the
 # #defines of each. All give the same bits; `blurlab bench layouts` times them.
@@ -187,34 +174,3 @@ def dilated_tiles(
         group_per_texel=group_per_tile,
     )
     return TileGrids(sides, tiles, dilated, None)
-
-
-def _run_eevee(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
-    size = inputs["color"].shape[:2]
-    passes = PassRunner(ctx, PARAMS, values)
-    sides, tiles, dilated, _ = dilated_tiles(
-        ctx, frame, passes.timings, PARAMS, values, size, values["tile_size"], values["max_blur"]
-    )
-    textures = {
-        "color": inputs["color"],
-        "depth": inputs["depth"],
-        "motion_sides": sides,
-        "dilated": dilated,
-    }
-    result = passes.run_result(GATHER, textures, backend)
-    return {"color": result, "tiles": tiles, "dilated": dilated}, passes.timings
-
-
-register(
-    Method(
-        name="engine_eevee",
-        kind="gather",
-        params=PARAMS,
-        run=_run_eevee,
-        default_grid={"samples": [4, 8, 16], "max_blur": [32.0, 128.0]},
-        twin=twin.engine_eevee,
-        doc="Blender EEVEE-Next's post-process motion blur, from its described algorithm: 32 px "
-        "tiles, dilation along each tile's motion, 8 samples on each half-shutter of the "
-        "two-sided motion, jittered tile lookup, soft depth comparison. docs/spec.md §17.2.",
-    )
-)

@@ -51,7 +51,9 @@ GLSL_SUFFIXES = (".glsl", ".comp")
 DEFAULT_ORDER = 1000
 BACKENDS = ("compute", "fragment")
 INSTANTS = ("center", "close")
-FRAME_ARRAYS = ("color", "depth", "motion")
+# What a twin may take from the frame by name: its arrays, the two-sided motion (docs/spec.md
+# §17.1) and the camera's matrices (None where the frame has none), as the engines' twins do.
+FRAME_ARRAYS = ("color", "depth", "motion", "motion_prev", "motion_next", "camera")
 NAME = re.compile(r"[a-z][a-z0-9_]{0,63}")
 # Kinds a chain of passes can be: the others render or blend frames, which needs a run.
 CHAIN_KINDS = ("filter", "gather")

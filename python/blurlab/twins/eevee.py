@@ -1,7 +1,9 @@
-"""engine_eevee, docs/spec.md §17.2, in NumPy float64: the post-process motion blur of Blender
-EEVEE-Next as its algorithm is described (Blender's user manual), on the two-sided
-motion of §17.1. One function per pass; the GPU passes (shaders/passes/eevee_tile_flatten.glsl,
-eevee_tile_dilate.glsl, eevee_gather.glsl) must match them.
+"""EEVEE's tile passes, docs/spec.md §17.2 steps 1-2, in NumPy float64: the tile flatten and
+the dilation along each tile's motion of Blender EEVEE-Next's post-process motion blur as its
+algorithm is described (Blender's user manual), on the two-sided motion of §17.1, and the
+jittered tile lookup. One function per pass; the GPU passes (shaders/passes/eevee_tile_*.glsl)
+must match them. engine_eevee's gather is its folder's twin.py (python/blurlab/methods/
+engine_eevee/); gather_coverage, engine_unity and engine_hdrp use these helpers too.
 """
 
 from __future__ import annotations
@@ -11,12 +13,12 @@ import math
 import numpy as np
 
 from .hashing import rand
-from .inputs import sanitize_color, sanitize_depth, sanitize_motion
-from .mcguire2012 import cone, cylinder, soft_depth_compare, tile_max
+from .inputs import sanitize_motion
+from .mcguire2012 import tile_max
 from .tile_reach import reach_widening, segment_meets_box
 
 EARLY_EXIT = 0.5  # px: a neighbourhood whose longest half-motion is shorter keeps C
-JITTER_SALTS = (0x3C6EF372, 0xA54FF53A)  # shaders/passes/eevee_gather.glsl
+JITTER_SALTS = (0x3C6EF372, 0xA54FF53A)  # engine_eevee's gather.glsl
 
 
 def scaled_motion(motion, exposure: float) -> np.ndarray:
@@ -155,61 +157,3 @@ def dilated_half_motions(
         tiles = tile_flatten(prev, next_, tile_size, length_steps)
         dilated = tile_dilate(tiles, tile_size, max_blur, length_steps, jitter_reach)
     return clamp_length(prev, max_blur), clamp_length(next_, max_blur), dilated
-
-
-def engine_eevee(
-    color,
-    depth,
-    motion_prev,
-    motion_next,
-    *,
-    tile_size: int,
-    samples: int,
-    max_blur: float,
-    depth_scale: float,
-    exposure: float,
-    seed: int,
-    dilated: np.ndarray | None = None,
-) -> np.ndarray:
-    """§17.2 step 3: (H, W, C) float64 blurred color. `dilated` is step 2's grid if already
-    computed."""
-    color = sanitize_color(color)
-    depth = sanitize_depth(depth)
-    h, w = depth.shape
-    prev, next_, dilated = dilated_half_motions(
-        motion_prev, motion_next, exposure, tile_size, max_blur, dilated
-    )
-    y, x = np.mgrid[0:h, 0:w]
-    ty, tx = lookup_tile(x, y, tile_size, seed, dilated.shape[:2])
-    reach = np.concatenate(
-        [clamp_length(dilated[ty, tx, :2], max_blur), clamp_length(dilated[ty, tx, 2:], max_blur)],
-        axis=-1,
-    )
-    longest = np.maximum(
-        np.linalg.norm(reach[..., :2], axis=-1), np.linalg.norm(reach[..., 2:], axis=-1)
-    )
-    moving = longest >= EARLY_EXIT
-
-    soft_z = 1.0 / depth_scale
-    own = np.maximum(np.linalg.norm(prev, axis=-1), np.linalg.norm(next_, axis=-1))
-    weight = 1.0 / np.maximum(own, 0.5)
-    total = color * weight[..., None]
-    j = rand(x, y, seed)
-    center = np.stack([x, y], -1) + 0.5
-    # Prev side: look along +prev for the pixels whose way back to t0 crosses X; next side:
-    # along -next for those whose way on to t1 crosses it.
-    for direction, mine in ((reach[..., :2], prev), (-reach[..., 2:], next_)):
-        for i in range(samples):
-            t = (i + j) / samples
-            p = np.floor(center + direction * t[..., None]).astype(np.int64)
-            py, px = np.clip(p[..., 1], 0, h - 1), np.clip(p[..., 0], 0, w - 1)
-            dist = np.hypot(px - x, py - y)
-            vy, vx = mine[py, px], mine
-            zx, zy = depth, depth[py, px]
-            f = soft_depth_compare(zx, zy, soft_z)
-            b = soft_depth_compare(zy, zx, soft_z)
-            both = cylinder(dist, vy) * cylinder(dist, vx) * 2
-            a = f * cone(dist, vy) + b * cone(dist, vx) + both
-            weight = weight + a
-            total = total + a[..., None] * color[py, px]
-    return np.where(moving[..., None], total / weight[..., None], color)

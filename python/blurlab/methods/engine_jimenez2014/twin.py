@@ -1,17 +1,16 @@
 """engine_jimenez2014, docs/spec.md §17.8, in NumPy float64: the reconstruction filter of
 Jimenez 2014 ("Next Generation Post Processing in Call of Duty: Advanced Warfare") as the talk
-describes it, on §3's TileMax and NeighborMax. The GPU pass
-(shaders/passes/jimenez2014_reconstruct.glsl) must match it; the interleaved gradient noise is
-computed in float32, step by step as the shader does, so both jitter the taps by the same
-bits."""
+describes it, on §3's TileMax and NeighborMax. The GPU pass (reconstruct.glsl beside it) must
+match it; the interleaved gradient noise is computed in float32, step by step as the shader
+does, so both jitter the taps by the same bits."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from .inputs import sanitize_color, sanitize_depth
-from .mcguire2012 import half_velocity, neighbor_max, tile_max
-from .unreal import mirrored_pairs_blur
+from ...twins.inputs import sanitize_color, sanitize_depth
+from ...twins.mcguire2012 import half_velocity, neighbor_max, tile_max
+from ...twins.unreal import mirrored_pairs_blur
 
 # The talk's interleaved gradient noise: fract(C · fract(dot(p, (A, B)))), p the pixel's center
 # moved by FRAME_STEP per frame.

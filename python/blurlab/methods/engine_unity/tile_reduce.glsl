@@ -2,8 +2,8 @@
 // engine_unity step 2, docs/spec.md §17.3: one reduction of TileMax, the longest coded velocity
 // of each block x block region (the last ones may be partial), the first in row-major order among
 // equal keys. Run with block 2 three times, then once with block tile/8. Compute, one thread per
-// output texel. NumPy twin: blurlab.twins.unity.reduce_max.
-#include "common/unity.glsl"
+// output texel. NumPy twin: twin.reduce_max (twin.py).
+#include "unity.glsl"
 
 float block_key(vec2 code) { return code_key(code); }
 #include "common/block_extremes.glsl"

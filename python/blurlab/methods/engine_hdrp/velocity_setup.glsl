@@ -3,7 +3,7 @@
 // off and clamped as camera_clamp_mode says (common/camera_motion.glsl) and the rest clamped to
 // maximum_velocity; stored polar (length, turn) in two unsigned 11-bit floats and the linear
 // depth in an unsigned 10-bit float: the B10G11R11 texel, its codes kept exactly in RGBA32F.
-// Compute, one invocation per pixel. NumPy twin: blurlab.twins.hdrp.velocity_setup.
+// Compute, one invocation per pixel. NumPy twin: twin.velocity_setup (twin.py).
 #include "common/velocity_setup.glsl"
 #include "common/camera_motion.glsl"
 #include "common/small_float.glsl"

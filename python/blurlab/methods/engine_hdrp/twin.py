@@ -1,6 +1,6 @@
 """engine_hdrp, docs/spec.md §17.4, in NumPy float64: the motion blur of Unity's High Definition
 Render Pipeline as HDRP's public manual describes it. One function per pass; the GPU
-passes (shaders/passes/hdrp_*.glsl) must match them.
+passes (the shaders beside it) must match them.
 
 Velocities travel polar, (length in px, turn), and depth as it is, in the unsigned small floats
 of a B10G11R11 texture (twins.polar_small_float, twins.small_float). Tiles compare the length codes
@@ -13,14 +13,14 @@ import math
 
 import numpy as np
 
-from .eevee import clamp_length
-from .gathers import camera_motion, camera_rotation_motion
-from .hashing import rand
-from .inputs import sanitize_color, sanitize_depth, sanitize_motion
-from .mcguire2012 import cone, cylinder, soft_depth_compare
-from .polar_small_float import polar_codes, polar_decode
-from .small_float import UF10_MANTISSA, quantize
-from .tile_reach import reach_widening, segment_meets_box
+from ...twins.eevee import clamp_length
+from ...twins.gathers import camera_motion, camera_rotation_motion
+from ...twins.hashing import rand
+from ...twins.inputs import sanitize_color, sanitize_depth, sanitize_motion
+from ...twins.mcguire2012 import cone, cylinder, soft_depth_compare
+from ...twins.polar_small_float import polar_codes, polar_decode
+from ...twins.small_float import UF10_MANTISSA, quantize
+from ...twins.tile_reach import reach_widening, segment_meets_box
 
 EARLY_OUT, FAST, SLOW = 0, 1, 2
 CLASS_NAMES = ("early_out", "fast", "slow")

@@ -6,7 +6,7 @@
 // shortest length over the 3 x 3 tiles; and D's class: early-out (0) where the longest is under
 // minimum_velocity, else fast (1) where the shortest is at least fast_ratio times the longest,
 // else slow (2). D joins the tile list of its class (docs/spec.md §9.3,
-// common/tile_lists.glsl). Compute, one thread per tile. NumPy twin: blurlab.twins.hdrp.
+// common/tile_lists.glsl). Compute, one thread per tile. NumPy twin: twin.py beside it.
 // neighborhood, scatter_neighborhood, classify.
 #define TILE_LISTS_APPEND 1
 #include "common/tile_lists.glsl"

@@ -1,6 +1,7 @@
-"""engine_eevee (docs/spec.md §17.2) on the GPU against bl.twins.eevee: each pass, the
-dilation along each tile's motion, and the filter's promises: still images unchanged, output
-inside the input range, no NaN, same seed same bits."""
+"""engine_eevee (docs/spec.md §17.2) on the GPU against its twins (the tile passes':
+blurlab.twins.eevee): each pass, the dilation along each tile's motion, and the filter's
+promises: still images unchanged, output inside the input range, no NaN, same seed same
+bits."""
 
 from __future__ import annotations
 

@@ -7,7 +7,7 @@
 // stored depths. Compute, one invocation per pixel: without OVER_LIST over the whole image,
 // each pixel taking its tile's class; with OVER_LIST one 16 x 16 work group per tile of one
 // class's list (docs/spec.md §9.3), the class being LIST_CLASS, covering the tile in 16 x 16
-// blocks. Both write the same bits. NumPy twin: blurlab.twins.hdrp.engine_hdrp.
+// blocks. Both write the same bits. NumPy twin: twin.engine_hdrp (twin.py).
 #ifdef OVER_LIST
 #define TILE_LISTS_READ 1
 #define TILE_LIST_SAMPLER 3

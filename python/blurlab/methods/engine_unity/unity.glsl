@@ -1,6 +1,6 @@
 // What engine_unity's passes share (docs/spec.md §17.3): velocities as 10-bit codes c in
 // 0..1023, v = (2c/1023 - 1)·R, and the exact integer key by which tiles compare them.
-// NumPy twin: blurlab.twins.unity.
+// NumPy twin: twin.py beside it.
 
 const float CODE_MAX = 1023.0;
 

@@ -5,12 +5,12 @@
 // along v_alt (the center's own direction where it moves more than half as far as vmax),
 // weighted by a soft depth comparison on the 10-bit linear depth (factor depth_factor) and §3.4's
 // cones; each pair takes the weight of its nearer and faster sample. Compute, one invocation per
-// pixel. NumPy twin: blurlab.twins.unity.engine_unity.
+// pixel. NumPy twin: twin.engine_unity (twin.py).
 #include "common/inputs.glsl"
 #include "common/mcguire2012.glsl"
 #include "common/random.glsl"
 #include "common/jittered_tile.glsl"
-#include "common/unity.glsl"
+#include "unity.glsl"
 #include "common/mirrored_pair.glsl"
 
 layout(binding = 0) uniform sampler2D color;

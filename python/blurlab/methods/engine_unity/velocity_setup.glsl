@@ -2,9 +2,9 @@
 // engine_unity step 1, docs/spec.md §17.3: the half-vector E·M/2 clamped to the largest blur
 // radius R, mapped from [-R, R] to [0, 1], and the linear depth Z/far clamped to [0, 1], each
 // as a 10-bit code (the engine's 10:10:10:2 buffer; kept here in RGBA32F, the codes exact).
-// Compute, one invocation per pixel. NumPy twin: blurlab.twins.unity.velocity_setup.
+// Compute, one invocation per pixel. NumPy twin: twin.velocity_setup (twin.py).
 #include "common/velocity_setup.glsl"
-#include "common/unity.glsl"
+#include "unity.glsl"
 
 uniform float exposure;
 uniform float far;

@@ -1,12 +1,12 @@
 """engine_hdrp: the motion blur of Unity's High Definition Render Pipeline, written from the
 algorithm of docs/spec.md §17.4 and from HDRP's public manual (the Motion Blur volume override),
-not from Unity's sources. Four passes: velocity setup with the
-camera clamp modes, polar velocity and linear depth in B10G11R11 codes
-(shaders/passes/hdrp_velocity_setup.glsl); per-tile min and max (hdrp_tile_min_max.glsl); the
-3 x 3 neighbourhood, or the scatter variant, and the tile classes early-out / fast / slow
-(hdrp_neighborhood.glsl), which lists each tile under its class (docs/spec.md §9.3); the
-reconstruction, one pass per class over its tile list (hdrp_reconstruct.glsl).
-NumPy twin: blurlab.twins.hdrp.engine_hdrp. Parameters below, at the engine's defaults.
+not from Unity's sources (spec.md here). Four passes, beside this file: velocity setup with
+the camera clamp modes, polar velocity and linear depth in B10G11R11 codes
+(velocity_setup.glsl); per-tile min and max (tile_min_max.glsl); the 3 x 3 neighbourhood, or
+the scatter variant, and the tile classes early-out / fast / slow (neighborhood.glsl), which
+lists each tile under its class (docs/spec.md §9.3); the reconstruction, one pass per class
+over its tile list (reconstruct.glsl). NumPy twin: twin.engine_hdrp. Parameters below, at the
+engine's defaults.
 
 What it leaves out: the real packed texture format (the codes are kept exactly in RGBA32F), the
 engine's exact sample weights and sample placement, its fast-path test and tile jitter, which
@@ -17,14 +17,13 @@ atomics (a gather gives the same maxima).
 
 from __future__ import annotations
 
-from ..core.context import Context
-from ..core.frame import Frame
-from ..twins import hdrp as twin
-from ..twins.small_float import UF11_MANTISSA, largest_finite
-from . import tiles as tile_lists
-from .camera_motion import split_camera_uniforms
-from .core import FLOAT32_MAX, SEED, Method, Param, Pass, PassRunner, register
-from .gathers import BOX_PARAMS
+from ...twins.small_float import UF11_MANTISSA, largest_finite
+from .. import tiles as tile_lists
+from ..camera_motion import split_camera_uniforms
+from ..core import FLOAT32_MAX, SEED, Param, Pass, PassRunner, shader_beside
+from ..folders import Declaration
+from ..gathers import BOX_PARAMS
+from . import twin
 
 # Lengths are stored as unsigned 11-bit floats (§17.4): longer ones would all read as this.
 LONGEST_STORED = largest_finite(UF11_MANTISSA)
@@ -62,31 +61,31 @@ PARAMS = {
     "seed": SEED,
     "tile_dispatch": tile_lists.TILE_DISPATCH,
 }
-SETUP = Pass("velocity_setup", "passes/hdrp_velocity_setup.glsl", twin.SETUP_PARAMS)
-TILE_MIN_MAX = Pass("tile_min_max", "passes/hdrp_tile_min_max.glsl")
+SETUP = Pass("velocity_setup", shader_beside(__file__, "velocity_setup.glsl"), twin.SETUP_PARAMS)
+TILE_MIN_MAX = Pass("tile_min_max", shader_beside(__file__, "tile_min_max.glsl"))
 NEIGHBORHOOD = Pass(
     "neighborhood",
-    "passes/hdrp_neighborhood.glsl",
+    shader_beside(__file__, "neighborhood.glsl"),
     ("scatter", "minimum_velocity", "fast_ratio"),
 )
 RECONSTRUCT = Pass(
     "reconstruct",
-    "passes/hdrp_reconstruct.glsl",
+    shader_beside(__file__, "reconstruct.glsl"),
     ("samples", "depth_comparison_extent", "seed"),
 )
 
 
-def run_hdrp(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
+def run(ctx, frame, inputs: dict, values: dict, backend: str, passes: dict):
     """The method's passes (docs/spec.md §17.4). The neighbourhood pass lists each tile under
     its class, and the reconstruction runs once per class over that class's list by an
     indirect dispatch, as HDRP dispatches its tile classes; tile_dispatch="one" runs it as one
     pass over every pixel instead, each taking its tile's class: the same bits."""
     height, width = inputs["color"].shape[:2]
     tile = twin.tile_size(values["scatter"])
-    passes = PassRunner(ctx, PARAMS, values)
+    runner = PassRunner(ctx, PARAMS, values)
     velocity = ctx.pooled((height, width, 4))
     camera = split_camera_uniforms(frame.camera)
-    passes.run(
+    runner.run(
         SETUP,
         {"depth": inputs["depth"], "motion": inputs["motion"]},
         {"velocity": velocity},
@@ -94,11 +93,11 @@ def run_hdrp(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: st
     )
     grid = (-(-height // tile), -(-width // tile))
     tiles = ctx.pooled((*grid, 4))
-    passes.run(TILE_MIN_MAX, {"velocity": velocity}, {"tiles": tiles}, uniforms={"tile": tile})
+    runner.run(TILE_MIN_MAX, {"velocity": velocity}, {"tiles": tiles}, uniforms={"tile": tile})
     neighborhood = ctx.pooled((*grid, 4))
     radius = twin.scatter_radius(tile, twin.reach_px((width, height), values), grid)
     lists = tile_lists.empty_lists(ctx, (height, width), tile, twin.CLASS_NAMES)
-    passes.run(
+    runner.run(
         NEIGHBORHOOD,
         {"tiles": tiles},
         {"neighborhood": neighborhood, "tile_counts": lists.counts, "tile_lists": lists.lists},
@@ -109,9 +108,9 @@ def run_hdrp(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: st
     if values["tile_dispatch"] == "lists" and backend == "compute":
         classes = range(len(twin.CLASS_NAMES))
         into, at_tile = {"result": result}, {"tile": tile}
-        tile_lists.run_per_class(passes, RECONSTRUCT, lists, classes, textures, into, at_tile)
+        tile_lists.run_per_class(runner, RECONSTRUCT, lists, classes, textures, into, at_tile)
     else:
-        passes.run(RECONSTRUCT, textures, {"result": result}, backend, uniforms={"tile": tile})
+        runner.run(RECONSTRUCT, textures, {"result": result}, backend, uniforms={"tile": tile})
     ctx.recycle(lists.classes, lists.lists)
     outputs = {
         "color": result,
@@ -120,21 +119,21 @@ def run_hdrp(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: st
         "neighborhood": neighborhood,
         "tile_counts": lists.counts,
     }
-    return outputs, passes.timings
+    return outputs, runner.timings
 
 
-register(
-    Method(
-        name="engine_hdrp",
-        kind="gather",
-        params=PARAMS,
-        run=run_hdrp,
-        default_grid=[{"samples": [4, 8, 12]}, {"scatter": [True]}],
-        twin=twin.engine_hdrp,
-        doc="Unity HDRP's motion blur, from its described algorithm and manual: velocity polar "
-        "with linear depth in B10G11R11 codes, camera clamp modes, 32 px min/max tiles (16 px "
-        "scattered), 3 x 3 neighbourhood, early-out / fast / slow tile classes, each "
-        "dispatched over its own tile list. docs/spec.md §17.4.",
-        tile_lists=twin.CLASS_NAMES,
-    )
+METHOD = Declaration(
+    name="engine_hdrp",
+    kind="gather",
+    order=13,
+    params=PARAMS,
+    passes=(SETUP, TILE_MIN_MAX, NEIGHBORHOOD, RECONSTRUCT),
+    run=run,
+    default_grid=[{"samples": [4, 8, 12]}, {"scatter": [True]}],
+    twin=twin.engine_hdrp,
+    doc="Unity HDRP's motion blur, from its described algorithm and manual: velocity polar "
+    "with linear depth in B10G11R11 codes, camera clamp modes, 32 px min/max tiles (16 px "
+    "scattered), 3 x 3 neighbourhood, early-out / fast / slow tile classes, each "
+    "dispatched over its own tile list. docs/spec.md §17.4.",
+    tile_lists=twin.CLASS_NAMES,
 )

@@ -1,6 +1,6 @@
-"""engine_eevee's tile flatten and dilation (docs/spec.md §17.2 steps 1-2, shared by
-gather_coverage) run a work group per tile on a GPU and one thread per tile on llvmpipe
-(methods.eevee.tile_groups): both modes give the same bits, ties (equal lengths) go to the
+"""engine_eevee's tile flatten and dilation (docs/spec.md §17.2 steps 1-2, shared with another
+method: blurlab.methods.eevee) run a work group per tile on a GPU and one thread per tile on
+llvmpipe (eevee.tile_groups): both modes give the same bits, ties (equal lengths) go to the
 first candidate in row-major order as the NumPy twin says, and a tile whose first pixel moves
 by a signed zero keeps that zero's sign."""
 
@@ -8,30 +8,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from tied_tiles import CASES, tied_frame
 
-import blurlab as bl
 from blurlab.methods import eevee
 from blurlab.twins import eevee as twin
-
-# Half-motions whose squared lengths are exact in float32, so that equal lengths are equal on
-# any device however it rounds sqrt: 0, 5 and 10 px (scaled by the test), in several directions.
-TIED = np.array(
-    [(0, 0), (-0.0, 0), (0, -0.0), (3, 4), (4, -3), (-5, 0), (0, 5), (6, 8), (-8, 6), (10, 0)],
-    np.float32,
-)
-
-
-def tied_frame(rng, width: int, height: int, scale: float) -> bl.Frame:
-    """A frame whose two half-motions are drawn from TIED · scale: most tiles hold several
-    candidates of the longest length, and most tiles' sources tie too."""
-    halves = [
-        TIED[rng.integers(0, len(TIED), (height, width))] * np.float32(scale) for _ in range(2)
-    ]
-    color = rng.random((height, width, 4), dtype=np.float32)
-    depth = rng.uniform(1.0, 10.0, (height, width)).astype(np.float32)
-    return bl.Frame(
-        color, depth, halves[0] + halves[1], motion_prev=halves[0], motion_next=halves[1]
-    )
 
 
 def tile_buffers(ctx, frame, tile_size, max_blur, group_per_tile):
@@ -44,16 +24,6 @@ def tile_buffers(ctx, frame, tile_size, max_blur, group_per_tile):
     arrays = tiles.download(), dilated.download()
     ctx.recycle(tiles, dilated)
     return arrays
-
-
-# Sizes the tile side does not divide; tiles smaller than a work group (4 px: 16 pixels for 64
-# threads) and larger (11 and 32 px); reaches of a few sources and of many per thread (r = 11).
-CASES = [
-    ((100, 60), 8, 40.0, 4.0),
-    ((97, 61), 11, 60.0, 3.0),
-    ((45, 30), 4, 40.0, 1.0),
-    ((150, 90), 32, 64.0, 6.0),
-]
 
 
 @pytest.mark.parametrize(("size", "tile_size", "max_blur", "scale"), CASES)

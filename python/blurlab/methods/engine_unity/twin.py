@@ -1,6 +1,6 @@
 """engine_unity, docs/spec.md §17.3, in NumPy float64: the motion blur of Unity's
 PostProcessing v2 (the KinoMotion lineage) as its algorithm is described. One
-function per pass; the GPU passes (shaders/passes/unity_*.glsl) must match them.
+function per pass; the GPU passes (the shaders beside it) must match them.
 
 Velocities travel as 10-bit codes c in 0..1023, as in the engine's 10:10:10:2 buffer:
 v = (2c/1023 - 1)·R. Tiles compare the exact integer key (2c_x - 1023)² + (2c_y - 1023)², so
@@ -13,16 +13,16 @@ import math
 
 import numpy as np
 
-from .eevee import lookup_tile
-from .guertin2014 import mirror_pair, mirrored_taps
-from .hashing import rand
-from .inputs import sanitize_color, sanitize_depth, sanitize_motion
-from .mcguire2012 import cone
+from ...twins.eevee import lookup_tile
+from ...twins.guertin2014 import mirror_pair, mirrored_taps
+from ...twins.hashing import rand
+from ...twins.inputs import sanitize_color, sanitize_depth, sanitize_motion
+from ...twins.mcguire2012 import cone
 
 CODE_MAX = 1023
 EARLY_EXIT = 2.0  # px: a neighbourhood whose NeighborMax is shorter keeps C
 CENTER_BIAS = np.float32(1.0201)  # NeighborMax: 1.01 on the center's length, squared
-JITTER_SALTS = (0x1B873593, 0xCC9E2D51)  # shaders/passes/unity_reconstruct.glsl
+JITTER_SALTS = (0x1B873593, 0xCC9E2D51)  # reconstruct.glsl
 
 
 def max_radius_px(height: int, max_radius: float) -> float:

@@ -1,4 +1,4 @@
-"""engine_hdrp (docs/spec.md §17.4) on the GPU against bl.twins.hdrp: the B10G11R11 codes of
+"""engine_hdrp (docs/spec.md §17.4) on the GPU against its twin (twin.py): the B10G11R11 codes of
 the polar velocity and depth, the camera clamp modes, the min/max tiles, the 3 x 3 and scattered
 neighbourhoods, each per-tile path, each class dispatched over its tile list with the bits of
 one pass over every pixel, and the filter's promises: still images unchanged, output
@@ -13,10 +13,9 @@ import pytest
 from conftest import assert_matches_twin, assert_timings_name, random_frame
 
 import blurlab as bl
-from blurlab.methods import hdrp
+from blurlab.methods.engine_hdrp import twin as ref
 from blurlab.methods.passes import frame_textures
 from blurlab.twins import gathers
-from blurlab.twins import hdrp as ref
 from blurlab.twins.polar_small_float import polar_codes, polar_decode
 from blurlab.twins.small_float import UF10_MANTISSA, UF11_MANTISSA, largest_finite, quantize
 
@@ -209,9 +208,9 @@ def test_tile_lists_give_the_bits_of_one_pass_over_every_pixel(ctx, rng, scatter
     frame.motion[:, 160:] = (9.0, 2.0)  # fast tiles on the right
     values = bl.method(METHOD).defaults(frame, scatter=scatter)
     inputs = frame_textures(ctx, frame)
-    listed, timings = hdrp.run_hdrp(ctx, frame, inputs, values, "compute")
+    listed, timings = bl.method(METHOD).run(ctx, frame, inputs, values, "compute")
     one = {**values, "tile_dispatch": "one"}
-    full, _ = hdrp.run_hdrp(ctx, frame, inputs, one, "compute")
+    full, _ = bl.method(METHOD).run(ctx, frame, inputs, one, "compute")
     classes = listed["neighborhood"].download()[..., 3].astype(int)
     counts = listed["tile_counts"].download()[0, ::4, 0]
     np.testing.assert_array_equal(counts, np.bincount(classes.ravel(), minlength=3))

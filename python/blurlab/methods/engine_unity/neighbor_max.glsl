@@ -2,8 +2,8 @@
 // engine_unity step 3, docs/spec.md §17.3: the longest coded velocity among the 3 x 3 tiles
 // around each tile, the center's length counted 1.01 times (its key 1.0201 times), so that a
 // neighbour must be clearly longer to win. Compute, one thread per tile.
-// NumPy twin: blurlab.twins.unity.neighbor_max.
-#include "common/unity.glsl"
+// NumPy twin: twin.neighbor_max (twin.py).
+#include "unity.glsl"
 
 layout(binding = 0) uniform sampler2D tiles;
 

@@ -5,7 +5,7 @@
 // against its next half-motion (those whose way on to t1 crosses X), each weighted by §3.4's
 // terms on the same side's half-motions with soft_z = 1 / depth_scale; X itself weighs
 // 1 / max(|prev|, |next|, 0.5). Compute, one invocation per pixel.
-// NumPy twin: blurlab.twins.eevee.engine_eevee.
+// NumPy twin: twin.engine_eevee (twin.py).
 #include "common/eevee.glsl"
 #include "common/mcguire2012.glsl"
 #include "common/random.glsl"

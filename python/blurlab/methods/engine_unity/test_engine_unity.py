@@ -1,4 +1,4 @@
-"""engine_unity (docs/spec.md §17.3) on the GPU against bl.twins.unity: the 10-bit velocity
+"""engine_unity (docs/spec.md §17.3) on the GPU against its twin (twin.py): the 10-bit velocity
 setup, TileMax by reductions, the centre-biased NeighborMax, and the filter's promises: still
 images unchanged, output inside the input range, no NaN, same seed same bits."""
 
@@ -8,7 +8,7 @@ import numpy as np
 from conftest import assert_timings_name, random_frame
 
 import blurlab as bl
-from blurlab.twins import unity as ref
+from blurlab.methods.engine_unity import twin as ref
 
 METHOD = "engine_unity"
 

@@ -5,7 +5,7 @@
 // 5.588238 px per frame, frame = seed mod 64); each tap weighs the soft depth split of whether
 // X's blur or the tap's reaches it (common/depth_spread.glsl, extent soft_z), each pair takes the
 // weight of its nearer and faster tap, and the weight the taps do not take stays with C: the
-// foreground's alpha. Compute or fragment. NumPy twin: blurlab.twins.jimenez2014.
+// foreground's alpha. Compute or fragment. NumPy twin: twin.py beside it.
 #include "common/tile_filter_inputs.glsl"
 #include "common/mcguire2012.glsl"
 #include "common/mirrored_pair.glsl"

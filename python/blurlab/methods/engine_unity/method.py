@@ -1,10 +1,10 @@
 """engine_unity: the motion blur of Unity's PostProcessing v2 (the KinoMotion lineage, after
 McGuire et al. 2012), written from the algorithm of docs/spec.md §17.3, not from Unity's
-sources. Velocity setup with 10-bit velocity and depth
-(shaders/passes/unity_velocity_setup.glsl), TileMax by three 2 x 2 reductions and one of
-tile/8 (unity_tile_reduce.glsl), NeighborMax with a 1.01 bias toward the center
-(unity_neighbor_max.glsl), reconstruction along NeighborMax and v_alt (unity_reconstruct.glsl).
-NumPy twin: blurlab.twins.unity.engine_unity. Parameters below, at the engine's defaults.
+sources (spec.md here). Its passes, beside this file: velocity setup with 10-bit velocity and
+depth (velocity_setup.glsl), TileMax by three 2 x 2 reductions and one of tile/8
+(tile_reduce.glsl), NeighborMax with a 1.01 bias toward the center (neighbor_max.glsl),
+reconstruction along NeighborMax and v_alt (reconstruct.glsl); what they share is unity.glsl.
+NumPy twin: twin.engine_unity. Parameters below, at the engine's defaults.
 
 What it leaves out: the engine's shutter angle (blurlab's shutter is the exposure interval
 itself; `exposure` scales it), its frame blending, the real 10:10:10:2 texture format (the
@@ -14,12 +14,11 @@ description does not give: the weights here are §3.4's cones with the engine's 
 
 from __future__ import annotations
 
-from ..core.context import Context
-from ..core.frame import Frame
-from ..twins import unity as twin
-from .core import FLOAT32_MAX, SEED, Method, Param, Pass, PassRunner, register
-from .tile_filter import TILE_FILTER_PARAMS
-from .urho3d import PARAMS as URHO3D_PARAMS
+from ..core import FLOAT32_MAX, SEED, Param, Pass, PassRunner, shader_beside
+from ..folders import Declaration
+from ..tile_filter import TILE_FILTER_PARAMS
+from ..urho3d import PARAMS as URHO3D_PARAMS
+from . import twin
 
 PARAMS = {
     "samples": Param(10, int, "sample count (quality); fewer where NeighborMax is short", 4, 32),
@@ -33,22 +32,23 @@ PARAMS = {
     "far": URHO3D_PARAMS["far"],  # depth = Z / far, as the Urho3D pass reads depth
     "seed": SEED,
 }
-SETUP = Pass("velocity_setup", "passes/unity_velocity_setup.glsl", ("exposure", "far"))
-REDUCTIONS = tuple(Pass(f"tile_max_{i}", "passes/unity_tile_reduce.glsl") for i in (2, 4, 8))
-TILE_MAX = Pass("tile_max", "passes/unity_tile_reduce.glsl")
-NEIGHBOR_MAX = Pass("neighbor_max", "passes/unity_neighbor_max.glsl")
+SETUP = Pass("velocity_setup", shader_beside(__file__, "velocity_setup.glsl"), ("exposure", "far"))
+REDUCE = shader_beside(__file__, "tile_reduce.glsl")
+REDUCTIONS = tuple(Pass(f"tile_max_{i}", REDUCE) for i in (2, 4, 8))
+TILE_MAX = Pass("tile_max", REDUCE)
+NEIGHBOR_MAX = Pass("neighbor_max", shader_beside(__file__, "neighbor_max.glsl"))
 RECONSTRUCT = Pass(
-    "reconstruct", "passes/unity_reconstruct.glsl", ("samples", "depth_factor", "seed")
+    "reconstruct", shader_beside(__file__, "reconstruct.glsl"), ("samples", "depth_factor", "seed")
 )
 
 
-def _run_unity(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
+def run(ctx, frame, inputs: dict, values: dict, backend: str, passes: dict):
     height, width = inputs["color"].shape[:2]
     radius = twin.max_radius_px(height, values["max_radius"])
     tile = twin.tile_size(height, values["max_radius"])
-    passes = PassRunner(ctx, PARAMS, values)
+    runner = PassRunner(ctx, PARAMS, values)
     velocity = ctx.pooled((height, width, 4))
-    passes.run(
+    runner.run(
         SETUP,
         {"depth": inputs["depth"], "motion": inputs["motion"]},
         {"velocity": velocity},
@@ -58,30 +58,30 @@ def _run_unity(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: 
     for step, block in [*((r, 2) for r in REDUCTIONS), (TILE_MAX, tile // 8)]:
         h, w = level.shape[:2]
         reduced = ctx.pooled((-(-h // block), -(-w // block), 4))
-        passes.run(step, {"codes": level}, {"reduced": reduced}, uniforms={"block": block})
+        runner.run(step, {"codes": level}, {"reduced": reduced}, uniforms={"block": block})
         made.append(reduced)
         level = reduced
     neighbors = ctx.pooled(level.shape[:2] + (4,))
-    passes.run(NEIGHBOR_MAX, {"tiles": level}, {"neighbor_max": neighbors})
+    runner.run(NEIGHBOR_MAX, {"tiles": level}, {"neighbor_max": neighbors})
     textures = {"color": inputs["color"], "velocity": velocity, "neighbor_max": neighbors}
     uniforms = {"radius": radius, "tile": tile}
-    result = passes.run_result(RECONSTRUCT, textures, backend, uniforms=uniforms)
+    result = runner.run_result(RECONSTRUCT, textures, backend, uniforms=uniforms)
     for texture in made[:-1]:
         ctx.recycle(texture)
     outputs = {"color": result, "velocity": velocity, "tile_max": level, "neighbor_max": neighbors}
-    return outputs, passes.timings
+    return outputs, runner.timings
 
 
-register(
-    Method(
-        name="engine_unity",
-        kind="gather",
-        params=PARAMS,
-        run=_run_unity,
-        default_grid={"samples": [4, 10, 32]},
-        twin=twin.engine_unity,
-        doc="Unity PostProcessing v2 / KinoMotion motion blur, from its described algorithm: "
-        "10-bit velocity and depth, tiles of 5 % of the height by 2x reductions, NeighborMax "
-        "biased to the center, mirrored pairs along NeighborMax and v_alt. docs/spec.md §17.3.",
-    )
+METHOD = Declaration(
+    name="engine_unity",
+    kind="gather",
+    order=12,
+    params=PARAMS,
+    passes=(SETUP, *REDUCTIONS, TILE_MAX, NEIGHBOR_MAX, RECONSTRUCT),
+    run=run,
+    default_grid={"samples": [4, 10, 32]},
+    twin=twin.engine_unity,
+    doc="Unity PostProcessing v2 / KinoMotion motion blur, from its described algorithm: "
+    "10-bit velocity and depth, tiles of 5 % of the height by 2x reductions, NeighborMax "
+    "biased to the center, mirrored pairs along NeighborMax and v_alt. docs/spec.md §17.3.",
 )

@@ -2,7 +2,7 @@
 // engine_hdrp step 2, docs/spec.md §17.4: per tile of `tile` x `tile` pixels (the last row and
 // column may be partial), the codes (length, turn) of its longest velocity, the first in
 // row-major order among equal lengths, and its shortest length. Compute, one thread per tile.
-// NumPy twin: blurlab.twins.hdrp.tile_min_max.
+// NumPy twin: twin.tile_min_max (twin.py).
 
 float block_key(vec2 code) { return code.x; }
 #include "common/block_extremes.glsl"

@@ -1,4 +1,4 @@
-"""engine_jimenez2014 (docs/spec.md §17.8) on the GPU against bl.twins.jimenez2014 on both
+"""engine_jimenez2014 (docs/spec.md §17.8) on the GPU against its twin (twin.py) on both
 backends, the talk's interleaved gradient noise, the foreground's alpha on a moving bar, and
 the filter's promises: still images unchanged, output inside the input range, no NaN, same seed
 same bits."""
@@ -9,7 +9,7 @@ import numpy as np
 from conftest import assert_matches_twin, assert_timings_name
 
 import blurlab as bl
-from blurlab.twins import jimenez2014 as ref
+from blurlab.methods.engine_jimenez2014 import twin as ref
 
 METHOD = "engine_jimenez2014"
 
