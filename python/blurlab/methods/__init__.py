@@ -9,7 +9,7 @@ docs/adding_a_method.md).
 # Each module registers its methods on import; the order here is the registry's, which is the
 # order of rows in sweeps, studies and the failure suite.
 # isort: off
-from . import mcguire2012, guertin2014, urho3d, gathers, camera_only, trail  # noqa: F401
+from . import gathers, camera_only, trail  # noqa: F401
 from . import accumulation, stochastic  # noqa: F401
 from . import gather_gaussian  # noqa: F401
 from . import eevee, unity, hdrp, unreal, unreal5, jimenez2014  # noqa: F401

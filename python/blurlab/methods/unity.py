@@ -18,8 +18,7 @@ from ..core.context import Context
 from ..core.frame import Frame
 from ..twins import unity as twin
 from .core import FLOAT32_MAX, SEED, Method, Param, Pass, PassRunner, register
-from .tile_filter import TILE_FILTER_PARAMS
-from .urho3d import PARAMS as URHO3D_PARAMS
+from .tile_filter import FAR, TILE_FILTER_PARAMS
 
 PARAMS = {
     "samples": Param(10, int, "sample count (quality); fewer where NeighborMax is short", 4, 32),
@@ -30,7 +29,7 @@ PARAMS = {
         20.0, float, "soft depth comparison factor on the 10-bit linear depth", 0, FLOAT32_MAX
     ),
     "exposure": TILE_FILTER_PARAMS["exposure"],
-    "far": URHO3D_PARAMS["far"],  # depth = Z / far, as the Urho3D pass reads depth
+    "far": FAR,  # depth = Z / far, as the Urho3D pass reads depth
     "seed": SEED,
 }
 SETUP = Pass("velocity_setup", "passes/unity_velocity_setup.glsl", ("exposure", "far"))

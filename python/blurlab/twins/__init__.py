@@ -15,7 +15,6 @@ from . import (
     projection,
     stochastic,
     taa,
-    urho3d,
 )
 from .hashing import pcg, rand
 from .patterns import test_pattern
@@ -35,5 +34,4 @@ __all__ = [
     "stochastic",
     "taa",
     "test_pattern",
-    "urho3d",
 ]
