@@ -1,7 +1,7 @@
 #version 450
-// reconstruct_urho3d: the reconstruct pass as the Urho3D thesis printed it, docs/spec.md §3 variant,
-// kept as the seed's baseline (a fragment pass; STAGE_FRAGMENT only). Its differences from
-// McGuire 2012 (methods/reconstruct_mcguire2012/reconstruct.glsl):
+// reconstruct_urho3d: the reconstruct pass as the Urho3D thesis printed it (docs/spec.md §3.5,
+// a variant of §3), kept as the seed's baseline (a fragment pass; STAGE_FRAGMENT only). Its
+// differences from McGuire 2012 (methods/reconstruct_mcguire2012/reconstruct.glsl):
 //   - start weight 0.75 instead of 1 / len(V[X]);
 //   - sdc(za, zb) = clamp((za - zb) / soft_z, 0, 1);
 //   - vN, V[X], V[Y] clamped per component to +-k pixels (no half-pixel minimum);
