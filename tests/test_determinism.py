@@ -44,12 +44,10 @@ def fingerprints(ctx) -> dict[str, str]:
         jitter_tiles=0, adaptive_samples=0, early_exit=0.0, packed_inputs=False, half_result=False
     )
     out["reference.mcguire2012"] = digest(
-        bl.twins.mcguire2012.reconstruct_mcguire2012(
-            color, depth, motion, **filter_params, **options
-        )
+        bl.method("reconstruct_mcguire2012").twin(color, depth, motion, **filter_params, **options)
     )
     out["reference.urho3d"] = digest(
-        bl.twins.urho3d.reconstruct_urho3d(color, depth, motion, **filter_params, far=100.0)
+        bl.method("reconstruct_urho3d").twin(color, depth, motion, **filter_params, far=100.0)
     )
     box = dict(taps=10, intensity=1.0, direction="backward", edge="clamp")
     out["reference.gather_box"] = digest(bl.twins.gathers.gather_box(color, motion, **box))

@@ -9,8 +9,9 @@ import pytest
 from conftest import random_frame
 
 import blurlab as bl
-from blurlab.methods import guertin2014, mcguire2012
 from blurlab.methods.core import choice_defines, pass_uniforms
+from blurlab.methods.reconstruct_guertin2014 import method as guertin2014
+from blurlab.methods.reconstruct_mcguire2012 import method as mcguire2012
 from blurlab.methods.tile_filter import variant_defines
 from blurlab.twins import mcguire2012 as ref
 

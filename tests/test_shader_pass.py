@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 import blurlab as bl
-from blurlab.methods import mcguire2012
 from blurlab.methods.core import choice_defines, pass_uniforms
+from blurlab.methods.reconstruct_mcguire2012 import method as mcguire2012
 from blurlab.methods.tile_filter import variant_defines
 
 W, H, K = 53, 37, 8  # sizes that are no multiple of any work-group size
@@ -29,9 +29,7 @@ FILTER_UNIFORMS = {
 
 def test_reflect_lists_what_a_pass_takes(ctx):
     # The options that pick a variant are #defines (tile_filter.variant_defines), not uniforms.
-    p = ctx.shader_pass(
-        "passes/reconstruct_mcguire2012.glsl", {"JITTER_TILES": 0, "ADAPTIVE_SAMPLES": 1}
-    )
+    p = ctx.shader_pass(mcguire2012.RECONSTRUCT.shader, {"JITTER_TILES": 0, "ADAPTIVE_SAMPLES": 1})
     compute = p.reflect("compute")
     assert compute["samplers"] == {
         name: {"type": "sampler2D", "unit": unit} for unit, name in enumerate(FILTER_INPUTS)
@@ -48,7 +46,7 @@ def test_reflect_lists_what_a_pass_takes(ctx):
     assert camera["images"]["motion"]["format"] == "rg32f"
     # The format of the #ifdef branch the defines take (common/pass_main.glsl's HALF_RESULT).
     half = ctx.shader_pass(
-        "passes/reconstruct_mcguire2012.glsl",
+        mcguire2012.RECONSTRUCT.shader,
         {"JITTER_TILES": 0, "ADAPTIVE_SAMPLES": 0, "HALF_RESULT": 1},
     )
     assert half.reflect("compute")["images"]["result"]["format"] == "rgba16f"
@@ -56,7 +54,7 @@ def test_reflect_lists_what_a_pass_takes(ctx):
 
 def test_a_method_pass_takes_its_parameters_under_their_own_names(ctx):
     """The uniforms a method's reconstruct pass declares are exactly the parameters it hands
-    over (blurlab/methods/mcguire2012.py), named as in Python."""
+    over (blurlab/methods/reconstruct_mcguire2012/method.py), named as in Python."""
 
     values = {
         "jitter_tiles": 0,

@@ -9,7 +9,6 @@ entry point (folders.py, docs/spec.md §25, docs/adding_a_method.md).
 # Each module registers its methods on import; the order here is the registry's, which is the
 # order of rows in sweeps, studies and the failure suite.
 # isort: off
-from . import mcguire2012, guertin2014, urho3d  # noqa: F401
 from . import unreal, unreal5  # noqa: F401
 from . import godot  # noqa: F401
 from . import coverage  # noqa: F401

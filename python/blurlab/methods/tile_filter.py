@@ -1,7 +1,8 @@
 """The shared core of the tile-based reconstruction filters (docs/spec.md §3): their common
 parameters, TileMax → NeighborMax, and the filter pipeline that ends in a method's own
-reconstruct pass. reconstruct_mcguire2012, reconstruct_guertin2014 and reconstruct_urho3d are
-built on it. With the option packed_inputs (mcguire2012 and guertin2014) TileMax and
+reconstruct pass. reconstruct_mcguire2012, reconstruct_guertin2014 and reconstruct_urho3d (each a
+folder beside this module) are built on it. With the option packed_inputs (mcguire2012 and
+guertin2014) TileMax and
 reconstruct read the half-float textures that packed_inputs() makes once per frame, and with
 half_result the reconstruct writes half floats (docs/spec.md §19). TileMax's work-group layout
 is one of TILE_MAX_VARIANTS, chosen for benchmarks by tile_max_variant().
@@ -98,12 +99,28 @@ TILE_FILTER_PARAMS = {
     "exposure": Param(1.0, float, "exposure E, fraction of the shutter", 0, PARAM_SCALE_MAX),
     "seed": SEED,
 }
+
+
+# `far`, the depth that +inf is read as: a parameter of the filters that read depth as the Urho3D
+# pass does (reconstruct_urho3d, and engine_unity's Z / far).
+def default_far(frame: Frame) -> float:
+    """The camera's far plane for rendered frames, else twice the largest finite depth."""
+    if frame.camera is not None and "far" in frame.camera:
+        return float(frame.camera["far"])
+    if frame.depth_range is None or frame.depth_range[1] <= 0:
+        return 1.0
+    return min(2.0 * frame.depth_range[1], FLOAT32_MAX)  # finite even for depths near 3.4e38
+
+
+FAR = Param(default_far, float, "depth that +inf is read as", 0, FLOAT32_MAX, low_open=True)
 # The engines' refinements (docs/guertin2014.md "Options"), off by default so that docs/spec.md
 # §3.4 holds; mcguire2012 and guertin2014 offer them.
 FILTER_OPTIONS = {
     "jitter_tiles": Param(0, int, "1: jittered NeighborMax lookup against tile blockiness", 0, 1),
     "adaptive_samples": Param(0, int, "1: S scaled with the neighborhood's motion length", 0, 1),
-    "early_exit": Param(0.0, float, "pixels whose neighborhood moves < this many px keep C", 0),
+    "early_exit": Param(
+        0.0, float, "pixels whose neighborhood moves < this many px keep C", 0, FLOAT32_MAX
+    ),
     "packed_inputs": Param(
         False, bool, "read colour, motion and depth as half floats packed once per frame"
     ),
@@ -241,9 +258,10 @@ def packed_inputs(ctx: Context, frame: Frame, inputs: dict) -> dict:
 def run_filter(params: dict[str, Param], reconstruct: Pass, diagonal_reach: bool):
     """TileMax → NeighborMax → the method's `reconstruct` pass (docs/spec.md §3,
     docs/guertin2014.md); `params` are the method's parameter declarations. NeighborMax keeps a
-    pass of its own: computing it in the reconstruct pass's prologue measured slower (§3.6)."""
+    pass of its own: computing it in the reconstruct pass's prologue measured slower (§3.6).
+    A Declaration's run: `passes` (the declared ones) hold `reconstruct` alone, run as given."""
 
-    def run(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
+    def run(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str, passes: dict):
         packed = values["packed_inputs"]
         if packed:
             textures = packed_inputs(ctx, frame, inputs)
@@ -251,11 +269,11 @@ def run_filter(params: dict[str, Param], reconstruct: Pass, diagonal_reach: bool
         else:
             textures = {key: inputs[key] for key in ("color", "depth", "motion")}
             motion = inputs["motion"]
-        passes = PassRunner(ctx, params, values)
+        runner = PassRunner(ctx, params, values)
         result_type = "float16" if values["half_result"] else "float32"
         defines = variant_defines(values)
         return reconstruct_on_tiles(
-            passes,
+            runner,
             reconstruct,
             textures,
             motion,
@@ -290,12 +308,13 @@ def reconstruct_on_tiles(
 def options_filter(
     params: dict[str, Param], reconstruct: Pass, diagonal_reach: bool, grid: dict
 ) -> dict:
-    """The Method fields of a filter that offers FILTER_OPTIONS (among its `params`): run_filter
-    into its `reconstruct` pass on both backends, swept over `grid` and then each option on its
-    own (OPTIONS_AT_DEFAULT)."""
+    """The Declaration fields of a filter that offers FILTER_OPTIONS (among its `params`):
+    run_filter into its `reconstruct` pass on both backends, swept over `grid` and then each
+    option on its own (OPTIONS_AT_DEFAULT)."""
     return {
         "kind": "filter",
         "params": params,
+        "passes": (reconstruct,),
         "backends": ("compute", "fragment"),
         "run": run_filter(params, reconstruct, diagonal_reach),
         "default_grid": [grid, *OPTIONS_AT_DEFAULT],

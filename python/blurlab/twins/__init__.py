@@ -15,7 +15,6 @@ from . import (
     projection,
     sub_frames,
     taa,
-    urho3d,
 )
 from .hashing import pcg, rand
 from .patterns import test_pattern
@@ -34,5 +33,4 @@ __all__ = [
     "sub_frames",
     "taa",
     "test_pattern",
-    "urho3d",
 ]

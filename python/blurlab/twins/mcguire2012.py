@@ -1,6 +1,7 @@
 """The reconstruction filter of McGuire, Hennessy, Bukowski and Osman (I3D 2012), docs/spec.md §3,
-in NumPy float64: one function per pass, vectorized over pixels. The GPU passes
-(shaders/passes/tile_max.glsl, neighbor_max.glsl, reconstruct_mcguire2012.glsl) must match it.
+in NumPy float64: what the tile filters share, vectorized over pixels. TileMax and NeighborMax
+(shaders/passes/tile_max.glsl, neighbor_max.glsl) must match it; the filter's reconstruct pass
+is methods/reconstruct_mcguire2012/twin.py, built on filter_start and the weights here.
 """
 
 from __future__ import annotations
@@ -10,7 +11,7 @@ from typing import NamedTuple
 import numpy as np
 
 from .hashing import rand
-from .inputs import pack_half, round_to_half, sanitize_color, sanitize_depth, sanitize_motion
+from .inputs import pack_half, sanitize_color, sanitize_depth, sanitize_motion
 
 
 def half_velocity(motion: np.ndarray, exposure: float, k: float) -> np.ndarray:
@@ -188,53 +189,3 @@ def filter_start(
     return FilterStart(
         sanitize_color(color), sanitize_depth(depth), v, x, y, vn, vn_length, moving, n
     )
-
-
-def reconstruct_mcguire2012(
-    color,
-    depth,
-    motion,
-    *,
-    k: int,
-    samples: int,
-    soft_z: float,
-    exposure: float,
-    seed: int,
-    jitter_tiles: int,
-    adaptive_samples: int,
-    early_exit: float,
-    packed_inputs: bool,
-    half_result: bool,
-    neighbor: np.ndarray | None = None,
-) -> np.ndarray:
-    """§3.4: (H, W, C) float64 blurred color, with the options of docs/guertin2014.md
-    (jitter_tiles, adaptive_samples, early_exit; 0 is off) and packed_inputs (docs/spec.md
-    §19: the inputs rounded as the packed textures hold them), half_result (the result rounded to
-    half floats as the RGBA16F target holds it). `neighbor` is NeighborMax if already computed."""
-    options = (jitter_tiles, adaptive_samples, early_exit, packed_inputs)
-    start = filter_start(color, depth, motion, neighbor, k, samples, exposure, seed, options)
-    color, depth, v, x, y, vn, vn_length, moving, n = start
-    h, w = depth.shape
-
-    vx = v
-    weight = 1 / len_half(vx)
-    total = color * weight[..., None]
-    j = rand(x, y, seed) - 0.5
-    center = np.stack([x, y], -1) + 0.5
-    skip = np.where(n % 2 == 1, (n - 1) // 2, -1)
-    for i in range(samples):
-        active = (i < n) & (i != skip)
-        t = -1 + 2 * (i + j + 1) / (n + 1)
-        p = np.floor(center + vn * t[..., None]).astype(np.int64)
-        py, px = np.clip(p[..., 1], 0, h - 1), np.clip(p[..., 0], 0, w - 1)
-        dist = np.hypot(px - x, py - y)
-        vy = v[py, px]
-        zx, zy = depth, depth[py, px]
-        f = soft_depth_compare(zx, zy, soft_z)
-        b = soft_depth_compare(zy, zx, soft_z)
-        a = f * cone(dist, vy) + b * cone(dist, vx) + cylinder(dist, vy) * cylinder(dist, vx) * 2
-        a = np.where(active, a, 0.0)
-        weight = weight + a
-        total = total + a[..., None] * color[py, px]
-    result = np.where(moving[..., None], total / weight[..., None], color)
-    return round_to_half(result) if half_result else result

@@ -16,8 +16,7 @@ from __future__ import annotations
 
 from ..core import FLOAT32_MAX, SEED, Param, Pass, PassRunner, shader_beside
 from ..folders import Declaration
-from ..tile_filter import TILE_FILTER_PARAMS
-from ..urho3d import PARAMS as URHO3D_PARAMS
+from ..tile_filter import FAR, TILE_FILTER_PARAMS
 from . import twin
 
 PARAMS = {
@@ -29,7 +28,7 @@ PARAMS = {
         20.0, float, "soft depth comparison factor on the 10-bit linear depth", 0, FLOAT32_MAX
     ),
     "exposure": TILE_FILTER_PARAMS["exposure"],
-    "far": URHO3D_PARAMS["far"],  # depth = Z / far, as the Urho3D pass reads depth
+    "far": FAR,  # depth = Z / far, as the Urho3D pass reads depth
     "seed": SEED,
 }
 SETUP = Pass("velocity_setup", shader_beside(__file__, "velocity_setup.glsl"), ("exposure", "far"))

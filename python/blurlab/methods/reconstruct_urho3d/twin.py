@@ -1,15 +1,22 @@
-"""reconstruct_urho3d in NumPy float64: the Urho3D thesis's reconstruct pass (docs/spec.md §3
-variant). GPU twin: shaders/passes/reconstruct_urho3d.glsl, whose header lists the
-differences from McGuire 2012. TileMax and NeighborMax are McGuire's (twins.mcguire2012).
+"""reconstruct_urho3d in NumPy float64: the Urho3D thesis's reconstruct pass (docs/spec.md §3.5,
+spec.md here). GPU pass: reconstruct.glsl beside it, whose header lists the differences from
+McGuire 2012. TileMax and NeighborMax are McGuire's (blurlab.twins.mcguire2012).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from .hashing import rand
-from .inputs import sanitize_color, sanitize_depth, sanitize_motion
-from .mcguire2012 import cone, cylinder, half_velocity, neighbor_max, tap_positions, tile_max
+from ...twins.hashing import rand
+from ...twins.inputs import sanitize_color, sanitize_depth, sanitize_motion
+from ...twins.mcguire2012 import (
+    cone,
+    cylinder,
+    half_velocity,
+    neighbor_max,
+    tap_positions,
+    tile_max,
+)
 
 JITTER_SIZE = 64
 

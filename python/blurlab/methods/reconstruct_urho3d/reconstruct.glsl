@@ -1,7 +1,7 @@
 #version 450
-// reconstruct_urho3d: the reconstruct pass as the Urho3D thesis printed it, docs/spec.md §3 variant,
-// kept as the seed's baseline (a fragment pass; STAGE_FRAGMENT only). Its differences from
-// McGuire 2012 (reconstruct_mcguire2012.glsl):
+// reconstruct_urho3d: the reconstruct pass as the Urho3D thesis printed it (docs/spec.md §3.5,
+// a variant of §3), kept as the seed's baseline (a fragment pass; STAGE_FRAGMENT only). Its
+// differences from McGuire 2012 (methods/reconstruct_mcguire2012/reconstruct.glsl):
 //   - start weight 0.75 instead of 1 / len(V[X]);
 //   - sdc(za, zb) = clamp((za - zb) / soft_z, 0, 1);
 //   - vN, V[X], V[Y] clamped per component to +-k pixels (no half-pixel minimum);
@@ -9,7 +9,7 @@
 //     hardware filtering weights have too few bits for the NumPy twin to match);
 //   - jitter from a tiled 64 x 64 texture.
 // Depth +inf (the background) is read as `far`, so that bilinear weights never meet inf * 0.
-// NumPy twin: blurlab.twins.urho3d.reconstruct_urho3d.
+// NumPy twin: twin.py beside it (reconstruct_urho3d).
 #include "common/inputs.glsl"
 #include "common/mcguire2012.glsl"
 

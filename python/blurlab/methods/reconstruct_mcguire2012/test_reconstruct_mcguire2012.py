@@ -1,4 +1,4 @@
-"""Reconstruct (docs/spec.md §3.4) on the GPU against bl.twins.mcguire2012, and the filter's
+"""Reconstruct (docs/spec.md §3.4) on the GPU against its NumPy twin (twin.py), and the filter's
 promises: still images unchanged, output inside the input range, no NaN."""
 
 from __future__ import annotations

@@ -2,7 +2,7 @@
 // Reconstruct, docs/spec.md §3.4: S samples along the neighborhood's dominant half-vector vN, each
 // weighted by depth order and by whether the sample's or the center's blur covers the other.
 // Compute (16 x 16 threads per group, one per pixel) or fragment (one fragment per pixel).
-// NumPy twin: blurlab.twins.mcguire2012.reconstruct_mcguire2012.
+// NumPy twin: twin.py beside it (reconstruct_mcguire2012).
 #include "common/tile_filter.glsl"
 
 vec4 reconstruct_at(ivec2 x) {

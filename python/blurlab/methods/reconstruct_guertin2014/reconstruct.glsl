@@ -6,9 +6,9 @@
 // 0.5 + gamma (the paper's Eq. 1); each weight scaled by how well the sample's and the center's
 // motion align with the sampling direction; the center weighted S / (kappa len(V[X])); each pair's
 // weights mirrored against each other by depth and speed. Reads the NeighborMax of the
-// direction-keeping dilation (neighbor_max.glsl with diagonal_reach).
+// direction-keeping dilation (shaders/passes/neighbor_max.glsl with diagonal_reach).
 // Compute (16 x 16 threads per group, one per pixel) or fragment (one fragment per pixel).
-// NumPy twin: blurlab.twins.guertin2014.reconstruct_guertin2014.
+// NumPy twin: twin.py beside it (reconstruct_guertin2014).
 #include "common/tile_filter.glsl"
 #include "common/mirrored_pair.glsl"
 

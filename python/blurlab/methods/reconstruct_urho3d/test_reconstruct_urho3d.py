@@ -1,13 +1,14 @@
-"""reconstruct_urho3d (the Urho3D thesis's pass, docs/spec.md §3 variant) against its NumPy twin."""
+"""reconstruct_urho3d (the Urho3D thesis's pass, docs/spec.md §3.5) against its NumPy twin."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 from conftest import random_frame
+from method_picks import EXAMPLE
 
 import blurlab as bl
-from blurlab.twins import urho3d as ref
+from blurlab.methods.reconstruct_urho3d import twin as ref
 
 
 @pytest.mark.parametrize(
@@ -25,12 +26,14 @@ def test_random_frames_match_reference(ctx, rng, k, samples, size):
 
 
 def test_rendered_frame_matches_reference_and_differs_from_mcguire(ctx):
+    """The twin on a rendered frame, and a measurable difference from McGuire 2012's filter, the
+    example method (EXAMPLE), on the same frame."""
     frame = ctx.render(bl.scenes.teapot_pass(), (160, 90))
     urho = bl.blur(ctx, frame, "reconstruct_urho3d", k=12)
     assert urho.params["far"] == 100.0  # the camera's far plane
     expected = ref.reconstruct_urho3d(frame.color, frame.depth, frame.motion, **urho.params)
     assert (np.abs(urho.color - expected).max(axis=-1) <= 1e-3).mean() >= 0.999
-    mcguire = bl.blur(ctx, frame, "reconstruct_mcguire2012", k=12)
+    mcguire = bl.blur(ctx, frame, EXAMPLE, k=12)
     assert np.abs(urho.color - mcguire.color).max() > 0.01  # a different filter, measurably
 
 
