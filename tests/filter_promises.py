@@ -9,6 +9,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
+import pytest
 from conftest import assert_inside_input_range, assert_matches_twin, random_frame
 
 import blurlab as bl
@@ -136,3 +137,35 @@ PROMISES = {
         ctx, tried.make(rng, 80, 60), method
     ),
 }
+
+
+def promise_tests(method: str, tried: Tried):
+    """The three tests of `method` tried as `tried` says, for a test module to bind at module
+    level (pytest collects them there): its random frames and its rendered scenes match its
+    twin, and it keeps every promise. A method's folder declares its Tried and binds them:
+    ``test_random_frames, test_rendered_scenes, test_promises = promise_tests(METHOD, TRIED)``."""
+    random_cases = [
+        (backend, size, params) for backend in tried.backends for size, params in tried.random
+    ]
+
+    @pytest.mark.parametrize(("backend", "size", "params"), random_cases)
+    def test_random_frames_match_the_twin(ctx, rng, backend, size, params):
+        # Half-vectors shorter than k: no two tiles tie at the clamp (conftest.random_frame).
+        frame = tried.make(rng, *size, k=min(10, params.get("k", 10)))
+        result = bl.blur(ctx, frame, method, backend=backend, **params)
+        assert params.items() <= result.params.items()
+        assert_matches_twin(result, frame)
+
+    @pytest.mark.parametrize(("scene", "params"), list(tried.scenes))
+    def test_rendered_scenes_match_the_twin(ctx, scene, params):
+        assert_blurs_a_rendered_scene_as_its_twin(ctx, method, scene, **params)
+
+    @pytest.mark.parametrize("promise", list(PROMISES))
+    def test_keeps_the_filter_promises(ctx, rng, promise):
+        PROMISES[promise](ctx, rng, method, tried)
+
+    return (
+        test_random_frames_match_the_twin,
+        test_rendered_scenes_match_the_twin,
+        test_keeps_the_filter_promises,
+    )

@@ -8,7 +8,7 @@ sweep grid), so a refactor of the methods' layout runs the same script:
 - configurations: the defaults, every point of the method's default sweep grid, the other
   choices of every choice and bool parameter, the 0..1 option switches turned on, another
   seed, and `steps` = 2 for post-process methods;
-- every backend of the method; trail at its first frame and with a history.
+- every backend of the method; a sequence method (trail) at its first frame and with a history.
 
 tests/test_golden.py checks it two ways (docs/reliability.md):
 
@@ -95,7 +95,7 @@ def configurations(name: str) -> list[dict]:
             points.append({key: 1 - param.default})
         elif key == "seed":
             points.append({key: 7})
-    if not m.renders and name != "trail":
+    if m.kind in ("filter", "gather"):  # post-process methods of one frame take steps
         points.append({"steps": 2})
     unique: list[dict] = []
     for p in points:
@@ -171,7 +171,7 @@ def _outputs(ctx, name, result, params, scene) -> dict[str, np.ndarray]:
     outputs = {"color": result.color}
     for key, array in sorted(result.buffers.items()):
         outputs[key] = array
-    if name == "trail":  # the second frame blends with the first one's output
+    if bl.method(name).kind == "sequence":  # the second frame blends with the first's output
         frame = ctx.render(scene, GOLDEN_SIZE, instant="close") if scene else golden_frame()
         second = bl.blur(ctx, frame, name, history=result, **params)
         outputs["color_with_history"] = second.color

@@ -9,6 +9,7 @@ import math
 
 import pandas as pd
 import pytest
+from method_picks import EXAMPLE, builtin, picks
 
 import blurlab as bl
 from blurlab.studies import auto_check
@@ -33,9 +34,15 @@ def test_held_out_seeds_are_above_every_fit():
 
 def test_every_auto_rule_is_found_live_or_withdrawn():
     rules = {(r.method, r.param): r for r in auto_check.auto_parameters()}
-    assert rules[("reconstruct_guertin2014", "k")].withdrawn
-    assert rules[("engine_godot", "k")].withdrawn
-    assert ("engine_godot", "samples") not in rules  # Godot's filter has no samples parameter
+    # k="auto" was withdrawn (docs/recommend.md): every method with k says so
+    assert picks(params=("k",))
+    for name in picks(params=("k",)):
+        assert rules[(name, "k")].withdrawn
+    # a method without a samples parameter (Godot's filter has k but none) has no samples rule
+    without = [name for name in builtin() if "samples" not in bl.method(name).params]
+    assert set(without) & set(picks(params=("k",)))
+    for name in without:
+        assert (name, "samples") not in rules
     for r in rules.values():
         p = bl.method(r.method).params[r.param]
         assert (p.auto is not None) != r.withdrawn
@@ -46,12 +53,12 @@ def test_verdicts_on_a_constructed_table():
     psnr = {"a": {4: 30.0, 8: 31.0, 20: 33.0}, "b": {4: 29.0, 8: 30.0, 20: 30.5},
             "c": {4: 40.0, 8: 39.0, 20: 39.5}}  # fmt: skip
     rows = [
-        {"scene": s, "method": "reconstruct_mcguire2012", "params": json.dumps({"k": k}), "psnr": v}
+        {"scene": s, "method": EXAMPLE, "params": json.dumps({"k": k}), "psnr": v}
         for s, values in psnr.items()
         for k, v in values.items()
     ]
-    rule = auto_check.AutoRule("reconstruct_mcguire2012", "k", lambda f, v: 8, False)
-    chosen = {("reconstruct_mcguire2012", "k"): {"a": 8, "b": 20, "c": 20}}
+    rule = auto_check.AutoRule(EXAMPLE, "k", lambda f, v: 8, False)
+    chosen = {(EXAMPLE, "k"): {"a": 8, "b": 20, "c": 20}}
     verdict = auto_check.verdicts(pd.DataFrame(rows), [rule], chosen, {"k": [4, 8]}).iloc[0]
     assert verdict["auto_minus_default_median"] == 0.0
     assert verdict["auto_minus_default_worst"] == -2.0 and verdict["worst_scene"] == "a"

@@ -9,6 +9,7 @@ import sys
 import threading
 
 import pytest
+from method_picks import pick
 
 import blurlab as bl
 
@@ -32,13 +33,16 @@ def test_the_context_asks_to_be_told_of_a_gpu_reset(ctx):
     assert issubclass(bl.ContextLost, bl.GLError)  # code that catches GLError catches it too
 
 
+# A method whose passes run over tile lists (indirect dispatches), blurred in layers: the run
+# whose syncs, waits and fences the variables below change (_synced_run sets its METHOD).
+SYNCED_METHOD = pick(role="tile_lists")
 SYNCED_RUN = """
 import hashlib, json
 import blurlab as bl
 ctx = bl.Context()
 frame = ctx.render(bl.scenes.get("moving_glass"), (48, 27))
 before = ctx.waits()
-out = bl.blur(ctx, frame, "engine_hdrp", translucency="layered", timed=False).color
+out = bl.blur(ctx, frame, METHOD, translucency="layered", timed=False).color
 print(json.dumps({"sync": ctx.info()["sync_passes"], "waits": ctx.waits() - before,
                   "notification": ctx.info()["reset_notification"],
                   "in_flight": ctx.info()["passes_in_flight"], "pacing": ctx.pacing_waits(),
@@ -61,7 +65,7 @@ def _in_process(script: str, **environment) -> subprocess.CompletedProcess:
 
 def _synced_run(**environment) -> dict:
     """SYNCED_RUN's figures, run with `environment`."""
-    done = _in_process(SYNCED_RUN, **environment)
+    done = _in_process(f"METHOD = {SYNCED_METHOD!r}\n" + SYNCED_RUN, **environment)
     assert done.returncode == 0, done.stderr
     return json.loads(done.stdout.splitlines()[-1])
 

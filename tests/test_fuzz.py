@@ -149,12 +149,6 @@ def method_call(draw):
     return name, params, invalid
 
 
-# Parameters whose allowed values depend on each other's: each may be valid alone and the pair
-# refused, with an error that names both (gather_coverage's 3-tap film through the taps holds
-# film_filter up to 0.71 px, docs/spec.md §17.6).
-LINKED = {"gather_coverage": [("film_through_taps", "film_filter")]}
-
-
 @fuzz(800)
 @given(call=method_call(), backend=st.sampled_from([None] * 4 + ["compute", "fragment", "cuda"]))
 def test_every_method_takes_any_parameters(ctx, frames, call, backend):
@@ -172,7 +166,10 @@ def test_every_method_takes_any_parameters(ctx, frames, call, backend):
             if backend not in (None, *m.backends):
                 assert_names(error, "backends")
                 return
-            linked = [pair for pair in LINKED.get(name, ()) if set(pair) <= set(params)]
+            # Parameters whose allowed values depend on each other's (Method.linked_params:
+            # e.g. gather_coverage's 3-tap film through the taps holds film_filter up to
+            # 0.71 px, docs/spec.md §17.6): each valid alone, the pair refused, both named.
+            linked = [pair for pair in m.linked_params if set(pair) <= set(params)]
             if not invalid and linked:  # each valid alone, refused together: named together
                 assert any(all(key in str(error) for key in pair) for pair in linked), error
                 return

@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 import pytest
+from method_picks import EXAMPLE
 
 import blurlab as bl
 from blurlab.studies import hatching
@@ -147,7 +148,7 @@ def test_hatched_objects_keep_depth_and_motion_and_blur(ctx, tam):
         np.testing.assert_array_equal(hatched.object_id, plain.object_id)
         ink = hatching.ink_of(hatched)[hatched.object_id >= 0]
         assert 0.05 < ink.mean() < 0.95 and (ink > 0.5).any()
-        out = bl.blur(ctx, hatched, "reconstruct_mcguire2012", k=8, samples=9)
+        out = bl.blur(ctx, hatched, EXAMPLE, k=8, samples=9)
         assert np.isfinite(out.color).all()
         assert np.abs(out.color - hatched.color).max() > 0.1  # the hatching was blurred
 

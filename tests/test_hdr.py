@@ -8,6 +8,7 @@ import math
 import numpy as np
 import pandas as pd
 import pytest
+from method_picks import pick
 
 import blurlab as bl
 from blurlab import metrics
@@ -17,6 +18,8 @@ from blurlab.studies.sweep import sweep_methods
 
 BRIGHT = 1000.0
 SIZE = (160, 90)
+# A plain gather with a tap count, for the sweeps, studies and suites below.
+GATHER = pick(kind="gather", params=("taps",))
 
 
 def _facing_quad(width: float, height: float) -> bl.Mesh:
@@ -26,7 +29,7 @@ def _facing_quad(width: float, height: float) -> bl.Mesh:
     return quad.transformed(turn)
 
 
-def _lamp_scene(velocity=(0.0, 0.0, 0.0), wall: bool = True) -> bl.Scene:
+def lamp_scene(velocity=(0.0, 0.0, 0.0), wall: bool = True) -> bl.Scene:
     """A white emissive quad of BRIGHT (0.02 x 0.02 units: about one pixel at 160 x 90) and
     a larger one, over a lit wall (or black), camera still."""
     scene = bl.Scene(bl.Camera((0.0, 0.0, 4.0), (0.0, 0.0, 0.0), fov_y=45), name="lamp")
@@ -48,7 +51,7 @@ def _method_backends():
 
 @pytest.mark.parametrize(("name", "backend"), _method_backends())
 def test_a_bright_pixel_passes_every_still_path_unchanged(ctx, name, backend):
-    scene = _lamp_scene()
+    scene = lamp_scene()
     frame = ctx.render(scene, SIZE, instant=bl.method_instant(name, {}))
     color = frame.color
     assert color.max() == BRIGHT  # the G-buffer keeps 1000 exactly: no clamp, no 8-bit target
@@ -62,11 +65,10 @@ def test_a_bright_pixel_passes_every_still_path_unchanged(ctx, name, backend):
     if kind in ("filter", "gather", "sequence"):
         # Weighted means of equal taps: float32 rounding only (2 ulp on llvmpipe; 8 allowed).
         np.testing.assert_allclose(out, color, rtol=1e-6, atol=0)
-    elif name == "accumulation":  # N equal renders times 1/N each: float32 rounding only
-        np.testing.assert_allclose(out, color, rtol=1e-5)
     else:
-        # stochastic renders at sub-pixel offsets: it antialiases edges even of a still
-        # scene, but the inside of the bright quad keeps its value.
+        # A render method may render at sub-pixel offsets: it antialiases edges even of a still
+        # scene, but the inside of the bright quad keeps its value. (One that renders at the
+        # pixel centres keeps every pixel: its folder tests that.)
         assert kind == "render"
         inside = (color[..., 0] == BRIGHT) & (
             np.abs(np.diff(color[..., 0], axis=1, prepend=0)) == 0
@@ -78,16 +80,19 @@ def test_a_bright_pixel_passes_every_still_path_unchanged(ctx, name, backend):
         np.testing.assert_allclose(out[inside], color[inside], rtol=1e-5)
 
 
-# Post-process methods that read only the frame's arrays (camera_only needs the camera's
-# transforms, the render methods the scene: the rendered test above covers them).
-ARRAY_METHODS = [n for n in bl.methods() if bl.method(n).kind != "render" and n != "camera_only"]
+# Post-process methods, which read the frame's arrays (and the camera's transforms, which the
+# frame below takes from a still render); the render methods need the scene: the rendered test
+# above covers them.
+ARRAY_METHODS = [n for n in bl.methods() if bl.method(n).kind != "render"]
 
 
 @pytest.mark.parametrize("name", ARRAY_METHODS)
 def test_a_1000x_pixel_in_an_array_frame_comes_back_unchanged(ctx, rng, name):
     color = rng.random((48, 64, 4), dtype=np.float32)
     color[20, 30, :3] = BRIGHT
-    frame = bl.Frame(color, np.full((48, 64), 5.0, np.float32), np.zeros((48, 64, 2), np.float32))
+    still_camera = ctx.render(lamp_scene(), (64, 48)).camera
+    depth, motion = np.full((48, 64), 5.0, np.float32), np.zeros((48, 64, 2), np.float32)
+    frame = bl.Frame(color, depth, motion, camera=still_camera)
     out = bl.blur(ctx, frame, name).color
     np.testing.assert_allclose(out, color, rtol=1e-6, atol=0)
     assert out[20, 30, :3] == pytest.approx(BRIGHT, rel=1e-6)
@@ -98,7 +103,7 @@ def test_the_reference_conserves_radiance_under_pure_translation(ctx):
     of its sub-frames' totals, and within their sampling error of the exact radiance. Each
     sub-frame covers a whole number of columns (pixel centres); averaged over the shutter the
     covered width becomes the quad's exact width in pixels."""
-    scene = _lamp_scene(velocity=(60.0, 0.0, 0.0), wall=False)
+    scene = lamp_scene(velocity=(60.0, 0.0, 0.0), wall=False)
     ref = ctx.reference(scene, SIZE, samples=64, progress=False)
     total = float(ref.color[..., :3].sum(dtype=np.float64))
     renders = [ctx.render(scene, SIZE, instant=float(t)).color for t in ref.times]
@@ -249,7 +254,7 @@ def test_energy_ratio_of_every_method_on_every_hdr_scene_is_finite_and_reported(
 
 def test_sweeps_add_the_hdr_metrics_on_hdr_scenes_only(ctx):
     table = bl.sweep(
-        ctx, ["spinning_ring", "fan"], {"gather_box": {}}, size=SIZE, repeats=1, progress=False
+        ctx, ["spinning_ring", "fan"], {GATHER: {}}, size=SIZE, repeats=1, progress=False
     )
     ring, fan = table[table["scene"] == "spinning_ring"], table[table["scene"] == "fan"]
     for name in ("hdr_flip", "psnr_tm", "ssim_tm", "log_lum_error", "energy_ratio", "exposure"):
@@ -257,7 +262,7 @@ def test_sweeps_add_the_hdr_metrics_on_hdr_scenes_only(ctx):
         assert fan[name].isna().all()
     assert np.isfinite(fan["flip"]).all() and np.isfinite(ring["flip"]).all()
     with pytest.raises(ValueError, match="unknown metrics"):
-        bl.sweep(ctx, ["fan"], {"gather_box": {}}, size=SIZE, metrics=("hdr_flop",))
+        bl.sweep(ctx, ["fan"], {GATHER: {}}, size=SIZE, metrics=("hdr_flop",))
 
 
 def test_study_report_shows_hdr_scenes_tone_mapped_with_the_exposure(ctx, tmp_path):
@@ -267,7 +272,7 @@ def test_study_report_shows_hdr_scenes_tone_mapped_with_the_exposure(ctx, tmp_pa
         SIZE,
         tmp_path,
         reference_samples=16,
-        grids={"gather_box": {"taps": [5]}},
+        grids={GATHER: {"taps": [5]}},
         progress=False,
     )
     text = report.read_text()
@@ -290,5 +295,5 @@ def test_hdr_scores_names_its_metrics_and_the_exposure():
 
 
 def test_the_failure_suite_measures_hdr_scenes_with_the_hdr_metrics(ctx):
-    table = failures.evaluate(ctx, ["spinning_ring"], ["gather_box"], SIZE, 2, 16, False)
+    table = failures.evaluate(ctx, ["spinning_ring"], [GATHER], SIZE, 2, 16, False)
     assert np.isfinite(table[["hdr_flip", "psnr_tm", "energy_ratio", "exposure"]].to_numpy()).all()

@@ -4,6 +4,7 @@ bits of gpu_mse, gpu_mse_ssim and gpu_flip called one at a time, with one wait f
 from __future__ import annotations
 
 import pytest
+from method_picks import EXAMPLE
 
 import blurlab as bl
 from blurlab import _core
@@ -27,7 +28,7 @@ def test_queued_metrics_equal_the_immediate_ones_with_one_wait(ctx, scene_inputs
     queue = m.MetricQueue(ctx)
     expected, order = [], []
     for k in (4, 8, 16, 20, 40, 8):  # a repeat: the same value twice, from two slots
-        result = bl.blur(ctx, frame, "reconstruct_mcguire2012", k=k, timed=False)
+        result = bl.blur(ctx, frame, EXAMPLE, k=k, timed=False)
         color = result.textures["color"]
         expected += [
             m.gpu_mse_ssim(ctx, prepared, color),
@@ -89,7 +90,7 @@ def test_batches_read_one_behind_in_order(ctx, scene_inputs):
     batches = m.MetricBatches(ctx, 2)
     expected, got = [], []
     for i, k in enumerate((4, 8, 16, 20, 40)):
-        result = bl.blur(ctx, frame, "reconstruct_mcguire2012", k=k, timed=False)
+        result = bl.blur(ctx, frame, EXAMPLE, k=k, timed=False)
         color = result.textures["color"]
         expected.append(m.gpu_mse_ssim(ctx, prepared, color))
         ready = batches.add((i, batches.queue.mse_ssim(prepared, color)))

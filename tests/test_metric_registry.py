@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import pytest
+from method_picks import pick
 
 import blurlab as bl
 from blurlab.metrics import Metric
@@ -19,6 +20,8 @@ from blurlab.studies import interactive, plots
 
 ROOT = Path(__file__).resolve().parents[1]
 SIZE = (48, 32)
+# A plain gather with a tap count, for the blurs and sweeps below.
+GATHER = pick(kind="gather", params=("taps",))
 DIRECTED = [n for n in bl.metrics.registered() if bl.metrics.get(n).higher_is_better is not None]
 
 
@@ -53,8 +56,8 @@ def pair(ctx):
     """A reference and a blurred frame of fan, as arrays."""
     scene = bl.scenes.fan()
     reference = ctx.reference(scene, SIZE, samples=16, progress=False).color
-    frame = ctx.render(scene, SIZE, instant=bl.method_instant("gather_box", {}))
-    blurred = bl.blur(ctx, frame, "gather_box", taps=4).color
+    frame = ctx.render(scene, SIZE, instant=bl.method_instant(GATHER, {}))
+    blurred = bl.blur(ctx, frame, GATHER, taps=4).color
     return reference, blurred
 
 
@@ -105,9 +108,9 @@ def test_a_bad_declaration_says_what_is_wrong(changes, match):
 
 def test_sweeps_refuse_unknown_metrics_and_list_the_registered_ones(ctx):
     with pytest.raises(ValueError, match=r"unknown metrics \['mae'\]; choose from \['psnr', "):
-        bl.sweep(ctx, ["fan"], ["gather_box"], SIZE, metrics=("psnr", "mae"), progress=False)
+        bl.sweep(ctx, ["fan"], [GATHER], SIZE, metrics=("psnr", "mae"), progress=False)
     with pytest.raises(TypeError, match="list of names"):
-        bl.sweep(ctx, ["fan"], ["gather_box"], SIZE, metrics="psnr", progress=False)
+        bl.sweep(ctx, ["fan"], [GATHER], SIZE, metrics="psnr", progress=False)
 
 
 @pytest.mark.parametrize("name", bl.metrics.registered())
@@ -156,7 +159,7 @@ def test_a_registered_metric_flows_into_a_sweep_table_and_the_charts(ctx, toy_me
     table = bl.sweep(
         ctx,
         ["fan"],
-        {"gather_box": {"taps": [2, 4]}},
+        {GATHER: {"taps": [2, 4]}},
         SIZE,
         reference_samples=16,
         repeats=1,

@@ -1,102 +1,75 @@
 """Every filter refuses bad parameters before it runs, with an error that names the parameter,
-the value and what is allowed (docs/reliability.md): one table, a row per method."""
+the value and what is allowed (docs/reliability.md). The bad values come from each parameter's
+declaration: below and above its range, not finite, not an integer, a choice it does not offer,
+not True or False; and a parameter the method does not take."""
 
 from __future__ import annotations
 
+import re
+
 import pytest
 from conftest import random_frame
+from method_picks import builtin, picks
 
 import blurlab as bl
+from blurlab.methods.params import FLOAT32_MAX
 
-# method: the bad parameters each refuses, with the error and (a regex of) its message
-REFUSALS = {
-    "engine_eevee": [
-        ({"tile_size": 2}, ValueError, r"tile_size = 2 is outside 4\.\.256"),
-        ({"samples": 0}, ValueError, r"samples = 0 is outside 1\.\.64"),
-        ({"depth_scale": 0.0}, ValueError, "depth_scale = 0.0 is outside"),
-        ({"max_blur": -1.0}, ValueError, "max_blur = -1.0 is outside"),
-        ({"k": 3}, TypeError, "no parameter.*k.*depth_scale"),
-    ],
-    "engine_godot": [
-        ({"quality": "ultra"}, ValueError, "quality"),
-        ({"object_multiplier": 1.5}, ValueError, "object_multiplier = 1.5 is outside"),
-        ({"reference_fps": 0.0}, ValueError, "reference_fps"),
-    ],
-    "engine_hdrp": [
-        ({"samples": 1}, ValueError, r"samples = 1 is outside 2\.\.64"),
-        ({"maximum_velocity": -1.0}, ValueError, r"maximum_velocity = -1.0 is outside"),
-        ({"depth_comparison_extent": 0.0}, ValueError, "depth_comparison_extent = 0.0 must be"),
-        ({"camera_clamp_mode": "Rotation"}, ValueError, "must be one of 'none', 'rotation'"),
-        ({"fast_ratio": 1.5}, ValueError, r"fast_ratio = 1.5 is outside \[0, 1\]"),
-        ({"scatter": 1}, TypeError, "scatter must be True or False"),
-        ({"k": 3}, TypeError, "no parameter.*k.*samples"),
-    ],
-    "engine_jimenez2014": [
-        ({"k": 0}, ValueError, r"k = 0 is outside 1\.\.256"),
-        ({"soft_z": 0.0}, ValueError, "soft_z = 0.0 must be"),
-        ({"quality": 3}, TypeError, "no parameter.*quality.*samples"),
-    ],
-    "engine_unity": [
-        ({"samples": 3}, ValueError, r"samples = 3 is outside 4\.\.32"),
-        ({"max_radius": 0.0}, ValueError, "max_radius = 0.0 must be"),
-        ({"depth_factor": -1.0}, ValueError, r"depth_factor = -1.0 is outside"),
-        ({"k": 3}, TypeError, "no parameter.*k.*depth_factor"),
-    ],
-    "engine_unreal": [
-        ({"quality": 0}, ValueError, r"quality = 0 is outside 1\.\.4"),
-        ({"quality": 5}, ValueError, r"quality = 5 is outside 1\.\.4"),
-        ({"max_blur": 0.0}, ValueError, "max_blur = 0.0 must be"),
-        ({"max_blur": 101.0}, ValueError, "max_blur = 101.0"),
-        ({"depth_extent": 0.0}, ValueError, "depth_extent = 0.0 must be"),
-        ({"samples": 8}, TypeError, "no parameter.*samples.*quality"),
-    ],
-    "engine_unreal5": [
-        ({"directions": 3}, ValueError, r"directions = 3 is outside 1\.\.2"),
-        ({"half_res_gather": 2}, ValueError, r"half_res_gather = 2 is outside 0\.\.1"),
-        ({"tile_dispatch": "all"}, ValueError, "tile_dispatch must be one of 'lists', 'one'"),
-        ({"quality": 5}, ValueError, r"quality = 5 is outside 1\.\.4"),
-        ({"samples": 8}, TypeError, "no parameter.*samples.*quality"),
-    ],
-    "gather_coverage": [
-        ({"samples": 1}, ValueError, r"samples = 1 is outside 2\.\.32"),
-        ({"max_blur": 0.0}, ValueError, "max_blur = 0.0 must be"),
-        ({"tile_percent": 101.0}, ValueError, "tile_percent = 101.0"),
-        ({"film_filter": 4.5}, ValueError, r"film_filter = 4\.5 is outside \[0, 4\]"),
-        ({"film_filter": -0.5}, ValueError, "film_filter = -0.5"),
-        ({"k": 3}, TypeError, "no parameter.*k.*tile_percent"),
-        ({"tap_spacing": -1.0}, ValueError, "tap_spacing = -1.0"),
-        ({"uniform_tolerance": float("nan")}, ValueError, "uniform_tolerance must be finite"),
-    ],
-    "gather_pixel": [
-        ({"samples": 0}, ValueError, r"samples = 0 is outside 1\.\.32"),
-        ({"spacing": 0.0}, ValueError, "spacing = 0.0 must be"),
-        ({"depth_extent": -1.0}, ValueError, "depth_extent = -1.0"),
-        ({"taps": 8}, TypeError, "no parameter.*taps.*samples"),
-    ],
-    "reconstruct_guertin2014": [
-        ({"gamma": 0.0}, ValueError, "gamma .* must be finite and > 0"),
-        ({"kappa": -1.0}, ValueError, "kappa .* must be finite and > 0"),
-        ({"gamma": float("inf")}, ValueError, "gamma must be finite"),
-        ({"k": 0}, ValueError, r"k = 0 is outside 1\.\.256"),
-        ({"samples": 300}, ValueError, r"samples = 300 is outside 1\.\.256"),
-        ({"taps": 3}, TypeError, "no parameter.*taps.*gamma"),
-    ],
-    "reconstruct_mcguire2012": [
-        ({"k": 0}, ValueError, r"k = 0 is outside 1\.\.256"),
-        ({"k": 2.5}, TypeError, "k must be an integer"),
-        ({"samples": 0}, ValueError, r"samples = 0 is outside 1\.\.256"),
-        ({"soft_z": 0.0}, ValueError, "soft_z .* must be finite and > 0"),
-        ({"soft_z": -1.0}, ValueError, "soft_z"),
-        ({"exposure": float("nan")}, ValueError, "exposure must be finite"),
-        ({"exposure": float("inf")}, ValueError, "exposure must be finite"),
-        ({"seed": -1}, ValueError, "seed"),
-        ({"taps": 3}, TypeError, "no parameter.*taps.*samples"),
-    ],
-}
-CASES = [(method, *case) for method, cases in REFUSALS.items() for case in cases]
+
+def bad_values(key, p) -> list[tuple[object, type, str]]:
+    """The values parameter `key`, declared as `p`, refuses: (value, error, message regex)."""
+    allowed = re.escape(p.allowed())
+    if isinstance(p.kind, tuple):
+        return [("no such choice", ValueError, rf"{key} must be {allowed}")]
+    if p.kind is bool:
+        return [(1, TypeError, rf"{key} must be True or False")]
+    if p.kind not in (int, float):
+        return []
+    bad = []
+    if p.low is not None:
+        low = p.low if p.low_open else p.low - 1
+        bad.append(p.kind(low))
+    if p.high is not None and p.high < FLOAT32_MAX:
+        bad.append(p.kind(p.high + 1))
+    cases = [(v, ValueError, rf"{key} = {re.escape(repr(v))} .*{allowed}") for v in bad]
+    if p.kind is int:
+        return [*cases, (2.5, TypeError, rf"{key} must be an integer \({allowed}\)")]
+    return [
+        *cases,
+        (float("nan"), ValueError, rf"{key} must be finite"),
+        (float("inf"), ValueError, rf"{key} must be finite"),
+    ]
+
+
+def foreign(name) -> str:
+    """A parameter another built-in method takes and `name` does not."""
+    own = bl.method(name).params
+    return next(k for other in builtin() for k in bl.method(other).params if k not in own)
+
+
+def refusals(name):
+    m = bl.method(name)
+    first = next(iter(m.params))
+    unknown = foreign(name)
+    cases = [({unknown: 3}, TypeError, rf"no parameter.*{unknown}.*{first}")]
+    for key, p in m.params.items():
+        cases += [({key: value}, error, message) for value, error, message in bad_values(key, p)]
+    return cases
+
+
+CASES = [
+    pytest.param(name, *case, id=f"{name}-{next(iter(case[0]))}={next(iter(case[0].values()))}")
+    for name in picks(kind=("filter", "gather"))
+    for case in refusals(name)
+]
 
 
 @pytest.mark.parametrize(("method", "params", "error", "message"), CASES)
 def test_a_bad_parameter_is_refused_in_words(ctx, rng, method, params, error, message):
     with pytest.raises(error, match=message):
         bl.blur(ctx, random_frame(rng, 16, 16), method, **params)
+
+
+def test_every_filter_has_bad_values_to_refuse():
+    """Each filter and gather has a declared range or choice to be refused outside of."""
+    for name in picks(kind=("filter", "gather")):
+        assert len(refusals(name)) > 1, name

@@ -7,11 +7,14 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 import pytest
+from method_picks import EXAMPLE, pick
 
 import blurlab as bl
 from blurlab.metrics import perceptual
 from blurlab.studies import perceptual_agreement as agreement
 
+# Two methods to score: the example filter and a plain gather.
+METHODS = [EXAMPLE, pick(kind="gather", params=("taps",))]
 needs_model = pytest.mark.skipif(
     not perceptual.available(), reason="needs blurlab[perceptual] (pyfvvdp, torch)"
 )
@@ -75,9 +78,7 @@ def test_kendall_tau_per_sequence_and_its_summary():
 
 @needs_model
 def test_scores_rank_methods_on_a_rendered_sequence(ctx):
-    table = agreement.scores(
-        ctx, ["fan"], (32, 18), ["reconstruct_mcguire2012", "camera_only"], 2, 1, 4
-    )
-    assert list(table["method"]) == ["reconstruct_mcguire2012", "camera_only"]
+    table = agreement.scores(ctx, ["fan"], (32, 18), METHODS, 2, 1, 4)
+    assert list(table["method"]) == METHODS
     assert np.isfinite(table[["psnr", "flip", "temporal_instability"]].to_numpy()).all()
     assert (table["fovvideovdp"] <= 10.0).all()

@@ -10,10 +10,13 @@ import warnings
 
 import numpy as np
 import pytest
+from method_picks import EXAMPLE, pick
 
 import blurlab as bl
 
 SIZE = (16, 12)
+# A plain gather, for the calls from another thread.
+GATHER = pick(kind="gather", params=("taps",))
 
 
 def rss_mib() -> float:
@@ -29,7 +32,7 @@ def footprint(ctx) -> dict:
 
 def test_thousand_render_blur_readback_cycles_stay_flat(ctx):
     scene = bl.scenes.fan()
-    names = [n for n in bl.methods() if n not in ("accumulation", "stochastic")]
+    names = [n for n in bl.methods() if bl.method(n).kind != "render"]  # arrays only
 
     def cycle(i):
         name = names[i % len(names)]
@@ -69,7 +72,7 @@ def test_hundred_contexts_come_and_go(ctx):
         frame = bl.Frame(
             color=np.ones((8, 8, 4)), depth=np.ones((8, 8)), motion=np.full((8, 8, 2), 3.0)
         )
-        out = bl.blur(context, frame, "reconstruct_mcguire2012", k=4, samples=5)
+        out = bl.blur(context, frame, EXAMPLE, k=4, samples=5)
         assert np.isfinite(out.color).all() and texture.download().sum() == 64
         assert context.gl_errors() == []
         live = context.live_objects()
@@ -146,7 +149,7 @@ def test_other_threads_get_a_clear_error(ctx, test_shader, call):
         "empty": lambda: ctx.empty((4, 4)),
         "download": texture.download,
         "render": lambda: ctx.render(bl.scenes.fan(), (8, 8)),
-        "blur": lambda: bl.blur(ctx, frame, "gather_box"),
+        "blur": lambda: bl.blur(ctx, frame, GATHER),
         "reference": lambda: ctx.reference(bl.scenes.fan(), (8, 8), samples=2),
         "program": lambda: ctx.program("util/test_pattern.comp"),
         "timer": lambda: ctx.timer().__enter__(),
@@ -176,4 +179,4 @@ def test_other_threads_get_a_clear_error(ctx, test_shader, call):
     assert all(after.get(kind, 0) <= count for kind, count in before.items()), (before, after)
     assert set(after) <= set(before)
     assert texture.download().sum() == 16
-    assert np.isfinite(bl.blur(ctx, frame, "gather_box").color).all()
+    assert np.isfinite(bl.blur(ctx, frame, GATHER).color).all()

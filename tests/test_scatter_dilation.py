@@ -1,9 +1,10 @@
-"""gather_coverage's scatter dilation (docs/spec.md §17.6, "Steps 1–2 by scatter"): the tile
-flatten offers each tile's reach to the tiles it meets by atomic max on 32-bit keys and a small
-pass resolves them. It must give the same bits as the gather dilation in both thread modes,
-agree with the twin's picks (ties to the first source, lengths past PICK_KEY_MAX tied), and
-hand grids too large for its 12-bit index to the gather dilation. Also the uint32 textures the
-keys live in."""
+"""The scatter dilation of tiles (docs/spec.md §17.6, "Steps 1–2 by scatter"), which
+gather_coverage runs: the tile flatten offers each tile's reach to the tiles it meets by atomic
+max on 32-bit keys and a small pass resolves them. It must give the same bits as the gather
+dilation in both thread modes, agree with the twin's picks (ties to the first source, lengths
+past PICK_KEY_MAX tied), and hand grids too large for its 12-bit index to the gather dilation.
+Also the uint32 textures the keys live in. The methods' own use of it is tested in their folders
+(test_<name>_scatter.py, test_<name>_dilation.py)."""
 
 from __future__ import annotations
 
@@ -17,8 +18,6 @@ from blurlab.twins import coverage as coverage_twin
 from blurlab.twins import eevee as twin
 
 STEPS = coverage_twin.TILE_LENGTH_STEPS
-# gather_coverage's gather over its still and moving blocks (docs/spec.md §17.6.2)
-COVERAGE_GATHER = ["block_classify", "gather[still]", "gather[moving]"]
 
 
 def stepped_tiles(ctx, frame, tile_size, max_blur, group_per_tile, dilation):
@@ -98,22 +97,6 @@ def test_grids_beyond_the_key_index_take_the_gather_dilation(ctx, rng):
     finally:
         eevee.SCATTER_MAX_TILES = limit
     assert "tile_dilate" in names and "tile_resolve" not in names
-    # engine_eevee's exact lengths do not fit a key: it gathers whatever the layout says
-    result = bl.blur(ctx, frame, "engine_eevee", tile_size=8)
-    assert "tile_dilate" in result.timings
-
-
-def test_gather_coverage_scatters_by_default_and_matches_its_twin(ctx):
-    frame = ctx.render(bl.scenes.get("fast_fan"), (160, 90))
-    result = bl.blur(ctx, frame, "gather_coverage")
-    assert eevee.DILATION_LAYOUT.default == "scatter_in_gather"
-    assert list(result.timings) == ["reach_keys_clear", "tile_flatten", *COVERAGE_GATHER]
-    expected = bl.method("gather_coverage").twin_output(frame, **result.params)
-    within = (np.abs(result.color - expected).max(axis=-1) <= 1e-3).mean()
-    assert within >= 0.999
-    with eevee.DILATION_LAYOUT.use("gather"):
-        gathered = bl.blur(ctx, frame, "gather_coverage")
-    assert gathered.color.tobytes() == result.color.tobytes()
 
 
 def test_uint32_textures_round_trip_and_clear(ctx):
@@ -126,24 +109,6 @@ def test_uint32_textures_round_trip_and_clear(ctx):
     pooled = ctx.pooled((3, 5), "uint32")
     assert pooled.dtype == np.uint32 and pooled.shape == (3, 5)
     assert ctx.gl_errors() == []
-
-
-@pytest.mark.parametrize("scene", ["fast_fan", "camera_yaw"])
-def test_the_gather_can_resolve_the_keys_itself(ctx, scene):
-    # scatter_in_gather: no resolve pass; the keys come back as a buffer, and decoded as the
-    # gather decodes them they are the dilated tiles; the image is the same bits.
-    frame = ctx.render(bl.scenes.get(scene), (160, 90))
-    with eevee.DILATION_LAYOUT.use("scatter"):
-        resolved = bl.blur(ctx, frame, "gather_coverage")
-    with eevee.DILATION_LAYOUT.use("scatter_in_gather"):
-        in_gather = bl.blur(ctx, frame, "gather_coverage")
-    assert list(in_gather.timings) == ["reach_keys_clear", "tile_flatten", *COVERAGE_GATHER]
-    assert in_gather.color.tobytes() == resolved.color.tobytes()
-    keys = in_gather.buffers["reach_keys"]
-    assert keys.dtype == np.uint32 and keys.shape == (2 * 12, 20)  # 8 px tiles, 12 x 20
-    decoded = twin.resolve_reach_keys(keys, in_gather.buffers["tiles"])
-    assert decoded.tobytes() == resolved.buffers["dilated"].tobytes()
-    assert "dilated" not in in_gather.buffers
 
 
 def test_a_texture_of_the_wrong_kind_is_refused(ctx):

@@ -8,12 +8,15 @@ import gc
 
 import numpy as np
 import pytest
+from method_picks import pick
 
 import blurlab as bl
 from blurlab_bench import soak
 
 SIZE = (32, 18)
 HUGE = 16384  # the largest GL_MAX_TEXTURE_SIZE blurlab meets (llvmpipe's, the H100's)
+# A plain gather with a tap count, cheap at every size.
+GATHER = pick(kind="gather", params=("taps",))
 
 
 def test_a_soak_holds_memory_and_objects_flat_and_gives_a_short_runs_rows(ctx):
@@ -45,9 +48,9 @@ def test_a_side_by_side_soak_runs_each_device_in_a_process_of_its_own(ctx):
 
 def picture(ctx) -> np.ndarray:
     """A small render and blur: what a usable context gives."""
-    instant = bl.method_instant("gather_box", {"taps": 4})
+    instant = bl.method_instant(GATHER, {"taps": 4})
     frame = ctx.render(bl.scenes.get("fan"), SIZE, instant=instant)
-    return bl.blur(ctx, frame, "gather_box", taps=4).color
+    return bl.blur(ctx, frame, GATHER, taps=4).color
 
 
 def test_a_request_beyond_the_texture_limit_names_the_limit(ctx):
@@ -103,12 +106,12 @@ def test_running_out_of_memory_fails_clearly_and_the_context_stays_usable(ctx):
 
 def test_a_sweep_too_large_for_the_device_leaves_no_row(ctx, tmp_path):
     out = tmp_path / "r.csv"
-    bl.sweep(ctx, ["fan"], {"gather_box": {"taps": [4]}}, SIZE, reference_samples=8, out=out,
+    bl.sweep(ctx, ["fan"], {GATHER: {"taps": [4]}}, SIZE, reference_samples=8, out=out,
              progress=False, repeats=1)  # fmt: skip
     rows = out.read_text()
     if ctx.software:
         with pytest.raises(bl.GLError, match="does not fit"):
-            bl.sweep(ctx, ["fan"], {"gather_box": {"taps": [4]}}, (HUGE, HUGE),
+            bl.sweep(ctx, ["fan"], {GATHER: {"taps": [4]}}, (HUGE, HUGE),
                      reference_samples=1, out=out, progress=False, repeats=1)  # fmt: skip
         assert out.read_text() == rows  # nothing half-written
     assert ctx.gl_errors() == []

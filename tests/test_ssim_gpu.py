@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from method_picks import EXAMPLE
 
 import blurlab as bl
 from blurlab import _core, metrics
@@ -75,7 +76,7 @@ def rendered_pair(ctx):
     strips within 4.2e-7 (with one shift per strip instead of per column: 6.9e-6)."""
     scene = bl.scenes.fan()
     frame = ctx.render(scene, (160, 90))
-    blurred = bl.blur(ctx, frame, "reconstruct_mcguire2012", timed=False)
+    blurred = bl.blur(ctx, frame, EXAMPLE, timed=False)
     reference = ctx.reference(scene, (160, 90), samples=16, progress=False)
     return reference, blurred.textures["color"].download()
 

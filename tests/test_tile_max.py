@@ -7,10 +7,14 @@ import contextlib
 import numpy as np
 import pytest
 from conftest import random_frame
+from method_picks import pick
 
 import blurlab as bl
 from blurlab.methods.tile_filter import TILE_MAX_VARIANTS, tile_max_variant
 from blurlab.twins import mcguire2012 as ref
+
+# A tile filter on both backends: its TileMax is the shared one of blurlab.methods.tile_filter.
+FILTER = pick(kind="filter", params=("k", "exposure"), backends=("compute", "fragment"))
 
 
 @pytest.mark.parametrize("backend", ["compute", "fragment"])
@@ -19,7 +23,7 @@ from blurlab.twins import mcguire2012 as ref
 )
 def test_tile_max_equals_reference(ctx, rng, backend, k, size):
     frame = random_frame(rng, *size, k=k)
-    result = bl.blur(ctx, frame, "reconstruct_mcguire2012", backend=backend, k=k, exposure=0.8)
+    result = bl.blur(ctx, frame, FILTER, backend=backend, k=k, exposure=0.8)
     expected = ref.tile_max(ref.half_velocity(frame.motion, 0.8, k), k)
     assert result.buffers["tile_max"].shape == (-(-size[1] // k), -(-size[0] // k), 2)
     # The same pixel wins in every tile; its half-vector, scaled by the exposure in float32 on
@@ -33,7 +37,7 @@ def test_partial_tiles_only_see_their_own_pixels(ctx):
     motion[24, 24] = (8.0, 0.0)  # the only mover, in the corner tile
     frame = bl.Frame(color=np.zeros((25, 25, 4)), depth=np.ones((25, 25)), motion=motion)
     # With exposure 1 the half-vector of a motion longer than a pixel is exact: equal bits.
-    tiles = bl.blur(ctx, frame, "reconstruct_mcguire2012", k=10).buffers["tile_max"]
+    tiles = bl.blur(ctx, frame, FILTER, k=10).buffers["tile_max"]
     assert tiles.shape == (3, 3, 2)
     np.testing.assert_array_equal(tiles[2, 2], [4.0, 0.0])  # half of the motion
     assert not tiles[:2].any() and not tiles[:, :2].any()
@@ -49,9 +53,9 @@ def test_half_velocity_clamps_to_half_a_pixel_and_k():
 def test_every_tile_max_variant_gives_the_same_bits(ctx, rng, variant, k, size):
     # k above 32 px: a work group per tile on llvmpipe as on a GPU (largest_tile_for_one_thread).
     frame = random_frame(rng, *size, k=k)
-    default = bl.blur(ctx, frame, "reconstruct_mcguire2012", k=k, exposure=0.8)
+    default = bl.blur(ctx, frame, FILTER, k=k, exposure=0.8)
     with tile_max_variant(variant):
-        result = bl.blur(ctx, frame, "reconstruct_mcguire2012", k=k, exposure=0.8)
+        result = bl.blur(ctx, frame, FILTER, k=k, exposure=0.8)
     tiles = result.buffers["tile_max"]
     np.testing.assert_array_equal(tiles, default.buffers["tile_max"])
     expected = ref.tile_max(ref.half_velocity(frame.motion, 0.8, k), k)
@@ -72,7 +76,7 @@ def test_ties_go_to_the_first_pixel_in_row_order(ctx, backend, variant, k):
     side = 2 * k
     frame = bl.Frame(color=np.zeros((side, side, 4)), depth=np.ones((side, side)), motion=motion)
     with tile_max_variant(variant) if variant else contextlib.nullcontext():
-        tiles = bl.blur(ctx, frame, "reconstruct_mcguire2012", backend=backend, k=k)
+        tiles = bl.blur(ctx, frame, FILTER, backend=backend, k=k)
     expected = ref.tile_max(ref.half_velocity(motion, 1.0, k), k)
     np.testing.assert_array_equal(expected[0, 0], [k, 0.0])
     # The three candidates point three ways, so the winner shows in the direction; its length

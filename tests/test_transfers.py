@@ -10,6 +10,7 @@ from collections import Counter
 from contextlib import contextmanager
 
 import pytest
+from method_picks import pick
 
 import blurlab as bl
 from blurlab.core.context import Context
@@ -17,6 +18,9 @@ from blurlab.core.gl import Texture
 from blurlab.temporal.sequences import ORDERS
 
 SIZE = (64, 36)
+# A tile filter with k, and a one-pass gather with samples on both backends.
+FILTER = pick(kind="filter", params=("k",))
+GATHER = pick(kind="gather", params=("samples",), backends=("compute", "fragment"))
 
 
 @contextmanager
@@ -80,7 +84,7 @@ def test_translucent_render_downloads_nothing_until_read(ctx, monkeypatch):
         frame = ctx.render(bl.scenes.get("moving_glass"), SIZE)
         assert frame.layered
         for translucency in ("composite_motion", "layered", "unblurred"):
-            bl.blur(ctx, frame, "reconstruct_guertin2014", translucency=translucency)
+            bl.blur(ctx, frame, FILTER, translucency=translucency)
         assert counts["download"] == 0 and counts["upload"] == 0
         _ = frame.translucent_depth  # one texture holds the layer motion and depth
         assert counts["download"] == 1 and frame.translucent_motion.shape == SIZE[::-1] + (2,)
@@ -97,7 +101,7 @@ def test_gpu_statistics_match_numpy(ctx):
 
 
 @pytest.mark.parametrize("order", ORDERS)
-@pytest.mark.parametrize("method", [None, "reconstruct_guertin2014"])
+@pytest.mark.parametrize("method", [None, FILTER])
 def test_sequence_frames_stay_on_the_gpu(ctx, monkeypatch, order, method):
     if method is None and order in ("taa_then_blur", "blur_in_history"):
         pytest.skip("these orders need a method")
@@ -116,7 +120,7 @@ def test_sweep_evaluations_transfer_no_image(ctx, monkeypatch):
     counts = []
     for k in ([4], [4, 8, 12]):
         with counted(monkeypatch) as each:
-            grid = {"reconstruct_guertin2014": {"k": k}, "gather_pixel": {"samples": k}}
+            grid = {FILTER: {"k": k}, GATHER: {"samples": k}}
             bl.sweep(ctx, ["fan"], grid, size=SIZE, progress=False, repeats=1)
         counts.append(each)
     one, three = counts
@@ -127,12 +131,12 @@ def test_setting_an_array_replaces_the_frames_data(ctx):
     """A rendered frame given a new array reads its others first and drops its textures and
     plans, so the next blur uploads what was set."""
     frame = ctx.render(bl.scenes.fan(), SIZE)
-    before = bl.blur(ctx, frame, "gather_pixel").color
+    before = bl.blur(ctx, frame, GATHER).color
     frame.motion = frame.motion * 0.0
     assert frame.textures == {} and set(frame.on_host) >= {"color", "depth", "motion"}
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        still = bl.blur(ctx, frame, "gather_pixel").color
+        still = bl.blur(ctx, frame, GATHER).color
     assert (still != before).any()
     assert (still[..., :3] == frame.color[..., :3]).all()  # no motion: the frame as it is
 
@@ -153,6 +157,6 @@ def test_a_translucent_frame_from_arrays_blurs_as_the_rendered_one(ctx, transluc
     arrays = from_arrays(rendered)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # a frame from arrays has no camera to check instants by
-        expected = bl.blur(ctx, rendered, "reconstruct_guertin2014", translucency=translucency)
-        got = bl.blur(ctx, arrays, "reconstruct_guertin2014", translucency=translucency)
+        expected = bl.blur(ctx, rendered, FILTER, translucency=translucency)
+        got = bl.blur(ctx, arrays, FILTER, translucency=translucency)
     assert (got.color == expected.color).all()

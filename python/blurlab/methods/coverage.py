@@ -268,6 +268,8 @@ register(
         default_grid={"samples": [4, 8, 16], "max_blur": [15.0, 30.0]},
         twin=twin.gather_coverage,
         translucent_layer=True,
+        # film_through_taps reads film_filter as a 3-tap filter: up to 0.71 px (§17.6)
+        linked_params=(("film_through_taps", "film_filter"),),
         doc="The engines' best parts combined: two-sided motion, dilation along each tile's "
         "motion, tiles and limit relative to the height, taps along the tile's and X's own "
         "motion, weighted by the share of each half-shutter a trail spends over X, the "

@@ -95,6 +95,7 @@ class Declaration:
     renders_for: Callable[[int], dict] | None = None
     engine_peer: bool = False
     tile_lists: tuple[str, ...] = ()
+    linked_params: tuple[tuple[str, str], ...] = ()
 
 
 def load_methods(path) -> list[str]:
@@ -255,6 +256,7 @@ def method_of(d: Declaration, folder: Path, source: str, builtin: bool = False) 
         renders_for=d.renders_for,
         engine_peer=d.engine_peer,
         tile_lists=tuple(d.tile_lists),
+        linked_params=_linked_params(d, fail),
         source=None if builtin else source,
     )
 
@@ -317,6 +319,14 @@ def _resolved_passes(d: Declaration, folder: Path, backends, fail) -> tuple[Pass
             fail(f"pass {step.name}'s shader {step.shader} must end in .glsl, .comp or .hlsl")
         resolved.append(Pass(step.name, str(path), tuple(step.params)))
     return tuple(resolved)
+
+
+def _linked_params(d: Declaration, fail) -> tuple[tuple[str, str], ...]:
+    pairs = tuple(tuple(pair) for pair in d.linked_params)
+    for pair in pairs:
+        if len(pair) != 2 or not set(pair) <= set(d.params):
+            fail(f"linked_params {pair!r} must be a pair of the method's parameters")
+    return pairs
 
 
 def _check_twin(d: Declaration, fail) -> None:

@@ -70,6 +70,9 @@ class Method:
     # The names of its tile lists (docs/spec.md §9.3) in the order of the counts its run returns
     # as the output "tile_counts"; () for a method that dispatches every pass over every pixel.
     tile_lists: tuple[str, ...] = ()
+    # Pairs of parameters whose allowed values depend on each other: each may be valid alone
+    # and the pair refused, with an error that names both (the fuzz test holds it to that).
+    linked_params: tuple[tuple[str, str], ...] = ()
     # Where it was declared: a method folder's method.py; None for the modules in this package.
     source: str | None = None
 
