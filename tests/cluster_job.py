@@ -18,18 +18,23 @@ import sys
 from pathlib import Path
 
 SCENES = ["fan", "teapot_pass"]
-GRID = {"reconstruct_mcguire2012": {"k": [8, 16], "samples": [5, 9]}, "gather_box": {"taps": [4]}}
 OPTIONS = {"size": (64, 36), "reference_samples": 16, "progress": False, "repeats": 1}
 
 
 def main(folder: Path) -> None:
+    from method_picks import EXAMPLE, pick
+
     import blurlab as bl
     from blurlab import cli
     from blurlab.studies import cluster as cluster_module
 
-    bl.sweep(bl.Context(), SCENES, GRID, out=folder / "local.csv", **OPTIONS)
+    # A tile filter with k and samples and a gather with taps (tests/method_picks.py, beside
+    # this script); test_sweep_cluster.py reads the rows, whichever methods they are.
+    gather = pick(kind="gather", params=("taps",))
+    grid = {EXAMPLE: {"k": [8, 16], "samples": [5, 9]}, gather: {"taps": [4]}}
+    bl.sweep(bl.Context(), SCENES, grid, out=folder / "local.csv", **OPTIONS)
     with bl.local_cluster(1) as cluster:
-        bl.sweep(None, SCENES, GRID, out=folder / "one.csv", cluster=cluster, **OPTIONS)
+        bl.sweep(None, SCENES, grid, out=folder / "one.csv", cluster=cluster, **OPTIONS)
         cluster.scale(2)
         from distributed import Client
 
@@ -37,7 +42,7 @@ def main(folder: Path) -> None:
             client.wait_for_workers(2, timeout=120)
             # The second sweep starts with no frames or references kept.
             client.run(cluster_module.forget_scenes)
-            two = bl.sweep(None, SCENES, GRID, out=folder / "two.csv", cluster=client, **OPTIONS)
+            two = bl.sweep(None, SCENES, grid, out=folder / "two.csv", cluster=client, **OPTIONS)
             (folder / "two_accounts.json").write_text(json.dumps(two.attrs["workers"]))
             reports = client.run(cluster_module.worker_report)
             config = folder / "partial.toml"
@@ -45,11 +50,11 @@ def main(folder: Path) -> None:
                 f"scenes = {json.dumps(SCENES[:1])}\nsize = [64, 36]\nreference_samples = 16\n"
                 'metrics = ["psnr", "ssim", "flip", "psnr_aa"]\n'
                 f'out = "{(folder / "resumed.csv").as_posix()}"\n'
-                "[methods.gather_box]\ntaps = [4]\n"
+                f"[methods.{gather}]\ntaps = [4]\n"
             )
             assert cli.main(["sweep", str(config), "--scheduler", cluster.scheduler_address]) == 0
             table = bl.sweep(
-                None, SCENES, GRID, out=folder / "resumed.csv", cluster=cluster, **OPTIONS
+                None, SCENES, grid, out=folder / "resumed.csv", cluster=cluster, **OPTIONS
             )
             table.to_csv(folder / "resumed_table.csv", index=False)
             # One scene, a configuration a chunk: the second worker can only help on it.
@@ -57,7 +62,7 @@ def main(folder: Path) -> None:
             bl.sweep(
                 None,
                 SCENES[:1],
-                GRID,
+                grid,
                 out=folder / "helped.csv",
                 cluster=client,
                 chunk_size=1,
@@ -69,7 +74,7 @@ def main(folder: Path) -> None:
             client.run(cluster_module.forget_scenes)
             client.run(_lose_the_context_once)
             reset = bl.sweep(
-                None, SCENES, GRID, out=folder / "reset.csv", cluster=client, **OPTIONS
+                None, SCENES, grid, out=folder / "reset.csv", cluster=client, **OPTIONS
             )
             resets = client.run(cluster_module.worker_report)
             (folder / "reset.json").write_text(

@@ -19,7 +19,6 @@ import time
 from pathlib import Path
 
 SCENES = ["fan", "crossing", "teapot_pass"]
-GRID = {"gather_box": {"taps": [2, 4, 6, 8]}, "reconstruct_mcguire2012": {"k": [8, 16]}}
 OPTIONS = {"size": (32, 18), "reference_samples": 8, "metrics": ["psnr", "ssim"]}
 OPTIONS.update({"progress": False, "repeats": 1, "chunk_size": 1})
 
@@ -30,10 +29,13 @@ def rows_in(path: Path) -> int:
 
 def main(folder: Path) -> None:
     from distributed import Client
+    from method_picks import EXAMPLE, pick
 
     import blurlab as bl
 
-    bl.sweep(bl.Context(), SCENES, GRID, out=folder / "local.csv", **OPTIONS)
+    # A gather with taps and a tile filter with k (tests/method_picks.py, beside this script).
+    grid = {pick(kind="gather", params=("taps",)): {"taps": [2, 4, 6, 8]}, EXAMPLE: {"k": [8, 16]}}
+    bl.sweep(bl.Context(), SCENES, grid, out=folder / "local.csv", **OPTIONS)
     out = folder / "killed.csv"
     with bl.local_cluster(2) as cluster, Client(cluster) as client:
         client.wait_for_workers(2, timeout=120)
@@ -44,7 +46,7 @@ def main(folder: Path) -> None:
 
         def run():
             try:
-                bl.sweep(None, SCENES, GRID, out=out, cluster=client, **OPTIONS)
+                bl.sweep(None, SCENES, grid, out=out, cluster=client, **OPTIONS)
             except BaseException as error:  # reported below, with the test's failure
                 outcome["error"] = repr(error)
 

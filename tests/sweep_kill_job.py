@@ -17,7 +17,6 @@ import signal
 import sys
 
 SCENES = ["fan", "crossing"]
-GRID = {"gather_box": {"taps": [2, 4, 6, 8]}}
 OPTIONS = {
     "size": (32, 18),
     "reference_samples": 8,
@@ -57,9 +56,13 @@ def main(out: str, rows: int, cut: float | None) -> None:
             return _KillingFile(file, rows, cut) if mode == "ab" else file
 
         pathlib.Path.open = open_killing
+    from method_picks import pick
+
     import blurlab as bl
 
-    bl.sweep(bl.Context(), SCENES, GRID, out=out, **OPTIONS)
+    # A gather with taps (tests/method_picks.py: this script sits beside it, on its path).
+    grid = {pick(kind="gather", params=("taps",)): {"taps": [2, 4, 6, 8]}}
+    bl.sweep(bl.Context(), SCENES, grid, out=out, **OPTIONS)
 
 
 if __name__ == "__main__":

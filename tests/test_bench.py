@@ -15,7 +15,9 @@ from pathlib import Path
 import pandas as pd
 import pytest
 from conftest import CLI_DEVICE
+from method_picks import pick
 
+import blurlab as bl
 import blurlab_bench as bench
 from blurlab import cli
 from blurlab.cli import main
@@ -171,16 +173,27 @@ def test_engines_scores_every_frame_blurring_method_at_its_own_instant(ctx):
     for name in timing.post_process_methods():
         assert {f"{name}: median PSNR", f"{name}: median PSNR, antialiased"} <= figures
     film = f"{timing.film_method()}, film_filter=0.5"
+    assert timing.optioned_filters()
     for label in (timing.film_method(), film):
-        assert f"{label} / reconstruct_guertin2014, calls back to back (median)" in figures
-    # each pass by tile class, with the tiles of its list: thin_bar at 64 x 36 has 4 x 3 tiles
-    assert "engine_unreal5: median ms, reconstruct[gather]" in figures
+        for baseline in timing.optioned_filters():
+            assert f"{label} / {baseline}, calls back to back (median)" in figures
+    # each pass by tile class, with the tiles of its list (how many: each method's folder's
+    # test_<name>_bench.py); a method without tile lists has no classes
     table = next(t for t in record["tables"] if t["name"].startswith("each pass"))
-    rows = [r for r in table["rows"] if r[1] == "engine_unreal5" and r[2] == "reconstruct"]
-    assert {r[3] for r in rows} >= {"skip", "uniform", "gather"}
-    assert sum(r[4] for r in rows) == 12 and all(r[5] >= 0 for r in rows)
-    unclassed = [r for r in table["rows"] if r[1] == "engine_unreal"]
-    assert unclassed and all(r[3] == "" and r[4] is None for r in unclassed)
+    listed = [n for n in timing.post_process_methods() if bl.method(n).tile_lists]
+    assert listed and len(listed) < len(timing.post_process_methods())
+    for name in timing.post_process_methods():
+        rows = [r for r in table["rows"] if r[1] == name]
+        classed = [r for r in rows if r[3]]
+        assert rows and all(r[5] >= 0 for r in rows), name
+        if name not in listed:
+            assert all(r[3] == "" and r[4] is None for r in rows), name
+            continue
+        assert {r[3] for r in classed} <= set(bl.method(name).tile_lists), name
+        assert len({r[3] for r in classed}) >= 2, name  # the frame has tiles of several kinds
+        assert all(r[4] >= 0 and r[4] == int(r[4]) for r in classed), name  # tile counts
+        for _, _, step, cls, _, _ in classed:
+            assert f"{name}: median ms, {step}[{cls}]" in figures
 
 
 def record(name="transfer", device="llvmpipe", value=1.0) -> dict:
@@ -303,17 +316,22 @@ def test_without_a_checkout_the_command_says_the_benchmarks_need_one(capsys, mon
 
 
 def test_config_rows_carry_their_parameters_and_bad_ones_are_refused():
-    config = timing.method_config("gather_coverage:samples=16,film_filter=0.5,seed=3")
-    assert config == ("gather_coverage", {"samples": 16, "film_filter": 0.5, "seed": 3})
-    assert timing.method_config("gather_coverage:packed_inputs=true")[1] == {"packed_inputs": True}
-    one = timing.method_config("engine_hdrp:tile_dispatch=one")
-    assert one == ("engine_hdrp", {"tile_dispatch": "one"})
-    runs = timing.method_runs(["a"], 0.5, "gather_coverage:samples=4;gather_box:seed=1")
-    assert runs[1] == ("gather_coverage, film_filter=0.5", "gather_coverage", {"film_filter": 0.5})
-    assert runs[2] == ("gather_coverage, samples=4", "gather_coverage", {"samples": 4})
+    film = timing.film_method()  # its film filter's row comes first, then the configs
+    config = timing.method_config(f"{film}:samples=16,film_filter=0.5,seed=3")
+    assert config == (film, {"samples": 16, "film_filter": 0.5, "seed": 3})
+    assert timing.method_config(f"{film}:packed_inputs=true")[1] == {"packed_inputs": True}
+    # a choice parameter's value is a word, one of its choices ("one"), not a number
+    listed = pick(params=("tile_dispatch",), exclude=(film,))
+    one = timing.method_config(f"{listed}:tile_dispatch=one")
+    assert one == (listed, {"tile_dispatch": "one"})
+    other = pick(kind="gather", exclude=(film,))
+    runs = timing.method_runs(["a"], 0.5, f"{film}:samples=4;{other}:seed=1")
+    assert runs[1] == (f"{film}, film_filter=0.5", film, {"film_filter": 0.5})
+    assert runs[2] == (f"{film}, samples=4", film, {"samples": 4})
+    assert runs[3] == (f"{other}, seed=1", other, {"seed": 1})
     assert len(runs) == 4
-    bad_ones = ("gather_coverage:samples", ":samples=4", "gather_coverage:samples=many")
-    for bad in (*bad_ones, "engine_hdrp:tile_dispatch=all", "no_such_method:tile_dispatch=one"):
+    bad_ones = (f"{film}:samples", ":samples=4", f"{film}:samples=many")
+    for bad in (*bad_ones, f"{listed}:tile_dispatch=all", "no_such_method:tile_dispatch=one"):
         with pytest.raises(ValueError, match="METHOD:KEY=VALUE"):
             timing.method_config(bad)
 
@@ -370,11 +388,15 @@ def test_spin_up_waits_for_each_untimed_call_on_a_gpu_clock():
     assert calls == list(range(len(calls)))
 
 
+RENDERS = pick(kind="render")
+
+
 @pytest.mark.parametrize(
     "given, message",
     [
         ({"settings": "bounded,fast"}, "queue_depth settings 'bounded,fast': from bounded"),
-        ({"method": "accumulation"}, "queue_depth method 'accumulation': one of"),
+        # a method that renders its own sub-frames blurs no frame
+        ({"method": RENDERS}, f"queue_depth method '{RENDERS}': one of"),
         ({"scenes": "nowhere"}, "queue_depth scenes 'nowhere': built-in, failure or"),
         ({"reference_scenes": "x"}, "queue_depth reference_scenes 'x': built-in, failure or"),
         ({"cost_scenes": "x"}, "queue_depth cost_scenes 'x': built-in, failure or"),

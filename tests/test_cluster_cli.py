@@ -20,6 +20,7 @@ import sys
 import pandas as pd
 import pytest
 from conftest import CLI_DEVICE
+from method_picks import EXAMPLE, pick
 from process_group import START_TIMEOUT_S, start_dask_cluster, stop_group
 
 import blurlab as bl
@@ -27,7 +28,8 @@ import blurlab as bl
 pytest.importorskip("distributed")
 
 SCENES = ["fan", "teapot_pass"]
-GRID = {"reconstruct_mcguire2012": {"k": [8, 16]}, "gather_box": {"taps": [4]}}
+# A tile filter with k and a gather with taps.
+GRID = {EXAMPLE: {"k": [8, 16]}, pick(kind="gather", params=("taps",)): {"taps": [4]}}
 SIZE = (64, 36)
 REFERENCE_SAMPLES = 16
 SWEEP_TIMEOUT_S = 300

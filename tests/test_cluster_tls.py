@@ -22,6 +22,7 @@ from pathlib import Path
 import pandas as pd
 import pytest
 from conftest import CLI_DEVICE
+from method_picks import pick
 from process_group import START_TIMEOUT_S, stop_group, wait_for_file
 
 import blurlab as bl
@@ -32,10 +33,12 @@ pytest.importorskip("distributed")
 SCENES = ["fan", "crossing"]
 SIZE = (32, 18)
 SWEEP_TIMEOUT_S = 300
+GATHER = pick(kind="gather", params=("taps",))  # a gather with taps
 REFUSED_TIMEOUT_S = 10
 TOML = (
     f"scenes = {json.dumps(SCENES)}\nsize = {json.dumps(list(SIZE))}\nreference_samples = 8\n"
-    'metrics = ["psnr", "ssim"]\nout = "{out}"\n[methods.gather_box]\ntaps = [2, 4]\n'
+    'metrics = ["psnr", "ssim"]\nout = "{out}"\n'
+    f"[methods.{GATHER}]\ntaps = [2, 4]\n"
 )
 PAGE = Path(__file__).resolve().parents[1] / "docs" / "distributed.md"
 DOCUMENTED_PORT = "8786"
@@ -236,7 +239,7 @@ def test_a_client_without_the_certificate_is_refused(tls_cluster):
     bare = blurlab_sweep(folder, "bare", "--scheduler", address)
     assert bare.returncode != 0 and "--tls-ca, --tls-cert and" in bare.stderr
     with pytest.raises(ValueError, match="give tls_ca, tls_cert and tls_key") as python_error:
-        bl.sweep(None, SCENES, {"gather_box": {"taps": [2]}}, size=SIZE, cluster=address)
+        bl.sweep(None, SCENES, {GATHER: {"taps": [2]}}, size=SIZE, cluster=address)
     assert str(python_error.value).removeprefix("blurlab: ") in bare.stderr
 
 

@@ -9,12 +9,15 @@ import dataclasses
 
 import numpy as np
 import pytest
+from method_picks import EXAMPLE
+from plan_replay import SIZE, check_no_plan, check_replay, ordinary, plans_of, replayed
 
 import blurlab as bl
 from blurlab import _core
-from blurlab.methods import plans
 
-SIZE = (48, 32)
+# Each method's own recorded plans (its variants, its backends, the runs a plan cannot replay)
+# are tested in its folder (python/blurlab/methods/<name>/test_<name>_plans.py); here, what
+# every plan does, shown on the example method (a tile filter with k and samples).
 
 
 @pytest.fixture(scope="module")
@@ -22,80 +25,21 @@ def frame(ctx):
     return ctx.render(bl.scenes.teapot_pass(), SIZE)
 
 
-def ordinary(ctx, frame, name, **params):
-    with plans.disabled():
-        result = bl.blur(ctx, frame, name, timed=False, **params)
-    return {k: result.textures[k].download() for k in result.textures}
-
-
-def plans_of(frame) -> list:
-    """The frame's recorded plans (a key seen once holds None)."""
-    return [plan for plan in frame.plans.values() if plan is not None]
-
-
-def replayed(ctx, frame, name, **params):
-    """The third untimed call, which replays the plan the second one recorded (the first is
-    only remembered)."""
-    bl.blur(ctx, frame, name, timed=False, **params)
-    assert len(plans_of(frame)) == len(set(map(id, plans_of(frame))))
-    bl.blur(ctx, frame, name, timed=False, **params)
-    before = dict(frame.plans)
-    result = bl.blur(ctx, frame, name, timed=False, **params)
-    assert frame.plans == before  # nothing recorded again
-    return result
-
-
 def test_a_first_call_is_only_remembered_and_a_second_records(ctx):
     frame = ctx.render(bl.scenes.teapot_pass(), SIZE)
-    bl.blur(ctx, frame, "reconstruct_guertin2014", timed=False)
+    bl.blur(ctx, frame, EXAMPLE, timed=False)
     assert list(frame.plans.values()) == [None]
-    bl.blur(ctx, frame, "reconstruct_guertin2014", timed=False)
+    bl.blur(ctx, frame, EXAMPLE, timed=False)
     assert len(plans_of(frame)) == 1 and len(frame.plans) == 1
 
 
-CASES = [
-    ("reconstruct_mcguire2012", "compute", {"k": 20, "samples": 15}),
-    ("reconstruct_mcguire2012", "fragment", {"k": 8, "samples": 9, "jitter_tiles": 1}),
-    ("reconstruct_guertin2014", "compute", {}),
-    ("reconstruct_guertin2014", "fragment", {"adaptive_samples": 1}),
-    ("gather_weighted", "compute", {}),
-    ("gather_box", "compute", {}),
-    ("gather_gaussian", "compute", {}),
-    ("engine_unity", "compute", {}),
-    ("engine_eevee", "compute", {}),
-    ("camera_only", "compute", {}),
-    ("gather_pixel", "compute", {}),
-    ("engine_jimenez2014", "compute", {}),
-    ("engine_jimenez2014", "fragment", {"k": 8}),
-    ("gather_pixel", "fragment", {"samples": 4}),
-]
-
-
-@pytest.fixture(scope="module")
-def frames(ctx):
-    """A frame at each instant the methods expect, so that none of them warns."""
-    scene = bl.scenes.teapot_pass()
-    return {i: ctx.render(scene, SIZE, instant=i) for i in ("center", "close")}
-
-
-@pytest.mark.parametrize(("name", "backend", "params"), CASES)
-def test_a_replay_gives_the_ordinary_bits(ctx, frames, name, backend, params):
-    if backend not in bl.method(name).backends:
-        pytest.skip(f"{name} has no {backend} backend")
-    frame = frames[bl.method_instant(name, params)]
-    expected = ordinary(ctx, frame, name, backend=backend, **params)
-    result = replayed(ctx, frame, name, backend=backend, **params)
-    recorded = [k for k, p in frame.plans.items() if p is not None]
-    assert any(key[0] == name and key[1] == backend for key in recorded), "no plan recorded"
-    assert set(result.textures) == set(expected)
-    for key, array in expected.items():
-        np.testing.assert_array_equal(result.textures[key].download(), array, err_msg=key)
-    assert set(result.timings) and all(t.clock == "untimed" for t in result.timings.values())
-    assert result.params == bl.blur(ctx, frame, name, backend=backend, **params).params
+@pytest.mark.parametrize("backend", bl.method(EXAMPLE).backends)
+def test_a_replay_gives_the_ordinary_bits(ctx, backend):
+    check_replay(ctx, EXAMPLE, backend, {})
 
 
 def test_outputs_are_fresh_and_results_held_stay_as_they_were(ctx, frame):
-    name = "reconstruct_mcguire2012"
+    name = EXAMPLE
     wide = replayed(ctx, frame, name, k=20, samples=15)
     narrow = replayed(ctx, frame, name, k=4, samples=5)
     again = bl.blur(ctx, frame, name, timed=False, k=20, samples=15)
@@ -108,55 +52,47 @@ def test_outputs_are_fresh_and_results_held_stay_as_they_were(ctx, frame):
 def test_each_frame_replays_its_own_textures(ctx):
     first = ctx.render(bl.scenes.teapot_pass(), SIZE)
     second = ctx.render(bl.scenes.fan(), SIZE)
-    name = "reconstruct_guertin2014"
+    name = EXAMPLE
     for frame in (first, second, first, second):
         result = replayed(ctx, frame, name)
         np.testing.assert_array_equal(result.color, ordinary(ctx, frame, name)["color"])
 
 
 def test_bad_parameters_still_raise_after_a_recording(ctx, frame):
-    replayed(ctx, frame, "reconstruct_mcguire2012", k=20)
+    replayed(ctx, frame, EXAMPLE, k=20)
     with pytest.raises(TypeError, match="k must be an integer"):
-        bl.blur(ctx, frame, "reconstruct_mcguire2012", timed=False, k=20.0)
+        bl.blur(ctx, frame, EXAMPLE, timed=False, k=20.0)
     with pytest.raises(TypeError, match="k must be an integer"):
-        bl.blur(ctx, frame, "reconstruct_mcguire2012", timed=False, k=True)
+        bl.blur(ctx, frame, EXAMPLE, timed=False, k=True)
     with pytest.raises(TypeError, match="no parameter"):
-        bl.blur(ctx, frame, "reconstruct_mcguire2012", timed=False, k=20, kk=1)
+        bl.blur(ctx, frame, EXAMPLE, timed=False, k=20, kk=1)
 
 
 @pytest.mark.parametrize(
-    ("name", "params", "timed"),
+    ("params", "timed"),
     [
-        ("reconstruct_mcguire2012", {"k": np.int64(20)}, False),  # not a plain int
-        ("reconstruct_mcguire2012", {}, True),  # timed calls time each pass
-        ("reconstruct_urho3d", {}, False),  # reads a cached lookup texture
-        ("engine_unreal5", {"directions": 2}, False),  # passes over tile lists
+        ({"k": np.int64(20)}, False),  # not a plain int
+        ({}, True),  # timed calls time each pass
     ],
 )
-def test_runs_a_plan_cannot_replay_take_the_ordinary_path(ctx, name, params, timed):
-    frame = ctx.render(bl.scenes.teapot_pass(), SIZE)
-    first = bl.blur(ctx, frame, name, timed=timed, **params)
-    second = bl.blur(ctx, frame, name, timed=timed, **params)
-    third = bl.blur(ctx, frame, name, timed=timed, **params)
-    assert plans_of(frame) == []
-    np.testing.assert_array_equal(first.color, second.color)
-    np.testing.assert_array_equal(first.color, third.color)
+def test_runs_a_plan_cannot_replay_take_the_ordinary_path(ctx, params, timed):
+    check_no_plan(ctx, EXAMPLE, params, timed)
 
 
 def test_a_copied_frame_starts_without_plans(ctx, frame):
-    replayed(ctx, frame, "reconstruct_guertin2014")
+    replayed(ctx, frame, EXAMPLE)
     copy = dataclasses.replace(frame)
     assert plans_of(frame) and copy.plans == {} and copy.plans is not frame.plans
 
 
 def test_the_core_plan_refuses_textures_unlike_the_recorded_ones(ctx, frame):
-    replayed(ctx, frame, "reconstruct_guertin2014")
-    plan = next(p for k, p in frame.plans.items() if k[0] == "reconstruct_guertin2014" and p)
+    replayed(ctx, frame, EXAMPLE)
+    plan = next(p for k, p in frame.plans.items() if k[0] == EXAMPLE and p)
     good = [t.native for _, t in plan.inputs] + [
         ctx.pooled(shape, dtype).native for _, shape, dtype in plan.outputs
     ]
     plan.core.run(good)  # the recorded shapes: runs
-    with pytest.raises(ValueError, match="takes 6 textures, got 5"):
+    with pytest.raises(ValueError, match=f"takes {len(good)} textures, got {len(good) - 1}"):
         plan.core.run(good[:-1])
     wrong = ctx.empty((SIZE[1] + 1, SIZE[0], 4)).native
     with pytest.raises(ValueError, match="differs in size or format"):
@@ -188,6 +124,13 @@ def test_a_plan_is_recorded_only_from_the_runs_it_was_given(ctx, frame):
             False,
         )
     assert plan.steps == 0
+
+
+@pytest.fixture(scope="module")
+def frames(ctx):
+    """A frame at each instant the methods expect, so that none of them warns."""
+    scene = bl.scenes.teapot_pass()
+    return {i: ctx.render(scene, SIZE, instant=i) for i in ("center", "close")}
 
 
 @pytest.mark.parametrize("name", bl.methods())

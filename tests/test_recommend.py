@@ -15,13 +15,24 @@ import numpy as np
 import pandas as pd
 import pytest
 from conftest import CLI_DEVICE
+from method_picks import EXAMPLE, builtin, pick, picks
 
 import blurlab as bl
 from blurlab.core.references import default_reference_samples
 from blurlab.studies import recommend as advice
 
-FILTER = "reconstruct_mcguire2012"
-TILE_FILTERS = ("reconstruct_mcguire2012", "reconstruct_guertin2014", "reconstruct_urho3d")
+FILTER = EXAMPLE
+
+
+def withdrawn(name: str, key: str) -> bool:
+    """Whether `name`'s parameter `key` declares a withdrawn "auto" rule."""
+    param = bl.method(name).params.get(key)
+    return param is not None and param.withdrawn_auto is not None
+
+
+# The methods whose k was "auto" once, and the tile filters among them, whose samples was too.
+WITHDRAWN_K = [name for name in builtin() if withdrawn(name, "k")]
+TILE_FILTERS = [n for n in picks(kind="filter") if withdrawn(n, "k") and withdrawn(n, "samples")]
 
 
 @pytest.fixture
@@ -38,7 +49,8 @@ def live_rules(monkeypatch):
 
 def test_withdrawn_auto_is_refused_naming_what_to_pass(ctx):
     frame = uniform_motion_frame(64, 48, (4.0, 0.0))
-    for name in (*TILE_FILTERS, "engine_jimenez2014", "engine_godot"):
+    assert FILTER in TILE_FILTERS and len(WITHDRAWN_K) > len(TILE_FILTERS)
+    for name in WITHDRAWN_K:
         with pytest.raises(
             ValueError, match=r'k="auto" was withdrawn.*fixed k, 1\.\.256.*recommend'
         ):
@@ -102,7 +114,7 @@ def test_auto_k_is_capped_by_the_image_and_floored_for_a_still_frame(ctx, live_r
     assert result.color.tobytes() == still.color.tobytes()
 
 
-@pytest.mark.parametrize("name", ["reconstruct_guertin2014", "reconstruct_urho3d"])
+@pytest.mark.parametrize("name", [n for n in TILE_FILTERS if n != FILTER])
 def test_every_tile_filter_takes_auto(ctx, live_rules, name):
     frame = uniform_motion_frame(200, 120, (24.0, 0.0))
     assert bl.blur(ctx, frame, name, k="auto").params["k"] == 12
@@ -110,8 +122,9 @@ def test_every_tile_filter_takes_auto(ctx, live_rules, name):
 
 def test_auto_is_refused_where_a_parameter_has_no_rule(ctx):
     frame = uniform_motion_frame(64, 48, (4.0, 0.0))
-    with pytest.raises(ValueError, match="gather_box parameter taps has no 'auto' rule"):
-        bl.blur(ctx, frame, "gather_box", taps="auto")
+    gather = pick(kind="gather", params=("taps",))
+    with pytest.raises(ValueError, match=f"{gather} parameter taps has no 'auto' rule"):
+        bl.blur(ctx, frame, gather, taps="auto")
 
 
 def test_steps_choose_auto_per_sub_interval(ctx, live_rules):

@@ -12,6 +12,7 @@ import sys
 import matplotlib
 import numpy as np
 import pytest
+from method_picks import pick
 
 import blurlab as bl
 from blurlab import metrics
@@ -20,6 +21,9 @@ from blurlab.methods import method_instant
 from blurlab.studies import plots
 
 study = importlib.import_module("blurlab.studies.study")
+# Two methods whose pictures a report shows (names only, but for the sweep's: a gather with taps).
+GATHER = pick(kind="gather", params=("taps",))
+OTHER = pick(exclude=(GATHER,))
 
 
 def test_error_colours_are_matplotlibs_colours_of_the_same_values(rng):
@@ -92,7 +96,7 @@ def test_png_compression_changes_the_size_not_the_pixels(tmp_path, rng):
 
 def test_write_pictures_writes_every_picture_and_shows_each(tmp_path, rng):
     reference = rng.random((36, 64, 4)).astype(np.float32)
-    images = {"gather_box": reference * 0.9, "camera_only": reference[::-1].copy()}
+    images = {GATHER: reference * 0.9, OTHER: reference[::-1].copy()}
     with concurrent.futures.ThreadPoolExecutor(2) as pool:
         html, encodes = study.write_pictures("s", reference, images, tmp_path, pool)
         for encode in encodes:
@@ -103,7 +107,7 @@ def test_write_pictures_writes_every_picture_and_shows_each(tmp_path, rng):
         assert (tmp_path / f"{name}.png").stat().st_size > 100, name
         if name != "s_images":
             assert f"{name}.png" in html, name
-    error = io.read(tmp_path / "s_camera_only_error.png")
+    error = io.read(tmp_path / f"s_{OTHER}_error.png")
     maps = [metrics.error_map(reference, image) for image in images.values()]
     vmax = max(float(np.percentile(np.concatenate([m.ravel() for m in maps]), 99.5)), 1e-3)
     assert plots.error_scale(maps) == vmax  # small maps: every pixel counts
@@ -125,12 +129,12 @@ def test_phase_clock_adds_up_and_names_each_phase():
 def test_the_sweep_hands_the_study_what_it_rendered(ctx):
     sweep = importlib.import_module("blurlab.studies.sweep")
     point = {"taps": 5}
-    key = ("gather_box", json.dumps(point, sort_keys=True))
+    key = (GATHER, json.dumps(point, sort_keys=True))
     caches = {"fan": {"keep_colours": {key}}}
     table = sweep.sweep(
         ctx,
         ["fan"],
-        {"gather_box": {"taps": [3, 5]}},
+        {GATHER: {"taps": [3, 5]}},
         (32, 18),
         reference_samples=4,
         metrics=("psnr",),
@@ -143,25 +147,23 @@ def test_the_sweep_hands_the_study_what_it_rendered(ctx):
     seconds = cache["clock"].seconds
     assert seconds["references"] > 0 and seconds["g_buffers"] > 0
     assert cache["reference"].samples == 4
-    frame = cache["frames"][(method_instant("gather_box", point), 1)][0]
-    again = bl.blur(ctx, frame, "gather_box", **point).color
+    frame = cache["frames"][(method_instant(GATHER, point), 1)][0]
+    again = bl.blur(ctx, frame, GATHER, **point).color
     assert np.array_equal(cache["colours"][key], again)  # the picture the report would make
 
 
 def test_image_grid_picture_shows_each_image_and_error_map_named(rng):
     reference = rng.random((90, 160, 4)).astype(np.float32)
-    images = {"reconstruct_mcguire2012": reference * 0.5, "camera_only": reference.copy()}
+    images = {OTHER: reference * 0.5, GATHER: reference.copy()}
     picture = plots.image_grid_picture(reference, images, cell=80)
     label, gap = plots.GRID_LABEL, plots.GRID_GAP
     assert picture.dtype == np.uint8 and picture.shape == (2 * (label + 45 + gap), 3 * 84, 3)
     top = picture[label : label + 45]
     assert np.array_equal(top[:, :80], io.srgb8(plots.shrink(reference[..., :3], 80)))
-    assert np.array_equal(
-        top[:, 84:164], io.srgb8(plots.shrink(images["reconstruct_mcguire2012"][..., :3], 80))
-    )
+    assert np.array_equal(top[:, 84:164], io.srgb8(plots.shrink(images[OTHER][..., :3], 80)))
     bottom = picture[2 * label + 45 + gap : 2 * label + 90 + gap]
     same = plots.error_colours(np.zeros((45, 80), np.float32), 0.25)
-    assert np.array_equal(bottom[:, 168:248], same)  # camera_only equals the reference: black
+    assert np.array_equal(bottom[:, 168:248], same)  # the second equals the reference: black
     assert not np.array_equal(bottom[:, 84:164], same)
     assert (picture[:label, :80] < 128).any()  # a name drawn above the reference
     with pytest.raises(ValueError, match="error_scale"):
@@ -198,7 +200,7 @@ def test_charts_draw_in_processes_or_inline_alike(tmp_path):
     table = pd.DataFrame(
         {
             "scene": "s",
-            "method": ["gather_box", "gather_box", "camera_only"],
+            "method": [GATHER, GATHER, OTHER],
             "total_ms": [0.2, 0.4, 0.1],
             "psnr": [30.0, 31.0, 25.0],
             "param_taps": [3, 5, None],

@@ -8,10 +8,14 @@ import math
 
 import numpy as np
 import pytest
+from method_picks import EXAMPLE, picks
 
 import blurlab as bl
 
-FILTER = "reconstruct_mcguire2012"
+FILTER = EXAMPLE  # a tile filter, which blurs the frame at the shutter's center
+# A gather with taps that blurs the frame at the shutter's close (backward taps).
+BOX = next(n for n in picks(kind="gather", params=("taps",)) if bl.method_instant(n) == "close")
+RENDERS = picks(kind="render")  # methods that render their own sub-frames: no steps
 
 
 def test_one_step_is_the_plain_render_and_blur_bit_for_bit(ctx):
@@ -26,7 +30,7 @@ def test_one_step_is_the_plain_render_and_blur_bit_for_bit(ctx):
 
 
 @pytest.mark.parametrize("scene", ["fan", "fast_fan"])
-@pytest.mark.parametrize("name", [FILTER, "gather_box"])
+@pytest.mark.parametrize("name", [FILTER, BOX])
 def test_steps_reduce_the_rotating_fan_error_monotonically(ctx, scene, name):
     size = (96, 54)
     s = bl.scenes.get(scene)
@@ -57,15 +61,16 @@ def test_as_many_steps_as_reference_samples_is_the_uniform_reference(ctx):
 
 def test_sub_intervals_tile_the_shutter_and_timings_add_up(ctx):
     scene = bl.scenes.get("fan")
-    frames = bl.render_steps(ctx, scene, "gather_box", 3, (48, 32))
+    frames = bl.render_steps(ctx, scene, BOX, 3, (48, 32))
     t0, t1 = scene.shutter
     assert frames[0].shutter[0] == t0 and frames[-1].shutter[1] == t1
     for a, b in zip(frames, frames[1:], strict=False):
         assert a.shutter[1] == b.shutter[0]
-    assert all(f.time == f.shutter[1] for f in frames)  # gather_box's instant: close
-    result = bl.blur_steps(ctx, frames, "gather_box")
+    assert all(f.time == f.shutter[1] for f in frames)  # the gather's instant: close
+    result = bl.blur_steps(ctx, frames, BOX)
     assert result.params["steps"] == 3
-    assert set(result.timings) == {"gather_box", "steps_accumulate", "extra_gbuffers"}
+    passes = set(bl.blur(ctx, frames[0], BOX).timings)  # the gather's own, once per step
+    assert set(result.timings) == passes | {"steps_accumulate", "extra_gbuffers"}
     assert result.timings["extra_gbuffers"].ms == pytest.approx(
         sum(f.timings["gbuffer"].ms for f in frames[1:])
     )
@@ -75,14 +80,14 @@ def test_sweeps_vary_steps(ctx):
     table = bl.sweep(
         ctx,
         ["fan"],
-        {"gather_box": {"steps": [1, 2]}, FILTER: {}},
+        {BOX: {"steps": [1, 2]}, FILTER: {}},
         size=(48, 32),
         reference_samples=64,
         metrics=("psnr",),
         progress=False,
         repeats=1,
     )
-    boxes = table[table["method"] == "gather_box"].set_index("param_steps")
+    boxes = table[table["method"] == BOX].set_index("param_steps")
     assert boxes.loc[2, "psnr"] > boxes.loc[1, "psnr"]
     assert "ms_extra_gbuffers" in table.columns
     filters = table[table["method"] == FILTER]
@@ -90,7 +95,7 @@ def test_sweeps_vary_steps(ctx):
     plain = bl.sweep(
         ctx,
         ["fan"],
-        {"gather_box": {}},
+        {BOX: {}},
         size=(48, 32),
         reference_samples=64,
         metrics=("psnr",),
@@ -114,7 +119,7 @@ def test_sweeps_vary_steps(ctx):
             "steps must be an integer",
         ),
         (
-            lambda ctx, s: bl.render_and_blur(ctx, s, "accumulation", (16, 16), steps=2),
+            lambda ctx, s: bl.render_and_blur(ctx, s, RENDERS[0], (16, 16), steps=2),
             ValueError,
             "renders its own sub-frames",
         ),
@@ -124,7 +129,7 @@ def test_sweeps_vary_steps(ctx):
             "no parameter",
         ),
         (
-            lambda ctx, s: bl.sweep(ctx, [s], {"stochastic": {"steps": [2]}}, progress=False),
+            lambda ctx, s: bl.sweep(ctx, [s], {RENDERS[-1]: {"steps": [2]}}, progress=False),
             ValueError,
             "renders its own sub-frames",
         ),

@@ -1,6 +1,7 @@
 """The study's report on transparency scenes (docs/study.md, docs/transparency.md)."""
 
 import pandas as pd
+from method_picks import pick
 
 import blurlab as bl
 from blurlab import cli
@@ -8,9 +9,13 @@ from blurlab.methods.layers import TRANSLUCENCY
 from blurlab.studies import study
 from blurlab.studies.study import run_study
 
+LAYER = pick(role="translucent_layer")  # what blurs the translucent layer
+GATHER = pick(kind="gather", params=("taps",))  # a gather with taps, beside it
+RENDERS = pick(kind="render", params=("samples",))  # a method that renders its own sub-frames
+
 
 def test_a_transparency_scene_gets_the_four_ways_to_blur_it(ctx, tmp_path):
-    grids = {"gather_box": {}, "gather_coverage": {}, "accumulation": {"samples": [4]}}
+    grids = {GATHER: {}, LAYER: {}, RENDERS: {"samples": [4]}}
     report = run_study(
         ctx,
         ["moving_glass", "fan"],
@@ -22,8 +27,8 @@ def test_a_transparency_scene_gets_the_four_ways_to_blur_it(ctx, tmp_path):
         chart_processes=0,
     ).read_text()
     table = pd.read_csv(tmp_path / "moving_glass_transparency.csv")
-    # Every one-frame method of the grids under every approach; accumulation renders its own.
-    assert sorted(table["method"].unique()) == ["gather_box", "gather_coverage"]
+    # Every one-frame method of the grids under every approach; the render method renders its own.
+    assert sorted(table["method"].unique()) == sorted([GATHER, LAYER])
     assert sorted(table["translucency"].unique()) == sorted(TRANSLUCENCY.kind)
     assert len(table) == 2 * len(TRANSLUCENCY.kind)
     assert (tmp_path / "moving_glass_translucency.png").is_file()
@@ -33,11 +38,11 @@ def test_a_transparency_scene_gets_the_four_ways_to_blur_it(ctx, tmp_path):
     layered = table[table["translucency"] == "layered"].set_index("method")["psnr"]
     composite = table[table["translucency"] == "composite"].set_index("method")["psnr"]
     assert (layered > composite + 1).all()
-    assert layered["gather_coverage"] > composite["gather_coverage"] + 3
+    assert layered[LAYER] > composite[LAYER] + 3
 
 
 def test_the_study_command_adds_the_transparency_scenes(tmp_path, monkeypatch):
-    monkeypatch.setattr(study, "default_grids", lambda: {"gather_coverage": {}})
+    monkeypatch.setattr(study, "default_grids", lambda: {LAYER: {}})
     out = tmp_path / "study"
     argv = ["study", "--scenes", "fan", "--transparency", "--size", "48x27"]
     assert cli.main([*argv, "--reference-samples", "8", "--out", str(out)]) == 0

@@ -17,6 +17,7 @@ from pathlib import Path
 
 import pytest
 from conftest import CLI_DEVICE
+from method_picks import pick
 
 import blurlab as bl
 from blurlab.suite import compare, compare_text, content, load_card, run_suite
@@ -24,6 +25,9 @@ from blurlab.suite import definition as d
 
 ASSETS = Path(__file__).resolve().parents[2] / "shared" / "assets" / "gltf"
 ROOT = Path(__file__).resolve().parents[1]
+# A one-frame built-in, carded beside a method folder's method (picked by its role, the same
+# each run).
+BUILTIN = pick(role="translucent_layer")
 
 
 def blurlab(*args, cwd: Path) -> subprocess.CompletedProcess:
@@ -50,7 +54,7 @@ def figures_of(card: dict, with_ms: bool) -> dict:
 def test_tiny_card_for_a_method_folder_and_a_builtin_then_a_rerun(tmp_path):
     made = blurlab("new-method", "my_tent", "--out", "X", cwd=tmp_path)
     assert made.returncode == 0, made.stderr
-    command = ["suite", "run", "--preset", "tiny", "--methods", "my_tent", "gather_coverage"]
+    command = ["suite", "run", "--preset", "tiny", "--methods", "my_tent", BUILTIN]
     command += ["--methods-from", "X", "--out", "card"]
     start = time.perf_counter()
     ran = blurlab(*command, cwd=tmp_path)
@@ -58,7 +62,7 @@ def test_tiny_card_for_a_method_folder_and_a_builtin_then_a_rerun(tmp_path):
     assert ran.returncode == 0, ran.stdout + ran.stderr
     assert wall <= 60, f"the tiny preset for two methods took {wall:.1f} s"
     card = load_card(tmp_path / "card")
-    assert list(card["methods"]) == ["my_tent", "gather_coverage"]
+    assert list(card["methods"]) == ["my_tent", BUILTIN]
     assert card["methods"]["my_tent"]["builtin"] is False
     assert card["suite"] == {**content.suite_identity("tiny"), "definition": d.definition("tiny")}
     assert card["device"]["clock"] in ("gl_time_elapsed", "wall_glfinish")
@@ -150,7 +154,7 @@ def test_a_changed_reference_definition_or_code_changes_the_hash(tmp_path, monke
     edited = content.code_digest(package, shaders)
     assert edited != first["parts"]["code"]
     with (shaders / "passes" / "accumulate.comp").open("a") as f:
-        f.write("\n// another accumulation\n")
+        f.write("\n// another sum\n")
     assert content.code_digest(package, shaders) not in (edited, first["parts"]["code"])
     monkeypatch.setattr(content, "code_digest", lambda: edited)
     assert content.suite_identity("tiny")["hash"] != first["hash"]
@@ -172,13 +176,14 @@ def test_the_authored_files_are_pinned_by_their_digests(tmp_path):
 
 def test_bad_input_is_refused_with_what_is_allowed(ctx, tmp_path):
     with pytest.raises(ValueError, match="preset must be one of tiny, software, gpu"):
-        run_suite(ctx, tmp_path / "a", ["gather_box"], "huge")
+        run_suite(ctx, tmp_path / "a", [BUILTIN], "huge")
     with pytest.raises(ValueError, match="no method 'nope'"):
-        run_suite(ctx, tmp_path / "a", ["gather_box", "nope"], "tiny")
-    with pytest.raises(ValueError, match="trail blends frames itself"):
-        run_suite(ctx, tmp_path / "a", ["trail"], "tiny")
+        run_suite(ctx, tmp_path / "a", [BUILTIN, "nope"], "tiny")
+    sequence = pick(kind="sequence")
+    with pytest.raises(ValueError, match=f"{sequence} blends frames itself"):
+        run_suite(ctx, tmp_path / "a", [sequence], "tiny")
     with pytest.raises(ValueError, match="is not a folder"):
-        run_suite(ctx, tmp_path / "a", ["gather_box"], "tiny", assets=tmp_path / "none")
+        run_suite(ctx, tmp_path / "a", [BUILTIN], "tiny", assets=tmp_path / "none")
     assert not (tmp_path / "a").exists()  # refused before anything is written
     with pytest.raises(ValueError, match="no category 'glass'"):
         d.category("glass")

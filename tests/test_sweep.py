@@ -10,6 +10,7 @@ import re
 
 import pandas as pd
 import pytest
+from method_picks import EXAMPLE, pick, picks
 
 import blurlab as bl
 from blurlab import cli
@@ -17,7 +18,10 @@ from blurlab import cli
 sw = importlib.import_module("blurlab.studies.sweep")  # the module; bl.sweep is the function
 evaluation = importlib.import_module("blurlab.studies.evaluation")
 
-GRID = {"reconstruct_mcguire2012": {"k": [8, 16], "samples": [5, 9]}, "gather_box": {"taps": [4]}}
+# A tile filter with k and samples, and a gather with taps.
+FILTER = EXAMPLE
+GATHER = pick(kind="gather", params=("taps",))
+GRID = {FILTER: {"k": [8, 16], "samples": [5, 9]}, GATHER: {"taps": [4]}}
 SIZE = (64, 36)
 
 
@@ -41,7 +45,6 @@ def test_table_has_one_row_per_evaluation_and_every_column(ctx, tmp_path):
         "param_taps",
         "ms_tile_max",
         "ms_reconstruct",
-        "ms_gather_box",
         "total_ms",
         "clock",
         "psnr",
@@ -54,6 +57,9 @@ def test_table_has_one_row_per_evaluation_and_every_column(ctx, tmp_path):
     ):
         assert column in table.columns, column
     assert "ms_neighbor_max" in table.columns  # a pass of its own (docs/spec.md §3.6)
+    frame = ctx.render(bl.scenes.fan(), SIZE, instant=bl.method_instant(GATHER, {"taps": 4}))
+    for timing in bl.blur(ctx, frame, GATHER, taps=4).timings:  # the gather's passes
+        assert f"ms_{timing}" in table.columns, timing
     assert (table["reference_samples"] == 16).all()
     assert table["psnr"].between(10, 80).all() and table["flip"].between(0, 1).all()
     assert len(pd.read_csv(tmp_path / "r.csv")) == len(table)
@@ -64,7 +70,7 @@ def test_resume_adds_no_duplicates(ctx, tmp_path):
     first = sw.sweep(
         ctx,
         ["fan"],
-        {"gather_box": {"taps": [4, 8]}},
+        {GATHER: {"taps": [4, 8]}},
         SIZE,
         reference_samples=8,
         metrics=("psnr",),
@@ -86,7 +92,7 @@ def test_finished_rows_keep_every_bit_when_the_file_gains_columns(ctx, tmp_path)
     # unit in the last place off; a rewrite that parsed and formatted the old rows changed it
     out = tmp_path / "r.csv"
     options = {"reference_samples": 8, "metrics": ("psnr",), "out": out, "progress": False}
-    sw.sweep(ctx, ["fan"], {"gather_box": {"taps": [4]}}, SIZE, **options)
+    sw.sweep(ctx, ["fan"], {GATHER: {"taps": [4]}}, SIZE, **options)
     header, row = out.read_text().splitlines()
     psnr = header.split(",").index("psnr")
     fields = row.split(",")
@@ -96,7 +102,7 @@ def test_finished_rows_keep_every_bit_when_the_file_gains_columns(ctx, tmp_path)
     lines = out.read_text().splitlines()
     assert len(lines) == 6 and len(lines[0].split(",")) > len(header.split(","))
     assert lines[1].startswith(",".join(fields))  # the old row's text, unchanged
-    box = table[table["method"] == "gather_box"]["psnr"]
+    box = table[table["method"] == GATHER]["psnr"]
     assert box.tolist() == [27.001846454071572]
     assert sw.read_row_file(out)["psnr"].tolist()[0] == 27.001846454071572
 
@@ -209,7 +215,7 @@ def test_no_metric_downloads_the_images(ctx, monkeypatch):
     args = dict(reference_samples=8, progress=False, repeats=1)
     downloads.clear()
     ldr = ("psnr", "ssim", "flip")  # the HDR metrics run on the CPU: they read images back
-    sw.sweep(ctx, ["fan"], {"gather_box": {"taps": [4]}}, SIZE, metrics=ldr, **args)
+    sw.sweep(ctx, ["fan"], {GATHER: {"taps": [4]}}, SIZE, metrics=ldr, **args)
     # FLIP reads back its partial sums, one per 16 x 16 pixels, and nothing else.
     assert downloads[render:] == [(-(-SIZE[1] // 16), -(-SIZE[0] // 16))]
 
@@ -262,23 +268,24 @@ def test_an_untimed_sweep_scores_the_same_without_running_twice(ctx, monkeypatch
 
 def test_bad_sweeps_are_rejected(ctx, tmp_path):
     with pytest.raises(ValueError, match="no parameter 'kk'"):
-        sw.sweep(ctx, ["fan"], {"reconstruct_mcguire2012": {"kk": [1]}}, SIZE, progress=False)
-    with pytest.raises(ValueError, match="trail needs a frame sequence"):
-        sw.sweep(ctx, ["fan"], ["trail"], SIZE, progress=False)
+        sw.sweep(ctx, ["fan"], {FILTER: {"kk": [1]}}, SIZE, progress=False)
+    sequence = pick(kind="sequence")
+    with pytest.raises(ValueError, match=f"{sequence} needs a frame sequence"):
+        sw.sweep(ctx, ["fan"], [sequence], SIZE, progress=False)
     with pytest.raises(ValueError, match=".csv"):
-        sw.sweep(ctx, ["fan"], ["gather_box"], SIZE, out=tmp_path / "r.parquet", progress=False)
+        sw.sweep(ctx, ["fan"], [GATHER], SIZE, out=tmp_path / "r.parquet", progress=False)
     with pytest.raises(ValueError, match="repeats must be an integer >= 1, or 0"):
-        sw.sweep(ctx, ["fan"], ["gather_box"], SIZE, repeats=-1, progress=False)
+        sw.sweep(ctx, ["fan"], [GATHER], SIZE, repeats=-1, progress=False)
     with pytest.raises(ValueError, match="readback_batch must be an integer >= 1"):
-        sw.sweep(ctx, ["fan"], ["gather_box"], SIZE, readback_batch=0, progress=False)
+        sw.sweep(ctx, ["fan"], [GATHER], SIZE, readback_batch=0, progress=False)
     with pytest.raises(ValueError, match=r"k = 0 is outside 1\.\.256"):
         out = tmp_path / "never.csv"
-        sw.sweep(ctx, ["fan"], {"reconstruct_mcguire2012": {"k": [8, 0]}}, SIZE, out=out)
+        sw.sweep(ctx, ["fan"], {FILTER: {"k": [8, 0]}}, SIZE, out=out)
     assert not out.exists()  # refused before anything ran
     with pytest.raises(TypeError, match="taps must be an integer"):
-        sw.sweep(ctx, ["fan"], {"gather_box": {"taps": [4, "8"]}}, SIZE, progress=False)
+        sw.sweep(ctx, ["fan"], {GATHER: {"taps": [4, "8"]}}, SIZE, progress=False)
     with pytest.raises(ValueError, match="unknown metrics"):
-        sw.sweep(ctx, ["fan"], ["gather_box"], SIZE, metrics=("mse",), progress=False)
+        sw.sweep(ctx, ["fan"], [GATHER], SIZE, metrics=("mse",), progress=False)
 
 
 def test_sweep_from_a_toml_file(tmp_path, capsys):
@@ -286,7 +293,7 @@ def test_sweep_from_a_toml_file(tmp_path, capsys):
     config.write_text(
         'scenes = ["fan"]\nsize = [48, 32]\nreference_samples = 8\n'
         f'out = "{(tmp_path / "out.csv").as_posix()}"\n'
-        "[methods.gather_box]\ntaps = [3, 6]\n"
+        f"[methods.{GATHER}]\ntaps = [3, 6]\n"
     )
     assert cli.main(["sweep", str(config)]) == 0
     assert len(pd.read_csv(tmp_path / "out.csv")) == 2
@@ -327,9 +334,9 @@ def test_study_writes_the_report(tmp_path, capsys):
         assert f"href='teapot_pass_{method_name}.png'" in report
     assert (tmp_path / "teapot_pass_crops.png").exists()
     per_object = pd.read_csv(tmp_path / "per_object.csv")
-    assert len(per_object) == 8 * 3 and per_object[["psnr_accumulation", "psnr_stochastic"]].gt(
-        10
-    ).all(axis=None)
+    compared = [f"psnr_{name}" for name in picks(role="renders_for")]
+    assert len(compared) >= 2  # the methods that render their own sub-frames, at equal cost
+    assert len(per_object) == 8 * 3 and per_object[compared].gt(10).all(axis=None)
     assert "OGRE paper's Table 1" in report
     # Each phase timed, in phases.json, the report and the console; they add up to
     # the whole run, less the HTML and JSON writes.
@@ -378,7 +385,7 @@ import signal
 signal.signal(signal.SIGINT, signal.default_int_handler)
 import blurlab as bl
 sw = importlib.import_module("blurlab.studies.sweep")
-sw.sweep(bl.Context(), ["fan"], {{"gather_box": {{"taps": list(range(2, 200))}}}}, (48, 32),
+sw.sweep(bl.Context(), ["fan"], {{{gather!r}: {{"taps": list(range(2, 200))}}}}, (48, 32),
          reference_samples=4, metrics=("psnr", "ssim"), out={out!r}, progress=False, repeats=1)
 """
 
@@ -393,7 +400,7 @@ def test_sigint_mid_sweep_keeps_every_finished_row(ctx, tmp_path):
 
     out = tmp_path / "r.csv"
     proc = subprocess.Popen(
-        [sys.executable, "-c", SWEEP_SCRIPT.format(out=str(out))],
+        [sys.executable, "-c", SWEEP_SCRIPT.format(out=str(out), gather=GATHER)],
         stderr=subprocess.PIPE,
         text=True,
     )
@@ -421,7 +428,7 @@ def test_sigint_mid_sweep_keeps_every_finished_row(ctx, tmp_path):
     table = sw.sweep(
         ctx,
         ["fan"],
-        {"gather_box": {"taps": list(range(2, 200))}},
+        {GATHER: {"taps": list(range(2, 200))}},
         (48, 32),
         reference_samples=4,
         metrics=("psnr", "ssim"),
@@ -438,7 +445,7 @@ def test_sigint_mid_sweep_keeps_every_finished_row(ctx, tmp_path):
 
 def test_row_cut_short_by_a_crash_is_evaluated_again(ctx, tmp_path):
     out = tmp_path / "r.csv"
-    grid = {"gather_box": {"taps": [3, 4, 5]}}
+    grid = {GATHER: {"taps": [3, 4, 5]}}
     args = dict(reference_samples=4, metrics=("psnr",), out=out, progress=False, repeats=1)
     sw.sweep(ctx, ["fan"], grid, (32, 24), **args)
     text = out.read_text()
@@ -465,7 +472,7 @@ def test_a_list_of_grids_sweeps_their_union(ctx, tmp_path):
     table = sw.sweep(
         ctx,
         ["fan"],
-        {"reconstruct_guertin2014": grid},
+        {pick(params=("k", "samples", "jitter_tiles")): grid},
         SIZE,
         reference_samples=8,
         metrics=("psnr",),
@@ -473,12 +480,16 @@ def test_a_list_of_grids_sweeps_their_union(ctx, tmp_path):
     )
     assert len(table) == 3
     assert table["param_jitter_tiles"].fillna(0).tolist() == [0, 0, 1]
+    without = next(n for n in picks(params=("k",)) if "gamma" not in bl.method(n).params)
     with pytest.raises(ValueError, match="no parameter 'gamma'"):
-        sw.sweep(ctx, ["fan"], {"reconstruct_mcguire2012": [{"gamma": [1.0]}]}, SIZE)
+        sw.sweep(ctx, ["fan"], {without: [{"gamma": [1.0]}]}, SIZE)
 
 
 def test_default_grids_show_each_filter_option_on_both_filters():
-    for name in ("reconstruct_mcguire2012", "reconstruct_guertin2014"):
+    options = ("jitter_tiles", "adaptive_samples", "early_exit")
+    filters = picks(kind="filter", params=("k", "samples", *options))
+    assert len(filters) >= 2  # the tile filters that take every option
+    for name in filters:
         points = sw.grid_points(sw.default_grids()[name])
         for option, on in (("jitter_tiles", 1), ("adaptive_samples", 1), ("early_exit", 2.0)):
             assert {"k": 20, "samples": 15, option: on} in points, (name, option)
@@ -489,7 +500,7 @@ def test_psnr_aa_is_against_the_antialiased_reference(ctx):
     table = sw.sweep(
         ctx,
         ["fan"],
-        {"gather_box": {"taps": [4]}},
+        {GATHER: {"taps": [4]}},
         SIZE,
         reference_samples=8,
         metrics=("psnr", "psnr_aa"),
@@ -497,8 +508,8 @@ def test_psnr_aa_is_against_the_antialiased_reference(ctx):
         repeats=1,
     )
     scene = bl.scenes.fan()
-    frame = ctx.render(scene, SIZE, instant=bl.method_instant("gather_box", {"taps": 4}))
-    out = bl.blur(ctx, frame, "gather_box", taps=4).color
+    frame = ctx.render(scene, SIZE, instant=bl.method_instant(GATHER, {"taps": 4}))
+    out = bl.blur(ctx, frame, GATHER, taps=4).color
     antialiased = ctx.reference(scene, SIZE, samples=8, antialias=True).color
     temporal = ctx.reference(scene, SIZE, samples=8).color
     row = table.iloc[0]

@@ -12,12 +12,14 @@ import numpy as np
 import pandas as pd
 import pytest
 from gltf_writer import GltfBuilder, box_triangles
+from method_picks import pick
 
 import blurlab as bl
 from blurlab.studies import identity, recommend
 
 SIZE = (32, 18)
-GRID = {"gather_box": {"taps": [4]}}
+GATHER = pick(kind="gather", params=("taps",))  # a gather with taps
+GRID = {GATHER: {"taps": [4]}}
 OPTIONS = {"size": SIZE, "reference_samples": 8, "progress": False, "repeats": 1}
 METRICS = ("psnr", "ssim")
 
@@ -133,7 +135,7 @@ def test_rows_of_other_code_are_not_returned(ctx, tmp_path):
     edited, identical = tmp_path / "edited", tmp_path / "identical"
     shutil.copytree(ctx.shader_dir, edited)
     shutil.copytree(ctx.shader_dir, identical)
-    shader = edited / "passes" / "gather_box.glsl"
+    shader = edited / "common" / "random.glsl"  # an include most passes share
     shader.write_text(shader.read_text() + "\n// an edit that changes no pixel\n")
     assert identity.code_digest(edited) != identity.code_digest(ctx.shader_dir)
     assert identity.code_digest(identical) == identity.code_digest(ctx.shader_dir)
@@ -215,7 +217,7 @@ def test_recommend_measures_an_edited_file_anew(ctx, tmp_path, monkeypatch):
 
     def counted_sweep(ctx, scenes, *args, **kwargs):
         calls.append(identity.scene_digest(scenes[0]))
-        row = {"method": "gather_box", "params": "{}", "total_ms": 1.0, "psnr": 30.0, "ssim": 0.9}
+        row = {"method": GATHER, "params": "{}", "total_ms": 1.0, "psnr": 30.0, "ssim": 0.9}
         return pd.DataFrame([row])
 
     monkeypatch.setattr(recommend, "sweep", counted_sweep)

@@ -6,13 +6,15 @@ from __future__ import annotations
 
 import pandas as pd
 import pytest
+from method_picks import EXAMPLE, pick
 
 import blurlab as bl
 from blurlab import metrics as m
 from blurlab.metrics import queue as metric_queue
 
 SIZE = (160, 90)
-GRID = {"reconstruct_mcguire2012": {"k": [4, 8, 12]}, "gather_box": {}}
+# A tile filter with k and a gather at its defaults.
+GRID = {EXAMPLE: {"k": [4, 8, 12]}, pick(kind="gather", params=("taps",)): {}}
 EXACT = ["scene", "method", "params", "psnr", "ssim"]
 
 

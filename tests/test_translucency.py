@@ -5,6 +5,7 @@ import random
 
 import numpy as np
 import pytest
+from method_picks import EXAMPLE, pick, picks
 
 import blurlab as bl
 from blurlab.methods.layers import TRANSLUCENCY
@@ -14,6 +15,12 @@ from blurlab.scene.translucency import resolve_fragments
 from blurlab.twins import translucency as twin
 
 SIZE = (48, 32)
+# What blurs the translucent layer when layer_filter is "auto" (registered translucent_layer).
+LAYER = pick(role="translucent_layer")
+# A gather whose frame is rendered at the shutter's close, where the layer's motion is not.
+CLOSE_GATHER = next(
+    n for n in picks(kind="gather", exclude=(LAYER,)) if bl.method_instant(n) == "close"
+)
 
 
 @pytest.mark.parametrize(
@@ -216,8 +223,8 @@ APPROACHES = TRANSLUCENCY.kind
 def test_every_approach_leaves_opaque_frames_as_they_are(translucency):
     ctx = bl.Context()
     frame = ctx.render(bl.scenes.teapot_pass(), size=SIZE)
-    plain = bl.blur(ctx, frame, "reconstruct_mcguire2012").color
-    chosen = bl.blur(ctx, frame, "reconstruct_mcguire2012", translucency=translucency).color
+    plain = bl.blur(ctx, frame, EXAMPLE).color
+    chosen = bl.blur(ctx, frame, EXAMPLE, translucency=translucency).color
     np.testing.assert_array_equal(chosen, plain)
 
 
@@ -225,9 +232,9 @@ def test_the_options_are_checked():
     ctx = bl.Context()
     frame = ctx.render(glass_and_sparks(), size=SIZE)
     with pytest.raises(ValueError, match="translucency must be one of 'composite'"):
-        bl.blur(ctx, frame, "gather_box", translucency="sorted")
+        bl.blur(ctx, frame, EXAMPLE, translucency="sorted")
     with pytest.raises(ValueError, match=r"motion_coverage = 2.0 is outside \[0, 1\]"):
-        bl.blur(ctx, frame, "gather_box", translucency="composite_motion", motion_coverage=2.0)
+        bl.blur(ctx, frame, EXAMPLE, translucency="composite_motion", motion_coverage=2.0)
 
 
 def test_composite_is_the_plain_blur_of_the_engine_image():
@@ -235,8 +242,8 @@ def test_composite_is_the_plain_blur_of_the_engine_image():
     frame = ctx.render(glass_and_sparks(), size=SIZE, instant="close")
     plain = bl.Frame(frame.color, frame.depth, frame.motion, frame.object_id, frame.shutter)
     plain.time = frame.time
-    ours = bl.blur(ctx, frame, "gather_weighted", translucency="composite").color
-    np.testing.assert_array_equal(ours, bl.blur(ctx, plain, "gather_weighted").color)
+    ours = bl.blur(ctx, frame, CLOSE_GATHER, translucency="composite").color
+    np.testing.assert_array_equal(ours, bl.blur(ctx, plain, CLOSE_GATHER).color)
 
 
 @pytest.mark.parametrize("coverage", [0.3, 0.9])
@@ -244,7 +251,7 @@ def test_composite_motion_matches_its_numpy_twin(coverage):
     ctx = bl.Context()
     frame = ctx.render(glass_and_sparks(), size=SIZE, instant="close")
     result = bl.blur(
-        ctx, frame, "gather_weighted", translucency="composite_motion", motion_coverage=coverage
+        ctx, frame, CLOSE_GATHER, translucency="composite_motion", motion_coverage=coverage
     )
     motion, depth = twin.chosen_motion(
         frame.translucent,
@@ -268,13 +275,11 @@ def test_composite_motion_matches_its_numpy_twin(coverage):
 def test_over_matches_its_numpy_twin(translucency):
     ctx = bl.Context()
     frame = ctx.render(glass_and_sparks(), size=SIZE)
-    result = bl.blur(ctx, frame, "reconstruct_mcguire2012", translucency=translucency)
+    result = bl.blur(ctx, frame, EXAMPLE, translucency=translucency)
     opaque = result.buffers["opaque_blurred"]
     opaque_alone = bl.Frame(frame.opaque_color, frame.depth, frame.motion, frame.object_id)
     opaque_alone.shutter, opaque_alone.time = frame.shutter, frame.time
-    np.testing.assert_array_equal(
-        opaque, bl.blur(ctx, opaque_alone, "reconstruct_mcguire2012").color
-    )
+    np.testing.assert_array_equal(opaque, bl.blur(ctx, opaque_alone, EXAMPLE).color)
     layer = frame.translucent
     if translucency == "layered":
         alone = bl.Frame(
@@ -282,18 +287,18 @@ def test_over_matches_its_numpy_twin(translucency):
         )
         alone.shutter, alone.time = frame.shutter, frame.time
         # At the centre instant the coverage gather blurs the layer (layer_filter="auto").
-        assert result.params["layer_filter"] == "gather_coverage"
-        layer = bl.blur(ctx, alone, "gather_coverage").color
+        assert result.params["layer_filter"] == LAYER
+        layer = bl.blur(ctx, alone, LAYER).color
     np.testing.assert_allclose(result.color, twin.over(layer, opaque), atol=1e-6)
 
 
-@pytest.mark.parametrize("layer_filter", ["same", "gather_coverage"])
+@pytest.mark.parametrize("layer_filter", ["same", LAYER])
 def test_layer_filter_chooses_what_blurs_the_translucent_layer(layer_filter):
     ctx = bl.Context()
     frame = ctx.render(glass_and_sparks(), size=SIZE)
-    name = "reconstruct_mcguire2012"
+    name = EXAMPLE
     result = bl.blur(ctx, frame, name, translucency="layered", layer_filter=layer_filter, k=8)
-    expected = name if layer_filter == "same" else "gather_coverage"
+    expected = name if layer_filter == "same" else LAYER
     assert result.params["layer_filter"] == expected
     assert result.params["k"] == 8
     assert any(key.startswith("translucent_") for key in result.timings)
@@ -302,23 +307,23 @@ def test_layer_filter_chooses_what_blurs_the_translucent_layer(layer_filter):
 def test_render_and_blur_takes_the_option():
     ctx = bl.Context()
     _, result = bl.render_and_blur(
-        ctx, glass_and_sparks(), "gather_box", size=SIZE, translucency="layered"
+        ctx, glass_and_sparks(), CLOSE_GATHER, size=SIZE, translucency="layered"
     )
     assert "translucency_over" in result.timings and "translucent_gather[moving]" in result.timings
     assert result.params["translucency"] == "layered"
 
 
 def test_the_coverage_gather_blurs_the_layer_at_any_instant(recwarn):
-    """gather_box's frame is rendered at the shutter's close; the layer's two-sided motion is
-    made for that instant, so the coverage gather blurs it there without a warning, and
-    better than gather_box itself on a pane that slides over a still wall."""
+    """A gather's frame rendered at the shutter's close: the layer's two-sided motion is made
+    for that instant, so the coverage gather blurs it there without a warning, and better than
+    the gather itself on a pane that slides over a still wall."""
     ctx = bl.Context()
     scene = bl.scenes.moving_glass()
-    frame = ctx.render(scene, size=SIZE, instant=bl.method_instant("gather_box"))
+    frame = ctx.render(scene, size=SIZE, instant=bl.method_instant(CLOSE_GATHER))
     reference = ctx.reference(scene, size=SIZE, samples=32, antialias=True, progress=False)
-    auto = bl.blur(ctx, frame, "gather_box", translucency="layered")
-    same = bl.blur(ctx, frame, "gather_box", translucency="layered", layer_filter="same")
-    assert auto.params["layer_filter"] == "gather_coverage"
+    auto = bl.blur(ctx, frame, CLOSE_GATHER, translucency="layered")
+    same = bl.blur(ctx, frame, CLOSE_GATHER, translucency="layered", layer_filter="same")
+    assert auto.params["layer_filter"] == LAYER
     assert not [w for w in recwarn if "expects the G-buffer" in str(w.message)]
     psnr = lambda out: bl.metrics.psnr(out.color, reference.color)  # noqa: E731
     assert psnr(auto) > psnr(same) + 2
@@ -352,14 +357,14 @@ def test_transparency_scenes_show_their_surfaces(ctx, name):
     else:  # the masked leaves cut holes: some of their quad shows the wall behind
         assert any(obj.material.blend == "mask" for obj in scene.objects)
     for translucency in APPROACHES:
-        out = bl.blur(ctx, frame, "reconstruct_mcguire2012", translucency=translucency).color
+        out = bl.blur(ctx, frame, EXAMPLE, translucency=translucency).color
         assert np.isfinite(out).all()
 
 
 def test_the_transparency_study_measures_every_approach(ctx):
     from blurlab.studies import transparency
 
-    names, methods = ["moving_glass", "foliage_spin"], ["gather_coverage"]
+    names, methods = ["moving_glass", "foliage_spin"], [LAYER]
     table = transparency.evaluate(ctx, names, methods, (32, 18), reference_samples=8)
     assert len(table) == len(names) * len(methods) * len(APPROACHES)
     assert np.isfinite(table[["psnr", "flip"]].to_numpy()).all()
@@ -370,7 +375,7 @@ def test_the_transparency_study_measures_every_approach(ctx):
     assert gains["moving_glass"] > 0.5  # the pane's own motion, which only layered follows
     from blurlab_bench.transparency import layer_cost
 
-    cost = layer_cost(ctx, "moving_glass", "gather_coverage", (32, 18), runs=2)
+    cost = layer_cost(ctx, "moving_glass", LAYER, (32, 18), runs=2)
     assert cost["layered_ms"] > 0 and cost["ratio"] == cost["layered_ms"] / cost["composite_ms"]
 
 
@@ -427,7 +432,7 @@ def test_the_transparency_benchmark_times_every_cost_scene(ctx):
         bench.run_benchmark(ctx, "transparency", "tiny", given={"cost_scenes": "nowhere"})
 
 
-@pytest.mark.parametrize("name", ["accumulation", "stochastic"])
+@pytest.mark.parametrize("name", picks(kind="render"))
 def test_rendering_methods_composite_every_sub_frame_themselves(ctx, name):
     frame = ctx.render(glass_and_sparks(), size=SIZE)
     plain = bl.blur(ctx, frame, name).color
@@ -466,11 +471,11 @@ def test_a_still_layer_is_composited_as_the_coverage_gather_leaves_it(ctx):
     for instant in ("center", "close"):
         frame = ctx.render(bl.scenes.car_behind_window(), size=SIZE, instant=instant)
         assert layers.layer_still(frame)
-        layered = bl.blur(ctx, frame, "reconstruct_mcguire2012", translucency="layered")
+        layered = bl.blur(ctx, frame, EXAMPLE, translucency="layered")
         assert not any(key.startswith("translucent_") for key in layered.timings)
-        gathered = bl.blur(ctx, layers.translucent_frame(ctx, frame), "gather_coverage")
+        gathered = bl.blur(ctx, layers.translucent_frame(ctx, frame), LAYER)
         np.testing.assert_array_equal(gathered.color, frame.translucent)
-        unblurred = bl.blur(ctx, frame, "reconstruct_mcguire2012", translucency="unblurred")
+        unblurred = bl.blur(ctx, frame, EXAMPLE, translucency="unblurred")
         np.testing.assert_array_equal(layered.color, unblurred.color)
     moving = ctx.render(bl.scenes.moving_glass(), size=SIZE)
     assert not layers.layer_still(moving)

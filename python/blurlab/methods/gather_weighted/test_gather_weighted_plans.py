@@ -1,0 +1,13 @@
+"""gather_weighted's untimed calls are recorded as a dispatch plan and replayed with the
+ordinary path's bits (blurlab.methods.plans; what every plan does:
+tests/test_dispatch_plans.py)."""
+
+from __future__ import annotations
+
+from plan_replay import check_replay
+
+METHOD = "gather_weighted"
+
+
+def test_a_replay_gives_the_ordinary_bits(ctx):
+    check_replay(ctx, METHOD, "compute", {})
