@@ -9,8 +9,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..methods import blur, method_instant
-from ..methods.godot import ENGINE_GODOT
+from ..methods import blur, method, method_instant, methods
 from ..metrics import psnr
 from ..scene import scenes
 from . import plots
@@ -32,7 +31,12 @@ class Fix:
         return f"{self.switch}" + (f" ({held})" if held else "")
 
 
-METHOD = ENGINE_GODOT.name
+# The method whose parameters switch the fixes (no code outside a method's folder names it).
+METHOD = next(
+    name
+    for name in methods()
+    if {"near_correction", "depth_velocity", "clamp_to_original"} <= set(method(name).params)
+)
 
 # A user who halves the camera's part of the blur, as games let players do, keeps a tracked
 # car sharp only through the clamp; the reference shows the car as the panning shot does.
