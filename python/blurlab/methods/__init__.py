@@ -13,7 +13,6 @@ from . import mcguire2012, guertin2014, urho3d, gathers, camera_only, trail  # n
 from . import accumulation, stochastic  # noqa: F401
 from . import gather_gaussian  # noqa: F401
 from . import eevee, unity, hdrp, jimenez2014  # noqa: F401
-from . import coverage  # noqa: F401
 
 # isort: on
 from .core import (

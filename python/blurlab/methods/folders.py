@@ -51,9 +51,9 @@ GLSL_SUFFIXES = (".glsl", ".comp")
 DEFAULT_ORDER = 1000
 BACKENDS = ("compute", "fragment")
 INSTANTS = ("center", "close")
-# What a twin takes positionally: the frame's arrays, and its camera (the dict of its
-# transforms) for a twin that splits off the camera's motion.
-FRAME_ARRAYS = ("color", "depth", "motion", "camera")
+# What a twin takes positionally: the frame's arrays (the two-sided motion's halves too), and
+# its camera (the dict of its transforms) for a twin that splits off the camera's motion.
+FRAME_ARRAYS = ("color", "depth", "motion", "motion_prev", "motion_next", "camera")
 NAME = re.compile(r"[a-z][a-z0-9_]{0,63}")
 # Kinds a chain of passes can be: the others render or blend frames, which needs a run.
 CHAIN_KINDS = ("filter", "gather")
