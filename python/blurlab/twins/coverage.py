@@ -298,4 +298,3 @@ def tap_plan(
         uniform_tolerance=uniform_tolerance,
         half_res_above=half_res_above,
     )
-

@@ -178,4 +178,3 @@ def mirrored_pairs_blur(color, z, length, vmax, j, pairs: int, extent: float, un
         color, z, length, vmax, j, pairs, extent, lambda py, px: length[py, px], uniform
     )
     return share + (1 - coverage)[..., None] * color
-

@@ -162,4 +162,3 @@ def line_from_half(length_code, radius: float, quality: int, half_res_gather: in
     colour (with half_res_gather on)."""
     spacing = length_code / LENGTH_CODE_MAX * radius / line_pairs(length_code, radius, quality)
     return (half_res_gather == 1) & (spacing >= HALF_RES_SPACING)
-

@@ -45,11 +45,13 @@ def run(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str, pa
     depth_motion = {"depth": inputs["depth"], "motion": inputs["motion"]}
     at_radius = {"radius": radius}
     runner.run(FLATTEN, depth_motion, {"velocity": velocity}, uniforms=at_radius)
-    runner.run(TILE_MINMAX, {"velocity": velocity}, {"tiles": tiles})
-    runner.run(NEIGHBOR_DILATE, {"tiles": tiles}, {"neighbors": neighbors}, uniforms=at_radius)
+    runner.run(passes["tile_minmax"], {"velocity": velocity}, {"tiles": tiles})
+    runner.run(
+        passes["neighbor_dilate"], {"tiles": tiles}, {"neighbors": neighbors}, uniforms=at_radius
+    )
     textures = {"color": inputs["color"], "velocity": velocity, "neighbors": neighbors}
     uniforms = {**at_radius, "taps": passes_twin.SAMPLES_BY_QUALITY[values["quality"]]}
-    result = runner.run_result(RECONSTRUCT, textures, backend, uniforms=uniforms)
+    result = runner.run_result(passes["reconstruct"], textures, backend, uniforms=uniforms)
     outputs = {"color": result, "velocity": velocity, "tiles": tiles, "neighbors": neighbors}
     return outputs, runner.timings
 
