@@ -6,14 +6,6 @@ tests), found by ``load_builtin_methods``; a user's folder is loaded by ``load_m
 entry point (folders.py, docs/spec.md §25, docs/adding_a_method.md).
 """
 
-# Each module registers its methods on import; the order here is the registry's, which is the
-# order of rows in sweeps, studies and the failure suite.
-# isort: off
-from . import unreal, unreal5  # noqa: F401
-from . import godot  # noqa: F401
-from . import coverage  # noqa: F401
-
-# isort: on
 from .core import (
     KINDS,
     BlurResult,

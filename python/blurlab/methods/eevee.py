@@ -52,8 +52,8 @@ TILE_PICK_LAYOUT = PassVariants("tile pick", TILE_PICK_VARIANTS, "rows_64")
 # each tile gathers from every tile within reach (passes/eevee_tile_dilate.glsl, about 600
 # candidates a tile at 1080p), or the flatten pass scatters each tile's reach by atomic max on
 # 32-bit keys and a small pass resolves them (EEVEE's own way; the same bits), or the gather
-# resolves the keys itself (GATHER_READS_KEYS in passes/coverage_gather.glsl: one pass fewer,
-# a dependent read more a pixel; the keys, not the dilated tiles, come back as a buffer). The
+# resolves the keys itself (GATHER_READS_KEYS in methods/gather_coverage/gather.glsl: one pass
+# fewer, a dependent read more a pixel; the keys, not the dilated tiles, come back as a buffer). The
 # keys hold a 14-bit tile index (shaders/common/reach_keys.glsl), so larger grids gather, as
 # engine_eevee always does: its exact lengths do not fit a key. On the H100 at 1080p the
 # scatter_in_gather layout is the fastest of the three, and the 15-scene medians rank them the

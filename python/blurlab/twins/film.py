@@ -1,5 +1,5 @@
 """A Gaussian film filter (docs/spec.md §17.6, step 4 of gather_coverage): the NumPy twin of
-shaders/passes/film_filter.glsl."""
+methods/gather_coverage/film_filter.glsl."""
 
 from __future__ import annotations
 

@@ -1,6 +1,8 @@
-"""engine_unreal, docs/spec.md §17.5, in NumPy float64: the motion blur of Unreal Engine 4 as
-its algorithm is described (Jimenez 2014, which it follows). One function per pass;
-the GPU passes (shaders/passes/unreal_*.glsl) must match them.
+"""engine_unreal's passes, docs/spec.md §17.5, in NumPy float64: the motion blur of Unreal
+Engine 4 as its algorithm is described (Jimenez 2014, which it follows). One function per pass,
+shared with engine_unreal5 (and the mirrored pairs with engine_jimenez2014); the GPU passes
+(shaders/passes/unreal_velocity_flatten.glsl and the shaders of methods/engine_unreal/) must
+match them. The whole filter is methods/engine_unreal/twin.py.
 
 Velocities travel as polar 11-bit codes and depths as 10-bit floats (twins.polar_fixed_point).
 Tiles compare length codes, exact integers, so the GPU and this twin choose the same tiles.
@@ -11,8 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from .guertin2014 import mirror_pair, mirrored_taps
-from .hashing import rand
-from .inputs import sanitize_color, sanitize_depth, sanitize_motion
+from .inputs import sanitize_depth, sanitize_motion
 from .polar_fixed_point import LENGTH_CODE_MAX, decode_polar, float10, polar_codes
 from .tile_reach import reach_widening, segment_meets_box
 
@@ -177,37 +178,3 @@ def mirrored_pairs_blur(color, z, length, vmax, j, pairs: int, extent: float, un
         color, z, length, vmax, j, pairs, extent, lambda py, px: length[py, px], uniform
     )
     return share + (1 - coverage)[..., None] * color
-
-
-def engine_unreal(
-    color,
-    depth,
-    motion,
-    *,
-    quality: int,
-    max_blur: float,
-    depth_extent: float,
-    exposure: float,
-    seed: int,
-) -> np.ndarray:
-    """§17.5 step 4: (H, W, C) float64 blurred color."""
-    color = sanitize_color(color)
-    h, w = color.shape[:2]
-    radius = max_radius_px(w, max_blur)
-    codes = velocity_flatten(depth, motion, exposure=exposure, radius=radius)
-    neighbors = neighbor_dilate(tile_minmax(codes), radius)
-    taps = SAMPLES_BY_QUALITY[quality]
-    pairs = taps // 2
-
-    y, x = np.mgrid[0:h, 0:w]
-    tile = neighbors[y // TILE, x // TILE]
-    kind = tile[..., 3]
-    slow = kind == SLOW
-    vmax = decode_polar(tile[..., :2], radius)
-    length = codes[..., 0] / LENGTH_CODE_MAX * radius
-    z = codes[..., 2]
-    # Length codes and decoded lengths order the pairs' speeds alike.
-    blurred = mirrored_pairs_blur(
-        color, z, length, vmax, rand(x, y, seed), pairs, depth_extent, uniform=~slow
-    )
-    return np.where((kind == SKIP)[..., None], color, blurred)

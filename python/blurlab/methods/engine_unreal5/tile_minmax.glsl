@@ -10,7 +10,7 @@
 // atomic maxima and minima in shared memory of keys c_l·256 + (255 − the pixel's row-major index
 // in the tile), exact integers, so they pick what a scan in row-major order picks.
 // NumPy twin: blurlab.twins.unreal5.tile_minmax2 and far_tiles.
-#include "common/unreal5.glsl"
+#include "unreal5.glsl"
 #ifdef SCATTER
 #define TILE_LISTS_APPEND 1
 #include "common/tile_lists.glsl"

@@ -19,7 +19,7 @@
 // longer than half_res_above px; with HALF_RES_READ the full-resolution pass gives such a
 // quad's pixels that result. With BLOCK_CLASSIFY this file is the pass that sorts 16 px blocks
 // into still and moving lists, with OVER_LIST the gather over one list (docs/spec.md §17.6.2).
-// NumPy twin: blurlab.twins.coverage.gather_coverage (and twins.film's tap_color, own_color).
+// NumPy twin: twin.py, gather_coverage (and blurlab.twins.film's tap_color, own_color).
 #if defined(BLOCK_CLASSIFY)
 #define TILE_LISTS_APPEND 1
 #elif defined(OVER_LIST)

@@ -1,12 +1,12 @@
 """engine_godot: the motion blur of Godot's motion-blur pull request (godotengine/godot#115027)
 and the addon it grew from, written from the design they document, not from their shaders
-(docs/spec.md §17.10). The velocity pass (shaders/passes/godot_velocity.glsl) splits the motion
+(spec.md here, docs/spec.md §17.10). The velocity pass (velocity.glsl) splits the motion
 into camera rotation, camera translation and object parts, each with its own multiplier, clamps
 the sum to the largest multiplier times the original vector, corrects ends behind the near
 plane and keeps the camera's depth velocity, all scaled by the frame-rate mode; TileMax and
 NeighborMax (the direction-keeping dilation) of its half-vectors, clamped to the tile size k;
 then a gather centred on the pixel with the quality preset's 4, 8 or 16 taps
-(godot_reconstruct.glsl). NumPy twin: blurlab.twins.godot.engine_godot.
+(reconstruct.glsl). NumPy twin: twin.engine_godot.
 
 What it leaves out: the addon's sky pre-pass (blurlab's G-buffer already gives the sky its
 motion), FSR2 support and its own blending heuristics, which its documentation does not give.
@@ -14,12 +14,13 @@ motion), FSR2 support and its own blending heuristics, which its documentation d
 
 from __future__ import annotations
 
-from ..core.context import Context
-from ..core.frame import Frame
-from ..twins import godot as twin
-from .camera_motion import split_camera_uniforms
-from .core import Method, Param, Pass, PassRunner, register
-from .tile_filter import TILE_FILTER_PARAMS, tile_passes
+from ...core.context import Context
+from ...core.frame import Frame
+from ..camera_motion import split_camera_uniforms
+from ..core import Param, Pass, PassRunner, shader_beside
+from ..folders import Declaration
+from ..tile_filter import TILE_FILTER_PARAMS, tile_passes
+from . import twin
 
 MULTIPLIER_DOC = "multiplier of the {} part of the motion"
 FRAME_RATE_MAX = 1000.0
@@ -62,46 +63,47 @@ VELOCITY_PARAMS = (
     "near_correction",
     "depth_velocity",
 )
-VELOCITY = Pass("velocity", "passes/godot_velocity.glsl", VELOCITY_PARAMS)
+VELOCITY = Pass("velocity", shader_beside(__file__, "velocity.glsl"), VELOCITY_PARAMS)
 RECONSTRUCT = Pass(
-    "reconstruct", "passes/godot_reconstruct.glsl", ("k", "exposure", "soft_z", "seed")
+    "reconstruct", shader_beside(__file__, "reconstruct.glsl"), ("k", "exposure", "soft_z", "seed")
 )
 
 
-def _run_godot(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str):
+def run(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str, passes: dict):
     height, width = inputs["color"].shape[:2]
-    passes = PassRunner(ctx, PARAMS, values)
+    runner = PassRunner(ctx, PARAMS, values)
     camera = split_camera_uniforms(frame.camera)
     scale = twin.framerate_scale(values["framerate_mode"], values["fps"], values["reference_fps"])
     velocity = ctx.pooled((height, width, 4))
-    passes.run(
-        VELOCITY,
+    runner.run(
+        passes["velocity"],
         {"depth": inputs["depth"], "motion": inputs["motion"]},
         {"velocity": velocity},
         uniforms={**camera, "framerate_scale": scale, "flip_guard": twin.FLIP_GUARD},
     )
     tiles, neighbors = tile_passes(
-        passes, velocity, "compute", diagonal_reach=True, length_key_steps=twin.LENGTH_KEY_STEPS
+        runner, velocity, "compute", diagonal_reach=True, length_key_steps=twin.LENGTH_KEY_STEPS
     )
     textures = {"color": inputs["color"], "velocity": velocity, "neighbor_max": neighbors}
     taps = twin.SAMPLES_BY_QUALITY[values["quality"]]
-    result = passes.run_result(RECONSTRUCT, textures, backend, uniforms={"taps": taps})
+    result = runner.run_result(passes["reconstruct"], textures, backend, uniforms={"taps": taps})
     outputs = {"color": result, "velocity": velocity, "tile_max": tiles, "neighbor_max": neighbors}
-    return outputs, passes.timings
+    return outputs, runner.timings
 
 
-ENGINE_GODOT = register(
-    Method(
-        name="engine_godot",
-        kind="gather",
-        params=PARAMS,
-        run=_run_godot,
-        default_grid={"quality": list(twin.SAMPLES_BY_QUALITY)},
-        twin=twin.engine_godot,
-        doc="Godot's motion blur (pull request godotengine/godot#115027 and its addon), from "
-        "its documented design: camera rotation, camera translation and object multipliers with "
-        "the clamp to the largest, near-plane correction, depth velocity, frame-rate modes, "
-        "Guertin-style tiles and a gather centred on the pixel with 4/8/16 taps. "
-        "docs/spec.md §17.10.",
-    )
+METHOD = Declaration(
+    name="engine_godot",
+    kind="gather",
+    order=17,
+    params=PARAMS,
+    # TileMax and NeighborMax are the tile filters' (shaders/passes), run by tile_passes.
+    passes=(VELOCITY, RECONSTRUCT),
+    run=run,
+    default_grid={"quality": list(twin.SAMPLES_BY_QUALITY)},
+    twin=twin.engine_godot,
+    doc="Godot's motion blur (pull request godotengine/godot#115027 and its addon), from "
+    "its documented design: camera rotation, camera translation and object multipliers with "
+    "the clamp to the largest, near-plane correction, depth velocity, frame-rate modes, "
+    "Guertin-style tiles and a gather centred on the pixel with 4/8/16 taps. "
+    "docs/spec.md §17.10.",
 )

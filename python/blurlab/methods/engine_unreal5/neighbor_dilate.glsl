@@ -2,7 +2,7 @@
 // engine_unreal5 step 3, docs/spec.md §17.7: scatter-as-gather over the 7 x 7 tiles around each
 // tile D, as engine_unreal's (§17.5 step 3), over each tile's first velocity and, with
 // directions = 2, its second. D keeps the longest velocity that reaches it; with SCATTER, the
-// scatter's far_key (unreal5_tile_scatter.glsl) replaces it where longer, and its far_min joins
+// scatter's far_key (tile_scatter.glsl) replaces it where longer, and its far_min joins
 // the smallest minimum. With two directions D also keeps the longest reaching velocity of the
 // 7 x 7 whose axis lies more than AXIS_APART from it. D's class: skip under SKIP_BELOW px;
 // gather_2 where a second direction of SKIP_BELOW px or more reaches; uniform where
@@ -12,7 +12,7 @@
 // NumPy twin: blurlab.twins.unreal5.neighbor_dilate2.
 #define TILE_LISTS_APPEND 1
 #include "common/tile_lists.glsl"
-#include "common/unreal5.glsl"
+#include "unreal5.glsl"
 #include "common/neighbor_dilate.glsl"
 
 #ifdef SCATTER

@@ -4,13 +4,13 @@
 // weighted as §3.4 weighs a sample, with the two depths compared at the tap's time t/2 of the
 // shutter: z + (t/2)·dz (the depth velocity). Half-vectors are the velocity's, clamped to k
 // (so velocities to twice the tile size). Compute, one invocation per pixel.
-// NumPy twin: blurlab.twins.godot.reconstruct.
+// NumPy twin: twin.py, reconstruct.
 #include "common/inputs.glsl"
 #include "common/random.glsl"
 #include "common/mcguire2012.glsl"
 
 layout(binding = 0) uniform sampler2D color;
-layout(binding = 1) uniform sampler2D velocity;  // (V, depth, dz) from godot_velocity
+layout(binding = 1) uniform sampler2D velocity;  // (V, depth, dz) from velocity.glsl
 layout(binding = 2) uniform sampler2D neighbor_max;
 uniform int k;
 uniform float exposure;

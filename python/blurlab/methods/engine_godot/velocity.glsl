@@ -7,7 +7,7 @@
 // without it each end is divided by its own w and a point behind the eye flips); the camera's
 // depth change dz (the depth velocity) beside it; V and dz scaled by the frame-rate mode's factor.
 // Stored as (V, depth, dz).
-// Compute, one invocation per pixel. NumPy twin: blurlab.twins.godot.velocity.
+// Compute, one invocation per pixel. NumPy twin: twin.py, velocity.
 #include "common/velocity_setup.glsl"
 #include "common/camera_motion.glsl"
 
@@ -17,8 +17,8 @@ uniform float object_multiplier;
 uniform bool clamp_to_original;
 uniform bool near_correction;
 uniform bool depth_velocity;
-uniform float framerate_scale;  // the frame-rate mode's factor, from twins.godot.framerate_scale
-uniform float flip_guard;  // twins.godot.FLIP_GUARD
+uniform float framerate_scale;  // the frame-rate mode's factor, from twin.framerate_scale
+uniform float flip_guard;  // twin.FLIP_GUARD
 uniform bool has_camera;  // false for a frame made from arrays: all of its motion is the object's
 
 // `end` moved back along the segment from `instant` to where it meets the near plane, where

@@ -1,7 +1,7 @@
-"""engine_unreal (docs/spec.md §17.5) on the GPU against bl.twins.unreal: the 11:11:10 polar
-velocity, the min/max tiles, the 7 x 7 scatter-as-gather and its tile classes, each of the
-skip / fast / slow paths, and the filter's promises: still images unchanged, output inside
-the input range, no NaN, same seed same bits."""
+"""engine_unreal (spec.md, docs/spec.md §17.5) on the GPU against its twin (twin.py, and
+blurlab.twins.unreal pass by pass): the 11:11:10 polar velocity, the min/max tiles, the 7 x 7
+scatter-as-gather and its tile classes, each of the skip / fast / slow paths, and the filter's
+promises: still images unchanged, output inside the input range, no NaN, same seed same bits."""
 
 from __future__ import annotations
 

@@ -1,9 +1,10 @@
-"""engine_unreal5 (docs/spec.md §17.7) on the GPU against bl.twins.unreal5: the tiles with a
-second direction, the 7 x 7 scatter-as-gather with the scatter past it and its six classes, the
-half-size colour, the half-resolution classes, the per-tile sample counts, the two-direction
-path on crossed motions; the reconstruction over each class's tile list giving the bits of one
-dispatch over every tile; and the filter's promises: still images unchanged, output inside the
-input range, no NaN, same seed same bits."""
+"""engine_unreal5 (spec.md, docs/spec.md §17.7) on the GPU against its twin (twin.py, and
+blurlab.twins.unreal5 pass by pass): the tiles with a second direction, the 7 x 7
+scatter-as-gather with the scatter past it and its six classes, the half-size colour, the
+half-resolution classes, the per-tile sample counts, the two-direction path on crossed motions;
+the reconstruction over each class's tile list giving the bits of one dispatch over every tile;
+and the filter's promises: still images unchanged, output inside the input range, no NaN, same
+seed same bits."""
 
 from __future__ import annotations
 
@@ -12,7 +13,7 @@ import pytest
 from conftest import assert_matches_twin, assert_timings_name, random_frame
 
 import blurlab as bl
-from blurlab.methods import unreal5
+from blurlab.methods.engine_unreal5 import method as unreal5
 from blurlab.methods.passes import frame_textures
 from blurlab.twins import polar_fixed_point as polar
 from blurlab.twins import unreal as ue4
@@ -90,9 +91,9 @@ def test_tile_lists_give_the_bits_of_one_dispatch_over_every_tile(ctx, rng, para
     method = bl.method(METHOD)
     values = method.defaults(frame, **params)
     inputs = frame_textures(ctx, frame)
-    listed, timings = unreal5.run_unreal5(ctx, frame, inputs, values, "compute")
+    listed, timings = unreal5.run(ctx, frame, inputs, values, "compute")
     one = {**values, "tile_dispatch": "one"}
-    full, _ = unreal5.run_unreal5(ctx, frame, inputs, one, "compute")
+    full, _ = unreal5.run(ctx, frame, inputs, one, "compute")
     counts = listed["tile_counts"].download()[0, :, 0].reshape(-1, 4)[:, 0]
     assert (counts[:-1] > 0).sum() >= 1
     if "llvmpipe" in ctx.info()["renderer"]:

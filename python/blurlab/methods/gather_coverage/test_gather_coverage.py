@@ -1,8 +1,8 @@
-"""gather_coverage (docs/spec.md §17.6) on the GPU against bl.twins.coverage: the whole filter
-on random and rendered frames, its parts on hand values (trail reach, family overlap, tap
-layout, sizes relative to the height, coverage of a bar over a still background), and the
-filter's promises: still images unchanged, output inside the input range, no NaN, same seed
-same bits."""
+"""gather_coverage (spec.md, docs/spec.md §17.6) on the GPU against its twin (twin.py, and
+blurlab.twins.coverage part by part): the whole filter on random and rendered frames, its parts
+on hand values (trail reach, family overlap, tap layout, sizes relative to the height, coverage
+of a bar over a still background), and the filter's promises: still images unchanged, output
+inside the input range, no NaN, same seed same bits."""
 
 from __future__ import annotations
 
@@ -16,7 +16,6 @@ from filter_promises import (
 )
 
 import blurlab as bl
-from blurlab.methods import coverage
 from blurlab.methods.coverage import (
     FILM_LAYOUT,
     FILM_VARIANTS,
@@ -25,6 +24,7 @@ from blurlab.methods.coverage import (
     tap_plan,
 )
 from blurlab.methods.coverage import tile_lines as coverage_tile_lines
+from blurlab.methods.gather_coverage import method as declared
 from blurlab.methods.passes import frame_textures
 from blurlab.twins import coverage as ref
 from blurlab.twins import eevee as eevee_twin
@@ -476,9 +476,9 @@ def test_still_and_moving_block_lists_give_the_bits_of_one_pass(ctx, film_throug
     params = {"film_filter": 0.3, "film_through_taps": film_through_taps}
     values = bl.method(METHOD).defaults(frame, **params)
     inputs = frame_textures(ctx, frame)
-    listed, timings = coverage.run_coverage(ctx, frame, inputs, values, "compute")
+    listed, timings = declared.run(ctx, frame, inputs, values, "compute")
     one = {**values, "tile_dispatch": "one"}
-    full, _ = coverage.run_coverage(ctx, frame, inputs, one, "compute")
+    full, _ = declared.run(ctx, frame, inputs, one, "compute")
     assert listed["color"].download().tobytes() == full["color"].download().tobytes()
     result = bl.blur(ctx, frame, METHOD, **params)
     dilated = resolve_reach_keys(result.buffers["reach_keys"], result.buffers["tiles"])

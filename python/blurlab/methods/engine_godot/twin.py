@@ -1,17 +1,17 @@
 """engine_godot, docs/spec.md §17.10, in NumPy float64: the motion blur that Godot's motion-blur
 pull request (godotengine/godot#115027) and its addon describe, written from that design. One
-function per pass; the GPU passes (shaders/passes/godot_velocity.glsl, tile_max.glsl,
-neighbor_max.glsl, godot_reconstruct.glsl) must match them.
+function per pass; the GPU passes (velocity.glsl and reconstruct.glsl beside this file,
+shaders/passes/tile_max.glsl and neighbor_max.glsl) must match them.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from .gathers import camera_motion, camera_rotation_motion, pixel_clip, world_points
-from .hashing import rand
-from .inputs import sanitize_color, sanitize_depth, sanitize_motion
-from .mcguire2012 import (
+from ...twins.gathers import camera_motion, camera_rotation_motion, pixel_clip, world_points
+from ...twins.hashing import rand
+from ...twins.inputs import sanitize_color, sanitize_depth, sanitize_motion
+from ...twins.mcguire2012 import (
     cone,
     cylinder,
     exits_early,

@@ -1,5 +1,5 @@
-"""engine_godot (docs/spec.md §17.10) on the GPU against bl.twins.godot: the velocity pass (the
-three parts and their multipliers, the clamp to the largest multiplier, the near-plane
+"""engine_godot (spec.md, docs/spec.md §17.10) on the GPU against its twin (twin.py): the velocity
+pass (the three parts and their multipliers, the clamp to the largest multiplier, the near-plane
 correction, the depth velocity, the frame-rate modes), the quality presets, and the whole
 method on random and rendered frames."""
 
@@ -11,8 +11,8 @@ from conftest import assert_timings_name, random_frame
 from filter_promises import assert_blurs_a_rendered_scene_as_its_twin, assert_matches_twin
 
 import blurlab as bl
-from blurlab.methods import godot
-from blurlab.twins import godot as ref
+from blurlab.methods.engine_godot import method as godot
+from blurlab.methods.engine_godot import twin as ref
 
 METHOD = "engine_godot"
 # The velocity pass's parameters, and the frame-rate mode's, which the twin's velocity takes.

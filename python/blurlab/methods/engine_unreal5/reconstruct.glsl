@@ -3,7 +3,7 @@
 // chosen by the tile's class. With OVER_LIST the group runs on a tile of one class's list
 // (common/tile_lists.glsl), the class being LIST_CLASS, so each class compiles to its own
 // program; without, the groups cover the image and each takes its tile's class from neighbors.
-// Both write the same bits (tests/test_engine_unreal5.py).
+// Both write the same bits (test_engine_unreal5.py).
 // Skip: C. Otherwise a line of mirrored pairs along the tile's longest velocity, and for
 // gather_2 a second line along its second direction. A line whose longest half-vector is L px
 // takes P = clamp(ceil(2L), 1, taps/2) pairs at X ± t·v, t = (i + j)/P; where half_res_gather is
@@ -16,7 +16,7 @@
 // block of the tile (its line through the block's corner, weighed as the block's fastest
 // pixel), and the tile's pixels take the bilinear mean of the block sums and coverages inside
 // the tile, then composite with their own C; a gather_half block whose pixels differ in depth
-// or velocity gathers each of them at full resolution. NumPy twin: blurlab.twins.unreal5.
+// or velocity gathers each of them at full resolution. NumPy twin: twin.py, engine_unreal5.
 #ifdef OVER_LIST
 #define TILE_LISTS_READ 1
 #define TILE_LIST_SAMPLER 4
@@ -26,7 +26,7 @@
 #include "common/random.glsl"
 #include "common/mirrored_pair.glsl"
 #include "common/depth_spread.glsl"
-#include "common/unreal5.glsl"
+#include "unreal5.glsl"
 
 layout(local_size_x = 16, local_size_y = 16) in;
 layout(binding = 0) uniform sampler2D color;

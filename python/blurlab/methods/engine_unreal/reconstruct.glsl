@@ -6,7 +6,7 @@
 // split (extent depth_extent) of whether X's own blur or the tap's reaches it
 // (spread = clamp(1 + length - distance, 0, 1)), at most 1, and each pair takes the weight of
 // its nearer and faster tap; the weight the taps do not take goes to C.
-// Compute, one invocation per pixel. NumPy twin: blurlab.twins.unreal.engine_unreal.
+// Compute, one invocation per pixel. NumPy twin: twin.py, engine_unreal.
 #include "common/inputs.glsl"
 #include "common/random.glsl"
 #include "common/polar_fixed_point.glsl"

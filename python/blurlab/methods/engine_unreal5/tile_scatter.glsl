@@ -10,7 +10,7 @@
 #define TILE_LISTS_READ 1
 #define TILE_LIST_SAMPLER 1
 #include "common/tile_lists.glsl"
-#include "common/unreal5.glsl"
+#include "unreal5.glsl"
 
 layout(local_size_x = 64) in;
 layout(binding = 0) uniform sampler2D tiles;
