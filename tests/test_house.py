@@ -408,3 +408,33 @@ def test_the_default_size_is_declared_once():
         if re.search(r"640, ?360|640x360", path.read_text())
     ]
     assert written == ["python/blurlab/sizes.py"], written
+
+
+def test_the_files_the_spec_and_code_name_exist():
+    """A path in the spec, the architecture page, the README, a method's spec.md or a comment
+    of the package or its shaders names a file that is there: moving a file moves its
+    mentions."""
+    path = re.compile(
+        r"(?<![\w/])((?:shaders/(?:passes|common|util)|tests|python/blurlab|benchmarks/blurlab_bench)"
+        r"/[\w/.-]+\.(?:glsl|comp|py|md))"
+    )
+    twin = re.compile(r"\bblurlab\.twins\.([a-z_0-9]+)\b")
+    texts = [ROOT / "README.md", ROOT / "docs" / "spec.md", ROOT / "docs" / "architecture.md"]
+    texts += [p for p in sorted(PACKAGE.rglob("*")) if p.suffix in {".py", ".md", ".glsl", ".comp"}]
+    texts += [p for p in sorted((ROOT / "shaders").rglob("*")) if p.is_file()]
+    missing = []
+    for text_file in texts:
+        if "__pycache__" in text_file.parts:
+            continue
+        text = text_file.read_text()
+        missing += [
+            f"{text_file.relative_to(ROOT)}: {m}"
+            for m in path.findall(text)
+            if not (ROOT / m).exists()
+        ]
+        missing += [
+            f"{text_file.relative_to(ROOT)}: blurlab.twins.{m}"
+            for m in twin.findall(text)
+            if not (PACKAGE / "twins" / f"{m}.py").exists()
+        ]
+    assert not missing, missing

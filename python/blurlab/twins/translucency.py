@@ -1,6 +1,6 @@
 """Translucent surfaces, docs/spec.md §20, in NumPy float64: the per-pixel resolve of fragment
 lists (GPU twin: shaders/passes/translucent_resolve.comp) and the compositing step of the four
-ways to blur translucency (GPU twin: shaders/passes/translucency_composite.comp)."""
+ways to blur translucency (GPU twin: shaders/passes/translucent_resolve.comp)."""
 
 from __future__ import annotations
 
