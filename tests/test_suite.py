@@ -87,8 +87,13 @@ def test_tiny_card_for_a_method_folder_and_a_builtin_then_a_rerun(tmp_path):
     # each measured picture category has its comparator, with its pictures beside the page
     for name in card["images"]:
         assert f"id='look-{name}'" in page or f'id="look-{name}"' in page, name
-    looked = re.findall(r"look/[\w.-]+\.png", page)
+    looked = re.findall(r"(?:look|images)/[\w./-]+\.png", page)
     assert looked and all((tmp_path / "card" / src).is_file() for src in looked)
+    # an SDR category's comparator shows the card's own pictures; only HDR ones have their own
+    hdr = {c.name for c in d.categories() if bl.metrics.get(c.primary).hdr}
+    for name in card["images"]:
+        assert (f"look/{name}_" in page) == (name in hdr), name
+    assert "images/opaque/my_tent.png" in looked and "images/opaque/my_tent_error.png" in looked
 
     # A rerun: one category's rows removed are evaluated again, the rest are read back; a
     # sequence row cut short by a crash is dropped.

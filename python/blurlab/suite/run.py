@@ -20,12 +20,11 @@ import pandas as pd
 
 from ..io import images as io
 from ..methods import blur, method, method_instant
-from ..metrics import get
+from ..metrics import error_map, get
 from ..metrics.hdr import exposure
 from ..scene import scenes
-from ..studies import comparator, identity
+from ..studies import comparator, identity, plots
 from ..studies.evaluation import REFERENCE_OPTIONS
-from ..studies.plots import tone_mapped
 from ..studies.sweep import sweep, sweep_methods
 from ..version import __version__
 from . import captured, content, figures, page
@@ -241,9 +240,12 @@ def _pictures(ctx, category, preset, entry: dict, out: Path, files) -> tuple[dic
             frames[instant] = ctx.render(scene, chosen.size, scene.shutter, instant=instant)
         outputs[name] = blur(ctx, frames[instant], name, timed=False).color
         paths[name] = _write(folder / f"{name}.png", outputs[name], scale)
-    look, _ = comparator.write_comparator(
-        category.name, reference, outputs, out, hdr=hdr, exposure=scale
-    )
+    if hdr:  # the comparator's exposure control needs the linear colours: pictures of its own
+        look, _ = comparator.write_comparator(
+            category.name, reference, outputs, out, hdr=True, exposure=scale
+        )
+    else:  # the comparator shows the card's own pictures, beside their error maps
+        look = _comparator_of_pictures(category.name, reference, outputs, paths, folder, out)
     pictures = {
         "scene": scenes.label(first),
         "images": {k: v.relative_to(out).as_posix() for k, v in paths.items()},
@@ -251,9 +253,23 @@ def _pictures(ctx, category, preset, entry: dict, out: Path, files) -> tuple[dic
     return pictures, look
 
 
+def _comparator_of_pictures(name, reference, outputs, paths, folder: Path, out: Path) -> str:
+    """The comparator of an SDR category over the pictures `paths` already written: each
+    output's error map (as the comparator draws them, on one scale) is written beside them."""
+    errors = {who: error_map(reference[..., :3], color[..., :3]) for who, color in outputs.items()}
+    vmax = plots.error_scale(errors.values())
+    files = {}
+    for who, error in errors.items():
+        error_png = io.write(folder / f"{who}_error.png", plots.error_colours(error, vmax))
+        files[who] = (paths[who].relative_to(out).as_posix(), error_png.relative_to(out).as_posix())
+    height, width = reference.shape[:2]
+    relative = paths["reference"].relative_to(out).as_posix()
+    return comparator.comparator_of_files(name, (width, height), relative, files, vmax)
+
+
 def _write(path: Path, color: np.ndarray, scale: float | None) -> Path:
     rgb = np.asarray(color)[..., :3]
-    return io.write(path, tone_mapped(rgb, scale) if scale is not None else rgb)
+    return io.write(path, plots.tone_mapped(rgb, scale) if scale is not None else rgb)
 
 
 def card_rows(card: dict) -> pd.DataFrame:
