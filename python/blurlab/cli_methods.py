@@ -23,7 +23,7 @@ def method_table(m) -> str:
         f"{m.doc}",
         "",
         f"kind: {m.kind}; G-buffer instant: {instant}; backends: {', '.join(m.backends)}",
-        *([f"declared in {m.source}"] if m.source else []),
+        f"declared in {m.source}" if m.source else f"its folder: blurlab/methods/{m.name}/",
         "",
         "| parameter | default | allowed | meaning |",
         "|---|---|---|---|",
