@@ -5,6 +5,7 @@ test the mechanism a rule that holds would use), the reference's N="auto", and b
 
 from __future__ import annotations
 
+import ast
 import dataclasses
 import json
 import os
@@ -369,39 +370,48 @@ def test_a_near_miss_is_named():
 # One command in a process of its own, timed from after `import blurlab.cli` (Python's start
 # and the imports, about 2 s on the 2-core machine, are any command's cost) to its end; the
 # context, the cache lookup and the answer are inside.
-TIMED_COMMAND = (
-    "import sys, time\n"
+# A recommend call that says, on stderr, how many rows its sweep measured and how many it
+# read back from the cache file.
+COUNTED_COMMAND = (
+    "import sys\n"
     "from blurlab import cli\n"
-    "start = time.perf_counter()\n"
+    "from blurlab.studies import recommend\n"
+    "measured = []\n"
+    "def counted(*args, **kwargs):\n"
+    "    table = sweep(*args, **kwargs)\n"
+    "    measured.append((len(table), int(table.attrs.get('resumed', 0))))\n"
+    "    return table\n"
+    "sweep, recommend.sweep = recommend.sweep, counted\n"
     "code = cli.main(sys.argv[1:])\n"
-    "print(f'seconds {time.perf_counter() - start}', file=sys.stderr)\n"
+    "print(f'rows {measured}', file=sys.stderr)\n"
     "sys.exit(code)\n"
 )
 
 
 def test_the_same_question_in_three_processes_is_measured_once(tmp_path):
     """`blurlab recommend fan --size 160x90 --target-psnr 30`, three times, each in a process
-    of its own: one answer, and the later calls measure nothing: each costs at most 10 % of
-    the first, from after the imports that every blurlab command pays."""
+    of its own: one answer; the first call measures its rows, the later ones read every row
+    back from the cache file and measure none."""
     env = {**os.environ, "BLURLAB_CACHE_DIR": str(tmp_path)}
     question = ["--device", CLI_DEVICE, "recommend", "fan", "--size", "160x90"]
 
-    def timed():
+    def counted():
         result = subprocess.run(
-            [sys.executable, "-c", TIMED_COMMAND, *question, "--target-psnr", "30"],
+            [sys.executable, "-c", COUNTED_COMMAND, *question, "--target-psnr", "30"],
             capture_output=True,
             text=True,
             env=env,
         )
         assert result.returncode == 0, result.stderr
-        seconds = float(result.stderr.rsplit("seconds ", 1)[1])
-        return seconds, result.stdout.splitlines()[0]
+        rows = ast.literal_eval(result.stderr.rsplit("rows ", 1)[1])
+        return rows, result.stdout.splitlines()[0]
 
-    calls = [timed() for _ in range(3)]
+    calls = [counted() for _ in range(3)]
     answers = {answer for _, answer in calls}
     assert len(answers) == 1, answers
-    first, second, third = (seconds for seconds, _ in calls)
-    assert second <= 0.10 * first and third <= 0.10 * first, (first, second, third)
+    (first,), (second,), (third,) = (rows for rows, _ in calls)
+    assert first[0] > 0 and first[1] == 0, first  # measured, nothing read back
+    assert second == third == (first[0], first[0]), (second, third)  # all read back
     assert list(tmp_path.glob("recommend/fan-160x90-*.csv"))
 
 

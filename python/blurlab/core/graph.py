@@ -121,7 +121,9 @@ def run_graph(
                     f"blurlab: {source}: pass {w.node.name} writes {name!r}, which the inputs "
                     "or an earlier pass already provide; give each image its own name"
                 )
-            outputs[image] = ctx.pooled((height, width, channels), dtype)
+            # one channel is an (H, W) texture, as the G-buffer's depth is
+            shape = (height, width) if channels == 1 else (height, width, channels)
+            outputs[image] = ctx.pooled(shape, dtype)
         uniforms = {name: values[name] for name in w.uniforms if name in values}
         if run is None:
             w.shader.run(inputs, outputs, uniforms, group_per_texel=w.node.group_per_texel)

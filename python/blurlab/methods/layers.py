@@ -25,6 +25,7 @@ import numpy as np
 
 from ..core.context import Context
 from ..core.frame import Frame
+from ..core.graph import Node, run_graph, wire
 from .params import Param, typed
 from .passes import frame_textures, timed
 from .registry import method, methods, translucent_layer_method
@@ -116,17 +117,42 @@ def _made_once(ctx: Context, frame: Frame, key, make):
     return made[key]
 
 
-def _layer_pass(
-    ctx: Context, frame: Frame, shader: str, inputs: dict, outputs: dict, uniforms: dict
-) -> None:
-    """Runs the per-frame pass `shader` (passes/NAME.comp) that makes a layer frame: timed into
-    frame.timings[NAME], as the G-buffer's own passes are, and its outputs back to the pool
-    with the frame."""
-    program = ctx.shader_pass(shader)  # compiled outside the timing
-    with ctx.timer() as timing:
-        program.run(inputs, outputs, uniforms)
-    frame.timings[shader.removeprefix("passes/").removesuffix(".comp")] = timing
-    weakref.finalize(frame, ctx.recycle, *outputs.values())
+# The passes that make and composite the layers, on the pass graph (docs/spec.md §1.2): each
+# reads and writes the textures its shader names.
+SPLIT = Node("translucent_split", "passes/translucent_split.comp")
+CHOSEN = Node("translucency_motion", "passes/translucency_motion.comp")
+OVER = Node("translucency_over", "passes/translucency_over.comp")
+
+
+def _layer_pass(ctx: Context, node: Node, textures: dict, values: dict, time) -> dict:
+    """Runs `node` on `textures` (by the names its shader reads) with the uniforms of `values`
+    it declares, `time(run)` running and timing the dispatch; returns every image it wrote,
+    pooled."""
+    wired = ctx.cached(("layer graph", node), lambda: wire(ctx, [node], source="translucency"))
+    return run_graph(
+        ctx,
+        wired,
+        textures,
+        values,
+        run=lambda w, inputs, outputs, uniforms: time(
+            lambda: w.shader.run(inputs, outputs, uniforms)
+        ),
+        source="translucency",
+    )
+
+
+def _frame_pass(ctx: Context, frame: Frame, node: Node, textures: dict, values: dict) -> dict:
+    """A per-frame pass that makes a layer frame: timed into frame.timings, as the G-buffer's
+    own passes are, and its outputs back to the pool with the frame."""
+
+    def time(run):
+        with ctx.timer() as timing:
+            run()
+        frame.timings[node.name] = timing
+
+    written = _layer_pass(ctx, node, textures, values, time)
+    weakref.finalize(frame, ctx.recycle, *written.values())
+    return written
 
 
 def opaque_frame(ctx: Context, frame: Frame) -> Frame:
@@ -149,19 +175,12 @@ def translucent_frame(ctx: Context, frame: Frame) -> Frame:
 
     def make():
         textures = layer_textures(ctx, frame)
-        height, width = frame.shape
-        split_outputs = {
-            "layer_motion": ctx.pooled((height, width, 2)),
-            "layer_depth": ctx.pooled((height, width)),
-            "layer_sides": ctx.pooled((height, width, 4)),
-        }
         share_prev = np.float32(frame.instant_fraction)
-        _layer_pass(
+        split_outputs = _frame_pass(
             ctx,
             frame,
-            "passes/translucent_split.comp",
+            SPLIT,
             {"translucent_motion": textures["translucent_motion"]},
-            split_outputs,
             {"share_prev": share_prev, "share_next": np.float32(1.0 - share_prev)},
         )
         return frame.with_textures(
@@ -184,25 +203,13 @@ def chosen_frame(ctx: Context, frame: Frame, motion_coverage: float) -> Frame:
 
     def make():
         textures = {**frame_textures(ctx, frame), **layer_textures(ctx, frame)}
-        height, width = frame.shape
-        chosen = {
-            "chosen_motion": ctx.pooled((height, width, 2)),
-            "chosen_depth": ctx.pooled((height, width)),
-        }
         inputs = {
             "translucent": textures["translucent"],
             "translucent_motion": textures["translucent_motion"],
             "motion": textures["motion"],
             "depth": textures["depth"],
         }
-        _layer_pass(
-            ctx,
-            frame,
-            "passes/translucency_motion.comp",
-            inputs,
-            chosen,
-            {"motion_coverage": motion_coverage},
-        )
+        chosen = _frame_pass(ctx, frame, CHOSEN, inputs, {"motion_coverage": motion_coverage})
         return frame.with_textures(
             {
                 "color": textures["color"],
@@ -276,15 +283,10 @@ def blur_layers(
                 layer_result = blur(translucent_frame(ctx, frame), layer_method)
             layer = layer_result.textures["color"]
             extra.update({f"translucent_{k}": t for k, t in layer_result.timings.items()})
-    height, width = frame.shape
-    out = ctx.pooled((height, width, 4))
-    over = ctx.shader_pass("passes/translucency_over.comp")
-    timed(
-        ctx,
-        extra,
-        "translucency_over",
-        lambda: over.run({"layer": layer, "opaque": result.textures["color"]}, {"result": out}),
-    )
+    textures = {"layer": layer, "opaque": result.textures["color"]}
+    out = _layer_pass(
+        ctx, OVER, textures, {}, lambda run: timed(ctx, extra, "translucency_over", run)
+    )["result"]
     result.textures["opaque_blurred"] = result.textures["color"]
     result.textures["color"] = out
     result.timings.update(extra)
