@@ -22,6 +22,7 @@ from .. import metrics
 from ..core.context import Context
 from ..core.frame import Frame
 from ..core.gl import Texture
+from ..core.graph import Node, run_graph, wire
 from ..core.render import check_size, render_targets
 from ..io import video
 from ..methods import blur, method, method_instant
@@ -417,12 +418,14 @@ class FrameStep:
         return output, resolved
 
 
+RGB_ALPHA = Node("rgb_alpha", "passes/rgb_alpha.comp")
+
+
 def with_alpha(ctx: Context, rgb: Texture, alpha: Texture) -> Texture:
     """A new pooled (H, W, 4) texture: `rgb`'s colour with `alpha`'s alpha
-    (passes/rgb_alpha.comp)."""
-    result = ctx.pooled(rgb.shape)
-    ctx.shader_pass("passes/rgb_alpha.comp").run({"rgb": rgb, "alpha": alpha}, {"result": result})
-    return result
+    (passes/rgb_alpha.comp, on the pass graph)."""
+    wired = ctx.cached(("sequence graph", RGB_ALPHA), lambda: wire(ctx, [RGB_ALPHA], "compute"))
+    return run_graph(ctx, wired, {"rgb": rgb, "alpha": alpha}, keep=("result",))["result"]
 
 
 def with_color(ctx: Context, frame: Frame, color: Texture) -> Frame:
