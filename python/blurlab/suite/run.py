@@ -139,7 +139,9 @@ def run_suite(
         seconds[category.name] = round(time.perf_counter() - began, 3)
     if captures:
         began = time.perf_counter()
-        card["categories"][captured.NAME] = _captured_category(ctx, captures, asked, field)
+        card["categories"][captured.NAME] = _captured_category(
+            ctx, captures, list(captured_digests), asked, field
+        )
         seconds[captured.NAME] = round(time.perf_counter() - began, 3)
     card["images"] = images
     card["run"] = {
@@ -185,16 +187,17 @@ def _run_category(ctx, category, preset, names, out: Path, files, cluster, progr
     return entry, table, int(table.attrs.get("resumed", 0))
 
 
-def _captured_category(ctx, captures, asked, field) -> dict:
-    """The captured category's card entry: the methods that run on a captured G-buffer, ranked
-    against the built-in methods that do; the others are named with the reason."""
+def _captured_category(ctx, captures, labels, asked, field) -> dict:
+    """The captured category's card entry (`labels`: the captures' names, as their digests
+    were taken): the methods that run on a captured G-buffer, ranked against the built-in
+    methods that do; the others are named with the reason."""
     field_kept, left_out = captured.runnable(field)
     asked_kept, _ = captured.runnable(asked)
     entry = {
         "status": "measured",
         "doc": captured.DOC,
         "primary": captured.PRIMARY,
-        "scenes": list(captured.digests(captures)),
+        "scenes": labels,
         "left_out": {n: why for n, why in left_out.items() if n in asked},
     }
     if not asked_kept:
