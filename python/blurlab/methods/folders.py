@@ -162,9 +162,7 @@ def load_builtin_methods() -> list[str]:
         if file.parent.name == TEMPLATE_FOLDER:
             continue
         module = importlib.import_module(f"{__package__}.{file.parent.name}.method")
-        declaration = getattr(module, "METHOD", None)
-        if not isinstance(declaration, Declaration):
-            raise MethodFolderError(f"blurlab: {file} must set METHOD = Declaration(...)")
+        declaration = _declared(module, file)
         if declaration.name != file.parent.name:
             raise MethodFolderError(
                 f"blurlab: {file} declares {declaration.name!r}; a built-in method's folder "
@@ -193,6 +191,11 @@ def _declaration(file: Path) -> Declaration:
         raise MethodFolderError(
             f"blurlab: {file} failed to run: {type(error).__name__}: {error}"
         ) from error
+    return _declared(module, file)
+
+
+def _declared(module, file: Path) -> Declaration:
+    """The METHOD that `module`, run from `file`, declares."""
     declaration = getattr(module, "METHOD", None)
     if not isinstance(declaration, Declaration):
         raise MethodFolderError(
