@@ -12,7 +12,8 @@
 #   bash benchmarks/gpu.sh "study-report --size 1920x1080"   (a study's report, as one archive)
 #   bash benchmarks/gpu.sh suite-card   (the suite's gpu card, as suite.tgz; stopped after
 #     SUITE_SECONDS, default 420, it still returns the rows so far: copy suite.tgz into .suite/
-#     (ignored through .git/info/exclude), carry .suite too, and the next call resumes from it)
+#     (ignored through .git/info/exclude), carry .suite too, and the next call resumes from it;
+#     a next call with GPU_BUILD=0 on the still-warm machine resumes without it)
 #   BASELINE=.before bash benchmarks/gpu.sh "filters"   (carry .before too: an older tree, whose
 #     benchmarks are blurlab.studies.bench or benchmarks/blurlab_bench, e.g. `git archive REV | tar -x -C .before`; each benchmark then runs on
 #     both, baseline first, twice in turn, into records_baseline.jsonl and records.jsonl)
@@ -154,13 +155,16 @@ for item in "${@:-transfer}"; do
       # folder (thousands of row files and pictures) comes back as suite.tgz, and a call that
       # carries .suite/suite.tgz (that archive, copied into an ignored folder) goes on from it
       mkdir -p "$out/suite"
-      if [ -f .suite/suite.tgz ]; then tar xzf .suite/suite.tgz -C "$out"; fi
+      # a carried archive first; else, on a machine kept warm (GPU_BUILD=0), the last call's
+      if [ -f .suite/suite.tgz ]; then tar xzf .suite/suite.tgz -C "$out"
+      elif [ "$reuse" = 1 ] && [ -f /tmp/suite-last.tgz ]; then tar xzf /tmp/suite-last.tgz -C "$out"; fi
       # stopped after SUITE_SECONDS (default 420) so that the archive is made within the call
       timeout "${SUITE_SECONDS:-420}" env PYTHONPATH="$site:$PWD/benchmarks" python3 -m blurlab \
         bench suite --param preset=gpu --param out="$out/suite" $rest --device gpu \
         --record "$out/records.jsonl" \
         || echo "gpu.sh: suite-card stopped or FAILED (its rows so far are in suite.tgz)"
       tar czf "$out/suite.tgz" -C "$out" suite && rm -rf "$out/suite"
+      cp "$out/suite.tgz" /tmp/suite-last.tgz
       continue ;;
     golden)
       python3 tests/golden.py $rest || echo "gpu.sh: golden $rest FAILED"

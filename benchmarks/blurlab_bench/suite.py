@@ -6,11 +6,13 @@ version, preset and hash in the record)."""
 
 from __future__ import annotations
 
+import contextlib
 import tempfile
 from pathlib import Path
 
 from blurlab.methods.params import Param
 from blurlab.metrics import get
+from blurlab.studies.cluster_devices import local_cluster
 from blurlab.suite import categories, run_suite
 from blurlab.suite.definition import PRESETS
 
@@ -31,13 +33,21 @@ def category_table_name(name: str, primary: str) -> str:
 
 def _suite(ctx, size, p, out) -> None:
     assets = Path(p["assets"]) if p["assets"] else (ASSETS if ASSETS.is_dir() else None)
-    with tempfile.TemporaryDirectory(prefix="blurlab-suite-") as scratch:
+    # Workers share this device: they fill the time one process leaves it idle while it builds
+    # draws and reads rows back (the single-frame categories; sequences run on ctx).
+    workers = (
+        local_cluster(p["workers"], ctx.info()["device"])
+        if p["workers"]
+        else contextlib.nullcontext()
+    )
+    with tempfile.TemporaryDirectory(prefix="blurlab-suite-") as scratch, workers as cluster:
         card = run_suite(
             ctx,
             Path(p["out"]) if p["out"] else Path(scratch),
             split(p["methods"]) or None,
             p["preset"],
             assets=assets,
+            cluster=cluster,
             pictures=False,
         )
     suite = card["suite"]
@@ -87,6 +97,7 @@ register(
             "methods": Param("", str, "comma-separated methods (empty: every single-frame one)"),
             "assets": Param("", str, "folder of the authored glTF files (empty: shared/assets)"),
             "out": Param("", str, "the card's folder, kept to resume (empty: a temporary one)"),
+            "workers": Param(0, int, "local Dask workers (0: this process)", 0, 64),
         },
         _suite,
         presets={p: {"preset": p} for p in PRESETS},
