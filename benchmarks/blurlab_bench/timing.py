@@ -12,6 +12,11 @@ from blurlab.studies.sweep import sweep_methods
 # Seconds of untimed calls before a timed set on a GPU: an H100 left idle (by CPU work, or a
 # benchmark's checks) clocks down, and the next set then timed 2-4x slow.
 SPIN_UP_S = 0.25
+# back_to_back_ms: calls whose issue the CPU times first, the busy work's margin over that
+# issue time, and its ceiling (a queue far longer than this once reset an H100's context).
+ISSUE_PROBE_CALLS = 5
+ISSUE_MARGIN = 1.5
+BUSY_MS_MAX = 400.0
 
 
 def gpu_clock(ctx) -> bool:
@@ -53,10 +58,20 @@ def back_to_back_ms(ctx, call, calls: int = 50, busy_ms: float = 20.0) -> float:
     """GPU ms per `call()` over `calls` calls issued in a row while the GPU is still busy with
     earlier work, so that it never waits for the CPU between them: one GL timer query around
     the calls. Per-pass timers each hold a pass's ramp-up and drain; a timer around a lone call
-    also holds the gaps where the GPU waited for Python. On a wall clock (llvmpipe) there is
-    nothing to overlap: the calls are timed as they run."""
+    also holds the gaps where the GPU waited for Python. The busy work lasts at least
+    `busy_ms`, and longer than the CPU takes to issue the calls (measured first): a method of
+    many passes costs Python more than its GPU time, and with 20 ms alone the GPU ran dry
+    and the timer counted Python. On a wall clock (llvmpipe) there is nothing to overlap: the
+    calls are timed as they run."""
     spin_up(ctx, call)  # compiled, pooled, planned and the clocks up before the clock
     if gpu_clock(ctx):
+        ctx.finish()
+        start = time.perf_counter()
+        for _ in range(ISSUE_PROBE_CALLS):
+            call()
+        issue_ms = (time.perf_counter() - start) * 1e3 / ISSUE_PROBE_CALLS
+        ctx.finish()
+        busy_ms = min(BUSY_MS_MAX, max(busy_ms, ISSUE_MARGIN * calls * issue_ms))
         busy = ctx.shader_pass("passes/accumulate.comp")
         color, total = ctx.pooled((2048, 2048, 4)), ctx.pooled((2048, 2048, 4))
 
