@@ -262,6 +262,15 @@ class PhaseClock:
         return time.perf_counter() - self.start
 
 
+def phase_lines(clock: PhaseClock, title: str = "study") -> str:
+    """The console's table of a study's phases: seconds and share of the whole."""
+    total = clock.total()
+    lines = [f"{title}: {total:.1f} s"]
+    for phase, seconds in clock.seconds.items():
+        lines.append(f"  {phase:<17}{seconds:8.1f} s {100 * seconds / total:5.1f} %")
+    return "\n".join(lines)
+
+
 def _phase(cache: dict, phase: str):
     """Times a block into the scene cache's PhaseClock, cache["clock"]: the study splits its
     sweep's time into references, G-buffers and evaluations with it, and a cluster's workers

@@ -5,21 +5,35 @@ accuracy-against-stability chart per scene (docs/temporal.md)."""
 
 from __future__ import annotations
 
+import concurrent.futures
 import datetime
 import html
+import json
+import os
 from pathlib import Path
 
 import pandas as pd
 
 from ..io import images as io
+from ..io import video
 from ..metrics import get
 from ..scene import scenes
 from ..sizes import DEFAULT_SIZE
 from ..temporal.sequences import ORDERS
 from . import interactive, temporal
+from .evaluation import PhaseClock, phase_lines
 
 ANIMATED_ORDER = "blur_then_taa"  # the order every method takes, the one the animations show
 WORST_FRAMES = 6
+
+# What each phase of phases.json counts.
+PHASES = {
+    "sequences": "each scene's sequence: its frames' times and references, rendered",
+    "runs": "every method in every order over the frames, with TAA and the per-frame metrics",
+    "animations": "each method's worst frames beside the reference, downloaded; their WebP "
+    "encodes run on threads beside the runs (what is counted is the wait for them)",
+    "html": "sequence.csv and sequence.html",
+}
 
 
 def run_sequence_study(
@@ -31,38 +45,68 @@ def run_sequence_study(
     frames: int = 8,
     warmup: int = 4,
     fps: float = 60.0,
+    progress: bool = True,
 ) -> Path:
-    """Runs the sequence study and returns the path of sequence.html."""
+    """Runs the sequence study and returns the path of sequence.html. Each phase is timed
+    (PHASES): phases.json and, with `progress`, the console."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     names = list(scene_names or scenes.names())
     methods = temporal.sequence_methods()
     animations: dict[str, dict[str, str]] = {}
+    clock = PhaseClock()
+    threads = os.cpu_count() or 1
+    # WebP encodes release the GIL, so they run beside the GPU work; at most two a thread are
+    # queued, each holding its frames on the host (6 frames of 3840x1080 RGBA at 1080p).
+    encodes: list[concurrent.futures.Future] = []
 
-    def keep(scene: str, method: str, order: str, run) -> None:
-        if order != ANIMATED_ORDER:
-            return
-        folder = out / "animations" / scenes.label(scene)
-        folder.mkdir(parents=True, exist_ok=True)
-        path = folder / f"{method}.webp"
-        run.write(path, run.worst_frames("psnr", WORST_FRAMES))
-        animations.setdefault(scene, {})[method] = path.relative_to(out).as_posix()
+    with concurrent.futures.ThreadPoolExecutor(threads) as pool:
 
-    table = temporal.evaluate_orders(
-        ctx,
-        names,
-        methods,
-        size,
-        frames,
-        warmup,
-        reference_samples or 64,
-        fps,
-        on_run=keep,
-    )
-    io.write_text(out / "sequence.csv", table.to_csv(index=False))
-    summary = temporal.orders_summary(table)
-    page = _html(ctx.info(), size, fps, frames, warmup, table, summary, animations)
-    return io.write_text(out / "sequence.html", page)
+        def keep(scene: str, method: str, order: str, run) -> None:
+            if order != ANIMATED_ORDER:
+                return
+            with clock("animations"):
+                folder = out / "animations" / scenes.label(scene)
+                folder.mkdir(parents=True, exist_ok=True)
+                path = folder / f"{method}.webp"
+                shown = run.side_by_side(run.worst_frames("psnr", WORST_FRAMES))
+                while sum(not e.done() for e in encodes) >= 2 * threads:
+                    concurrent.futures.wait(encodes, return_when="FIRST_COMPLETED")
+                encodes.append(pool.submit(video.write, path, shown, run.fps))
+            animations.setdefault(scene, {})[method] = path.relative_to(out).as_posix()
+
+        table = temporal.evaluate_orders(
+            ctx,
+            names,
+            methods,
+            size,
+            frames,
+            warmup,
+            reference_samples or 64,
+            fps,
+            on_run=keep,
+            clock=clock,
+        )
+        with clock("animations"):
+            for encode in encodes:
+                encode.result()  # raises a failed one's error
+    with clock("html"):
+        io.write_text(out / "sequence.csv", table.to_csv(index=False))
+        summary = temporal.orders_summary(table)
+        page = _html(ctx.info(), size, fps, frames, warmup, table, summary, animations)
+        report = io.write_text(out / "sequence.html", page)
+    timing = {
+        "size": [int(size[0]), int(size[1])],
+        "renderer": ctx.info()["renderer"],
+        "evaluations": len(table),
+        "total_s": clock.total(),
+        "phases_s": clock.seconds,
+        "phases": {k: PHASES[k] for k in clock.seconds},
+    }
+    io.write_text(out / "phases.json", json.dumps(timing, indent=1) + "\n")
+    if progress:
+        print(phase_lines(clock, "study --sequence"))
+    return report
 
 
 def stability_chart(rows: pd.DataFrame, title: str):

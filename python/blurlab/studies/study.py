@@ -29,7 +29,7 @@ from ..scene import scenes
 from ..sizes import DEFAULT_SIZE
 from . import comparator, interactive, objects, peers, plots, rankings, transparency, workers
 from .cluster import account_table
-from .evaluation import SETUP_PHASES, PhaseClock, picture_key
+from .evaluation import SETUP_PHASES, PhaseClock, phase_lines, picture_key
 from .sweep import default_grids, middle_point, sweep
 
 BUDGETS_MS = (0.1, 1.0, 10.0, 100.0)
@@ -196,7 +196,7 @@ def run_study(
             timing["workers"] = worker_accounts
         io.write_text(out / "phases.json", json.dumps(timing, indent=1) + "\n")
         if progress:
-            print(_phase_lines(clock))
+            print(phase_lines(clock))
             if worker_accounts is not None:
                 print(f"the sweep on the cluster:\n{account_table(worker_accounts, swept)}")
         return path
@@ -238,14 +238,6 @@ class InlineExecutor(concurrent.futures.Executor):
         except BaseException as error:  # handed to whoever reads the future, as a pool would
             future.set_exception(error)
         return future
-
-
-def _phase_lines(clock: PhaseClock) -> str:
-    total = clock.total()
-    lines = [f"study: {total:.1f} s"]
-    for phase, seconds in clock.seconds.items():
-        lines.append(f"  {phase:<17}{seconds:8.1f} s {100 * seconds / total:5.1f} %")
-    return "\n".join(lines)
 
 
 _CURVE_TITLES = {

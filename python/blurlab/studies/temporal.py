@@ -13,6 +13,7 @@ from ..methods import method as method_info
 from ..methods import methods as method_names
 from ..scene import scenes
 from ..temporal.sequences import ORDERS, SequenceRun, sequence
+from .evaluation import PhaseClock
 
 # What a run is called when no method blurs: the frames as rendered, or TAA alone.
 NO_METHOD = "(none)"
@@ -56,26 +57,32 @@ def evaluate_orders(
     taa: dict | None = None,
     on_run=None,
     orders: tuple[str, ...] = ORDERS,
+    clock=None,
 ) -> pd.DataFrame:
     """One row per (scene, method, order): psnr, mse and temporal instability of the frames
     after `warmup` against the sequence reference. Method NO_METHOD is the frames as rendered
     (order "none") and TAA alone ("blur_then_taa"). Only the `orders` that apply to a method
     run. `on_run(scene, method, order, run)`, if given, sees each method's SequenceRun before
-    it is dropped."""
+    it is dropped. `clock` (blurlab.studies.evaluation.PhaseClock), if given, counts the
+    sequences' rendering as "sequences" and the runs as "runs"."""
+    clock = clock or PhaseClock()
     rows = []
     for name in scene_names:
-        seq = sequence(
-            ctx,
-            scenes.get(name),
-            size,
-            fps,
-            warmup + frames,
-            shutter_angle,
-            reference_samples=reference_samples,
-        )
+        with clock("sequences"):
+            seq = sequence(
+                ctx,
+                scenes.get(name),
+                size,
+                fps,
+                warmup + frames,
+                shutter_angle,
+                reference_samples=reference_samples,
+            )
+            ctx.finish()  # the references' GPU work counted here, not in the first run
         for method in [None, *methods]:
             for order in [o for o in orders_of(method) if o in orders]:
-                run = seq.run(method, order, taa=taa, metrics=("psnr",))
+                with clock("runs"):
+                    run = seq.run(method, order, taa=taa, metrics=("psnr",))
                 if on_run is not None and method is not None:
                     on_run(name, method, order, run)
                 rows.append(

@@ -179,8 +179,16 @@ class SequenceRun:
     def side_by_side(self, frames=None) -> np.ndarray:
         """(n, H, 2W, 4): output frames (all, or the indices `frames`) with their references to
         their right."""
-        chosen = slice(None) if frames is None else np.asarray(frames, int)
-        return np.concatenate([self.color[chosen], self.references[chosen]], axis=2)
+        if frames is None:
+            return np.concatenate([self.color, self.references], axis=2)
+        chosen = np.asarray(frames, int)
+        # only the chosen frames cross to the host (a study shows a few of each run's frames)
+        outputs = (
+            self.color[chosen]
+            if "color" in self.__dict__
+            else np.stack([self.output_textures[i].download() for i in chosen.tolist()])
+        )
+        return np.concatenate([outputs, self.references[chosen]], axis=2)
 
     def worst_frames(self, metric: str = "psnr", count: int = 8) -> np.ndarray:
         """The indices of the `count` frames that score worst by the per-frame `metric`, in
