@@ -249,6 +249,25 @@ def test_records_merge_by_benchmark_and_device(tmp_path):
     assert len(path.read_text().splitlines()) == 3  # one compact line a record
 
 
+def test_a_variant_parameter_keeps_a_record_of_its_own(tmp_path):
+    """The study's mode is a variant: a record of `--sequence` sits beside the default's, and a
+    newer record of the same mode replaces the older; a plain parameter does not split them."""
+    study = lambda mode, value: {**record("study", value=value), "params": {"mode": mode}}  # noqa: E731
+    assert bench.benchmark("study").variants == ("mode", "scenes")
+    kept = bench.merged([study("", 1.0), study("--sequence", 2.0)], [study("--sequence", 3.0)])
+    assert sorted((r["params"]["mode"], r["figures"][0]["value"]) for r in kept) == [
+        ("", 1.0),
+        ("--sequence", 3.0),
+    ]
+    # a record older than the variant has the parameter's default
+    older = {**record("study"), "params": {}}
+    assert core.record_key(older) == core.record_key(study("", 1.0))
+    other_runs = {**record(value=2.0), "params": {"runs": 9}}
+    assert len(bench.merged([record(value=1.0)], [other_runs])) == 1
+    with pytest.raises(ValueError, match=r"variants \['speed'\] are not parameters"):
+        bench.Benchmark("x", "doc", {}, lambda *a: None, variants=("speed",))
+
+
 def test_parameters_are_checked_against_their_declaration():
     transfer = bench.benchmark("transfer")
     assert core.parse_value(transfer, "runs", "3") == 3

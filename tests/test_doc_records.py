@@ -100,6 +100,26 @@ def test_a_region_is_filled_from_its_record():
     assert doc_records.fill(empty, [RECORD]) == PAGE.format(figures=FIGURES, table=TABLE)
 
 
+def test_a_region_picks_a_variant_with_where():
+    """A study record of a mode is found only by a region that names it (`where=`); a region
+    without `where` finds the default mode's record."""
+    study = lambda mode, value: {  # noqa: E731
+        **RECORD,
+        "benchmark": "study",
+        "params": {"size": "160x90", "mode": mode},
+        "figures": [{"name": "speed", "value": value, "unit": "s"}],
+    }
+    records = [study("", 1.0), study("--sequence", 2.0)]
+    region = '<!-- record benchmark="study" device="llvmpipe" size="160x90" figures="speed"{} -->'
+    page = (region + "\n<!-- end record -->\n").format
+    assert "| speed | 1 | s |" in doc_records.fill(page(""), records)
+    assert "| speed | 2 | s |" in doc_records.fill(page(' where="mode=--sequence"'), records)
+    with pytest.raises(ValueError, match="no study record"):
+        doc_records.fill(page(' where="mode=--random 5"'), records)
+    with pytest.raises(ValueError, match=r"has the variant parameters \['mode', 'scenes'\]"):
+        doc_records.fill(page(' where="size=1x1"'), records)
+
+
 def test_a_figure_that_differs_from_its_record_is_found(tmp_path):
     stale = PAGE.format(figures=FIGURES.replace("1.235", "1.2"), table=TABLE)
     assert doc_records.fill(stale, [RECORD]) != stale

@@ -132,3 +132,64 @@ def test_bad_input_is_rejected(ctx):
     with pytest.raises(ValueError, match="RGB"):
         gray = ctx.upload(np.zeros((36, 64), np.float32))
         metrics.gpu_flip(ctx, gray, gray)
+
+
+# --- HDR-FLIP (shaders/passes/hdr_flip_tonemap.comp, hdr_flip_worst.comp; docs/spec.md §6.2)
+
+
+def hdr_pairs(ctx, rng) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Linear HDR pairs: the HDR scenes at 160x90 blurred against their references, random
+    images spanning several stops, a bright spot, and a black reference."""
+    pairs = []
+    for name in bl.scenes.names("hdr"):
+        scene = bl.scenes.get(name)
+        reference = ctx.reference(scene, SIZE, samples=16, progress=False).color
+        blurred = bl.blur(ctx, ctx.render(scene, SIZE), FILTERS[0]).color
+        pairs.append((reference, blurred))
+    for scale in (1.0, 50.0, 4000.0):
+        a = (rng.random((45, 80, 4)) ** 3 * scale).astype(np.float32)
+        b = np.clip(a * (1 + 0.3 * rng.standard_normal(a.shape)), 0, None).astype(np.float32)
+        pairs.append((a, b))
+    spot = np.full((36, 64, 4), 0.2, np.float32)
+    spot[10:14, 20:30, :3] = 500.0
+    pairs.append((spot, np.roll(spot, 3, axis=1)))
+    pairs.append((np.zeros((20, 30, 4), np.float32), np.full((20, 30, 4), 0.5, np.float32)))
+    return pairs
+
+
+def test_gpu_hdr_flip_equals_flip_evaluator(ctx, rng):
+    """gpu_hdr_flip against flip-evaluator's HDR mode (metrics.hdr_flip): within the metric's
+    registered tolerance on every pair. Measured on llvmpipe: at most 3e-7 apart."""
+    pairs = hdr_pairs(ctx, rng)
+    assert len(pairs) >= 8
+    tolerance = metrics.get("hdr_flip").tolerance
+    for reference, test in pairs:
+        expected = metrics.hdr_flip(reference, test)
+        got = metrics.gpu_hdr_flip(ctx, ctx.upload(reference), ctx.upload(test))
+        assert got == pytest.approx(expected, abs=tolerance)
+
+
+def test_gpu_hdr_flip_of_identical_images_is_zero_and_ranges_agree(ctx, rng):
+    image = (rng.random((30, 40, 4)) * 20).astype(np.float32)
+    texture = ctx.upload(image)
+    assert metrics.gpu_hdr_flip(ctx, texture, texture) == 0.0
+    other = ctx.upload(np.clip(image * 1.5, 0, None))
+    passed = metrics.gpu_hdr_flip(
+        ctx, texture, other, exposure_range=metrics.flip_exposure_range(image)
+    )
+    assert passed == metrics.gpu_hdr_flip(ctx, texture, other)
+
+
+def test_hdr_flip_exposures_are_flip_evaluators_count():
+    assert metrics.hdr_flip_exposures(-3.0, 2.5) == pytest.approx(
+        [-3.0 + i * 5.5 / 5 for i in range(6)]
+    )
+    assert metrics.hdr_flip_exposures(0.0, 0.0) == [0.0, 0.0]  # at least two
+
+
+def test_gpu_hdr_flip_refuses_what_it_cannot_compare(ctx):
+    a, b = ctx.upload(np.zeros((8, 8, 4), np.float32)), ctx.upload(np.zeros((8, 9, 4), np.float32))
+    with pytest.raises(ValueError, match="gpu_hdr_flip"):
+        metrics.gpu_hdr_flip(ctx, a, b)
+    with pytest.raises(ValueError, match="finite"):
+        metrics.gpu_hdr_flip(ctx, a, a, exposure_range=(0.0, float("nan")))

@@ -10,8 +10,10 @@ that names the record, and the region's body is generated from it:
 
 Values are HTML-escaped where they hold a quote (`&quot;`). `figures=` picks figures by
 name; `table=` picks a table by name instead, with optional `columns=` (names, "; "-separated)
-and `rows=` (the first n). A record is found by its benchmark, device and image size, the key
-under which `blurlab bench --record` keeps the latest one.
+and `rows=` (the first n). A record is found by its benchmark, device and image size, and by
+the values of the benchmark's variant parameters (the study's mode): the key under which
+`blurlab bench --record` keeps the latest one. `where="mode=--sequence"` ("; "-separated
+name=value pairs) picks a variant; without it, each variant parameter has its default.
 
 A method's specification lives in its folder (python/blurlab/methods/<name>/spec.md); the
 docs' spec shows it in a region that names the method, generated from that file:
@@ -37,6 +39,9 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 RECORDS = ROOT / "benchmarks" / "records.jsonl"
 sys.path.insert(0, str(ROOT / "benchmarks"))  # the checkout's development package
+from blurlab_bench.core import benchmark as registered  # noqa: E402
+from blurlab_bench.core import names as registered_names  # noqa: E402
+from blurlab_bench.core import variant_values  # noqa: E402
 from blurlab_bench.report import cell, heading  # noqa: E402 (cells as docs/benchmarks.md writes them)
 
 REGION = re.compile(
@@ -50,20 +55,34 @@ METHOD_REGION = re.compile(
 )
 METHODS = ROOT / "python" / "blurlab" / "methods"
 OPTION = re.compile(r'(\w+)="([^"]*)"')
-KNOWN = {"benchmark", "device", "size", "figures", "table", "columns", "rows"}
+KNOWN = {"benchmark", "device", "size", "figures", "table", "columns", "rows", "where"}
 
 
 def read_records(path: Path = RECORDS) -> list[dict]:
     return [json.loads(line) for line in path.read_text().splitlines() if line.strip()]
 
 
-def find_record(records: list[dict], benchmark: str, device: str, size: str) -> dict:
+def find_record(
+    records: list[dict], benchmark: str, device: str, size: str, where: str = ""
+) -> dict:
+    # a benchmark no longer registered keeps its records, without variants
+    variants = registered(benchmark).variants if benchmark in registered_names() else ()
+    wanted = {v: registered(benchmark).params[v].default for v in variants}
+    for pair in _names(where):
+        name, _, value = pair.partition("=")
+        if name.strip() not in wanted:
+            raise ValueError(
+                f"where={where!r}: {benchmark} has the variant parameters {sorted(wanted)}"
+            )
+        wanted[name.strip()] = value.strip()
+    variant = tuple(str(v) for v in wanted.values())
     found = [
         r
         for r in records
         if r["benchmark"] == benchmark
         and r["device"] == device
         and str(r["params"].get("size", "")) == size
+        and tuple(str(v) for v in variant_values(r)) == variant
     ]
     if not found:
         held = sorted(
@@ -95,7 +114,9 @@ def region_markdown(options: dict, records: list[dict]) -> str:
             f"a record region takes {sorted(KNOWN)}, of which benchmark, device and size are "
             f"required; not {sorted(options)}"
         )
-    record = find_record(records, options["benchmark"], options["device"], options["size"])
+    record = find_record(
+        records, options["benchmark"], options["device"], options["size"], options.get("where", "")
+    )
     source = (
         f"*The `{record['benchmark']}` record: {record['device']}, "
         + (f"{options['size']}, " if options["size"] else "")

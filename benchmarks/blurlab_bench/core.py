@@ -109,8 +109,15 @@ class Benchmark:
     sizes: dict[str, tuple[int, int]] | None = None
     presets: dict[str, dict] = field(default_factory=dict)
     needs: tuple[str, ...] = ()
+    # parameters that say which variant a record measures: each value keeps a record of its own
+    variants: tuple[str, ...] = ()
 
     def __post_init__(self):
+        unknown = [v for v in self.variants if v not in self.params]
+        if unknown:
+            raise ValueError(
+                f"blurlab: benchmark {self.name}: variants {unknown} are not parameters"
+            )
         for preset, values in self.presets.items():
             if preset not in PRESETS:
                 raise ValueError(f"blurlab: benchmark {self.name}: no preset {preset!r}")
@@ -325,8 +332,23 @@ def read_records(path: Path | str = RECORDS) -> list[dict]:
 
 def record_key(record: dict) -> tuple:
     """What a record stands for, one record each in the records file: its benchmark, its
-    device and its image size (a benchmark measured at two sizes on one device keeps both)."""
-    return record["benchmark"], record["device"], str(record["params"].get("size", ""))
+    device, its image size (a benchmark measured at two sizes on one device keeps both) and
+    the values of the benchmark's `variants` (the study's mode keeps a record of each mode)."""
+    return (
+        record["benchmark"],
+        record["device"],
+        str(record["params"].get("size", "")),
+        *(str(v) for v in variant_values(record)),
+    )
+
+
+def variant_values(record: dict) -> tuple:
+    """The values of the record's benchmark's `variants` (a parameter the record lacks has its
+    default: records older than the variant measured it)."""
+    bench = _REGISTRY.get(record["benchmark"])
+    if bench is None:
+        return ()
+    return tuple(record["params"].get(v, bench.params[v].default) for v in bench.variants)
 
 
 def write_records(records: list[dict], path: Path | str = RECORDS) -> None:

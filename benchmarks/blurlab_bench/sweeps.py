@@ -235,12 +235,13 @@ register(
             "mode": Param(
                 "",
                 str,
-                "the study's mode flags, e.g. '--sequence' or '--random 100' (a record of a mode "
-                "replaces the default's: one record per device and size)",
+                "the study's mode flags, e.g. '--sequence' or '--random 100' (each mode keeps a "
+                "record of its own, with its scenes)",
             ),
         },
         _study,
         {"tiny": (48, 27), "software": (160, 90), "gpu": (1920, 1080)},
         {"tiny": {"scenes": "fan"}, "software": {"scenes": "teapot_pass,fan"}},
+        variants=("mode", "scenes"),
     )
 )

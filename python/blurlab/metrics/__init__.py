@@ -8,15 +8,23 @@ linear colour clipped to [0, 1], error maps, flicker, tile-border error); `reduc
 squared error and SSIM reduced on the GPU (`gpu_mse`, `gpu_ssim`, `gpu_mse_ssim`,
 `prepare_reference`); `flip_gpu`, LDR-FLIP on the GPU (`gpu_flip`); `queue`, GPU metrics
 issued now and read later (`MetricQueue`, `MetricBatches`, docs/spec.md §6.3); `hdr`, the
-unclipped metrics of HDR scenes (docs/spec.md §6.2: `hdr_flip`, `psnr_tm`, `ssim_tm`,
-`log_luminance_error`, `energy_ratio`, `hdr_scores`); `temporal`, metrics of sequences
+unclipped metrics of HDR scenes (docs/spec.md §6.2: `hdr_flip` and `gpu_hdr_flip`, `psnr_tm`,
+`ssim_tm`, `log_luminance_error`, `energy_ratio`, `hdr_scores`); `temporal`, metrics of sequences
 (docs/spec.md §21.3: `temporal_instability`, `per_frame`); `perceptual`, FovVideoVDP on
 sequences where the optional extra `blurlab[perceptual]` is installed.
 """
 
 # The import order is the registry's: the order of the metrics' columns in sweep tables.
 # isort: off
-from .registry import Metric, REDUCTIONS, REFERENCES, check_names, cpu_scores, default_names
+from .registry import (
+    Metric,
+    REDUCTIONS,
+    REFERENCES,
+    check_names,
+    cpu_scores,
+    default_names,
+    gpu_scores,
+)
 from .registry import get, reference_page, register, registered, unregister
 from .reductions import (
     PREPARED_SSIM_LAYOUT,
@@ -51,6 +59,8 @@ from .hdr import (
     energy_ratio,
     exposure,
     flip_exposure_range,
+    hdr_flip_exposures,
+    gpu_hdr_flip,
     hdr_flip,
     hdr_scores,
     log_luminance_error,
@@ -69,6 +79,7 @@ __all__ = [
     "issue_reductions",
     "default_names",
     "cpu_scores",
+    "gpu_scores",
     "check_names",
     "ACES",
     "FLIP_TARGET",
@@ -91,8 +102,10 @@ __all__ = [
     "flicker",
     "flip",
     "flip_exposure_range",
+    "hdr_flip_exposures",
     "get",
     "gpu_flip",
+    "gpu_hdr_flip",
     "gpu_flip_map",
     "gpu_mse",
     "gpu_pair_instability",

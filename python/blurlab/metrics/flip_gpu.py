@@ -1,6 +1,7 @@
 """LDR-FLIP on the GPU (docs/spec.md §6.1): `gpu_flip` and `gpu_flip_map`, two compute passes
 whose kernels and constants come from the NumPy twin (blurlab.twins.flip), compiled once per
-context and pixels per degree.
+context and pixels per degree. HDR-FLIP (blurlab.metrics.gpu_hdr_flip, §6.2) runs them once
+per exposure.
 """
 
 from __future__ import annotations

@@ -11,7 +11,10 @@ import math
 import numpy as np
 
 from ..io.images import linear_to_srgb
+from ..twins import flip as flip_twin
+from .flip_gpu import flip_mean, flip_textures
 from .ldr import LUMINANCE, check_same_shape, psnr, rgb, ssim
+from .reductions import check_same_size
 from .registry import Metric, get, register, registered
 
 # Reinhard et al. 2002, eq. 1: the log-average luminance uses δ against log(0), and the key
@@ -142,6 +145,74 @@ def hdr_flip(reference, test) -> float:
     return float(mean)
 
 
+def hdr_flip_exposures(start: float, stop: float) -> list[float]:
+    """HDR-FLIP's exposures in stops, as flip-evaluator takes them when it is given only the
+    range: max(2, ceil(stop - start)) of them, evenly spaced from start to stop."""
+    count = max(2, math.ceil(stop - start))
+    step = (stop - start) / (count - 1)
+    return [start + i * step for i in range(count)]
+
+
+def _hdr_flip_passes(ctx):
+    """HDR-FLIP's tone-mapping pass and its running maximum, compiled once per context."""
+    return ctx.cached(
+        ("gpu_hdr_flip",),
+        lambda: (
+            ctx.shader_pass("passes/hdr_flip_tonemap.comp"),
+            ctx.shader_pass("passes/hdr_flip_worst.comp"),
+        ),
+    )
+
+
+def gpu_hdr_flip(
+    ctx, reference, test, ppd: float = flip_twin.DEFAULT_PPD, exposure_range=None
+) -> float:
+    """Mean HDR-FLIP error (Andersson et al. 2021; docs/spec.md §6.2) of two (H, W, 4) float32
+    textures of linear HDR colour, computed on the GPU: at each exposure of
+    `hdr_flip_exposures(*exposure_range)` both images are tone-mapped by the ACES fit, LDR-FLIP
+    compares them, and each pixel keeps its largest error. `exposure_range`: (start, stop) in
+    stops, by default blurlab.metrics.flip_exposure_range of the reference (which reads the
+    reference back; a caller that holds it on the host passes the range instead). Matches
+    flip-evaluator's "HDR" mode (tests/test_flip_gpu.py)."""
+    check_same_size(reference, test, "gpu_hdr_flip")
+    if reference.channels < 3 or test.channels < 3:
+        raise ValueError("blurlab.metrics.gpu_hdr_flip: the images need RGB channels")
+    if exposure_range is None:
+        exposure_range = flip_exposure_range(reference.download())
+    start, stop = (float(v) for v in exposure_range)
+    if not (math.isfinite(start) and math.isfinite(stop)):
+        raise ValueError(
+            f"blurlab.metrics.gpu_hdr_flip: the exposure range must be finite, not {exposure_range}"
+        )
+    tonemap, keep_worst = _hdr_flip_passes(ctx)
+    height, width = reference.shape[:2]
+    ldr = [ctx.pooled((height, width, 4)) for _ in range(2)]
+    worst = ctx.pooled((height, width))
+    partials = None
+    k0, k1, k3, k4, k5 = ACES
+    for i, exposure in enumerate(hdr_flip_exposures(start, stop)):
+        tonemap.run(
+            {"reference": reference, "test": test},
+            {"reference_ldr": ldr[0], "test_ldr": ldr[1]},
+            {
+                "exposure_scale": 2.0**exposure,
+                "numerator": (k0, k1, 0.0),
+                "denominator": (k3, k4, k5),
+            },
+        )
+        error, exposure_partials = flip_textures(ctx, ldr[0], ldr[1], ppd)
+        if partials is None:
+            partials = exposure_partials
+        else:
+            ctx.recycle(exposure_partials)
+        keep_worst.run(
+            {"error": error}, {"worst": worst, "partials": partials}, {"first": int(i == 0)}
+        )
+        ctx.recycle(error)
+    ctx.recycle(*ldr, worst)
+    return flip_mean(ctx, partials, reference.shape)
+
+
 def _register_hdr(name: str, function, doc: str, label: str, higher_is_better, **more) -> None:
     register(
         Metric(
@@ -185,6 +256,8 @@ _register_hdr(
     "HDR-FLIP",
     False,
     range=(0.0, 1.0),
+    gpu=gpu_hdr_flip,
+    tolerance=1e-4,
 )
 _register_hdr(
     "log_lum_error",

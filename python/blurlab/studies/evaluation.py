@@ -178,12 +178,18 @@ def evaluate_scene(
         kept_as = picture_key(name, point)
         if kept_as in cache.get("keep_colours", ()):
             cache.setdefault("colours", {})[kept_as] = result.color
-        on_cpu = [metric.name for metric in chosen if metric.reduction is None]
+        unbatched = [metric for metric in chosen if metric.reduction is None]
+        # Those with a GPU version run on the textures, read back at once; the rest on the CPU.
+        on_gpu = [metric.name for metric in unbatched if metric.gpu is not None]
+        on_cpu = [metric.name for metric in unbatched if metric.gpu is None]
+        if on_gpu:
+            textures = {kind: ref.texture for kind, ref in references.items()}
+            row.update(m.gpu_scores(ctx, on_gpu, textures, color))
         if on_cpu:  # from the images read back
             colours = {kind: ref.color for kind, ref in references.items()}
             row.update(m.cpu_scores(on_cpu, colours, result.color))
-            if any(m.get(n).hdr for n in on_cpu):  # the one psnr_tm, ssim_tm and pictures use
-                row["exposure"] = m.exposure(reference.color)
+        if any(metric.hdr for metric in unbatched):  # the one psnr_tm, ssim_tm, pictures use
+            row["exposure"] = m.exposure(reference.color)
         row.update(
             {
                 "device": info["device"],
