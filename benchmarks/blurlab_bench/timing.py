@@ -58,11 +58,13 @@ def back_to_back_ms(ctx, call, calls: int = 50, busy_ms: float = 20.0) -> float:
     """GPU ms per `call()` over `calls` calls issued in a row while the GPU is still busy with
     earlier work, so that it never waits for the CPU between them: one GL timer query around
     the calls. Per-pass timers each hold a pass's ramp-up and drain; a timer around a lone call
-    also holds the gaps where the GPU waited for Python. The busy work lasts at least
-    `busy_ms`, and longer than the CPU takes to issue the calls (measured first): a method of
-    many passes costs Python more than its GPU time, and with 20 ms alone the GPU ran dry
-    and the timer counted Python. On a wall clock (llvmpipe) there is nothing to overlap: the
-    calls are timed as they run."""
+    also holds the gaps where the GPU waited for Python. The busy work is sized to last at
+    least `busy_ms` and longer than the CPU takes to issue the calls (measured first). It can
+    run ahead of them by no more than the context's passes in flight (32, docs/spec.md §6.3),
+    though: where a call's passes take Python longer to issue than the GPU to run (a run that
+    is not replayed as a plan), the GPU still waits and the figure is Python's issue rate
+    (docs/engines.md). On a wall clock (llvmpipe) there is nothing to overlap: the calls are
+    timed as they run."""
     spin_up(ctx, call)  # compiled, pooled, planned and the clocks up before the clock
     if gpu_clock(ctx):
         ctx.finish()
