@@ -297,3 +297,32 @@ def test_hdr_scores_names_its_metrics_and_the_exposure():
 def test_the_failure_suite_measures_hdr_scenes_with_the_hdr_metrics(ctx):
     table = failures.evaluate(ctx, ["spinning_ring"], [GATHER], SIZE, 2, 16, False)
     assert np.isfinite(table[["hdr_flip", "psnr_tm", "energy_ratio", "exposure"]].to_numpy()).all()
+
+
+def test_a_sweep_takes_hdr_flips_exposure_range_once_per_reference(ctx, monkeypatch):
+    """HDR-FLIP runs on the GPU in sweeps; its exposure range (a median over the reference's
+    pixels) is made once per reference, not once per evaluation."""
+    made = []
+    exposure_range = metrics.hdr.flip_exposure_range
+
+    def counted(reference):
+        made.append(reference.shape)
+        return exposure_range(reference)
+
+    monkeypatch.setattr(metrics.hdr, "flip_exposure_range", counted)
+    grid = {GATHER: {"taps": [4, 8, 16]}}
+    table = bl.sweep(
+        ctx, ["spinning_ring"], grid, SIZE, reference_samples=16, metrics=("hdr_flip",)
+    )
+    assert len(table) == 3 and len(made) == 1
+    with pytest.raises(TypeError, match="gpu_arguments is a callable, given with gpu"):
+        metrics.Metric(
+            name="x",
+            doc="d",
+            spec="§6",
+            higher_is_better=True,
+            range=(0, 1),
+            numpy=abs,
+            label="x",
+            gpu_arguments=lambda reference: {},
+        )

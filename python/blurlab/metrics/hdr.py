@@ -257,6 +257,7 @@ _register_hdr(
     False,
     range=(0.0, 1.0),
     gpu=gpu_hdr_flip,
+    gpu_arguments=lambda reference: {"exposure_range": flip_exposure_range(reference)},
     tolerance=1e-4,
 )
 _register_hdr(

@@ -46,6 +46,9 @@ class Metric:
     hdr: bool = False  # True: unclipped linear colour (docs/spec.md §6.2); False: clipped to [0, 1]
     reference: str = "temporal"  # one of REFERENCES
     gpu: Callable | None = None
+    # `gpu`'s keyword arguments that depend on the reference alone, from its host colour: a
+    # sweep makes them once per reference, not once per evaluation (HDR-FLIP's exposure range)
+    gpu_arguments: Callable[[np.ndarray], dict] | None = None
     reduction: str | None = None  # one of REDUCTIONS, for a sweep's batched GPU read-back
     from_reduction: Callable[[float], float] | None = None  # None: the reduction's value itself
     tolerance: float = 0.0  # |gpu - numpy| allowed, in the metric's unit
@@ -75,6 +78,10 @@ class Metric:
             raise ValueError(f"{where}: reduction must be None or one of {REDUCTIONS}")
         if not callable(self.numpy) or (self.gpu is not None and not callable(self.gpu)):
             raise TypeError(f"{where}: numpy (and gpu, if given) must be callable")
+        if self.gpu_arguments is not None and (
+            self.gpu is None or not callable(self.gpu_arguments)
+        ):
+            raise TypeError(f"{where}: gpu_arguments is a callable, given with gpu")
 
     @property
     def direction(self) -> str:
@@ -197,13 +204,22 @@ def cpu_scores(
 
 
 def gpu_scores(
-    ctx, names: Iterable[str], references: Mapping[str, object], test
+    ctx,
+    names: Iterable[str],
+    references: Mapping[str, object],
+    test,
+    arguments: Callable[[str], dict] | None = None,
 ) -> dict[str, float]:
     """{name: value} of the metrics `names` computed with their GPU implementations, read back
     at once: `references` maps each reference kind the metrics need to its texture, `test` is
-    a texture. For a metric with no batched reduction whose GPU version spares the CPU (HDR-FLIP
-    at 1080p took seconds an evaluation on the CPU)."""
-    return {n: float(get(n).gpu(ctx, references[get(n).reference], test)) for n in names}
+    a texture, `arguments(name)` the metric's `gpu_arguments` of its reference where the
+    caller made them (else `gpu` derives what it needs). For a metric with no batched
+    reduction whose GPU version spares the CPU (HDR-FLIP at 1080p took seconds an evaluation
+    on the CPU)."""
+    given = arguments or (lambda name: {})
+    return {
+        n: float(get(n).gpu(ctx, references[get(n).reference], test, **given(n))) for n in names
+    }
 
 
 def _number(value: float) -> str:

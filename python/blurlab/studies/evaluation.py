@@ -184,7 +184,8 @@ def evaluate_scene(
         on_cpu = [metric.name for metric in unbatched if metric.gpu is None]
         if on_gpu:
             textures = {kind: ref.texture for kind, ref in references.items()}
-            row.update(m.gpu_scores(ctx, on_gpu, textures, color))
+            arguments = lambda n, refs=references: _gpu_arguments(refs, cache, n)  # noqa: E731
+            row.update(m.gpu_scores(ctx, on_gpu, textures, color, arguments))
         if on_cpu:  # from the images read back
             colours = {kind: ref.color for kind, ref in references.items()}
             row.update(m.cpu_scores(on_cpu, colours, result.color))
@@ -321,6 +322,19 @@ def _prepared_reference(ctx, reference, cache: dict, kind: str) -> m.PreparedRef
         if held is not None:
             held[1].release()
         held = prepared[kind] = (reference, m.prepare_reference(ctx, reference.texture))
+    return held[1]
+
+
+def _gpu_arguments(references: dict, cache: dict, name: str) -> dict:
+    """Metric `name`'s gpu_arguments of its reference, made once per reference the scene's
+    cache holds (kept beside it, so that a new reference gets them anew)."""
+    metric = m.get(name)
+    reference = references[metric.reference]
+    made = cache.setdefault("gpu_arguments", {})
+    held = made.get(name)
+    if held is None or held[0] is not reference:
+        arguments = metric.gpu_arguments(reference.color) if metric.gpu_arguments else {}
+        held = made[name] = (reference, arguments)
     return held[1]
 
 
