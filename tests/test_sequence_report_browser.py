@@ -4,6 +4,7 @@ loaded and looping, no console error, nothing asked of the network."""
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import pytest
@@ -37,3 +38,13 @@ def test_the_sequence_report_works_in_a_browser(report, tmp_path):
     for src, _ in images:
         with Image.open(report.parent / src) as animation:
             assert animation.n_frames > 1 and animation.info.get("loop") == 0
+
+
+def test_the_sequence_study_writes_its_phases(report):
+    """phases.json: each phase the sequence study times, every one of them taken, and the
+    evaluations written (the report fixture ran the command)."""
+    timing = json.loads((report.parent / "phases.json").read_text())
+    assert list(timing["phases_s"]) == ["sequences", "runs", "animations", "html"]
+    assert all(seconds > 0 for seconds in timing["phases_s"].values())
+    assert timing["size"] == [32, 18] and timing["evaluations"] > 0
+    assert set(timing["phases"]) == set(timing["phases_s"])

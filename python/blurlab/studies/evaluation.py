@@ -12,12 +12,14 @@ import statistics
 import time
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
+from pathlib import Path
 
 from .. import metrics as m
 from .._core import StaleReadback
 from ..core.context import Context
 from ..core.references import default_reference_samples
 from ..core.render import check_shutter
+from ..io import images as io
 from ..methods import blur_steps, method_instant, render_steps
 from ..scene.model import Scene
 
@@ -267,6 +269,24 @@ class PhaseClock:
 
     def total(self) -> float:
         return time.perf_counter() - self.start
+
+
+def write_phases(
+    out: Path, clock: PhaseClock, descriptions: dict, info: dict, size, rows: int, **more
+) -> None:
+    """A study's phases.json in folder `out`: its size, renderer (`info`, the context's),
+    evaluations (`rows`), total and per-phase seconds with what each phase counts
+    (`descriptions`), and `more`."""
+    timing = {
+        "size": [int(size[0]), int(size[1])],
+        "renderer": info["renderer"],
+        "evaluations": rows,
+        "total_s": clock.total(),
+        "phases_s": clock.seconds,
+        "phases": {k: descriptions[k] for k in clock.seconds},
+        **more,
+    }
+    io.write_text(Path(out) / "phases.json", json.dumps(timing, indent=1) + "\n")
 
 
 def phase_lines(clock: PhaseClock, title: str = "study") -> str:

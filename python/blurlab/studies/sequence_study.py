@@ -8,7 +8,6 @@ from __future__ import annotations
 import concurrent.futures
 import datetime
 import html
-import json
 import os
 from pathlib import Path
 
@@ -21,7 +20,7 @@ from ..scene import scenes
 from ..sizes import DEFAULT_SIZE
 from ..temporal.sequences import ORDERS
 from . import interactive, temporal
-from .evaluation import PhaseClock, phase_lines
+from .evaluation import PhaseClock, phase_lines, write_phases
 
 ANIMATED_ORDER = "blur_then_taa"  # the order every method takes, the one the animations show
 WORST_FRAMES = 6
@@ -95,15 +94,7 @@ def run_sequence_study(
         summary = temporal.orders_summary(table)
         page = _html(ctx.info(), size, fps, frames, warmup, table, summary, animations)
         report = io.write_text(out / "sequence.html", page)
-    timing = {
-        "size": [int(size[0]), int(size[1])],
-        "renderer": ctx.info()["renderer"],
-        "evaluations": len(table),
-        "total_s": clock.total(),
-        "phases_s": clock.seconds,
-        "phases": {k: PHASES[k] for k in clock.seconds},
-    }
-    io.write_text(out / "phases.json", json.dumps(timing, indent=1) + "\n")
+    write_phases(out, clock, PHASES, ctx.info(), size, len(table))
     if progress:
         print(phase_lines(clock, "study --sequence"))
     return report

@@ -9,7 +9,6 @@ import dataclasses
 import datetime
 import functools
 import html
-import json
 import os
 import re
 import sys
@@ -29,7 +28,7 @@ from ..scene import scenes
 from ..sizes import DEFAULT_SIZE
 from . import comparator, interactive, objects, peers, plots, rankings, transparency, workers
 from .cluster import account_table
-from .evaluation import SETUP_PHASES, PhaseClock, phase_lines, picture_key
+from .evaluation import SETUP_PHASES, PhaseClock, phase_lines, picture_key, write_phases
 from .sweep import default_grids, middle_point, sweep
 
 BUDGETS_MS = (0.1, 1.0, 10.0, 100.0)
@@ -184,17 +183,8 @@ def run_study(
         with clock("html"):
             report = _html(info, size, table, sections, curves, per_object, peer_rows, clock)
             path = io.write_text(out / "report.html", report)
-        timing = {
-            "size": [int(size[0]), int(size[1])],
-            "renderer": info["renderer"],
-            "evaluations": len(table),
-            "total_s": clock.total(),
-            "phases_s": clock.seconds,
-            "phases": {k: PHASES[k] for k in clock.seconds},
-        }
-        if worker_accounts is not None:
-            timing["workers"] = worker_accounts
-        io.write_text(out / "phases.json", json.dumps(timing, indent=1) + "\n")
+        workers = {} if worker_accounts is None else {"workers": worker_accounts}
+        write_phases(out, clock, PHASES, info, size, len(table), **workers)
         if progress:
             print(phase_lines(clock))
             if worker_accounts is not None:
