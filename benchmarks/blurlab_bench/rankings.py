@@ -5,6 +5,7 @@ comparisons of the top three, and which method wins where over two scene feature
 
 from __future__ import annotations
 
+import contextlib
 import time
 
 import pandas as pd
@@ -37,15 +38,22 @@ def ranked_sweep(ctx, names, size, p) -> pd.DataFrame:
     return scenes.with_features(ctx, table, [scenes.get(n) for n in names], size)
 
 
-def sweep_on_workers(ctx, workers: int, **arguments) -> pd.DataFrame:
-    """bl.sweep(**arguments) on `ctx` (workers = 0) or on a local cluster of that many Dask
-    workers of ctx's kind of device (on GPUs worker i takes GPU i modulo their count, so
-    several may share one, filling the time one process leaves it idle while building draws
-    and reading metrics back)."""
+@contextlib.contextmanager
+def workers_of(ctx, workers: int):
+    """A local cluster of `workers` Dask workers of ctx's kind of device, or None for 0 (on
+    GPUs worker i takes GPU i modulo their count, so several may share one, filling the time
+    one process leaves it idle while building draws and reading metrics back)."""
     if not workers:
-        return sweep(ctx, **arguments)
+        yield None
+        return
     with local_cluster(workers, ctx.info()["device"]) as cluster:
-        return sweep(None, cluster=cluster, **arguments)
+        yield cluster
+
+
+def sweep_on_workers(ctx, workers: int, **arguments) -> pd.DataFrame:
+    """bl.sweep(**arguments) on `ctx` (workers = 0) or on `workers_of(ctx, workers)`."""
+    with workers_of(ctx, workers) as cluster:
+        return sweep(ctx if cluster is None else None, cluster=cluster, **arguments)
 
 
 def _rankings(ctx, size, p, out) -> None:

@@ -6,18 +6,17 @@ version, preset and hash in the record)."""
 
 from __future__ import annotations
 
-import contextlib
 import tempfile
 from pathlib import Path
 
 from blurlab.methods.params import Param
 from blurlab.metrics import get
-from blurlab.studies.cluster_devices import local_cluster
 from blurlab.suite import categories, run_suite
 from blurlab.suite.definition import PRESETS
 
 from .core import Benchmark, register
 from .quality import ASSETS
+from .rankings import workers_of
 from .timing import split
 
 IDENTITY_TABLE = "suite identity: version, preset and content hash"
@@ -33,14 +32,11 @@ def category_table_name(name: str, primary: str) -> str:
 
 def _suite(ctx, size, p, out) -> None:
     assets = Path(p["assets"]) if p["assets"] else (ASSETS if ASSETS.is_dir() else None)
-    # Workers share this device: they fill the time one process leaves it idle while it builds
-    # draws and reads rows back (the single-frame categories; sequences run on ctx).
-    workers = (
-        local_cluster(p["workers"], ctx.info()["device"])
-        if p["workers"]
-        else contextlib.nullcontext()
-    )
-    with tempfile.TemporaryDirectory(prefix="blurlab-suite-") as scratch, workers as cluster:
+    # The workers share this device in the single-frame categories; sequences run on ctx.
+    with (
+        tempfile.TemporaryDirectory(prefix="blurlab-suite-") as scratch,
+        workers_of(ctx, p["workers"]) as cluster,
+    ):
         card = run_suite(
             ctx,
             Path(p["out"]) if p["out"] else Path(scratch),
