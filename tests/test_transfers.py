@@ -160,3 +160,28 @@ def test_a_translucent_frame_from_arrays_blurs_as_the_rendered_one(ctx, transluc
         expected = bl.blur(ctx, rendered, FILTER, translucency=translucency)
         got = bl.blur(ctx, arrays, FILTER, translucency=translucency)
     assert (got.color == expected.color).all()
+
+
+def test_transparency_evaluations_download_only_the_pictured_images(ctx, monkeypatch):
+    """The four-approach table scores every (method, approach) on the GPU: the only images
+    read back are the pictured method's, one per approach, and the reference for the picture;
+    a reference made before is reused."""
+    from blurlab.studies import transparency
+
+    methods = [FILTER, GATHER]
+    reference = ctx.reference(bl.scenes.get("moving_glass"), SIZE, samples=8, antialias=True)
+    shown: dict = {}
+    monkeypatch.setattr(Context, "reference", lambda *a, **k: pytest.fail("made it again"))
+    with counted(monkeypatch) as counts:
+        table = transparency.evaluate(
+            ctx, ["moving_glass"], methods, SIZE, 8, shown, {"moving_glass": reference}
+        )
+    assert len(table) == len(methods) * len(transparency.APPROACHES)
+    assert counts["download"] == len(transparency.APPROACHES) + 1, counts
+    assert counts["upload"] == 0, counts
+    assert table["psnr"].between(5, 80).all() and table["flip"].between(0, 1).all()
+    pictured, _, images = shown["moving_glass"]
+    row = table[(table["method"] == pictured) & (table["translucency"] == "layered")]
+    assert row["psnr"].iloc[0] == pytest.approx(
+        bl.metrics.psnr(images["layered"], reference.color), abs=1e-4
+    )

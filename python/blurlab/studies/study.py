@@ -364,7 +364,9 @@ def _scene_section(
         "chart": chart,
         "gallery": gallery
         + look
-        + transparency.report(ctx, scene, grids, size, out, work, clock, samples),
+        + transparency.report(
+            ctx, scene, grids, size, out, work, clock, samples, cache.get("reference_aa")
+        ),
         "reference_samples": int(rows["reference_samples"].iloc[0]),
         "rank": rank,
         "exposure": exposure,

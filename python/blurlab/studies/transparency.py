@@ -26,8 +26,8 @@ from . import plots
 APPROACHES = TRANSLUCENCY.kind
 # What the study's "transparency" phase counts (blurlab.studies.study.PHASES).
 REPORT_PHASE = (
-    "each transparency scene under the four ways to blur translucency (its own antialiased "
-    "reference, G-buffers and blurs)"
+    "each transparency scene under the four ways to blur translucency (its G-buffers, blurs "
+    "and GPU metrics; the sweep's antialiased reference, or its own where the sweep made none)"
 )
 
 
@@ -39,13 +39,24 @@ def single_frame_methods() -> list[str]:
 
 
 def evaluate(
-    ctx, scene_names=None, methods=None, size=(320, 180), reference_samples=None, shown=None
+    ctx,
+    scene_names=None,
+    methods=None,
+    size=(320, 180),
+    reference_samples=None,
+    shown=None,
+    references=None,
 ):
     """One row per (scene, method, approach): psnr and flip against the antialiased reference
     of the scene's shutter (N = reference_samples, or max(64, 2 x the longest motion)).
     `shown`: a dict that receives, per scene, the reference and the images of the method that
     blurs the translucent layer (the first method where it is not among `methods`) under each
-    approach, for pictures."""
+    approach, for pictures. `references`: {scene name: its antialiased Reference} already made
+    (a study's sweep makes them for psnr_aa, with the same options), used where its N is the
+    one asked for.
+
+    Both metrics are issued on the GPU and read back once per scene (a MetricQueue): nothing
+    but the scalars and the pictured method's images leaves the GPU."""
     rows = []
     methods = methods or single_frame_methods()
     pictured = translucent_layer_method()
@@ -53,9 +64,13 @@ def evaluate(
     for name in scene_names or scenes.names("transparency"):
         scene = scenes.get(name)
         n = reference_samples or default_reference_samples(ctx.render(scene, size))
-        reference = ctx.reference(scene, size, samples=n, antialias=True, progress=False)
+        reference = (references or {}).get(name)
+        if reference is None or reference.texture is None or reference.samples != n:
+            reference = ctx.reference(scene, size, samples=n, antialias=True, progress=False)
+        queue = metrics.MetricQueue(ctx)
         frames = {}
         images = {}
+        issued = []
         for method in methods:
             instant = method_instant(method)
             if instant not in frames:
@@ -64,16 +79,23 @@ def evaluate(
                 out = blur(ctx, frames[instant], method, timed=False, translucency=approach)
                 if method == pictured:
                     images[approach] = out.color
-                rows.append(
-                    {
-                        "scene": name,
-                        "method": method,
-                        "translucency": approach,
-                        "psnr": metrics.psnr(out.color, reference.color),
-                        "flip": metrics.gpu_flip(ctx, reference.texture, out.textures["color"]),
-                        "reference_samples": n,
-                    }
+                color = out.textures["color"]
+                issued.append(
+                    (method, approach, queue.mse(reference.texture, color))
+                    + (queue.flip(reference.texture, color),)
                 )
+        values = queue.read()
+        for method, approach, mse, flip in issued:
+            rows.append(
+                {
+                    "scene": name,
+                    "method": method,
+                    "translucency": approach,
+                    "psnr": metrics.psnr_from_mse(values[mse]),
+                    "flip": values[flip],
+                    "reference_samples": n,
+                }
+            )
         if shown is not None:
             shown[name] = (pictured, reference.color, images)
     return pd.DataFrame(rows)
@@ -142,19 +164,24 @@ def layer_error(ctx, shown: dict, size, reference_samples=None) -> pd.DataFrame:
     return pd.DataFrame(rows, columns=["scene", "psnr"])
 
 
-def report(ctx, scene, grids, size, out, work, clock, reference_samples=None) -> str:
+def report(
+    ctx, scene, grids, size, out, work, clock, reference_samples=None, reference=None
+) -> str:
     """The study's report on a transparency scene (bl.scenes.names("transparency"); "" for any
     other scene, or where `grids` has no one-frame method): each one-frame method of `grids` at
     its defaults under the four approaches, scored by evaluate (<scene>_transparency.csv), a
     table of their PSNR, and the reference beside the method that blurs the layer under each
     approach with |error| (<scene>_translucency.png, left encoding on `work`, the study's
-    ReportWork). Timed as the phase "transparency" of `clock`."""
+    ReportWork). Timed as the phase "transparency" of `clock`. `reference`: the scene's
+    antialiased reference where the sweep made one (used if its N is `reference_samples`)."""
     methods = [m for m in grids if m in single_frame_methods()]
     if scene.name not in scenes.names("transparency") or not methods:
         return ""
     shown: dict = {}
     with clock("transparency"):
-        table = evaluate(ctx, [scene.name], methods, size, reference_samples, shown)
+        table = evaluate(
+            ctx, [scene.name], methods, size, reference_samples, shown, {scene.name: reference}
+        )
     out = Path(out)
     table.to_csv(out / f"{scene.name}_transparency.csv", index=False)
     method, reference, images = shown[scene.name]
