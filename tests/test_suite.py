@@ -111,6 +111,21 @@ def test_tiny_card_for_a_method_folder_and_a_builtin_then_a_rerun(tmp_path):
     same_ms = {k: v for k, v in figures_of(card, True).items() if k[0] != "opaque"}
     assert {k: v for k, v in figures_of(second, True).items() if k[0] != "opaque"} == same_ms
 
+    # A card for one method with the field's rows taken from that card: nothing evaluated
+    # again, the same figures; a taken file's rows keep their keys (the next run resumes).
+    mine = ["suite", "run", "--preset", "tiny", "--methods", "my_tent", "--methods-from", "X"]
+    taken = blurlab(*mine, "--out", "mine", "--field-from", "card", cwd=tmp_path)
+    assert taken.returncode == 0, taken.stdout + taken.stderr
+    one = load_card(tmp_path / "mine")
+    assert one["run"]["rows_taken_from_field_card"] > 0
+    for rows in (tmp_path / "card" / "rows").iterdir():  # no row made anew
+        assert (tmp_path / "mine" / "rows" / rows.name).read_bytes() == rows.read_bytes()
+    assert one["suite"]["hash"] == card["suite"]["hash"]
+    mine_figures = {k: v for k, v in figures_of(second, True).items() if k[1] == "my_tent"}
+    assert figures_of(one, True) == mine_figures
+    refused = blurlab(*mine, "--out", "none", "--field-from", "nowhere", cwd=tmp_path)
+    assert refused.returncode != 0 and "no rows/ folder" in refused.stderr
+
     # compare: cards of one suite side by side; a card of another suite is refused.
     shutil.copytree(tmp_path / "card", tmp_path / "copy", ignore=shutil.ignore_patterns("rows"))
     tables = compare([tmp_path / "card", tmp_path / "copy"])

@@ -45,6 +45,7 @@ def _suite(ctx, size, p, out) -> None:
             assets=assets,
             cluster=cluster,
             pictures=False,
+            field_from=p["field_from"] or None,
         )
     suite = card["suite"]
     out.table(
@@ -75,6 +76,7 @@ def _suite(ctx, size, p, out) -> None:
     out.figure("methods", len(card["methods"]), "")
     out.figure("categories measured", measured, "")
     out.figure("suite run, wall", card["run"]["wall_s"], "s")
+    out.figure("rows resumed or taken from the field's card", card["run"]["resumed_rows"], "")
     for name, seconds in card["run"]["category_s"].items():
         out.figure(f"{name}, wall", seconds, "s")
 
@@ -94,6 +96,9 @@ register(
             "assets": Param("", str, "folder of the authored glTF files (empty: shared/assets)"),
             "out": Param("", str, "the card's folder, kept to resume (empty: a temporary one)"),
             "workers": Param(0, int, "local Dask workers (0: this process)", 0, 64),
+            "field_from": Param(
+                "", str, "an earlier card's folder whose matching rows are taken (empty: none)"
+            ),
         },
         _suite,
         presets={p: {"preset": p} for p in PRESETS},

@@ -44,6 +44,7 @@ def suite_command(args, cluster_of) -> int:
             captures=captures_of(
                 args.capture, args.reference, args.convention, args.shutter_fraction
             ),
+            field_from=args.field_from,
         )
     table = card_rows(card)
     if not table.empty:
@@ -93,6 +94,13 @@ def add_suite_command(sub, add_cluster_options) -> None:
         "without it that category is skipped",
     )
     run.add_argument("--out", required=True, help="the card's folder (rows are kept there)")
+    run.add_argument(
+        "--field-from",
+        metavar="CARD",
+        default=None,
+        help="the folder of an earlier card on this device: its rows are taken where their keys "
+        "match, so a card for a new method evaluates that method's rows only",
+    )
     add_capture_file_options(
         run.add_argument_group(
             "captured frames (docs/suite.md)",

@@ -27,7 +27,7 @@ from ..studies import comparator, identity, plots
 from ..studies.evaluation import REFERENCE_OPTIONS
 from ..studies.sweep import sweep, sweep_methods
 from ..version import __version__
-from . import captured, content, figures, page
+from . import captured, content, field_rows, figures, page
 from . import definition as d
 from .sequence_rows import run_sequences
 
@@ -69,6 +69,7 @@ def run_suite(
     progress: bool = False,
     pictures: bool = True,
     captures=None,
+    field_from=None,
 ) -> dict:
     """Runs the suite at `preset` for `methods` (default: every single-frame method registered)
     and writes OUT/card.json and OUT/card.html; returns the card. `assets`: the folder holding
@@ -76,7 +77,9 @@ def run_suite(
     says why). `cluster`: a Dask client, cluster or scheduler address for the single-frame
     categories (bl.sweep's `cluster`); `ctx` runs the sequences and the pictures.
     `captures`: blurlab.suite.captured.Capture of an engine's frames, scored as the captured
-    category (§24.1) where given."""
+    category (§24.1) where given. `field_from`: the folder of an earlier card whose rows are
+    taken where their keys match (blurlab.suite.field_rows), so that only the rows it lacks
+    (a new method's) are evaluated."""
     d.check_preset(preset)
     asked = check_methods(methods)
     field = builtin_methods()
@@ -90,6 +93,7 @@ def run_suite(
     captured_digests = captured.digests(captures) if captures else None
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
+    taken = field_rows.take_rows(out, field_from) if field_from is not None else 0
     suite = content.suite_identity(preset, captured_digests)
     definition = d.definition(preset)
     if captures:
@@ -148,6 +152,7 @@ def run_suite(
         "wall_s": round(time.perf_counter() - start, 3),
         "category_s": seconds,
         "resumed_rows": resumed,
+        "rows_taken_from_field_card": taken,
     }
     io.write_text(out / "card.json", json.dumps(card, indent=1, sort_keys=False) + "\n")
     io.write_text(out / "card.html", page.card_html(card, looks))

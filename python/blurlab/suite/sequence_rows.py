@@ -41,9 +41,16 @@ def _key(scene, scene_name: str, name: str, settings: dict, device: dict) -> str
 
 def _finished(path: Path) -> dict:
     """{key: entry} of the file's whole lines."""
-    done = {}
     if path.exists():
         drop_partial_line(path)  # so that the next line starts on a line of its own
+    return read_runs(path)
+
+
+def read_runs(path: Path) -> dict:
+    """{key: entry} of a sequence rows file's whole lines (none where it does not exist); the
+    file is only read."""
+    done = {}
+    if path.exists():
         for line in path.read_text().splitlines():
             try:
                 entry = json.loads(line)
@@ -54,11 +61,15 @@ def _finished(path: Path) -> dict:
     return done
 
 
+def run_line(entry: dict) -> str:
+    """A run's entry as its line of the rows file."""
+    return json.dumps(entry, sort_keys=True, separators=(",", ":")) + "\n"
+
+
 def _append(path: Path, entry: dict) -> None:
     """One write of one whole line: an interrupt leaves finished lines only."""
-    text = json.dumps(entry, sort_keys=True, separators=(",", ":")) + "\n"
     with path.open("ab", buffering=0) as f:
-        f.write(text.encode())
+        f.write(run_line(entry).encode())
 
 
 def run_sequences(ctx, category: d.Category, preset: str, names: list[str], path: Path):
