@@ -1,6 +1,7 @@
 """The perceptual_agreement benchmark (docs/temporal.md, "Do the metrics agree with a model of
 vision?"): how closely PSNR, FLIP and temporal instability rank the per-frame methods under TAA
-as FovVideoVDP does, Kendall's τ per sequence with a bootstrap interval over the sequences
+as a model of vision does (ColorVideoVDP or FovVideoVDP: the `model` parameter, a record for
+each), Kendall's τ per sequence with a bootstrap interval over the sequences
 (blurlab.studies.perceptual_agreement). Needs the optional extra blurlab[perceptual]."""
 
 from __future__ import annotations
@@ -8,12 +9,16 @@ from __future__ import annotations
 from blurlab.methods.params import Param
 from blurlab.studies import perceptual_agreement, temporal
 
-from .core import Benchmark, register
+from .core import Benchmark, Unavailable, register
 from .temporal import SEQUENCE_PARAMS, sequence_scenes
 from .timing import gallery_methods, split
 
 
 def _perceptual_agreement(ctx, size, p, out) -> None:
+    try:
+        model = perceptual_agreement.require(p["model"])
+    except ImportError as why:
+        raise Unavailable(str(why)) from None
     names = sequence_scenes(p["scenes"])
     methods = split(p["methods"]) or temporal.sequence_methods()
     table = perceptual_agreement.scores(
@@ -25,14 +30,15 @@ def _perceptual_agreement(ctx, size, p, out) -> None:
         p["warmup"],
         p["reference_samples"],
         p["fps"],
+        model.name,
     )
-    result = perceptual_agreement.agreement(table)
+    result = perceptual_agreement.agreement(table, model=model.name)
     out.figure("sequences", len(names), "")
     out.figure("methods ranked on each", len(methods), "")
     for row in result.itertuples():
-        out.figure(f"{row.metric}: Kendall τ with FovVideoVDP, mean", row.tau_mean, "")
+        out.figure(f"{row.metric}: Kendall τ with {model.label}, mean", row.tau_mean, "")
     out.table(
-        f"each metric's ranking of the methods under TAA against FovVideoVDP's: Kendall τ over "
+        f"each metric's ranking of the methods under TAA against {model.label}'s: Kendall τ over "
         f"{len(names)} sequences (mean, 95 % bootstrap interval, median, lowest) and the share "
         "of sequences where both name the same best method",
         [
@@ -59,9 +65,9 @@ def _perceptual_agreement(ctx, size, p, out) -> None:
             for r in result.itertuples()
         ],
     )
-    per_scene = perceptual_agreement.taus(table)
+    per_scene = perceptual_agreement.taus(table, model=model.name)
     out.table(
-        "Kendall τ with FovVideoVDP per sequence",
+        f"Kendall τ with {model.label} per sequence",
         [("scene", ""), *[(m, "") for m in per_scene.columns]],
         [[scene, *row.tolist()] for scene, row in per_scene.iterrows()],
     )
@@ -70,10 +76,11 @@ def _perceptual_agreement(ctx, size, p, out) -> None:
 register(
     Benchmark(
         "perceptual_agreement",
-        "how closely PSNR, FLIP and temporal instability rank the methods under TAA as "
-        "FovVideoVDP (a model of human vision) does: Kendall τ per sequence, with a bootstrap "
-        "interval over the built-in and failure scenes' sequences",
+        "how closely PSNR, FLIP and temporal instability rank the methods under TAA as a model "
+        "of human vision (ColorVideoVDP or FovVideoVDP) does: Kendall τ per sequence, with a "
+        "bootstrap interval over the built-in and failure scenes' sequences",
         {
+            "model": perceptual_agreement.MODEL,
             **SEQUENCE_PARAMS,
             "scenes": Param("", str, "comma-separated scenes (empty: built-in and failure)"),
             "fps": Param(60.0, float, "frame rate; the shutter is 180°", 1.0, 1000.0),
@@ -95,6 +102,6 @@ register(
             },
             "gpu": {"frames": 16, "warmup": 8, "reference_samples": 256},
         },
-        needs=("torch", "pyfvvdp"),
+        variants=("model",),
     )
 )

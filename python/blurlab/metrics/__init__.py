@@ -10,8 +10,8 @@ squared error and SSIM reduced on the GPU (`gpu_mse`, `gpu_ssim`, `gpu_mse_ssim`
 issued now and read later (`MetricQueue`, `MetricBatches`, docs/spec.md §6.3); `hdr`, the
 unclipped metrics of HDR scenes (docs/spec.md §6.2: `hdr_flip` and `gpu_hdr_flip`, `psnr_tm`,
 `ssim_tm`, `log_luminance_error`, `energy_ratio`, `hdr_scores`); `temporal`, metrics of sequences
-(docs/spec.md §21.3: `temporal_instability`, `per_frame`); `perceptual`, FovVideoVDP on
-sequences where the optional extra `blurlab[perceptual]` is installed.
+(docs/spec.md §21.3: `temporal_instability`, `per_frame`); `perceptual`, ColorVideoVDP and
+FovVideoVDP on sequences where the optional extra `blurlab[perceptual]` is installed.
 """
 
 # The import order is the registry's: the order of the metrics' columns in sweep tables.
@@ -70,7 +70,7 @@ from .hdr import (
     tone_map,
 )
 from .temporal import gpu_pair_instability, per_frame, temporal_instability
-from . import perceptual  # noqa: F401  (registers fovvideovdp where its extra is installed)
+from . import perceptual  # noqa: F401  (registers colorvideovdp and fovvideovdp where installed)
 
 # isort: on
 
