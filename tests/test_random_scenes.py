@@ -227,6 +227,7 @@ def test_features_need_a_rendered_frame():
 
 def test_study_over_random_scenes_carries_the_features(tmp_path, monkeypatch):
     monkeypatch.setattr(study, "default_grids", lambda: {pick(params=("taps",)): {"taps": [5]}})
+    monkeypatch.setattr(study, "RANDOM_SCENES_PICTURED", 1)  # the first pictured, not the next
     out = tmp_path / "study"
     argv = ["study", "--random", "2", "--seed", "4", "--size", "160x90"]
     assert cli.main([*argv, "--reference-samples", "16", "--out", str(out)]) == 0
@@ -235,6 +236,9 @@ def test_study_over_random_scenes_carries_the_features(tmp_path, monkeypatch):
     for column in bl.scenes.FEATURES:
         assert table[column].notna().all(), column
     assert (out / "report.html").is_file()
+    assert (out / "random_4_reference.png").is_file() and (out / "random_5_pareto.png").is_file()
+    assert not list(out.glob("random_5_*reference*")) and not list(out.glob("random_5_*error*"))
+    assert "study --scenes random:5</code> pictures this one" in (out / "report.html").read_text()
 
 
 def test_study_refuses_a_bad_seed():

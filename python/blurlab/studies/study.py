@@ -93,7 +93,11 @@ def run_study(
         # Per scene, what the sweep rendered and each method's picture (its grid's middle point):
         # the report shows the same, without rendering or blurring them again.
         shown = {picture_key(m, middle_point(g)) for m, g in grids.items()}
-        caches: dict = {scenes.get(item).name: {"keep_colours": shown} for item in names}
+        pictured = pictured_scenes(names)
+        caches: dict = {
+            scenes.get(item).name: {"keep_colours": shown if item in pictured else set()}
+            for item in names
+        }
         start = time.perf_counter()
         table = sweep(
             None if cluster is not None else ctx,
@@ -146,6 +150,7 @@ def run_study(
                         cache,
                         work,
                         clock,
+                        pictures=item in pictured,
                     )
                 )
             curves: list = []
@@ -289,11 +294,35 @@ class ReportWork:
         self.charts_drawn.append(self.charts.submit(plots.draw_and_save, chart, args, path))
 
 
+# A study with random scenes pictures the first few of them. The rest have their tables and
+# charts: a gallery of each of 100 random scenes at 1080p is 4,000 PNGs, gigabytes of report,
+# and most of the study's time (docs/performance.md).
+RANDOM_SCENES_PICTURED = 3
+
+
+def pictured_scenes(names) -> set:
+    """The items of `names` whose section has pictures: every named scene, and the first
+    RANDOM_SCENES_PICTURED random ones."""
+    randoms = [n for n in names if scenes.parse_random_name(n) is not None]
+    return {n for n in names if n not in randoms[RANDOM_SCENES_PICTURED:]}
+
+
 def _scene_section(
-    ctx, scene, table, size, out: Path, grids, first: bool, cache: dict, work: ReportWork, clock
+    ctx,
+    scene,
+    table,
+    size,
+    out: Path,
+    grids,
+    first: bool,
+    cache: dict,
+    work: ReportWork,
+    clock,
+    pictures: bool = True,
 ) -> dict:
     """One scene's part of the report. `cache`: what the sweep rendered for the scene (its
-    reference and G-buffers, reused here); pictures and charts are left running on `work`."""
+    reference and G-buffers, reused here); pictures and charts are left running on `work`.
+    Without `pictures`, the section has no images (and nothing is rendered for them)."""
     rows = table[table["scene"] == scene.name]
     name = re.sub(r"[^A-Za-z0-9_.-]", "_", scene.name)  # the scene's files: safe in a URL
     rank = _ranking_metric(rows)
@@ -305,6 +334,57 @@ def _scene_section(
             first,
             f"pareto-{name}",
         )
+    gallery, exposure = "", None
+    if pictures:
+        gallery, exposure = _gallery(
+            ctx, scene, name, size, out, grids, cache, work, clock, samples
+        )
+    else:
+        gallery = (
+            f"<p>No pictures: a study pictures its first {RANDOM_SCENES_PICTURED} random scenes "
+            f"only; <code>blurlab study --scenes {scene.name}</code> pictures this one.</p>"
+        )
+    best = []
+    for budget in BUDGETS_MS:
+        within = rows[rows["total_ms"] <= budget]
+        if len(within):
+            ranked = get(rank).goodness(within[rank]).sort_values(ascending=False)
+            top = within.loc[ranked.index[0]]
+            best.append((budget, top["method"], top["params"], top["total_ms"], top[rank]))
+        else:  # say so, and how fast the fastest configuration is, for comparison
+            fastest = rows.sort_values("total_ms").iloc[0]
+            best.append(
+                (
+                    budget,
+                    f"nothing within budget (fastest: {fastest['method']})",
+                    fastest["params"],
+                    fastest["total_ms"],
+                    fastest[rank],
+                )
+            )
+    return {
+        "name": name,
+        "scene": scene.name,
+        "title": scene.name if scene.source is None else f"{scene.name} (from {scene.source})",
+        "rows": rows,
+        "best": best,
+        "chart": chart,
+        "gallery": gallery
+        + transparency.report(
+            ctx, scene, grids, size, out, work, clock, samples, cache.get("reference_aa")
+        ),
+        "reference_samples": int(rows["reference_samples"].iloc[0]),
+        "rank": rank,
+        "exposure": exposure,
+        "pictured": pictures,
+    }
+
+
+def _gallery(
+    ctx, scene, name: str, size, out: Path, grids, cache: dict, work: ReportWork, clock, samples
+):
+    """(the gallery's HTML, the exposure of an HDR scene's pictures or None): each method at the
+    middle of its grid beside the reference, encoded on `work` into files named after `name`."""
     reference = cache.get("reference")
     if reference is None or reference.samples != samples:  # rows read back from results.csv
         with clock("references"):
@@ -337,40 +417,7 @@ def _scene_section(
             name, shown_reference, images, out, work.pictures, look=not scene.hdr
         )
         work.pictures_written.extend(encodes + writes)
-    best = []
-    for budget in BUDGETS_MS:
-        within = rows[rows["total_ms"] <= budget]
-        if len(within):
-            ranked = get(rank).goodness(within[rank]).sort_values(ascending=False)
-            top = within.loc[ranked.index[0]]
-            best.append((budget, top["method"], top["params"], top["total_ms"], top[rank]))
-        else:  # say so, and how fast the fastest configuration is, for comparison
-            fastest = rows.sort_values("total_ms").iloc[0]
-            best.append(
-                (
-                    budget,
-                    f"nothing within budget (fastest: {fastest['method']})",
-                    fastest["params"],
-                    fastest["total_ms"],
-                    fastest[rank],
-                )
-            )
-    return {
-        "name": name,
-        "scene": scene.name,
-        "title": scene.name if scene.source is None else f"{scene.name} (from {scene.source})",
-        "rows": rows,
-        "best": best,
-        "chart": chart,
-        "gallery": gallery
-        + look
-        + transparency.report(
-            ctx, scene, grids, size, out, work, clock, samples, cache.get("reference_aa")
-        ),
-        "reference_samples": int(rows["reference_samples"].iloc[0]),
-        "rank": rank,
-        "exposure": exposure,
-    }
+    return gallery + look, exposure
 
 
 # zlib level of the report's full-size PNGs: 1 encodes in about 2/3 of the default 6's time,
@@ -510,10 +557,12 @@ def _html(info, size, table, sections, curves, per_object=None, peer_rows=None, 
             f"<p>The same chart as a picture: <a href='{e(s['name'])}_pareto.png'>"
             f"{e(s['name'])}_pareto.png</a></p>"
         )
-        parts.append(
-            "<p>Each image at full size on click, with its error map (the colour bar is "
-            "shared by the scene):</p>" + s["gallery"]
-        )
+        if s["pictured"]:
+            parts.append(
+                "<p>Each image at full size on click, with its error map (the colour bar is "
+                "shared by the scene):</p>"
+            )
+        parts.append(s["gallery"])
         columns = ["method", "params", "total_ms", *_metric_columns(s["rows"])]
         if "exposure" in s["rows"] and s["rows"]["exposure"].notna().any():
             columns.append("exposure")
