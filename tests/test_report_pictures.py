@@ -18,7 +18,7 @@ import blurlab as bl
 from blurlab import metrics
 from blurlab.io import images as io
 from blurlab.methods import method_instant
-from blurlab.studies import plots
+from blurlab.studies import gallery, plots
 
 study = importlib.import_module("blurlab.studies.study")
 # Two methods whose pictures a report shows (names only, but for the sweep's: a gather with taps).
@@ -98,7 +98,7 @@ def test_write_pictures_writes_every_picture_and_shows_each(tmp_path, rng):
     reference = rng.random((36, 64, 4)).astype(np.float32)
     images = {GATHER: reference * 0.9, OTHER: reference[::-1].copy()}
     with concurrent.futures.ThreadPoolExecutor(2) as pool:
-        html, encodes = study.write_pictures("s", reference, images, tmp_path, pool)
+        html, encodes = gallery.write_pictures("s", reference, images, tmp_path, pool)
         for encode in encodes:
             encode.result()
     names = ["s_reference", "s_error_scale", "s_crops", "s_images"]

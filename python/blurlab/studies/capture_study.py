@@ -40,7 +40,7 @@ from ..metrics import (
 )
 from . import interactive
 from .evaluation import Settings, evaluate_scene, picture_key, release_prepared
-from .study import write_pictures
+from .gallery import write_pictures
 from .sweep import default_grids, grid_points
 
 ENGINE_OUTPUT = "engine_output"  # the engine's row's default name
