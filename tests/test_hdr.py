@@ -310,11 +310,15 @@ def test_a_sweep_takes_hdr_flips_exposure_range_once_per_reference(ctx, monkeypa
         return exposure_range(reference)
 
     monkeypatch.setattr(metrics.hdr, "flip_exposure_range", counted)
+    exposed = []  # the rows' exposure (a log-average over the reference): once per reference too
+    exposure = metrics.exposure
+    monkeypatch.setattr(metrics, "exposure", lambda image: exposed.append(1) or exposure(image))
     grid = {GATHER: {"taps": [4, 8, 16]}}
     table = bl.sweep(
         ctx, ["spinning_ring"], grid, SIZE, reference_samples=16, metrics=("hdr_flip",)
     )
     assert len(table) == 3 and len(made) == 1
+    assert len(exposed) == 1 and table["exposure"].nunique() == 1
     with pytest.raises(TypeError, match="gpu_arguments is a callable, given with gpu"):
         metrics.Metric(
             name="x",

@@ -192,7 +192,9 @@ def evaluate_scene(
             colours = {kind: ref.color for kind, ref in references.items()}
             row.update(m.cpu_scores(on_cpu, colours, result.color))
         if any(metric.hdr for metric in unbatched):  # the one psnr_tm, ssim_tm, pictures use
-            row["exposure"] = m.exposure(reference.color)
+            row["exposure"] = _of_reference(
+                cache, "exposures", "temporal", reference, lambda r=reference: m.exposure(r.color)
+            )
         row.update(
             {
                 "device": info["device"],
@@ -333,29 +335,37 @@ def _references(ctx, scene, settings: Settings, kinds, temporal, cache: dict) ->
     }
 
 
-def _prepared_reference(ctx, reference, cache: dict, kind: str) -> m.PreparedReference:
-    """`reference` prepared for gpu_mse_ssim, once per reference of each kind the scene's
-    cache holds (kept beside it, so that a new reference is prepared anew)."""
-    prepared = cache.setdefault("prepared_references", {})
-    held = prepared.get(kind)
+def _of_reference(cache: dict, group: str, key, reference, make, release=None):
+    """make()'s value for `reference`, made once per reference the scene's cache holds: kept
+    beside it in cache[group][key], so that a new reference makes it anew (`release` frees
+    the value it replaces)."""
+    made = cache.setdefault(group, {})
+    held = made.get(key)
     if held is None or held[0] is not reference:
-        if held is not None:
-            held[1].release()
-        held = prepared[kind] = (reference, m.prepare_reference(ctx, reference.texture))
+        if held is not None and release is not None:
+            release(held[1])
+        held = made[key] = (reference, make())
     return held[1]
+
+
+def _prepared_reference(ctx, reference, cache: dict, kind: str) -> m.PreparedReference:
+    """`reference` prepared for gpu_mse_ssim, once per reference of each kind."""
+    return _of_reference(
+        cache,
+        "prepared_references",
+        kind,
+        reference,
+        lambda: m.prepare_reference(ctx, reference.texture),
+        release=m.PreparedReference.release,
+    )
 
 
 def _gpu_arguments(references: dict, cache: dict, name: str) -> dict:
-    """Metric `name`'s gpu_arguments of its reference, made once per reference the scene's
-    cache holds (kept beside it, so that a new reference gets them anew)."""
+    """Metric `name`'s gpu_arguments of its reference, made once per reference."""
     metric = m.get(name)
     reference = references[metric.reference]
-    made = cache.setdefault("gpu_arguments", {})
-    held = made.get(name)
-    if held is None or held[0] is not reference:
-        arguments = metric.gpu_arguments(reference.color) if metric.gpu_arguments else {}
-        held = made[name] = (reference, arguments)
-    return held[1]
+    make = (lambda: metric.gpu_arguments(reference.color)) if metric.gpu_arguments else dict
+    return _of_reference(cache, "gpu_arguments", name, reference, make)
 
 
 def release_prepared(cache: dict) -> None:
