@@ -333,15 +333,16 @@ def _scene_section(
             first,
             f"pareto-{name}",
         )
-    gallery, exposure = "", None
     if pictures:
         gallery, exposure = _gallery(
             ctx, scene, name, size, out, grids, cache, work, clock, samples
         )
     else:
-        gallery = (
+        gallery, exposure = (
             f"<p>No pictures: a study pictures its first {RANDOM_SCENES_PICTURED} random scenes "
-            f"only; <code>blurlab study --scenes {scene.name}</code> pictures this one.</p>"
+            f"only; <code>blurlab study --scenes {html.escape(scene.name)}</code> pictures this "
+            "one.</p>",
+            None,
         )
     best = []
     for budget in BUDGETS_MS:

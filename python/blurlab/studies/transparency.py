@@ -65,7 +65,8 @@ def evaluate(
         scene = scenes.get(name)
         n = reference_samples or default_reference_samples(ctx.render(scene, size))
         reference = (references or {}).get(name)
-        if reference is None or reference.texture is None or reference.samples != n:
+        reusable = reference is not None and reference.texture is not None
+        if not (reusable and reference.antialias and reference.samples == n):
             reference = ctx.reference(scene, size, samples=n, antialias=True, progress=False)
         queue = metrics.MetricQueue(ctx)
         frames = {}
@@ -80,10 +81,11 @@ def evaluate(
                 if method == pictured:
                     images[approach] = out.color
                 color = out.textures["color"]
-                issued.append(
-                    (method, approach, queue.mse(reference.texture, color))
-                    + (queue.flip(reference.texture, color),)
+                mse, flip = (
+                    queue.mse(reference.texture, color),
+                    queue.flip(reference.texture, color),
                 )
+                issued.append((method, approach, mse, flip))
         values = queue.read()
         for method, approach, mse, flip in issued:
             rows.append(
