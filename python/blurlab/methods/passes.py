@@ -153,6 +153,12 @@ def timers(on: bool):
         _TIMED.reset(token)
 
 
+def timing_on() -> bool:
+    """Whether the passes run now are timed: False inside blur(timed=False), for methods that
+    time their own GPU work (stochastic's sub-frame renders)."""
+    return _TIMED.get()
+
+
 def timed(ctx: Context, timings: dict, name: str, fn: Callable) -> None:
     """Runs one pass, timed by the context's clock unless blur(timed=False) asked otherwise
     (the Timing then says clock "untimed" and NaN ms). GPU work run this way, outside
@@ -165,7 +171,7 @@ def timed(ctx: Context, timings: dict, name: str, fn: Callable) -> None:
 
 
 def _timed(ctx: Context, timings: dict, name: str, fn: Callable) -> None:
-    if not _TIMED.get():
+    if not timing_on():
         fn()
         timings[name] = Timing(math.nan, "untimed")
         return
