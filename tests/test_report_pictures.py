@@ -71,6 +71,14 @@ def test_crops_are_the_pixels_of_each_methods_worst_window():
     assert (picture[:, : plots.CROP_LABEL_WIDTH] < 128).any()
 
 
+def test_crop_windows_are_a_quarter_of_the_shorter_side_within_16_to_128_pixels():
+    assert plots.crop_side((90, 160, 4)) == 22
+    assert plots.crop_side((360, 640)) == 90
+    assert plots.crop_side((40, 40, 3)) == 16
+    # At 1080p a quarter would be 270: the picture of every window cut from every image.
+    assert plots.crop_side((1080, 1920, 4)) == plots.CROP_MAX_SIDE == 128
+
+
 def test_shrink_averages_whole_blocks():
     array = np.arange(1080 * 1920 * 3, dtype=np.float32).reshape(1080, 1920, 3)
     small = plots.shrink(array, 640)

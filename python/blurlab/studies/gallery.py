@@ -39,7 +39,7 @@ def write_pictures(
     maps = pool.map(lambda image: metrics.error_map(reference, image), images.values())
     errors = dict(zip(images, maps, strict=True))
     vmax = plots.error_scale(errors.values())
-    side = max(16, min(reference.shape[:2]) // 4)
+    side = plots.crop_side(reference.shape)
     pictures = {
         f"{name}_error_scale.png": lambda: plots.colour_bar(vmax),
         f"{name}_crops.png": lambda: plots.crops_picture(reference, images, side, errors),
