@@ -367,6 +367,35 @@ def test_a_colour_only_render_writes_the_same_colour_and_nothing_else(ctx):
     ctx.recycle(*(t for t in layered.values() if hasattr(t, "native")))
 
 
+OPAQUE_SCENES = [
+    *bl.scenes.names(),
+    *bl.scenes.names("failure"),
+    *bl.scenes.names("hdr"),
+    "foliage_spin",  # alpha-masked leaves: discarded fragments leave the background
+]
+
+
+@pytest.mark.parametrize("name", OPAQUE_SCENES)
+def test_a_colour_only_render_clears_to_the_background_the_pixels_the_background_draws(ctx, name):
+    # A colour-only pass clears the colour to the background instead of drawing the background
+    # triangle (docs/spec.md §1, Background): the same values on the same pixels, whatever the
+    # pooled texture held before, on every opaque built-in scene and a jittered sub-frame.
+    scene = bl.scenes.get(name)
+    size, time = (64, 36), 0.5 * (scene.shutter[0] + scene.shutter[1])
+    poisoned = ctx.pooled((36, 64, 4))
+    poisoned.upload(np.full((36, 64, 4), np.nan, np.float32))
+    ctx.recycle(poisoned)  # the colour-only render below takes it from the pool
+    for jitter in ((0.0, 0.0), (0.375, -0.125)):
+        args = (ctx, scene, size, scene.shutter, time, 0, jitter)
+        alone, _, _ = render_targets(*args, timers=False, color_only=True)
+        full, _, _ = render_targets(*args, timers=False)
+        colour = alone["color"].download()
+        assert np.array_equal(colour, full["color"].download())
+        background = full["object_id"].download() < 0
+        assert (colour[background] == np.float32(scene.background)).all()
+        ctx.recycle(*full.values(), *alone.values())
+
+
 def test_the_gbuffer_pass_refuses_a_render_without_a_colour_target(ctx):
     zeros = lambda *shape: np.zeros(shape, np.float32)  # noqa: E731
     camera = {"view_projection": zeros(3, 4, 4), "eye": zeros(3), "near": 0.1}

@@ -176,6 +176,13 @@ void GBufferPass::render(const GBufferTargets& targets, const GBufferCamera& cam
   glDepthMask(GL_TRUE);
   glClearDepth(1.0);
   glClear(GL_DEPTH_BUFFER_BIT);
+  // With the colour alone (a reference's sub-frames), the background is one constant colour: it
+  // is cleared before the draws instead of shaded after them. The clear writes the same floats
+  // the background triangle writes, over the same pixels (those no draw passes the depth test
+  // at), but costs no fragment work: the raster path is slow on compute chips (docs/gpu.md), and
+  // shading the uncovered pixels was most of a sub-frame there.
+  const bool colour_only = !outputs[1] && !outputs[2] && !outputs[3] && !sides && !layers;
+  if (colour_only) glClearNamedFramebufferfv(framebuffer_, GL_COLOR, 0, light.background);
   if (layers) {
     // Fragment lists: every fragment of every draw reaches the shader, whatever the order of
     // the draws; the shader tests it against the opaque depth itself.
@@ -256,7 +263,7 @@ void GBufferPass::render(const GBufferTargets& targets, const GBufferCamera& cam
     glProgramUniform1f(id, at.hatching_scale, hatching.scale);
     draw.mesh->draw();
   }
-  if (!layers) draw_background(use(GBufferHatching::Scheme::none));
+  if (!layers && !colour_only) draw_background(use(GBufferHatching::Scheme::none));
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   glDepthMask(GL_TRUE);
   glBindVertexArray(0);
