@@ -360,11 +360,15 @@ def test_a_colour_only_render_writes_the_same_colour_and_nothing_else(ctx):
     assert set(alone) == {"color"}
     assert np.array_equal(alone["color"].download(), full["color"].download())
     ctx.recycle(*full.values(), *alone.values())
-    # a scene with translucent layers needs them all, and gets them
+    # a scene with translucent layers keeps the opaque depth its fragments are tested against
     glass = bl.scenes.get("moving_glass")
-    layered, _, _ = render_targets(ctx, glass, (64, 36), glass.shutter, 0.0, color_only=True)
-    assert {"depth", "motion", "object_id"} <= set(layered)
-    ctx.recycle(*(t for t in layered.values() if hasattr(t, "native")))
+    args = (ctx, glass, (64, 36), glass.shutter, 0.0)
+    layered, _, _ = render_targets(*args, color_only=True)
+    assert {"color", "depth"} <= set(layered) and not {"motion", "object_id"} & set(layered)
+    every, _, _ = render_targets(*args)
+    assert np.array_equal(layered["color"].download(), every["color"].download())
+    for targets in (layered, every):
+        ctx.recycle(*(t for t in targets.values() if hasattr(t, "native")))
 
 
 OPAQUE_SCENES = [
@@ -373,9 +377,11 @@ OPAQUE_SCENES = [
     *bl.scenes.names("hdr"),
     "foliage_spin",  # alpha-masked leaves: discarded fragments leave the background
 ]
+# Translucent scenes: the opaque layer is cleared so, and the fragments drawn over it.
+LAYERED_SCENES = [name for name in bl.scenes.names("transparency") if name != "foliage_spin"]
 
 
-@pytest.mark.parametrize("name", OPAQUE_SCENES)
+@pytest.mark.parametrize("name", OPAQUE_SCENES + LAYERED_SCENES)
 def test_a_colour_only_render_clears_to_the_background_the_pixels_the_background_draws(ctx, name):
     # A colour-only pass clears the colour to the background instead of drawing the background
     # triangle (docs/spec.md §1, Background): the same values on the same pixels, whatever the
@@ -391,9 +397,15 @@ def test_a_colour_only_render_clears_to_the_background_the_pixels_the_background
         full, _, _ = render_targets(*args, timers=False)
         colour = alone["color"].download()
         assert np.array_equal(colour, full["color"].download())
+        if scene.translucent:  # the opaque layer, under the fragments
+            opaque = alone["opaque_color"].download()
+            assert np.array_equal(opaque, full["opaque_color"].download())
+            assert np.array_equal(alone["depth"].download(), full["depth"].download())
+            colour = opaque
         background = full["object_id"].download() < 0
         assert (colour[background] == np.float32(scene.background)).all()
-        ctx.recycle(*full.values(), *alone.values())
+        for targets in (full, alone):
+            ctx.recycle(*(t for t in targets.values() if hasattr(t, "native")))
 
 
 def test_the_gbuffer_pass_refuses_a_render_without_a_colour_target(ctx):

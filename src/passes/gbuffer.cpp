@@ -1,6 +1,7 @@
 #include "passes/gbuffer.h"
 
 #include <cstring>
+#include <limits>
 #include <string>
 
 #include "gl/buffer.h"
@@ -126,8 +127,8 @@ void GBufferPass::render(const GBufferTargets& targets, const GBufferCamera& cam
   const bool layers = lists[0] != nullptr;
   int capacity = 0;
   if (layers) {
-    for (const Texture* t : outputs)
-      if (!t) throw std::invalid_argument("blurlab: fragment lists need all four G-buffer targets");
+    // The G-buffer targets stay attached but unwritten (colour writes are masked): the opaque
+    // depth the fragments are tested against is `opaque_depth`.
     for (const Texture* t : lists)
       if (!t) throw std::invalid_argument("blurlab: fragment lists need all four of their targets");
     // Fragments lie in blocks of W x H, `rows` down and `columns` across
@@ -176,13 +177,20 @@ void GBufferPass::render(const GBufferTargets& targets, const GBufferCamera& cam
   glDepthMask(GL_TRUE);
   glClearDepth(1.0);
   glClear(GL_DEPTH_BUFFER_BIT);
-  // With the colour alone (a reference's sub-frames), the background is one constant colour: it
-  // is cleared before the draws instead of shaded after them. The clear writes the same floats
-  // the background triangle writes, over the same pixels (those no draw passes the depth test
-  // at), but costs no fragment work: the raster path is slow on compute chips (docs/gpu.md), and
-  // shading the uncovered pixels was most of a sub-frame there.
-  const bool colour_only = !outputs[1] && !outputs[2] && !outputs[3] && !sides && !layers;
-  if (colour_only) glClearNamedFramebufferfv(framebuffer_, GL_COLOR, 0, light.background);
+  // Without a motion target (a reference's sub-frames: the colour alone, or colour and depth for
+  // translucent scenes), every background output is a constant: it is cleared before the draws
+  // instead of shaded after them. The clears write the same floats the background triangle
+  // writes, over the same pixels (those no draw passes the depth test at), but cost no fragment
+  // work: the raster path is slow on compute chips (docs/gpu.md), and shading the uncovered
+  // pixels was most of a sub-frame there.
+  const bool constant_background = !layers && !outputs[2] && !sides;
+  if (constant_background) {
+    const float far_depth[4] = {std::numeric_limits<float>::infinity(), 0.0f, 0.0f, 0.0f};
+    const float no_object[4] = {-1.0f, 0.0f, 0.0f, 0.0f};
+    glClearNamedFramebufferfv(framebuffer_, GL_COLOR, 0, light.background);
+    if (outputs[1]) glClearNamedFramebufferfv(framebuffer_, GL_COLOR, 1, far_depth);
+    if (outputs[3]) glClearNamedFramebufferfv(framebuffer_, GL_COLOR, 3, no_object);
+  }
   if (layers) {
     // Fragment lists: every fragment of every draw reaches the shader, whatever the order of
     // the draws; the shader tests it against the opaque depth itself.
@@ -263,7 +271,7 @@ void GBufferPass::render(const GBufferTargets& targets, const GBufferCamera& cam
     glProgramUniform1f(id, at.hatching_scale, hatching.scale);
     draw.mesh->draw();
   }
-  if (!layers && !colour_only) draw_background(use(GBufferHatching::Scheme::none));
+  if (!layers && !constant_background) draw_background(use(GBufferHatching::Scheme::none));
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   glDepthMask(GL_TRUE);
   glBindVertexArray(0);

@@ -10,6 +10,10 @@
 // by w. Dividing per vertex breaks on triangles clipped at the near plane ("Blurry things").
 // Skinned vertices use the bone matrices at t0, t1 and the instant.
 //
+// Only the colour target is required. Without a motion target (nor `motion_sides`), every
+// background output is a constant, so the targets are cleared to it before the draws instead of
+// a background triangle being shaded after them (docs/spec.md §1, Background).
+//
 // All matrices are row-major float[16] (NumPy's order). Every projection here has y flipped, so
 // that framebuffer row 0 (GL's bottom) holds image row 0 (the top): the one place where GL's
 // bottom-left origin is reconciled with blurlab's top-left arrays.

@@ -189,8 +189,9 @@ def render_targets(
     else each call adds its own as targets["most_fragments"].
 
     `color_only` renders the colour alone (the same bits), for a reference's sub-frames: depth,
-    motion and ids are neither allocated nor written. Scenes with translucent surfaces, whose
-    layers need them, get every target regardless.
+    motion and ids are neither allocated nor written, and the background is cleared, not drawn
+    (docs/spec.md §1, Background). Scenes with translucent surfaces get the depth too, which
+    their fragments are tested against.
     """
     if isinstance(guard, bool) or not isinstance(guard, int) or guard < 0:
         raise ValueError(f"blurlab: guard must be an integer >= 0 pixels, not {guard!r}")
@@ -231,8 +232,8 @@ def render_targets(
     # Every target is fully overwritten (the background pass covers every pixel), so pooled
     # textures need no clearing.
     shapes = target_shapes((width, height), sides)
-    if color_only and not layered:
-        shapes = {"color": shapes["color"]}
+    if color_only:  # translucent fragments are tested against the opaque depth: it is kept
+        shapes = {name: shapes[name] for name in ("color", "depth") if name == "color" or layered}
     targets = {name: ctx.pooled(shape) for name, shape in shapes.items()}
     natives = [
         targets[name].native if name in targets else None

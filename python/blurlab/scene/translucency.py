@@ -38,7 +38,12 @@ def translucent_layer(
     rows, columns = fragment_layout(capacity, height, width, ctx.max_texture_size)
     surface = ctx.pooled((rows * height, columns * width, 4))
     motion = ctx.pooled((rows * height, columns * width, 4))
-    natives = [targets[name].native for name in ("color", "depth", "motion", "object_id")]
+    # A colour-only render (a reference's sub-frame) has no motion or ids: nothing is written
+    # to the G-buffer targets here, and the fragments' own motion is kept in their lists.
+    natives = [
+        targets[name].native if name in targets else None
+        for name in ("color", "depth", "motion", "object_id")
+    ]
     gbuffer.render(
         *natives,
         camera_uniforms,
