@@ -397,6 +397,8 @@ def crop_side(shape) -> int:
     """The side of crops_picture's windows for images of `shape` (H, W, ...): a quarter of the
     shorter side, 16 to CROP_MAX_SIDE pixels."""
     return max(16, min(CROP_MAX_SIDE, min(shape[:2]) // 4))
+
+
 CROP_LABEL_WIDTH, CROP_HEADER, CROP_GAP = 120, 16, 2
 
 

@@ -50,11 +50,10 @@ def run(ctx: Context, frame: Frame, inputs: dict, values: dict, backend: str, pa
                     timers=batch if timed else False,
                     color_only=True,  # the combine reads the colour alone
                 )
+                uniforms = {"slice": slice_index, "position": position, "slices": slices}
                 with batch.timer() if timed else nullcontext() as add:
                     combine.run(
-                        {"color": targets["color"]},
-                        {"sum": result},
-                        {"slice": slice_index, "position": position, "slices": slices, "seed": seed},
+                        {"color": targets["color"]}, {"sum": result}, {**uniforms, "seed": seed}
                     )
                 ctx.recycle(*targets.values())
                 timings.append((render, add))
