@@ -198,7 +198,7 @@ void bind_passes(py::module_& m) {
              const py::dict& camera, const py::dict& light, const std::vector<GBufferDraw>& draws,
              std::shared_ptr<Texture> motion_sides, std::shared_ptr<Texture> fragment_counts,
              std::shared_ptr<Texture> fragment_surface, std::shared_ptr<Texture> fragment_motion,
-             std::shared_ptr<Texture> opaque_depth) {
+             std::shared_ptr<Texture> opaque_depth, int over_base) {
             GBufferCamera c;
             copy_floats(&c.view_projection[0][0], camera["view_projection"].cast<Floats>(), 48,
                         "view_projection");
@@ -215,13 +215,14 @@ void bind_passes(py::module_& m) {
             copy_floats(l.background, light["background"].cast<Floats>(), 4, "background");
             pass.render({color, depth, motion, object_id, motion_sides, fragment_counts,
                          fragment_surface, fragment_motion, opaque_depth},
-                        c, l, draws);
+                        c, l, draws, over_base);
           },
           py::arg("color"), py::arg("depth"), py::arg("motion"), py::arg("object_id"),
           py::arg("camera"), py::arg("light"), py::arg("draws"),
           py::arg("motion_sides") = py::none(), py::arg("fragment_counts") = py::none(),
           py::arg("fragment_surface") = py::none(), py::arg("fragment_motion") = py::none(),
-          py::arg("opaque_depth") = py::none());
+          py::arg("opaque_depth") = py::none(), py::arg("over_base") = 0)
+      .def("keep_base", &GBufferPass::keep_base);
 
   py::class_<PostProcessPass, std::shared_ptr<PostProcessPass>>(m, "PostProcessPass");
 

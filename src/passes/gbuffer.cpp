@@ -2,6 +2,7 @@
 
 #include <cstring>
 #include <limits>
+#include <stdexcept>
 #include <string>
 
 #include "gl/buffer.h"
@@ -22,9 +23,11 @@ GBufferPass::GBufferPass(std::shared_ptr<Context> context) : context_(std::move(
 
 GBufferPass::~GBufferPass() {
   bones_.reset();
-  context_->release(nullptr, [framebuffer = framebuffer_, depth = depth_buffer_, vao = empty_vao_] {
+  context_->release(nullptr, [framebuffer = framebuffer_, depth = depth_buffer_,
+                               base = base_depth_, vao = empty_vao_] {
     glDeleteFramebuffers(1, &framebuffer);
     glDeleteRenderbuffers(1, &depth);
+    glDeleteRenderbuffers(1, &base);
     glDeleteVertexArrays(1, &vao);
   });
 }
@@ -76,6 +79,23 @@ void GBufferPass::resize_depth(int width, int height) {
   depth_height_ = height;
 }
 
+int GBufferPass::keep_base() {
+  if (depth_width_ == 0) throw std::logic_error("blurlab: keep_base needs a G-buffer render first");
+  context_->make_current();
+  if (base_width_ != depth_width_ || base_height_ != depth_height_) {
+    glDeleteRenderbuffers(1, &base_depth_);
+    glCreateRenderbuffers(1, &base_depth_);
+    glNamedRenderbufferStorage(base_depth_, GL_DEPTH_COMPONENT32F, depth_width_, depth_height_);
+    base_width_ = depth_width_;
+    base_height_ = depth_height_;
+  }
+  glCopyImageSubData(depth_buffer_, GL_RENDERBUFFER, 0, 0, 0, 0, base_depth_, GL_RENDERBUFFER, 0,
+                     0, 0, 0, depth_width_, depth_height_, 1);
+  check_gl("keeping the G-buffer's base");
+  base_token_ = ++last_token_;
+  return base_token_;
+}
+
 void GBufferPass::draw_background(const Variant& variant) {
   // One triangle over the whole image at the far plane, drawn last: it passes the depth test
   // (LEQUAL against the cleared 1.0) only where no geometry was drawn, so the pixels under
@@ -108,7 +128,8 @@ void GBufferPass::set_frame_uniforms(const Variant& variant, const GBufferCamera
 }
 
 void GBufferPass::render(const GBufferTargets& targets, const GBufferCamera& camera,
-                         const GBufferLight& light, const std::vector<GBufferDraw>& draws) {
+                         const GBufferLight& light, const std::vector<GBufferDraw>& draws,
+                         int over_base) {
   // Colour is always written; depth, motion and object id may be left out (a reference's
   // sub-frames need the colour alone), and their outputs are then not written at all.
   const Texture* outputs[4] = {targets.color.get(), targets.depth.get(), targets.motion.get(),
@@ -149,6 +170,19 @@ void GBufferPass::render(const GBufferTargets& targets, const GBufferCamera& cam
           "(H, W) float32 opaque depth");
   }
 
+  const bool constant_background = !layers && !outputs[2] && !sides;
+  if (over_base != 0) {
+    if (!constant_background)
+      throw std::invalid_argument(
+          "blurlab: a render over a kept base writes no motion and no fragment lists");
+    if (over_base != base_token_)
+      throw std::invalid_argument(
+          "blurlab: that base is not the G-buffer pass's kept one (another keep_base replaced "
+          "it)");
+    if (base_width_ != width || base_height_ != height)
+      throw std::invalid_argument("blurlab: the kept base differs in size from the targets");
+  }
+
   context_->make_current();
   resize_depth(width, height);
   // A target left out (and one left attached from an earlier call) is detached and its draw
@@ -175,16 +209,20 @@ void GBufferPass::render(const GBufferTargets& targets, const GBufferCamera& cam
   glDisable(GL_STENCIL_TEST);
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   glDepthMask(GL_TRUE);
-  glClearDepth(1.0);
-  glClear(GL_DEPTH_BUFFER_BIT);
+  if (over_base != 0) {  // the base's depth; its colour is in the targets already
+    glCopyImageSubData(base_depth_, GL_RENDERBUFFER, 0, 0, 0, 0, depth_buffer_, GL_RENDERBUFFER, 0,
+                       0, 0, 0, width, height, 1);
+  } else {
+    glClearDepth(1.0);
+    glClear(GL_DEPTH_BUFFER_BIT);
+  }
   // Without a motion target (a reference's sub-frames: the colour alone, or colour and depth for
   // translucent scenes), every background output is a constant: it is cleared before the draws
   // instead of shaded after them. The clears write the same floats the background triangle
   // writes, over the same pixels (those no draw passes the depth test at), but cost no fragment
   // work: the raster path is slow on compute chips (docs/gpu.md), and shading the uncovered
   // pixels was most of a sub-frame there.
-  const bool constant_background = !layers && !outputs[2] && !sides;
-  if (constant_background) {
+  if (constant_background && over_base == 0) {
     const float far_depth[4] = {std::numeric_limits<float>::infinity(), 0.0f, 0.0f, 0.0f};
     const float no_object[4] = {-1.0f, 0.0f, 0.0f, 0.0f};
     glClearNamedFramebufferfv(framebuffer_, GL_COLOR, 0, light.background);

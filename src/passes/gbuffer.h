@@ -101,8 +101,17 @@ class GBufferPass : NotCopyable {
   explicit GBufferPass(std::shared_ptr<Context> context);
   ~GBufferPass();
 
+  // `over_base` (a token from keep_base, 0 for none): the draws go over a kept base instead of
+  // a cleared image. The depth buffer starts as the base's; the caller has copied the base's
+  // colour (and linear depth) into the targets. Only for passes without motion (the background
+  // a constant) and without fragment lists.
   void render(const GBufferTargets& targets, const GBufferCamera& camera, const GBufferLight& light,
-              const std::vector<GBufferDraw>& draws);
+              const std::vector<GBufferDraw>& draws, int over_base = 0);
+
+  // Keeps the depth buffer of the last render as the base that later renders may draw over
+  // (the objects every sub-frame of a reference shares, drawn once: docs/spec.md §11); returns
+  // its token. A new base replaces the last one, whose token is then refused.
+  int keep_base();
 
  private:
   // The program's uniform locations, looked up once: a draw sets ten of them.
@@ -130,6 +139,9 @@ class GBufferPass : NotCopyable {
   size_t bones_capacity_ = 0;
   GLuint framebuffer_ = 0, depth_buffer_ = 0, empty_vao_ = 0;
   int depth_width_ = 0, depth_height_ = 0;
+  // The kept base's depth (keep_base): its size and token; tokens are never reused.
+  GLuint base_depth_ = 0;
+  int base_width_ = 0, base_height_ = 0, base_token_ = 0, last_token_ = 0;
 };
 
 }  // namespace blurlab

@@ -17,7 +17,15 @@ from ..scene.sampling import shutter_samples
 from ..sizes import DEFAULT_SIZE
 from ..twins.sub_frames import sample_times
 from .frame import Frame
-from .render import check_fragment_capacity, check_shutter, check_size, render, render_targets
+from .render import (
+    check_fragment_capacity,
+    check_shutter,
+    check_size,
+    render,
+    render_base,
+    render_targets,
+    still_draws,
+)
 
 
 @dataclass
@@ -137,8 +145,18 @@ def reference_render(
     most_fragments = ctx.pooled((1, 1), "uint32") if scene.translucent else None
     if most_fragments is not None:
         most_fragments.clear()
+    # Where the camera stands still, the objects that stand still too are drawn once, into a
+    # base every sub-frame starts from (still_draws; the same bits: the draws over it are those
+    # that followed them). Antialiased sub-frames each see the scene from their own position.
+    still = 0 if positions is not None else still_draws(scene, size, times, guard)
+    base = None
     with nullcontext() if per_subframe else ctx.timer() as whole, ctx.deferred_timers() as timers:
         sub_frame_timers = timers if per_subframe else False  # False: the pass runs untimed
+        if still:
+            base, timing = render_base(
+                ctx, scene, size, shutter, float(times[0]), still, guard, timers=sub_frame_timers
+            )
+            timings.append(timing)
         for i, t in enumerate(iterator):
             jitter = (0.0, 0.0) if positions is None else tuple(0.5 - positions[i])
             targets, _, timing = render_targets(
@@ -152,11 +170,14 @@ def reference_render(
                 timers=sub_frame_timers,
                 most_fragments=most_fragments,
                 color_only=True,  # the mean of the colours is all a reference keeps
+                base=base,
             )
             with timers.timer() if per_subframe else nullcontext() as add:
                 accumulate(ctx, targets["color"], total, 1.0 / samples)
             ctx.recycle(*targets.values())
             timings += [timing, add]
+    if base is not None:
+        ctx.recycle(*base.textures.values())
     if most_fragments is not None:
         try:
             check_fragment_capacity(most_fragments, scene)

@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 import weakref
 from contextlib import nullcontext
+from dataclasses import dataclass
 from numbers import Real
 
 import numpy as np
@@ -172,6 +173,7 @@ def render_targets(
     timers=None,
     most_fragments=None,
     color_only: bool = False,
+    base: StaticBase | None = None,
 ):
     """Runs the G-buffer pass into pooled textures: (targets, camera matrices, Timing).
     `sides` adds the target "motion_sides": M_prev in RG, M_next in BA (docs/spec.md §17.1).
@@ -191,50 +193,28 @@ def render_targets(
     `color_only` renders the colour alone (the same bits), for a reference's sub-frames: depth,
     motion and ids are neither allocated nor written, and the background is cleared, not drawn
     (docs/spec.md §1, Background). Scenes with translucent surfaces get the depth too, which
-    their fragments are tested against.
+    their fragments are tested against. `base` (with `color_only`; render_base made it at the
+    same size, guard and jitter): its objects are not drawn again, the rest are drawn over it.
     """
     if isinstance(guard, bool) or not isinstance(guard, int) or guard < 0:
         raise ValueError(f"blurlab: guard must be an integer >= 0 pixels, not {guard!r}")
+    if base is not None and not color_only:
+        raise ValueError("blurlab: a render over a base keeps the colour alone (color_only)")
     width, height = size[0] + 2 * guard, size[1] + 2 * guard
     check_size((width, height), ctx.max_texture_size)
     times = (shutter[0], shutter[1], time)
     camera = camera_matrices(scene, size, times, guard, jitter)
-    f32 = lambda a: np.ascontiguousarray(a, dtype=np.float32)  # noqa: E731
-    camera_uniforms = {
-        k: f32(camera[k]) for k in ("view_projection", "eye", "sky_from_clip", "sky_projection")
-    }
-    camera_uniforms["near"] = float(scene.camera.near)
-    light = {
-        "direction": f32(scene.light.direction / np.linalg.norm(scene.light.direction)),
-        "color": f32(scene.light.color),
-        "ambient": f32(scene.light.ambient),
-        "background": f32(scene.background),
-    }
-    draws, layered = [], []
-    for object_id, obj in enumerate(scene.objects):
-        m = obj.material
-        draw = _core.GBufferDraw()
-        draw.mesh = ctx.gpu_mesh(obj.mesh)
-        draw.model = f32([obj.model(t) for t in times])
-        if obj.skeleton is not None:
-            draw.bones = f32([obj.skeleton.matrices(t) for t in times])
-        draw.object_id = object_id
-        draw.material.color = f32(m.color * (1.0, 1.0, 1.0, m.alpha))
-        draw.material.alpha_mode = getattr(_core.AlphaMode, m.blend)
-        draw.material.alpha_cutoff = float(m.alpha_cutoff)
-        draw.material.emission = f32(m.radiance)
-        draw.material.specular = float(m.specular)
-        draw.material.shininess = float(m.shininess)
-        draw.material.texture = ctx.gpu_material_texture(m)
-        if m.hatch is not None:
-            m.hatch.draw(ctx, draw.material.hatching)
-        (layered if m.translucent else draws).append(draw)
+    camera_uniforms, light = _frame_uniforms(scene, camera)
+    draws, layered = _draw_lists(ctx, scene, times, skipped=0 if base is None else base.draws)
     # Every target is fully overwritten (the background pass covers every pixel), so pooled
     # textures need no clearing.
     shapes = target_shapes((width, height), sides)
     if color_only:  # translucent fragments are tested against the opaque depth: it is kept
         shapes = {name: shapes[name] for name in ("color", "depth") if name == "color" or layered}
     targets = {name: ctx.pooled(shape) for name, shape in shapes.items()}
+    if base is not None:  # the base's images, its depth buffer kept by the pass
+        for name, texture in base.textures.items():
+            targets[name].native.copy_from(texture.native, 0, 0)
     natives = [
         targets[name].native if name in targets else None
         for name in ("color", "depth", "motion", "object_id")
@@ -251,12 +231,135 @@ def render_targets(
             light,
             draws,
             motion_sides=targets["motion_sides"].native if sides else None,
+            over_base=0 if base is None else base.token,
         )
         if layered:
             translucent_layer(
                 ctx, gbuffer, targets, camera_uniforms, light, layered, scene, most_fragments
             )
     return targets, camera, timing
+
+
+@dataclass
+class StaticBase:
+    """What every sub-frame of a reference shares where the camera stands still (docs/spec.md
+    §11): the scene's first `draws` opaque objects, still over the shutter, drawn once. Its
+    `textures` ("color", and "depth" for translucent scenes) are copied into each sub-frame's
+    targets; its depth buffer is kept by the context's G-buffer pass under `token`."""
+
+    draws: int
+    textures: dict
+    token: int
+
+
+def still_draws(scene: Scene, size, sample_times, guard: int = 0) -> int:
+    """How many of the scene's opaque objects, from the first in draw order, look the same at
+    every one of `sample_times` (the matrices the pass receives, float32, are equal; no
+    skeleton), seen by a camera whose instant matrices and eye are equal too: 0 where the
+    camera moves. Sub-frames at those times (pixel centers, no jitter) can share a base of
+    those objects (render_base) and draw only the rest."""
+    times = [float(t) for t in sample_times]
+    if len(times) < 2:
+        return 0
+    f32 = lambda a: np.asarray(a, dtype=np.float32)  # noqa: E731  (as the pass receives them)
+
+    def seen_from(t):
+        camera = camera_matrices(scene, size, (t, t, t), guard)
+        return f32(camera["view_projection"][2]), f32(camera["eye"])
+
+    first = seen_from(times[0])
+    for t in times[1:]:
+        if not all(np.array_equal(a, b) for a, b in zip(seen_from(t), first, strict=True)):
+            return 0
+    count = 0
+    for obj in scene.objects:
+        if obj.material.translucent:
+            continue  # drawn into the fragment lists of every sub-frame, not into the base
+        if obj.skeleton is not None:
+            break
+        model = f32(obj.model(times[0]))
+        if not all(np.array_equal(f32(obj.model(t)), model) for t in times[1:]):
+            break
+        count += 1
+    return count
+
+
+def render_base(
+    ctx, scene: Scene, size, shutter, time: float, draws: int, guard: int = 0, timers=None
+):
+    """(StaticBase of the scene's first `draws` opaque objects at `time`, its Timing): they are
+    drawn alone, colour only, and the G-buffer pass keeps their depth. `draws` comes from
+    still_draws over the sub-frames' times; `timers` as render_targets takes them."""
+    times = (shutter[0], shutter[1], time)
+    camera = camera_matrices(scene, size, times, guard)
+    camera_uniforms, light = _frame_uniforms(scene, camera)
+    opaque, _ = _draw_lists(ctx, scene, times)
+    width, height = size[0] + 2 * guard, size[1] + 2 * guard
+    shapes = target_shapes((width, height))
+    names = ("color", "depth") if scene.translucent else ("color",)
+    textures = {name: ctx.pooled(shapes[name]) for name in names}
+    gbuffer = gbuffer_pass(ctx)
+    if timers is False:
+        clock = nullcontext()
+    else:
+        clock = ctx.timer() if timers is None else timers.timer()
+    with clock as timing:
+        gbuffer.render(
+            textures["color"].native,
+            textures["depth"].native if "depth" in textures else None,
+            None,
+            None,
+            camera_uniforms,
+            light,
+            opaque[:draws],
+        )
+        token = gbuffer.keep_base()
+    return StaticBase(draws, textures, token), timing
+
+
+def _frame_uniforms(scene: Scene, camera: dict) -> tuple[dict, dict]:
+    """The G-buffer pass's camera and light uniforms, float32."""
+    f32 = lambda a: np.ascontiguousarray(a, dtype=np.float32)  # noqa: E731
+    camera_uniforms = {
+        k: f32(camera[k]) for k in ("view_projection", "eye", "sky_from_clip", "sky_projection")
+    }
+    camera_uniforms["near"] = float(scene.camera.near)
+    light = {
+        "direction": f32(scene.light.direction / np.linalg.norm(scene.light.direction)),
+        "color": f32(scene.light.color),
+        "ambient": f32(scene.light.ambient),
+        "background": f32(scene.background),
+    }
+    return camera_uniforms, light
+
+
+def _draw_lists(ctx, scene: Scene, times, skipped: int = 0) -> tuple[list, list]:
+    """The pass's draws at `times` (open, close, instant): (opaque, translucent), each in the
+    scene's order, leaving out the first `skipped` opaque objects (a base holds them)."""
+    f32 = lambda a: np.ascontiguousarray(a, dtype=np.float32)  # noqa: E731
+    draws, layered = [], []
+    for object_id, obj in enumerate(scene.objects):
+        m = obj.material
+        if not m.translucent and skipped > 0:
+            skipped -= 1
+            continue
+        draw = _core.GBufferDraw()
+        draw.mesh = ctx.gpu_mesh(obj.mesh)
+        draw.model = f32([obj.model(t) for t in times])
+        if obj.skeleton is not None:
+            draw.bones = f32([obj.skeleton.matrices(t) for t in times])
+        draw.object_id = object_id
+        draw.material.color = f32(m.color * (1.0, 1.0, 1.0, m.alpha))
+        draw.material.alpha_mode = getattr(_core.AlphaMode, m.blend)
+        draw.material.alpha_cutoff = float(m.alpha_cutoff)
+        draw.material.emission = f32(m.radiance)
+        draw.material.specular = float(m.specular)
+        draw.material.shininess = float(m.shininess)
+        draw.material.texture = ctx.gpu_material_texture(m)
+        if m.hatch is not None:
+            m.hatch.draw(ctx, draw.material.hatching)
+        (layered if m.translucent else draws).append(draw)
+    return draws, layered
 
 
 def target_shapes(size, sides: bool = False) -> dict[str, tuple[int, ...]]:
