@@ -90,3 +90,11 @@ def test_a_base_is_refused_where_it_does_not_fit(ctx):
     over, _, _ = render_targets(*args, timers=False, color_only=True, base=third)
     assert np.isfinite(over["color"].download()).all()
     ctx.recycle(*over.values(), *third.textures.values())
+
+
+def test_a_pass_keeps_no_base_before_it_has_rendered(ctx):
+    from blurlab import _core
+
+    fresh = _core.GBufferPass(ctx.native)
+    with pytest.raises(RuntimeError, match="keep_base needs a G-buffer render first"):
+        fresh.keep_base()
