@@ -220,11 +220,7 @@ def render_targets(
         for name in ("color", "depth", "motion", "object_id")
     ]
     gbuffer = gbuffer_pass(ctx)
-    if timers is False:
-        clock = nullcontext()
-    else:
-        clock = ctx.timer() if timers is None else timers.timer()
-    with clock as timing:
+    with _pass_clock(ctx, timers) as timing:
         gbuffer.render(
             *natives,
             camera_uniforms,
@@ -299,11 +295,7 @@ def render_base(
     names = ("color", "depth") if scene.translucent else ("color",)
     textures = {name: ctx.pooled(shapes[name]) for name in names}
     gbuffer = gbuffer_pass(ctx)
-    if timers is False:
-        clock = nullcontext()
-    else:
-        clock = ctx.timer() if timers is None else timers.timer()
-    with clock as timing:
+    with _pass_clock(ctx, timers) as timing:
         gbuffer.render(
             textures["color"].native,
             textures["depth"].native if "depth" in textures else None,
@@ -315,6 +307,14 @@ def render_base(
         )
         token = gbuffer.keep_base()
     return StaticBase(draws, textures, token), timing
+
+
+def _pass_clock(ctx, timers):
+    """The block that times a pass as render_targets' `timers` asks: a batch's timer, the lazy
+    ones, the context's own (None: waits), or none (False)."""
+    if timers is False:
+        return nullcontext()
+    return ctx.timer() if timers is None else timers.timer()
 
 
 def _frame_uniforms(scene: Scene, camera: dict) -> tuple[dict, dict]:
