@@ -23,8 +23,8 @@ GBufferPass::GBufferPass(std::shared_ptr<Context> context) : context_(std::move(
 
 GBufferPass::~GBufferPass() {
   bones_.reset();
-  context_->release(nullptr, [framebuffer = framebuffer_, depth = depth_buffer_,
-                               base = base_depth_, vao = empty_vao_] {
+  context_->release(nullptr, [framebuffer = framebuffer_, depth = depth_buffer_, base = base_depth_,
+                              vao = empty_vao_] {
     glDeleteFramebuffers(1, &framebuffer);
     glDeleteRenderbuffers(1, &depth);
     glDeleteRenderbuffers(1, &base);
@@ -89,8 +89,8 @@ int GBufferPass::keep_base() {
     base_width_ = depth_width_;
     base_height_ = depth_height_;
   }
-  glCopyImageSubData(depth_buffer_, GL_RENDERBUFFER, 0, 0, 0, 0, base_depth_, GL_RENDERBUFFER, 0,
-                     0, 0, 0, depth_width_, depth_height_, 1);
+  glCopyImageSubData(depth_buffer_, GL_RENDERBUFFER, 0, 0, 0, 0, base_depth_, GL_RENDERBUFFER, 0, 0,
+                     0, 0, depth_width_, depth_height_, 1);
   check_gl("keeping the G-buffer's base");
   base_token_ = ++last_token_;
   return base_token_;
