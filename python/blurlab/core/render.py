@@ -206,8 +206,8 @@ def render_targets(
     camera = camera_matrices(scene, size, times, guard, jitter)
     camera_uniforms, light = _frame_uniforms(scene, camera)
     draws, layered = _draw_lists(ctx, scene, times, skipped=0 if base is None else base.draws)
-    # Every target is fully overwritten (the background pass covers every pixel), so pooled
-    # textures need no clearing.
+    # Every target is fully overwritten (the background, drawn or cleared, or the base's copy
+    # covers every pixel), so pooled textures need no clearing.
     shapes = target_shapes((width, height), sides)
     if color_only:  # translucent fragments are tested against the opaque depth: it is kept
         shapes = {name: shapes[name] for name in ("color", "depth") if name == "color" or layered}
