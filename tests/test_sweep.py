@@ -87,6 +87,24 @@ def test_resume_adds_no_duplicates(ctx, tmp_path):
     assert first.attrs["resumed"] == 0 and table.attrs["resumed"] == 1
 
 
+def test_on_scene_is_called_once_a_scene_is_evaluated_with_its_cache(ctx, tmp_path):
+    # what the study begins its pictures from while the GPU goes on with the next scene
+    out, seen = tmp_path / "s.csv", []
+
+    def on_scene(scene, cache):
+        rows = pd.read_csv(out)
+        seen.append((scene.name, int((rows["scene"] == scene.name).sum()), "reference" in cache))
+
+    arguments = dict(reference_samples=8, metrics=("psnr",), out=out, progress=False)
+    grid = {GATHER: {"taps": [4, 8]}}
+    sw.sweep(ctx, ["fan", "teapot_pass"], grid, SIZE, on_scene=on_scene, **arguments)
+    # each scene's rows are written before it is announced, and its reference is in its cache
+    assert seen == [("fan", 2, True), ("teapot_pass", 2, True)]
+    seen.clear()
+    sw.sweep(ctx, ["fan", "teapot_pass"], grid, SIZE, on_scene=on_scene, **arguments)
+    assert seen == []  # nothing was evaluated: every row came from the file
+
+
 def test_finished_rows_keep_every_bit_when_the_file_gains_columns(ctx, tmp_path):
     # 27.001846454071572 is a value the default float parser of pandas before 3.1 reads one
     # unit in the last place off; a rewrite that parsed and formatted the old rows changed it

@@ -40,7 +40,9 @@ PHASES = {
     "evaluations": "every configuration timed (repeats) and scored (PSNR, SSIM, FLIP, ...)",
     "sweep_on_cluster": "the whole sweep on Dask workers (references included)",
     "images": "each scene's pictures: the methods' images at their middle points, error "
-    "maps, crops, the image grid (encoded on threads: what is counted is the wait for them)",
+    "maps, crops, the image grid (begun as soon as the sweep has evaluated the scene and "
+    "encoded on threads while it goes on: what is counted is this thread's part and the wait "
+    "at the end)",
     "charts": "Pareto charts (PNG and interactive) and parameter curves (the PNGs drawn in "
     "processes of their own: what is counted is the wait for them)",
     "features": "each scene's features for results.csv (its G-buffer rendered once more)",
@@ -86,7 +88,13 @@ def run_study(
             )
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    with chart_pool(chart_processes) as charts:
+    # Independent PNG encodes run side by side (zlib and NumPy release the GIL), the charts in
+    # their processes: this thread waits for both at the end.
+    with (
+        chart_pool(chart_processes) as charts,
+        concurrent.futures.ThreadPoolExecutor(os.cpu_count() or 1) as pool,
+    ):
+        work = ReportWork(pool, charts)
         names = list(scene_names or scenes.names())
         grids = grids or default_grids()
         # Per scene, what the sweep rendered and each method's picture (its grid's middle point):
@@ -97,7 +105,19 @@ def run_study(
             scenes.get(item).name: {"keep_colours": shown if item in pictured else set()}
             for item in names
         }
+        galleries: dict = {}
+
+        def pictures_now(scene, cache: dict) -> None:
+            """A pictured scene's gallery, begun as soon as the sweep has evaluated the scene:
+            its pictures encode on threads while the GPU evaluates the next ones."""
+            reference = cache.get("reference")
+            if cache.get("keep_colours") and reference is not None:
+                galleries[scene.name] = _gallery(
+                    ctx, scene, size, out, grids, cache, work, clock, reference.samples
+                )
+
         start = time.perf_counter()
+        images_before = clock.seconds.get("images", 0.0)
         table = sweep(
             None if cluster is not None else ctx,
             names,
@@ -109,8 +129,10 @@ def run_study(
             progress=progress,
             cluster=cluster,
             caches=caches,
+            on_scene=pictures_now,
         )
-        swept = time.perf_counter() - start
+        # the galleries begun during the sweep are counted as images, not as evaluations
+        swept = time.perf_counter() - start - (clock.seconds.get("images", 0.0) - images_before)
         if any(scenes.parse_random_name(item) is not None for item in names):
             with clock("features"):  # joined to every row; results.csv written anew
                 table = scenes.with_features(ctx, table, map(scenes.get, names), size, out)
@@ -127,63 +149,55 @@ def run_study(
             clock.add("evaluations", swept)
         info = ctx.info()
         sections = []
-        # Independent PNG encodes run side by side (zlib and NumPy release the GIL), the charts in
-        # their processes: this thread waits for both at the end.
-        with concurrent.futures.ThreadPoolExecutor(os.cpu_count() or 1) as pool:
-            work = ReportWork(pool, charts)
-            spin_reference = None  # textured_spin's, for the per-object table
-            for item in names:
-                scene = scenes.get(item)
-                cache = caches.pop(scene.name, {})  # freed with the section
-                if scene.name == "textured_spin":
-                    spin_reference = cache.get("reference")
-                sections.append(
-                    _scene_section(
-                        ctx,
-                        scene,
-                        table,
-                        size,
-                        out,
-                        grids,
-                        not sections,
-                        cache,
-                        work,
-                        clock,
-                        pictures=item in pictured,
-                    )
+        spin_reference = None  # textured_spin's, for the per-object table
+        for item in names:
+            scene = scenes.get(item)
+            cache = caches.pop(scene.name, {})  # freed with the section
+            if scene.name == "textured_spin":
+                spin_reference = cache.get("reference")
+            sections.append(
+                _scene_section(
+                    ctx,
+                    scene,
+                    table,
+                    size,
+                    out,
+                    grids,
+                    not sections,
+                    cache,
+                    work,
+                    clock,
+                    pictures=item in pictured,
+                    gallery=galleries.pop(scene.name, None),
                 )
-            curves: list = []
-            for name in grids:
-                curves += _parameter_curves(
-                    table, name, method(name).study_curves, out, curves, work
+            )
+        curves: list = []
+        for name in grids:
+            curves += _parameter_curves(table, name, method(name).study_curves, out, curves, work)
+        per_object = None
+        if "textured_spin" in names:  # the OGRE paper's test matrix
+            with clock("per_object"):
+                per_object = objects.object_errors(
+                    ctx, size, reference_samples=reference_samples, reference=spin_reference
                 )
-            per_object = None
-            if "textured_spin" in names:  # the OGRE paper's test matrix
-                with clock("per_object"):
-                    per_object = objects.object_errors(
-                        ctx, size, reference_samples=reference_samples, reference=spin_reference
-                    )
-                    per_object.to_csv(out / "per_object.csv", index=False)
-            peer_rows = None
-            if peer_names:
-                with clock("peers"):
-                    peer_rows = peers.peer_table(
-                        ctx,
-                        {
-                            s["scene"]: scenes.get(item)
-                            for s, item in zip(sections, names, strict=True)
-                        },
-                        size,
-                        {s["scene"]: s["reference_samples"] for s in sections},
-                        metrics,
-                    )
-                    peer_rows.to_csv(out / "peers.csv", index=False)
-            with clock("images"):
-                for write in work.pictures_written:
-                    write.result()  # raises a failed one's error
-            with clock("charts"):
-                for drawing in work.charts_drawn:
-                    drawing.result()
+                per_object.to_csv(out / "per_object.csv", index=False)
+        peer_rows = None
+        if peer_names:
+            with clock("peers"):
+                peer_rows = peers.peer_table(
+                    ctx,
+                    {s["scene"]: scenes.get(item) for s, item in zip(sections, names, strict=True)},
+                    size,
+                    {s["scene"]: s["reference_samples"] for s in sections},
+                    metrics,
+                )
+                peer_rows.to_csv(out / "peers.csv", index=False)
+        with clock("images"):
+            for write in work.pictures_written:
+                write.result()  # raises a failed one's error
+        with clock("charts"):
+            for drawing in work.charts_drawn:
+                drawing.result()
         with clock("html"):
             report = _html(info, size, table, sections, curves, per_object, peer_rows, clock)
             path = io.write_text(out / "report.html", report)
@@ -318,12 +332,14 @@ def _scene_section(
     work: ReportWork,
     clock,
     pictures: bool = True,
+    gallery: tuple | None = None,
 ) -> dict:
     """One scene's part of the report. `cache`: what the sweep rendered for the scene (its
     reference and G-buffers, reused here); pictures and charts are left running on `work`.
-    Without `pictures`, the section has no images (and nothing is rendered for them)."""
+    Without `pictures`, the section has no images (and nothing is rendered for them).
+    `gallery`: what _gallery gave for the scene where the study began it during the sweep."""
     rows = table[table["scene"] == scene.name]
-    name = re.sub(r"[^A-Za-z0-9_.-]", "_", scene.name)  # the scene's files: safe in a URL
+    name = _file_name(scene.name)
     rank = _ranking_metric(rows)
     samples = int(rows["reference_samples"].iloc[0])
     with clock("charts"):
@@ -333,10 +349,10 @@ def _scene_section(
             first,
             f"pareto-{name}",
         )
-    if pictures:
-        gallery, exposure = _gallery(
-            ctx, scene, name, size, out, grids, cache, work, clock, samples
-        )
+    if gallery is not None:
+        gallery, exposure = gallery
+    elif pictures:
+        gallery, exposure = _gallery(ctx, scene, size, out, grids, cache, work, clock, samples)
     else:
         gallery, exposure = (
             f"<p>No pictures: a study pictures its first {RANDOM_SCENES_PICTURED} random scenes "
@@ -380,11 +396,16 @@ def _scene_section(
     }
 
 
-def _gallery(
-    ctx, scene, name: str, size, out: Path, grids, cache: dict, work: ReportWork, clock, samples
-):
+def _file_name(scene_name: str) -> str:
+    """What a scene's files are named after: its name, safe in a URL."""
+    return re.sub(r"[^A-Za-z0-9_.-]", "_", scene_name)
+
+
+def _gallery(ctx, scene, size, out: Path, grids, cache: dict, work: ReportWork, clock, samples):
     """(the gallery's HTML, the exposure of an HDR scene's pictures or None): each method at the
-    middle of its grid beside the reference, encoded on `work` into files named after `name`."""
+    middle of its grid beside the reference, encoded on `work` into files named after the
+    scene."""
+    name = _file_name(scene.name)
     reference = cache.get("reference")
     if reference is None or reference.samples != samples:  # rows read back from results.csv
         with clock("references"):

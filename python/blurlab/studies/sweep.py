@@ -18,7 +18,7 @@ import itertools
 import json
 import math
 import os
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from pathlib import Path
 
 import pandas as pd
@@ -97,6 +97,7 @@ def sweep(
     chunk_size: int | None = None,
     caches: dict | None = None,
     readback_batch: int = 16,
+    on_scene: Callable[[Scene, dict], None] | None = None,
 ) -> pd.DataFrame:
     """Evaluates every method at every point of its grid on every scene.
 
@@ -145,6 +146,10 @@ def sweep(
     together, after one wait (metrics.MetricQueue), so the GPU runs one evaluation while the
     CPU issues the next; 1 waits for each evaluation's scalars. The values are the same bits
     either way; rows reach `out` a batch at a time.
+    `on_scene(scene, cache)`: called on this thread once a local sweep has evaluated a scene,
+    with its cache (as `caches` holds it), for work that can start then while the GPU goes on
+    with the next scene (the study's pictures); not called for a scene with nothing left to
+    evaluate, nor on a cluster.
     """
     if cluster is None and not isinstance(ctx, Context):
         raise TypeError("blurlab.sweep needs a blurlab Context (or ctx=None and a cluster)")
@@ -252,6 +257,8 @@ def sweep(
                 if jobs:
                     for key, row in evaluate_scene(ctx, scene, jobs, settings, cache):
                         record(key, row)
+                    if on_scene is not None:
+                        on_scene(scene, cache)
         elif any(pending):
             accounts = dask_cluster.sweep_on_cluster(
                 client, scene_list, pending, settings, record, chunk_size, bar
