@@ -25,8 +25,10 @@ INTERVAL_RANKS = (3, 11)  # 0-based ranks of the sorted runs bounding the median
 def timed_again(ctx, scene, size, table, indices, path: Path | None) -> pd.DataFrame:
     """`table` with ms_low, ms_high and total_ms from TIMING_RUNS runs of each row of
     `indices` (its median and the interval INTERVAL_RANKS bound); the other rows keep the
-    sweep's total_ms and NaN bounds. Runs are kept in the JSON file `path` by row identity."""
-    table = table.assign(ms_low=math.nan, ms_high=math.nan)
+    sweep's total_ms and NaN bounds (or the bounds an earlier call gave them). Runs are kept in
+    the JSON file `path` by row identity."""
+    if "ms_low" not in table:
+        table = table.assign(ms_low=math.nan, ms_high=math.nan)
     kept = read_runs(path) if path is not None else {}
     frames_of: dict = {}
     changed = False
