@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from conftest import CLI_DEVICE
 
 import blurlab as bl
 from blurlab.core.references import sample_times
@@ -90,6 +91,16 @@ def test_a_base_is_refused_where_it_does_not_fit(ctx):
     over, _, _ = render_targets(*args, timers=False, color_only=True, base=third)
     assert np.isfinite(over["color"].download()).all()
     ctx.recycle(*over.values(), *third.textures.values())
+
+
+def test_a_base_of_another_context_is_refused(ctx):
+    scene = _scene("fan")
+    other = bl.Context(CLI_DEVICE)
+    base, _ = render_base(other, scene, SIZE, scene.shutter, 0.0, 1, timers=False)
+    with pytest.raises(ValueError, match="made by another context"):
+        render_targets(
+            ctx, scene, SIZE, scene.shutter, 0.0, timers=False, color_only=True, base=base
+        )
 
 
 def test_a_pass_keeps_no_base_before_it_has_rendered(ctx):

@@ -200,6 +200,8 @@ def render_targets(
         raise ValueError(f"blurlab: guard must be an integer >= 0 pixels, not {guard!r}")
     if base is not None and not color_only:
         raise ValueError("blurlab: a render over a base keeps the colour alone (color_only)")
+    if base is not None and any(t.context is not ctx for t in base.textures.values()):
+        raise ValueError("blurlab: that base was made by another context; make one with this one")
     width, height = size[0] + 2 * guard, size[1] + 2 * guard
     check_size((width, height), ctx.max_texture_size)
     times = (shutter[0], shutter[1], time)
