@@ -3,6 +3,7 @@ the features a study splits results by."""
 
 from __future__ import annotations
 
+import importlib
 import subprocess
 import sys
 from pathlib import Path
@@ -11,7 +12,7 @@ import numpy as np
 import pandas as pd
 import pytest
 from golden import GOLDEN_DIR, IMAGE_TOLERANCE, color_problems
-from method_picks import pick
+from method_picks import EXAMPLE, pick
 
 import blurlab as bl
 from blurlab import cli
@@ -239,6 +240,44 @@ def test_study_over_random_scenes_carries_the_features(tmp_path, monkeypatch):
     assert (out / "random_4_reference.png").is_file() and (out / "random_5_pareto.png").is_file()
     assert not list(out.glob("random_5_*reference*")) and not list(out.glob("random_5_*error*"))
     assert "study --scenes random:5</code> pictures this one" in (out / "report.html").read_text()
+
+
+def test_a_study_measures_the_features_on_its_sweeps_frames_and_renders_none_again(
+    ctx, tmp_path, monkeypatch
+):
+    # the module, not the function bl.scenes.features that its package exports by that name
+    feature_module = importlib.import_module("blurlab.scene.scenes.features")
+    rendered_again = []
+    measure_on_a_new_render = feature_module.features_of
+    monkeypatch.setattr(
+        feature_module,
+        "features_of",
+        lambda ctx, scenes, *args, **kw: (
+            rendered_again.extend(s.name for s in scenes)
+            or measure_on_a_new_render(ctx, scenes, *args, **kw)
+        ),
+    )
+    argv = ["study", "--random", "2", "--seed", "4", "--size", "160x90", "--reference-samples"]
+    # a method that renders at the shutter's centre, where the features are measured
+    monkeypatch.setattr(study, "default_grids", lambda: {EXAMPLE: {}})
+    assert bl.method_instant(EXAMPLE) == "center"
+    assert cli.main([*argv, "16", "--out", str(tmp_path / "centre")]) == 0
+    assert rendered_again == []  # each from the sweep's own frame
+    first = pd.read_csv(tmp_path / "centre" / "results.csv")
+    # the same features as measured on a render of their own
+    table = first.drop(columns=list(bl.scenes.FEATURES))
+    scenes = [bl.scenes.get(name) for name in ("random:4", "random:5")]
+    again = bl.scenes.with_features(ctx, table, scenes, (160, 90))
+    assert rendered_again == ["random:4", "random:5"]
+    columns = list(bl.scenes.FEATURES)
+    assert first[columns].equals(again[columns])
+    # a sweep with no frame at the centre leaves them to be rendered again
+    rendered_again.clear()
+    close = pick(params=("taps",))
+    assert bl.method_instant(close) == "close"
+    monkeypatch.setattr(study, "default_grids", lambda: {close: {"taps": [5]}})
+    assert cli.main([*argv, "16", "--out", str(tmp_path / "close")]) == 0
+    assert rendered_again == ["random:4", "random:5"]
 
 
 def test_study_refuses_a_bad_seed():

@@ -45,7 +45,9 @@ PHASES = {
     "at the end)",
     "charts": "Pareto charts (PNG and interactive) and parameter curves (the PNGs drawn in "
     "processes of their own: what is counted is the wait for them)",
-    "features": "each scene's features for results.csv (its G-buffer rendered once more)",
+    "features": "each scene's features for results.csv (measured on threads from the sweep's "
+    "G-buffer as soon as the scene is evaluated, else on its G-buffer rendered once more: what "
+    "is counted is this thread's part and the wait at the end)",
     "per_object": "the per-object table of textured_spin (its own renders; the sweep's reference)",
     "peers": "the peers' renders (EEVEE)",
     "transparency": transparency.REPORT_PHASE,
@@ -105,19 +107,31 @@ def run_study(
             scenes.get(item).name: {"keep_colours": shown if item in pictured else set()}
             for item in names
         }
+        featured = any(scenes.parse_random_name(item) is not None for item in names)
         galleries: dict = {}
+        measuring: dict = {}  # scene name: the future of its features
 
-        def pictures_now(scene, cache: dict) -> None:
-            """A pictured scene's gallery, begun as soon as the sweep has evaluated the scene:
-            its pictures encode on threads while the GPU evaluates the next ones."""
+        def after_scene(scene, cache: dict) -> None:
+            """What begins as soon as the sweep has evaluated a scene, on threads while the GPU
+            evaluates the next ones: a pictured scene's gallery, and with random scenes the
+            scene's features, measured on the sweep's own G-buffer at the shutter's centre."""
             reference = cache.get("reference")
             if cache.get("keep_colours") and reference is not None:
                 galleries[scene.name] = _gallery(
                     ctx, scene, size, out, grids, cache, work, clock, reference.samples
                 )
+            centre = cache.get("frames", {}).get(("center", 1))
+            if featured and centre:
+                with clock("features"):  # the fields' downloads; the measure runs on a thread
+                    measuring[scene.name] = pool.submit(
+                        scenes.features, scenes.frame_arrays(centre[0])
+                    )
+
+        def beside_the_sweep() -> float:
+            return clock.seconds.get("images", 0.0) + clock.seconds.get("features", 0.0)
 
         start = time.perf_counter()
-        images_before = clock.seconds.get("images", 0.0)
+        before = beside_the_sweep()
         table = sweep(
             None if cluster is not None else ctx,
             names,
@@ -129,13 +143,16 @@ def run_study(
             progress=progress,
             cluster=cluster,
             caches=caches,
-            on_scene=pictures_now,
+            on_scene=after_scene,
         )
-        # the galleries begun during the sweep are counted as images, not as evaluations
-        swept = time.perf_counter() - start - (clock.seconds.get("images", 0.0) - images_before)
-        if any(scenes.parse_random_name(item) is not None for item in names):
+        # what began during the sweep is counted as images and features, not as evaluations
+        swept = time.perf_counter() - start - (beside_the_sweep() - before)
+        if featured:
             with clock("features"):  # joined to every row; results.csv written anew
-                table = scenes.with_features(ctx, table, map(scenes.get, names), size, out)
+                measured = {name: job.result() for name, job in measuring.items()}
+                table = scenes.with_features(
+                    ctx, table, map(scenes.get, names), size, out, measured=measured
+                )
         worker_accounts = table.attrs.get("workers")  # where each worker's time went (cluster)
         if cluster is not None:
             clock.add("sweep_on_cluster", swept)

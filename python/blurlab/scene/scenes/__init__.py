@@ -29,6 +29,7 @@ from .failures import (
 )
 from .features import FEATURES as FEATURES
 from .features import features as features
+from .features import frame_arrays as frame_arrays
 from .features import gbuffer_digest as gbuffer_digest
 from .features import with_features as with_features
 from .hdr import neon_pan, night_street, sparks, spinning_ring

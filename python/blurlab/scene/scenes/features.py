@@ -143,14 +143,21 @@ def _world_positions(obj, t: float) -> np.ndarray:
     return np.einsum("nij,nj->ni", blend, positions)
 
 
-def with_features(ctx, table: pd.DataFrame, scenes, size, out=None) -> pd.DataFrame:
+def with_features(
+    ctx, table: pd.DataFrame, scenes, size, out=None, measured: dict | None = None
+) -> pd.DataFrame:
     """`table` (rows with a "scene" column) with the `FEATURES` of `scenes` (bl.Scenes, each
     rendered by `ctx` at `size` at the shutter's centre) joined on the scene's name; feature
-    columns the table had are replaced. With `out`, a folder, it is also written to
-    out/results.csv (atomically, replacing the file)."""
+    columns the table had are replaced. `measured`: {scene name: its features} already
+    measured on the same frame (a study measures them from its sweep's frames); the others are
+    rendered and measured here. With `out`, a folder, it is also written to out/results.csv
+    (atomically, replacing the file)."""
     scenes = list(scenes)
-    measured = features_of(ctx, scenes, size)
-    rows = [{"scene": scene.name, **row} for scene, row in zip(scenes, measured, strict=True)]
+    measured = dict(measured or {})
+    missing = [scene for scene in scenes if scene.name not in measured]
+    for scene, row in zip(missing, features_of(ctx, missing, size), strict=True):
+        measured[scene.name] = row
+    rows = [{"scene": scene.name, **measured[scene.name]} for scene in scenes]
     measured = pd.DataFrame(rows, columns=["scene", *FEATURES]).drop_duplicates("scene")
     kept = table.drop(columns=[c for c in FEATURES if c in table])
     joined = kept.merge(measured, on="scene", how="left")
@@ -171,22 +178,26 @@ def features_of(ctx, scenes, size, instant: str = "center", measure=features) ->
     with ThreadPoolExecutor(threads) as pool:
         pending = []
         for scene in scenes:
-            frame = ctx.render(scene, size, instant=instant)
-            # the arrays a thread needs; the frame (and its GPU targets) stays on this thread
-            arrays = SimpleNamespace(
-                motion=frame.motion,
-                depth=frame.depth,
-                object_id=frame.object_id,
-                camera=frame.camera,
-                scene=frame.scene,
-                size=frame.size,
-            )
-            del frame  # its GPU targets go back to the pool before the next render
+            arrays = frame_arrays(ctx.render(scene, size, instant=instant))
+            # the frame's GPU targets go back to the pool before the next render
             pending.append(pool.submit(measure, arrays))
             while len(pending) > 2 * threads:  # bounded memory: a 1080p frame is ~40 MB
                 results.append(pending.pop(0).result())
         results += [job.result() for job in pending]
     return results
+
+
+def frame_arrays(frame) -> SimpleNamespace:
+    """What `features` reads of a rendered frame, downloaded here, for a thread to measure:
+    the frame itself (and its GPU targets) stays on the GL context's thread."""
+    return SimpleNamespace(
+        motion=frame.motion,
+        depth=frame.depth,
+        object_id=frame.object_id,
+        camera=frame.camera,
+        scene=frame.scene,
+        size=frame.size,
+    )
 
 
 def gbuffer_digest(frame) -> str:
