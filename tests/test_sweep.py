@@ -364,6 +364,8 @@ def test_study_writes_the_report(tmp_path, capsys):
         phases
     )
     assert all(seconds > 0 for seconds in phases.values())
+    # in their listed order, though a scene's images begin during the sweep
+    assert list(phases) == [phase for phase in bl.studies.study.PHASES if phase in phases]
     assert 0.9 * timing["total_s"] <= sum(phases.values()) <= timing["total_s"]
     assert timing["evaluations"] == len(table) and timing["size"] == [160, 90]
     assert "Where the time went" in report and "phases.json" in report
